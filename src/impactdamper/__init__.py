@@ -1,0 +1,38 @@
+"""impactdamper: exact calculation of impact vibration suppressors of unilateral action.
+
+A replication and extension of G.A. Timofeev, I.E. Lyuminarskiy, S.E. Lyuminarskiy,
+"Calculation of shock vibration suppressors of unilateral action", Herald of the Bauman Moscow
+State Technical University, Series Mechanical Engineering, 2019, no. 1, pp. 90-100,
+DOI 10.18698/0236-3941-2019-1-90-100.
+
+Public API
+----------
+Parameters          the paper's relative parameters (defaults: the reference case of Fig. 2)
+algorithm1(p)       Algorithm No. 1, the closed-form one-impact orbit, eqs. (7)-(17)
+simulate(p, t_end)  Algorithm No. 2 with the exact flow, contact modes and grazing
+steady_state(p)     the settled motion: period, impacts, regime
+"""
+
+from .algorithm1 import Algorithm1Result, algorithm1
+from .parameters import REFERENCE, Parameters
+from .simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state, simulate
+from .steady import REGIMES, CycleImpact, SteadyState, steady_state
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Parameters",
+    "REFERENCE",
+    "algorithm1",
+    "Algorithm1Result",
+    "simulate",
+    "Trajectory",
+    "Event",
+    "EventDrivenSolver",
+    "Tolerances",
+    "default_initial_state",
+    "steady_state",
+    "SteadyState",
+    "CycleImpact",
+    "REGIMES",
+]

@@ -1,0 +1,316 @@
+"""Algorithm No. 2 of Timofeev et al. (2019), event after event with the exact flow,
+extended with persistent contact (stick), lift-off and grazing.
+
+The loop (eqs. 18-22): from the state after an event, the motion is the exact flow of the
+current mode (eq. 18 with alpha_j from eq. 19, see :mod:`impactdamper.linear`); the next event
+is the first root of the gap (eq. 20) or, in contact, of the contact force, found by
+:func:`impactdamper.events.first_root`, which never skips a root; at an impact the pulse of
+eq. (21) updates the velocities, eq. (22), and the flow restarts.
+
+What the paper leaves out, decided here:
+
+* **Chatter into contact.** With R < 1 and the bodies pressed together (the contact force F
+  of the stuck mode positive), the impacts accumulate: closing velocities fall by R each
+  bounce and infinitely many impacts happen before the accumulation time
+  t_inf ~ t_k + 2 R v_k / ((1 - R) a), a = F/m_red (Budd & Dux 1994). Once the rebound's
+  height h = (R v_k)^2 / (2 a) is below ``chatter_tol * x_st`` while F > 0, the rest of the
+  sequence is replaced by its limit: a plastic capture into the stuck mode. The bounces left
+  out move the bodies apart by at most h for a time O(sqrt(h/a)); the centre of mass is
+  untouched (impacts conserve momentum), so the state error is far below h.
+  ``chatter_tol`` sits well above ``gap_tol`` so that every bounce kept is resolved.
+* **Plastic impacts (R = 0)** stick if F > 0 and separate otherwise.
+* **Lift-off**: the stuck mode ends where F falls through zero; the gap then opens like
+  s^3 (Delta = Delta' = Delta'' = 0 there), which the event search's departure order handles.
+* **Grazing**: a gap minimum at or below ``gap_tol * x_st`` counts as a touch (an impact with
+  near-zero velocity); one above it is a near miss and is not counted.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .events import LinearFunctional, Segment, first_root
+from .model import FREE, STUCK, Model
+from .parameters import Parameters
+
+__all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
+
+# The paper's step 1 example pulse, 1 N s with m1 = 1 kg in the reference case
+# (m1 omega1 x_st = 10 N s there), written relative to m1 omega1 x_st so that relative
+# results do not depend on the free mass scale m1.
+DEFAULT_KICK = 0.1
+# Consecutive events at one instant beyond which the model is degenerate (a guard).
+MAX_EVENTS_AT_ONE_TIME = 50
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Solver tolerances, all relative (lengths to x_st, velocities to x_st omega).
+
+    Attributes
+    ----------
+    gap_tol : float
+        A gap minimum at or below gap_tol * x_st is a contact (grazing touch).
+    chatter_tol : float
+        Rebound height (relative to x_st) below which an accumulating impact sequence is
+        replaced by persistent contact: the rebound R v rises at most (R v)^2 / (2 a) with
+        a = F/m_red the relative acceleration that presses the bodies together.
+    force_tol : float
+        Contact force (relative to m_red x_st omega_max^2) counted as zero at lift-off.
+    """
+
+    gap_tol: float = 1e-12
+    chatter_tol: float = 1e-9
+    force_tol: float = 1e-12
+
+    def __post_init__(self) -> None:
+        for name in ("gap_tol", "chatter_tol", "force_tol"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and 0 < value < 1):
+                raise ValueError(f"`{name}` = {value!r} is not allowed: must be in (0, 1)")
+
+
+@dataclass(frozen=True)
+class Event:
+    """One event of the motion.
+
+    Attributes
+    ----------
+    t : float
+        Time, s.
+    kind : str
+        ``"impact"`` (eqs. 21-22), ``"stick"`` (capture into persistent contact) or
+        ``"liftoff"`` (contact force reached zero).
+    velocity : float
+        Closing relative velocity x2' - x1' just before an impact, m/s (0 for other kinds).
+    impulse : float
+        Pulse S, N s (for ``stick``: the plastic pulse that cancels the rebound).
+    before, after : ndarray, shape (4,)
+        State (x1, x2, x1', x2') just before and after.
+    t_accumulation : float
+        For ``stick``: estimated end of the accumulation of impacts it replaces (Budd & Dux);
+        equal to t otherwise.
+    """
+
+    t: float
+    kind: str
+    velocity: float
+    impulse: float
+    before: np.ndarray = field(repr=False)
+    after: np.ndarray = field(repr=False)
+    t_accumulation: float = float("nan")
+
+
+def default_initial_state(p: Parameters) -> np.ndarray:
+    """Algorithm No. 2, step 1: x1 = 0, x2 = Delta0 (gap zero), and equal and opposite
+    momenta that open the gap (see NOTES: x2' < 0 so that x2 - x1 decreases)."""
+    S0 = DEFAULT_KICK * p.m1 * p.omega1 * p.x_st
+    return np.array([0.0, p.Delta0, S0 / p.m1, -S0 / p.m2])
+
+
+class Trajectory:
+    """The piecewise-exact motion: segments of one mode each, and the events between them."""
+
+    def __init__(self, model: Model):
+        self.model = model
+        self.segments: list[tuple[str, Segment]] = []
+        self.events: list[Event] = []
+
+    def _segment_index(self, t: np.ndarray) -> np.ndarray:
+        starts = np.array([seg.t0 for _, seg in self.segments])
+        return np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(starts) - 1)
+
+    def sample(self, t: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        """Full states (x1, x2, x1', x2') at times t, shape t.shape + (4,), and the mode
+        names (``"free"``/``"stuck"``), shape t.shape. Times must not precede the start."""
+        t = np.asarray(t, dtype=float)
+        flat = t.reshape(-1)
+        idx = self._segment_index(flat)
+        out = np.empty((flat.size, 4))
+        modes = np.empty(flat.size, dtype=object)
+        for k in np.unique(idx):
+            sel = idx == k
+            name, seg = self.segments[k]
+            out[sel] = self.model.full_state(name, seg.state(flat[sel]))
+            modes[sel] = name
+        return out.reshape(t.shape + (4,)), modes.reshape(t.shape)
+
+    def impacts(self, t_from: float = -math.inf, t_to: float = math.inf) -> list[Event]:
+        return [e for e in self.events if e.kind == "impact" and t_from <= e.t < t_to]
+
+
+class EventDrivenSolver:
+    """Advances the suppressor's motion event by event (Algorithm No. 2 with contact modes).
+
+    Parameters
+    ----------
+    p : Parameters
+    t0 : float
+        Start time, s (the forcing is P0 sin(omega t) in this absolute time).
+    state : ndarray, shape (4,), optional
+        (x1, x2, x1', x2') at t0; default :func:`default_initial_state`. Must have a
+        non-negative gap. At zero gap it may close (an impact comes first), open, or rest
+        with the bodies pressed together (persistent contact).
+    tolerances : Tolerances, optional
+    """
+
+    def __init__(self, p: Parameters, t0: float = 0.0, state: np.ndarray | None = None,
+                 tolerances: Tolerances | None = None):
+        self.p = p
+        self.model = Model(p)
+        self.tol = tolerances or Tolerances()
+        self.trajectory = Trajectory(self.model)
+        full = default_initial_state(p) if state is None else np.asarray(state, dtype=float)
+        if full.shape != (4,) or not np.all(np.isfinite(full)):
+            raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
+        if not math.isfinite(t0):
+            raise ValueError(f"`t0` = {t0!r} is not allowed: must be a finite number")
+        gap = float(self.model.gap_of(full))
+        gap_tol = self.tol.gap_tol * self.model.length_scale
+        if gap < -gap_tol:
+            raise ValueError(f"`state` has gap Delta0 - (x2 - x1) = {gap:.6g} m < 0: the bodies would overlap")
+        self._same_time_events = 0
+        if gap <= gap_tol:
+            full = full.copy()
+            full[1] = full[0] + p.Delta0  # exactly on the stop
+            if full[3] - full[2] > 0.0:
+                self._impact(float(t0), full)
+            else:
+                self._leave_contact(float(t0), full, rebound=float(full[2] - full[3]))
+        else:
+            self._start(FREE, float(t0), full, departure=None)
+
+    # --- bookkeeping ------------------------------------------------------------------
+    def _start(self, mode: str, t: float, y: np.ndarray, departure: tuple[int, float] | None) -> None:
+        self.mode = mode
+        self.segment = Segment(self.model.mode(mode), t, y)
+        self.trajectory.segments.append((mode, self.segment))
+        self.search_from = t
+        self.departure = departure
+
+    def _record(self, event: Event) -> None:
+        events = self.trajectory.events
+        if events and event.t - events[-1].t <= 4 * math.ulp(max(abs(event.t), 1.0)):
+            self._same_time_events += 1
+            if self._same_time_events > MAX_EVENTS_AT_ONE_TIME:
+                raise RuntimeError(f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {event.t!r}: degenerate contact")
+        else:
+            self._same_time_events = 0
+        events.append(event)
+
+    @property
+    def t(self) -> float:
+        return self.search_from
+
+    def state_at(self, t: float) -> np.ndarray:
+        """Full state at t >= the current segment's start, shape (4,)."""
+        return self.model.full_state(self.mode, self.segment.state(t))
+
+    # --- the loop -----------------------------------------------------------------------
+    def advance(self, t_target: float) -> None:
+        """Process every event up to ``t_target``; the motion then continues past it."""
+        model, tol = self.model, self.tol
+        while True:
+            if self.mode == FREE:
+                fn: LinearFunctional = model.gap
+                eps = tol.gap_tol * model.length_scale
+            else:
+                fn = model.contact_force
+                eps = tol.force_tol * model.force_scale
+            root = first_root(self.segment, fn, self.search_from, t_target, eps, self.departure)
+            if root is None:
+                self.search_from, self.departure = max(t_target, self.search_from), None
+                return
+            t_event, _ = root
+            if self.mode == FREE:
+                full = self.segment.state(t_event)
+                full[1] = full[0] + self.p.Delta0  # on the stop exactly (removes the <= gap_tol residue)
+                self._impact(t_event, full)
+            else:
+                self._liftoff(t_event)
+
+    def _impact(self, t: float, full: np.ndarray) -> None:
+        after, v, S = self.model.impact(full)
+        self._record(Event(t, "impact", v, S, full, after, t))
+        self._leave_contact(t, after, rebound=self.p.R * v)
+
+    def _leave_contact(self, t: float, full: np.ndarray, rebound: float) -> None:
+        """After an impact (or at a start on the stop): rebound, separate, or stick."""
+        model, p = self.model, self.p
+        F = model.force_in_contact(t, full)
+        a = F / p.reduced_mass  # relative acceleration pressing the bodies together
+        if a > 0.0 and rebound * rebound <= 2.0 * a * self.tol.chatter_tol * model.length_scale:
+            stuck, S = model.stick(full)
+            t_inf = t + (2.0 * rebound / ((1.0 - p.R) * a) if p.R < 1.0 else 0.0)
+            self._record(Event(t, "stick", 0.0, S, full, model.full_state(STUCK, stuck), t_inf))
+            self._start(STUCK, t, stuck, departure=self._force_departure(t, stuck))
+            return
+        departure = self._gap_departure(t, full, rebound)
+        if departure is None:  # nothing pulls the bodies apart: they stay together
+            stuck, S = model.stick(full)
+            self._record(Event(t, "stick", 0.0, S, full, model.full_state(STUCK, stuck), t))
+            self._start(STUCK, t, stuck, departure=self._force_departure(t, stuck))
+            return
+        self._start(FREE, t, full, departure)
+
+    def _gap_departure(self, t: float, full: np.ndarray, rebound: float) -> tuple[int, float] | None:
+        """Order and value of the gap's first non-zero derivative when leaving the stop."""
+        scale = self.model.length_scale
+        w = max(self.p.omega, self.p.omega1)
+        if rebound > 1e-14 * scale * w:
+            return 1, rebound
+        derivs = self.model.gap_derivatives(t, full, orders=5)
+        for order in (2, 3, 4):
+            threshold = 1e-12 * scale * w**order
+            if derivs[order] > threshold:
+                return order, float(derivs[order])
+            if derivs[order] < -threshold:
+                return None
+        return None
+
+    def _force_departure(self, t: float, stuck: np.ndarray) -> tuple[int, float] | None:
+        """At the start of contact F may be ~0 (plastic capture at the edge of lift-off)."""
+        fn = self.model.contact_force
+        F = float(fn.of_state(t, stuck))
+        scale = self.tol.force_tol * self.model.force_scale
+        if F > scale:
+            return None
+        w = max(self.p.omega, self.p.omega1)
+        for order in (1, 2, 3):
+            d = float(fn.of_state(t, stuck, order))
+            if d > scale * w**order:
+                return order, d
+            if d < -scale * w**order:
+                return None  # F falls at once: the search finds lift-off at t
+        return None
+
+    def _liftoff(self, t: float) -> None:
+        stuck = self.segment.state(t)
+        full = self.model.full_state(STUCK, stuck)
+        departure = self._gap_departure(t, full, rebound=0.0)
+        if departure is None:
+            # F touched zero without changing sign: contact goes on; step past the touch.
+            F2 = float(self.model.contact_force.of_state(t, stuck, 2))
+            self.search_from, self.departure = t, (2, max(F2, 1e-300))
+            return
+        self._record(Event(t, "liftoff", 0.0, 0.0, full, full, t))
+        self._start(FREE, t, full, departure)
+
+
+def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
+             tolerances: Tolerances | None = None) -> Trajectory:
+    """Run Algorithm No. 2 (with contact modes) from ``t0`` to ``t_end``.
+
+    Returns
+    -------
+    Trajectory
+        Segments and events; ``sample(t)`` gives the exact state at any t in [t0, t_end].
+    """
+    if not (math.isfinite(t_end) and t_end > t0):
+        raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be finite and > t0 = {t0!r}")
+    solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
+    solver.advance(t_end)
+    return solver.trajectory
