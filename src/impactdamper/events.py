@@ -36,13 +36,16 @@ import numpy as np
 
 from .linear import LinearMode
 
-__all__ = ["LinearFunctional", "Segment", "first_root", "SearchLimitError"]
+__all__ = ["LinearFunctional", "Segment", "first_root", "march", "SearchLimitError"]
 
 # Newton polishing after the certified march: the march already converges quadratically,
 # so a few iterations reach rounding level.
 NEWTON_ITERATIONS = 4
 # No search may take more certified steps than this (a guard; typical searches take 5-50).
 MAX_STEPS = 200_000
+# Floor of a derivative bound: a zero bound (no forcing, no free motion) would give an
+# infinite step, which is right (g is then constant) but must not divide by zero.
+MIN_BOUND = 1e-300
 
 
 class SearchLimitError(RuntimeError):
@@ -76,6 +79,7 @@ class LinearFunctional:
         # Complex amplitude of the periodic part: Im(G e^{i w t}) = c.Y(t) + d_s sin(w t).
         object.__setattr__(self, "G", complex(c @ self.mode.Yhat + self.d_s))
         object.__setattr__(self, "cM", [c @ P for P in self.mode.M_powers])
+        object.__setattr__(self, "cV", c @ self.mode.eigenvectors)  # c.V_j, for the modal sums
         object.__setattr__(
             self, "kappa", [self.mode.derivative_bound_factor(c, k) for k in range(len(self.mode.M_powers))]
         )
@@ -111,6 +115,7 @@ class Segment:
         self.y0 = np.asarray(y0, dtype=float)
         self.z0 = self.y0 - mode.forced(self.t0)
         self._alpha = mode.eigenvectors_inv @ self.z0 if mode.modal else None
+        self._evaluators: dict = {}
 
     def free(self, t: float) -> np.ndarray:
         """Free part z(t - t0), shape (n,); scalar t (the hot path of the search)."""
@@ -122,6 +127,43 @@ class Segment:
     def state(self, t: np.ndarray | float) -> np.ndarray:
         """State y(t), shape t.shape + (n,)."""
         return self.mode.state(t, self.t0, self.y0)
+
+    def evaluator(self, fn: LinearFunctional):
+        """A function t -> (g(t), g'(t)) for this motion, the event search's hot path.
+
+        In modal form c.z(tau) = Re sum_j beta_j e^{lambda_j tau} with beta_j = (c.V_j) alpha_j,
+        so an evaluation is four complex exponentials in plain Python (no array overhead)."""
+        cached = self._evaluators.get(id(fn))
+        if cached is not None:
+            return cached
+        w, G, g0, t0 = self.mode.omega, fn.G, fn.g0, self.t0
+        exp = cmath.exp
+        if self._alpha is not None:
+            # M is real, so its complex roots come in conjugate pairs with conjugate
+            # coefficients: each pair contributes 2 Re(beta e^{lambda tau}); keep one of each.
+            beta, roots = fn.cV * self._alpha, self.mode.roots
+            terms = [(2.0 * b if lam.imag > 0.0 else b, lam)
+                     for b, lam in zip(beta.tolist(), roots.tolist()) if lam.imag >= 0.0]
+
+            def evaluate(t: float) -> tuple[float, float]:
+                tau = t - t0
+                s0 = s1 = 0j
+                for b, lam in terms:
+                    e = b * exp(lam * tau)
+                    s0 += e
+                    s1 += lam * e
+                rot = exp(1j * w * t) * G
+                return g0 + rot.imag + s0.real, w * rot.real + s1.real
+        else:
+            cM0, cM1 = fn.cM[0], fn.cM[1]
+
+            def evaluate(t: float) -> tuple[float, float]:
+                z = self.free(t)
+                rot = exp(1j * w * t) * G
+                return g0 + rot.imag + float(cM0 @ z), w * rot.real + float(cM1 @ z)
+
+        self._evaluators[id(fn)] = evaluate
+        return evaluate
 
 
 def _lower_bound_root(g: float, g1: float, K: float) -> float:
@@ -142,6 +184,21 @@ def first_root(
 ) -> tuple[float, float] | None:
     """First t in (t_from, t_to] where g(t) <= tol with g'(t) <= 0, found without skipping any.
 
+    The same as :func:`march` without the certified horizon; see there.
+    """
+    return march(segment, fn, t_from, t_to, tol, departure)[0]
+
+
+def march(
+    segment: Segment,
+    fn: LinearFunctional,
+    t_from: float,
+    t_to: float,
+    tol: float,
+    departure: tuple[int, float] | None = None,
+) -> tuple[tuple[float, float] | None, float]:
+    """First t in (t_from, t_to] where g(t) <= tol with g'(t) <= 0, found without skipping any.
+
     Parameters
     ----------
     segment : Segment
@@ -159,48 +216,48 @@ def first_root(
 
     Returns
     -------
-    (t, dg) or None
+    root : (t, dg) or None
         The root time and g'(t) there (<= 0), or None if (t_from, t_to] is certified free of
         roots.
+    reached : float
+        Without a root: the point up to which the march certified g > 0 (>= t_to; its last
+        step may go past t_to, and a later search can start there). With a root: its time.
     """
-    mode, c_forced = fn.mode, fn.G
+    mode = fn.mode
     w = mode.omega
-    kappa1, kappa2 = fn.kappa[1], fn.kappa[2]
-    Gabs = abs(c_forced)
-    W = mode.energy_weight
+    # The free motion's energy never grows, so its value at t_from bounds the whole search.
+    z = segment.free(float(t_from))
+    energy = math.sqrt(max(float(z @ mode.energy_weight @ z), 0.0))
+    Gabs = abs(fn.G)
     a = float(t_from)
     if departure is not None:
         m, gm = departure
-        z = segment.free(a)
-        energy = math.sqrt(max(float(z @ W @ z), 0.0))
-        K = Gabs * w ** (m + 1) + fn.kappa[m + 1] * energy
+        K = max(Gabs * w ** (m + 1) + fn.kappa[m + 1] * energy, MIN_BOUND)
         # g(a+s) >= g_m s^m/m! - K s^(m+1)/(m+1)! = s^m/m! (g_m - K s/(m+1)) > 0 below this.
         a += (m + 1) * gm / K
         if a >= t_to:
-            return None
-    cM0, cM1 = fn.cM[0], fn.cM[1]
+            return None, a
+    K = max(Gabs * w * w + fn.kappa[2] * energy, MIN_BOUND)
+    evaluate = segment.evaluator(fn)
     for _ in range(MAX_STEPS):
-        z = segment.free(a)
-        rot = cmath.exp(1j * w * a) * c_forced
-        g = fn.g0 + rot.imag + float(cM0 @ z)
-        g1 = w * rot.real + float(cM1 @ z)
+        g, g1 = evaluate(a)
         if g <= tol and g1 <= 0.0:
-            return _polish(segment, fn, a, g, g1)
-        energy = math.sqrt(max(float(z @ W @ z), 0.0))
-        K = Gabs * w * w + kappa2 * energy
+            root = _polish(segment, fn, a, g, g1)
+            return root, root[0]
         step = _lower_bound_root(max(g, 0.0), g1, K)
         if a + step <= a:
             # The certified step fell below the time resolution: g is at rounding level.
-            return a, g1
+            return (a, g1), a
         a += step
         if a >= t_to:
-            return None
+            return None, a
     raise SearchLimitError(f"event search took more than {MAX_STEPS} steps from t = {t_from!r}")
 
 
 def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: float) -> tuple[float, float]:
     """Newton from the certified point (g <= tol, g' <= 0) to the root at rounding level;
     stops where the slope vanishes (a grazing touch is kept at the certified point)."""
+    evaluate = segment.evaluator(fn)
     for _ in range(NEWTON_ITERATIONS):
         if g1 >= 0.0 or g <= 0.0:
             break
@@ -208,9 +265,7 @@ def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: floa
         if t + dt == t:
             break
         t_new = t + dt
-        y = segment.state(t_new)
-        g_new = float(fn.of_state(t_new, y))
-        g1_new = float(fn.of_state(t_new, y, 1))
+        g_new, g1_new = evaluate(t_new)
         # Accept only a step that shrinks the residual and stays inside the tolerance band:
         # near a gap maximum below tol (a bounce lower than the resolution) the slope is ~0
         # and Newton would jump far past the root.

@@ -26,6 +26,7 @@ handled.
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 
@@ -147,6 +148,8 @@ class LinearMode:
     # --- forced (periodic) response -------------------------------------------------
     def forced(self, t: np.ndarray | float, derivative: int = 0) -> np.ndarray:
         """Periodic forced response Y(t) (or its derivative), shape t.shape + (n,)."""
+        if isinstance(t, float):  # the solver's scalar hot path, without array set-up
+            return ((1j * self.omega) ** derivative * cmath.exp(1j * self.omega * t) * self.Yhat).imag
         t = np.asarray(t, dtype=float)
         phase = np.exp(1j * self.omega * t)[..., None]
         return np.imag((1j * self.omega) ** derivative * self.Yhat * phase)

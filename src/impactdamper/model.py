@@ -24,6 +24,8 @@ x1' by +S/m1 and x2' by -S/m2, so the relative velocity becomes -R v and momentu
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .events import LinearFunctional
@@ -118,7 +120,9 @@ class Model:
 
     def force_in_contact(self, t: float, full: np.ndarray) -> float:
         """Contact force F the stop would carry if the bodies moved together from here, N."""
-        return float(self.contact_force.of_state(t, np.array([full[0], full[2]])))
+        fn = self.contact_force
+        c = fn.c
+        return fn.g0 + fn.d_s * math.sin(self.p.omega * t) + c[0] * full[0] + c[1] * full[2]
 
     def gap_derivatives(self, t: float, full: np.ndarray, orders: int = 4) -> np.ndarray:
         """Delta and its first ``orders - 1`` time derivatives in the free mode at (t, full)."""

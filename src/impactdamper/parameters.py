@@ -89,16 +89,19 @@ class Parameters:
         _check("R", self.R, 0.0 <= self.R <= 1.0, "in [0, 1]")
 
         omega1 = self.omega / self.theta
+        omega2 = self.N * omega1
         m2 = self.mu * self.m1
+        # Squares as products: float ``**`` raises OverflowError where ``*`` gives inf, which
+        # the check below turns into the one-line ValueError (helper fix, e.g. theta=1e-300).
         derived = {
             "omega1": omega1,
-            "omega2": self.N * omega1,
+            "omega2": omega2,
             "m2": m2,
-            "c1": self.m1 * omega1**2,
-            "c2": m2 * (self.N * omega1) ** 2,
+            "c1": self.m1 * (omega1 * omega1),
+            "c2": m2 * (omega2 * omega2),
             "k1": 2.0 * self.m1 * omega1 * self.delta1,
             "k2": 2.0 * m2 * omega1 * self.delta2,
-            "P0": self.m1 * omega1**2 * self.x_st,
+            "P0": self.m1 * (omega1 * omega1) * self.x_st,
             "Delta0": self.gap * self.x_st,
             "T": 2.0 * math.pi / self.omega,
         }

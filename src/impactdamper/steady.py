@@ -195,17 +195,26 @@ def steady_state(
         raise ValueError(f"`max_period_multiple` = {max_period_multiple!r} is not allowed: must be an integer in [1, max_periods)")
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     T = p.T
-    sections: list[np.ndarray] = []
+    sections = np.empty((max_periods, 4))
     modes: list[str] = []
     found_k, n, residual = 0, 0, math.inf
     watch: dict[int, float] = {}  # divisor d of a matched k -> its mismatch when last checked
     for n in range(1, max_periods + 1):
         t_n = t0 + n * T
         solver.advance(t_n)
-        sections.append(_scaled(p, solver.state_at(t_n)))
+        sections[n - 1] = _scaled(p, solver.state_at(t_n))
         modes.append(solver.mode)
-        found_k, residual = _period(sections, modes, max_period_multiple, settle_tol)
-        if found_k and _shorter_period_still_converging(sections, modes, found_k, watch):
+        # Screen: a period k is possible only if this section repeats the one k periods back.
+        lags = min(max_period_multiple, (n - 1) // 2)
+        if lags == 0:
+            continue
+        latest = np.abs(sections[n - 1 - lags:n - 1][::-1] - sections[n - 1]).max(axis=1)
+        residual = float(latest.min())
+        if residual >= settle_tol:
+            found_k = 0
+            continue
+        found_k, residual = _period(sections[:n], modes, max_period_multiple, settle_tol)
+        if found_k and _shorter_period_still_converging(sections[:n], modes, found_k, watch):
             found_k = 0
             continue
         if found_k:
@@ -216,20 +225,17 @@ def steady_state(
     return _describe(p, solver.trajectory, window_end - k * T, k, bool(found_k), n, residual)
 
 
-def _mismatch(sections: list, modes: list, k: int) -> float:
+def _mismatch(sections: np.ndarray, modes: list, k: int) -> float:
     """Largest difference between each of the last k sections and the one k periods earlier."""
     n = len(sections)
     if n < 2 * k + 1:
         return math.inf
-    worst = 0.0
-    for j in range(k):
-        if modes[n - 1 - j] != modes[n - 1 - j - k]:
-            return math.inf
-        worst = max(worst, float(np.max(np.abs(sections[n - 1 - j] - sections[n - 1 - j - k]))))
-    return worst
+    if modes[n - k:] != modes[n - 2 * k:n - k]:
+        return math.inf
+    return float(np.abs(sections[n - k:] - sections[n - 2 * k:n - k]).max())
 
 
-def _period(sections: list, modes: list, kmax: int, tol: float) -> tuple[int, float]:
+def _period(sections: np.ndarray, modes: list, kmax: int, tol: float) -> tuple[int, float]:
     """Smallest k whose last k sections repeat those k periods earlier, with the mismatch."""
     best = math.inf
     for k in range(1, kmax + 1):
@@ -248,7 +254,7 @@ DIVISOR_SUSPECT = 1e-3
 DIVISOR_DECAY = 0.9
 
 
-def _shorter_period_still_converging(sections: list, modes: list, k: int, watch: dict) -> bool:
+def _shorter_period_still_converging(sections: np.ndarray, modes: list, k: int, watch: dict) -> bool:
     n = len(sections)
     converging = False
     for d in range(1, k):
@@ -330,12 +336,16 @@ def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, f
 
 
 def _max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
-    """max |x1|/x_st on [a, b]: dense samples, refined around the largest one."""
+    """max |x1|/x_st on [a, b]: dense samples, refined around the largest one on its segment."""
     n = max(int(EXCURSION_SAMPLES_PER_PERIOD * (b - a) / p.T), 16)
     ts = np.linspace(a, b, n + 1)
     x1 = np.abs(traj.sample(ts)[0][:, 0])
     i = int(np.argmax(x1))
     lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, n)]
-    res = scipy.optimize.minimize_scalar(lambda t: -abs(float(traj.sample(t)[0][0])), bounds=(lo, hi),
+    k = int(traj._segment_index(np.array([ts[i]]))[0])
+    seg = traj.segments[k][1]
+    seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
+    lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
+    res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
                                          method="bounded", options={"xatol": 1e-12 * p.T})
     return max(float(x1[i]), -float(res.fun)) / p.x_st

@@ -1,0 +1,109 @@
+"""Parameters: the paper's relative form, the dimensional values, and validation."""
+
+import math
+
+import pytest
+
+import impactdamper as idp
+from impactdamper.parameters import REFERENCE, Parameters
+
+# --- closed form first ---------------------------------------------------------------------
+
+
+def test_defaults_are_the_reference_case():
+    # "theta = 1; mu = 0.08; N = 0.5; delta1 = delta2 = 0.05; x_st = 1; R = 0.7;
+    #  Delta0/x_st = -5.8; omega = 10 rad/s" (section "The results of the calculations").
+    p = Parameters()
+    assert p.to_dict() == {"theta": 1.0, "mu": 0.08, "N": 0.5, "delta1": 0.05, "delta2": 0.05, "R": 0.7,
+                           "gap": -5.8, "omega": 10.0, "x_st": 1.0, "m1": 1.0}
+    assert p == REFERENCE == idp.REFERENCE
+    # Effective tuning 2 sqrt(c2/m2) = sqrt(c1/m1) = omega.
+    assert math.isclose(2 * math.sqrt(p.c2 / p.m2), math.sqrt(p.c1 / p.m1), rel_tol=1e-15)
+    assert math.isclose(math.sqrt(p.c1 / p.m1), p.omega, rel_tol=1e-15)
+    assert (p.c1, p.c2, p.P0, p.Delta0, p.m2) == pytest.approx((100.0, 2.0, 100.0, -5.8, 0.08), rel=1e-15)
+    assert p.T == 2 * math.pi / 10
+
+
+@pytest.mark.parametrize("m1", [1.0, 37.5, 1e-3])
+@pytest.mark.parametrize("kw", [{}, {"theta": 0.3, "mu": 1e-4, "N": 50.0, "delta1": 0.0, "delta2": 2.0,
+                                    "gap": 3.0, "omega": 123.0, "x_st": 0.01}])
+def test_dimensional_values_give_back_the_relative_ones(m1, kw):
+    p = Parameters(m1=m1, **kw)
+    omega1 = math.sqrt(p.c1 / p.m1)
+    omega2 = math.sqrt(p.c2 / p.m2)
+    rel = 1e-14
+    assert p.m2 / p.m1 == pytest.approx(p.mu, rel=rel)
+    assert p.omega / omega1 == pytest.approx(p.theta, rel=rel)
+    assert omega2 / omega1 == pytest.approx(p.N, rel=rel)
+    assert p.k1 / (2 * p.m1 * omega1) == pytest.approx(p.delta1, rel=rel, abs=1e-300)
+    assert p.k2 / (2 * p.m2 * omega1) == pytest.approx(p.delta2, rel=rel, abs=1e-300)
+    assert p.P0 / p.c1 == pytest.approx(p.x_st, rel=rel)
+    assert p.Delta0 / p.x_st == pytest.approx(p.gap, rel=rel)
+    assert (p.omega1, p.omega2) == pytest.approx((omega1, omega2), rel=rel)
+    assert p.h1 == pytest.approx(p.delta1 * omega1, rel=rel, abs=1e-300)  # h = k/(2m), eq. (5)
+    assert p.h2 == pytest.approx(p.delta2 * omega1, rel=rel, abs=1e-300)
+    assert p.reduced_mass == pytest.approx(p.m1 * p.m2 / (p.m1 + p.m2), rel=rel)
+
+
+def test_replace_names_and_dict_round_trip():
+    p = Parameters().replace(gap=-10.0, R=0.0)
+    assert (p.gap, p.R, p.Delta0) == (-10.0, 0.0, -10.0)
+    assert Parameters(**p.to_dict()) == p
+    assert Parameters.names() == tuple(p.to_dict())
+    assert Parameters.names()[:7] == ("theta", "mu", "N", "delta1", "delta2", "R", "gap")
+
+
+def test_boundary_values_are_allowed():
+    for kw in ({"R": 0.0}, {"R": 1.0}, {"delta1": 0.0, "delta2": 0.0}, {"gap": 0.0}, {"gap": -1e6}):
+        Parameters(**kw)
+
+
+# --- validation: one line naming the parameter, its value and the allowed range -------------
+
+POSITIVE = ["theta", "mu", "N", "omega", "x_st", "m1"]
+NON_NEGATIVE = ["delta1", "delta2"]
+
+BAD = (
+    [(name, value, "> 0") for name in POSITIVE for value in (0.0, -1.0)]
+    + [(name, -1e-3, ">= 0") for name in NON_NEGATIVE]
+    + [("R", -0.1, "[0, 1]"), ("R", 1.0000001, "[0, 1]")]
+    + [(name, value, "finite") for name in Parameters.names() for value in (math.nan, math.inf, -math.inf)]
+    + [(name, "1.0", "real number") for name in ("theta", "gap")]
+    + [("R", True, "real number"), ("mu", None, "real number")]
+)
+
+
+@pytest.mark.parametrize("name, value, allowed", BAD)
+def test_bad_value_raises_one_line_naming_it(name, value, allowed):
+    with pytest.raises(ValueError) as info:
+        Parameters(**{name: value})
+    message = str(info.value)
+    assert "\n" not in message
+    assert message.startswith(f"`{name}` = {value!r} ")
+    assert allowed in message
+
+
+@pytest.mark.parametrize("name, value", [("gap", -20.0), ("mu", 0.0), ("R", 2.0)])
+def test_replace_validates_too(name, value):
+    p = Parameters()
+    if name == "gap":
+        assert p.replace(gap=value).gap == value
+        return
+    with pytest.raises(ValueError, match=f"^`{name}` = "):
+        p.replace(**{name: value})
+
+
+def test_replace_rejects_unknown_and_derived_names():
+    for name in ("foo", "c1", "Delta0"):
+        with pytest.raises(ValueError, match=f"^`{name}` is not a parameter: allowed are theta, mu"):
+            Parameters().replace(**{name: 1.0})
+
+
+@pytest.mark.parametrize("kw, derived", [({"theta": 1e-300}, "c1"), ({"theta": 1e-10, "omega": 1e300}, "omega1"),
+                                         ({"theta": 1e300}, "c1")])
+def test_overflowing_relative_parameters_raise_one_line(kw, derived):
+    # Regression: theta = 1e-300 used to escape as OverflowError from omega1**2.
+    with pytest.raises(ValueError) as info:
+        Parameters(**kw)
+    assert str(info.value).startswith(f"`{derived}` = ")
+    assert "\n" not in str(info.value)
