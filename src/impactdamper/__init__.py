@@ -11,12 +11,16 @@ Parameters          the paper's relative parameters (defaults: the reference cas
 algorithm1(p)       Algorithm No. 1, the closed-form one-impact orbit, eqs. (7)-(17)
 simulate(p, t_end)  Algorithm No. 2 with the exact flow, contact modes and grazing
 steady_state(p)     the settled motion: period, impacts, regime
+solve_orbit(p)      a periodic cycle solved directly: admissibility, Floquet multipliers
+continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings, grazing
 """
 
 from .algorithm1 import Algorithm1Result, algorithm1
 from .parameters import REFERENCE, Parameters
 from .simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state, simulate
 from .steady import REGIMES, CycleImpact, SteadyState, steady_state
+from .orbits import (Branch, BranchPoint, OrbitError, PeriodicOrbit, SpecialPoint, continue_orbit, orbit_from_cycle,
+                     solve_orbit, steady_state_auto)
 
 __version__ = "0.1.0"
 
@@ -35,4 +39,13 @@ __all__ = [
     "SteadyState",
     "CycleImpact",
     "REGIMES",
+    "solve_orbit",
+    "orbit_from_cycle",
+    "steady_state_auto",
+    "continue_orbit",
+    "PeriodicOrbit",
+    "Branch",
+    "BranchPoint",
+    "SpecialPoint",
+    "OrbitError",
 ]

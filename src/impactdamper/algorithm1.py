@@ -92,7 +92,8 @@ class Algorithm1Result:
         orbit comes to the stop between impacts; negative if it crosses it); 0 if the gap
         has no interior minimum (its minimum is the impact itself).
     t_min_gap : float
-        Where that minimum is, in units of T since the impact.
+        Where that minimum is, in units of T since the impact; NaN if there is no interior
+        minimum.
     negative_gap_intervals : list of (float, float)
         Intervals of time since the impact, in units of T, where the gap is negative.
     """
@@ -176,11 +177,11 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
     zT = model.free.free(p.T, z0)  # just before the next pulse
     x21s_T, dx21s_T = zT[1] - zT[0], zT[3] - zT[2]
     x1p, x2p = forced_amplitudes(p)
-    U1 = abs(x2p - x1p)
+    U1 = float(abs(x2p - x1p))
     eps21 = math.atan2((x2p - x1p).imag, (x2p - x1p).real)
     D = p.reduced_mass * (1.0 + p.R)
     denom = 1.0 - D * dx21s_T
-    U2 = D * x21s_T / denom * U1 * p.omega
+    U2 = float(D * x21s_T / denom * U1 * p.omega)
     common = dict(p=p, U1=U1, U2=U2, eps21=eps21)
     amplitude = math.hypot(U1, U2)
     rho = p.Delta0 / amplitude
@@ -196,12 +197,14 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
     positive = [c for c in candidates if c[1] > 0.0]
     if not positive:
         return Algorithm1Result(exists=False, reason="neither root of eq. (17) gives a positive pulse S", candidates=tuple(candidates), **common)
+    candidates = [(float(e), float(s)) for e, s in candidates]
     eps, S = positive[0]
+    eps, S = float(eps), float(S)
     t_imp = (eps / (2.0 * math.pi) % 1.0) * p.T
     after = model.free.forced(t_imp) + S * z0
     intervals, (t_min, g_min) = _gap_scan(model, Segment(model.free, t_imp, after), t_imp, gap_tol)
     return Algorithm1Result(
-        exists=True, eps=eps, S=S, candidates=tuple(candidates), velocity=S / D,
+        exists=True, eps=eps, S=S, candidates=tuple(candidates), velocity=float(S / D),
         min_gap=g_min / p.x_st, t_min_gap=t_min, negative_gap_intervals=tuple(intervals),
         state_after=after, **common,
     )
@@ -226,12 +229,27 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
                 intervals.append(((t - t_imp) / T, 1.0))
             break
         t_root, slope = root
+        if t_root <= t:
+            # FIX (issue 6, hard cases): a root at the search's own start is a tangency at
+            # rounding level (g and g' both ~0 there), not a crossing. Flipping between the gap
+            # and -gap at the same instant looped for ever (gap = -8.848978948812440, the onset
+            # of Algorithm No. 1's crossing). Leave the tangency by the curvature instead.
+            curvature = float(fn.of_state(t, seg.state(t), 2))
+            if curvature > 0.0:  # a touch: stay on this side
+                departure = (2, curvature)
+                continue
+            if curvature == 0.0:  # degenerate: step past by the time resolution
+                t, departure = t + 1e-15 * T, None
+                continue
         if sign > 0:
             start = t_root
-        else:
+        elif float(model.gap_of(seg.state(0.5 * (start + t_root)))) < -tol:
             intervals.append(((start - t_imp) / T, (t_root - t_imp) / T))
+        # else: the gap only touched zero within the grazing resolution; not a crossing.
         fn, sign = (neg, -1) if sign > 0 else (gap, +1)
         departure = (1, -slope) if slope < 0 else None
+        if t_root <= t:  # FIX (continued): the function turns down here; leave by its curvature
+            departure = (2, -curvature)
         t = t_root
     # Smallest interior local minimum of the gap (0 at the impact itself if there is none):
     # sample, then refine each sampled local minimum on its bracketing samples.
@@ -243,5 +261,5 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
         res = scipy.optimize.minimize_scalar(lambda s: float(model.gap_of(seg.state(s))), bounds=(ts[k - 1], ts[k + 1]),
                                              method="bounded", options={"xatol": 1e-14 * T})
         minima.append((float(res.fun), float((res.x - t_imp) / T)))
-    g_min, t_min = min(minima) if minima else (0.0, 0.0)
+    g_min, t_min = min(minima) if minima else (0.0, math.nan)
     return [(float(a), float(b)) for a, b in intervals], (t_min, g_min)

@@ -1,4 +1,4 @@
-"""Command line: ``python -m impactdamper {steady,alg1} [--PARAM VALUE ...] [--json]``.
+"""Command line: ``python -m impactdamper {steady,alg1,orbit} [--PARAM VALUE ...] [--json]``.
 
 Every parameter of :class:`impactdamper.Parameters` is a flag (defaults: the paper's reference
 case). A bad value exits with status 2 and a one-line message naming the flag.
@@ -12,6 +12,7 @@ import math
 import sys
 
 from .algorithm1 import algorithm1
+from .orbits import SEEDS, OrbitError, solve_orbit
 from .parameters import Parameters
 from .simulate import Tolerances
 from .steady import steady_state
@@ -68,6 +69,26 @@ def build_parser() -> argparse.ArgumentParser:
 
     alg1 = sub.add_parser("alg1", help="Algorithm No. 1: closed-form one-impact orbit")
     add_parameters(alg1)
+
+    orbit = sub.add_parser("orbit", help="periodic cycle solved directly (Newton shooting), "
+                                         "admissibility and Floquet multipliers")
+    add_parameters(orbit)
+    o = orbit.add_argument_group("orbit")
+    o.add_argument("--seed", choices=SEEDS, default="auto",
+                   help="alg1: Algorithm No. 1's orbit (reported even if not admissible); simulate: the cycle "
+                        "steady settles on; auto: alg1 if admissible and stable, else simulate (default)")
+    o.add_argument("--period-multiple", type=int, default=None, metavar="K",
+                   help="solve the seed's cycle repeated to K T (a multiple of its own k)")
+    s = orbit.add_argument_group("solver (for --seed simulate)")
+    s.add_argument("--state", type=float, nargs=4, metavar=("X1", "X2", "V1", "V2"),
+                   help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)")
+    s.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
+    s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
+    s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
+    s.add_argument("--max-period-multiple", type=int, default=8, help="largest k tried for T_c = k T")
+    s.add_argument("--gap-tol", type=float, default=Tolerances.gap_tol, help="grazing resolution, relative to x_st")
+    s.add_argument("--chatter-tol", type=float, default=Tolerances.chatter_tol,
+                   help="rebound height (relative to x_st) below which chatter becomes contact")
     return parser
 
 
@@ -101,6 +122,23 @@ def main(argv: list[str] | None = None) -> int:
             print(json.dumps(_clean(result)))
         else:
             _print_alg1(result)
+        return 0
+    if args.command == "orbit":
+        try:
+            tolerances = Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol)
+            result = solve_orbit(p, args.seed, period_multiple=args.period_multiple, t0=args.t0, state=args.state,
+                                 tolerances=tolerances, settle_tol=args.settle_tol, max_periods=args.max_periods,
+                                 max_period_multiple=args.max_period_multiple).to_dict()
+        except OrbitError as err:  # Newton failed, or Algorithm No. 1 has no orbit: not a usage error
+            print(f"{sub.prog}: {err}", file=sys.stderr)
+            return 1
+        except ValueError as err:
+            name = str(err).split("`")[1] if "`" in str(err) else ""
+            sub.exit(2, f"{sub.prog}: error: argument {_flag(name)}: {err}\n")
+        if args.json:
+            print(json.dumps(_clean(result)))
+        else:
+            _print_orbit(result)
         return 0
     try:
         tolerances = Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol)
@@ -137,3 +175,14 @@ def _print_steady(r: dict) -> None:
     for i, imp in enumerate(r["impacts"], 1):
         print(f"  t{i} = {imp['t_over_T']:.9f} T (phase {imp['phase']:.9f}), v = {imp['velocity']:.9g} m/s, "
               f"S = {imp['impulse']:.9g} N s")
+
+
+def _print_orbit(r: dict) -> None:
+    _print_steady(r)
+    if not r["solved"]:
+        print(f"  not solved directly: {r['reason']}")
+        return
+    print(f"  solved directly (seed {r['seed']}, {r['newton_iterations']} Newton iterations, residual "
+          f"{r['residual']:.2g}); admissible: {'yes' if r['admissible'] else 'no, ' + r['reason']}; "
+          f"stable: {'yes' if r['stable'] else 'no'}")
+    print("  Floquet multipliers |mu|: " + ", ".join(f"{m:.9f}" for m in r["multipliers"]))

@@ -111,6 +111,16 @@ class LinearMode:
         Symmetric positive definite W such that y^T W y / 2 is the mechanical energy of the
         free motion. It never increases in free motion (the damping is non-negative); the
         event search uses that to bound the free response's derivatives.
+
+    Attributes
+    ----------
+    Yhat : ndarray, shape (n,), complex
+        Complex amplitudes of the forced response, Y(t) = Im(Yhat e^{i omega t}) (eq. 10-11:
+        for the free mode Yhat[:2] are x1p_hat, x2p_hat).
+    roots : ndarray, shape (n,), complex
+        Eigenvalues of M (for the free mode, the roots of eq. 4).
+    modal : bool
+        Whether the modal form is used (else the matrix exponential).
     """
 
     M: np.ndarray

@@ -17,11 +17,14 @@ TEXT_WIDTH = 6.3
 __all__ = ["use_style", "save_figure", "STYLE_FILE", "TEXT_WIDTH"]
 
 
-def use_style():
-    """Select the Agg backend and the project style; returns matplotlib.pyplot."""
+def use_style(backend: str | None = "Agg"):
+    """Select the project style (and a backend: the non-interactive Agg by default, for the
+    workflow's scripts; ``None`` keeps the current one, e.g. Jupyter's inline backend).
+    Returns matplotlib.pyplot."""
     import matplotlib
 
-    matplotlib.use("Agg")
+    if backend is not None:
+        matplotlib.use(backend)
     import matplotlib.pyplot as plt
 
     plt.style.use(str(STYLE_FILE))

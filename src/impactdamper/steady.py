@@ -21,6 +21,7 @@ The regime of the settled cycle:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -89,6 +90,10 @@ class SteadyState:
         Largest relative section mismatch over the final cycle.
     trajectory : Trajectory
         The whole simulated motion, one cycle past the reported one included.
+    section_times : ndarray, shape (periods,)
+        Times t0 + n T of the stroboscopic sections, s.
+    sections : ndarray, shape (periods, 4)
+        States (x1, x2, x1', x2') there (the transient's record).
     """
 
     p: Parameters = field(repr=False)
@@ -102,6 +107,8 @@ class SteadyState:
     periods: int
     residual: float
     trajectory: Trajectory = field(repr=False)
+    section_times: np.ndarray = field(default=None, repr=False)
+    sections: np.ndarray = field(default=None, repr=False)
 
     @property
     def impacts_per_cycle(self) -> int:
@@ -222,7 +229,9 @@ def steady_state(
     k = found_k if found_k else NONPERIODIC_WINDOW
     window_end = t0 + n * T
     solver.advance(window_end + (k + 1) * T)  # the next cycle too, for plots of "cycle + next impact"
-    return _describe(p, solver.trajectory, window_end - k * T, k, bool(found_k), n, residual)
+    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    result = _describe(p, solver.trajectory, window_end - k * T, k, bool(found_k), n, residual)
+    return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=sections[:n] * scale)
 
 
 def _mismatch(sections: np.ndarray, modes: list, k: int) -> float:
