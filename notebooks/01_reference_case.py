@@ -226,7 +226,7 @@ gaps = np.linspace(-16.0, 12.0, 561)
 results = [idp.algorithm1(p.replace(gap=float(g))) for g in gaps]
 exists = np.array([r.exists for r in results])
 admissible = np.array([r.admissible for r in results])
-# min_gap is 0 by convention when the gap has no interior minimum (t_min_gap = 0): not plotted.
+# min_gap is 0 by convention when the gap has no interior minimum (t_min_gap is NaN): not plotted.
 min_gap = np.array([r.min_gap if r.exists and r.t_min_gap > 0 else np.nan for r in results])
 
 fig, ax = plt.subplots(layout="constrained")

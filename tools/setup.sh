@@ -18,4 +18,17 @@ if [ "$need_tex" = 1 ]; then
     latexmk texlive-latex-base texlive-latex-recommended texlive-latex-extra \
     texlive-fonts-recommended poppler-utils >/dev/null
 fi
+# Siconos's Moreau-Jean time-stepping, a baseline of the work-precision study (issue 6).
+# Debian packages its Python module for Debian's own /usr/bin/python3 (~64 MB download,
+# ~475 MB installed, ~30 s); the study runs it there in a subprocess. Optional: where apt or
+# the package is missing the study says plainly that Siconos was not available.
+if command -v apt-get >/dev/null && [ -x /usr/bin/python3 ] && ! /usr/bin/python3 -c "import siconos.kernel" 2>/dev/null; then
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  if $SUDO apt-get install -y -qq --no-install-recommends python3-siconos >/dev/null 2>&1 \
+     || { $SUDO apt-get update -qq && $SUDO apt-get install -y -qq --no-install-recommends python3-siconos >/dev/null 2>&1; }; then
+    echo "setup: Siconos installed for /usr/bin/python3"
+  else
+    echo "setup: python3-siconos not installed (optional; the work-precision study will say so)"
+  fi
+fi
 echo "setup: done"

@@ -40,7 +40,7 @@ __all__ = ["LinearFunctional", "Segment", "first_root", "march", "SearchLimitErr
 
 # Newton polishing after the certified march: the march already converges quadratically,
 # so a few iterations reach rounding level.
-NEWTON_ITERATIONS = 4
+NEWTON_ITERATIONS = 6
 # No search may take more certified steps than this (a guard; typical searches take 5-50).
 MAX_STEPS = 200_000
 # Floor of a derivative bound: a zero bound (no forcing, no free motion) would give an
@@ -259,17 +259,17 @@ def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: floa
     stops where the slope vanishes (a grazing touch is kept at the certified point)."""
     evaluate = segment.evaluator(fn)
     for _ in range(NEWTON_ITERATIONS):
-        if g1 >= 0.0 or g <= 0.0:
+        if g1 >= 0.0 or g == 0.0:
             break
         dt = -g / g1
         if t + dt == t:
             break
         t_new = t + dt
         g_new, g1_new = evaluate(t_new)
-        # Accept only a step that shrinks the residual and stays inside the tolerance band:
-        # near a gap maximum below tol (a bounce lower than the resolution) the slope is ~0
-        # and Newton would jump far past the root.
-        if abs(g_new) >= abs(g) or g_new < -abs(g):
+        # Accept only a step that shrinks the residual (from either side of a transversal
+        # root, where Newton converges quadratically): near a gap maximum below tol (a bounce
+        # lower than the resolution) the slope is ~0 and Newton would jump far past the root.
+        if abs(g_new) >= abs(g):
             break
         t, g, g1 = t_new, g_new, g1_new
     return t, g1

@@ -1,0 +1,26 @@
+# Replication and extension of Timofeev, Lyuminarskiy & Lyuminarskiy (2019),
+# DOI 10.18698/0236-3941-2019-1-90-100. Thin entry point: config, validation, one rules file
+# per stage; each stage adds its final products to ALL_TARGETS.
+from snakemake.utils import min_version, validate
+
+min_version("8.0")
+
+
+configfile: "config/config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/reference.smk"
+include: "workflow/rules/sweeps.smk"
+include: "workflow/rules/notebooks.smk"
+include: "workflow/rules/performance.smk"
+include: "workflow/rules/orbits.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        ALL_TARGETS,

@@ -1,0 +1,160 @@
+"""The Snakemake workflow: lint, the config schema, and the reference-case stage's DAG.
+
+Every test here is a dry run (``snakemake -n``) or a lint: no job is executed. A bad config
+value must stop the run with a message naming the key (the schema in
+workflow/schemas/config.schema.yaml); the tests write a small override file, which Snakemake
+merges over config/config.yaml.
+"""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+LIBRARY = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "src" / "impactdamper").glob("*.py"))
+REFERENCE_RULES = ("reference_case_stated", "reference_case_located", "gap_scan", "fig2a", "fig2b", "impact_table",
+                   "crosscheck_case", "other_readings", "fig_located_range", "verdict")
+REFERENCE_TARGETS = (
+    [f"figures/fig2{panel}_{case}.{ext}" for panel in "ab" for case in ("stated", "located") for ext in ("pdf", "png")]
+    + [f"figures/impacts_{case}.csv" for case in ("stated", "located")]
+    + [f"paper/generated/impacts_{case}.tex" for case in ("stated", "located")]
+    + ["figures/located_range.pdf", "figures/located_range.png"]
+    + ["figures/verdict.json", "figures/verdict.csv", "paper/generated/verdict_macros.tex"]
+)
+
+
+def snakemake(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([*SNAKEMAKE, "--nolock", *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
+
+
+def dry_run_with(tmp_path: Path, override: str, *targets: str) -> subprocess.CompletedProcess:
+    cfg = tmp_path / "override.yaml"
+    cfg.write_text(override)
+    return snakemake("-n", *targets, "--configfile", str(cfg))  # --configfile takes several values: last
+
+
+# --- lint -------------------------------------------------------------------------------------
+def test_lint_is_clean():
+    out = snakemake("--lint")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "Congratulations, your workflow is in a good condition" in out.stdout + out.stderr
+
+
+# --- the schema rejects bad values, naming the key --------------------------------------------
+def _config_with(override: dict) -> dict:
+    """config/config.yaml with a section's keys overridden (as Snakemake merges --configfile)."""
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    for section, values in override.items():
+        config.setdefault(section, {}).update(values)
+    return config
+
+
+@pytest.mark.parametrize(
+    ("override", "key", "why"),
+    [
+        ({"reference": {"R": 1.5}}, "['reference']['R']", "greater than the maximum of 1"),
+        ({"reference": {"gap": "minus five"}}, "['reference']['gap']", "is not of type 'number'"),
+        ({"reference": {"theta": 0}}, "['reference']['theta']", "less than or equal to the minimum of 0"),
+        ({"solver": {"max_periods": 1.5}}, "['solver']['max_periods']", "is not of type 'integer'"),
+        ({"verdict": {"gap_step": -0.1}}, "['verdict']['gap_step']", "less than or equal to the minimum of 0"),
+        ({"verdict": {"ivp_method": "Euler"}}, "['verdict']['ivp_method']", "is not one of"),
+        ({"verdict": {"random_states": "many"}}, "['verdict']['random_states']", "is not of type 'integer'"),
+        ({"verdict": {"gap_stepp": 0.1}}, "['verdict']", "('gap_stepp' was unexpected)"),
+    ],
+)
+def test_schema_rejects_bad_value_naming_the_key(override, key, why):
+    """The same validation the Snakefile runs (snakemake.utils.validate), in process."""
+    from snakemake.exceptions import WorkflowError
+    from snakemake.utils import validate
+
+    with pytest.raises(WorkflowError) as err:
+        validate(_config_with(override), str(SCHEMA))
+    text = str(err.value)
+    assert key in text and why in text, text
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "ci.yaml"])
+def test_shipped_configs_are_valid(name):
+    from snakemake.utils import validate
+
+    validate(yaml.safe_load((ROOT / "config" / name).read_text()), str(SCHEMA))
+
+
+def test_snakemake_stops_on_bad_value_naming_the_key(tmp_path):
+    """End to end: a user's override file with an out-of-range value stops the dry run."""
+    out = dry_run_with(tmp_path, "reference:\n  R: 1.5\n", "reference")
+    text = out.stdout + out.stderr
+    assert out.returncode != 0
+    assert "Error validating config file" in text
+    assert "['reference']['R']" in text and "1.5 is greater than the maximum of 1" in text
+
+
+# --- the stage's DAG ---------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def forced_dry_run() -> str:
+    """The whole DAG (rule all), every job forced, with the CI config (also shows it is valid
+    end to end)."""
+    out = snakemake("-n", "--forceall", "--configfile", "config/ci.yaml")
+    assert out.returncode == 0, out.stdout + out.stderr
+    return out.stdout
+
+
+def _jobs(text: str) -> list[tuple[str, dict]]:
+    """(rule, fields) of every job in a dry run's listing."""
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", text):
+        m = re.match(r"(?:local)?rule (\w+):", block)
+        if not m:
+            continue
+        fields = dict(re.findall(r"^\s+(input|output|log|wildcards): (.*)$", block, flags=re.M))
+        jobs.append((m.group(1), fields))
+    return jobs
+
+
+def test_stage_has_every_rule_and_target(forced_dry_run):
+    jobs = _jobs(forced_dry_run)
+    rules = {rule for rule, _ in jobs}
+    assert set(REFERENCE_RULES) <= rules
+    outputs = ", ".join(f.get("output", "") for _, f in jobs)
+    for target in REFERENCE_TARGETS:
+        assert target in outputs
+
+
+def test_all_includes_the_stage(forced_dry_run):
+    all_job = [f for rule, f in _jobs(forced_dry_run) if rule == "all"]
+    assert all_job and all(t in all_job[0]["input"] for t in REFERENCE_TARGETS)
+
+
+def test_every_job_lists_library_and_script_and_log(forced_dry_run):
+    """A change to the library's source must rerun the stage: every job lists every library
+    file (and its own script) as input, and writes a log."""
+    for rule, fields in _jobs(forced_dry_run):
+        if rule not in REFERENCE_RULES:
+            continue
+        inputs = [s.strip() for s in fields["input"].split(",")]
+        assert set(LIBRARY) <= set(inputs), rule
+        assert any(s.startswith("workflow/scripts/") for s in inputs), rule
+        assert fields.get("log", "").startswith("logs/reference/"), rule
+
+
+def test_figure_jobs_list_the_style(forced_dry_run):
+    for rule, fields in _jobs(forced_dry_run):
+        if rule in ("fig2a", "fig2b", "fig_located_range"):
+            assert "src/impactdamper/paper.mplstyle" in fields["input"]
+            assert "src/impactdamper/plotting.py" in fields["input"]
+
+
+# --- a config error the schema cannot express -------------------------------------------------
+def test_scan_window_must_be_ordered(tmp_path):
+    sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
+    import gap_scan
+
+    verdict = {"gap_min": -9.0, "gap_max": -10.0}
+    with pytest.raises(ValueError, match=r"`verdict.gap_min` = -9.0 is not allowed: must be < `verdict.gap_max`"):
+        gap_scan.main({}, {}, verdict, tmp_path / "scan.csv", tmp_path / "scan.json")

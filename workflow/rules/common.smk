@@ -1,0 +1,44 @@
+# Shared helpers for every stage.
+import json
+import os
+from pathlib import Path
+
+# The solver's matrices are 4 x 4: BLAS threads never help them, and on a loaded machine
+# OpenBLAS's thread hand-offs slow the matrix-exponential path by up to ~90x (see
+# tests/conftest.py). Every job inherits one BLAS thread (an explicit setting wins).
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+# The library's source: every rule that imports it lists these as inputs, so a change to the
+# solver reruns what it affects (Snakemake does not follow Python imports by itself).
+LIBRARY = sorted(str(p) for p in Path("src/impactdamper").glob("*.py"))
+STYLE = ["src/impactdamper/plotting.py", "src/impactdamper/paper.mplstyle"]
+ENV = "../../envs/impactdamper.yaml"
+
+# Final products of each stage; rule all asks for all of them.
+ALL_TARGETS = []
+
+
+def parameters_json(section="reference"):
+    """The reference parameters as JSON, for a rule's params (reruns when they change)."""
+    return json.dumps(config[section], sort_keys=True)
+
+
+# Sweeps stage (issue 5): the chunk files a gather rule waits for.
+def map_chunk_files(wildcards, ext="csv"):
+    """Chunk outputs of regime map `wildcards.map` (config maps.chunks jobs)."""
+    return expand(
+        "results/maps/{map}/chunk_{chunk}.{ext}",
+        map=wildcards.map,
+        chunk=range(config["maps"]["chunks"]),
+        ext=ext,
+    )
+
+
+def map_chunk_timings(wildcards):
+    return map_chunk_files(wildcards, ext="json")
+
+
+def random_chunk_files(wildcards):
+    """Chunk outputs of the random initial states (config sweep.random_chunks jobs)."""
+    return expand("results/sweeps/random_{chunk}.csv", chunk=range(config["sweep"]["random_chunks"]))

@@ -1,0 +1,61 @@
+# Issue 8: the guided-tour notebooks in notebooks/ (jupytext percent format; the .py files
+# are the source). Each rule executes one notebook end to end in a Jupyter kernel, so a
+# broken notebook fails the build. The executed copies in results/notebooks/ are not a
+# record: the report reads no number from them.
+#
+# `jupytext --execute` runs the notebook with nbconvert in the kernel its header names
+# (python3): tools/setup.sh registers it with `python3 -m ipykernel install --user`.
+
+
+rule notebook_reference_case:
+    input:
+        notebook="notebooks/01_reference_case.py",
+        library=LIBRARY,
+        style=STYLE,
+    output:
+        "results/notebooks/01_reference_case.ipynb",
+    log:
+        "logs/notebooks/01_reference_case.log",
+    conda:
+        ENV
+    shell:
+        "jupytext --to ipynb --execute {input.notebook} --output {output} > {log} 2>&1"
+
+
+rule notebook_gap_sweep:
+    input:
+        notebook="notebooks/02_gap_sweep.py",
+        library=LIBRARY,
+        style=STYLE,
+    output:
+        "results/notebooks/02_gap_sweep.ipynb",
+    log:
+        "logs/notebooks/02_gap_sweep.log",
+    conda:
+        ENV
+    shell:
+        "jupytext --to ipynb --execute {input.notebook} --output {output} > {log} 2>&1"
+
+
+rule notebook_your_own_damper:
+    input:
+        notebook="notebooks/03_your_own_damper.py",
+        library=LIBRARY,
+        style=STYLE,
+    output:
+        "results/notebooks/03_your_own_damper.ipynb",
+    log:
+        "logs/notebooks/03_your_own_damper.log",
+    conda:
+        ENV
+    shell:
+        "jupytext --to ipynb --execute {input.notebook} --output {output} > {log} 2>&1"
+
+
+ALL_TARGETS.extend(
+    [
+        "results/notebooks/01_reference_case.ipynb",
+        "results/notebooks/02_gap_sweep.ipynb",
+        "results/notebooks/03_your_own_damper.ipynb",
+    ]
+)

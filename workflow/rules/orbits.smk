@@ -1,0 +1,88 @@
+# Stage: periodic orbits solved directly (issue 4). The one-impact orbit (seeded by Algorithm
+# No. 1), the 2T cycle with three impacts (the paper's Fig. 2b motion) and the 3T cycle with
+# four impacts are followed in Delta0/x_st by pseudo-arclength continuation with their
+# stability (Floquet multipliers from saltation matrices) and admissibility (config: orbits);
+# then the figure, and the report's macros and table.
+# Convention: every script runs through `script:` and has a main() the tests call directly.
+
+ORBIT_HELPER = "workflow/scripts/orbitstage.py"
+
+
+rule orbit_branches:
+    input:
+        script="workflow/scripts/orbit_branches.py",
+        helper=ORBIT_HELPER,
+        library=LIBRARY,
+        located="figures/located_case.json",
+    output:
+        branches="figures/orbit_branches.csv",
+        special="figures/orbit_special_points.csv",
+        summary="figures/orbit_summary.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        orbits=parameters_json("orbits"),
+    log:
+        "logs/orbits/orbit_branches.log",
+    conda:
+        ENV
+    script:
+        "../scripts/orbit_branches.py"
+
+
+rule fig_orbit_branches:
+    input:
+        script="workflow/scripts/fig_orbit_branches.py",
+        helper=ORBIT_HELPER,
+        style=STYLE,
+        library=LIBRARY,
+        branches="figures/orbit_branches.csv",
+        special="figures/orbit_special_points.csv",
+        summary="figures/orbit_summary.json",
+    output:
+        pdf="figures/orbit_branches.pdf",
+        png="figures/orbit_branches.png",
+    log:
+        "logs/orbits/fig_orbit_branches.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_orbit_branches.py"
+
+
+rule orbit_report:
+    input:
+        script="workflow/scripts/orbit_report.py",
+        helper=ORBIT_HELPER,
+        library=LIBRARY,
+        branches="figures/orbit_branches.csv",
+        special="figures/orbit_special_points.csv",
+        summary="figures/orbit_summary.json",
+    output:
+        macros="paper/generated/orbit_macros.tex",
+        table="paper/generated/orbit_special_points_table.tex",
+    log:
+        "logs/orbits/orbit_report.log",
+    conda:
+        ENV
+    script:
+        "../scripts/orbit_report.py"
+
+
+ORBIT_TARGETS = [
+    "figures/orbit_branches.csv",
+    "figures/orbit_special_points.csv",
+    "figures/orbit_summary.json",
+    "figures/orbit_branches.pdf",
+    "figures/orbit_branches.png",
+    "paper/generated/orbit_macros.tex",
+    "paper/generated/orbit_special_points_table.tex",
+]
+ALL_TARGETS.extend(ORBIT_TARGETS)
+
+
+# This stage alone: `snakemake --cores 1 orbits`.
+rule orbits:
+    localrule: True
+    input:
+        ORBIT_TARGETS,

@@ -1,0 +1,166 @@
+# Stage: speed against error, and numerical stability on hard cases (issue 6).
+# The work-precision study (every method against a 40-digit mpmath reference), the cost
+# growth of the exact solver, the hard-case suite and issue 2's reference-speed benchmark;
+# then the report's macros and tables. Timings are CPU time: the timed rules take both cores
+# (threads: 2) so that, with --cores 2, nothing else runs beside them, and reset the BLAS
+# threads Snakemake then sets to 2 back to 1 (4 x 4 matrices gain nothing). Their outputs are
+# benchmark data, not deterministic (listed in figures/nondeterministic.json).
+# Convention: every script runs through `script:` and has a main() the tests call directly.
+
+PERFORMANCE_HELPER = "workflow/scripts/performancestage.py"
+
+
+rule performance_work_precision:
+    input:
+        script="workflow/scripts/work_precision.py",
+        helper=PERFORMANCE_HELPER,
+        library=LIBRARY,
+    output:
+        json="results/benchmarks/work_precision.json",
+        csv="figures/work_precision.csv",
+    params:
+        reference=parameters_json("reference"),
+        performance=parameters_json("performance"),
+    threads: 2
+    log:
+        "logs/performance/work_precision.log",
+    conda:
+        ENV
+    script:
+        "../scripts/work_precision.py"
+
+
+rule fig_work_precision:
+    input:
+        script="workflow/scripts/fig_work_precision.py",
+        library=LIBRARY,
+        style=STYLE,
+        csv="figures/work_precision.csv",
+        json="results/benchmarks/work_precision.json",
+    output:
+        pdf="figures/work_precision.pdf",
+        png="figures/work_precision.png",
+    params:
+        performance=parameters_json("performance"),
+    log:
+        "logs/performance/fig_work_precision.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_work_precision.py"
+
+
+rule performance_cost_growth:
+    input:
+        script="workflow/scripts/cost_growth.py",
+        helper=PERFORMANCE_HELPER,
+        library=LIBRARY,
+    output:
+        json="results/benchmarks/cost_growth.json",
+        csv="figures/cost_growth.csv",
+    params:
+        reference=parameters_json("reference"),
+        performance=parameters_json("performance"),
+    threads: 2
+    log:
+        "logs/performance/cost_growth.log",
+    conda:
+        ENV
+    script:
+        "../scripts/cost_growth.py"
+
+
+rule fig_cost_growth:
+    input:
+        script="workflow/scripts/fig_cost_growth.py",
+        library=LIBRARY,
+        style=STYLE,
+        csv="figures/cost_growth.csv",
+    output:
+        pdf="figures/cost_growth.pdf",
+        png="figures/cost_growth.png",
+    log:
+        "logs/performance/fig_cost_growth.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_cost_growth.py"
+
+
+rule performance_hardcases:
+    input:
+        script="workflow/scripts/hardcases.py",
+        helper=PERFORMANCE_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/hardcases.csv",
+        json="results/benchmarks/hardcases.json",
+        tex="paper/generated/hardcases_table.tex",
+    params:
+        reference=parameters_json("reference"),
+    threads: 2
+    log:
+        "logs/performance/hardcases.log",
+    conda:
+        ENV
+    script:
+        "../scripts/hardcases.py"
+
+
+rule performance_reference_speed:
+    input:
+        script="benchmarks/reference_speed.py",
+        library=LIBRARY,
+    output:
+        "results/benchmarks/reference_speed.json",
+    params:
+        repeats=config["performance"]["reference_speed_repeats"],
+        ivp_repeats=config["performance"]["reference_speed_ivp_repeats"],
+    threads: 2
+    log:
+        "logs/performance/reference_speed.log",
+    conda:
+        ENV
+    shell:
+        "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
+        "python {input.script} {output} --repeats {params.repeats} --ivp-repeats {params.ivp_repeats} > {log} 2>&1"
+
+
+rule performance_report:
+    input:
+        script="workflow/scripts/performance_report.py",
+        helper=PERFORMANCE_HELPER,
+        library=LIBRARY,
+        work_precision="results/benchmarks/work_precision.json",
+        cost_growth="results/benchmarks/cost_growth.json",
+        hardcases="results/benchmarks/hardcases.json",
+        reference_speed="results/benchmarks/reference_speed.json",
+    output:
+        macros="paper/generated/performance_macros.tex",
+        table="paper/generated/workprecision_table.tex",
+        summary="results/benchmarks/performance_summary.json",
+    params:
+        performance=parameters_json("performance"),
+    log:
+        "logs/performance/performance_report.log",
+    conda:
+        ENV
+    script:
+        "../scripts/performance_report.py"
+
+
+ALL_TARGETS.extend(
+    [
+        "figures/work_precision.pdf",
+        "figures/work_precision.png",
+        "figures/work_precision.csv",
+        "figures/cost_growth.pdf",
+        "figures/cost_growth.png",
+        "figures/cost_growth.csv",
+        "figures/hardcases.csv",
+        "paper/generated/hardcases_table.tex",
+        "paper/generated/performance_macros.tex",
+        "paper/generated/workprecision_table.tex",
+        "results/benchmarks/reference_speed.json",
+    ]
+)

@@ -1,0 +1,234 @@
+# Stage: the paper's reference case (issue 3): Fig. 2a, Fig. 2b, the impact-time table and the
+# replication verdict, for the stated case (config: reference) and for the located case (where
+# the behaviour the paper reports does occur, found by rule gap_scan).
+# Convention: every script runs through `script:` and reads snakemake.input/output/params/log
+# (so no `from __future__` import: Snakemake prepends its preamble); each also has a main()
+# that the record test (tests/test_figures_record.py) calls directly.
+
+REFERENCE_HELPER = "workflow/scripts/replication.py"
+REFERENCE_CASES = ["stated", "located"]
+
+
+rule reference_case_stated:
+    input:
+        script="workflow/scripts/solve_case.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+    output:
+        json="figures/reference_stated.json",
+        fig2a="figures/fig2a_stated.csv",
+        fig2b="figures/fig2b_stated.csv",
+    params:
+        case="stated",
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+    log:
+        "logs/reference/case_stated.log",
+    conda:
+        ENV
+    script:
+        "../scripts/solve_case.py"
+
+
+rule gap_scan:
+    input:
+        script="workflow/scripts/gap_scan.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/gap_scan.csv",
+        json="figures/located_case.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        verdict=parameters_json("verdict"),
+    threads: 2
+    log:
+        "logs/reference/gap_scan.log",
+    conda:
+        ENV
+    script:
+        "../scripts/gap_scan.py"
+
+
+rule reference_case_located:
+    input:
+        script="workflow/scripts/solve_case.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+        located="figures/located_case.json",
+    output:
+        json="figures/reference_located.json",
+        fig2a="figures/fig2a_located.csv",
+        fig2b="figures/fig2b_located.csv",
+    params:
+        case="located",
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+    log:
+        "logs/reference/case_located.log",
+    conda:
+        ENV
+    script:
+        "../scripts/solve_case.py"
+
+
+rule fig2a:
+    input:
+        script="workflow/scripts/fig2a.py",
+        helper=REFERENCE_HELPER,
+        style=STYLE,
+        library=LIBRARY,
+        csv="figures/fig2a_{case}.csv",
+        json="figures/reference_{case}.json",
+    output:
+        pdf="figures/fig2a_{case}.pdf",
+        png="figures/fig2a_{case}.png",
+    wildcard_constraints:
+        case="stated|located",
+    log:
+        "logs/reference/fig2a_{case}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig2a.py"
+
+
+rule fig2b:
+    input:
+        script="workflow/scripts/fig2b.py",
+        helper=REFERENCE_HELPER,
+        style=STYLE,
+        library=LIBRARY,
+        csv="figures/fig2b_{case}.csv",
+        json="figures/reference_{case}.json",
+    output:
+        pdf="figures/fig2b_{case}.pdf",
+        png="figures/fig2b_{case}.png",
+    wildcard_constraints:
+        case="stated|located",
+    log:
+        "logs/reference/fig2b_{case}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig2b.py"
+
+
+rule impact_table:
+    input:
+        script="workflow/scripts/impact_table.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+        json="figures/reference_{case}.json",
+    output:
+        csv="figures/impacts_{case}.csv",
+        tex="paper/generated/impacts_{case}.tex",
+    wildcard_constraints:
+        case="stated|located",
+    log:
+        "logs/reference/impact_table_{case}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/impact_table.py"
+
+
+rule crosscheck_case:
+    input:
+        script="workflow/scripts/crosscheck_case.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+        json="figures/reference_{case}.json",
+    output:
+        json="figures/crosscheck_{case}.json",
+    wildcard_constraints:
+        case="stated|located",
+    params:
+        solver=parameters_json("solver"),
+        verdict=parameters_json("verdict"),
+    log:
+        "logs/reference/crosscheck_{case}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/crosscheck_case.py"
+
+
+rule other_readings:
+    input:
+        script="workflow/scripts/other_readings.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/other_readings.csv",
+        json="figures/other_readings.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        verdict=parameters_json("verdict"),
+    log:
+        "logs/reference/other_readings.log",
+    conda:
+        ENV
+    script:
+        "../scripts/other_readings.py"
+
+
+rule fig_located_range:
+    input:
+        script="workflow/scripts/fig_located_range.py",
+        helper=REFERENCE_HELPER,
+        style=STYLE,
+        library=LIBRARY,
+        csv="figures/gap_scan.csv",
+        json="figures/located_case.json",
+    output:
+        pdf="figures/located_range.pdf",
+        png="figures/located_range.png",
+    log:
+        "logs/reference/fig_located_range.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_located_range.py"
+
+
+rule verdict:
+    input:
+        script="workflow/scripts/verdict.py",
+        helper=REFERENCE_HELPER,
+        library=LIBRARY,
+        stated="figures/reference_stated.json",
+        located="figures/reference_located.json",
+        cc_stated="figures/crosscheck_stated.json",
+        cc_located="figures/crosscheck_located.json",
+        scan="figures/located_case.json",
+        readings="figures/other_readings.json",
+    output:
+        json="figures/verdict.json",
+        csv="figures/verdict.csv",
+        tex="paper/generated/verdict_macros.tex",
+    log:
+        "logs/reference/verdict.log",
+    conda:
+        ENV
+    script:
+        "../scripts/verdict.py"
+
+
+REFERENCE_TARGETS = (
+    expand("figures/fig2{panel}_{case}.{ext}", panel=["a", "b"], case=REFERENCE_CASES, ext=["pdf", "png"])
+    + expand("figures/impacts_{case}.csv", case=REFERENCE_CASES)
+    + expand("paper/generated/impacts_{case}.tex", case=REFERENCE_CASES)
+    + ["figures/located_range.pdf", "figures/located_range.png"]
+    + ["figures/verdict.json", "figures/verdict.csv", "paper/generated/verdict_macros.tex"]
+)
+ALL_TARGETS.extend(REFERENCE_TARGETS)
+
+
+# This stage alone: `snakemake --cores 2 reference`.
+rule reference:
+    localrule: True
+    input:
+        REFERENCE_TARGETS,

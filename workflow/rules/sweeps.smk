@@ -1,0 +1,292 @@
+# Stage: gap sweeps and regime maps (issue 5). The gap Delta0/x_st is swept up and down over
+# every regime of the reference case (config: sweep), with random initial states, transitions
+# bisected and checked against analytic values; two-parameter maps (config: maps) run as
+# chunks, one job each (wildcards map, chunk), gathered afterwards, so the same DAG runs on a
+# cluster (profiles/slurm). Benchmarks are timed inside the jobs (results/benchmarks/).
+# Convention: every script runs through `script:` and has a main() the tests call directly.
+
+SWEEP_HELPER = "workflow/scripts/sweepstage.py"
+SWEEP_MAPS = ["theta", "damping"]
+SWEEP_MAP_PATTERN = "|".join(SWEEP_MAPS)
+
+
+rule sweep_gap:
+    input:
+        script="workflow/scripts/sweep_gap.py",
+        helper=SWEEP_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/sweep_gap.csv",
+        settings="figures/sweep_gap_settings.json",
+        pkl="results/sweeps/sweep_points.pkl",
+        timing="results/benchmarks/sweep_timing.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
+    threads: 2
+    log:
+        "logs/sweeps/sweep_gap.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sweep_gap.py"
+
+
+rule sweep_random_chunk:
+    input:
+        script="workflow/scripts/sweep_random.py",
+        helper=SWEEP_HELPER,
+        library=LIBRARY,
+    output:
+        csv="results/sweeps/random_{chunk}.csv",
+    wildcard_constraints:
+        chunk=r"\d+",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
+    log:
+        "logs/sweeps/random_{chunk}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sweep_random.py"
+
+
+rule sweep_random:
+    input:
+        script="workflow/scripts/gather_csv.py",
+        chunks=random_chunk_files,
+    output:
+        csv="figures/sweep_random.csv",
+    log:
+        "logs/sweeps/random_gather.log",
+    conda:
+        ENV
+    script:
+        "../scripts/gather_csv.py"
+
+
+rule sweep_alg1:
+    input:
+        script="workflow/scripts/sweep_alg1.py",
+        helper=SWEEP_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/sweep_alg1.csv",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
+    log:
+        "logs/sweeps/sweep_alg1.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sweep_alg1.py"
+
+
+rule sweep_transitions:
+    input:
+        script="workflow/scripts/sweep_transitions.py",
+        helper=SWEEP_HELPER,
+        library=LIBRARY,
+        points="results/sweeps/sweep_points.pkl",
+    output:
+        csv="figures/sweep_transitions.csv",
+        json="figures/sweep_checks.json",
+    params:
+        sweep=parameters_json("sweep"),
+    threads: 2
+    log:
+        "logs/sweeps/sweep_transitions.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sweep_transitions.py"
+
+
+rule map_chunk:
+    input:
+        script="workflow/scripts/map_chunk.py",
+        helper=SWEEP_HELPER,
+        library=LIBRARY,
+    output:
+        csv="results/maps/{map}/chunk_{chunk}.csv",
+        json="results/maps/{map}/chunk_{chunk}.json",
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
+        chunk=r"\d+",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        maps=parameters_json("maps"),
+    log:
+        "logs/maps/{map}_chunk_{chunk}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/map_chunk.py"
+
+
+rule map_gather:
+    input:
+        script="workflow/scripts/map_gather.py",
+        helper=SWEEP_HELPER,
+        csvs=map_chunk_files,
+        jsons=map_chunk_timings,
+    output:
+        csv="figures/map_{map}.csv",
+        settings="figures/map_{map}_settings.json",
+        timing="results/benchmarks/map_{map}_timing.json",
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
+    log:
+        "logs/maps/{map}_gather.log",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        maps=parameters_json("maps"),
+    conda:
+        ENV
+    script:
+        "../scripts/map_gather.py"
+
+
+rule map_curves:
+    input:
+        script="workflow/scripts/map_curves.py",
+        chunk_script="workflow/scripts/map_chunk.py",
+        helper=SWEEP_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/map_{map}_curves.csv",
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
+    params:
+        reference=parameters_json("reference"),
+        maps=parameters_json("maps"),
+    log:
+        "logs/maps/{map}_curves.log",
+    conda:
+        ENV
+    script:
+        "../scripts/map_curves.py"
+
+
+rule fig_sweep_bifurcation:
+    input:
+        script="workflow/scripts/fig_sweep_bifurcation.py",
+        helper=SWEEP_HELPER,
+        style=STYLE,
+        sweep="figures/sweep_gap.csv",
+        random="figures/sweep_random.csv",
+        alg1="figures/sweep_alg1.csv",
+        checks="figures/sweep_checks.json",
+        located="figures/located_case.json",
+    output:
+        pdf="figures/sweep_bifurcation.pdf",
+        png="figures/sweep_bifurcation.png",
+    params:
+        stated_gap=config["reference"]["gap"],
+    log:
+        "logs/sweeps/fig_sweep_bifurcation.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_sweep_bifurcation.py"
+
+
+rule fig_sweep_regimes:
+    input:
+        script="workflow/scripts/fig_sweep_regimes.py",
+        helper=SWEEP_HELPER,
+        style=STYLE,
+        sweep="figures/sweep_gap.csv",
+        random="figures/sweep_random.csv",
+    output:
+        pdf="figures/sweep_regimes.pdf",
+        png="figures/sweep_regimes.png",
+    log:
+        "logs/sweeps/fig_sweep_regimes.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_sweep_regimes.py"
+
+
+rule fig_sweep_suppression:
+    input:
+        script="workflow/scripts/fig_sweep_suppression.py",
+        helper=SWEEP_HELPER,
+        style=STYLE,
+        library=LIBRARY,
+        sweep="figures/sweep_gap.csv",
+        random="figures/sweep_random.csv",
+    output:
+        pdf="figures/sweep_suppression.pdf",
+        png="figures/sweep_suppression.png",
+    params:
+        reference=parameters_json("reference"),
+    log:
+        "logs/sweeps/fig_sweep_suppression.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_sweep_suppression.py"
+
+
+rule fig_regime_map:
+    input:
+        script="workflow/scripts/fig_regime_map.py",
+        helper=SWEEP_HELPER,
+        style=STYLE,
+        map="figures/map_{map}.csv",
+        curves="figures/map_{map}_curves.csv",
+        located="figures/located_case.json",
+    output:
+        pdf="figures/map_{map}.pdf",
+        png="figures/map_{map}.png",
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
+    params:
+        reference=parameters_json("reference"),
+    log:
+        "logs/maps/fig_map_{map}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_regime_map.py"
+
+
+rule sweep_report:
+    input:
+        script="workflow/scripts/sweep_report.py",
+        helper=SWEEP_HELPER,
+        sweep="figures/sweep_gap.csv",
+        transitions="figures/sweep_transitions.csv",
+        checks="figures/sweep_checks.json",
+        sweep_timing="results/benchmarks/sweep_timing.json",
+        map_timings=expand("results/benchmarks/map_{map}_timing.json", map=SWEEP_MAPS),
+    output:
+        macros="paper/generated/sweep_macros.tex",
+        table="paper/generated/sweep_transitions.tex",
+        timing="paper/generated/sweep_timing.tex",
+    log:
+        "logs/sweeps/sweep_report.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sweep_report.py"
+
+
+ALL_TARGETS.extend(
+    expand("figures/sweep_{fig}.{ext}", fig=["bifurcation", "regimes", "suppression"], ext=["pdf", "png"])
+    + expand("figures/map_{map}.{ext}", map=SWEEP_MAPS, ext=["pdf", "png"])
+    + [
+        "paper/generated/sweep_macros.tex",
+        "paper/generated/sweep_transitions.tex",
+        "paper/generated/sweep_timing.tex",
+    ]
+)

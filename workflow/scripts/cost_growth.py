@@ -1,0 +1,77 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
+the paper): how the exact solver's cost grows with the simulated time and with the number of
+impacts (issue 6), data only (the figure is drawn by fig_cost_growth.py).
+
+For each gap of ``performance.growth_gaps`` (the reference case's -5.8: one impact per
+period once settled; -10: three impacts per two periods; -13: chatter, ~10 impacts and a
+contact phase per period) Algorithm No. 2 runs from its default start over each span of
+``performance.growth_periods``; CPU time (median of repeats), impacts and events are
+recorded. If the cost per impact is flat, the cost is linear in the number of impacts: the
+fitted exponent of cost against impacts (log-log least squares) says how close to 1 it is.
+
+Outputs: ``results/benchmarks/cost_growth.json`` and ``figures/cost_growth.csv``. Timings
+are CPU time and not deterministic.
+"""
+
+import os
+
+# The rule takes both cores (threads: 2) to have the machine to itself while timing, and
+# Snakemake then sets OPENBLAS_NUM_THREADS=2; BLAS threads only slow the solver's 4 x 4
+# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import performancestage as ps
+
+from impactdamper import workprecision as wp
+
+CSV_COLUMNS = ["gap", "periods", "impacts", "events", "cpu_seconds", "per_impact", "per_period"]
+
+
+def fit_exponent(rows: list[dict]) -> float:
+    """Least-squares slope of log(cpu) against log(impacts)."""
+    x = np.log([r["impacts"] for r in rows if r["impacts"] > 0])
+    y = np.log([r["cpu_seconds"] for r in rows if r["impacts"] > 0])
+    return float(np.polyfit(x, y, 1)[0]) if len(x) >= 2 else float("nan")
+
+
+def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
+    base = ps.parameters(reference)
+    rows = []
+    for gap in performance["growth_gaps"]:
+        rows += wp.cost_growth(base.replace(gap=float(gap)), performance["growth_periods"],
+                               repeats=performance["repeats"], min_time=performance["min_time"], log=log)
+    per_impact = [r["per_impact"] for r in rows if r["impacts"] > 0]
+    summary = {
+        "exponent_cost_vs_impacts": fit_exponent(rows),
+        "per_impact_median": float(np.median(per_impact)),
+        "per_impact_min": float(np.min(per_impact)),
+        "per_impact_max": float(np.max(per_impact)),
+        "per_impact_spread": float(np.max(per_impact) / np.min(per_impact)),
+        "per_gap": {str(g): {"exponent_cost_vs_impacts": fit_exponent([r for r in rows if r["gap"] == g]),
+                             "per_impact_median": float(np.median([r["per_impact"] for r in rows if r["gap"] == g]))}
+                    for g in sorted({r["gap"] for r in rows})},
+        "note": "CPU time (time.process_time), medians; not deterministic",
+    }
+    ps.write_json(out_json, {"rows": rows, "summary": summary, "parameters": base.to_dict()})
+    Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
+    with open(out_csv, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r[k] for k in CSV_COLUMNS})
+    log(f"per-impact cost {summary['per_impact_min'] * 1e6:.0f}-{summary['per_impact_max'] * 1e6:.0f} us, "
+        f"exponent {summary['exponent_cost_vs_impacts']:.3f}")
+    return summary
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    lg = ps.logger(sm.log[0], "cost_growth")
+    main(json.loads(sm.params.reference), json.loads(sm.params.performance), sm.output.json, sm.output.csv,
+         log=lg.info)

@@ -1,0 +1,192 @@
+"""Extends Fig. 2 of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the
+branches of periodic orbits of the reference case against the initial gap Delta0/x_st.
+
+The paper's Fig. 2 caption: "Dependence of the relative displacements x1_bar, x2_bar of the
+object and the suppressor on time t" (a: Algorithm No. 1, b: Algorithm No. 2), at
+Delta0/x_st = -5.8; the prose says Algorithm No. 1's orbit crosses the stop and Algorithm
+No. 2 gives "T_c = 2T and ... three collisions". The paper has no continuation; this figure
+shows where each of those motions exists, and where it is stable.
+
+Top: max |x1|/x_st of the one-impact orbit (1/1, Algorithm No. 1's), the 2T cycle with three
+impacts (3/2, the paper's Fig. 2b motion) and the 3T cycle with four impacts (4/3); solid
+where stable and admissible, dashed where admissible but unstable, dotted where inadmissible
+(the gap goes negative between impacts: not a motion). Special points: PD period doubling,
+NS Neimark-Sacker, fold, G grazing (open: the gap touches the stop between impacts, a new
+impact appears; filled: an impact's closing velocity reaches zero and it vanishes); grey
+where the orbit is not a motion. Left: the whole range; right: the
+window where the multi-impact cycles live. Bottom: the largest Floquet multiplier modulus
+(saltation matrices), the unit line dashed. The stated case (-5.8) and the located case
+(figures/located_case.json) are marked.
+
+Deviations: none (the paper has no such figure). Data: figures/orbit_branches.csv and
+figures/orbit_special_points.csv (workflow/scripts/orbit_branches.py).
+"""
+
+import math
+
+import numpy as np
+from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
+
+import orbitstage as st
+from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+
+STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
+MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_velocity": "o", "grazing_interior": "o"}
+SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "grazing_velocity": "G",
+         "grazing_interior": "G"}
+INADMISSIBLE_MARK = "0.55"  # grey of special points off the motions
+# The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
+ZOOM_MARGIN = 0.25
+# Spectral radius axis (log): the radius grows without bound at a vanishing impact.
+RADIUS_LIMITS = (0.2, 5.0)
+RADIUS_TICKS = (0.2, 0.5, 1.0, 2.0, 5.0)
+# Label offsets (points) of the special points in the zoom window, by (branch, kind), so that
+# labels where branches meet do not overlap; default above the marker.
+LABEL_OFFSET = {("single", "grazing_interior"): (-4, 6), ("double", "grazing_velocity"): (0, -11),
+                ("triple", "grazing_velocity"): (4, -11), ("triple", "period_doubling"): (0, 6),
+                ("triple", "fold"): (6, -3), ("double", "period_doubling"): (7, -6),
+                ("double", "neimark_sacker"): (0, -12), ("triple", "grazing_interior"): (-5, 5),
+                ("double", "grazing_interior"): (0, 6), ("single", "fold"): (6, 0),
+                ("single", "grazing_velocity"): (0, -11)}
+
+
+def _state(r: dict) -> str:
+    if r["admissible"] != "1":
+        return "inadmissible"
+    return "stable" if r["stable"] == "1" else "unstable"
+
+
+def sequence(rows: list[dict], special: list[dict], key: str) -> list[tuple]:
+    """The branch as (gap, y, state or None) in order along it, special points inserted at
+    their places (state None); y is ``key`` (nan where a special point has no value)."""
+    items = [(float(i), st.num(r["gap"]), st.num(r[key]), _state(r)) for i, r in enumerate(rows)]
+    for s in special:
+        i = int(s["index"])
+        ref = st.num(rows[i - 1]["gap"]) if i > 0 else st.num(rows[0]["gap"])
+        # Between rows i-1 and i; two between the same rows in order of distance from row i-1.
+        items.append((i - 0.5 + 1e-3 * math.tanh(abs(st.num(s["gap"]) - ref)), st.num(s["gap"]), st.num(s[key]),
+                      None))
+    items.sort(key=lambda t: t[0])
+    return [(g, y, state) for _, g, y, state in items]
+
+
+def pieces(seq: list[tuple]) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """Polylines of one state each: a segment takes the state of its regular end."""
+    out = []
+    for (g0, y0, s0), (g1, y1, s1) in zip(seq[:-1], seq[1:]):
+        state = s0 or s1 or "unstable"
+        if math.isnan(y0) or math.isnan(y1):
+            continue
+        if out and out[-1][0] == state and out[-1][1][-1] == g0 and out[-1][2][-1] == y0:
+            out[-1][1].append(g1)
+            out[-1][2].append(y1)
+        else:
+            out.append((state, [g0, g1], [y0, y1]))
+    return [(s, np.array(g), np.array(y)) for s, g, y in out]
+
+
+def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
+    plt = use_style()
+    rows = st.read_csv(branches_csv)
+    special = st.read_csv(special_csv)
+    summary = st.read_json(summary_json)
+    names = list(dict.fromkeys(r["branch"] for r in rows))  # the config's order
+    color = {n: f"C{i}" for i, n in enumerate(names)}
+    by = {n: [r for r in rows if r["branch"] == n] for n in names}
+    sp = {n: [s for s in special if s["branch"] == n] for n in names}
+    multi = [n for n in names if summary["branches"][n]["k"] > 1 or summary["branches"][n]["z"] > 1]
+    gaps_multi = [st.num(r["gap"]) for n in multi for r in by[n]] + [st.num(s["gap"]) for n in multi for s in sp[n]]
+    zoom = (min(gaps_multi) - ZOOM_MARGIN, max(gaps_multi) + ZOOM_MARGIN)
+
+    fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 4.9), sharex="col",
+                             gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0],
+                                          "hspace": 0.08, "wspace": 0.22})
+    labelled = (set(), set())
+    for col, (ax_x, ax_r) in enumerate(zip(axes[0], axes[1])):
+        for n in names:
+            for key, ax in (("x1_max", ax_x), ("spectral_radius", ax_r)):
+                for state, g, y in pieces(sequence(by[n], sp[n], key)):
+                    ax.plot(g, np.clip(y, *RADIUS_LIMITS) if key == "spectral_radius" else y, STYLE[state],
+                            color=color[n], lw=1.1 if state == "stable" else 0.9)
+            for s in sp[n]:
+                on = s["admissible"] == "1"
+                g = st.num(s["gap"])
+                mk = dict(marker=MARKER[s["kind"]], ms=4.5 if col else 3.5, ls="none", zorder=5,
+                          mfc=(color[n] if on else "white") if s["kind"] != "grazing_interior" else "white",
+                          mec=color[n] if on else INADMISSIBLE_MARK, mew=0.9)
+                ax_x.plot([g], [st.num(s["x1_max"])], **mk)
+                r = st.num(s["spectral_radius"])
+                if not math.isnan(r):
+                    ax_r.plot([g], [min(max(r, RADIUS_LIMITS[0]), RADIUS_LIMITS[1])], **mk)
+                inside = zoom[0] <= g <= zoom[1]
+                if (col == 1 and inside) or (col == 0 and not inside):
+                    where = (round(g, 6), round(st.num(s["x1_max"]), 4))
+                    if where in labelled[col]:
+                        continue  # branches meeting at one point: one label
+                    labelled[col].add(where)
+                    dx, dy = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
+                    ax_x.annotate(SHORT[s["kind"]], (g, st.num(s["x1_max"])), xytext=(dx, dy),
+                                  textcoords="offset points", ha="center" if dx == 0 else ("left" if dx > 0 else "right"),
+                                  va="bottom" if dy > 0 else ("top" if dy < 0 else "center"), fontsize=7,
+                                  color="0.1" if on else INADMISSIBLE_MARK)
+        ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
+        ax_r.set_yscale("log")
+        ax_r.set_ylim(*RADIUS_LIMITS)
+        ax_r.yaxis.set_major_locator(FixedLocator(RADIUS_TICKS))
+        ax_r.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+        ax_r.yaxis.set_minor_locator(NullLocator())
+        ax_r.set_xlabel("$\\Delta_0/x_{st}$")
+        # The cases.
+        for case in ("stated", "located"):
+            c = summary["cases"][case]
+            g = float(c["gap"])
+            lim = ax_x.get_xlim() if col == 0 else zoom
+            if not lim[0] <= g <= lim[1]:
+                continue
+            for ax in (ax_x, ax_r):
+                ax.axvline(g, color="0.35", lw=0.6, ls=(0, (1, 2)), zorder=0)
+            ax_x.plot([g], [c["x1_max"]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none", zorder=6)
+            ax_r.plot([g], [c["multipliers"][0]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none",
+                      zorder=6)
+            if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once
+                ax_x.annotate(f"{case} {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
+                              xytext=(0, 2), textcoords="offset points", ha="center", va="bottom", fontsize=7)
+    axes[0, 1].set_xlim(*zoom)
+    # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
+    ys = [st.num(r["x1_max"]) for r in rows if zoom[0] <= st.num(r["gap"]) <= zoom[1]]
+    pad = 0.06 * (max(ys) - min(ys))
+    axes[0, 1].set_ylim(min(ys) - 2 * pad, max(ys) + pad)
+    lo = min(st.num(r["gap"]) for r in rows)
+    hi = max(st.num(r["gap"]) for r in rows)
+    axes[0, 0].set_xlim(lo - 0.8, hi + 0.8)
+    axes[0, 0].axvspan(*zoom, color="0.92", lw=0, zorder=0)
+    axes[1, 0].axvspan(*zoom, color="0.92", lw=0, zorder=0)
+    axes[0, 0].set_ylabel("max $|x_1|/x_{st}$")
+    axes[1, 0].set_ylabel("max $|\\rho|$ (Floquet)")
+    # Legend: branches, then line styles and markers.
+    handles = [plt.Line2D([], [], color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
+    handles += [plt.Line2D([], [], color="0.2", ls=STYLE[s], lw=1.0, label=lab) for s, lab in
+                (("stable", "stable"), ("unstable", "unstable"), ("inadmissible", "inadmissible"))]
+    handles += [plt.Line2D([], [], color="0.2", marker=MARKER[k], mfc="0.2" if k != "grazing_interior" else "white",
+                           ls="none", ms=4, label=lab) for k, lab in
+                (("period_doubling", "PD"), ("neimark_sacker", "NS"), ("fold", "fold"),
+                 ("grazing_interior", "G: new impact"), ("grazing_velocity", "G: impact vanishes"))]
+    handles.append(plt.Line2D([], [], marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case"))
+    # Two rows (branches and line styles; markers), filled column by column.
+    half = (len(handles) + 1) // 2
+    rows2 = handles[:half], handles[half:] + [plt.Line2D([], [], ls="none", label="")] * (2 * half - len(handles))
+    handles = [h for pair in zip(*rows2) for h in pair]
+    fig.legend(handles=handles, loc="lower center", ncol=half, bbox_to_anchor=(0.5, -0.01),
+               handlelength=1.8, columnspacing=0.9, handletextpad=0.4, fontsize=7)
+    fig.subplots_adjust(bottom=0.17)
+    save_figure(fig, out_pdf, formats=("pdf",))
+    save_figure(fig, out_png, formats=("png",))
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    import sys
+
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    sys.stderr = open(sm.log[0], "w")
+    main(sm.input.branches, sm.input.special, sm.input.summary, sm.output.pdf, sm.output.png)

@@ -1,0 +1,99 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: a regime map,
+Peterka-style: the initial gap Delta0/x_st against theta = omega/omega1 (map ``theta``) or
+against the damping ratio delta = delta1 = delta2 (map ``damping``).
+
+Each row is a one-way sweep of the gap (cell from cell, see ``maps.direction``); colour: the
+regime class of the settled motion, with Peterka's z/k written on the larger regions. Lines:
+the lift-off threshold of the persistent contact, the first contact of the free forced
+response (U1/x_st) and where Algorithm No. 1's orbit starts crossing the stop (closed form,
+``map_curves``). Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1, delta =
+0.05); diamond: the located case of the replication verdict.
+
+Deviation: the paper shows no map; its introduction describes the sequence along the gap.
+"""
+
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
+
+import sweepstage as st
+from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+
+CLASSES = list(st.REGIME_COLORS)
+AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
+              "damping": "damping ratio $\\delta = \\delta_1 = \\delta_2$"}
+REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
+# The lift-off line: light blue, visible on the dark persistent-contact region and in the legend.
+LIFTOFF_COLOR = "#5dade2"
+# Labels are written on connected regions of one label with at least this many cells.
+MIN_LABEL_CELLS = 60
+
+
+def read_map(path):
+    lines = [ln.split(",") for ln in open(path).read().splitlines()]
+    gaps = np.array([float(x) for x in lines[0][1:]])
+    slow = np.array([float(ln[0]) for ln in lines[1:]])
+    labels = np.array([ln[1:] for ln in lines[1:]])
+    return slow, gaps, labels
+
+
+def _label_regions(ax, slow, gaps, labels):
+    import scipy.ndimage
+
+    for lab in sorted(set(labels.ravel())):
+        regions, n = scipy.ndimage.label(labels == lab)
+        for k in range(1, n + 1):
+            ii, jj = np.nonzero(regions == k)
+            if len(ii) >= MIN_LABEL_CELLS:
+                # The region's cell nearest its centroid (a non-convex region's centroid may lie outside).
+                c = int(np.argmin((ii - ii.mean()) ** 2 / len(slow) ** 2 + (jj - jj.mean()) ** 2 / len(gaps) ** 2))
+                ax.text(gaps[jj[c]], slow[ii[c]], "S" if lab == "stuck" else lab,
+                        ha="center", va="center", fontsize=6,
+                        color="white" if st.regime_of_label(lab) in ("stuck", "chatter", "single_impact",
+                                                                     "nonperiodic") else "k")
+
+
+def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
+    plt = use_style()
+    slow, gaps, labels = read_map(map_csv)
+    codes = np.vectorize(lambda s: CLASSES.index(st.regime_of_label(s)))(labels)
+    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 4.0))
+    ax.pcolormesh(gaps, slow, codes, cmap=ListedColormap([st.REGIME_COLORS[c] for c in CLASSES]), vmin=-0.5,
+                  vmax=len(CLASSES) - 0.5, shading="nearest", rasterized=True)
+    _label_regions(ax, slow, gaps, labels)
+    curves = st.read_csv(curves_csv)
+    s = np.array([float(r["slow"]) for r in curves])
+    ax.plot([float(r["liftoff"]) for r in curves], s, color=LIFTOFF_COLOR, lw=0.9, ls="--", label="lift-off threshold")
+    ax.plot([float(r["first_contact"]) for r in curves], s, color="k", lw=0.9, ls="--", label="$U_1/x_{st}$")
+    gx = [(g, float(r["slow"])) for r in curves for g in st.split_floats(r["alg1_grazing"])]
+    if gx:
+        ax.scatter(*zip(*gx), s=1.0, color="#f1c40f", lw=0, label="Alg. 1 orbit touches the stop")
+    ref = float(reference[REFERENCE_VALUE[name]])
+    ax.plot([float(reference["gap"])], [ref], marker="*", ms=9, color="#f1c40f", mec="k", mew=0.6, ls="none",
+            label=f"stated case ($\\Delta_0/x_{{st}}$ = {float(reference['gap']):g})")
+    loc = st.located_gap(located_json)
+    ax.plot([loc], [ref], marker="D", ms=5, color="w", mec="k", mew=0.6, ls="none",
+            label=f"located case ($\\Delta_0/x_{{st}}$ = {loc:g})")
+    ax.set_xlim(gaps[0], gaps[-1])
+    ax.set_ylim(slow[0], slow[-1])
+    ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    ax.set_ylabel(AXIS_LABEL[name])
+    ax.grid(False)
+    handles, _ = ax.get_legend_handles_labels()
+    present = {CLASSES[c] for c in np.unique(codes)}
+    handles += [Patch(facecolor=st.REGIME_COLORS[c], edgecolor="0.5", lw=0.4, label=st.REGIME_NAMES[c])
+                for c in CLASSES if c in present]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, markerscale=2)
+    save_figure(fig, out_pdf, formats=("pdf",))
+    save_figure(fig, out_png, formats=("png",))
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import json
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    main(sm.wildcards.map, json.loads(sm.params.reference), sm.input.map, sm.input.curves, sm.input.located,
+         sm.output.pdf, sm.output.png)

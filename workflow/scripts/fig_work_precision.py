@@ -1,0 +1,96 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
+the paper): the work-precision diagram of issue 6.
+
+Caption: "CPU time against error on the reference case (theta = 1, mu = 0.08, N = 0.5,
+delta1 = delta2 = 0.05, R = 0.7, Delta0/x_st = -5.8). Left: the first impacts from
+Algorithm No. 2's start (error: impact times, units of T). Right: ten periods on the settled
+cycle (error: impact times and final state). Errors against a 40-digit mpmath reference.
+Made by workflow/scripts/fig_work_precision.py."
+
+Thin: reads figures/work_precision.csv (made by work_precision.py), plots with the shared
+style. Runs that found the wrong number of impacts are left out (counted in the table).
+Timings are CPU time on the machine that ran the workflow: the figure is not pixel-stable
+across runs.
+"""
+
+import csv
+import math
+
+from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+
+PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
+# One colour, marker and line per method family, the same in both panels, in legend order.
+STYLE = {
+    "exact": ("exact (Alg. 2)", "#1f4e79", "o", "-"),
+    "alg1": ("Alg. 1 (closed form)", "#000000", "*", "none"),
+    "RK45": ("RK45", "#c0392b", "v", "--"),
+    "DOP853": ("DOP853", "#2e8b57", "^", "--"),
+    "Radau": ("Radau", "#e67e22", "<", "--"),
+    "LSODA": ("LSODA", "#7d3c98", ">", "--"),
+    "RK4": ("RK4 + bisection", "#7f8c8d", "s", ":"),
+    "Moreau-Jean": ("Moreau-Jean (Siconos)", "#b7950b", "D", ":"),
+}
+# Error axis: from order one down to below double precision's floor.
+ERROR_LIMITS = (3.0, 1e-15)
+
+
+def load(path) -> list[dict]:
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:
+        for k in ("value", "cpu_seconds", "error"):
+            r[k] = float(r[k]) if r[k] not in ("", "nan") else math.nan
+    return rows
+
+
+def _fineness(r: dict) -> float:
+    """Tolerances get finer as they fall, step counts as they grow."""
+    v = r["value"]
+    if not math.isfinite(v):
+        return 0.0
+    return -v if r["setting"] in ("rtol", "gap_tol") else v
+
+
+def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None = None) -> None:
+    plt = use_style()
+    rows = load(in_csv)
+    fig, axes = plt.subplots(1, 2, figsize=(TEXT_WIDTH, 0.5 * TEXT_WIDTH), sharey=True, layout="constrained")
+    for ax, (case, title) in zip(axes, PANELS):
+        for fam, (label, color, marker, ls) in STYLE.items():
+            # In the order of the method's own setting, from coarse to fine.
+            pts = sorted((_fineness(r), r["error"], r["cpu_seconds"]) for r in rows
+                         if r["case"] == case and r["family"] == fam
+                         and math.isfinite(r["error"]) and math.isfinite(r["cpu_seconds"]))
+            if not pts:
+                continue
+            _, xs, ys = zip(*pts)
+            ax.plot([max(x, ERROR_LIMITS[1]) for x in xs], ys, color=color, marker=marker, linestyle=ls,
+                    label=label, markersize=3.5, linewidth=0.8)
+        for t in targets:
+            ax.axvline(t, color="0.7", linewidth=0.6, zorder=0)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(*ERROR_LIMITS)
+        ax.set_title(title)
+        ax.set_xlabel("error")
+    axes[0].set_ylabel("CPU time per run (s)")
+    labels = {}
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            labels.setdefault(lab, h)
+    order = [STYLE[f][0] for f in STYLE if STYLE[f][0] in labels]
+    if siconos_available is False:
+        axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize="small",
+                     ha="right")
+    fig.legend([labels[k] for k in order], order, loc="outside lower center", ncols=4, fontsize="small")
+    save_figure(fig, out_stem)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    import json
+
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    study = json.loads(open(sm.input.json).read())
+    main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"), tuple(json.loads(sm.params.performance)["targets"]),
+         bool(study["siconos"]["available"]))

@@ -1,0 +1,63 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: one chunk of a
+two-parameter regime map (Peterka-style).
+
+A map has Delta0/x_st on one axis and a second parameter (theta = omega/omega1, or the damping
+ratio delta = delta1 = delta2) on the other. For each value of the second parameter the gap is
+swept one way (``maps.direction``), each point from its neighbour's settled motion
+(:func:`impactdamper.sweeps.regime_map`). The values of the second parameter are split into
+``maps.chunks`` contiguous blocks, one Snakemake job each, so the map runs in parallel locally
+or as separate cluster jobs (profiles/slurm); the job logs its progress per map row.
+
+Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
+``results/maps/{map}/chunk_{chunk}.json`` (the chunk's wall and processor time, with start
+and end times so that the gather can compute the whole map's wall time).
+"""
+
+import sweepstage as st
+from impactdamper.sweeps import regime_map
+
+COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods"]
+
+
+def axes(maps: dict, name: str):
+    """(slow parameter, slow values, gap values) of map ``name``."""
+    m = maps[name]
+    return (m["parameter"], st.grid(m["start"], m["stop"], m["points"]),
+            st.grid(m["gap_start"], m["gap_stop"], m["gap_points"]))
+
+
+def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_csv, out_json, log=None) -> dict:
+    base = st.parameters(reference)
+    settings = st.settings(maps, solver)
+    slow, slow_values, gaps = axes(maps, name)
+    rows_idx = st.chunk_indices(len(slow_values), int(maps["chunks"]), chunk)
+
+    def progress(i, n, row):
+        if log is not None:
+            log.info("map %s chunk %d: row %d/%d (%s = %.6g) done", name, chunk, i + 1, n, slow, slow_values[rows_idx[i]])
+
+    with st.Timer() as timer:
+        result = regime_map(base, "gap", gaps, slow, slow_values[rows_idx], direction=maps["direction"],
+                            settings=settings, progress=progress)
+    out = []
+    for i, row in zip(rows_idx, result):
+        for j, pt in enumerate(row):
+            out.append({"i": int(i), "j": j, "slow": float(slow_values[i]), "gap": pt.value, "label": pt.label,
+                        "regime": pt.regime, "k": pt.period_multiple, "z": pt.impacts_per_cycle, "x1_max": pt.x1_max,
+                        "method": pt.method, "periods": pt.periods})
+    st.write_csv(out_csv, out, COLUMNS)
+    timing = {"map": name, "chunk": chunk, "rows": len(rows_idx), "cells": len(out), "wall_s": timer.wall,
+              "cpu_s": timer.cpu, "start_epoch": timer.epoch0, "end_epoch": timer.epoch1, "machine": st.machine()}
+    st.write_json(out_json, timing)
+    if log is not None:
+        log.info("map %s chunk %d: %d cells, wall %.1f s, cpu %.1f s", name, chunk, len(out), timer.wall, timer.cpu)
+    return timing
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import json
+
+    log = st.logger(sm.log[0], "map_chunk")
+    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.maps),
+         sm.wildcards.map, int(sm.wildcards.chunk), sm.output.csv, sm.output.json, log=log)

@@ -1,0 +1,53 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the analytic
+boundaries drawn over a regime map.
+
+For each value of the map's second parameter: the lift-off threshold of the persistent
+contact (:func:`impactdamper.sweeps.stuck_liftoff_gap`), the gap above which the free forced
+response never reaches the stop (U1/x_st, :func:`~impactdamper.sweeps.no_contact_gap`), and
+every gap where Algorithm No. 1's orbit starts or stops crossing the stop between impacts
+(its admissibility changes along a scan of ``SCAN_POINTS`` gaps over the map's range, each
+change bisected to ``BISECT_XTOL`` by :func:`~impactdamper.sweeps.algorithm1_grazing_gap`).
+
+Output: ``figures/map_{map}_curves.csv`` (slow, liftoff, first_contact, alg1_grazing with
+';'-joined values).
+"""
+
+import numpy as np
+
+import map_chunk
+import sweepstage as st
+from impactdamper import algorithm1
+from impactdamper.sweeps import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap, with_value
+
+COLUMNS = ["slow", "liftoff", "first_contact", "alg1_grazing"]
+# Algorithm No. 1 costs ~2 ms: a scan of this many gaps per row finds the admissibility
+# changes (ranges narrower than the scan step, ~0.3 x_st, are missed), then bisection.
+SCAN_POINTS = 200
+BISECT_XTOL = 1e-6
+
+
+def row(base, slow: str, value: float, gaps: np.ndarray) -> dict:
+    p = with_value(base, slow, value)
+    scan = np.linspace(gaps[0], gaps[-1], SCAN_POINTS)
+    adm = [bool(algorithm1(p.replace(gap=float(g))).admissible) for g in scan]
+    graze = [algorithm1_grazing_gap(p, (scan[i], scan[i + 1]), xtol=BISECT_XTOL)
+             for i in range(len(scan) - 1) if adm[i] != adm[i + 1]]
+    return {"slow": float(value), "liftoff": stuck_liftoff_gap(p), "first_contact": no_contact_gap(p),
+            "alg1_grazing": ";".join(repr(float(g)) for g in graze)}
+
+
+def main(reference: dict, maps: dict, name: str, out_csv) -> list[dict]:
+    base = st.parameters(reference)
+    slow, slow_values, gaps = map_chunk.axes(maps, name)
+    rows = [row(base, slow, v, gaps) for v in slow_values]
+    st.write_csv(out_csv, rows, COLUMNS)
+    return rows
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import json
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    main(json.loads(sm.params.reference), json.loads(sm.params.maps), sm.wildcards.map, sm.output.csv)

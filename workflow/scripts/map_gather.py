@@ -1,0 +1,61 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: gathers a regime
+map's chunks into the committed label matrix and its benchmark.
+
+Outputs: ``figures/map_{map}_settings.json`` (the configuration, for the record test),
+``figures/map_{map}.csv`` -- the label matrix (first column the second parameter's
+value, then one column per Delta0/x_st value, header ``slow,<gap values>``; cells are
+Peterka's labels, see :func:`impactdamper.sweeps.label_of`) -- and
+``results/benchmarks/map_{map}_timing.json``: the total processor time, the sum of the jobs'
+wall times, and the map's wall time (first job start to last job end, the figure that
+answers "how long with ``--cores N``" when nothing else runs) with the machine's load.
+"""
+
+import json
+from pathlib import Path
+
+import sweepstage as st
+
+
+def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
+    cells = [r for path in chunk_csvs for r in st.read_csv(path)]
+    slow_of = {int(r["i"]): r["slow"] for r in cells}
+    gaps = {int(r["j"]): r["gap"] for r in cells}
+    label = {(int(r["i"]), int(r["j"])): r["label"] for r in cells}
+    ni, nj = max(slow_of) + 1, max(gaps) + 1
+    if len(label) != ni * nj:
+        raise ValueError(f"map `{name}`: {len(label)} cells gathered, expected {ni} x {nj}")
+    lines = ["slow," + ",".join(gaps[j] for j in range(nj))]
+    for i in range(ni):
+        lines.append(slow_of[i] + "," + ",".join(label[i, j] for j in range(nj)))
+    Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
+    Path(out_csv).write_text("\n".join(lines) + "\n")
+    if out_settings is not None:
+        st.write_json(out_settings, dict(config or {}, map=name))
+    timings = [json.loads(Path(p).read_text()) for p in chunk_jsons]
+    methods: dict = {}
+    for r in cells:
+        methods[r["method"]] = methods.get(r["method"], 0) + 1
+    out = {
+        "map": name, "cells": ni * nj, "shape": [ni, nj], "chunks": len(timings),
+        "cpu_s": sum(t["cpu_s"] for t in timings),
+        "sum_wall_s": sum(t["wall_s"] for t in timings),
+        "wall_s": max(t["end_epoch"] for t in timings) - min(t["start_epoch"] for t in timings),
+        "max_chunk_wall_s": max(t["wall_s"] for t in timings),
+        "target_wall_s": 600.0,
+        "load_average": [t["machine"]["load_average"] for t in timings],
+        "methods": dict(sorted(methods.items())),
+        "periods_simulated": sum(int(r["periods"]) for r in cells),
+    }
+    st.write_json(out_timing, out)
+    return out
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    config = {"reference": json.loads(sm.params.reference), "solver": json.loads(sm.params.solver),
+              "maps": json.loads(sm.params.maps)}
+    main(list(sm.input.csvs), list(sm.input.jsons), sm.wildcards.map, sm.output.csv, sm.output.timing,
+         sm.output.settings, config)

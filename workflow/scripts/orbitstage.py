@@ -1,0 +1,315 @@
+"""Shared helpers of the orbits stage (issue 4): branches of periodic orbits followed in
+Delta0/x_st, their special points and stable stretches, and deterministic writers.
+
+Not a figure script. The stage's scripts import it (Snakemake puts ``workflow/scripts`` on
+``sys.path`` for ``script:`` rules; the tests import the scripts by path). The paper is
+Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100; it
+computes no periodic orbits directly, so everything here extends it.
+
+How a branch is followed
+------------------------
+Each branch of the config's ``orbits.branches`` is seeded at its own gap (by Algorithm
+No. 1's one-impact orbit, or by the cycle Algorithm No. 2 settles on, solved by Newton
+shooting) and followed both ways in Delta0/x_st by :func:`impactdamper.continue_orbit`
+(pseudo-arclength, special points located by Brent's method) within the branch's bounds.
+The orbit is followed on past a grazing (``stop_at_grazing=False``), inadmissible beyond
+it (the gap would go negative between impacts: not a motion, drawn dotted), so that the
+branch's whole solution set in the bounds is shown, e.g. Algorithm No. 1's orbit down to its
+fold. A leg ends at
+
+* the first impact whose closing velocity reaches zero (``grazing_velocity``): beyond it the
+  shooting equations describe an impact from the wrong side of the stop, which is no motion
+  of any kind. The grazing orbit itself is not a row of the branch table (its multipliers grow
+  like 1/v there and are not reproducible); the special point gives its place. A coinciding
+  interior touch (the vanishing impact is a tangency, seen by both test functions) is not
+  listed twice;
+* the bound, or a Newton failure below the least step (the leg's ``end``).
+"""
+
+import csv
+import json
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+
+from impactdamper import Parameters, Tolerances, continue_orbit, solve_orbit, steady_state
+
+PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
+# The continuation parameter of the stage (the library follows any field of Parameters).
+PARAMETER = "gap"
+# Columns of figures/orbit_branches.csv. Rows are in order along each branch (``index``).
+BRANCH_COLUMNS = ["branch", "label", "index", "gap", "x1_max", "min_gap", "spectral_radius", "stable",
+                  "admissible", "velocities", "phases"]
+# Columns of figures/orbit_special_points.csv, rows in order of the branches then of the gap.
+# ``admissible``: the special point lies on, or bounds, a stretch of admissible orbits (a
+# motion of the suppressor); 0 for points found on the inadmissible continuation.
+# ``index``: the point lies between the branch's rows index-1 and index (0: before its first
+# row, the number of rows: after its last); ``spectral_radius`` is left empty at a vanishing
+# impact (the saltation matrix grows like 1/v there).
+SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectral_radius", "admissible", "detail"]
+# Significant digits of every number in the committed CSVs (the record test compares at a
+# relative 1e-8; the continuation converges to 1e-12).
+CSV_FLOAT = ".12g"
+# Short names of the special points in the figure and the table.
+KIND_SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "grazing_velocity": "grazing",
+              "grazing_interior": "grazing"}
+KIND_TEXT = {"period_doubling": "period doubling", "neimark_sacker": "Neimark--Sacker", "fold": "fold",
+             "grazing_velocity": "grazing", "grazing_interior": "grazing"}
+# Two special points closer than this (relative, in Delta0/x_st) are the same event.
+SAME_POINT = 1e-9
+
+
+# --- config --------------------------------------------------------------------------------
+def parameters(d: dict) -> Parameters:
+    """Parameters from a config-like dict holding every relative parameter."""
+    return Parameters(**{name: float(d[name]) for name in Parameters.names()})
+
+
+def tolerances(solver: dict) -> Tolerances:
+    return Tolerances(gap_tol=float(solver["gap_tol"]), chatter_tol=float(solver["chatter_tol"]))
+
+
+def steady_options(solver: dict) -> dict:
+    """Keyword arguments of :func:`impactdamper.steady_state` from the config's ``solver``."""
+    return {"tolerances": tolerances(solver), "settle_tol": float(solver["settle_tol"]),
+            "max_periods": int(solver["max_periods"]), "max_period_multiple": int(solver["max_period_multiple"])}
+
+
+def located_gap(located_json) -> float:
+    """The located case's Delta0/x_st from the reference stage (figures/located_case.json)."""
+    return float(json.loads(Path(located_json).read_text())["located"]["gap"])
+
+
+def label(k: int, z: int) -> str:
+    """Peterka's z/k label: z impacts in k forcing periods."""
+    return f"{int(z)}/{int(k)}"
+
+
+# --- following a branch ---------------------------------------------------------------------
+def seed_orbit(reference: Parameters, spec: dict, solver: dict):
+    """The branch's starting orbit, checked against the config's expected k and z."""
+    p = reference.replace(**{PARAMETER: float(spec["gap"])})
+    if spec["seed"] == "alg1":
+        o = solve_orbit(p, "alg1", tolerances=tolerances(solver))
+    else:
+        o = solve_orbit(p, steady_state(p, **steady_options(solver)), tolerances=tolerances(solver))
+    want = (int(spec["period_multiple"]), int(spec["impacts"]))
+    if not o.solved or (o.period_multiple, o.impacts_per_cycle) != want or not o.admissible:
+        raise ValueError(
+            f"`orbits.branches` entry {spec['name']!r}: the {spec['seed']} seed at gap {spec['gap']} gives "
+            f"{label(o.period_multiple, o.impacts_per_cycle)} (admissible {o.admissible}), not the admissible "
+            f"{label(want[0], want[1])} cycle asked for")
+    return o
+
+
+def _leg(orbit, direction: int, bounds: tuple, cont: dict, solver: dict) -> dict:
+    """One way along a branch: points, special points (with their index into ``points``:
+    between points index-1 and index) and why the leg ends."""
+    b = continue_orbit(orbit, PARAMETER, bounds, direction=direction, step=float(cont["step"]),
+                       min_step=float(cont["min_step"]), max_step=float(cont["max_step"]),
+                       max_points=int(cont["max_points"]), stop_at_grazing=False, tolerances=tolerances(solver))
+    points, special = list(b.points), []
+    end = {"reason": b.end_reason, "value": float(b.end_value)}
+    for s in b.special:
+        special.append(s)
+        if s.kind == "grazing_velocity":
+            points = points[:s.index]
+            end = {"reason": "grazing_velocity", "value": float(s.value)}
+            break
+    return {"points": points, "special": special, "end": end}
+
+
+def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None) -> dict:
+    """Follow one branch both ways from its seed within ``[spec.gap_min, spec.gap_max]``
+    (``gap_min <= gap <= gap_max``).
+
+    Returns
+    -------
+    dict
+        ``name``, ``label``, ``k``, ``z``, ``points`` (BranchPoint, in order of increasing
+        arclength from the lower end), ``special`` (list of (SpecialPoint, lo, hi): it lies
+        between joined points lo and hi; None beyond an end), ``ends`` (low and high end: the
+        end reason and value of each leg), ``seed_index`` (the seed's joined point).
+    """
+    log = log or logging.getLogger(__name__)
+    g0 = float(spec["gap"])
+    lo, hi = float(spec["gap_min"]), float(spec["gap_max"])
+    if not lo <= g0 <= hi:
+        raise ValueError(f"`orbits.branches` entry {spec['name']!r}: need gap_min <= gap <= gap_max, "
+                         f"got {lo} <= {g0} <= {hi}")
+    o = seed_orbit(reference, spec, solver)
+    # Both legs get the whole range: past a fold a leg comes back across the seed's gap.
+    down = _leg(o, -1, (lo, hi), cont, solver)
+    up = _leg(o, +1, (lo, hi), cont, solver)
+    nd = len(down["points"])
+    points = down["points"][::-1] + up["points"][1:]
+    special = []
+    for s in down["special"]:
+        # Down leg point j is joined point nd-1-j; s lies between its points index-1 and index.
+        a = nd - 1 - s.index
+        special.append((s, a if a >= 0 else None, nd - s.index))
+    for s in up["special"]:
+        b = nd - 1 + s.index
+        special.append((s, nd - 2 + s.index, b if b < len(points) else None))
+    special.sort(key=lambda e: (e[1] if e[1] is not None else -1, e[0].value))
+    log.info("branch %s (%s): %d points from %.6f (%s) to %.6f (%s), %d special points", spec["name"],
+             label(o.period_multiple, o.impacts_per_cycle), len(points), down["end"]["value"], down["end"]["reason"],
+             up["end"]["value"], up["end"]["reason"], len(special))
+    return {"name": spec["name"], "label": label(o.period_multiple, o.impacts_per_cycle), "k": o.period_multiple,
+            "z": o.impacts_per_cycle, "points": points, "special": special, "seed_index": nd - 1,
+            "ends": {"low": down["end"], "high": up["end"]}}
+
+
+def _on_motion(branch: dict, lo, hi) -> bool:
+    """Whether the points on either side of a special point include an admissible one."""
+    pts = branch["points"]
+    return any(pts[i].admissible for i in (lo, hi) if i is not None)
+
+
+def stretches(branch: dict, which: str) -> list[dict]:
+    """Maximal runs of ``which`` ("stable": stable and admissible; "admissible") orbits on a
+    branch, each end the special point bounding it (or the branch's end).
+
+    Returns a list of {"lo", "hi", "lo_kind", "hi_kind"}: the run's extent in Delta0/x_st
+    (past a fold inside the run, the fold is an end of the extent) and what bounds it there
+    (a special point's kind, ``bound``, ``newton_failure``, or ``sampled`` for a run's last
+    point without a located special point beyond it).
+    """
+    pts = branch["points"]
+    ok = [q.admissible and (q.stable or which == "admissible") for q in pts]
+    out = []
+    i, n = 0, len(pts)
+    while i < n:
+        if not ok[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and ok[j + 1]:
+            j += 1
+        ends = []
+        for edge, outside in ((i, i - 1), (j, j + 1)):
+            hit = [s for s, a, b in branch["special"]
+                   if {a, b} == {edge, outside if 0 <= outside < n else None}]
+            if hit:
+                # Several at once (e.g. a velocity grazing and the touch it is): the first listed.
+                ends.append((float(hit[0].value), hit[0].kind))
+            else:
+                side = "low" if edge == 0 and outside < 0 else "high" if outside >= n else None
+                ends.append((float(pts[edge].value), branch["ends"][side]["reason"] if side else "sampled"))
+        # The run's extent in the gap: its ends, its points and any special point inside it
+        # (a fold inside an admissible run is its extreme gap).
+        inside = [(float(s.value), s.kind) for s, a, b in branch["special"]
+                  if a is not None and b is not None and i <= a and b <= j]
+        cand = ends + inside + [(float(q.value), "sampled") for q in pts[i:j + 1]]
+        (va, ka), (vb, kb) = min(cand), max(cand)
+        out.append({"lo": va, "hi": vb, "lo_kind": ka, "hi_kind": kb})
+        i = j + 1
+    return out
+
+
+# --- tables ---------------------------------------------------------------------------------
+def fmt(v) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        return "" if not math.isfinite(float(v)) else format(float(v), CSV_FLOAT)
+    return str(v)
+
+
+def joined(values) -> str:
+    return ";".join(format(float(v), CSV_FLOAT) for v in values)
+
+
+def branch_rows(branch: dict) -> list[dict]:
+    rows = []
+    for i, q in enumerate(branch["points"]):
+        rows.append({"branch": branch["name"], "label": branch["label"], "index": i, "gap": q.value,
+                     "x1_max": q.x1_max, "min_gap": q.min_gap, "spectral_radius": abs(q.multipliers[0]),
+                     "stable": q.stable, "admissible": q.admissible, "velocities": joined(q.velocities),
+                     "phases": joined(q.phases)})
+    return rows
+
+
+def special_rows(branch: dict) -> list[dict]:
+    rows = []
+    for s, a, b in branch["special"]:
+        radius = math.nan if s.kind == "grazing_velocity" else abs(s.point.multipliers[0])
+        rows.append({"branch": branch["name"], "label": branch["label"], "kind": s.kind, "gap": s.value,
+                     "index": 0 if a is None else a + 1, "x1_max": s.point.x1_max, "spectral_radius": radius,
+                     "admissible": _on_motion(branch, a, b), "detail": s.detail})
+    return sorted(rows, key=lambda r: r["gap"])
+
+
+def write_csv(path, rows: list[dict], columns: list[str]) -> None:
+    """Deterministic CSV: fixed column order, floats to ``CSV_FLOAT``, '\\n' line ends."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(columns)
+        for r in rows:
+            w.writerow([fmt(r[c]) for c in columns])
+
+
+def read_csv(path) -> list[dict]:
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def num(s: str) -> float:
+    """A CSV cell as float (empty: nan)."""
+    return float(s) if s not in ("", None) else math.nan
+
+
+def split_floats(s: str) -> list[float]:
+    return [float(x) for x in s.split(";")] if s else []
+
+
+def clean(obj):
+    """JSON-ready copy: numpy scalars to Python, non-finite floats to None."""
+    if isinstance(obj, dict):
+        return {str(k): clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [clean(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(float(obj)) else None
+    return obj
+
+
+def write_json(path, obj) -> None:
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    Path(path).write_text(json.dumps(clean(obj), indent=1, sort_keys=True) + "\n")
+
+
+def read_json(path):
+    return json.loads(Path(path).read_text())
+
+
+def logger(log_path, name: str) -> logging.Logger:
+    """A logger writing progress lines (no timestamps) to the rule's log file."""
+    Path(log_path).parent.mkdir(parents=True, exist_ok=True)
+    handler = logging.FileHandler(log_path, mode="w")
+    handler.setFormatter(logging.Formatter("%(message)s"))
+    lg = logging.getLogger(name)
+    lg.handlers[:] = [handler]
+    lg.setLevel(logging.INFO)
+    lg.propagate = False
+    return lg
+
+
+# --- LaTeX ----------------------------------------------------------------------------------
+def macro(name: str, value) -> str:
+    """One ``\\newcommand``; LaTeX macro names are letters only."""
+    if not name.isalpha() or not name.isascii():
+        raise ValueError(f"macro name {name!r} is not allowed: letters only")
+    return f"\\newcommand{{\\{name}}}{{{value}}}"
+
+
+def camel(name: str) -> str:
+    """Config branch name (lower-case letters) as a macro-name part: ``double`` -> ``Double``."""
+    return name[:1].upper() + name[1:]

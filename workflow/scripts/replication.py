@@ -1,0 +1,380 @@
+"""Shared helpers of the reference-case stage (issue 3): cases, the paper's claims, the
+independent ``solve_ivp`` cross-checks and deterministic writers.
+
+Not a figure script. The stage's scripts import it (Snakemake puts ``workflow/scripts`` on
+``sys.path`` for ``script:`` rules; the tests import the scripts by path). The paper is
+Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100.
+
+The two claims about the reference case (the prose around Fig. 2):
+
+* **(a)** Algorithm No. 1 gives an orbit whose gap is negative on an interval (t1, t2);
+* **(b)** Algorithm No. 2 settles to T_c = 2T with three impacts per cycle (t1, t2, t3; the
+  next cycle starts at t4).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import scipy.integrate
+import scipy.optimize
+
+from impactdamper import Parameters, Tolerances, algorithm1, steady_state
+from impactdamper.crosscheck import simulate_ivp
+
+PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
+CASES = ("stated", "located")
+# Samples per forcing period of the curves behind Fig. 2a/2b (dense enough that a straight
+# line between samples is within ~1e-4 x_st of the exact motion at the plot's scale).
+SAMPLES_PER_PERIOD = 400
+# Claim (b): the paper's Fig. 2b motion.
+CLAIM_B_PERIOD_MULTIPLE = 2
+CLAIM_B_IMPACTS = 3
+# Grid of the independent gap scan of an Algorithm No. 1 orbit (per period): the solve_ivp
+# dense output is sampled there and every sign change refined by brentq.
+IVP_GAP_SAMPLES = 4000
+
+
+# --- cases ----------------------------------------------------------------------------------
+def parameters(d: dict) -> Parameters:
+    """Parameters from a config-like dict holding every relative parameter."""
+    return Parameters(**{name: float(d[name]) for name in Parameters.names()})
+
+
+def solver_options(solver: dict) -> dict:
+    """Keyword arguments of :func:`impactdamper.steady_state` from the config's ``solver``."""
+    return {
+        "tolerances": Tolerances(gap_tol=float(solver["gap_tol"]), chatter_tol=float(solver["chatter_tol"])),
+        "settle_tol": float(solver["settle_tol"]),
+        "max_periods": int(solver["max_periods"]),
+        "max_period_multiple": int(solver["max_period_multiple"]),
+    }
+
+
+def claim_a(a) -> bool:
+    """Claim (a) holds for an Algorithm No. 1 result: the orbit exists and its gap goes negative."""
+    return bool(a.exists and a.negative_gap_intervals)
+
+
+def claim_b(s) -> bool:
+    """Claim (b) holds for a settled motion: T_c = 2T with three impacts per cycle."""
+    return bool(s.regime == "multi_impact" and s.period_multiple == CLAIM_B_PERIOD_MULTIPLE
+                and s.impacts_per_cycle == CLAIM_B_IMPACTS)
+
+
+def next_cycle_impact(s):
+    """The first impact of the next repetition of the settled cycle (the paper's t4), or None."""
+    T = s.p.T
+    t_next = s.cycle_start + s.cycle_duration - 1e-9 * T
+    later = s.trajectory.impacts(t_next)
+    return later[0] if later else None
+
+
+def alg1_summary(a) -> dict:
+    """Algorithm No. 1 result as a JSON-ready dict, with the claim (a) verdict."""
+    d = a.to_dict()
+    d["claim_a"] = claim_a(a)
+    return d
+
+
+def steady_summary(s) -> dict:
+    """Settled motion as a JSON-ready dict: the cycle's impacts with times since the cycle's
+    first impact (s and T), and the next cycle's first impact."""
+    p = s.p
+    d = s.to_dict()
+    start = s.cycle_start
+    rows = [{"label": f"t{i + 1}", "t_s": imp.t - start, "t_over_T": (imp.t - start) / p.T, "phase": imp.phase,
+             "velocity": imp.velocity, "impulse": imp.impulse, "next_cycle": False}
+            for i, imp in enumerate(s.impacts)]
+    nxt = next_cycle_impact(s)
+    if nxt is not None and s.settled and s.impacts:
+        rows.append({"label": f"t{len(rows) + 1}", "t_s": nxt.t - start, "t_over_T": (nxt.t - start) / p.T,
+                     "phase": (nxt.t / p.T) % 1.0, "velocity": nxt.velocity, "impulse": nxt.impulse,
+                     "next_cycle": True})
+    d["impact_table"] = rows
+    d["cycle_start"] = start
+    d["T_c_over_T"] = s.period_multiple
+    d["claim_b"] = claim_b(s)
+    return d
+
+
+# --- the independent cross-checks -----------------------------------------------------------
+def _free_rhs(p: Parameters):
+    """Eqs. (2) + (9) written out (no stop): m1 x1'' = P0 sin(wt) - k1 x1' - k2 (x1' - x2')
+    - c1 x1 - c2 (x1 - x2), m2 x2'' = -k2 (x2' - x1') - c2 (x2 - x1)."""
+
+    def rhs(t, y):
+        x1, x2, v1, v2 = y
+        a1 = (p.P0 * math.sin(p.omega * t) - p.k1 * v1 - p.k2 * (v1 - v2) - p.c1 * x1 - p.c2 * (x1 - x2)) / p.m1
+        a2 = (-p.k2 * (v2 - v1) - p.c2 * (x2 - x1)) / p.m2
+        return [v1, v2, a1, a2]
+
+    return rhs
+
+
+def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10) -> dict:
+    """Check an Algorithm No. 1 orbit with ``solve_ivp``: integrate eqs. (2) + (9) (no stop)
+    from the state just after the impact over one period T, then
+
+    * apply the impact law (eqs. 21-22) to the state reached at T and compare with the start
+      (the orbit is periodic only if they agree): ``periodicity_residual``, relative to x_st
+      and x_st omega;
+    * read the gap's sign over the period from the dense output: negative intervals (units of
+      T since the impact) and the smallest interior local minimum of the gap.
+    """
+    p = a.p
+    t0 = a.t_impact
+    sol = scipy.integrate.solve_ivp(_free_rhs(p), (t0, t0 + p.T), a.state_after, method=method, rtol=rtol,
+                                    atol=atol, dense_output=True)
+    end = sol.y[:, -1].copy()
+    v = end[3] - end[2]
+    S = p.reduced_mass * (1.0 + p.R) * v
+    end[2] += S / p.m1
+    end[3] -= S / p.m2
+    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    residual = float(np.max(np.abs(end - a.state_after) / scale))
+
+    def gap(t):
+        y = sol.sol(t)
+        return p.Delta0 - (y[1] - y[0])
+
+    tau = np.linspace(0.0, 1.0, IVP_GAP_SAMPLES + 1)[1:-1]  # strictly inside the period
+    g = np.array([gap(t0 + s * p.T) for s in tau])
+    crossings = []
+    for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
+        r = scipy.optimize.brentq(lambda s: gap(t0 + s * p.T), tau[i], tau[i + 1], xtol=1e-14)
+        crossings.append(float(r))
+    minima = [float(g[i]) for i in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1]
+    intervals = []
+    edges = ([0.0] if g[0] < 0 else []) + crossings + ([1.0] if g[-1] < 0 else [])
+    for lo, hi in zip(edges[0::2], edges[1::2]):
+        intervals.append([lo, hi])
+    return {
+        "method": method, "rtol": rtol, "atol": atol,
+        "periodicity_residual": residual,
+        "closing_velocity": float(v),
+        # As Algorithm1Result.min_gap: the smallest interior local minimum of the gap (0 when
+        # the gap has none, i.e. it only rises from the impact and falls to the next one).
+        "min_gap": float(min(minima) / p.x_st) if minima else 0.0,
+        "negative_gap_intervals": intervals,
+        "claim_a": bool(intervals),
+    }
+
+
+def _sections(traj, p: Parameters, t0: float, n: int) -> np.ndarray:
+    full, _ = traj.sample(t0 + p.T * np.arange(n + 1))
+    return full / np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+
+
+def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rtol: float = 1e-10,
+             atol: float = 1e-10, section_tol: float = 1e-6, exact=None, state=None, t0: float = 0.0,
+             tolerances: Tolerances | None = None) -> dict:
+    """Run Algorithm No. 2 with the independent ``solve_ivp`` integrator
+    (:func:`impactdamper.crosscheck.simulate_ivp`) for ``periods`` forcing periods from the
+    paper's step 1 (or ``state`` at ``t0``) and read the settled motion off its own
+    stroboscopic sections: the smallest k <= kmax whose last k sections repeat the ones k
+    periods earlier within ``section_tol`` (relative), and the impacts in the last k periods.
+
+    With ``exact`` (a :class:`impactdamper.SteadyState` of the same start), also compares the
+    impacts of the exact solver's reported cycle with the ``solve_ivp`` impacts in the same
+    time window: largest differences of time (units of T) and closing velocity (relative to
+    x_st omega).
+    """
+    t_end = t0 + (periods + 1) * p.T
+    traj = simulate_ivp(p, t_end, t0=t0, state=state, method=method, rtol=rtol, atol=atol, tolerances=tolerances)
+    sec = _sections(traj, p, t0, periods)
+    k_found, mismatch = 0, math.inf
+    for k in range(1, kmax + 1):
+        if len(sec) < 2 * k + 1:
+            break
+        worst = float(np.max(np.abs(sec[-k:] - sec[-2 * k:-k])))
+        mismatch = min(mismatch, worst)
+        if worst < section_tol:
+            k_found, mismatch = k, worst
+            break
+    window = (t0 + (periods - max(k_found, 1)) * p.T, t0 + periods * p.T)
+    impacts = traj.impacts(*window)
+    contact = any(e.kind in ("stick", "liftoff") for e in traj.events if window[0] <= e.t < window[1])
+    out = {
+        "method": method, "rtol": rtol, "atol": atol, "periods": periods,
+        "period_multiple": k_found,
+        "impacts_per_cycle": len(impacts) if k_found else None,
+        "contact_in_cycle": contact,
+        "section_mismatch": mismatch,
+        "claim_b": bool(k_found == CLAIM_B_PERIOD_MULTIPLE and len(impacts) == CLAIM_B_IMPACTS and not contact),
+        "nfev": traj.nfev,
+    }
+    if exact is not None and exact.impacts:
+        T = p.T
+        lo = exact.cycle_start - 1e-6 * T
+        ivp_imps = traj.impacts(lo, lo + exact.cycle_duration)
+        out["same_impact_count"] = len(ivp_imps) == len(exact.impacts)
+        if out["same_impact_count"]:
+            out["max_time_difference_over_T"] = max(abs(a.t - b.t) / T for a, b in zip(ivp_imps, exact.impacts))
+            out["max_velocity_difference_rel"] = max(abs(a.velocity - b.velocity) / (p.x_st * p.omega)
+                                                     for a, b in zip(ivp_imps, exact.impacts))
+    return out
+
+
+# --- scans: grids, ranges and their ends ------------------------------------------------
+def grid(lo: float, hi: float, step: float) -> np.ndarray:
+    """lo, lo + step, ..., up to hi (inclusive within rounding), rounded to 10 decimals."""
+    n = int(math.floor((hi - lo) / step + 1e-9))
+    return np.round(lo + step * np.arange(n + 1), 10)
+
+
+def bisect(pred, g_in: float, g_out: float, tol: float) -> tuple[float, float]:
+    """Shrink [g_in, g_out] (pred True at g_in, False at g_out) to width <= tol."""
+    while abs(g_out - g_in) > tol:
+        mid = 0.5 * (g_in + g_out)
+        if pred(mid):
+            g_in = mid
+        else:
+            g_out = mid
+    return g_in, g_out
+
+
+def ranges(gaps: np.ndarray, flags: list[bool], pred, tol: float) -> list[dict]:
+    """Maximal runs of True on the grid, each end bisected (or open at the window's edge)."""
+    out = []
+    i, n = 0, len(gaps)
+    while i < n:
+        if not flags[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and flags[j + 1]:
+            j += 1
+        r = {"grid_lo": float(gaps[i]), "grid_hi": float(gaps[j])}
+        for side, k_in, k_out in (("lo", i, i - 1), ("hi", j, j + 1)):
+            if 0 <= k_out < n:
+                g_in, g_out = bisect(pred, float(gaps[k_in]), float(gaps[k_out]), tol)
+                r[side] = 0.5 * (g_in + g_out)
+                r[side + "_bracket"] = [g_in, g_out]
+                r[side + "_open"] = False
+            else:
+                r[side] = float(gaps[k_in])
+                r[side + "_bracket"] = None
+                r[side + "_open"] = True  # the range reaches the window's edge
+        out.append(r)
+        i = j + 1
+    return out
+
+
+def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
+    """Intersections of two lists of ranges; each end says which claim bounds it."""
+    out = []
+    for a in ra:
+        for b in rb:
+            lo_src = a if a["lo"] >= b["lo"] else b
+            hi_src = a if a["hi"] <= b["hi"] else b
+            lo, hi = lo_src["lo"], hi_src["hi"]
+            if lo < hi:
+                out.append({"lo": lo, "hi": hi, "lo_claim": "a" if lo_src is a else "b",
+                            "hi_claim": "a" if hi_src is a else "b", "lo_bracket": lo_src["lo_bracket"],
+                            "hi_bracket": hi_src["hi_bracket"], "lo_open": lo_src["lo_open"],
+                            "hi_open": hi_src["hi_open"]})
+    return out
+
+
+
+# --- deterministic writers ------------------------------------------------------------------
+def clean(obj):
+    """JSON-ready copy: numpy scalars to Python, NaN/inf to None, tuples to lists."""
+    if isinstance(obj, dict):
+        return {str(k): clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [clean(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    return obj
+
+
+def write_json(path, obj) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(clean(obj), indent=1) + "\n")
+
+
+def read_json(path):
+    return json.loads(Path(path).read_text())
+
+
+def _cell(v) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (float, np.floating)):
+        return format(float(v), CSV_FLOAT) if math.isfinite(v) else ""
+    if v is None:
+        return ""
+    return str(v)
+
+
+# Significant digits of floats in the CSV files: far below any tolerance the record is
+# compared with (rtol 1e-8), and it keeps the files small.
+CSV_FLOAT = ".12g"
+
+
+def write_csv(path, columns: list[str], rows: list[dict]) -> None:
+    """CSV with a header; floats with 12 significant digits, booleans as true/false,
+    missing values empty."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(columns)
+        for row in rows:
+            w.writerow([_cell(row.get(c)) for c in columns])
+
+
+MACRO_NAME = re.compile(r"^[A-Za-z]+$")
+
+
+def macro(name: str, value: str) -> str:
+    """One ``\\newcommand`` line (macro names are letters only, as TeX needs)."""
+    if not MACRO_NAME.match(name):
+        raise ValueError(f"`name` = {name!r} is not allowed: a TeX macro name has letters only")
+    return f"\\newcommand{{\\{name}}}{{{value}}}\n"
+
+
+# A value that does not exist, in a macro (works in math and text mode).
+MISSING = "\\mbox{--}"
+
+
+def num(x: float, digits: int) -> str:
+    """A number for the report (math mode), fixed decimals; MISSING when missing."""
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return MISSING
+    s = f"{x:.{digits}f}"
+    return s[1:] if s.startswith("-") and float(s) == 0.0 else s  # no "-0.00"
+
+
+def sci(x: float, digits: int = 1) -> str:
+    """A small number as m \\times 10^{e} (math mode)."""
+    if x is None or not math.isfinite(x):
+        return MISSING
+    if x == 0:
+        return "0"
+    e = int(math.floor(math.log10(abs(x))))
+    m = x / 10**e
+    if round(abs(m), digits) >= 10:
+        m, e = m / 10, e + 1
+    return f"{m:.{digits}f} \\times 10^{{{e}}}"
+
+
+def run_steady(p: Parameters, solver: dict, **kw):
+    """:func:`impactdamper.steady_state` with the config's solver options."""
+    return steady_state(p, **solver_options(solver), **kw)
+
+
+def run_alg1(p: Parameters, solver: dict):
+    return algorithm1(p, gap_tol=float(solver["gap_tol"]))

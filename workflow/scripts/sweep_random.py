@@ -1,0 +1,55 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: random initial states
+along the gap sweep (one chunk of them).
+
+Where motions coexist, the neighbour-started sweeps show only the one each direction follows;
+several random initial states per sweep point (:func:`impactdamper.sweeps.random_starts`,
+fixed seed; the generator of point i, start j is seeded with (seed, i, j), so chunks do not
+change the result) show the others. Every ``random_every``-th sweep point gets
+``random_starts`` states.
+
+Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
+"""
+
+import sweepstage as st
+from impactdamper.sweeps import random_starts
+
+
+def points_of(sweep: dict):
+    """(indices, values) of the sweep points that get random starts."""
+    values = st.grid(sweep["start"], sweep["stop"], sweep["points"])
+    idx = list(range(0, len(values), int(sweep["random_every"])))
+    return idx, values[idx]
+
+
+def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=None) -> list[dict]:
+    base = st.parameters(reference)
+    settings = st.settings(sweep, solver)
+    idx, values = points_of(sweep)
+    mine = st.chunk_indices(len(idx), int(sweep["random_chunks"]), chunk)
+    indices = [idx[i] for i in mine]
+    with st.Timer() as timer:
+        def progress(i, n, pt):
+            if log is not None and ((i + 1) % max(n // 10, 1) == 0 or i + 1 == n):
+                log.info("random starts: %d/%d values (%s = %.6g)", i + 1, n, st.SWEEP_PARAMETER, pt.value)
+
+        res = random_starts(base, st.SWEEP_PARAMETER, values[mine], int(sweep["random_starts"]), int(sweep["seed"]),
+                            indices=indices, settings=settings, progress=progress)
+    rows = []
+    for i, starts in zip(indices, res):
+        for j, pt in enumerate(starts):
+            rows.append({"index": i, "start_index": j, "value": pt.value, "label": pt.label, "regime": pt.regime,
+                         "k": pt.period_multiple, "z": pt.impacts_per_cycle, "x1_max": pt.x1_max,
+                         "method": pt.method, "periods": pt.periods, "velocities": st.joined(pt.velocities)})
+    st.write_csv(out_csv, rows, st.RANDOM_COLUMNS)
+    if log is not None:
+        log.info("chunk %d: %d runs, wall %.1f s, cpu %.1f s", chunk, len(rows), timer.wall, timer.cpu)
+    return rows
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import json
+
+    log = st.logger(sm.log[0], "sweep_random")
+    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+         int(sm.wildcards.chunk), sm.output.csv, log=log)

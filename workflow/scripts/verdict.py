@@ -1,0 +1,251 @@
+"""The replication verdict on the paper's Fig. 2 (Timofeev et al. 2019, DOI
+10.18698/0236-3941-2019-1-90-100): claim by claim, what the stated parameters give (exact
+solver, confirmed or not by the independent ``solve_ivp`` integrator), where the claimed
+behaviour does occur, and which other readings reproduce it.
+
+The claims (the prose around Fig. 2, at Delta0/x_st = -5.8):
+
+* ``a``: "the gap Delta takes on negative values when t in (t1, t2)" (Algorithm No. 1);
+* ``b_period``: "the oscillation period of the system is equal to two periods of external
+  influence T_c = 2T" (Algorithm No. 2);
+* ``b_impacts``: "during this period T_c there are three collisions" (Algorithm No. 2).
+
+Also notes the transcription slip of eq. (13) (x21s' printed as x1s' - x2s'; eq. 12 defines
+x21s = x2s - x1s, which the library follows) and what it would change.
+
+Outputs: ``figures/verdict.json``, ``figures/verdict.csv`` (one row per claim) and
+``paper/generated/verdict_macros.tex`` (a ``\\newcommand`` for every number the report quotes;
+numeric macros are bare numbers for math mode).
+"""
+
+from pathlib import Path
+
+import replication as rep
+
+CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "ivp_confirms", "reproduced",
+               "located_gap", "located_result", "located_ivp_result", "located_ivp_confirms"]
+
+
+def _period(k: int) -> str:
+    return "T" if k == 1 else f"{k}T"
+
+
+def claims(ref: dict, cc: dict) -> dict:
+    """The three claims' results for one case (exact and independent)."""
+    a1, a2 = ref["algorithm1"], ref["algorithm2"]
+    i1, i2 = cc["algorithm1"], cc["algorithm2"]
+    neg = a1["negative_gap_intervals"]
+    ineg = i1.get("negative_gap_intervals", [])
+    fmt_iv = lambda ivs: ", ".join(f"({x:.4f}, {y:.4f}) T" for x, y in ivs)  # noqa: E731
+    return {
+        "a": {
+            "holds": bool(a1["claim_a"]),
+            "result": (f"gap negative on {fmt_iv(neg)}" if neg else
+                       ("no negative gap: the orbit is admissible" if a1["exists"] else "no orbit: " + a1["reason"])),
+            "ivp_holds": bool(i1["claim_a"]),
+            "ivp_result": (f"gap negative on {fmt_iv(ineg)}" if ineg else "no negative gap")
+            + (f"; periodicity residual {i1['periodicity_residual']:.1e}" if "periodicity_residual" in i1 else ""),
+        },
+        "b_period": {
+            "holds": a2["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE and a2["regime"] == "multi_impact",
+            "result": f"{a2['regime'].replace('_', ' ')}, T_c = {_period(a2['period_multiple'])}" if a2["period_multiple"]
+            else "no settled period",
+            "ivp_holds": i2["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE,
+            "ivp_result": f"T_c = {_period(i2['period_multiple'])}" if i2["period_multiple"] else "no period found",
+        },
+        "b_impacts": {
+            "holds": a2["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS and a2["regime"] == "multi_impact",
+            "result": f"{a2['impacts_per_cycle']} impact(s) per cycle",
+            "ivp_holds": i2["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS and not i2["contact_in_cycle"],
+            "ivp_result": f"{i2['impacts_per_cycle']} impact(s) per cycle",
+        },
+    }
+
+
+PAPER_CLAIMS = {
+    "a": "Algorithm No. 1: the gap is negative on (t1, t2)",
+    "b_period": "Algorithm No. 2: T_c = 2T",
+    "b_impacts": "Algorithm No. 2: three impacts per cycle",
+}
+
+
+def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, readings_json,
+         out_json, out_csv, out_tex) -> dict:
+    ref_s, ref_l = rep.read_json(stated_json), rep.read_json(located_json)
+    cc_s, cc_l = rep.read_json(cc_stated_json), rep.read_json(cc_located_json)
+    scan, rd = rep.read_json(scan_json), rep.read_json(readings_json)
+    cs, cl = claims(ref_s, cc_s), claims(ref_l, cc_l)
+    rows = []
+    for key, text in PAPER_CLAIMS.items():
+        rows.append({
+            "claim": key, "paper": text,
+            "stated_gap": ref_s["parameters"]["gap"], "stated_result": cs[key]["result"],
+            "stated_ivp_result": cs[key]["ivp_result"], "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"],
+            "reproduced": cs[key]["holds"] and cs[key]["ivp_holds"],
+            "located_gap": ref_l["parameters"]["gap"], "located_result": cl[key]["result"],
+            "located_ivp_result": cl[key]["ivp_result"], "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"],
+        })
+    reproducing = [r["id"] for r in rd["readings"] if r["reproduces"]]
+    partial = [r["id"] for r in rd["readings"] if (r["claim_a"] or r["claim_b"]) and not r["reproduces"]]
+    result = {
+        "paper": rep.PAPER,
+        "claims": rows,
+        "stated": {"parameters": ref_s["parameters"], "claims": cs, "crosscheck": cc_s},
+        "located": {"parameters": ref_l["parameters"], "claims": cl, "crosscheck": cc_l,
+                    "rule": scan["located"]["rule"], "range": scan["located"]["range"]},
+        "ranges": {"alg1_existence_limit": scan["alg1_existence_limit"], "claim_a": scan["claim_a_ranges"],
+                   "claim_b": scan["claim_b_ranges"], "both": scan["both_ranges"], "window": scan["window"],
+                   "orbit": scan["orbit_range"],
+                   "end_checks_agree": all(c["agree"] for c in scan["end_checks"])},
+        "other_readings": {"reproducing": reproducing, "partial": partial, "R_ranges": rd["R_ranges"],
+                           "random_states": rd["random_states"]},
+        "eq13_note": ("Eq. (13) as printed gives x21s' = x1s' - x2s', the opposite of eq. (12)'s x21s = x2s - x1s; "
+                      "the library uses eq. (12)'s sign. With the printed sign Algorithm No. 1's orbit violates the "
+                      "impact law (S/(D v) != 1), see other_readings: eq13_as_printed."),
+    }
+    rep.write_json(out_json, result)
+    rep.write_csv(out_csv, CSV_COLUMNS, rows)
+    Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
+    Path(out_tex).write_text(macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows))
+    return result
+
+
+def _short(text: str) -> str:
+    """The bifurcation's name, for prose (the part before the colon)."""
+    return text.split(":")[0].replace("Neimark-Sacker", "Neimark--Sacker")
+
+
+def _range_of(ranges: list[dict], gap: float) -> dict | None:
+    for r in ranges:
+        if r["lo"] <= gap <= r["hi"]:
+            return r
+    return None
+
+
+def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
+    """Every number the report quotes, as \\newcommand (bare numbers for math mode)."""
+    p = ref_s["parameters"]
+    m = ["% Replication verdict of the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100).\n",
+         "% Generated by workflow/scripts/verdict.py (Snakemake rule verdict); do not edit.\n",
+         "% Numbers are bare (for math mode); \\mbox{--} where a value does not exist. Times are in units\n",
+         "% of T since the impact (Algorithm No. 1) or since the cycle's first impact (Algorithm No. 2);\n",
+         f"% velocities in m/s, impulses in N s (x_st = {p['x_st']:g} m, m1 = {p['m1']:g} kg). *MinGap: the smallest\n",
+         "% interior local minimum of Delta/x_st (0 when the gap has none). Ranges are in Delta0/x_st\n",
+         "% (or R).\n"]
+    add = lambda name, value: m.append(rep.macro(name, value))  # noqa: E731
+    yes = lambda b: "yes" if b else "no"  # noqa: E731
+    for name, key, d in (("Theta", "theta", 2), ("Mu", "mu", 2), ("N", "N", 2), ("DeltaOne", "delta1", 2),
+                         ("DeltaTwo", "delta2", 2), ("R", "R", 2), ("Gap", "gap", 1), ("Omega", "omega", 0),
+                         ("Xst", "x_st", 0)):
+        add("Stated" + name, rep.num(p[key], d))
+    T = 2 * 3.141592653589793 / p["omega"]
+    add("StatedT", rep.num(T, 4))
+    verdict_text = {True: "reproduced", False: "not reproduced"}
+    for r, name in zip(rows, ("ClaimA", "ClaimBPeriod", "ClaimBImpacts")):
+        add(name + "Verdict", verdict_text[r["reproduced"]])
+        add(name + "IvpConfirms", yes(r["ivp_confirms"]))
+    for tag, ref, cc in (("Stated", ref_s, cc_s), ("Located", ref_l, cc_l)):
+        a1, a2 = ref["algorithm1"], ref["algorithm2"]
+        add(tag + "AlgOneExists", yes(a1["exists"]))
+        add(tag + "AlgOneImpactPhase", rep.num(a1["impact_phase"], 5) if a1["exists"] else rep.MISSING)
+        add(tag + "AlgOneImpulse", rep.num(a1["S"], 3) if a1["exists"] else rep.MISSING)
+        add(tag + "AlgOneVelocity", rep.num(a1["velocity"], 2) if a1["exists"] else rep.MISSING)
+        add(tag + "AlgOneMinGap", rep.num(a1["min_gap"], 3) if a1["exists"] else rep.MISSING)
+        neg = a1["negative_gap_intervals"]
+        add(tag + "AlgOneNegativeIntervals", str(len(neg)))
+        add(tag + "AlgOneTOne", rep.num(neg[0][0], 4) if neg else rep.MISSING)
+        add(tag + "AlgOneTTwo", rep.num(neg[0][1], 4) if neg else rep.MISSING)
+        i1 = cc["algorithm1"]
+        add(tag + "IvpAlgOneResidual", rep.sci(i1.get("periodicity_residual")))
+        ineg = i1.get("negative_gap_intervals", [])
+        add(tag + "IvpAlgOneTOne", rep.num(ineg[0][0], 4) if ineg else rep.MISSING)
+        add(tag + "IvpAlgOneTTwo", rep.num(ineg[0][1], 4) if ineg else rep.MISSING)
+        add(tag + "AlgTwoRegime", a2["regime"].replace("_", " "))
+        add(tag + "AlgTwoPeriodMultiple", str(a2["period_multiple"]))
+        add(tag + "AlgTwoImpacts", str(a2["impacts_per_cycle"]))
+        add(tag + "AlgTwoPeriods", str(a2["periods_simulated"]))
+        add(tag + "AlgTwoXOneMax", rep.num(a2["x1_max"], 3))
+        table = a2["impact_table"]
+        for k, row in enumerate(table[:6]):
+            word = ("One", "Two", "Three", "Four", "Five", "Six")[k]
+            add(f"{tag}Impact{word}OverT", rep.num(row["t_over_T"], 4))
+            add(f"{tag}Impact{word}Phase", rep.num(row["phase"], 4))
+            add(f"{tag}Impact{word}Velocity", rep.num(row["velocity"], 2))
+            add(f"{tag}Impact{word}Impulse", rep.num(row["impulse"], 3))
+        i2 = cc["algorithm2"]
+        add(tag + "IvpPeriodMultiple", str(i2["period_multiple"]))
+        add(tag + "IvpImpacts", str(i2["impacts_per_cycle"]))
+        add(tag + "IvpTimeDiff", rep.sci(i2.get("max_time_difference_over_T")))
+        add(tag + "IvpVelocityDiff", rep.sci(i2.get("max_velocity_difference_rel")))
+    add("LocatedGap", rep.num(ref_l["parameters"]["gap"], 2))
+    w = scan["window"]
+    add("ScanGapMin", rep.num(w["gap_min"], 1))
+    add("ScanGapMax", rep.num(w["gap_max"], 1))
+    add("ScanGapStep", rep.num(w["alg2_gap_step"], 2))
+    add("ScanAlgOneGapStep", rep.num(w["alg1_gap_step"], 3))
+    add("ScanBisectTol", rep.sci(w["alg2_bisect_tol"], 0))
+    add("AlgOneExistenceLimit", rep.num(scan["alg1_existence_limit"], 3))
+    g_loc = ref_l["parameters"]["gap"]
+    for name, key, digits in (("ClaimA", "claim_a_ranges", 3), ("ClaimB", "claim_b_ranges", 3), ("Both", "both_ranges", 3)):
+        rs = scan[key]
+        add(name + "RangeCount", str(len(rs)))
+        r = _range_of(rs, g_loc) or (rs[0] if rs else None)
+        add(name + "RangeLo", rep.num(r["lo"], digits) if r else rep.MISSING)
+        add(name + "RangeHi", rep.num(r["hi"], digits) if r else rep.MISSING)
+    add("EndChecksAgree", yes(all(c["agree"] for c in scan["end_checks"])))
+    add("EndChecksCount", str(len(scan["end_checks"])))
+    orbit = scan["orbit_range"]
+    if orbit.get("found"):
+        add("OrbitRangeLo", rep.num(orbit["lo"], 4))
+        add("OrbitRangeHi", rep.num(orbit["hi"], 4))
+        add("OrbitLoBifurcation", _short(orbit.get("lo_bifurcation", "")))
+        add("OrbitHiBifurcation", _short(orbit.get("hi_bifurcation", "")))
+        add("OrbitSeedGap", rep.num(orbit["seed_gap"], 2))
+        g_loc = ref_l["parameters"]["gap"]
+        nearest = min(orbit["branch"], key=lambda b: abs(b[0] - g_loc))
+        if abs(nearest[0] - g_loc) < 1e-9:
+            add("LocatedSpectralRadius", rep.num(nearest[1], 3))
+    readings = {r["id"]: r for r in rd["readings"]}
+    add("ReadingsCount", str(len(readings) - 1))  # the stated baseline is not a reading
+    add("ReadingsReproducing", str(sum(bool(r["reproduces"]) for k, r in readings.items() if k != "stated")))
+    eq13 = readings.get("eq13_as_printed")
+    if eq13:
+        add("EqThirteenClaimA", yes(eq13["claim_a"]))
+        add("EqThirteenTOne", rep.num(eq13["alg1_t1"], 4) if eq13["alg1_t1"] is not None else rep.MISSING)
+        add("EqThirteenTTwo", rep.num(eq13["alg1_t2"], 4) if eq13["alg1_t2"] is not None else rep.MISSING)
+        add("EqThirteenMinGap", rep.num(eq13["alg1_min_gap"], 3) if eq13["alg1_min_gap"] is not None else rep.MISSING)
+        ratio = rd["details"]["eq13_as_printed"].get("impact_law_ratio")
+        add("EqThirteenImpactLawRatio", rep.num(ratio, 3) if ratio is not None else rep.MISSING)
+    loss = readings.get("R_as_loss")
+    if loss:
+        add("RAsLossR", rep.num(loss["R"], 2))
+        add("RAsLossReproduces", yes(loss["reproduces"]))
+        add("RAsLossTOne", rep.num(loss["alg1_t1"], 4) if loss["alg1_t1"] is not None else rep.MISSING)
+        add("RAsLossTTwo", rep.num(loss["alg1_t2"], 4) if loss["alg1_t2"] is not None else rep.MISSING)
+        add("RAsLossMinGap", rep.num(loss["alg1_min_gap"], 4) if loss["alg1_min_gap"] is not None else rep.MISSING)
+    rr = rd["R_ranges"]
+    for name, key in (("RClaimA", "claim_a"), ("RClaimB", "claim_b"), ("RBoth", "both")):
+        r = rr[key][0] if rr[key] else None
+        add(name + "Lo", rep.num(r["lo"], 3) if r else rep.MISSING)
+        add(name + "Hi", rep.num(r["hi"], 3) if r else rep.MISSING)
+    rs = rd["random_states"]
+    add("RandomStatesCount", str(rs["count"]))
+    add("RandomStatesSeed", str(rs["seed"]))
+    add("RandomStatesMotions", str(len(rs["motions"])))
+    add("RandomStatesClaimB", yes(rs["claim_b_found"]))
+    pv = readings.get("printed_velocities")
+    if pv:
+        add("PrintedVelocitiesRegime", pv["alg2_regime"].replace("_", " "))
+        add("PrintedVelocitiesPeriodMultiple", str(pv["alg2_period_multiple"]))
+    return "".join(m)
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    i, o = sm.input, sm.output
+    out = main(i.stated, i.located, i.cc_stated, i.cc_located, i.scan, i.readings, o.json, o.csv, o.tex)
+    for row in out["claims"]:
+        print(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})", file=sys.stderr)

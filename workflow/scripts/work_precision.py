@@ -1,0 +1,62 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
+the paper): the work-precision study of issue 6, data only (the figure is drawn by
+fig_work_precision.py).
+
+On the reference case, the first impacts from Algorithm No. 2's default start and the
+settled cycle, against the mpmath reference (src/impactdamper/highprecision.py): the exact
+event-driven solver across its gap tolerance, Algorithm No. 1, solve_ivp with events (RK45,
+DOP853, Radau, LSODA) across rtol, fixed-step RK4 with bisection across the step, and
+Siconos's Moreau-Jean time-stepping when its Python module is present (see
+src/impactdamper/workprecision.py for the definitions of error and cost).
+
+Outputs: ``results/benchmarks/work_precision.json`` (everything, with the per-method summary
+and the speed-ups) and ``figures/work_precision.csv`` (one row per measured run). Timings are
+CPU time and not deterministic.
+"""
+
+import os
+
+# The rule takes both cores (threads: 2) to have the machine to itself while timing, and
+# Snakemake then sets OPENBLAS_NUM_THREADS=2; BLAS threads only slow the solver's 4 x 4
+# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_var] = "1"
+
+import csv
+import json
+from pathlib import Path
+
+import performancestage as ps
+
+from impactdamper import workprecision as wp
+
+CSV_COLUMNS = ["case", "family", "setting", "value", "cpu_seconds", "error", "phase_error", "state_error",
+               "impacts_found", "impacts_expected", "nfev", "note"]
+
+
+def _fmt(v):
+    if isinstance(v, float):
+        return repr(v)
+    return v
+
+
+def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
+    p = ps.parameters(reference)
+    study = wp.run_study(p, performance, log=log)
+    study["summary"] = wp.summarize(study, tuple(performance["targets"]))
+    ps.write_json(out_json, study)
+    Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
+    with open(out_csv, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
+        w.writeheader()
+        for r in study["runs"]:
+            w.writerow({k: _fmt(r[k]) for k in CSV_COLUMNS})
+    log(f"siconos: {study['siconos']['detail']}")
+    return study
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    lg = ps.logger(sm.log[0], "work_precision")
+    main(json.loads(sm.params.reference), json.loads(sm.params.performance), sm.output.json, sm.output.csv,
+         log=lg.info)
