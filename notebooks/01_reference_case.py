@@ -304,10 +304,11 @@ for s in (ss, ss10):
 # %%
 def transient_figure(s):
     p_ = s.p
-    impacts = [e for e in s.trajectory.events if e.kind == "impact"]
-    n = np.arange(s.periods + 1)
-    full, _ = s.trajectory.sample(n * p_.T)
-    sections = full / (p_.x_st * np.array([1.0, 1.0, p_.omega, p_.omega]))
+    # s.trajectory holds only the settled cycle's window: the impacts from the start come
+    # from simulating the same span again, the sections from the steady state's record.
+    impacts = [e for e in idp.simulate(p_, s.periods * p_.T).events if e.kind == "impact"]
+    n = np.arange(1, s.periods + 1)
+    sections = s.sections / (p_.x_st * np.array([1.0, 1.0, p_.omega, p_.omega]))
     fig, (left, right) = plt.subplots(1, 2, figsize=(6.3, 2.8), layout="constrained")
     left.plot(np.arange(1, len(impacts) + 1), [e.velocity / (p_.x_st * p_.omega) for e in impacts],
               ".", ms=3)

@@ -231,7 +231,7 @@ for ax, s in zip(axes[:, 0], cases):
     p_ = s.p
     span = max(2 * s.cycle_duration, 4 * p_.T) if s.settled else s.cycle_duration
     t_end = s.cycle_start + s.cycle_duration
-    t = np.linspace(t_end - span, t_end, 1600)
+    t = np.linspace(max(t_end - span, s.trajectory.segments[0][1].t0), t_end, 1600)
     x1b, x2b = s.sample(t)
     tt = (t - t_end) / p_.T
     ax.plot(tt, x1b, label=r"$\bar x_1$")

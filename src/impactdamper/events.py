@@ -41,6 +41,9 @@ __all__ = ["LinearFunctional", "Segment", "first_root", "march", "SearchLimitErr
 # Newton polishing after the certified march: the march already converges quadratically,
 # so a few iterations reach rounding level.
 NEWTON_ITERATIONS = 6
+# Longest Newton step, in forcing periods: from a point within tol of a transversal root the
+# step is ~tol/|g'|, far below this.
+NEWTON_MAX_STEP = 1e-6
 # No search may take more certified steps than this (a guard; typical searches take 5-50).
 MAX_STEPS = 200_000
 # Floor of a derivative bound: a zero bound (no forcing, no free motion) would give an
@@ -258,11 +261,16 @@ def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: floa
     """Newton from the certified point (g <= tol, g' <= 0) to the root at rounding level;
     stops where the slope vanishes (a grazing touch is kept at the certified point)."""
     evaluate = segment.evaluator(fn)
+    max_step = NEWTON_MAX_STEP * 2.0 * math.pi / fn.mode.omega
     for _ in range(NEWTON_ITERATIONS):
         if g1 >= 0.0 or g == 0.0:
             break
         dt = -g / g1
-        if t + dt == t:
+        # The certified point is within tol of a root: a transversal root is then a tiny step
+        # away. A long step means the slope is ~0 there (a touch, or a point with g < 0 and
+        # g' ~ 0 in the flight scan of an inadmissible orbit, where the step was 1e14 s and
+        # overflowed the exponentials): keep the point.
+        if t + dt == t or abs(dt) > max_step:
             break
         t_new = t + dt
         g_new, g1_new = evaluate(t_new)

@@ -128,6 +128,9 @@ class Trajectory:
         names (``"free"``/``"stuck"``), shape t.shape. Times must not precede the start."""
         t = np.asarray(t, dtype=float)
         flat = t.reshape(-1)
+        start = self.segments[0][1].t0
+        if flat.size and flat.min() < start - 1e-12 * max(abs(start), 1.0):
+            raise ValueError(f"`t` = {flat.min()!r} precedes the trajectory's start {start!r}")
         idx = self._segment_index(flat)
         out = np.empty((flat.size, 4))
         modes = np.empty(flat.size, dtype=object)

@@ -77,7 +77,8 @@ class SteadyState:
     impacts : list of CycleImpact
         The cycle's impacts in order, the first one ending the cycle's longest free flight.
     cycle_start : float
-        Absolute time where the reported cycle starts, s.
+        Time in ``trajectory`` where the reported cycle starts, s (same forcing phase as in
+        the run: t/T modulo 1 is the phase).
     contact_fraction : float
         Share of the cycle spent in persistent contact.
     contact_phases : list of (float, float)
@@ -89,7 +90,9 @@ class SteadyState:
     residual : float
         Largest relative section mismatch over the final cycle.
     trajectory : Trajectory
-        The whole simulated motion, one cycle past the reported one included.
+        The motion over the reported cycle, with at least one cycle (and 4 periods) before
+        and one cycle after it (re-simulated from a section of the run, so its clock is
+        ``t0`` plus a few periods: times in it differ from the run's by a multiple of T).
     section_times : ndarray, shape (periods,)
         Times t0 + n T of the stroboscopic sections, s.
     sections : ndarray, shape (periods, 4)
@@ -200,16 +203,23 @@ def steady_state(
         raise ValueError(f"`max_periods` = {max_periods!r} is not allowed: must be an integer >= 2")
     if not (isinstance(max_period_multiple, int) and 1 <= max_period_multiple < max_periods):
         raise ValueError(f"`max_period_multiple` = {max_period_multiple!r} is not allowed: must be an integer in [1, max_periods)")
-    solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     T = p.T
-    sections = np.empty((max_periods, 4))
+    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
+    start_state = solver.state_at(t0) if state is None else np.asarray(state, dtype=float)
+    states = np.empty((max_periods, 4))  # the section states, (x1, x2, x1', x2')
+    sections = np.empty((max_periods, 4))  # the same, scaled by x_st and x_st omega
     modes: list[str] = []
     found_k, n, residual = 0, 0, math.inf
-    watch: dict[int, float] = {}  # divisor d of a matched k -> its mismatch when last checked
+    base = 0  # the section the current solver started from (at time t0: same forcing phase)
     for n in range(1, max_periods + 1):
-        t_n = t0 + n * T
+        if n - 1 - base >= REBASE_PERIODS:
+            solver = EventDrivenSolver(p, t0=t0, state=states[n - 2], tolerances=tolerances)
+            base = n - 1
+        t_n = t0 + (n - base) * T
         solver.advance(t_n)
-        sections[n - 1] = _scaled(p, solver.state_at(t_n))
+        states[n - 1] = solver.state_at(t_n)
+        sections[n - 1] = states[n - 1] / scale
         modes.append(solver.mode)
         # Screen: a period k is possible only if this section repeats the one k periods back.
         lags = min(max_period_multiple, (n - 1) // 2)
@@ -221,17 +231,31 @@ def steady_state(
             found_k = 0
             continue
         found_k, residual = _period(sections[:n], modes, max_period_multiple, settle_tol)
-        if found_k and _shorter_period_still_converging(sections[:n], modes, found_k, watch):
-            found_k = 0
-            continue
+        if found_k:
+            found_k, residual = _least_period(sections[:n], modes, found_k, settle_tol)
         if found_k:
             break
     k = found_k if found_k else NONPERIODIC_WINDOW
-    window_end = t0 + n * T
-    solver.advance(window_end + (k + 1) * T)  # the next cycle too, for plots of "cycle + next impact"
-    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
-    result = _describe(p, solver.trajectory, window_end - k * T, k, bool(found_k), n, residual)
-    return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=sections[:n] * scale)
+    # Describe the cycle on a fresh run from a section at least one cycle (and 4 periods)
+    # before the reported one, so that its first impact's free flight is known and plots can
+    # show what led into it, to one cycle after it (for "cycle + next impact"), with the clock
+    # again near t0.
+    first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
+    describer = EventDrivenSolver(p, t0=t0, state=states[first - 1] if first else start_state,
+                                  tolerances=tolerances)
+    describer.advance(t0 + (n - first + k + 1) * T)
+    result = _describe(p, describer.trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
+    return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=states[:n].copy())
+
+
+# The solver restarts from its section state every REBASE_PERIODS forcing periods, with its
+# clock back at t0 (the forcing's phase is the same there). A long run's absolute time
+# would otherwise put ulp(t) ~ 1e-12 s of rounding into every event: near a bifurcation, where
+# a multiplier is close to 1 in modulus and amplifies it, that noise floor (~1e-9 after
+# 3000 periods at gap -9.49) exceeds settle_tol, and a period-2 motion passed for period 4.
+REBASE_PERIODS = 100
+# Forcing periods (at least) that the reported trajectory holds before the cycle.
+PERIODS_BEFORE_CYCLE = 4
 
 
 def _mismatch(sections: np.ndarray, modes: list, k: int) -> float:
@@ -257,29 +281,41 @@ def _period(sections: np.ndarray, modes: list, kmax: int, tol: float) -> tuple[i
 
 # A divisor d of a matched k whose mismatch is below this may be the true period still
 # converging (a transient with a Floquet multiplier near -1 repeats after 2 periods sooner
-# than after 1). The run goes on while that mismatch keeps falling, by at least the factor
-# DIVISOR_DECAY per cycle of k periods; if it stalls, the motion has period k.
+# than after 1). Then the run goes on while that divisor's mismatch keeps falling: its
+# largest value over the last STALL_WINDOW periods (at least 2k) must stay below
+# DIVISOR_DECAY times its largest value over the window before. A genuine period-k motion
+# keeps the divisor's mismatch constant (its own transient is already below settle_tol);
+# a transient shrinks it by |multiplier| per cycle. Windowed maxima, not cycle-to-cycle
+# values, because two transient components beat (at gap -9.49 the divisor's mismatch
+# rises now and then while falling by 0.87 per window, and a cycle-to-cycle test gave the
+# 2T motion as T_c = 4T).
 DIVISOR_SUSPECT = 1e-3
-DIVISOR_DECAY = 0.9
+DIVISOR_DECAY = 0.95
+STALL_WINDOW = 20
+# A divisor whose mismatch stalls below this multiple of settle_tol is the period, stopped by
+# the run's noise floor (a genuine period-k motion has a divisor mismatch this small only at
+# its bifurcation point itself: the doubled orbit's offset grows like the square root of the
+# distance to it).
+DIVISOR_FLOOR_FACTOR = 1e3
 
 
-def _shorter_period_still_converging(sections: np.ndarray, modes: list, k: int, watch: dict) -> bool:
+def _least_period(sections: np.ndarray, modes: list, k: int, settle_tol: float) -> tuple[int, float]:
+    """The period to accept for a matched k: (k or a divisor of it, its mismatch), or (0, .)
+    while a divisor may still be converging."""
     n = len(sections)
-    converging = False
+    window = max(STALL_WINDOW, 2 * k)
     for d in range(1, k):
-        if k % d:
-            continue
-        m = _mismatch(sections, modes, d)
+        m = _mismatch(sections, modes, d) if k % d == 0 else math.inf
         if m >= DIVISOR_SUSPECT:
             continue
-        n_seen, m_seen = watch.get(d, (n, m))
-        if n - n_seen < k:
-            watch.setdefault(d, (n, m))
-            converging = True
-        elif m < DIVISOR_DECAY * m_seen:
-            watch[d] = (n, m)
-            converging = True
-    return converging
+        if n < 2 * window + d:
+            return 0, m  # not enough history yet to tell
+        lagged = np.abs(sections[n - 2 * window:] - sections[n - 2 * window - d:n - d]).max(axis=1)
+        if lagged[window:].max() < DIVISOR_DECAY * lagged[:window].max():
+            return 0, m
+        if m < DIVISOR_FLOOR_FACTOR * settle_tol:
+            return d, m
+    return k, _mismatch(sections, modes, k)
 
 
 def _describe(p: Parameters, traj: Trajectory, window_start: float, k: int, settled: bool,

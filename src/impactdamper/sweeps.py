@@ -969,6 +969,11 @@ class Transition:
     stopped : bool
         The bisection stopped early because a midpoint's simulation failed (label ``err``):
         the bracket is then wider than asked.
+    one_sided : bool
+        The far end of the bracket moved at most once: the changed motion was found at a single
+        evaluated point (the neighbour itself or the first midpoint) and every later midpoint
+        kept the first label. Typical of a periodic window entered from a nonperiodic band,
+        where whether a start lands in the window depends on the start, not only on the value.
     """
 
     direction: str
@@ -979,11 +984,12 @@ class Transition:
     after: str
     evaluations: int
     stopped: bool = False
+    one_sided: bool = False
 
     def row(self) -> dict:
         return {"direction": self.direction, "value": self.value, "lower": self.lower, "upper": self.upper,
                 "before": self.before, "after": self.after, "evaluations": self.evaluations,
-                "stopped": int(self.stopped)}
+                "stopped": int(self.stopped), "one_sided": int(self.one_sided)}
 
 
 def locate_transition(base: Parameters, parameter: str, first: SweepPoint, second: SweepPoint, direction: str, *,
@@ -998,7 +1004,7 @@ def locate_transition(base: Parameters, parameter: str, first: SweepPoint, secon
     if direction not in ("up", "down"):
         raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
     a, b = first, second
-    n, stopped = 0, False
+    n, stopped, b_moves = 0, False, 0
     while abs(b.value - a.value) > xtol:
         m = 0.5 * (a.value + b.value)
         point = solve_point(_parameters(base, parameter, m), m, a, settings=settings)
@@ -1010,8 +1016,10 @@ def locate_transition(base: Parameters, parameter: str, first: SweepPoint, secon
             a = point
         else:
             b = point
+            b_moves += 1
     lo, hi = sorted((a.value, b.value))
-    return Transition(direction, 0.5 * (lo + hi), lo, hi, a.label, b.label, n, stopped)
+    return Transition(direction, 0.5 * (lo + hi), lo, hi, a.label, b.label, n, stopped,
+                      one_sided=b_moves <= 1 and n >= 4)
 
 
 def find_transitions(base: Parameters, parameter: str, points: Sequence[SweepPoint], direction: str, *,

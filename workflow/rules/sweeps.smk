@@ -281,7 +281,7 @@ rule sweep_report:
         "../scripts/sweep_report.py"
 
 
-ALL_TARGETS.extend(
+SWEEP_TARGETS = (
     expand("figures/sweep_{fig}.{ext}", fig=["bifurcation", "regimes", "suppression"], ext=["pdf", "png"])
     + expand("figures/map_{map}.{ext}", map=SWEEP_MAPS, ext=["pdf", "png"])
     + [
@@ -290,3 +290,13 @@ ALL_TARGETS.extend(
         "paper/generated/sweep_timing.tex",
     ]
 )
+
+
+# This stage only: `snakemake --cores 2 sweeps`.
+rule sweeps:
+    localrule: True
+    input:
+        SWEEP_TARGETS,
+
+
+ALL_TARGETS.extend(SWEEP_TARGETS)

@@ -125,9 +125,10 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                         continue  # branches meeting at one point: one label
                     labelled[col].add(where)
                     dx, dy = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
+                    ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
+                    va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
                     ax_x.annotate(SHORT[s["kind"]], (g, st.num(s["x1_max"])), xytext=(dx, dy),
-                                  textcoords="offset points", ha="center" if dx == 0 else ("left" if dx > 0 else "right"),
-                                  va="bottom" if dy > 0 else ("top" if dy < 0 else "center"), fontsize=7,
+                                  textcoords="offset points", ha=ha, va=va, fontsize=7,
                                   color="0.1" if on else INADMISSIBLE_MARK)
         ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
         ax_r.set_yscale("log")

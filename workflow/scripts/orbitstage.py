@@ -12,8 +12,10 @@ Each branch of the config's ``orbits.branches`` is seeded at its own gap (by Alg
 No. 1's one-impact orbit, or by the cycle Algorithm No. 2 settles on, solved by Newton
 shooting) and followed both ways in Delta0/x_st by :func:`impactdamper.continue_orbit`
 (pseudo-arclength, special points located by Brent's method) within the branch's bounds.
-The orbit is followed on past a grazing (``stop_at_grazing=False``), inadmissible beyond
-it (the gap would go negative between impacts: not a motion, drawn dotted), so that the
+The leg going down in the gap is bounded by ``[gap_min, gap]``, the one going up by ``[gap,
+gap_max]`` (a leg that turns at a fold must not come back to the seed's gap; the seed is
+chosen so). The orbit is followed on past a grazing (``stop_at_grazing=False``), inadmissible
+beyond it (the gap would go negative between impacts: not a motion, drawn dotted), so that the
 branch's whole solution set in the bounds is shown, e.g. Algorithm No. 1's orbit down to its
 fold. A leg ends at
 
@@ -48,7 +50,10 @@ BRANCH_COLUMNS = ["branch", "label", "index", "gap", "x1_max", "min_gap", "spect
 # ``index``: the point lies between the branch's rows index-1 and index (0: before its first
 # row, the number of rows: after its last); ``spectral_radius`` is left empty at a vanishing
 # impact (the saltation matrix grows like 1/v there).
-SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectral_radius", "admissible", "detail"]
+# ``leg`` and ``detail``: the library's description is worded in the direction the point was
+# passed, "down" or "up" in the gap from the branch's seed (e.g. "loses stability").
+SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectral_radius", "admissible", "leg",
+                   "detail"]
 # Significant digits of every number in the committed CSVs (the record test compares at a
 # relative 1e-8; the continuation converges to 1e-12).
 CSV_FLOAT = ".12g"
@@ -57,8 +62,6 @@ KIND_SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "
               "grazing_interior": "grazing"}
 KIND_TEXT = {"period_doubling": "period doubling", "neimark_sacker": "Neimark--Sacker", "fold": "fold",
              "grazing_velocity": "grazing", "grazing_interior": "grazing"}
-# Two special points closer than this (relative, in Delta0/x_st) are the same event.
-SAME_POINT = 1e-9
 
 
 # --- config --------------------------------------------------------------------------------
@@ -129,8 +132,9 @@ def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None
     -------
     dict
         ``name``, ``label``, ``k``, ``z``, ``points`` (BranchPoint, in order of increasing
-        arclength from the lower end), ``special`` (list of (SpecialPoint, lo, hi): it lies
-        between joined points lo and hi; None beyond an end), ``ends`` (low and high end: the
+        arclength from the lower end), ``special`` (list of (SpecialPoint, lo, hi, leg): it
+        lies between joined points lo and hi, None beyond an end; found on the leg "down" or
+        "up" from the seed), ``ends`` (low and high end: the
         end reason and value of each leg), ``seed_index`` (the seed's joined point).
     """
     log = log or logging.getLogger(__name__)
@@ -140,19 +144,27 @@ def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None
         raise ValueError(f"`orbits.branches` entry {spec['name']!r}: need gap_min <= gap <= gap_max, "
                          f"got {lo} <= {g0} <= {hi}")
     o = seed_orbit(reference, spec, solver)
-    # Both legs get the whole range: past a fold a leg comes back across the seed's gap.
-    down = _leg(o, -1, (lo, hi), cont, solver)
-    up = _leg(o, +1, (lo, hi), cont, solver)
+    # Each leg ends at the seed's gap if it comes back there past a fold: the other leg covers
+    # the far side. Beyond a vanishing impact the continuation goes on (only to be cut), so
+    # this bound also keeps a leg from following a mirror branch of wrong-way impacts across
+    # the whole range (the one-impact orbit's solution set is a closed loop).
+    down = _leg(o, -1, (lo, g0), cont, solver)
+    up = _leg(o, +1, (g0, hi), cont, solver)
+    for name, leg in (("down", down), ("up", up)):
+        if leg["end"]["reason"] == "bound" and leg["end"]["value"] == g0:
+            raise ValueError(f"`orbits.branches` entry {spec['name']!r}: the {name} leg turns at a fold and comes "
+                             f"back to the seed's gap {g0} before it ends: seed the branch outside the part "
+                             "that turns back")
     nd = len(down["points"])
     points = down["points"][::-1] + up["points"][1:]
     special = []
     for s in down["special"]:
         # Down leg point j is joined point nd-1-j; s lies between its points index-1 and index.
         a = nd - 1 - s.index
-        special.append((s, a if a >= 0 else None, nd - s.index))
+        special.append((s, a if a >= 0 else None, nd - s.index, "down"))
     for s in up["special"]:
         b = nd - 1 + s.index
-        special.append((s, nd - 2 + s.index, b if b < len(points) else None))
+        special.append((s, nd - 2 + s.index, b if b < len(points) else None, "up"))
     special.sort(key=lambda e: (e[1] if e[1] is not None else -1, e[0].value))
     log.info("branch %s (%s): %d points from %.6f (%s) to %.6f (%s), %d special points", spec["name"],
              label(o.period_multiple, o.impacts_per_cycle), len(points), down["end"]["value"], down["end"]["reason"],
@@ -190,7 +202,7 @@ def stretches(branch: dict, which: str) -> list[dict]:
             j += 1
         ends = []
         for edge, outside in ((i, i - 1), (j, j + 1)):
-            hit = [s for s, a, b in branch["special"]
+            hit = [s for s, a, b, _ in branch["special"]
                    if {a, b} == {edge, outside if 0 <= outside < n else None}]
             if hit:
                 # Several at once (e.g. a velocity grazing and the touch it is): the first listed.
@@ -200,7 +212,7 @@ def stretches(branch: dict, which: str) -> list[dict]:
                 ends.append((float(pts[edge].value), branch["ends"][side]["reason"] if side else "sampled"))
         # The run's extent in the gap: its ends, its points and any special point inside it
         # (a fold inside an admissible run is its extreme gap).
-        inside = [(float(s.value), s.kind) for s, a, b in branch["special"]
+        inside = [(float(s.value), s.kind) for s, a, b, _ in branch["special"]
                   if a is not None and b is not None and i <= a and b <= j]
         cand = ends + inside + [(float(q.value), "sampled") for q in pts[i:j + 1]]
         (va, ka), (vb, kb) = min(cand), max(cand)
@@ -234,11 +246,11 @@ def branch_rows(branch: dict) -> list[dict]:
 
 def special_rows(branch: dict) -> list[dict]:
     rows = []
-    for s, a, b in branch["special"]:
+    for s, a, b, leg in branch["special"]:
         radius = math.nan if s.kind == "grazing_velocity" else abs(s.point.multipliers[0])
         rows.append({"branch": branch["name"], "label": branch["label"], "kind": s.kind, "gap": s.value,
                      "index": 0 if a is None else a + 1, "x1_max": s.point.x1_max, "spectral_radius": radius,
-                     "admissible": _on_motion(branch, a, b), "detail": s.detail})
+                     "admissible": _on_motion(branch, a, b), "leg": leg, "detail": s.detail})
     return sorted(rows, key=lambda r: r["gap"])
 
 

@@ -53,7 +53,8 @@ try:
 except ImportError:
     orbits = None
 
-TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped"]
+TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped",
+                      "one_sided"]
 # Samples per period before refining an extremum of a periodic function of time.
 EXTREMUM_SAMPLES = 2048
 

@@ -25,12 +25,14 @@ PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-20
 # Columns of the committed sweep table (figures/sweep_gap.csv): the state each point started
 # from is kept at full precision so that any row can be recomputed on its own (tests).
 POINT_COLUMNS = ["direction", "index", "value", "label", "regime", "k", "z", "stable", "multiplier", "x1_max",
-                 "contact_fraction", "method", "periods", "start", "x1_0", "x2_0", "v1_0", "v2_0",
-                 "velocities", "phases"]
+                 "contact_fraction", "method", "periods", "start", "x1_0", "x2_0", "v1_0", "v2_0", "velocities"]
 RANDOM_COLUMNS = ["index", "start_index", "value", "label", "regime", "k", "z", "x1_max", "method", "periods",
                   "velocities"]
-# Digits of the impact velocities and phases in the committed tables (plots need ~3).
-VELOCITY_FORMAT = "{:.5g}"
+# Digits of the impact velocities in the committed tables (plots need ~3), and of every other
+# float (12 significant digits: a row recomputed from its start state agrees to ~1e-9, and the
+# committed files stay small).
+VELOCITY_FORMAT = "{:.4g}"
+FLOAT_FORMAT = "{:.12g}"
 
 
 # One colour per regime class in every sweep and map figure (labels z/k are written on them).
@@ -121,7 +123,7 @@ def _fmt(v) -> str:
     if isinstance(v, (bool, np.bool_)):
         return str(int(v))
     if isinstance(v, (float, np.floating)):
-        return "" if not math.isfinite(float(v)) else repr(float(v))
+        return "" if not math.isfinite(float(v)) else FLOAT_FORMAT.format(float(v))
     return str(v)
 
 
@@ -131,12 +133,12 @@ def joined(values, fmt: str = VELOCITY_FORMAT) -> str:
 
 def point_row(direction: str, index: int, pt: SweepPoint) -> dict:
     r = pt.row()
-    r.update(direction=direction, index=index, velocities=joined(pt.velocities), phases=joined(pt.phases))
+    r.update(direction=direction, index=index, velocities=joined(pt.velocities))
     return r
 
 
 def write_csv(path, rows: list[dict], columns: list[str]) -> None:
-    """Deterministic CSV: fixed column order, full-precision floats, '\\n' line ends."""
+    """Deterministic CSV: fixed column order, floats to FLOAT_FORMAT, '\\n' line ends."""
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")
