@@ -186,7 +186,7 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
                  {"N": 0.9, "delta2": repeated_delta2}),
         HardCase("light_damping", r"$\delta_1 = \delta_2 = 10^{-3}$", "very light damping: long transients",
                  {"delta1": 1e-3, "delta2": 1e-3}),
-        HardCase("tiny_mass", r"$\mu = 10^{-4}$", "a suppressor 10^4 times lighter than the object",
+        HardCase("tiny_mass", r"$\mu = 10^{-4}$", "a suppressor $10^4$ times lighter than the object",
                  {"mu": 1e-4}),
         HardCase("stiff_suppressor", r"$N = 50$", "a suppressor frequency 50 times the object's (stiff)",
                  {"N": 50.0}),

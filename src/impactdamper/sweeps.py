@@ -434,8 +434,13 @@ def _cycle_of(s: SteadyState) -> tuple:
 
 
 def _section_of(s: SteadyState) -> tuple[np.ndarray, str]:
-    """State and mode at the last section t = n T of a simulated motion."""
-    t = s.periods * s.p.T
+    """State and mode at a section t = n T (forcing phase zero) of the reported cycle.
+
+    The section is the first one at or after the cycle's start, inside the stored trajectory
+    (which :func:`steady_state` keeps around the reported cycle; its clock differs from the
+    run's by a multiple of T, so the phase is the same)."""
+    T = s.p.T
+    t = math.ceil(s.cycle_start / T - 1e-9) * T
     full, modes = s.trajectory.sample(np.array([t]))
     return full[0], str(modes[0])
 
@@ -661,21 +666,26 @@ def _verify(p: Parameters, value: float, full: np.ndarray, k: int, settings: Swe
 
 
 def _closest_recurrence(s: SteadyState, kmax: int) -> tuple[int, float]:
-    """Period k <= kmax whose last k sections best repeat those k periods earlier."""
+    """Period k <= kmax whose last k sections best repeat those k periods earlier.
+
+    The sections are the run's (``SteadyState.sections``); without them, those of the stored
+    trajectory around the reported window."""
     p = s.p
-    n = s.periods
-    m = min(n, 2 * kmax + 1)
-    ts = np.arange(n - m + 1, n + 1) * p.T
-    full, modes = s.trajectory.sample(ts)
-    sec = full / _scale(p)
+    sections = getattr(s, "sections", None)
+    if sections is not None and len(sections):
+        sec = np.asarray(sections, float)[-(2 * kmax + 1):] / _scale(p)
+    else:
+        T = p.T
+        last = math.floor((s.cycle_start + s.cycle_duration) / T + 1e-9)
+        ts = np.arange(last - 2 * kmax, last + 1) * T
+        ts = ts[ts >= s.trajectory.segments[0][1].t0]
+        sec = s.trajectory.sample(ts)[0] / _scale(p)
+    m = len(sec)
     best_k, best = 0, math.inf
     for k in range(1, kmax + 1):
         if m < 2 * k + 1:
             break
-        worst = 0.0
-        for j in range(k):
-            a, b = m - 1 - j, m - 1 - j - k
-            worst = max(worst, math.inf if modes[a] != modes[b] else float(np.max(np.abs(sec[a] - sec[b]))))
+        worst = max(float(np.max(np.abs(sec[m - 1 - j] - sec[m - 1 - j - k]))) for j in range(k))
         if worst < best:
             best_k, best = k, worst
     return best_k, best
@@ -687,11 +697,12 @@ def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings
     if not k or mismatch > RESCUE_MISMATCH:
         return None
     T = p.T
-    n = s.periods
-    # The last k periods as a cycle seed for the shooting.
+    # k periods of the reported window as a cycle seed for the shooting.
+    a = s.cycle_start
+    b = a + k * T
     if settings.continuation and _orbits is not None:
-        events = s.trajectory.impacts((n - k) * T, n * T)
-        has_contact = any(e.kind != "impact" and (n - k) * T <= e.t < n * T for e in s.trajectory.events)
+        events = s.trajectory.impacts(a, b)
+        has_contact = any(e.kind != "impact" and a <= e.t < b for e in s.trajectory.events)
         if events and not has_contact:
             times = np.array([e.t for e in events])
             after = np.array([e.after for e in events])

@@ -26,3 +26,26 @@ rule report:
 
 
 ALL_TARGETS.append("paper/report.pdf")
+
+
+rule readme_summary:
+    input:
+        script="workflow/scripts/readme_summary.py",
+        macros=[
+            "paper/generated/verdict_macros.tex",
+            "paper/generated/orbit_macros.tex",
+            "paper/generated/performance_macros.tex",
+        ],
+        stated="figures/impacts_stated.csv",
+        located="figures/impacts_located.csv",
+    output:
+        "figures/readme_summary.md",
+    log:
+        "logs/readme_summary.log",
+    conda:
+        ENV
+    script:
+        "../scripts/readme_summary.py"
+
+
+ALL_TARGETS.append("figures/readme_summary.md")

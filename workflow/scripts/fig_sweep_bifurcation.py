@@ -48,12 +48,12 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     v = np.array([float(r["velocity"]) if r["velocity"] else np.nan for r in alg1])
     good = np.array([r["admissible"] == "1" and r["stable"] == "1" for r in alg1])
     for ax, direction, color in ((axes[0], "up", "C0"), (axes[1], "down", "C1")):
-        ax.scatter(xr, yr, s=DOT, color="0.75", lw=0, rasterized=True, label="random initial states")
+        ax.scatter(xr, yr, s=DOT, color="0.75", lw=0, rasterized=True, label="random starts")
         x, y = _scatter([r for r in rows if r["direction"] == direction])
         ax.scatter(x, y, s=DOT, color=color, lw=0, rasterized=True,
                    label=f"{'upward' if direction == 'up' else 'downward'} sweep")
-        ax.plot(g, np.where(good, v, np.nan), color="k", lw=0.8, label="Algorithm No. 1 (admissible, stable)")
-        ax.plot(g, np.where(~good, v, np.nan), color="k", lw=0.8, ls=":", label="Algorithm No. 1 (not admissible)")
+        ax.plot(g, np.where(good, v, np.nan), color="k", lw=0.8, label="Alg. No. 1 orbit")
+        ax.plot(g, np.where(~good, v, np.nan), color="k", lw=0.8, ls=":", label="same, gap $<0$ between impacts")
         for name, text in (("liftoff", "lift-off"), ("alg1_grazing", "Alg. 1 grazing"), ("first_contact", "$U_1$")):
             if checks.get(name) and checks[name]["analytic"] is not None:
                 ax.axvline(checks[name]["analytic"], color="0.3", lw=0.6, ls="--")
@@ -62,7 +62,6 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
                                 xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=7)
         ax.set_ylabel("closing velocity $v/(x_{st}\\omega)$")
         ax.set_ylim(bottom=0.0)
-        ax.legend(loc="upper left", markerscale=4, fontsize=7)
     for x, text in ((stated_gap, "stated"), (located, "located")):
         axes[0].annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 3),
                          textcoords="offset points", ha="center", va="bottom", fontsize=7,
@@ -70,6 +69,12 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
         for ax in axes:
             ax.axvline(x, color="C2", lw=0.6, ls="-.")
     axes[1].set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    handles, labels = axes[0].get_legend_handles_labels()
+    h1, l1 = axes[1].get_legend_handles_labels()
+    handles = [handles[0], handles[1], h1[1], handles[2], handles[3]]
+    labels = [labels[0], labels[1], l1[1], labels[2], labels[3]]
+    fig.subplots_adjust(top=0.86)
+    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.905), ncol=3, markerscale=4, fontsize=7)
     save_figure(fig, out_pdf, formats=("pdf",))
     save_figure(fig, out_png, formats=("png",))
     plt.close(fig)

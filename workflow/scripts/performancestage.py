@@ -95,6 +95,8 @@ def tex_escape(text: str) -> str:
             out.append(ch)
         elif not math_mode and ch in "&%#_":
             out.append("\\" + ch)
+        elif not math_mode and ch == "^":
+            out.append(r"\textasciicircum{}")
         else:
             out.append(ch)
     return "".join(out)
