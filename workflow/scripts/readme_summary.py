@@ -6,7 +6,6 @@ carries a verbatim copy of this file between its ``BEGIN generated`` and ``END g
 markers; tests/test_readme.py checks that the copy is current.
 """
 
-from __future__ import annotations
 
 import csv
 import re
