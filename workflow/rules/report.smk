@@ -35,6 +35,8 @@ rule readme_summary:
             "paper/generated/verdict_macros.tex",
             "paper/generated/orbit_macros.tex",
             "paper/generated/performance_macros.tex",
+            "paper/generated/sweep_macros.tex",
+            "paper/generated/sweep_timing.tex",
         ],
         stated="figures/impacts_stated.csv",
         located="figures/impacts_located.csv",

@@ -29,7 +29,7 @@ def read_macros(paths: list[str]) -> dict[str, str]:
 def plain(tex: str) -> str:
     text = tex.replace(r"\ensuremath", "").replace(r"\,", " ").replace(r"\textmu ", "µ").replace(r"\textmu", "µ")
     text = re.sub(r"\s*\\times\s*10\^\{([-0-9]+)\}", r"e\1", text)
-    text = text.replace(r"\mbox{--}", "–").replace("--", "–").replace("{", "").replace("}", "").replace("\\", "")
+    text = text.replace(r"$\to$", "->").replace(r"$\times$", "x").replace(r"\mbox{--}", "–").replace("--", "–").replace("{", "").replace("}", "").replace("\\", "")
     return re.sub(r"\s+", " ", text).strip()
 
 
@@ -73,6 +73,15 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"{m['ReadingsReproducing']} reproduces both claims (R read as 1 - R, R = {m['RAsLossR']}, which contradicts "
         f"the paper's own D = m1 m2 (R + 1)/(m1 + m2)); eq. (13) with its printed sign gives Fig. 2a's negative gap "
         f"on ({m['EqThirteenTOne']}, {m['EqThirteenTTwo']}) T but breaks the impact law.",
+        "",
+        f"**Gap sweep** ({m['SweepPoints']} values of Delta0/x_st from {m['SweepGapMin']} to {m['SweepGapMax']}, "
+        f"upward and downward; Peterka's z/k labels, S persistent contact, c/k chatter, np nonperiodic within the "
+        f"cap): upward {m['SweepSequenceUp']}; downward {m['SweepSequenceDown']}. Checked transitions: lift-off of "
+        f"the persistent contact at {m['SweepLiftOffLocated']} (analytic {m['SweepLiftOffAnalytic']}), first "
+        f"contact at {m['SweepFirstContactLocated']} (U1/x_st = {m['SweepFirstContactAnalytic']}), Algorithm No. 1's "
+        f"orbit touching the stop between impacts at {m['SweepAlgOneGrazingLocated']} (analytic "
+        f"{m['SweepAlgOneGrazingAnalytic']}). The two-way sweep took {m['SweepBenchWall']} s of wall time, the "
+        f"{m['MapThetaCells']} maps {m['MapThetaWall']} s and {m['MapDampingWall']} s.",
         "",
         f"**Speed** (CPU time on the machine that ran the workflow): the reference case's steady state takes "
         f"{m['PerfRefSteadyTime']}, {m['PerfRefSpeedup']} times less than the solve_ivp DOP853 cross-check at "
