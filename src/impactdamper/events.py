@@ -277,7 +277,10 @@ def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: floa
         # Accept only a step that shrinks the residual (from either side of a transversal
         # root, where Newton converges quadratically): near a gap maximum below tol (a bounce
         # lower than the resolution) the slope is ~0 and Newton would jump far past the root.
-        if abs(g_new) >= abs(g):
+        # Nor one that lands where g already rises: at a near-double root (a grazing touch)
+        # that is past the minimum, and the first root has g' <= 0 (else the touch would be
+        # recorded with an opening velocity).
+        if abs(g_new) >= abs(g) or g1_new > 0.0:
             break
         t, g, g1 = t_new, g_new, g1_new
     return t, g1
