@@ -54,18 +54,21 @@ def build_parser() -> argparse.ArgumentParser:
                            metavar="X", help=f"{PARAMETER_HELP[name]} (default {getattr(defaults, name)})")
         p.add_argument("--json", action="store_true", help="print one JSON object")
 
+    def add_solver_flags(s) -> None:
+        """The event-driven solver's start and tolerances (``steady``, and ``orbit``'s seed)."""
+        s.add_argument("--state", type=float, nargs=4, metavar=("X1", "X2", "V1", "V2"),
+                       help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)")
+        s.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
+        s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
+        s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
+        s.add_argument("--max-period-multiple", type=int, default=8, help="largest k tried for T_c = k T")
+        s.add_argument("--gap-tol", type=float, default=Tolerances.gap_tol, help="grazing resolution, relative to x_st")
+        s.add_argument("--chatter-tol", type=float, default=Tolerances.chatter_tol,
+                       help="rebound height (relative to x_st) below which chatter becomes contact")
+
     steady = sub.add_parser("steady", help="settled motion by Algorithm No. 2 (event-driven, exact flow)")
     add_parameters(steady)
-    s = steady.add_argument_group("solver")
-    s.add_argument("--state", type=float, nargs=4, metavar=("X1", "X2", "V1", "V2"),
-                   help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)")
-    s.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
-    s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
-    s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
-    s.add_argument("--max-period-multiple", type=int, default=8, help="largest k tried for T_c = k T")
-    s.add_argument("--gap-tol", type=float, default=Tolerances.gap_tol, help="grazing resolution, relative to x_st")
-    s.add_argument("--chatter-tol", type=float, default=Tolerances.chatter_tol,
-                   help="rebound height (relative to x_st) below which chatter becomes contact")
+    add_solver_flags(steady.add_argument_group("solver"))
 
     alg1 = sub.add_parser("alg1", help="Algorithm No. 1: closed-form one-impact orbit")
     add_parameters(alg1)
@@ -79,16 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "steady settles on; auto: alg1 if admissible and stable, else simulate (default)")
     o.add_argument("--period-multiple", type=int, default=None, metavar="K",
                    help="solve the seed's cycle repeated to K T (a multiple of its own k)")
-    s = orbit.add_argument_group("solver (for --seed simulate)")
-    s.add_argument("--state", type=float, nargs=4, metavar=("X1", "X2", "V1", "V2"),
-                   help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)")
-    s.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
-    s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
-    s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
-    s.add_argument("--max-period-multiple", type=int, default=8, help="largest k tried for T_c = k T")
-    s.add_argument("--gap-tol", type=float, default=Tolerances.gap_tol, help="grazing resolution, relative to x_st")
-    s.add_argument("--chatter-tol", type=float, default=Tolerances.chatter_tol,
-                   help="rebound height (relative to x_st) below which chatter becomes contact")
+    add_solver_flags(orbit.add_argument_group("solver (for --seed simulate)"))
     return parser
 
 

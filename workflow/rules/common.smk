@@ -11,7 +11,11 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 
 # The library's source: every rule that imports it lists these as inputs, so a change to the
 # solver reruns what it affects (Snakemake does not follow Python imports by itself).
-LIBRARY = sorted(str(p) for p in Path("src/impactdamper").glob("*.py"))
+# The command line (cli.py, __main__.py) is left out: no rule runs it and the package does not
+# import it.
+LIBRARY = sorted(
+    str(p) for p in Path("src/impactdamper").glob("*.py") if p.name not in ("cli.py", "__main__.py")
+)
 STYLE = ["src/impactdamper/plotting.py", "src/impactdamper/paper.mplstyle"]
 ENV = "../../envs/impactdamper.yaml"
 
