@@ -9,10 +9,13 @@ min_version("8.0")
 configfile: "config/config.yaml"
 
 
+include: "workflow/rules/common.smk"
+
+
+config.update(yaml_scalars(config))
 validate(config, "workflow/schemas/config.schema.yaml")
 
 
-include: "workflow/rules/common.smk"
 include: "workflow/rules/reference.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/notebooks.smk"

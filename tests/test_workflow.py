@@ -161,3 +161,15 @@ def test_scan_window_must_be_ordered(tmp_path):
     verdict = {"gap_min": -9.0, "gap_max": -10.0}
     with pytest.raises(ValueError, match=r"`verdict.gap_min` = -9.0 is not allowed: must be < `verdict.gap_max`"):
         gap_scan.main({}, {}, verdict, tmp_path / "scan.csv", tmp_path / "scan.json")
+
+
+# --- the README's --config example ------------------------------------------------------------
+def test_config_override_on_the_command_line_is_typed():
+    """Regression: Snakemake hands a nested --config dict's values over as strings, and the
+    schema rejected the README's own example ("'1.1' is not of type 'number'")."""
+    case = "{theta: 1.1, mu: 0.08, N: 0.5, delta1: 0.05, delta2: 0.05, R: 0.7, gap: -7.0, omega: 10.0, x_st: 1.0, m1: 1.0}"
+    ok = snakemake("-n", "--config", f"reference={case}")
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    bad = snakemake("-n", "--config", "reference=" + case.replace("theta: 1.1", "theta: -1"))
+    assert bad.returncode != 0
+    assert "theta" in bad.stdout + bad.stderr

@@ -3,6 +3,8 @@ import json
 import os
 from pathlib import Path
 
+import yaml
+
 # The solver's matrices are 4 x 4: BLAS threads never help them, and on a loaded machine
 # OpenBLAS's thread hand-offs slow the matrix-exponential path by up to ~90x (see
 # tests/conftest.py). Every job inherits one BLAS thread (an explicit setting wins).
@@ -46,3 +48,13 @@ def map_chunk_timings(wildcards):
 def random_chunk_files(wildcards):
     """Chunk outputs of the random initial states (config sweep.random_chunks jobs)."""
     return expand("results/sweeps/random_{chunk}.csv", chunk=range(config["sweep"]["random_chunks"]))
+
+
+def yaml_scalars(node):
+    """Snakemake hands the values of a nested --config dict over as strings; read them as YAML
+    scalars, so that --config reference='{theta: 1.1, ...}' is typed like the config file."""
+    if isinstance(node, dict):
+        return {key: yaml_scalars(value) for key, value in node.items()}
+    if isinstance(node, list):
+        return [yaml_scalars(value) for value in node]
+    return yaml.safe_load(node) if isinstance(node, str) else node
