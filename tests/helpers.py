@@ -5,6 +5,7 @@ the library's matrices, and the physical checks every trajectory must pass."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -120,3 +121,11 @@ def check_no_penetration(p: idp.Parameters, traj, t0: float, t1: float, per_peri
         assert np.all(F >= -1e-9 * fscale), float(F.min())
         assert np.all(np.abs(g[stuck]) <= 4e-16 * scale[stuck])
     return float(g.min())
+
+
+# The library's modules as the workflow lists them (workflow/rules/common.smk, LIBRARY): every
+# job depends on them; the command line (cli.py, __main__.py) is not imported by the package
+# and no rule runs it.
+_SRC = Path(__file__).resolve().parents[1] / "src" / "impactdamper"
+LIBRARY = sorted(str(p.relative_to(_SRC.parents[1])) for p in _SRC.glob("*.py")
+                 if p.name not in ("cli.py", "__main__.py"))

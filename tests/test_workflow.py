@@ -17,10 +17,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-# The package's modules; the command line (cli.py, __main__.py) is not imported by the package
-# and no rule runs it (common.smk).
-LIBRARY = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "src" / "impactdamper").glob("*.py")
-                 if p.name not in ("cli.py", "__main__.py"))
+from helpers import LIBRARY  # noqa: E402 (the workflow's module list)
 REFERENCE_RULES = ("reference_case_stated", "reference_case_located", "gap_scan", "fig2a", "fig2b", "impact_table",
                    "crosscheck_case", "other_readings", "fig_located_range", "verdict")
 REFERENCE_TARGETS = (
