@@ -36,7 +36,6 @@ rule readme_summary:
             "paper/generated/orbit_macros.tex",
             "paper/generated/performance_macros.tex",
             "paper/generated/sweep_macros.tex",
-            "paper/generated/sweep_timing.tex",
         ],
         stated="figures/impacts_stated.csv",
         located="figures/impacts_located.csv",
