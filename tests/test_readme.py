@@ -19,7 +19,7 @@ def test_readme_results_block_is_the_generated_summary():
 
 def test_ci_runs_the_readme_test_command():
     readme = (ROOT / "README.md").read_text()
-    commands = re.findall(r"^\s*(python3 -m pytest[^#\n]*)", readme, flags=re.M)
+    commands = re.findall(r"^\s*(\.venv/bin/python -m pytest[^#\n]*)", readme, flags=re.M)
     assert commands, "the README must show its test command"
     ci = [line.strip() for line in (ROOT / ".ci" / "run").read_text().splitlines()]
     assert commands[0].strip() in ci

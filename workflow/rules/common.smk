@@ -1,6 +1,7 @@
 # Shared helpers for every stage.
 import json
 import os
+import sys
 from pathlib import Path
 
 import yaml
@@ -10,6 +11,15 @@ import yaml
 # tests/conftest.py). Every job inherits one BLAS thread (an explicit setting wins).
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
+
+# Jobs run in the environment that runs Snakemake (tools/setup.sh's .venv/): its bin/ goes first
+# on PATH for shell commands (jupytext, python), and its Jupyter kernels first on JUPYTER_PATH,
+# so that `.venv/bin/snakemake` works without activating the venv.
+_ENV_PREFIX = Path(sys.prefix)
+os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+os.environ["JUPYTER_PATH"] = os.pathsep.join(
+    p for p in [str(_ENV_PREFIX / "share" / "jupyter"), os.environ.get("JUPYTER_PATH", "")] if p
+)
 
 # The library's source: every rule that imports it lists these as inputs, so a change to the
 # solver reruns what it affects (Snakemake does not follow Python imports by itself).
