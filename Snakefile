@@ -13,10 +13,11 @@ include: "workflow/rules/common.smk"
 
 
 config.update(yaml_scalars(config))
-validate(config, "workflow/schemas/config.schema.yaml")
+validate(check_config(config), "workflow/schemas/config.schema.yaml")
 
 
 include: "workflow/rules/reference.smk"
+include: "workflow/rules/claims.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/notebooks.smk"
 include: "workflow/rules/performance.smk"

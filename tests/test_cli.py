@@ -1,6 +1,7 @@
 """Command line: ``python -m impactdamper steady|alg1 ... --json`` (run as a subprocess), and a
 bad flag value exiting with status 2 and one line naming the flag."""
 
+import io
 import json
 import math
 import subprocess
@@ -12,6 +13,7 @@ from helpers import phase_difference
 
 import impactdamper as idp
 from impactdamper.cli import main
+from impactdamper.cli import run as run_cli
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
@@ -119,3 +121,74 @@ def test_human_readable_output(capsys):
     assert main(["steady", "--gap", "20"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("regime no_contact") and not math.isnan(float(out.split("= ")[-1].split()[0]))
+
+
+# --- issue 15: limits of the solver and of the output, each one line ---------------------------
+def test_negative_exponent_values_are_numbers(capsys):
+    # argparse took "-1e1" for an option ("expected one argument").
+    assert main(["alg1", "--gap", "-1e1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"]["gap"] == -10.0
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["orbit", "--seed", "alg1", "--state", "0", "-5.8", "1", "-1"], "--state"),
+    (["orbit", "--seed", "alg1", "--t0", "0.1"], "--t0"),
+])
+def test_a_start_with_algorithm1s_orbit_is_a_usage_error(argv, flag, capsys):
+    # --state was ignored silently: Algorithm No. 1's orbit is closed-form.
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"argument {flag}: not allowed with --seed alg1" in err
+
+
+def test_work_bound_is_one_line_naming_the_parameter(monkeypatch, capsys):
+    # A SearchLimitError reached the user as a traceback (theta = 1e-6, after 34-56 s).
+    monkeypatch.setattr(sys.modules["impactdamper.simulate"], "STEPS_AT_START", 500)
+    monkeypatch.setattr(sys.modules["impactdamper.simulate"], "STEPS_PER_PERIOD", 500)
+    with pytest.raises(SystemExit) as info:
+        main(["steady", "--theta", "1e-3", "--json"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "argument --theta: `theta` = 0.001 is beyond what the solver resolves" in err
+    assert "work bound" in err
+
+
+def test_undamped_resonance_is_one_line_naming_theta(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["alg1", "--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "argument --theta:" in err and "undamped resonance" in err
+
+
+class _Closed(io.StringIO):
+    def write(self, text):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    def flush(self):
+        raise BrokenPipeError(32, "Broken pipe")
+
+
+@pytest.mark.parametrize("argv", [["alg1", "--json"], ["alg1"], ["steady", "-h"]])
+def test_output_that_cannot_be_written_is_one_line_and_status_1(argv, monkeypatch, capsys):
+    # A closed pipe (`| head -c 1`) or a full disk (`> /dev/full`) ended in a traceback.
+    monkeypatch.setattr(sys, "stdout", _Closed())
+    assert run_cli(argv) == 1
+    assert capsys.readouterr().err == "python -m impactdamper: error: cannot write the output: Broken pipe\n"
+
+
+@pytest.mark.parametrize("args", [("steady", "--x-st", "1e-200"), ("steady", "--m1", "1e300"), ("steady", "--t0", "1e20"),
+                                  ("alg1", "--x-st", "1e200"), ("orbit", "--m1", "1e-300")])
+def test_free_scales_and_start_time_do_not_change_the_answer(args, capsys):
+    assert main([*args, "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert main([args[0], "--json"]) == 0
+    ref = json.loads(capsys.readouterr().out)
+    if args[0] == "alg1":
+        assert d["impact_phase"] == ref["impact_phase"] and d["min_gap"] == ref["min_gap"]
+        return
+    assert (d["regime"], d["period_multiple"]) == (ref["regime"], ref["period_multiple"]) == ("single_impact", 1)
+    assert d["impacts"][0]["velocity_rel"] == pytest.approx(ref["impacts"][0]["velocity_rel"], rel=1e-9)
+    assert abs(d["impacts"][0]["phase"] - ref["impacts"][0]["phase"]) < 1e-9

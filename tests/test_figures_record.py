@@ -123,6 +123,7 @@ def regenerated(tmp_path_factory) -> Path:
                            fig / "located_range.png")
     verdict.main(fig / "reference_stated.json", fig / "reference_located.json", fig / "crosscheck_stated.json",
                  fig / "crosscheck_located.json", FIGURES / "located_case.json", FIGURES / "other_readings.json",
+                 FIGURES / "claims_by_parameter_settings.json", FIGURES / "claims_map.csv",
                  fig / "verdict.json", fig / "verdict.csv", gen / "verdict_macros.tex")
     return out
 
@@ -135,7 +136,10 @@ RECORD = (
     + ["figures/gap_scan.csv", "figures/located_case.json", "figures/located_range.pdf",
        "figures/located_range.png", "figures/other_readings.csv",
        "figures/other_readings.json", "figures/verdict.json", "figures/verdict.csv",
-       "paper/generated/verdict_macros.tex"]
+       "paper/generated/verdict_macros.tex", "figures/claims_by_parameter.csv",
+       "figures/claims_by_parameter_settings.json", "figures/claims_by_parameter_grid.csv",
+       "figures/claims_by_parameter.pdf", "figures/claims_by_parameter.png", "figures/claims_map.csv",
+       "figures/claims_map_settings.json", "figures/claims_map.pdf", "figures/claims_map.png"]
 )
 
 
@@ -192,6 +196,16 @@ def test_record_verdict_contents():
     assert set(claims) == {"a", "b_period", "b_impacts"}
     for c in claims.values():
         assert c["ivp_confirms"] and c["located_ivp_confirms"]
+    # The confirmation is measured: the aligned settled cycles and Algorithm No. 1's orbit
+    # agree with solve_ivp far below their stated tolerances, in both cases.
+    for case in CASES:
+        cc = json.loads((FIGURES / f"crosscheck_{case}.json").read_text())
+        cycle = cc["algorithm2"]["cycle_comparison"]
+        assert cc["agree_a"] and cc["agree_b"] and cycle["agree"]
+        assert cycle["matched"] == cycle["impacts"][0] == cycle["impacts"][1] >= 1
+        assert cycle["max_time_difference_over_T"] < 1e-2 * cycle["time_tol"]
+        assert cycle["max_velocity_difference_rel"] < cycle["velocity_tol"]
+        assert cc["algorithm1_comparison"]["periodicity_residual"] < cc["algorithm1_comparison"]["residual_tol"]
     located = v["located"]["parameters"]["gap"]
     lo, hi = v["located"]["range"]
     assert lo < located < hi
@@ -248,6 +262,58 @@ def test_gap_scan_matches_record():
     orbit = gap_scan.orbit_range(rep.parameters(dict(base, gap=scan["orbit_range"]["seed_gap"])), cfg["solver"],
                                  scan["window"]["gap_min"], scan["window"]["gap_max"])
     assert _same(scan["orbit_range"], orbit, "orbit_range") == []
+
+
+@pytest.mark.slow
+def test_claims_by_parameter_ends_are_where_the_claims_change():
+    """Every bisected end of claims_by_parameter.csv: the claim holds at the inner bracket
+    value and fails at the outer one (recomputed), and the brackets meet the tolerance."""
+    from impactdamper.claims import claim_a, claim_b
+
+    cfg = _config()
+    base = rep.parameters(cfg["reference"])
+    settings = json.loads((FIGURES / "claims_by_parameter_settings.json").read_text())
+    rel_tol, floor = settings["rel_tol"], settings["floor"]
+    checked = 0
+    for name, d in settings["parameters"].items():
+        for claim in ("a", "b"):
+            for iv in d["intervals"][claim]:
+                for side in ("lo", "hi"):
+                    bracket = iv[side + "_bracket"]
+                    if bracket is None:
+                        continue
+                    x_in, x_out = bracket
+                    assert abs(x_in - x_out) <= rel_tol * max(abs(0.5 * (x_in + x_out)), floor) * (1 + 1e-12)
+                    for x, expected in ((x_in, True), (x_out, False)):
+                        p = base.replace(**{name: x})
+                        got = (claim_a(rep.run_alg1(p, cfg["solver"])) if claim == "a"
+                               else claim_b(rep.run_steady(p, cfg["solver"])))
+                        assert got == expected, (name, claim, side, x)
+                    checked += 1
+    assert checked >= 6
+    with (FIGURES / "claims_by_parameter.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert rows and set(rows[0]) == {"parameter", "claim", "lo", "hi"}
+    assert {r["claim"] for r in rows} <= {"a", "b", "both"}
+
+
+@pytest.mark.slow
+def test_claims_map_sample_matches_record():
+    import claims_map_chunk
+
+    cfg = _config()
+    base = rep.parameters(cfg["reference"])
+    m = cfg["claims_search"]["map"]
+    with (FIGURES / "claims_map.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == m["x_points"] * m["y_points"]
+    from impactdamper.claims import claims_at
+
+    for r in rows[:: max(1, len(rows) // 12)]:
+        p = base.replace(**{m["x"]: float(r["x"]), m["y"]: float(r["y"])})
+        c = claims_at(p, gap_tol=cfg["solver"]["gap_tol"], steady_kwargs=rep.solver_options(cfg["solver"]))
+        assert (r["claim_a"], r["claim_b"]) == (str(c["claim_a"]).lower(), str(c["claim_b"]).lower()), r
+    assert claims_map_chunk.COLUMNS == list(rows[0])
 
 
 def test_scan_grid_is_the_configured_one():

@@ -2,6 +2,7 @@
 
 import math
 
+import numpy as np
 import pytest
 
 import impactdamper as idp
@@ -99,11 +100,58 @@ def test_replace_rejects_unknown_and_derived_names():
             Parameters().replace(**{name: 1.0})
 
 
-@pytest.mark.parametrize("kw, derived", [({"theta": 1e-300}, "c1"), ({"theta": 1e-10, "omega": 1e300}, "omega1"),
-                                         ({"theta": 1e300}, "c1")])
-def test_overflowing_relative_parameters_raise_one_line(kw, derived):
-    # Regression: theta = 1e-300 used to escape as OverflowError from omega1**2.
+@pytest.mark.parametrize("kw, name, derived", [
+    ({"theta": 1e-300}, "theta", "c1"), ({"theta": 1e-10, "omega": 1e300}, "omega", "omega1"),
+    ({"theta": 1e300}, "theta", "c1"), ({"m1": 1e-300, "mu": 1e-30}, "m1", "m2"),
+    ({"x_st": 1e-200, "omega": 1e-200}, "omega", "c1"), ({"delta1": 1e-300, "m1": 1e-30}, "delta1", "k1"),
+])
+def test_overflowing_relative_parameters_raise_one_line(kw, name, derived):
+    # Regression: theta = 1e-300 used to escape as OverflowError from omega1**2, then named c1
+    # (not a parameter a user sets, issue 15): the message names the most extreme input.
     with pytest.raises(ValueError) as info:
         Parameters(**kw)
-    assert str(info.value).startswith(f"`{derived}` = ")
-    assert "\n" not in str(info.value)
+    message = str(info.value)
+    assert message.startswith(f"`{name}` = {kw[name]!r} is not allowed") and f"dimensional {derived} = " in message
+    assert "\n" not in message
+
+
+# --- issue 15: types, huge integers, numpy scalars, the reduced mass at extreme scales ---------
+@pytest.mark.parametrize("value", [10**400, -(10**400)])
+def test_huge_integer_is_a_named_error_not_overflow(value):
+    with pytest.raises(ValueError, match=r"^`gap` = an integer of 401 digits is not allowed: must be a finite number"):
+        Parameters(gap=value)
+
+
+@pytest.mark.parametrize("value", [np.float32(1.25), np.float64(1.25), np.int64(1), np.int32(2), 3])
+def test_numpy_scalars_are_numbers_stored_as_float(value):
+    p = Parameters(theta=value, gap=value)
+    assert type(p.theta) is float and p.theta == float(value) and p.Delta0 == float(value)
+    assert Parameters(theta=value) == Parameters(theta=float(value))
+
+
+@pytest.mark.parametrize("value", [True, False, np.bool_(True), "1.0", None, [1.0], 1 + 0j])
+def test_non_numbers_are_type_errors_naming_the_field(value):
+    with pytest.raises(TypeError, match=r"^`mu` = .* is not allowed: must be a real number$"):
+        Parameters(mu=value)
+    with pytest.raises(ValueError):  # the same error is a ValueError too (the command line catches those)
+        Parameters(mu=value)
+
+
+@pytest.mark.parametrize("m1", [1e-300, 1e300])
+def test_reduced_mass_at_extreme_mass_scales(m1):
+    p = Parameters(m1=m1)
+    assert p.reduced_mass == pytest.approx(m1 * 0.08 / 1.08, rel=1e-14)
+
+
+def test_damping_that_underflows_is_an_error_not_zero():
+    # k1 = 2 m1 omega1 delta1 underflowing to 0 would silently drop the damping.
+    with pytest.raises(ValueError, match=r"^`delta1` = 1e-300 .*dimensional k1 = .* underflows to 0"):
+        Parameters(delta1=1e-300, m1=1e-30)
+    assert Parameters(delta1=0.0).k1 == 0.0
+
+
+def test_canonical_scales():
+    p = Parameters(x_st=1e-200, m1=1e300, omega=3.0, gap=-7.0)
+    assert not p.native_scales() and Parameters().native_scales()
+    q = p.canonical()
+    assert (q.x_st, q.m1, q.omega) == (1.0, 1.0, 10.0) and (q.gap, q.theta, q.mu) == (-7.0, 1.0, 0.08)

@@ -1,5 +1,5 @@
 """``python -m impactdamper``: see :mod:`impactdamper.cli`."""
 
-from .cli import main
+from .cli import run
 
-raise SystemExit(main())
+raise SystemExit(run())

@@ -17,21 +17,28 @@ which is x1s' - x2s'; eq. (12) defines x21s = x2s - x1s, and so does this module
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.optimize
 
-from .events import LinearFunctional, Segment, first_root
+from .events import LinearFunctional, SearchLimitError, Segment, StepBudget, first_root
 from .linear import characteristic_roots, forced_amplitudes, mode_shape_ratios
-from .model import Model
-from .parameters import Parameters
+from .model import FORCED_AMPLITUDE_LIMIT, Model
+from .parameters import Parameters, ScaleMap, most_extreme, require_parameters
+from .simulate import check_gap_tol, work_limit_message
 
 __all__ = ["Algorithm1Result", "algorithm1", "unit_pulse_response"]
 
 # Sampling of the gap over the period to locate its minimum before refining it.
 MIN_GAP_SAMPLES = 512
+# Work bound of the negative-gap scan: roots of the gap (crossings, touches) and certified
+# search steps over the period. An admissible or inadmissible orbit has a few of each; a gap at
+# rounding level for a whole stretch (mu = 1e-300) stepped on for ever.
+MAX_SCAN_ROOTS = 1000
+MAX_SCAN_STEPS = 200_000
 
 
 def unit_pulse_response(p: Parameters, model: Model | None = None, modal: bool | None = None) -> np.ndarray:
@@ -171,8 +178,40 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
     Returns
     -------
     Algorithm1Result
+
+    Raises
+    ------
+    TypeError, ValueError
+        A bad argument, named; or ``theta`` at an undamped resonance, where the closed form is
+        singular (the forced response, or the T-periodic pulse response of eq. 8, unbounded).
+    SearchLimitError
+        The negative-gap scan exceeded its work bound.
+
+    Results in relative units do not depend on the free scales x_st, m1 and omega (outside
+    :data:`impactdamper.parameters.NATIVE_SCALES` the same relative problem is solved in the
+    reference case's units and converted back).
     """
+    p = require_parameters(p)
+    gap_tol = check_gap_tol(gap_tol)
+    if not p.native_scales():
+        q = p.canonical()
+        return _rescale(algorithm1(q, gap_tol), ScaleMap(q, p))
+    try:
+        # Overflow and invalid operations are errors here, not warnings and NaN results: the
+        # closed form of extreme parameters (N = 1e12, a stiff suppressor) overflowed e^{MT}.
+        with np.errstate(over="raise", invalid="raise", divide="raise"):
+            return _algorithm1(p, gap_tol)
+    except (FloatingPointError, ZeroDivisionError, OverflowError, np.linalg.LinAlgError) as err:
+        name = most_extreme(p, ("theta", "mu", "N", "delta1", "delta2", "R", "gap"))
+        raise ValueError(f"`{name}` = {getattr(p, name)!r} is beyond what Algorithm No. 1's closed form resolves "
+                         f"({type(err).__name__}: {' '.join(str(err).split())}); allowed are parameters nearer the "
+                         "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)") from None
+
+
+def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
+    """algorithm1 on validated arguments in native scales."""
     model = Model(p)
+    _check_pulse_resonance(p, model)
     z0 = unit_pulse_response(p, model)
     zT = model.free.free(p.T, z0)  # just before the next pulse
     x21s_T, dx21s_T = zT[1] - zT[0], zT[3] - zT[2]
@@ -181,6 +220,9 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
     eps21 = math.atan2((x2p - x1p).imag, (x2p - x1p).real)
     D = p.reduced_mass * (1.0 + p.R)
     denom = 1.0 - D * dx21s_T
+    if not abs(denom) > 1.0 / FORCED_AMPLITUDE_LIMIT:
+        raise ValueError(f"`theta` = {p.theta!r} is not allowed with these parameters: Algorithm No. 1's closed form is "
+                         f"singular there (the denominator 1 - D x21s'(T) of eq. 15 is {denom:.3g}): move theta")
     U2 = float(D * x21s_T / denom * U1 * p.omega)
     common = dict(p=p, U1=U1, U2=U2, eps21=eps21)
     amplitude = math.hypot(U1, U2)
@@ -210,11 +252,38 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
     )
 
 
+def _check_pulse_resonance(p: Parameters, model: Model) -> None:
+    """Eq. (8) asks for the T-periodic response to one pulse per period: it does not exist where
+    e^{lambda T} = 1 for a root lambda (an undamped natural frequency a multiple of omega)."""
+    lam = model.free.roots
+    closeness = np.abs(np.exp(lam * p.T) - 1.0)
+    j = int(np.argmin(closeness))
+    if closeness[j] <= 1.0 / FORCED_AMPLITUDE_LIMIT:
+        k = abs(lam[j].imag) / p.omega
+        raise ValueError(
+            f"`theta` = {p.theta!r} is not allowed with delta1 = {p.delta1!r}, delta2 = {p.delta2!r}: a (nearly) undamped "
+            f"natural frequency of the free suppressor, {abs(lam[j].imag) / p.omega1:.9g} omega1, is {k:.6g} times the "
+            "forcing frequency, where the T-periodic pulse response of Algorithm No. 1 (eq. 8) is unbounded and its "
+            "closed form singular (a resonance of the impacts); add damping (delta1, delta2 > 0) or move theta")
+
+
+def _rescale(r: Algorithm1Result, scales: ScaleMap) -> Algorithm1Result:
+    """The same result in ``scales.target``'s units (phases and relative values unchanged)."""
+    return dataclasses.replace(
+        r, p=scales.target, S=scales.apply(r.S, "impulse"),
+        candidates=tuple((e, scales.apply(s, "impulse")) for e, s in r.candidates),
+        U1=scales.apply(r.U1, "length"), U2=scales.apply(r.U2, "length"), velocity=scales.apply(r.velocity, "velocity"),
+        state_after=None if r.state_after is None else scales.full(r.state_after))
+
+
 def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple[list, tuple]:
     """Negative-gap intervals over (t_imp, t_imp + T) (in units of T since the impact) and
     the gap's minimum (time over T, value in m)."""
     p = model.p
     T, tol = p.T, gap_tol * p.x_st
+    budget = StepBudget(MAX_SCAN_STEPS, lambda t: work_limit_message(
+        p, f"the negative-gap scan of Algorithm No. 1's orbit took more than {MAX_SCAN_STEPS} certified steps"))
+    roots = 0
     gap = model.gap
     neg = LinearFunctional(gap.mode, -gap.c, -gap.g0, -gap.d_s)
     intervals = []
@@ -223,12 +292,27 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
     departure = (1, v0) if v0 > 0 else None
     end = t_imp + T * (1.0 - 1e-9)  # the next impact closes the period
     while True:
-        root = first_root(seg, fn, t, end, tol, departure)
+        try:
+            root = first_root(seg, fn, t, end, tol, departure, budget)
+        except SearchLimitError as err:
+            if str(err).startswith("`"):  # the budget's message names a parameter already
+                raise
+            raise SearchLimitError(work_limit_message(p, str(err))) from None
+        roots += 1
+        if roots > MAX_SCAN_ROOTS:
+            raise SearchLimitError(work_limit_message(
+                p, f"the gap of Algorithm No. 1's orbit touches or crosses zero more than {MAX_SCAN_ROOTS} times"))
         if root is None:
             if sign < 0:
                 intervals.append(((t - t_imp) / T, 1.0))
             break
         t_root, slope = root
+        if t_root >= end:
+            # Newton's polish moved the root past the search's end: it is the next impact (a
+            # coarse gap_tol reaches it early). A negative stretch then lasts to the period's end.
+            if sign < 0:
+                intervals.append(((t - t_imp) / T, 1.0))
+            break
         if t_root <= t:
             # FIX (issue 6, hard cases): a root at the search's own start is a tangency at
             # rounding level (g and g' both ~0 there), not a crossing. Flipping between the gap

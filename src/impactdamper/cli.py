@@ -1,23 +1,30 @@
 """Command line: ``python -m impactdamper {steady,alg1,orbit} [--PARAM VALUE ...] [--json]``.
 
 Every parameter of :class:`impactdamper.Parameters` is a flag (defaults: the paper's reference
-case). A bad value exits with status 2 and a one-line message naming the flag.
+case). A bad value exits with status 2 and a one-line message naming the flag; so does a case
+beyond what the solver can do (an undamped resonance, a motion too fast for its work bound),
+naming the parameter that makes it so. Output that cannot be written (a closed pipe, a full
+disk) ends with one line on stderr and status 1.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import json
 import math
+import os
+import re
 import sys
 
 from .algorithm1 import algorithm1
 from .orbits import SEEDS, OrbitError, solve_orbit
-from .parameters import Parameters
+from .parameters import Parameters, most_extreme
 from .simulate import Tolerances
 from .steady import steady_state
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "run", "build_parser"]
 
 PARAMETER_HELP = {
     "theta": "forcing frequency ratio omega/omega1",
@@ -34,8 +41,19 @@ PARAMETER_HELP = {
 
 
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        # A value such as -1e6 is a number, not an option (argparse knows only -1 and -1.5).
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$")
+
     def error(self, message: str) -> None:  # one line, exit status 2
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+    def _print_message(self, message: str, file=None) -> None:
+        # argparse swallows write errors: --help into a full disk then exited 0 with no output.
+        # Let them reach run(), which reports them.
+        if message:
+            (file or sys.stderr).write(message)
 
 
 def _flag(name: str) -> str:
@@ -58,7 +76,7 @@ def build_parser() -> argparse.ArgumentParser:
         """The event-driven solver's start and tolerances (``steady``, and ``orbit``'s seed)."""
         s.add_argument("--state", type=float, nargs=4, metavar=("X1", "X2", "V1", "V2"),
                        help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)")
-        s.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
+        s.add_argument("--t0", type=float, default=None, help="start time, s (default 0)")
         s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
         s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
         s.add_argument("--max-period-multiple", type=int, default=8, help="largest k tried for T_c = k T")
@@ -90,8 +108,23 @@ def _parameters(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Pa
     try:
         return Parameters(**{name: getattr(args, name) for name in Parameters.names()})
     except ValueError as err:
-        name = str(err).split("`")[1] if "`" in str(err) else ""
-        parser.exit(2, f"{parser.prog}: error: argument {_flag(name)}: {err}\n")
+        _fail(parser, err)
+
+
+def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | None = None) -> None:
+    """Exit with status 2 and one line: ``argument --flag:`` and the error, if it names (in
+    backticks, like scipy) a parameter that is a flag of this command."""
+    message = " ".join(str(err).split())  # one line whatever the error's text
+    name = message.split("`")[1] if message.count("`") >= 2 else ""
+    if not name and p is not None:
+        # A numerical failure that names nothing: name the parameter farthest from the
+        # reference case, the usual cause.
+        name = most_extreme(p)
+        message = (f"`{name}` = {getattr(p, name)!r} (the parameter farthest from the reference case) is beyond what "
+                   f"the solver handles: {type(err).__name__}: {message}")
+    flag = _flag(name) if name else ""
+    prefix = f"argument {flag}: " if flag in parser._option_string_actions else ""
+    parser.exit(2, f"{parser.prog}: error: {prefix}{message}\n")
 
 
 def _clean(obj):
@@ -106,47 +139,119 @@ def _clean(obj):
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run one command; returns the exit status (argparse and bad values exit through
+    SystemExit with status 2)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     sub = parser._subparsers._group_actions[0].choices[args.command]  # for error messages
     p = _parameters(args, sub)
-    if args.command == "alg1":
-        result = algorithm1(p).to_dict()
-        if args.json:
-            print(json.dumps(_clean(result)))
-        else:
-            _print_alg1(result)
-        return 0
-    if args.command == "orbit":
-        try:
-            tolerances = Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol)
-            result = solve_orbit(p, args.seed, period_multiple=args.period_multiple, t0=args.t0, state=args.state,
-                                 tolerances=tolerances, settle_tol=args.settle_tol, max_periods=args.max_periods,
-                                 max_period_multiple=args.max_period_multiple).to_dict()
-        except OrbitError as err:  # Newton failed, or Algorithm No. 1 has no orbit: not a usage error
-            print(f"{sub.prog}: {err}", file=sys.stderr)
-            return 1
-        except ValueError as err:
-            name = str(err).split("`")[1] if "`" in str(err) else ""
-            sub.exit(2, f"{sub.prog}: error: argument {_flag(name)}: {err}\n")
-        if args.json:
-            print(json.dumps(_clean(result)))
-        else:
-            _print_orbit(result)
-        return 0
+    if args.command == "orbit" and args.seed == "alg1":
+        # Algorithm No. 1's orbit is found in closed form: there is no start to honour.
+        for flag, value in (("--state", args.state), ("--t0", args.t0)):
+            if value is not None:
+                sub.exit(2, f"{sub.prog}: error: argument {flag}: not allowed with --seed alg1 (Algorithm No. 1's "
+                            "orbit is closed-form, it has no start); use --seed simulate to start from it\n")
+    printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady}[args.command]
     try:
-        tolerances = Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol)
-        result = steady_state(p, t0=args.t0, state=args.state, tolerances=tolerances,
-                              settle_tol=args.settle_tol, max_periods=args.max_periods,
-                              max_period_multiple=args.max_period_multiple).to_dict()
-    except ValueError as err:
-        name = str(err).split("`")[1] if "`" in str(err) else ""
-        sub.exit(2, f"{sub.prog}: error: argument {_flag(name)}: {err}\n")
+        if args.command == "alg1":
+            result = algorithm1(p).to_dict()
+        else:
+            solver = dict(t0=0.0 if args.t0 is None else args.t0, state=args.state,
+                          tolerances=Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol),
+                          settle_tol=args.settle_tol, max_periods=args.max_periods,
+                          max_period_multiple=args.max_period_multiple)
+            if args.command == "orbit":
+                result = solve_orbit(p, args.seed, period_multiple=args.period_multiple, **solver).to_dict()
+            else:
+                result = steady_state(p, **solver).to_dict()
+    except OrbitError as err:  # Newton failed, or Algorithm No. 1 has no orbit: not a usage error
+        print(f"{sub.prog}: {' '.join(str(err).split())}", file=sys.stderr)
+        return 1
+    except (ValueError, RuntimeError, ArithmeticError) as err:
+        # Bad values (ValueError, TypeError through ArgumentTypeError) and work bounds
+        # (SearchLimitError is a RuntimeError), each naming its parameter; a numerical failure
+        # that names none (never expected) is still one line, naming the likeliest cause.
+        _fail(sub, err, p)
     if args.json:
-        print(json.dumps(_clean(result)))
+        text = json.dumps(_clean(result)) + "\n"
     else:
-        _print_steady(result)
+        buffer = io.StringIO()
+        with contextlib.redirect_stdout(buffer):
+            printer(result)
+        text = buffer.getvalue()
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except OSError as err:
+        return _output_failed(err)
     return 0
+
+
+def _one_blas_thread() -> None:
+    """One thread in each OpenBLAS loaded (numpy's and scipy's), unless the user set a number.
+
+    The solver's matrices are 4 x 4: BLAS threads never help them, and on a loaded machine the
+    thread hand-offs made the matrix-exponential path up to ~90 times slower (tests/conftest.py),
+    so that ``steady --theta 1e-9`` took 130 s to reach its work bound instead of 3 s. The
+    environment variable must be set before numpy loads, which the package import has done by
+    now: set the count in the loaded libraries instead (what threadpoolctl does). Linux only;
+    elsewhere, or if anything fails, nothing changes.
+    """
+    if any(name in os.environ for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")):
+        return
+    import ctypes
+
+    with contextlib.suppress(OSError):
+        with open("/proc/self/maps") as maps:
+            paths = {line.split()[-1] for line in maps if "openblas" in line.rsplit("/", 1)[-1].lower()}
+        for path in sorted(paths):
+            with contextlib.suppress(OSError):
+                lib = ctypes.CDLL(path)
+                for symbol in ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
+                               "openblas_set_num_threads64_", "openblas_set_num_threads"):
+                    if hasattr(lib, symbol):
+                        getattr(lib, symbol)(1)
+                        break
+
+
+def run(argv: list[str] | None = None) -> int:
+    """``python -m impactdamper``: :func:`main`, and the output flushed, with a write error (a
+    closed pipe as in ``| head -c 1``, a full disk) as one line on stderr and status 1 instead of
+    a traceback."""
+    _one_blas_thread()
+    try:
+        status = main(argv)
+        sys.stdout.flush()
+    except SystemExit as exit_:  # argparse's usage errors and --help; bad values
+        status = exit_.code
+        try:
+            sys.stdout.flush()
+        except OSError as err:
+            return _output_failed(err)
+    except OSError as err:  # writing the help or the result (nothing else here writes files)
+        return _output_failed(err)
+    return status
+
+
+class _Discard(io.TextIOBase):
+    """Where output goes once it cannot be written: nowhere, without further errors."""
+
+    def write(self, text: str) -> int:
+        return len(text)
+
+
+def _output_failed(err: OSError) -> int:
+    # Point the stdout file descriptor at /dev/null, so that the interpreter's own flush at exit
+    # does not fail again (it would print "Exception ignored ... BrokenPipeError"), and stop
+    # writing to it here.
+    with contextlib.suppress(OSError, ValueError, AttributeError, io.UnsupportedOperation):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    sys.stdout = _Discard()
+    with contextlib.suppress(OSError, ValueError):
+        print(f"python -m impactdamper: error: cannot write the output: {err.strerror or err}", file=sys.stderr)
+    return 1
 
 
 def _print_alg1(r: dict) -> None:

@@ -36,7 +36,7 @@ import numpy as np
 
 from .linear import LinearMode
 
-__all__ = ["LinearFunctional", "Segment", "first_root", "march", "SearchLimitError"]
+__all__ = ["LinearFunctional", "Segment", "first_root", "march", "SearchLimitError", "StepBudget"]
 
 # Newton polishing after the certified march: the march already converges quadratically,
 # so a few iterations reach rounding level.
@@ -52,7 +52,30 @@ MIN_BOUND = 1e-300
 
 
 class SearchLimitError(RuntimeError):
-    """The event search exceeded its step budget (never expected; a guard against loops)."""
+    """The event search exceeded its step budget, or its bounds left the floating-point range.
+
+    Never expected for ordinary parameters; a bound on the work, so that a motion too fast or
+    too stiff for the forcing period ends in this error instead of a hang.
+    """
+
+
+class StepBudget:
+    """A bound on the certified steps of many searches together (one run's work).
+
+    Parameters
+    ----------
+    limit : int
+        Steps allowed; the owner may raise it as the run goes on.
+    message : callable
+        ``message(t)`` gives the :class:`SearchLimitError`'s text when the budget runs out at t.
+    """
+
+    def __init__(self, limit: int, message):
+        self.limit, self.used, self.message = int(limit), 0, message
+
+    @property
+    def remaining(self) -> int:
+        return max(self.limit - self.used, 0)
 
 
 @dataclass(frozen=True)
@@ -172,6 +195,8 @@ class Segment:
 def _lower_bound_root(g: float, g1: float, K: float) -> float:
     """Positive root of g + g1 s - K s^2/2 (g >= 0, K > 0), computed without cancellation."""
     disc = math.sqrt(g1 * g1 + 2.0 * K * g)
+    if disc == math.inf:  # K g overflowed (gap = 1e300 x_st): the same root without the squares
+        disc = math.hypot(g1, math.sqrt(2.0 * K) * math.sqrt(g))
     if g1 <= 0.0:
         return 2.0 * g / (disc - g1) if disc - g1 > 0.0 else 0.0
     return (g1 + disc) / K
@@ -184,12 +209,13 @@ def first_root(
     t_to: float,
     tol: float,
     departure: tuple[int, float] | None = None,
+    budget: StepBudget | None = None,
 ) -> tuple[float, float] | None:
     """First t in (t_from, t_to] where g(t) <= tol with g'(t) <= 0, found without skipping any.
 
     The same as :func:`march` without the certified horizon; see there.
     """
-    return march(segment, fn, t_from, t_to, tol, departure)[0]
+    return march(segment, fn, t_from, t_to, tol, departure, budget)[0]
 
 
 def march(
@@ -199,6 +225,7 @@ def march(
     t_to: float,
     tol: float,
     departure: tuple[int, float] | None = None,
+    budget: StepBudget | None = None,
 ) -> tuple[tuple[float, float] | None, float]:
     """First t in (t_from, t_to] where g(t) <= tol with g'(t) <= 0, found without skipping any.
 
@@ -216,6 +243,9 @@ def march(
     departure : (int, float), optional
         If g(t_from) = 0 exactly (leaving a contact): the order m >= 1 of the first non-zero
         Taylor coefficient and that derivative g^(m)(t_from) > 0.
+    budget : StepBudget, optional
+        A run's shared bound on the steps; this search takes at most what is left of it (and
+        never more than ``MAX_STEPS``), and adds the steps it took.
 
     Returns
     -------
@@ -225,36 +255,62 @@ def march(
     reached : float
         Without a root: the point up to which the march certified g > 0 (>= t_to; its last
         step may go past t_to, and a later search can start there). With a root: its time.
+
+    Raises
+    ------
+    SearchLimitError
+        More than ``MAX_STEPS`` steps (or the budget's), or a bound or value of g that is not
+        a finite number (a motion beyond the floating-point range).
     """
     mode = fn.mode
     w = mode.omega
     # The free motion's energy never grows, so its value at t_from bounds the whole search.
     z = segment.free(float(t_from))
-    energy = math.sqrt(max(float(z @ mode.energy_weight @ z), 0.0))
+    with np.errstate(over="ignore", invalid="ignore"):  # (an overflow is refused below, by name)
+        energy = math.sqrt(max(float(z @ mode.energy_weight @ z), 0.0))
     Gabs = abs(fn.G)
     a = float(t_from)
     if departure is not None:
         m, gm = departure
         K = max(Gabs * w ** (m + 1) + fn.kappa[m + 1] * energy, MIN_BOUND)
+        _require_finite(K, t_from)
         # g(a+s) >= g_m s^m/m! - K s^(m+1)/(m+1)! = s^m/m! (g_m - K s/(m+1)) > 0 below this.
         a += (m + 1) * gm / K
         if a >= t_to:
             return None, a
     K = max(Gabs * w * w + fn.kappa[2] * energy, MIN_BOUND)
+    # An infinite bound would give zero steps (a false root at once); a NaN, no progress at all.
+    _require_finite(K, t_from)
     evaluate = segment.evaluator(fn)
-    for _ in range(MAX_STEPS):
-        g, g1 = evaluate(a)
-        if g <= tol and g1 <= 0.0:
-            root = _polish(segment, fn, a, g, g1)
-            return root, root[0]
-        step = _lower_bound_root(max(g, 0.0), g1, K)
-        if a + step <= a:
-            # The certified step fell below the time resolution: g is at rounding level.
-            return (a, g1), a
-        a += step
-        if a >= t_to:
-            return None, a
+    limit = MAX_STEPS if budget is None else min(MAX_STEPS, budget.remaining)
+    steps = 0
+    try:
+        for steps in range(1, limit + 1):
+            g, g1 = evaluate(a)
+            if g <= tol and g1 <= 0.0:
+                root = _polish(segment, fn, a, g, g1)
+                return root, root[0]
+            step = _lower_bound_root(max(g, 0.0), g1, K)
+            if a + step <= a:
+                # The certified step fell below the time resolution: g is at rounding level.
+                return (a, g1), a
+            if step != step:  # NaN: g or g' is not a number (never for a finite motion)
+                _require_finite(math.nan, t_from)
+            a += step
+            if a >= t_to:
+                return None, a
+    finally:
+        if budget is not None:
+            budget.used += steps
+    if budget is not None and limit < MAX_STEPS:
+        raise SearchLimitError(budget.message(a))
     raise SearchLimitError(f"event search took more than {MAX_STEPS} steps from t = {t_from!r}")
+
+
+def _require_finite(value: float, t_from: float) -> None:
+    if not math.isfinite(value):
+        raise SearchLimitError(f"event search from t = {t_from!r}: the derivative bound or the function is "
+                               f"{value!r}: the motion is beyond the floating-point range")
 
 
 def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: float) -> tuple[float, float]:

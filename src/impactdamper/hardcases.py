@@ -231,6 +231,20 @@ class CaseResult:
             out[c] = bool(self.checks.get(c, False))
         out["passed"] = self.passed
         out["reference_kind"] = self.details.get("reference_kind", "")
+        # The numbers behind the flags, each beside its tolerance (a flag is never shown alone).
+        d = self.details
+        law = d.get("impact_law_residuals", {})
+        out["min_gap_relative"] = d.get("min_gap_relative")
+        out["gap_tol"] = GAP_CHECK_TOL
+        out["max_law_residual"] = max((v for k, v in law.items() if k not in ("gap", "liftoff_force")), default=None)
+        out["law_tol"] = LAW_TOL
+        out["ivp_event_time_diff"] = d.get("ivp_event_time_diff")
+        out["ivp_time_tol"] = IVP_TIME_TOL
+        out["ivp_state_diff"] = d.get("ivp_state_diff")
+        out["ivp_state_tol"] = IVP_STATE_TOL
+        out["mp_diff"] = d.get("settled_phase_diff", d.get("amplitude_diff"))
+        out["mp_tol"] = (MP_PHASE_TOL if "settled_phase_diff" in d else MP_AMPLITUDE_TOL if "amplitude_diff" in d
+                         else None)
         return out
 
 

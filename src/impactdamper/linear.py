@@ -121,6 +121,11 @@ class LinearMode:
         Eigenvalues of M (for the free mode, the roots of eq. 4).
     modal : bool
         Whether the modal form is used (else the matrix exponential).
+    forced_amplitude : float
+        Largest modulus of the position entries of Yhat (m): unbounded (inf) or huge at an
+        undamped or nearly undamped resonance.
+    finite : bool
+        M^k (k <= 5) and the energy weight's factor are finite (not so for extreme parameters).
     """
 
     M: np.ndarray
@@ -135,7 +140,12 @@ class LinearMode:
         condition = np.linalg.cond(V)
         modal = bool(np.isfinite(condition) and condition < MODAL_CONDITION_LIMIT)
         Vinv = np.linalg.inv(V) if modal else None
-        Yhat = np.linalg.solve(1j * self.omega * np.eye(n) - M, np.asarray(self.b, dtype=complex))
+        try:
+            Yhat = np.linalg.solve(1j * self.omega * np.eye(n) - M, np.asarray(self.b, dtype=complex))
+        except np.linalg.LinAlgError:
+            # The forcing sits exactly on an undamped natural frequency: no periodic forced
+            # response exists (the caller, Model, reports the resonance by name).
+            Yhat = np.full(n, np.inf + 0j)
         # W = L L^T; the free response's k-th derivative c.M^k z is bounded by
         # |c M^k L^-T| sqrt(z^T W z).
         L = np.linalg.cholesky(np.asarray(self.energy_weight, dtype=float))
@@ -145,11 +155,17 @@ class LinearMode:
         object.__setattr__(self, "eigenvectors", V)
         object.__setattr__(self, "eigenvectors_inv", Vinv)
         object.__setattr__(self, "Yhat", Yhat)
+        object.__setattr__(self, "forced_amplitude", float(np.max(np.abs(Yhat[: n // 2]))))
         object.__setattr__(self, "L_inv_T", np.linalg.inv(L).T)
         powers = [np.eye(n)]
-        for _ in range(5):
-            powers.append(powers[-1] @ M)
+        with np.errstate(over="ignore", invalid="ignore"):  # (see `finite`)
+            for _ in range(5):
+                powers.append(powers[-1] @ M)
         object.__setattr__(self, "M_powers", powers)
+        # Whether the matrices the flow and the event search use are finite: extreme parameters
+        # (delta1 = 1e300) overflow M^k, and the caller (Model) reports it by name.
+        object.__setattr__(self, "finite", bool(all(np.all(np.isfinite(P)) for P in powers)
+                                                and np.all(np.isfinite(self.L_inv_T))))
 
     @property
     def n(self) -> int:
@@ -200,8 +216,10 @@ class LinearMode:
         return np.einsum("...i,ij,...j->...", z, self.energy_weight, z)
 
     def derivative_bound_factor(self, c: np.ndarray, order: int) -> float:
-        """kappa with |d^order/dt^order (c . z)| <= kappa sqrt(z^T W z) for free motion."""
-        return float(np.linalg.norm(c @ self.M_powers[order] @ self.L_inv_T))
+        """kappa with |d^order/dt^order (c . z)| <= kappa sqrt(z^T W z) for free motion (inf if
+        it overflows, at extreme scales: the event search then refuses to step)."""
+        with np.errstate(over="ignore"):
+            return float(np.linalg.norm(c @ self.M_powers[order] @ self.L_inv_T))
 
 
 def free_mode(p: Parameters) -> LinearMode:

@@ -30,12 +30,17 @@ import numpy as np
 
 from .events import LinearFunctional
 from .linear import LinearMode, free_mode, stuck_mode
-from .parameters import Parameters
+from .parameters import Parameters, most_extreme
 
 __all__ = ["Model", "FREE", "STUCK"]
 
 FREE = "free"
 STUCK = "stuck"
+# Largest forced-response amplitude, relative to x_st, that the closed form resolves: the motion
+# is the forced response plus a free response (eqs. 10-11, 18), and near an undamped resonance
+# both are huge and cancel; rounding then leaves ~1e-16 times this, which must stay far below
+# the results' accuracy (~1e-8 x_st, beyond the grazing tolerance's reach already).
+FORCED_AMPLITUDE_LIMIT = 1e8
 
 
 class Model:
@@ -54,17 +59,33 @@ class Model:
 
     def __init__(self, p: Parameters):
         self.p = p
-        self.free: LinearMode = free_mode(p)
-        self.stuck: LinearMode = stuck_mode(p)
+        try:
+            self.free: LinearMode = free_mode(p)
+            self.stuck: LinearMode = stuck_mode(p)
+            problem = "" if self.free.finite and self.stuck.finite else "powers of the state matrix overflow"
+        except np.linalg.LinAlgError as err:
+            # (mu = 1e300: the energy matrix diag(c, m) loses its small entries to rounding.)
+            problem = str(err)
+        if problem:
+            name = most_extreme(p, ("theta", "mu", "N", "delta1", "delta2"))
+            raise ValueError(f"`{name}` = {getattr(p, name)!r} is not allowed with the other parameters: the model's "
+                             f"matrices leave the floating-point range ({problem}); allowed are parameters nearer the "
+                             "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)")
+        if not self.free.forced_amplitude <= FORCED_AMPLITUDE_LIMIT * p.x_st:
+            raise ValueError(self.resonance_message(FREE))
+        # The bodies in contact resonate only with delta1 = 0 at theta = 1/sqrt(1 + mu); that
+        # matters only if they stay in contact, so the solver reports it when they do.
+        self.stuck_resonant = not self.stuck.forced_amplitude <= FORCED_AMPLITUDE_LIMIT * p.x_st
         self.gap = LinearFunctional(self.free, np.array([1.0, -1.0, 0.0, 0.0]), p.Delta0)
         m = p.m1 + p.m2
         # F = -m2 x1'' - c2 Delta0 with (m1 + m2) x1'' = P0 sin(wt) - k1 x1' - c1 x1.
-        self.contact_force = LinearFunctional(
-            self.stuck,
-            np.array([p.m2 * p.c1 / m, p.m2 * p.k1 / m]),
-            -p.c2 * p.Delta0,
-            d_s=-p.m2 * p.P0 / m,
-        )
+        with np.errstate(invalid="ignore", over="ignore"):  # (inf amplitudes when stuck_resonant)
+            self.contact_force = LinearFunctional(
+                self.stuck,
+                np.array([p.m2 * p.c1 / m, p.m2 * p.k1 / m]),
+                -p.c2 * p.Delta0,
+                d_s=-p.m2 * p.P0 / m,
+            )
         # Scales that make tolerances relative: length x_st, time 1/omega.
         self.length_scale = p.x_st
         self.velocity_scale = p.x_st * p.omega
@@ -72,6 +93,22 @@ class Model:
 
     def mode(self, name: str) -> LinearMode:
         return self.free if name == FREE else self.stuck
+
+    def resonance_message(self, mode: str) -> str:
+        """One line naming theta: the forcing at an (almost) undamped natural frequency of a mode,
+        where the forced response is unbounded and the closed form has no periodic solution."""
+        p, lm = self.p, self.mode(mode)
+        lam = lm.roots[np.argmin(np.abs(lm.roots - 1j * p.omega))]
+        what = "the free suppressor" if mode == FREE else "the bodies in contact (omega1/sqrt(1 + mu))"
+        damping = f"delta1 = {p.delta1!r}, delta2 = {p.delta2!r}" if mode == FREE else f"delta1 = {p.delta1!r}"
+        fix = "delta1, delta2" if mode == FREE else "delta1"
+        undamped = (p.delta1 == 0.0 and p.delta2 == 0.0) if mode == FREE else p.delta1 == 0.0
+        response = ("is unbounded (eqs. 10-11 have no periodic solution)" if undamped else
+                    f"is beyond what the closed form resolves (eqs. 10-11, {FORCED_AMPLITUDE_LIMIT:.0e} x_st)")
+        return (f"`theta` = {p.theta!r} is not allowed with {damping}: {'' if undamped else 'nearly '}undamped "
+                f"resonance, the forcing is at a natural frequency of {what}, {abs(lam.imag) / p.omega1:.9g} "
+                f"omega1, where the forced response (|x_p|/x_st = {lm.forced_amplitude / p.x_st:.3g}) {response}; "
+                f"add damping ({fix} > 0) or move theta")
 
     # --- coordinates ---------------------------------------------------------------
     def full_state(self, mode: str, y: np.ndarray) -> np.ndarray:

@@ -82,11 +82,14 @@ import numpy as np
 import scipy.optimize
 
 from .algorithm1 import Algorithm1Result, algorithm1
-from .events import Segment, first_root
+from .algorithm1 import _rescale as _rescale_alg1
+from .events import SearchLimitError, Segment, first_root
 from .model import FREE, STUCK, Model
-from .parameters import Parameters
-from .simulate import EventDrivenSolver, Event, Tolerances, Trajectory
-from .steady import CycleImpact, SteadyState, _max_excursion, steady_state
+from .parameters import (ArgumentTypeError, Parameters, ScaleMap, finite_argument, integer_argument,
+                         require_parameters)
+from .simulate import (EventDrivenSolver, Event, Tolerances, Trajectory, check_state, check_tolerances,
+                       work_limit_message)
+from .steady import CycleImpact, SteadyState, _max_excursion, rescale_steady, start_in_first_period, steady_state
 
 __all__ = [
     "PeriodicOrbit",
@@ -119,6 +122,16 @@ GAP_SAMPLES_PER_PERIOD = 256
 SEEDS = ("auto", "alg1", "simulate")
 # Relative step of the finite-difference derivative in the continuation parameter.
 PARAMETER_FD_STEP = 1e-6
+# Bounds on the work of one direct solve: the largest period multiple k (as the workflow's
+# max_period_multiple) and the most impacts per cycle (Newton solves 5 z equations densely).
+MAX_ORBIT_PERIOD_MULTIPLE = 64
+MAX_ORBIT_IMPACTS = 512
+# Bound on a branch's points (continue_orbit's max_points).
+MAX_BRANCH_POINTS = 1_000_000
+# Each parameter's domain for continuation bounds: (low, high, low included).
+PARAMETER_DOMAIN = {name: (0.0, math.inf, False) for name in ("theta", "mu", "N", "omega", "x_st", "m1")}
+PARAMETER_DOMAIN.update(delta1=(0.0, math.inf, True), delta2=(0.0, math.inf, True), R=(0.0, 1.0, True),
+                        gap=(-math.inf, math.inf, True))
 
 
 class OrbitError(ValueError):
@@ -425,7 +438,10 @@ def _flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: f
     end_margin = max(1e-9 * T, 10.0 * tol / v_end) if v_end > 0 else 1e-9 * T
     contact = None
     if opens:
-        root = first_root(seg, model.gap, t_a, t_b, tol, departure)
+        try:
+            root = first_root(seg, model.gap, t_a, t_b, tol, departure)
+        except SearchLimitError as err:
+            raise SearchLimitError(work_limit_message(p, str(err))) from None
         if root is not None and root[0] < t_b - end_margin:
             contact = float((root[0] - t_a) / T)
     else:
@@ -558,17 +574,27 @@ def orbit_from_cycle(p: Parameters, period_multiple: int, times, states_after, *
     OrbitError
         If Newton does not converge (the message says how far it got).
     """
-    times = np.asarray(times, float).reshape(-1)
-    if not (isinstance(period_multiple, (int, np.integer)) and not isinstance(period_multiple, bool)
-            and period_multiple >= 1):
-        raise ValueError(f"`period_multiple` = {period_multiple!r} is not allowed: must be an integer >= 1")
+    p = require_parameters(p)
+    period_multiple = integer_argument("period_multiple", period_multiple, 1, MAX_ORBIT_PERIOD_MULTIPLE)
+    try:
+        times = np.asarray(times, float).reshape(-1)
+        states = np.asarray(states_after, float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError("`times` and `states_after` are not allowed: must be arrays of numbers") from None
     if len(times) == 0 or not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
         raise ValueError(f"`times` = {times!r} is not allowed: must be at least one finite, increasing impact time")
-    states = np.asarray(states_after, float)
+    if len(times) > MAX_ORBIT_IMPACTS:
+        raise ValueError(f"`times` is not allowed: {len(times)} impacts, at most {MAX_ORBIT_IMPACTS} per cycle")
     if states.shape != (len(times), 4) or not np.all(np.isfinite(states)):
         raise ValueError(f"`states_after` is not allowed: must be {len(times)} finite rows (x1, x2, x1', x2'), "
                          f"got shape {states.shape}")
-    tol = tolerances or Tolerances()
+    tol = check_tolerances(tolerances)
+    if not p.native_scales():
+        q = p.canonical()
+        to_q = ScaleMap(p, q)
+        o = orbit_from_cycle(q, period_multiple, to_q.apply(times, "time"), to_q.full(states), seed=seed, periods=periods,
+                             tolerances=tol)
+        return rescale_orbit(o, ScaleMap(q, p))
     # The forcing is T-periodic: shift the cycle so the first impact is in [0, T). Large
     # absolute times would cost digits in sin(omega t) (~1e-13 after 500 periods).
     times = times - math.floor(times[0] / p.T) * p.T
@@ -611,6 +637,13 @@ def _closed_form_orbit(p: Parameters, regime: str, periods: int = 0) -> Periodic
         solved=True, admissible=admissible, stable=bool(np.max(np.abs(mult)) < 1.0), multipliers=mult,
         reason=reason, seed="closed_form", min_gap=min_gap,
     )
+
+
+def rescale_orbit(o: PeriodicOrbit, scales: ScaleMap) -> PeriodicOrbit:
+    """The same orbit in ``scales.target``'s units (relative fields and multipliers unchanged)."""
+    base = rescale_steady(o, scales)
+    return dataclasses.replace(base, times=scales.apply(o.times, "time"), states_after=scales.full(o.states_after),
+                               states_before=scales.full(o.states_before))
 
 
 def _unsolved(steady: SteadyState, reason: str) -> PeriodicOrbit:
@@ -673,26 +706,61 @@ def solve_orbit(p: Parameters, seed: str | SteadyState | Algorithm1Result = "aut
         already computed may be given instead.
     period_multiple : int, optional
         Solve for the seed's cycle repeated to this period multiple (a multiple of the seed's
-        k); default the seed's own.
+        k, at most ``MAX_ORBIT_PERIOD_MULTIPLE``); default the seed's own.
 
     Returns
     -------
     PeriodicOrbit
+
+    Raises
+    ------
+    OrbitError
+        Newton did not converge, or Algorithm No. 1 has no orbit (seed ``"alg1"``).
+    TypeError, ValueError
+        A bad argument, named (``state`` or ``t0`` with seed ``"alg1"``, which has no start).
+    SearchLimitError
+        The seed's simulation exceeded its work bound.
     """
-    tolerances = tolerances or Tolerances()
-    if period_multiple is not None and not (isinstance(period_multiple, (int, np.integer))
-                                            and not isinstance(period_multiple, bool) and period_multiple >= 1):
-        raise ValueError(f"`period_multiple` = {period_multiple!r} is not allowed: must be an integer >= 1")
+    p = require_parameters(p)
+    tolerances = check_tolerances(tolerances)
+    t0 = finite_argument("t0", t0)
+    state = check_state(state, p)  # (checked even where "auto" takes Algorithm No. 1's orbit)
+    if period_multiple is not None:
+        period_multiple = integer_argument("period_multiple", period_multiple, 1, MAX_ORBIT_PERIOD_MULTIPLE)
+    if isinstance(seed, str) and seed == "alg1":
+        for name, given in (("state", state is not None), ("t0", t0 != 0.0)):
+            if given:
+                raise ValueError(f"`{name}` is not allowed with seed = 'alg1': Algorithm No. 1's orbit is closed-form and "
+                                 "has no start (seed 'simulate' starts from it)")
+    if not p.native_scales():
+        # The same relative problem in the reference case's units, converted back.
+        q = p.canonical()
+        to_q = ScaleMap(p, q)
+        if isinstance(seed, Algorithm1Result):
+            seed = _rescale_alg1(seed, to_q)
+        elif isinstance(seed, PeriodicOrbit):
+            seed = rescale_orbit(seed, to_q)
+        elif isinstance(seed, SteadyState):
+            seed = rescale_steady(seed, to_q)
+        o = solve_orbit(q, seed, period_multiple=period_multiple, t0=to_q.apply(start_in_first_period(p, t0), "time"),
+                        state=None if state is None else to_q.full(state), tolerances=tolerances,
+                        settle_tol=settle_tol, max_periods=max_periods, max_period_multiple=max_period_multiple)
+        return rescale_orbit(o, ScaleMap(q, p))
     if isinstance(seed, str):
         if seed not in SEEDS:
             raise ValueError(f"`seed` = {seed!r} is not allowed: must be one of {', '.join(SEEDS)}")
         if seed in ("alg1", "auto"):
-            a1 = algorithm1(p, gap_tol=tolerances.gap_tol)
+            try:
+                a1 = algorithm1(p, gap_tol=tolerances.gap_tol)
+            except (ValueError, SearchLimitError):
+                if seed == "alg1":
+                    raise
+                a1 = None  # auto: no closed-form orbit here (a resonance of the impacts): simulate
             if seed == "alg1":
                 if not a1.exists:
                     raise OrbitError(f"Algorithm No. 1 has no orbit: {a1.reason}")
                 return _from_alg1(a1, period_multiple, tolerances)
-            if a1.exists and a1.admissible:
+            if a1 is not None and a1.exists and a1.admissible:
                 try:
                     orbit = _from_alg1(a1, period_multiple, tolerances)
                 except OrbitError:
@@ -717,6 +785,10 @@ def _from_alg1(a1: Algorithm1Result, period_multiple: int | None, tolerances: To
     return orbit_from_cycle(a1.p, m, times, after, seed="alg1", tolerances=tolerances)
 
 
+# The keywords of steady_state, which steady_state_auto passes on.
+STEADY_KEYWORDS = ("t0", "state", "tolerances", "settle_tol", "max_periods", "max_period_multiple")
+
+
 def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
     """The steady state, cheaply where it can be.
 
@@ -729,10 +801,23 @@ def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
     :func:`steady_state` from its start may settle on another one (for the reference
     parameters it does at some gaps, e.g. Delta0/x_st = -8.8, where a 4-impact 3T cycle
     coexists with the one-impact orbit). ``steady_state`` itself is unchanged.
+
+    Raises
+    ------
+    TypeError
+        A keyword that :func:`steady_state` does not take, named.
     """
-    gap_tol = (kwargs.get("tolerances") or Tolerances()).gap_tol
-    a1 = algorithm1(p, gap_tol=gap_tol)
-    if a1.exists and a1.admissible:
+    p = require_parameters(p)
+    unknown = sorted(set(kwargs) - set(STEADY_KEYWORDS))
+    if unknown:
+        raise ArgumentTypeError(f"`{unknown[0]}` is not allowed: steady_state_auto takes the keywords of steady_state, "
+                                f"{', '.join(STEADY_KEYWORDS)}")
+    gap_tol = check_tolerances(kwargs.get("tolerances")).gap_tol
+    try:
+        a1 = algorithm1(p, gap_tol=gap_tol)
+    except (ValueError, SearchLimitError):
+        a1 = None  # no closed-form orbit here (a resonance of the impacts): simulate
+    if a1 is not None and a1.exists and a1.admissible:
         try:
             orbit = _from_alg1(a1, None, kwargs.get("tolerances") or Tolerances())
         except OrbitError:
@@ -1050,21 +1135,39 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
     Branch
         Points, located special points and the reason the branch ends.
     """
-    if parameter not in Parameters.names():
+    if not (isinstance(parameter, str) and parameter in Parameters.names()):
         raise ValueError(f"`parameter` = {parameter!r} is not allowed: must be one of {', '.join(Parameters.names())}")
     if not isinstance(orbit, PeriodicOrbit) or not orbit.solved or not orbit.impacts:
         raise ValueError("`orbit` is not allowed: must be a solved PeriodicOrbit with impacts")
-    if direction not in (1, -1):
+    if isinstance(direction, bool) or direction not in (1, -1):
         raise ValueError(f"`direction` = {direction!r} is not allowed: must be +1 or -1")
-    if not (0 < min_step <= step <= max_step and math.isfinite(max_step)):
+    step, min_step, max_step = (finite_argument(name, value) for name, value in
+                                (("step", step), ("min_step", min_step), ("max_step", max_step)))
+    if not (0 < min_step <= step <= max_step):
         raise ValueError(f"`step` = {step!r} is not allowed: need 0 < min_step <= step <= max_step")
+    max_points = integer_argument("max_points", max_points, 1, MAX_BRANCH_POINTS)
     lam0 = float(getattr(orbit.p, parameter))
     if bounds is None:
         raise ValueError("`bounds` is not allowed: must be given as (low, high)")
-    lo, hi = float(bounds[0]), float(bounds[1])
+    try:
+        lo, hi = (finite_argument("bounds", b) for b in bounds)
+    except (TypeError, ValueError):
+        raise ValueError(f"`bounds` = {bounds!r} is not allowed: must be two finite numbers (low, high)") from None
     if not (lo < hi and lo <= lam0 <= hi):
         raise ValueError(f"`bounds` = {bounds!r} is not allowed: need low < high around {parameter} = {lam0!r}")
-    tol = tolerances or Tolerances()
+    dom_lo, dom_hi, closed = PARAMETER_DOMAIN[parameter]
+    if not ((lo >= dom_lo if closed else lo > dom_lo) and hi <= dom_hi):
+        allowed = {(0.0, math.inf, False): "> 0", (0.0, math.inf, True): ">= 0", (0.0, 1.0, True): "in [0, 1]"}
+        raise ValueError(f"`bounds` = {bounds!r} is not allowed: `{parameter}` must be "
+                         f"{allowed[(dom_lo, dom_hi, closed)]}, so must both bounds")
+    tol = check_tolerances(tolerances)
+    if not orbit.p.native_scales() and parameter not in ("x_st", "m1", "omega"):
+        # The same relative problem in the reference case's units, converted back.
+        q = orbit.p.canonical()
+        branch = continue_orbit(rescale_orbit(orbit, ScaleMap(orbit.p, q)), parameter, (lo, hi), direction=direction,
+                                step=step, min_step=min_step, max_step=max_step, max_points=max_points,
+                                stop_at_grazing=stop_at_grazing, tolerances=tol)
+        return _rescale_branch(branch, ScaleMap(q, orbit.p))
     cont = _Continuation(orbit.p, parameter, orbit.period_multiple, orbit.impacts_per_cycle, tol.gap_tol)
     shoot = cont.shooting(lam0)
     x = np.append(shoot.pack(orbit.times, orbit.states_after), lam0)
@@ -1124,6 +1227,17 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
     return Branch(parameter=parameter, period_multiple=orbit.period_multiple,
                   impacts_per_cycle=orbit.impacts_per_cycle, points=tuple(points), special=tuple(special),
                   end_reason=end_reason, end_value=float(end_value))
+
+
+def _rescale_branch(branch: Branch, scales: ScaleMap) -> Branch:
+    """A branch's impact times and states in ``scales.target``'s units (all else is relative)."""
+    def point(q: BranchPoint) -> BranchPoint:
+        return dataclasses.replace(q, times=tuple(scales.apply(t, "time") for t in q.times),
+                                   states_after=tuple(tuple(float(v) for v in scales.full(np.array(y)))
+                                                      for y in q.states_after))
+
+    return dataclasses.replace(branch, points=tuple(point(q) for q in branch.points),
+                               special=tuple(dataclasses.replace(sp, point=point(sp.point)) for sp in branch.special))
 
 
 def _sequence(k: int, z: int) -> str:

@@ -17,14 +17,120 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from dataclasses import dataclass, field
 
-__all__ = ["Parameters", "REFERENCE"]
+__all__ = ["Parameters", "REFERENCE", "ArgumentTypeError"]
+
+
+class ArgumentTypeError(TypeError, ValueError):
+    """An argument of the wrong type (``None``, a string, a bool where a number is expected...).
+
+    A :class:`TypeError`, as scipy raises for a wrong type; also a :class:`ValueError`, so that a
+    caller that catches bad values (the command line) catches it with them.
+    """
+
+
+def _show(value: object) -> str:
+    """repr of a bad value, short enough for a one-line message (an int can have 400 digits)."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool) and abs(int(value)) > 10**20:
+        return f"an integer of {len(str(abs(int(value))))} digits"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:40] + "...(truncated)"
 
 
 def _check(name: str, value: float, ok: bool, allowed: str) -> None:
     if not ok:
-        raise ValueError(f"`{name}` = {value!r} is not allowed: must be {allowed}")
+        raise ValueError(f"`{name}` = {_show(value)} is not allowed: must be {allowed}")
+
+
+def real_argument(name: str, value: object) -> float:
+    """``value`` as a float if it is a real number, else an error naming ``name``.
+
+    Python and numpy numbers are accepted (``np.float32(1.0)``, ``np.int64(1)``); a bool is not a
+    number here, nor is a string.
+
+    Raises
+    ------
+    ArgumentTypeError
+        Not a real number.
+    ValueError
+        An integer too large for a float.
+    """
+    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
+        raise ArgumentTypeError(f"`{name}` = {_show(value)} is not allowed: must be a real number")
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(f"`{name}` = {_show(value)} is not allowed: must be a finite number "
+                         "(it overflows a float)") from None
+
+
+def finite_argument(name: str, value: object) -> float:
+    """``value`` as a finite float, else an error naming ``name`` (see :func:`real_argument`)."""
+    x = real_argument(name, value)
+    _check(name, x, math.isfinite(x), "a finite number")
+    return x
+
+
+def integer_argument(name: str, value: object, low: int, high: int | None = None) -> int:
+    """``value`` as an int in [low, high], else an error naming ``name`` (numpy integers are
+    accepted; a bool or a float is not an integer here)."""
+    allowed = f"an integer >= {low}" if high is None else f"an integer in [{low}, {high}]"
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ArgumentTypeError(f"`{name}` = {_show(value)} is not allowed: must be {allowed}")
+    n = int(value)
+    _check(name, n, n >= low and (high is None or n <= high), allowed)
+    return n
+
+
+def require_parameters(p: object, name: str = "p") -> "Parameters":
+    """``p`` if it is a :class:`Parameters`, else an :class:`ArgumentTypeError` naming ``name``."""
+    if not isinstance(p, Parameters):
+        raise ArgumentTypeError(f"`{name}` = {_show(p)} is not allowed: must be a Parameters "
+                                "(e.g. impactdamper.Parameters(gap=-9.6))")
+    return p
+
+
+# The dimensional values derived from the relative parameters: how (for messages) and from which.
+_DERIVED = {
+    "omega1": ("omega/theta", ("omega", "theta")),
+    "omega2": ("N omega/theta", ("N", "omega", "theta")),
+    "m2": ("mu m1", ("mu", "m1")),
+    "c1": ("m1 (omega/theta)^2", ("m1", "omega", "theta")),
+    "c2": ("mu m1 (N omega/theta)^2", ("mu", "m1", "N", "omega", "theta")),
+    "k1": ("2 m1 omega delta1/theta", ("delta1", "m1", "omega", "theta")),
+    "k2": ("2 mu m1 omega delta2/theta", ("delta2", "mu", "m1", "omega", "theta")),
+    "P0": ("m1 (omega/theta)^2 x_st", ("m1", "omega", "theta", "x_st")),
+    "Delta0": ("gap x_st", ("gap", "x_st")),
+    "T": ("2 pi/omega", ("omega",)),
+    # The units results are reported in (velocities, pulses): they must exist too.
+    "x_st omega": ("x_st omega", ("x_st", "omega")),
+    "m1 x_st omega": ("m1 x_st omega", ("m1", "x_st", "omega")),
+}
+# Values of the reference case, against which the most extreme input is picked for a message.
+_TYPICAL = {"theta": 1.0, "mu": 0.08, "N": 0.5, "delta1": 0.05, "delta2": 0.05, "R": 0.7, "gap": 5.8,
+            "omega": 10.0, "x_st": 1.0, "m1": 1.0}
+
+
+def most_extreme(p: "Parameters", names: tuple[str, ...] | None = None) -> str:
+    """The parameter among ``names`` farthest (in decades) from the reference case's value: the
+    one a message about a numerical limit names."""
+    names = names or ("theta", "mu", "N", "delta1", "delta2", "gap", "omega", "x_st", "m1")
+
+    def decades(name: str) -> float:
+        v = abs(float(getattr(p, name)))
+        return abs(math.log10(v) - math.log10(_TYPICAL[name])) if 0.0 < v < math.inf else 0.0
+
+    return max(names, key=decades)
+
+
+# The free scales: results in relative units (x/x_st, t/T, v/(x_st omega), S/(m1 x_st omega))
+# do not depend on them. Within these ranges the solver works in the user's units; outside, its
+# squares (energies, derivative bounds) would under- or overflow, and the entry points solve the
+# same relative problem with the reference case's scales and convert the results back.
+NATIVE_SCALES = {"x_st": (1e-30, 1e30), "m1": (1e-30, 1e30), "omega": (1e-10, 1e10)}
+CANONICAL_SCALES = {"x_st": 1.0, "m1": 1.0, "omega": 10.0}
 
 
 @dataclass(frozen=True)
@@ -51,6 +157,18 @@ class Parameters:
         Static deflection P0/c1 in m (> 0).
     m1 : float
         Mass of the object in kg (> 0): a free scale, default 1.
+
+    Every value is a real number (numpy scalars too, stored as float; a bool is not a number),
+    and the dimensional values derived from them (omega1, c1, k1, P0, ...) must be finite and,
+    but for the damping and the gap, non-zero with a finite reciprocal.
+
+    Raises
+    ------
+    TypeError
+        A value that is not a real number (:class:`ArgumentTypeError`, also a ValueError).
+    ValueError
+        A value outside its range, or one that over- or underflows a derived value; the message
+        names the parameter (the most extreme one, for a derived value) in backticks.
     """
 
     theta: float = 1.0
@@ -78,10 +196,9 @@ class Parameters:
 
     def __post_init__(self) -> None:
         for name in ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ValueError(f"`{name}` = {value!r} is not allowed: must be a real number")
-            _check(name, value, math.isfinite(value), "a finite number")
+            # Stored as float: numpy scalars (np.float32 arithmetic) and huge ints become plain
+            # floats or a named error (an int of 400 digits raised OverflowError).
+            object.__setattr__(self, name, finite_argument(name, getattr(self, name)))
         for name in ("theta", "mu", "N", "omega", "x_st", "m1"):
             _check(name, getattr(self, name), getattr(self, name) > 0, "> 0")
         for name in ("delta1", "delta2"):
@@ -104,12 +221,28 @@ class Parameters:
             "P0": self.m1 * (omega1 * omega1) * self.x_st,
             "Delta0": self.gap * self.x_st,
             "T": 2.0 * math.pi / self.omega,
+            "x_st omega": self.x_st * self.omega,
+            "m1 x_st omega": self.m1 * self.x_st * self.omega,
         }
+        # A derived value may be zero only where its relative parameter is (no damping, no gap).
+        may_vanish = {"k1": self.delta1 == 0.0, "k2": self.delta2 == 0.0, "Delta0": self.gap == 0.0}
         for name, value in derived.items():
-            object.__setattr__(self, name, float(value))
-            # Extreme but valid inputs can still overflow the dimensional values.
-            _check(name, value, math.isfinite(value) and (value != 0.0 or name in ("k1", "k2", "Delta0")),
-                   "finite and non-zero: the relative parameters overflow it")
+            if " " not in name:
+                object.__setattr__(self, name, float(value))
+            # Extreme but valid inputs can still over- or underflow the dimensional values: name
+            # the input that is most extreme (issue 15: the message named c1 for theta = 1e-300).
+            # (Its reciprocal must be finite too, but for those that may vanish: the model divides
+            # by masses, stiffnesses and scales, and 1/5e-324 is inf.)
+            vanishes = value == 0.0 and not may_vanish.get(name, False)
+            tiny = name not in may_vanish and value != 0.0 and not math.isfinite(1.0 / value)
+            if not math.isfinite(value) or vanishes or tiny:
+                formula, inputs = _DERIVED[name]
+                culprit = most_extreme(self, inputs)
+                what = "overflows" if not math.isfinite(value) else "underflows to 0" if vanishes else "underflows"
+                raise ValueError(
+                    f"`{culprit}` = {getattr(self, culprit)!r} is not allowed with the other parameters: the "
+                    f"dimensional {name} = {formula} {what}; {', '.join(inputs)} must keep it within the "
+                    "floating-point range (about 1e-300 to 1e300)")
 
     @property
     def h1(self) -> float:
@@ -124,7 +257,10 @@ class Parameters:
     @property
     def reduced_mass(self) -> float:
         """m1 m2/(m1 + m2), the mass of the relative motion (eq. 14)."""
-        return self.m1 * self.m2 / (self.m1 + self.m2)
+        m = self.m1 * self.m2 / (self.m1 + self.m2)
+        if m == 0.0 or not math.isfinite(m):  # m1 m2 under- or overflowed (m1 = 1e-300, 1e300)
+            m = self.m1 * (self.mu / (1.0 + self.mu))
+        return m
 
     def replace(self, **changes: float) -> "Parameters":
         """A copy with some relative parameters changed (validated like the constructor)."""
@@ -133,6 +269,16 @@ class Parameters:
             name = sorted(unknown)[0]
             raise ValueError(f"`{name}` is not a parameter: allowed are {', '.join(self.names())}")
         return dataclasses.replace(self, **changes)
+
+    def native_scales(self) -> bool:
+        """Whether the free scales x_st, m1 and omega are within :data:`NATIVE_SCALES`, where the
+        solver works in these units (else the entry points rescale, see :meth:`canonical`)."""
+        return all(lo <= getattr(self, name) <= hi for name, (lo, hi) in NATIVE_SCALES.items())
+
+    def canonical(self) -> "Parameters":
+        """The same relative problem with the reference case's free scales (x_st = 1 m,
+        m1 = 1 kg, omega = 10 rad/s): results in relative units are the same."""
+        return self.replace(**CANONICAL_SCALES)
 
     @staticmethod
     def names() -> tuple[str, ...]:
@@ -146,3 +292,56 @@ class Parameters:
 
 REFERENCE = Parameters()
 """The paper's reference case of Fig. 2."""
+
+
+@dataclass(frozen=True)
+class ScaleMap:
+    """Converts dimensional values between two parameter sets with the same relative parameters
+    (different free scales x_st, m1, omega): lengths, times, velocities and pulses.
+
+    Times scale about t = 0, so the forcing's phase omega t is kept.
+
+    Parameters
+    ----------
+    source, target : Parameters
+    """
+
+    source: Parameters
+    target: Parameters
+
+    def __post_init__(self) -> None:
+        s, t = self.source, self.target
+        # Ratios of the units themselves (each validated finite and non-zero by Parameters), so
+        # that no factor overflows where the units do not.
+        object.__setattr__(self, "length", t.x_st / s.x_st)
+        object.__setattr__(self, "time", s.omega / t.omega)
+        object.__setattr__(self, "velocity", (t.x_st * t.omega) / (s.x_st * s.omega))
+        object.__setattr__(self, "impulse", (t.m1 * t.x_st * t.omega) / (s.m1 * s.x_st * s.omega))
+
+    def full(self, y):
+        """States (x1, x2, x1', x2'), shape (..., 4)."""
+        return self._scaled(y, [self.length, self.length, self.velocity, self.velocity])
+
+    def stuck(self, y):
+        """States (x1, x1') of the bodies in contact, shape (..., 2)."""
+        return self._scaled(y, [self.length, self.velocity])
+
+    def apply(self, value, unit: str):
+        """``value`` (a float or an array) in ``unit``: "time", "length", "velocity" or "impulse"."""
+        return self._scaled(value, getattr(self, unit))
+
+    def _scaled(self, value, factor):
+        import numpy as np  # (parameters.py otherwise needs no numpy)
+
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = np.asarray(value, dtype=float) * np.asarray(factor, dtype=float)
+        if not np.all(np.isfinite(out)) and np.all(np.isfinite(value)):
+            # The motion itself is beyond the floating-point range in the target's units (a
+            # velocity 1e8 x_st omega with x_st = 1e300): a named error, not inf.
+            t = self.target
+            name = most_extreme(t, ("x_st", "m1", "omega"))
+            raise ValueError(f"`{name}` = {getattr(t, name)!r} is not allowed with the other parameters: the motion's "
+                             f"dimensional values overflow in these units (x_st = {t.x_st!r} m, m1 = {t.m1!r} kg, "
+                             f"omega = {t.omega!r} rad/s); results in relative units do not depend on x_st, m1 and "
+                             "omega, so units nearer 1 give the same answer")
+        return float(out) if out.ndim == 0 else out

@@ -32,9 +32,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .events import LinearFunctional, Segment, march
+from .events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
+from .linear import characteristic_roots
 from .model import FREE, STUCK, Model
-from .parameters import Parameters
+from .parameters import (NATIVE_SCALES, ArgumentTypeError, Parameters, ScaleMap, finite_argument, integer_argument,
+                         most_extreme, real_argument, require_parameters)
 
 __all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
 
@@ -47,6 +49,23 @@ MAX_EVENTS_AT_ONE_TIME = 50
 # Samples of the gap over a contact-force dip when judging whether the bodies part by a
 # resolvable amount (the gap there is a smooth bump).
 DIP_SAMPLES = 33
+# The work bound of one solver: certified search steps allowed per forcing period advanced,
+# plus an allowance at the start. Ordinary motions take 5-600 steps per period on average (a
+# chatter sequence or a search at the lift-off threshold a few thousand at once); a motion far
+# faster or stiffer than the forcing (theta = 1e-5: 2e5 steps in its first period) ends in a
+# SearchLimitError within seconds instead of running for minutes.
+STEPS_PER_PERIOD = 20_000
+STEPS_AT_START = 20_000
+# Largest |t| of the solver's clock, in forcing periods: one ulp of t is ~1e-10 T there, the
+# resolution event times need (at t0 = 1e16 s an ulp was 2 s, longer than T). The forcing is
+# T-periodic: a later start is the same motion from t0 modulo T (steady_state reduces it so).
+MAX_CLOCK_PERIODS = 1e6
+# Largest initial state, relative to x_st (positions) and x_st omega (velocities): a motion
+# 1e12 times the static deflection is far outside the model, and squares of much larger ones
+# (energies, derivative bounds) overflow.
+MAX_STATE = 1e12
+# Default bound on a simulation's length in forcing periods (simulate's max_periods).
+MAX_SIMULATE_PERIODS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -71,9 +90,72 @@ class Tolerances:
 
     def __post_init__(self) -> None:
         for name in ("gap_tol", "chatter_tol", "force_tol"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and 0 < value < 1):
+            # Relative to x_st: a finite number in (0, 1) (NaN used to pass algorithm1 unchecked,
+            # and gap_tol = 10 counted the orbit's whole excursion as grazing).
+            value = real_argument(name, getattr(self, name))
+            if not (math.isfinite(value) and 0.0 < value < 1.0):
                 raise ValueError(f"`{name}` = {value!r} is not allowed: must be in (0, 1)")
+            object.__setattr__(self, name, value)
+
+
+def check_gap_tol(gap_tol: object) -> float:
+    """``gap_tol`` as a float in (0, 1) (relative to x_st), else an error naming it."""
+    return Tolerances(gap_tol=gap_tol).gap_tol
+
+
+def check_tolerances(tolerances: object) -> "Tolerances":
+    """``tolerances`` if it is a Tolerances, the defaults for None, else an error naming it."""
+    if tolerances is None:
+        return Tolerances()
+    if not isinstance(tolerances, Tolerances):
+        raise ArgumentTypeError(f"`tolerances` = {tolerances!r} is not allowed: must be a Tolerances or None")
+    return tolerances
+
+
+def check_state(state: object, p: Parameters) -> np.ndarray | None:
+    """``state`` as a float array (x1, x2, x1', x2') of finite values within MAX_STATE (relative),
+    or None; else an error naming it."""
+    if state is None:
+        return None
+    try:
+        full = np.array(state, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')") from None
+    if full.shape != (4,) or not np.all(np.isfinite(full)):
+        raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
+    # In the paper's relative coordinates: x1/x_st, (x2 - Delta0)/x_st and the velocities over
+    # x_st omega (x2 itself is Delta0 at the stop, whatever the gap).
+    relative = full - np.array([0.0, p.Delta0, 0.0, 0.0])
+    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    with np.errstate(over="ignore"):  # (an overflowing ratio is just too large)
+        too_large = not np.all(np.abs(relative) / scale <= MAX_STATE)
+    if too_large:
+        raise ValueError(f"`state` = {state!r} is not allowed: x1 and x2 - Delta0 must be within {MAX_STATE:.0e} x_st "
+                         f"and the velocities within {MAX_STATE:.0e} x_st omega (x_st = {p.x_st!r} m, "
+                         f"omega = {p.omega!r} rad/s)")
+    return full
+
+
+def check_start_time(t0: object, p: Parameters, name: str = "t0") -> float:
+    """``t0`` as a finite float within the solver's clock (MAX_CLOCK_PERIODS), else an error."""
+    t0 = finite_argument(name, t0)
+    limit = MAX_CLOCK_PERIODS * p.T
+    if abs(t0) > limit:
+        raise ValueError(f"`{name}` = {t0!r} is not allowed: must be within {MAX_CLOCK_PERIODS:.0e} forcing periods of 0 "
+                         f"(|{name}| <= {limit:.6g} s), where the clock resolves event times to ~1e-10 T; the forcing is "
+                         "T-periodic, so a start modulo T is the same motion (steady_state reduces it itself)")
+    return t0
+
+
+def work_limit_message(p: Parameters, what: str) -> str:
+    """One line for a run that hit a work bound, naming the parameter farthest from the
+    reference case (the usual cause: a free motion far faster or stiffer than the forcing)."""
+    with np.errstate(all="ignore"):  # (only for the message: an overflow just shows as inf)
+        rate = float(np.max(np.abs(characteristic_roots(p)))) / p.omega
+    name = most_extreme(p, ("theta", "mu", "N", "delta1", "delta2", "R", "gap"))
+    return (f"`{name}` = {getattr(p, name)!r} is beyond what the solver resolves: {what} (the free motion's fastest "
+            f"rate is {rate:.3g} omega); allowed are parameters nearer the reference case (theta = 1, mu = 0.08, "
+            "N = 0.5, delta1 = delta2 = 0.05, R = 0.7, gap = -5.8)")
 
 
 @dataclass(frozen=True)
@@ -165,15 +247,22 @@ class EventDrivenSolver:
 
     def __init__(self, p: Parameters, t0: float = 0.0, state: np.ndarray | None = None,
                  tolerances: Tolerances | None = None):
+        p = require_parameters(p)
+        t0 = check_start_time(t0, p)
+        if not p.native_scales():
+            name = next(n for n, (lo, hi) in NATIVE_SCALES.items() if not lo <= getattr(p, n) <= hi)
+            lo, hi = NATIVE_SCALES[name]
+            raise ValueError(f"`{name}` = {getattr(p, name)!r} is not allowed here: the event-driven solver works in the "
+                             f"given units, where {name} must be in [{lo:g}, {hi:g}]; simulate, steady_state and "
+                             "solve_orbit rescale such cases (relative results do not depend on x_st, m1, omega)")
         self.p = p
+        self.tol = check_tolerances(tolerances)
+        full = check_state(state, p)
         self.model = Model(p)
-        self.tol = tolerances or Tolerances()
         self.trajectory = Trajectory(self.model)
-        full = default_initial_state(p) if state is None else np.asarray(state, dtype=float)
-        if full.shape != (4,) or not np.all(np.isfinite(full)):
-            raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
-        if not math.isfinite(t0):
-            raise ValueError(f"`t0` = {t0!r} is not allowed: must be a finite number")
+        self.budget = StepBudget(STEPS_AT_START, self._budget_message)
+        self._t_start = t0
+        full = default_initial_state(p) if full is None else full
         gap = float(self.model.gap_of(full))
         gap_tol = self.tol.gap_tol * self.model.length_scale
         if gap < -gap_tol:
@@ -190,7 +279,15 @@ class EventDrivenSolver:
             self._start(FREE, float(t0), full, departure=None)
 
     # --- bookkeeping ------------------------------------------------------------------
+    def _budget_message(self, t: float) -> str:
+        periods = (t - self._t_start) / self.p.T
+        return work_limit_message(self.p, f"the event search reached its work bound, {STEPS_AT_START} + "
+                                          f"{STEPS_PER_PERIOD} certified steps per forcing period ({self.budget.used} "
+                                          f"steps {periods:.3g} periods into the run)")
+
     def _start(self, mode: str, t: float, y: np.ndarray, departure: tuple[int, float] | None) -> None:
+        if mode == STUCK and self.model.stuck_resonant:
+            raise ValueError(self.model.resonance_message(STUCK))
         self.mode = mode
         self.segment = Segment(self.model.mode(mode), t, y)
         self.trajectory.segments.append((mode, self.segment))
@@ -202,7 +299,8 @@ class EventDrivenSolver:
         if events and event.t - events[-1].t <= 4 * math.ulp(max(abs(event.t), 1.0)):
             self._same_time_events += 1
             if self._same_time_events > MAX_EVENTS_AT_ONE_TIME:
-                raise RuntimeError(f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {event.t!r}: degenerate contact")
+                raise SearchLimitError(work_limit_message(
+                    self.p, f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {event.t!r}: degenerate contact"))
         else:
             self._same_time_events = 0
         events.append(event)
@@ -218,8 +316,17 @@ class EventDrivenSolver:
 
     # --- the loop -----------------------------------------------------------------------
     def advance(self, t_target: float) -> None:
-        """Process every event up to ``t_target``; the motion then continues past it."""
+        """Process every event up to ``t_target``; the motion then continues past it.
+
+        Raises
+        ------
+        SearchLimitError
+            The run exceeded its work bound (``STEPS_AT_START`` plus ``STEPS_PER_PERIOD``
+            certified search steps per forcing period since the start).
+        """
+        t_target = check_start_time(t_target, self.p, "t_target")
         model, tol = self.model, self.tol
+        self.budget.limit = STEPS_AT_START + int(STEPS_PER_PERIOD * max(t_target - self._t_start, 0.0) / self.p.T)
         while True:
             if self.mode == FREE:
                 fn: LinearFunctional = model.gap
@@ -229,7 +336,12 @@ class EventDrivenSolver:
                 eps = tol.force_tol * model.force_scale
             if self.search_from >= t_target:
                 return  # an earlier march already certified the motion past t_target
-            root, reached = march(self.segment, fn, self.search_from, t_target, eps, self.departure)
+            try:
+                root, reached = march(self.segment, fn, self.search_from, t_target, eps, self.departure, self.budget)
+            except SearchLimitError as err:
+                if str(err).startswith("`"):  # the budget's message names a parameter already
+                    raise
+                raise SearchLimitError(work_limit_message(self.p, str(err))) from None
             if root is None:
                 # Resume later from where the march got (it may have stepped past t_target),
                 # not from t_target: restarting there would repeat the march's first steps.
@@ -334,7 +446,7 @@ class EventDrivenSolver:
         neg = LinearFunctional(fn.mode, -fn.c, -fn.g0, -fn.d_s)  # -F >= 0 during the dip
         slope = float(fn.of_state(t, self.segment.state(t), 1))
         eps = self.tol.force_tol * model.force_scale
-        root, _ = march(self.segment, neg, t, t + self.p.T, eps, (1, -slope) if slope < 0.0 else None)
+        root, _ = march(self.segment, neg, t, t + self.p.T, eps, (1, -slope) if slope < 0.0 else None, self.budget)
         if root is None or root[0] <= t:
             return False  # F stays negative for a whole period: a real lift-off
         t_up = root[0]
@@ -347,16 +459,65 @@ class EventDrivenSolver:
 
 
 def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-             tolerances: Tolerances | None = None) -> Trajectory:
+             tolerances: Tolerances | None = None, *, max_periods: int = MAX_SIMULATE_PERIODS) -> Trajectory:
     """Run Algorithm No. 2 (with contact modes) from ``t0`` to ``t_end``.
+
+    Parameters
+    ----------
+    p : Parameters
+    t_end, t0 : float
+        End and start, s (within ``MAX_CLOCK_PERIODS`` forcing periods of 0).
+    state : ndarray, shape (4,), optional
+        (x1, x2, x1', x2') at t0; default :func:`default_initial_state`.
+    tolerances : Tolerances, optional
+    max_periods : int
+        Bound on the run's length, (t_end - t0)/T (a bound on the work).
 
     Returns
     -------
     Trajectory
         Segments and events; ``sample(t)`` gives the exact state at any t in [t0, t_end].
+
+    Raises
+    ------
+    SearchLimitError
+        The run exceeded its work bound (see :meth:`EventDrivenSolver.advance`).
     """
-    if not (math.isfinite(t_end) and t_end > t0):
-        raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be finite and > t0 = {t0!r}")
+    p = require_parameters(p)
+    t_end = finite_argument("t_end", t_end)
+    if not math.isfinite(real_argument("t0", t0)):
+        raise ValueError(f"`t0` = {t0!r} is not allowed: must be a finite number, before `t_end` = {t_end!r}")
+    t0 = check_start_time(t0, p)
+    max_periods = integer_argument("max_periods", max_periods, 1)
+    if not t_end > t0:
+        raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be > t0 = {t0!r}")
+    if (t_end - t0) / p.T > max_periods:
+        raise ValueError(f"`t_end` = {t_end!r} is not allowed: (t_end - t0)/T = {(t_end - t0) / p.T:.6g} forcing periods "
+                         f"is more than max_periods = {max_periods} (a bound on the work; pass a larger max_periods)")
+    check_start_time(t_end, p, "t_end")
+    if not p.native_scales():
+        # Solve the same relative problem in the reference case's units, and convert back.
+        q = p.canonical()
+        to_q, to_p = ScaleMap(p, q), ScaleMap(q, p)
+        full = check_state(state, p)
+        traj = simulate(q, to_q.apply(t_end, "time"), to_q.apply(t0, "time"), None if full is None else to_q.full(full),
+                        tolerances, max_periods=max_periods)
+        return rescale_trajectory(traj, to_p)
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     solver.advance(t_end)
     return solver.trajectory
+
+
+def rescale_trajectory(traj: Trajectory, scales: ScaleMap) -> Trajectory:
+    """The same motion in ``scales.target``'s units (a new Trajectory; segments and events
+    converted by :class:`ScaleMap`)."""
+    model = Model(scales.target)
+    out = Trajectory(model)
+    for name, seg in traj.segments:
+        y = scales.full(seg.y0) if name == FREE else scales.stuck(seg.y0)
+        out.segments.append((name, Segment(model.mode(name), scales.apply(seg.t0, "time"), y)))
+    for e in traj.events:
+        out.events.append(Event(scales.apply(e.t, "time"), e.kind, scales.apply(e.velocity, "velocity"),
+                                scales.apply(e.impulse, "impulse"), scales.full(e.before), scales.full(e.after),
+                                scales.apply(e.t_accumulation, "time")))
+    return out

@@ -29,8 +29,10 @@ import numpy as np
 import scipy.optimize
 
 from .model import STUCK
-from .parameters import Parameters
-from .simulate import EventDrivenSolver, Tolerances, Trajectory
+from .parameters import (Parameters, ScaleMap, finite_argument, integer_argument, real_argument,
+                         require_parameters)
+from .simulate import (EventDrivenSolver, Tolerances, Trajectory, check_state, check_tolerances,
+                       rescale_trajectory)
 
 __all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES"]
 
@@ -77,8 +79,8 @@ class SteadyState:
     impacts : list of CycleImpact
         The cycle's impacts in order, the first one ending the cycle's longest free flight.
     cycle_start : float
-        Time in ``trajectory`` where the reported cycle starts, s (same forcing phase as in
-        the run: t/T modulo 1 is the phase).
+        Time in ``trajectory`` where the reported cycle starts, s (on the run's clock, which
+        starts at t0 reduced modulo T into [0, T): t/T modulo 1 is the forcing's phase).
     contact_fraction : float
         Share of the cycle spent in persistent contact.
     contact_phases : list of (float, float)
@@ -92,9 +94,11 @@ class SteadyState:
     trajectory : Trajectory
         The motion over the reported cycle, with at least one cycle (and 4 periods) before
         and one cycle after it (re-simulated from a section of the run, so its clock is
-        ``t0`` plus a few periods: times in it differ from the run's by a multiple of T).
+        the run's start plus a few periods: times in it differ from t0 + n T by a multiple of
+        T).
     section_times : ndarray, shape (periods,)
-        Times t0 + n T of the stroboscopic sections, s.
+        Times t_s + n T of the stroboscopic sections on the run's clock, s (t_s: t0 reduced
+        modulo T into [0, T)).
     sections : ndarray, shape (periods, 4)
         States (x1, x2, x1', x2') there (the transient's record).
     """
@@ -124,7 +128,9 @@ class SteadyState:
     @property
     def cycle_duration(self) -> float:
         """T_c in s (the reported stretch, k T or the last periods when nonperiodic)."""
-        return max(self.period_multiple, 1) * self.p.T if self.settled else NONPERIODIC_WINDOW * self.p.T
+        if self.settled:
+            return max(self.period_multiple, 1) * self.p.T
+        return min(NONPERIODIC_WINDOW, max(self.periods, 1)) * self.p.T  # (a run shorter than the window)
 
     def sample(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Relative coordinates (x1_bar, x2_bar) at absolute times t (within the simulation)."""
@@ -164,8 +170,33 @@ class SteadyState:
 NONPERIODIC_WINDOW = 8
 
 
+# Bound on max_periods (the run keeps every section: 2 arrays of max_periods x 4 floats).
+MAX_PERIODS_LIMIT = 1_000_000
+
+
 def _scaled(p: Parameters, full: np.ndarray) -> np.ndarray:
     return full / np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+
+
+def start_in_first_period(p: Parameters, t0: float) -> float:
+    """The time in [0, T) with the forcing's phase at ``t0``: omega t0 modulo 2 pi, exactly.
+
+    The forcing P0 sin(omega t) is T-periodic, so a run from there is the run from t0 shifted
+    by a whole number of periods. In floating point omega t0 would lose the phase for large t0
+    (at t0 = 1e5 s the rounding noise broke the settle test, at 1e20 s the phase was lost);
+    the remainder is taken in multiple precision: omega t0 is exact as a product of two
+    doubles, and 2 pi is carried to the bits that the remainder needs.
+    """
+    if 0.0 <= t0 < p.T:
+        return t0
+    import mpmath
+
+    bits = max(math.frexp(p.omega)[1] + math.frexp(t0)[1], 0) + 96
+    with mpmath.workprec(bits):
+        cycles = mpmath.mpf(p.omega) * mpmath.mpf(t0) / (2 * mpmath.pi)
+        fraction = float(cycles - mpmath.floor(cycles))
+    start = fraction * p.T
+    return start if start < p.T else 0.0  # (a fraction that rounds to 1 is the phase 0)
 
 
 def steady_state(
@@ -193,16 +224,58 @@ def steady_state(
     settle_tol : float
         Section mismatch (relative) below which the motion counts as repeating.
     max_periods : int
-        Forcing periods after which an unsettled motion is called ``nonperiodic``.
+        Forcing periods after which an unsettled motion is called ``nonperiodic`` (at most
+        ``MAX_PERIODS_LIMIT``).
     max_period_multiple : int
         Largest k tried for T_c = k T.
+
+    The result does not depend on t0 beyond its forcing phase (the run starts at t0 reduced
+    modulo T, see :func:`start_in_first_period`), nor on the free scales x_st, m1 and omega in
+    relative units (outside :data:`impactdamper.parameters.NATIVE_SCALES` the same relative
+    problem is solved in the reference case's units and converted back).
+
+    Raises
+    ------
+    TypeError, ValueError
+        A bad argument, named (``ArgumentTypeError`` is both).
+    SearchLimitError
+        The motion needs more work than the event-driven solver's bound (see
+        :meth:`impactdamper.EventDrivenSolver.advance`).
     """
+    p = require_parameters(p)
+    t0 = finite_argument("t0", t0)
+    tolerances = check_tolerances(tolerances)
+    state = check_state(state, p)
+    settle_tol = real_argument("settle_tol", settle_tol)
     if not (math.isfinite(settle_tol) and 0 < settle_tol < 1):
         raise ValueError(f"`settle_tol` = {settle_tol!r} is not allowed: must be in (0, 1)")
-    if not (isinstance(max_periods, int) and max_periods >= 2):
-        raise ValueError(f"`max_periods` = {max_periods!r} is not allowed: must be an integer >= 2")
-    if not (isinstance(max_period_multiple, int) and 1 <= max_period_multiple < max_periods):
-        raise ValueError(f"`max_period_multiple` = {max_period_multiple!r} is not allowed: must be an integer in [1, max_periods)")
+    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
+    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, max_periods - 1)
+    start = start_in_first_period(p, t0)
+    if not p.native_scales():
+        q = p.canonical()
+        to_q = ScaleMap(p, q)
+        s = _steady_state(q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances,
+                          settle_tol, max_periods, max_period_multiple)
+        return rescale_steady(s, ScaleMap(q, p))
+    return _steady_state(p, start, state, tolerances, settle_tol, max_periods, max_period_multiple)
+
+
+def rescale_steady(s: SteadyState, scales: ScaleMap) -> SteadyState:
+    """The same settled motion in ``scales.target``'s units (relative fields unchanged)."""
+    return dataclasses.replace(
+        s, p=scales.target,
+        impacts=tuple(dataclasses.replace(i, t=scales.apply(i.t, "time"), velocity=scales.apply(i.velocity, "velocity"),
+                                          impulse=scales.apply(i.impulse, "impulse")) for i in s.impacts),
+        cycle_start=scales.apply(s.cycle_start, "time"), trajectory=rescale_trajectory(s.trajectory, scales),
+        section_times=None if s.section_times is None else scales.apply(s.section_times, "time"),
+        sections=None if s.sections is None else scales.full(s.sections),
+    )
+
+
+def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances, settle_tol: float,
+                  max_periods: int, max_period_multiple: int) -> SteadyState:
+    """steady_state on validated arguments, t0 in [0, T), in native scales."""
     T = p.T
     scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
@@ -235,7 +308,9 @@ def steady_state(
             found_k, residual = _least_period(sections[:n], modes, found_k, settle_tol)
         if found_k:
             break
-    k = found_k if found_k else NONPERIODIC_WINDOW
+    # (A run shorter than the window reports what it has: with max_periods = 2 the window began
+    # before the run, found by the property tests of issue 15.)
+    k = found_k if found_k else min(NONPERIODIC_WINDOW, n)
     # Describe the cycle on a fresh run from a section at least one cycle (and 4 periods)
     # before the reported one, so that its first impact's free flight is known and plots can
     # show what led into it, to one cycle after it (for "cycle + next impact"), with the clock
@@ -393,4 +468,20 @@ def _max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float
     lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
     res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
                                          method="bounded", options={"xatol": 1e-12 * p.T})
-    return max(float(x1[i]), -float(res.fun)) / p.x_st
+    best = max(float(x1[i]), -float(res.fun))
+    if i in (0, n):
+        # The motion repeats: a peak just before the window's start shows as the largest sample
+        # at its start and its end alike, and argmax takes the start, whose bracket does not
+        # hold the peak (x1_max then came out up to 1e-4 low, depending on the start's phase:
+        # found by issue 15's start-time invariance test). Refine the other end's bracket too.
+        j = n if i == 0 else 0
+        lo, hi = ts[max(j - 1, 0)], ts[min(j + 1, n)]
+        k = int(traj._segment_index(np.array([0.5 * (lo + hi)]))[0])
+        seg = traj.segments[k][1]
+        seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
+        lo, hi = max(lo, seg.t0), min(hi, seg_end)
+        if hi > lo:
+            res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
+                                                 method="bounded", options={"xatol": 1e-12 * p.T})
+            best = max(best, -float(res.fun))
+    return best / p.x_st

@@ -15,11 +15,13 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 # Jobs run in the environment that runs Snakemake (tools/setup.sh's .venv/): its bin/ goes first
 # on PATH for shell commands (jupytext, python), and its Jupyter kernels first on JUPYTER_PATH,
 # so that `.venv/bin/snakemake` works without activating the venv.
-_ENV_PREFIX = Path(sys.prefix)
-os.environ["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
-os.environ["JUPYTER_PATH"] = os.pathsep.join(
-    p for p in [str(_ENV_PREFIX / "share" / "jupyter"), os.environ.get("JUPYTER_PATH", "")] if p
-)
+def prepend_to_search_path(name, directory):
+    """Put ``directory`` first on the search path held in environment variable ``name``."""
+    os.environ[name] = os.pathsep.join(p for p in [str(directory), os.environ.get(name, "")] if p)
+
+
+for _name, _directory in (("PATH", Path(sys.executable).parent), ("JUPYTER_PATH", Path(sys.prefix) / "share" / "jupyter")):
+    prepend_to_search_path(_name, _directory)
 
 # The library's source: every rule that imports it lists these as inputs, so a change to the
 # solver reruns what it affects (Snakemake does not follow Python imports by itself).
@@ -55,16 +57,151 @@ def map_chunk_timings(wildcards):
     return map_chunk_files(wildcards, ext="json")
 
 
+def claims_map_chunk_files(wildcards):
+    """Chunk outputs of the claims map (config claims_search.map.chunks jobs)."""
+    return expand("results/claims/map_{chunk}.csv", chunk=range(config["claims_search"]["map"]["chunks"]))
+
+
 def random_chunk_files(wildcards):
     """Chunk outputs of the random initial states (config sweep.random_chunks jobs)."""
     return expand("results/sweeps/random_{chunk}.csv", chunk=range(config["sweep"]["random_chunks"]))
 
 
-def yaml_scalars(node):
-    """Snakemake hands the values of a nested --config dict over as strings; read them as YAML
-    scalars, so that --config reference='{theta: 1.1, ...}' is typed like the config file."""
+def yaml_scalars(node, schema=None, root=None):
+    """The config with its values read as the types the schema expects.
+
+    Snakemake hands the values of a nested --config dict over as strings, and PyYAML (YAML 1.1)
+    reads a float without a dot, 1e-12 or 1e12, as a string. Where the schema expects a number
+    or an integer, a string is read as a YAML scalar or, failing that, as a number in any float
+    form (so --config reference='{theta: 1.1, ...}' and 1e-12 are typed like 1.0e-12 in the
+    file; an integral float where an integer is expected becomes an int). Where it expects a
+    string, a string stays one: a quoted 'yes' is not True. Anything else is left as it is, for
+    check_config and the schema to judge.
+    """
+    import re
+
+    if root is None:
+        root = schema = _config_schema()
+    schema = _schema_node(schema, root)
     if isinstance(node, dict):
-        return {key: yaml_scalars(value) for key, value in node.items()}
+        properties = schema.get("properties", {})
+        return {key: yaml_scalars(value, properties.get(key, {}), root) for key, value in node.items()}
     if isinstance(node, list):
-        return [yaml_scalars(value) for value in node]
-    return yaml.safe_load(node) if isinstance(node, str) else node
+        return [yaml_scalars(value, schema.get("items", {}), root) for value in node]
+    types = schema.get("type", [])
+    types = [types] if isinstance(types, str) else types
+    if not isinstance(node, str) or "string" in types:
+        return node
+    if "boolean" in types:
+        value = yaml.safe_load(node)
+        return value if isinstance(value, bool) else node
+    if "number" in types or "integer" in types:
+        text = node.strip()
+        value = yaml.safe_load(text) if text else text
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            if not re.fullmatch(r"[-+]?(\d[\d_]*\.?\d*|\.\d+)([eE][-+]?\d+)?", text):
+                return node  # not a number: the schema names the key
+            value = float(text.replace("_", ""))
+        if "integer" in types and isinstance(value, float) and value.is_integer():
+            value = int(value)
+        return value
+    return node
+
+
+def _config_schema():
+    """The config's JSON schema (workflow/schemas/config.schema.yaml) as a dict."""
+    return yaml.safe_load(Path(workflow.basedir, "workflow", "schemas", "config.schema.yaml").read_text())
+
+
+def _schema_node(schema, root):
+    """A schema node with its $ref (#/definitions/...) followed."""
+    while isinstance(schema, dict) and "$ref" in schema:
+        target = root
+        for part in schema["$ref"].lstrip("#/").split("/"):
+            target = target[part]
+        schema = {**target, **{k: v for k, v in schema.items() if k != "$ref"}}
+    return schema if isinstance(schema, dict) else {}
+
+
+# Pairs of config keys (low, high, strict) that must be ordered wherever both occur: the ends of
+# a range (a reversed sweep or scan window used to fail only at run time), the continuation's
+# steps, and a branch's seed within its bounds.
+CONFIG_ORDER = [
+    ("start", "stop", True), ("gap_start", "gap_stop", True), ("x_start", "x_stop", True),
+    ("y_start", "y_stop", True), ("gap_min", "gap_max", True), ("gap_min", "gap", False),
+    ("gap", "gap_max", False), ("min_step", "step", False), ("step", "max_step", False),
+    ("max_periods_after_nonperiodic", "max_periods", False),
+]
+
+
+def check_config(config):
+    """Check the config and return it, or stop with one short line naming the key.
+
+    Unknown keys at every level (a typo is named with the nearest known key), NaN and inf (which
+    the schema's bounds let through: every comparison with NaN is false), the schema's own
+    checks (its first error, not a dump of the schema), then reversed ranges (CONFIG_ORDER).
+    Snakemake's validate runs after it, to fill in defaults.
+    """
+    import jsonschema
+    from snakemake.exceptions import WorkflowError
+
+    root = _config_schema()
+    problem = _config_unknown_or_not_finite(config, root, root, ())
+    if problem is None:
+        error = jsonschema.exceptions.best_match(jsonschema.validators.validator_for(root)(root).iter_errors(config))
+        if error is not None:
+            message = " ".join(error.message.split())
+            problem = (tuple(error.absolute_path), ": " + (message if len(message) <= 200 else message[:200] + "..."))
+    if problem is None:
+        problem = _config_disordered(config, ())
+    if problem is not None:
+        path, message = problem
+        # (Raised here, not deeper: Snakemake lists every workflow frame under the message.)
+        raise WorkflowError("Error validating config file: " + "".join(f"[{p!r}]" for p in path) + message)
+    return config
+
+
+def _config_unknown_or_not_finite(node, schema, root, path):
+    """(path, message) of the first unknown key or NaN/inf in the config, or None."""
+    import difflib
+    import math
+
+    schema = _schema_node(schema, root)
+    if isinstance(node, dict):
+        properties = schema.get("properties", {})
+        for key, value in node.items():
+            if key not in properties and schema.get("additionalProperties") is False:
+                near = difflib.get_close_matches(str(key), list(properties), n=1, cutoff=0.6)
+                hint = f"did you mean {near[0]!r}?" if near else "allowed are " + ", ".join(properties)
+                return path + (key,), f" is not a config key: {hint}"
+            found = _config_unknown_or_not_finite(value, properties.get(key, {}), root, path + (key,))
+            if found is not None:
+                return found
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            found = _config_unknown_or_not_finite(value, schema.get("items", {}), root, path + (i,))
+            if found is not None:
+                return found
+    elif isinstance(node, float) and not math.isfinite(node):
+        return path, f": {node!r} is not allowed: must be a finite number"
+    return None
+
+
+def _config_disordered(node, path):
+    """(path, message) of the first pair of CONFIG_ORDER keys out of order, or None."""
+    if isinstance(node, dict):
+        for low, high, strict in CONFIG_ORDER:
+            a, b = node.get(low), node.get(high)
+            if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (a, b)):
+                if (a >= b) if strict else (a > b):
+                    return path, f": {low} = {a!r} is not allowed: must be {'<' if strict else '<='} {high} = {b!r}"
+        items = node.items()
+    elif isinstance(node, list):
+        items = enumerate(node)
+    else:
+        return None
+    for key, value in items:
+        found = _config_disordered(value, path + (key,))
+        if found is not None:
+            return found
+    return None

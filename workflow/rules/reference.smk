@@ -205,6 +205,8 @@ rule verdict:
         cc_located="figures/crosscheck_located.json",
         scan="figures/located_case.json",
         readings="figures/other_readings.json",
+        claims="figures/claims_by_parameter_settings.json",
+        claims_map="figures/claims_map.csv",
     output:
         json="figures/verdict.json",
         csv="figures/verdict.csv",

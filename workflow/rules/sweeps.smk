@@ -267,6 +267,11 @@ rule sweep_report:
         sweep="figures/sweep_gap.csv",
         transitions="figures/sweep_transitions.csv",
         checks="figures/sweep_checks.json",
+        settings="figures/sweep_gap_settings.json",
+        special="figures/orbit_special_points.csv",
+        maps=expand("figures/map_{map}.csv", map=SWEEP_MAPS),
+        map_curves=expand("figures/map_{map}_curves.csv", map=SWEEP_MAPS),
+        map_settings=expand("figures/map_{map}_settings.json", map=SWEEP_MAPS),
         sweep_timing="results/benchmarks/sweep_timing.json",
         map_timings=expand("results/benchmarks/map_{map}_timing.json", map=SWEEP_MAPS),
     output:

@@ -7,7 +7,8 @@ Fig. 2a) and "T_c = 2T and during this period T_c there are three collisions" (A
 No. 2, Fig. 2b), both at Delta0/x_st = -5.8.
 
 Top: the smallest interior gap of Algorithm No. 1's orbit (negative where claim (a) holds;
-no marker where the orbit does not exist). Bottom: the settled motion of Algorithm No. 2
+no marker where the orbit does not exist or its gap has no interior minimum, i.e. it only
+rises from the impact and falls to the next one). Bottom: the settled motion of Algorithm No. 2
 from the paper's step 1, as T_c/T and impacts per cycle (0 where the motion did not settle
 within ``max_periods``; more than ``Y_MAX`` impacts drawn at the top). Shaded: the bisected ranges of each claim; the dashed lines bound
 the directly solved T_c = 2T orbit's stability range; the stated and located cases are
@@ -48,7 +49,7 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     for r in scan["claim_b_ranges"]:
         ax2.axvspan(r["lo"], r["hi"], color=RANGE_COLOR, lw=0)
     ax1.axhline(0.0, color="0.2", lw=0.6)
-    ax1.plot(g, min_gap, ".", ms=3, label="Algorithm No. 1: smallest interior gap")
+    ax1.plot(g, min_gap, ".", ms=3, label="Algorithm No. 1: smallest\ninterior gap (none: no marker)")
     ax1.set_ylabel("min $\\Delta/x_{st}$")
     ax2.plot(g, k, "o", ms=3, mfc="none", label="$T_c/T$ (0: not settled)")
     ax2.plot(g[n <= Y_MAX], n[n <= Y_MAX], ".", ms=3, label="impacts per cycle")

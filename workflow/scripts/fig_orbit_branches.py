@@ -13,10 +13,13 @@ where stable and admissible, dashed where admissible but unstable, dotted where 
 (the gap goes negative between impacts: not a motion). Special points: PD period doubling,
 NS Neimark-Sacker, fold, G grazing (open: the gap touches the stop between impacts, a new
 impact appears; filled: an impact's closing velocity reaches zero and it vanishes); grey
-where the orbit is not a motion. Left: the whole range; right: the
-window where the multi-impact cycles live. Bottom: the largest Floquet multiplier modulus
-(saltation matrices), the unit line dashed. The stated case (-5.8) and the located case
-(figures/located_case.json) are marked.
+where the orbit is not a motion. Left column ("full range"): every branch over its whole
+range, with the window of the right column shaded grey; right column ("zoom near the located
+case"): that window, where the multi-impact cycles live. Bottom: the spectral radius max |rho|
+of the cycle, rho being its Floquet multipliers (eigenvalues of the monodromy matrix over kT,
+saltation matrices included); below the dashed unit line the cycle is stable. The stated case
+and the located case (figures/located_case.json) are starred and named along their dotted
+verticals (each once: the stated case on the left, the located case on the right).
 
 Deviations: none (the paper has no such figure). Data: figures/orbit_branches.csv and
 figures/orbit_special_points.csv (workflow/scripts/orbit_branches.py).
@@ -25,6 +28,7 @@ figures/orbit_special_points.csv (workflow/scripts/orbit_branches.py).
 import math
 
 import numpy as np
+from matplotlib.patches import Patch
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
 import orbitstage as st
@@ -35,6 +39,7 @@ MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_v
 SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "grazing_velocity": "G",
          "grazing_interior": "G"}
 INADMISSIBLE_MARK = "0.55"  # grey of special points off the motions
+ZOOM_SHADE = "0.9"  # the right column's window, shaded in the left column
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
 ZOOM_MARGIN = 0.25
 # Spectral radius axis (log): the radius grows without bound at a vanishing impact.
@@ -98,9 +103,8 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     gaps_multi = [st.num(r["gap"]) for n in multi for r in by[n]] + [st.num(s["gap"]) for n in multi for s in sp[n]]
     zoom = (min(gaps_multi) - ZOOM_MARGIN, max(gaps_multi) + ZOOM_MARGIN)
 
-    fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 4.9), sharex="col",
-                             gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0],
-                                          "hspace": 0.08, "wspace": 0.22})
+    fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 5.3), sharex="col", layout="constrained",
+                             gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0]})
     labelled = (set(), set())
     for col, (ax_x, ax_r) in enumerate(zip(axes[0], axes[1])):
         for n in names:
@@ -128,7 +132,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                     ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
                     va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
                     ax_x.annotate(SHORT[s["kind"]], (g, st.num(s["x1_max"])), xytext=(dx, dy),
-                                  textcoords="offset points", ha=ha, va=va, fontsize=7,
+                                  textcoords="offset points", ha=ha, va=va, fontsize=7.5,
                                   color="0.1" if on else INADMISSIBLE_MARK)
         ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
         ax_r.set_yscale("log")
@@ -149,9 +153,10 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             ax_x.plot([g], [c["x1_max"]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none", zorder=6)
             ax_r.plot([g], [c["multipliers"][0]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none",
                       zorder=6)
-            if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once
-                ax_x.annotate(f"{case} {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
-                              xytext=(0, 2), textcoords="offset points", ha="center", va="bottom", fontsize=7)
+            if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once, along its vertical
+                ax_x.annotate(f"{case} case {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
+                              xytext=(2, -3), textcoords="offset points", ha="left", va="top", rotation=90,
+                              fontsize=7.5, color="0.2")
     axes[0, 1].set_xlim(*zoom)
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [st.num(r["x1_max"]) for r in rows if zoom[0] <= st.num(r["gap"]) <= zoom[1]]
@@ -160,26 +165,30 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     lo = min(st.num(r["gap"]) for r in rows)
     hi = max(st.num(r["gap"]) for r in rows)
     axes[0, 0].set_xlim(lo - 0.8, hi + 0.8)
-    axes[0, 0].axvspan(*zoom, color="0.92", lw=0, zorder=0)
-    axes[1, 0].axvspan(*zoom, color="0.92", lw=0, zorder=0)
+    axes[0, 0].axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
+    axes[1, 0].axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
     axes[0, 0].set_ylabel("max $|x_1|/x_{st}$")
-    axes[1, 0].set_ylabel("max $|\\rho|$ (Floquet)")
-    # Legend: branches, then line styles and markers.
-    handles = [plt.Line2D([], [], color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
-    handles += [plt.Line2D([], [], color="0.2", ls=STYLE[s], lw=1.0, label=lab) for s, lab in
-                (("stable", "stable"), ("unstable", "unstable"), ("inadmissible", "inadmissible"))]
-    handles += [plt.Line2D([], [], color="0.2", marker=MARKER[k], mfc="0.2" if k != "grazing_interior" else "white",
-                           ls="none", ms=4, label=lab) for k, lab in
-                (("period_doubling", "PD"), ("neimark_sacker", "NS"), ("fold", "fold"),
-                 ("grazing_interior", "G: new impact"), ("grazing_velocity", "G: impact vanishes"))]
-    handles.append(plt.Line2D([], [], marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case"))
-    # Two rows (branches and line styles; markers), filled column by column.
-    half = (len(handles) + 1) // 2
-    rows2 = handles[:half], handles[half:] + [plt.Line2D([], [], ls="none", label="")] * (2 * half - len(handles))
-    handles = [h for pair in zip(*rows2) for h in pair]
-    fig.legend(handles=handles, loc="lower center", ncol=half, bbox_to_anchor=(0.5, -0.01),
-               handlelength=1.8, columnspacing=0.9, handletextpad=0.4, fontsize=7)
-    fig.subplots_adjust(bottom=0.17)
+    axes[1, 0].set_ylabel("spectral radius $\\max|\\rho|$")
+    axes[0, 0].set_title("full range", loc="left", fontsize=8.5)
+    axes[0, 1].set_title("zoom near the located case (grey window on the left)", loc="left", fontsize=8.5)
+    # Legend in rows (branches and line styles; special points and the case; the shading and
+    # the unit line), written row by row although matplotlib fills a legend column by column.
+    line = lambda **kw: plt.Line2D([], [], **kw)  # noqa: E731
+    rows = [[line(color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
+            + [line(color="0.2", ls=STYLE[s], lw=1.0, label=s) for s in ("stable", "unstable", "inadmissible")],
+            [line(color="0.2", marker=MARKER[k], mfc="0.2" if k != "grazing_interior" else "white", ls="none", ms=4,
+                  label=lab) for k, lab in (("period_doubling", "PD"), ("neimark_sacker", "NS"), ("fold", "fold"),
+                                            ("grazing_interior", "G: new impact"),
+                                            ("grazing_velocity", "G: impact vanishes"))]
+            + [line(marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case")],
+            [Patch(facecolor=ZOOM_SHADE, edgecolor="0.6", lw=0.5, label="zoom window"),
+             line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$")]]
+    ncol = max(len(r) for r in rows)
+    blank = line(ls="none", label=" ")
+    rows = [r + [blank] * (ncol - len(r)) for r in rows]
+    handles = [rows[i][j] for j in range(ncol) for i in range(len(rows))]
+    fig.legend(handles=handles, loc="outside lower center", ncol=ncol, handlelength=1.8, columnspacing=0.9,
+               handletextpad=0.4, fontsize=7.5)
     save_figure(fig, out_pdf, formats=("pdf",))
     save_figure(fig, out_png, formats=("png",))
     plt.close(fig)

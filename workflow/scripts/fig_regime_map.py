@@ -3,16 +3,20 @@ Peterka-style: the initial gap Delta0/x_st against theta = omega/omega1 (map ``t
 against the damping ratio delta = delta1 = delta2 (map ``damping``).
 
 Each row is a one-way sweep of the gap (cell from cell, see ``maps.direction``); colour: the
-regime class of the settled motion, with Peterka's z/k written on the larger regions. Lines:
-the lift-off threshold of the persistent contact, the first contact of the free forced
-response (U1/x_st) and where Algorithm No. 1's orbit starts crossing the stop (closed form,
-``map_curves``). Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1, delta =
-0.05); diamond: the located case of the replication verdict.
+regime class of the settled motion, with Peterka's z/k written on the larger regions (np: no
+period k <= 8 settled within the map's cap of periods per cell). Lines (closed form,
+``map_curves``): the lift-off threshold of the persistent contact (dashed cyan), the first
+contact of the free forced response U1/x_st (dashed black) and the ends of the range where
+Algorithm No. 1's orbit is admissible, i.e. where it touches the stop (white, outlined).
+Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1, delta = 0.05); diamond:
+the located case of the replication verdict. Legend below the map, so that the figure is the
+report's text width and no text is under 7 pt in print.
 
 Deviation: the paper shows no map; its introduction describes the sequence along the gap.
 """
 
 import numpy as np
+from matplotlib import patheffects
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
@@ -21,12 +25,16 @@ from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
 
 CLASSES = list(st.REGIME_COLORS)
 AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
-              "damping": "damping ratio $\\delta = \\delta_1 = \\delta_2$"}
+              "damping": "damping ratios $\\delta_1 = \\delta_2 = \\delta$"}
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
-# The lift-off line: light blue, visible on the dark persistent-contact region and in the legend.
-LIFTOFF_COLOR = "#5dade2"
+# The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.
+LIFTOFF_COLOR = "#33bbee"
 # Labels are written on connected regions of one label with at least this many cells.
 MIN_LABEL_CELLS = 60
+# Region labels (points): the figure is included at the text width, so this is the print size.
+LABEL_SIZE = 7.5
+# Points of one grazing curve in neighbouring rows are joined if closer than this many cells.
+JOIN_CELLS = 6
 
 
 def read_map(path):
@@ -47,27 +55,54 @@ def _label_regions(ax, slow, gaps, labels):
             if len(ii) >= MIN_LABEL_CELLS:
                 # The region's cell nearest its centroid (a non-convex region's centroid may lie outside).
                 c = int(np.argmin((ii - ii.mean()) ** 2 / len(slow) ** 2 + (jj - jj.mean()) ** 2 / len(gaps) ** 2))
+                regime = st.regime_of_label(lab)
                 ax.text(gaps[jj[c]], slow[ii[c]], "S" if lab == "stuck" else lab,
-                        ha="center", va="center", fontsize=6,
-                        color="white" if st.regime_of_label(lab) in ("stuck", "chatter", "single_impact",
-                                                                     "nonperiodic") else "k")
+                        ha="center", va="center", fontsize=LABEL_SIZE, zorder=6,
+                        color=st.REGIME_TEXT.get(regime, "black"),
+                        bbox=dict(boxstyle="square,pad=0.15", fc=st.REGIME_COLORS[regime], ec="none"))
+
+
+def grazing_curves(curves, step: float) -> list[tuple[list, list]]:
+    """The Algorithm No. 1 grazing gaps of every row joined into curves: a point continues the
+    curve whose last point (previous row) is nearest, if within JOIN_CELLS gap cells."""
+    lines = []
+    for r in curves:
+        y = float(r["slow"])
+        ends = [ln for ln in lines if ln[2]]  # curves that reached the previous row
+        for ln in lines:
+            ln[2] = False
+        for g in st.split_floats(r["alg1_grazing"]):
+            near = [ln for ln in ends if abs(ln[0][-1] - g) <= JOIN_CELLS * step]
+            if near:
+                ln = min(near, key=lambda ln: abs(ln[0][-1] - g))
+                ends.remove(ln)
+            else:
+                ln = [[], [], False]
+                lines.append(ln)
+            ln[0].append(g)
+            ln[1].append(y)
+            ln[2] = True
+    return [(ln[0], ln[1]) for ln in lines]
 
 
 def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
     plt = use_style()
     slow, gaps, labels = read_map(map_csv)
     codes = np.vectorize(lambda s: CLASSES.index(st.regime_of_label(s)))(labels)
-    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 4.0))
+    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 4.7), layout="constrained")
     ax.pcolormesh(gaps, slow, codes, cmap=ListedColormap([st.REGIME_COLORS[c] for c in CLASSES]), vmin=-0.5,
                   vmax=len(CLASSES) - 0.5, shading="nearest", rasterized=True)
     _label_regions(ax, slow, gaps, labels)
     curves = st.read_csv(curves_csv)
     s = np.array([float(r["slow"]) for r in curves])
-    ax.plot([float(r["liftoff"]) for r in curves], s, color=LIFTOFF_COLOR, lw=0.9, ls="--", label="lift-off threshold")
-    ax.plot([float(r["first_contact"]) for r in curves], s, color="k", lw=0.9, ls="--", label="$U_1/x_{st}$")
-    gx = [(g, float(r["slow"])) for r in curves for g in st.split_floats(r["alg1_grazing"])]
-    if gx:
-        ax.scatter(*zip(*gx), s=1.0, color="#f1c40f", lw=0, label="Alg. 1 orbit touches the stop")
+    outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
+    for i, (g, y) in enumerate(grazing_curves(curves, float(gaps[1] - gaps[0]))):
+        ax.plot(g, y, color="white", lw=1.2, path_effects=outline, zorder=3,
+                label="Alg. 1 orbit touches the stop" if i == 0 else None)
+    ax.plot([float(r["liftoff"]) for r in curves], s, color=LIFTOFF_COLOR, lw=1.2, ls="--", zorder=4,
+            label="lift-off threshold")
+    ax.plot([float(r["first_contact"]) for r in curves], s, color="k", lw=1.0, ls="--", zorder=4,
+            label="first contact, $\\Delta_0 = U_1$")
     ref = float(reference[REFERENCE_VALUE[name]])
     ax.plot([float(reference["gap"])], [ref], marker="*", ms=9, color="#f1c40f", mec="k", mew=0.6, ls="none",
             label=f"stated case ($\\Delta_0/x_{{st}}$ = {float(reference['gap']):g})")
@@ -81,9 +116,11 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     ax.grid(False)
     handles, _ = ax.get_legend_handles_labels()
     present = {CLASSES[c] for c in np.unique(codes)}
-    handles += [Patch(facecolor=st.REGIME_COLORS[c], edgecolor="0.5", lw=0.4, label=st.REGIME_NAMES[c])
-                for c in CLASSES if c in present]
-    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, markerscale=2)
+    patches = [Patch(facecolor=st.REGIME_COLORS[c], edgecolor="0.4", lw=0.5, label=st.REGIME_NAMES[c])
+               for c in CLASSES if c in present]
+    # Under the map: the regime colours, then the lines and markers, filled column by column.
+    fig.legend(handles=patches + handles, loc="outside lower center", ncol=3, fontsize=7.5, handlelength=2.4,
+               columnspacing=1.0)
     save_figure(fig, out_pdf, formats=("pdf",))
     save_figure(fig, out_png, formats=("png",))
     plt.close(fig)

@@ -6,10 +6,12 @@ suppressor "move together" at small forcing, work "with one impact per period" a
 forcing, and "several impacts per period" occur in between. Top panel: the upward sweep
 (each point from its lower neighbour's motion); bottom: the downward sweep; grey: random
 initial states; black line: Algorithm No. 1's one-impact orbit (solid where admissible and
-stable, dotted where its gap goes negative). Dashed verticals: the analytic transitions
+stable, dotted where its gap goes negative). Dashed grey verticals: the analytic transitions
 (lift-off of the persistent contact, Algorithm No. 1's orbit touching the stop between
-impacts, first contact of the free forced response U1); the stated case (Delta0/x_st = -5.8)
-and the located case of the replication verdict are marked at the top.
+impacts, first contact of the free forced response U1), each named at the top of the upper
+panel; dash-dotted green verticals: the stated case (Delta0/x_st = -5.8) and the located case
+of the replication verdict, named above the upper panel. Every text is at least 7 pt at the
+report's text width.
 
 Deviations: velocities are the closing relative velocities x2' - x1' before each impact over
 x_st omega; for nonperiodic points they are the impacts of the last 8 periods simulated.
@@ -24,6 +26,8 @@ import sweepstage as st
 from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
+# The analytic transitions drawn as dashed verticals (sweep_checks.json names) and their labels.
+ANALYTIC = (("liftoff", "lift-off"), ("alg1_grazing", "Alg. 1 grazing"), ("first_contact", "$U_1$"))
 
 
 def _scatter(rows):
@@ -42,7 +46,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     alg1 = st.read_csv(alg1_csv)
     checks = {c["name"]: c for c in json.loads(Path(checks_json).read_text())["checks"]}
     located = st.located_gap(located_json)
-    fig, axes = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.6), sharex=True, sharey=True)
+    fig, axes = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, sharey=True, layout="constrained")
     xr, yr = _scatter(rnd)
     g = np.array([float(r["value"]) for r in alg1])
     v = np.array([float(r["velocity"]) if r["velocity"] else np.nan for r in alg1])
@@ -54,27 +58,31 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
                    label=f"{'upward' if direction == 'up' else 'downward'} sweep")
         ax.plot(g, np.where(good, v, np.nan), color="k", lw=0.8, label="Alg. No. 1 orbit")
         ax.plot(g, np.where(~good, v, np.nan), color="k", lw=0.8, ls=":", label="same, gap $<0$ between impacts")
-        for name, text in (("liftoff", "lift-off"), ("alg1_grazing", "Alg. 1 grazing"), ("first_contact", "$U_1$")):
+        for name, text in ANALYTIC:
             if checks.get(name) and checks[name]["analytic"] is not None:
-                ax.axvline(checks[name]["analytic"], color="0.3", lw=0.6, ls="--")
+                ax.axvline(checks[name]["analytic"], color="0.3", lw=0.7, ls="--",
+                           label="analytic transitions" if name == ANALYTIC[0][0] else None)
                 if direction == "up":
                     ax.annotate(text, (checks[name]["analytic"], 1.0), xycoords=("data", "axes fraction"),
-                                xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=7)
+                                xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=7.5,
+                                bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8))
         ax.set_ylabel("closing velocity $v/(x_{st}\\omega)$")
         ax.set_ylim(bottom=0.0)
+    # The cases: named above the upper panel, each on the side away from the other.
     for x, text in ((stated_gap, "stated"), (located, "located")):
-        axes[0].annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 3),
-                         textcoords="offset points", ha="center", va="bottom", fontsize=7,
-                         arrowprops=None)
+        right = x >= min(stated_gap, located) + 0.5 * abs(stated_gap - located)
+        axes[0].annotate(f"{text} {x:g}", (x, 1.0), xycoords=("data", "axes fraction"), xytext=(2 if right else -2, 2),
+                         textcoords="offset points", ha="left" if right else "right", va="bottom", fontsize=7.5)
         for ax in axes:
-            ax.axvline(x, color="C2", lw=0.6, ls="-.")
+            ax.axvline(x, color="C2", lw=0.7, ls="-.", label="stated and located cases" if text == "stated" else None)
     axes[1].set_xlabel("initial gap $\\Delta_0/x_{st}$")
-    handles, labels = axes[0].get_legend_handles_labels()
+    h0, l0 = axes[0].get_legend_handles_labels()
     h1, l1 = axes[1].get_legend_handles_labels()
-    handles = [handles[0], handles[1], h1[1], handles[2], handles[3]]
-    labels = [labels[0], labels[1], l1[1], labels[2], labels[3]]
-    fig.subplots_adjust(top=0.86)
-    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.905), ncol=3, markerscale=4, fontsize=7)
+    order = ["random starts", "upward sweep", "downward sweep", "Alg. No. 1 orbit", "same, gap $<0$ between impacts",
+             "analytic transitions", "stated and located cases"]
+    found = dict(zip(l0 + l1, h0 + h1))
+    fig.legend([found[k] for k in order], order, loc="outside upper center", ncol=4, markerscale=4, fontsize=7.5,
+               handlelength=2.0, columnspacing=0.8)
     save_figure(fig, out_pdf, formats=("pdf",))
     save_figure(fig, out_png, formats=("png",))
     plt.close(fig)

@@ -5,56 +5,98 @@ The paper's introduction names three regimes for a negative gap (moving together
 impacts per period, one impact per period); this figure shows every one the sweep meets. Rows:
 the upward and downward sweeps, then each random initial state; colour: the regime class;
 text: the label z/k (z impacts in k forcing periods; S persistent contact, c/k chatter with
-contact phases, 0/1 no contact, np nonperiodic) on bands wide enough to hold it. Lower panel:
-the two sweeps again, zoomed on the bands between chatter and the one-impact motion.
+contact phases, 0/1 no contact, np not settled within the sweep's cap of periods) on every
+band wide enough to hold it at print size (turned upright on narrow bands); a thin line
+parts neighbouring bands of one colour. Lower panels: the two sweeps again, zoomed (windows
+outlined in the top panel) on the bands between chatter and the one-impact motion, and on
+the end of the one-impact motion near first contact.
+
+Deviations: none (the paper has no such figure).
 """
 
 import numpy as np
-from matplotlib.patches import Patch
+from matplotlib.patches import Patch, Rectangle
 
 import sweepstage as st
 from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
 
-# A band's label is written if the band is at least this share of the axis' range wide and
-# its centre is at least twice that from the previous label's in the same row.
-MIN_LABEL_SHARE = 0.012
 SHORT = {"stuck": "S", "np": "np"}
-# The zoom of the lower panel: the bands between chatter and the one-impact motion.
-ZOOM = (-21.5, -7.5)
+# Band labels (points): the figure is included at the text width, so this is the print size.
+LABEL_SIZE = 7.0
+# Least gap (points) between neighbouring labels of one row, and between a label and its band's edge.
+LABEL_PAD = 1.0
+# The zooms of the lower panels (Delta0/x_st): the periodic windows between chatter and the
+# long nonperiodic band, those around the located case up to the one-impact motion, and the
+# end of the one-impact motion near first contact (U1/x_st = 11.33 in the reference case);
+# their widths on the page.
+ZOOMS = ((-21.0, -12.6), (-10.4, -7.9), (9.9, 11.7))
+ZOOM_WIDTHS = (2.4, 1.35, 1.0)
+# Height of a row's band, as a share of the row pitch.
+BAND_HEIGHT = 0.8
 
 
-def _bands(ax, y, values, labels, step, span):
-    last = -np.inf
+def _bands(ax, y, values, labels, step):
+    """Draw one row's bands; return the (centre, band width, label) of each, in order."""
+    out = []
     for lab, a, b, _ in st.runs(values, labels):
-        ax.barh(y, b - a + step, left=a - step / 2, height=0.8, color=st.REGIME_COLORS[st.regime_of_label(lab)],
-                lw=0)
-        centre = 0.5 * (a + b)
-        if b - a + step >= MIN_LABEL_SHARE * span and centre - last >= 2 * MIN_LABEL_SHARE * span \
-                and ax.get_xlim()[0] <= centre <= ax.get_xlim()[1]:
-            ax.text(centre, y, SHORT.get(lab, lab), ha="center", va="center", fontsize=5.5, clip_on=True,
-                    color="white" if st.regime_of_label(lab) in ("stuck", "chatter", "single_impact", "nonperiodic") else "k")
-            last = centre
+        regime = st.regime_of_label(lab)
+        ax.barh(y, b - a + step, left=a - step / 2, height=BAND_HEIGHT, color=st.REGIME_COLORS[regime], lw=0)
+        if out and st.regime_of_label(out[-1][2]) == regime:  # same colour: a thin parting line
+            ax.plot([a - step / 2] * 2, [y - BAND_HEIGHT / 2, y + BAND_HEIGHT / 2], color="0.25", lw=0.5)
+        out.append((0.5 * (a + b), b - a + step, lab))
+    return out
+
+
+def _label_bands(ax, y, bands, renderer):
+    """Write each band's label where it fits inside the band, at LABEL_SIZE, without touching
+    the previous label of the row (widest bands first, so that the main regimes are named)."""
+    to_px = ax.transData.transform
+    x0, x1 = ax.get_xlim()
+    placed = []  # (left, right) in display pixels
+    pad = LABEL_PAD * ax.figure.dpi / 72.0
+    bottom_edge, top_edge = (to_px((x0, y + s * BAND_HEIGHT / 2))[1] for s in (-1, 1))
+    for centre, width, lab in sorted(bands, key=lambda b: -b[1]):
+        left_edge = to_px((max(centre - width / 2, x0), y))[0]
+        right_edge = to_px((min(centre + width / 2, x1), y))[0]
+        if right_edge - left_edge <= 0:
+            continue
+        mid = to_px((0.5 * (max(centre - width / 2, x0) + min(centre + width / 2, x1)), y))[0]
+        x_mid = ax.transData.inverted().transform((mid, 0))[0]
+        regime = st.regime_of_label(lab)
+        for rotation in (0, 90):  # upright only where the band is too narrow
+            t = ax.text(x_mid, y, SHORT.get(lab, lab), ha="center", va="center", fontsize=LABEL_SIZE,
+                        rotation=rotation, color=st.REGIME_TEXT.get(regime, "black"), clip_on=True)
+            bb = t.get_window_extent(renderer)
+            fits = (bb.x0 - pad >= left_edge and bb.x1 + pad <= right_edge
+                    and bb.y0 >= bottom_edge and bb.y1 <= top_edge)
+            free = all(bb.x1 + pad <= l or bb.x0 - pad >= r for l, r in placed)
+            if fits and free:
+                placed.append((bb.x0, bb.x1))
+                break
+            t.remove()
 
 
 def _panel(ax, rows, rnd, xlim, with_random: bool):
     ax.set_xlim(*xlim)
-    span = xlim[1] - xlim[0]
-    names = []
+    names, drawn = [], []
     for y, direction in enumerate(("up", "down")):
         rs = [r for r in rows if r["direction"] == direction]
         values = np.array([float(r["value"]) for r in rs])
         step = float(np.median(np.diff(values)))
-        _bands(ax, -y, values, [r["label"] for r in rs], step, span)
+        drawn.append((-y, _bands(ax, -y, values, [r["label"] for r in rs], step)))
         names.append("upward" if direction == "up" else "downward")
     if with_random:
         for j in sorted({int(r["start_index"]) for r in rnd}):
             rs = sorted((r for r in rnd if int(r["start_index"]) == j), key=lambda r: float(r["value"]))
             values = np.array([float(r["value"]) for r in rs])
             step = float(np.median(np.diff(values))) if len(values) > 1 else 0.1
-            _bands(ax, -len(names), values, [r["label"] for r in rs], step, span)
+            drawn.append((-len(names), _bands(ax, -len(names), values, [r["label"] for r in rs], step)))
             names.append(f"random {j + 1}")
     ax.set_yticks(-np.arange(len(names)), names)
+    ax.set_ylim(-len(names) + 0.5, 0.5)
+    ax.tick_params(axis="y", length=0)
     ax.grid(False)
+    return drawn
 
 
 def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
@@ -63,16 +105,35 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     rnd = st.read_csv(random_csv)
     values = [float(r["value"]) for r in rows]
     n_random = len({r["start_index"] for r in rnd})
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 2.2 + 0.28 * n_random + 1.0),
-                                      gridspec_kw={"height_ratios": [2 + n_random, 2], "hspace": 0.5})
-    _panel(top, rows, rnd, (min(values), max(values)), True)
-    _panel(bottom, rows, rnd, ZOOM, False)
-    bottom.set_title(f"zoom: $\\Delta_0/x_{{st}}$ in [{ZOOM[0]:g}, {ZOOM[1]:g}]", fontsize=8)
-    bottom.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    fig = plt.figure(figsize=(TEXT_WIDTH, 1.2 + 0.3 * (2 + n_random) + 0.45 * 2 + 0.9), layout="constrained")
+    grid = fig.add_gridspec(2, len(ZOOMS), height_ratios=[2 + n_random, 3], width_ratios=ZOOM_WIDTHS)
+    top = fig.add_subplot(grid[0, :])
+    zooms = [fig.add_subplot(grid[1, i]) for i in range(len(ZOOMS))]
+    drawn = [(top, _panel(top, rows, rnd, (min(values), max(values)), True))]
+    top.set_title("whole sweep", fontsize=8, loc="left")
+    for i, (ax, window) in enumerate(zip(zooms, ZOOMS)):
+        drawn.append((ax, _panel(ax, rows, rnd, window, False)))
+        ax.set_title(f"zoom {'abc'[i]}", fontsize=8, loc="left")
+        ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+        if i:
+            ax.set_yticklabels([])
+        # The window, outlined and named in the top panel.
+        top.add_patch(Rectangle((window[0], -1.5 - n_random + 0.02), window[1] - window[0], 2 + n_random - 0.04,
+                                fill=False, ec="k", lw=0.8, zorder=5))
+        top.annotate(f"zoom {'abc'[i]}", (0.5 * sum(window), 0.5), xytext=(0, 1), textcoords="offset points",
+                     ha="center", va="bottom", fontsize=8)
+    top.set_xlabel("initial gap $\\Delta_0/x_{st}$")
     present = {st.regime_of_label(r["label"]) for r in rows + rnd}
-    bottom.legend(handles=[Patch(facecolor=c, edgecolor="0.5", lw=0.4, label=st.REGIME_NAMES[k])
-                           for k, c in st.REGIME_COLORS.items() if k in present],
-                  loc="upper center", bbox_to_anchor=(0.5, -0.45), ncol=3, fontsize=7)
+    fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=st.REGIME_NAMES[k])
+                        for k, c in st.REGIME_COLORS.items() if k in present],
+               loc="outside lower center", ncol=3, fontsize=8)
+    # Labels are fitted to their bands once the layout is final.
+    fig.canvas.draw()
+    fig.set_layout_engine("none")
+    renderer = fig.canvas.get_renderer()
+    for ax, rows_drawn in drawn:
+        for y, bands in rows_drawn:
+            _label_bands(ax, y, bands, renderer)
     save_figure(fig, out_pdf, formats=("pdf",))
     save_figure(fig, out_png, formats=("png",))
     plt.close(fig)

@@ -62,7 +62,10 @@ def alg2_row(args) -> dict:
     s = rep.run_steady(p, solver)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
     row = {
-        "gap": float(g), "alg1_exists": a.exists, "alg1_min_gap": a.min_gap if a.exists else None,
+        # Empty where the orbit does not exist or its gap has no interior minimum (it only
+        # rises from the impact and falls to the next one): not a gap that touches zero.
+        "gap": float(g), "alg1_exists": a.exists,
+        "alg1_min_gap": a.min_gap if a.exists and math.isfinite(a.t_min_gap) else None,
         "alg1_t1": iv[0], "alg1_t2": iv[1], "claim_a": rep.claim_a(a),
         "alg2_regime": s.regime, "alg2_period_multiple": s.period_multiple,
         "alg2_impacts_per_cycle": s.impacts_per_cycle, "alg2_periods": s.periods, "claim_b": rep.claim_b(s),
@@ -162,10 +165,16 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
       multiplier is within ~1 % of the unit circle, the motion settles too slowly for
       ``max_periods`` and the verdict depends on the tolerances: no check is made there.)
 
-    ``agree``: both methods give the same claim verdict (and, for (b), the same T_c).
+    ``agree``: both methods give the same claim verdict and, measured, the same motion: for
+    (a) the negative-gap interval ends within ``crosscheck_time_tol`` and the periodicity
+    residual within ``crosscheck_residual_tol``; for (b) the same T_c and, where both settle,
+    the cycles aligned by forcing phase within ``crosscheck_time_tol`` (T) and
+    ``crosscheck_velocity_tol``. ``basis`` states the numbers the verdict rests on.
     """
     kmax = int(solver["max_period_multiple"])
     kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
+    time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
+    residual_tol = float(verdict["crosscheck_residual_tol"])
     checks = []
     ra = next((r for r in ranges_a if r["lo"] <= g_loc <= r["hi"]), None)
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
@@ -173,8 +182,10 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
             for role, g in (("inside", ra[side] + sign * ALG1_CHECK_OFFSET), ("outside", ra[side] - sign * ALG1_CHECK_OFFSET)):
                 a = rep.run_alg1(rep.parameters(dict(base, gap=g)), solver)
                 ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
+                cmp = rep.compare_alg1(a, ivp, time_tol, residual_tol)
                 checks.append({"claim": "a", "end": side, "role": role, "gap": g, "exact": rep.claim_a(a),
-                               "independent": ivp["claim_a"], "details": ivp})
+                               "independent": ivp["claim_a"], "details": ivp, "comparison": cmp,
+                               "basis": _alg1_basis(cmp)})
     rb = iv  # the located case's common range
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
         points = []
@@ -186,15 +197,41 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
             p = rep.parameters(dict(base, gap=g))
             s = rep.run_steady(p, solver)
             ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]),
-                               tolerances=rep.solver_options(solver)["tolerances"], **kw)
+                               tolerances=rep.solver_options(solver)["tolerances"], exact=s, time_tol=time_tol,
+                               velocity_tol=velocity_tol, **kw)
             checks.append({"claim": "b", "end": side, "role": role, "gap": g, "exact": rep.claim_b(s),
                            "exact_regime": s.regime, "exact_period_multiple": s.period_multiple,
-                           "exact_periods": s.periods, "independent": ivp["claim_b"],
-                           "independent_period_multiple": ivp["period_multiple"], "details": ivp})
+                           "exact_periods": s.periods, "exact_residual": s.residual, "independent": ivp["claim_b"],
+                           "independent_period_multiple": ivp["period_multiple"], "details": ivp,
+                           "basis": _alg2_basis(s, ivp)})
     for c in checks:
-        c["agree"] = c["exact"] == c["independent"] and \
-            c.get("exact_period_multiple") == c.get("independent_period_multiple")
+        same = c["exact"] == c["independent"]
+        if c["claim"] == "a":
+            c["agree"] = same and c["comparison"]["agree"]
+        elif c["exact_period_multiple"] == 0 and c["independent_period_multiple"] == 0:
+            c["agree"] = same  # neither settles: no cycle to compare (basis: both section mismatches)
+        else:
+            c["agree"] = same and c["details"]["agree"]
     return checks
+
+
+def _alg1_basis(cmp: dict) -> str:
+    if cmp["periodicity_residual"] is None:
+        return "no orbit by either method"
+    return (f"interval ends differ by {cmp['max_interval_end_difference_over_T']:.1e} T "
+            f"(tol {cmp['time_tol']:.0e}); periodicity residual {cmp['periodicity_residual']:.1e} "
+            f"(tol {cmp['residual_tol']:.0e})")
+
+
+def _alg2_basis(s, ivp: dict) -> str:
+    if s.period_multiple == 0 and ivp["period_multiple"] == 0:
+        return (f"neither settles: section mismatch {s.residual:.1e} (exact, after {s.periods} T) and "
+                f"{ivp['section_mismatch']:.1e} (solve_ivp), both above the settling tolerances")
+    c = ivp["cycle_comparison"]
+    if not math.isfinite(c["max_time_difference_over_T"]):
+        return "cycles differ: " + c["reason"]
+    return (f"aligned cycles differ by {c['max_time_difference_over_T']:.1e} T (tol {c['time_tol']:.0e}) and "
+            f"{c['max_velocity_difference_rel']:.1e} in velocity (tol {c['velocity_tol']:.0e})")
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, workers: int = 1) -> dict:

@@ -9,7 +9,8 @@ ends, gap non-negative, impact law, agreement with the high-precision or solve_i
 reference.
 
 Outputs: ``figures/hardcases.csv`` (one row per case: what it stresses, what the solver did,
-CPU time, checks), ``results/benchmarks/hardcases.json`` (with every check's numbers) and the
+CPU time, checks with the measured numbers and tolerances behind each),
+``results/benchmarks/hardcases.json`` (with every check's numbers) and the
 booktabs table ``paper/generated/hardcases_table.tex``. The CPU time column is not
 deterministic.
 """
@@ -31,7 +32,10 @@ import performancestage as ps
 from impactdamper import hardcases as hc
 
 CSV_COLUMNS = ["case", "label", "stresses", "regime", "k", "z", "periods", "events", "touches", "did",
-               "cpu_seconds", "terminated", "gap_nonnegative", "impact_law", "reference", "passed", "reference_kind"]
+               "cpu_seconds", "terminated", "gap_nonnegative", "impact_law", "reference", "passed", "reference_kind",
+               # the measured numbers behind the flags, each with its tolerance
+               "min_gap_relative", "gap_tol", "max_law_residual", "law_tol", "ivp_event_time_diff", "ivp_time_tol",
+               "ivp_state_diff", "ivp_state_tol", "mp_diff", "mp_tol"]
 CHECK_NAMES = {"terminated": "ends", "gap_nonnegative": "gap", "impact_law": "law", "reference": "ref."}
 
 

@@ -51,7 +51,8 @@ R_BISECT_TOL = 1e-4
 RANDOM_X, RANDOM_GAP, RANDOM_V = 10.0, 10.0, 15.0
 COLUMNS = ["id", "reading", "gap", "R", "delta1", "delta2", "mu", "alg1_exists", "alg1_t1", "alg1_t2",
            "alg1_min_gap", "claim_a", "alg2_regime", "alg2_period_multiple", "alg2_impacts_per_cycle",
-           "claim_b", "ivp_claim_a", "ivp_claim_b", "reproduces"]
+           "claim_b", "ivp_claim_a", "ivp_claim_b", "ivp_cycle_time_diff", "ivp_cycle_velocity_diff", "ivp_cycle_agree",
+           "reproduces"]
 
 
 def alg1_eq13_as_printed(p):
@@ -136,14 +137,18 @@ def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, di
     s = rep.run_steady(p, solver, state=state)
     ivp_a = rep.alg1_ivp(a, **ivp_kw) if a.exists else {"claim_a": False}
     ivp_b = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]), exact=s,
-                         state=state, tolerances=rep.solver_options(solver)["tolerances"], **ivp_kw)
+                         state=state, tolerances=rep.solver_options(solver)["tolerances"],
+                         time_tol=float(verdict["crosscheck_time_tol"]),
+                         velocity_tol=float(verdict["crosscheck_velocity_tol"]), **ivp_kw)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
     row = {"id": r["id"], "reading": r["reading"], **{k: getattr(p, k) for k in ("gap", "R", "delta1", "delta2", "mu")},
            "alg1_exists": a.exists, "alg1_t1": iv[0], "alg1_t2": iv[1],
            "alg1_min_gap": a.min_gap if a.exists else None, "claim_a": rep.claim_a(a),
            "alg2_regime": s.regime, "alg2_period_multiple": s.period_multiple,
            "alg2_impacts_per_cycle": s.impacts_per_cycle, "claim_b": rep.claim_b(s),
-           "ivp_claim_a": ivp_a["claim_a"], "ivp_claim_b": ivp_b["claim_b"]}
+           "ivp_claim_a": ivp_a["claim_a"], "ivp_claim_b": ivp_b["claim_b"],
+           "ivp_cycle_time_diff": ivp_b["max_time_difference_over_T"],
+           "ivp_cycle_velocity_diff": ivp_b["max_velocity_difference_rel"], "ivp_cycle_agree": ivp_b["agree"]}
     row["reproduces"] = row["claim_a"] and row["claim_b"]
     details = {"alg1_ivp": ivp_a, "alg2_ivp": ivp_b}
     if r.get("eq13_printed") and a.exists:
@@ -156,7 +161,7 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
     p = rep.parameters(base)
     rng = np.random.default_rng(int(verdict["seed"]))
     kmax = int(solver["max_period_multiple"])
-    motions, agree = Counter(), 0
+    motions, agree, worst_time = Counter(), 0, 0.0
     n = int(verdict["random_states"])
     for _ in range(n):
         x1 = rng.uniform(-RANDOM_X, RANDOM_X) * p.x_st
@@ -167,13 +172,20 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
         s = rep.run_steady(p, solver, t0=t0, state=state)
         ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, verdict["ivp_method"], float(verdict["ivp_rtol"]),
                            float(verdict["ivp_atol"]), float(verdict["ivp_section_tol"]), exact=s, state=state, t0=t0,
-                           tolerances=rep.solver_options(solver)["tolerances"])
-        agree += int(ivp["claim_b"] == rep.claim_b(s) and ivp["period_multiple"] == s.period_multiple)
+                           tolerances=rep.solver_options(solver)["tolerances"],
+                           time_tol=float(verdict["crosscheck_time_tol"]),
+                           velocity_tol=float(verdict["crosscheck_velocity_tol"]))
+        # Agreement is measured: the aligned cycles within tolerance (both settled), or both
+        # unsettled within the cap.
+        both_unsettled = ivp["period_multiple"] == 0 and s.period_multiple == 0
+        agree += int(ivp["claim_b"] == rep.claim_b(s) and (ivp["agree"] or both_unsettled))
+        worst_time = max(worst_time, ivp["max_time_difference_over_T"] if not both_unsettled else 0.0)
         phase = round(s.impacts[0].phase, 6) if s.impacts else None
         motions[(s.regime, s.period_multiple, s.impacts_per_cycle, phase)] += 1
     found = [{"regime": k[0], "period_multiple": k[1], "impacts_per_cycle": k[2], "first_impact_phase": k[3],
               "count": c} for k, c in sorted(motions.items(), key=lambda kv: (-kv[1], str(kv[0])))]
     return {"count": n, "seed": int(verdict["seed"]), "motions": found, "ivp_agree": agree,
+            "ivp_max_time_difference_over_T": worst_time, "ivp_time_tol": float(verdict["crosscheck_time_tol"]),
             "claim_b_found": any(m["regime"] == "multi_impact" and m["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE
                                  and m["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS for m in found),
             "box": {"x1": RANDOM_X, "gap": RANDOM_GAP, "velocity_per_omega1": RANDOM_V}}

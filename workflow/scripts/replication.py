@@ -25,6 +25,9 @@ import scipy.integrate
 import scipy.optimize
 
 from impactdamper import Parameters, Tolerances, algorithm1, steady_state
+# The claims and the aligned comparison live in the library; the stage's scripts reach them as rep.*.
+from impactdamper.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b, compare_cycles  # noqa: F401
+from impactdamper.claims import true_intervals
 from impactdamper.crosscheck import simulate_ivp
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
@@ -32,9 +35,6 @@ CASES = ("stated", "located")
 # Samples per forcing period of the curves behind Fig. 2a/2b (dense enough that a straight
 # line between samples is within ~1e-4 x_st of the exact motion at the plot's scale).
 SAMPLES_PER_PERIOD = 400
-# Claim (b): the paper's Fig. 2b motion.
-CLAIM_B_PERIOD_MULTIPLE = 2
-CLAIM_B_IMPACTS = 3
 # Grid of the independent gap scan of an Algorithm No. 1 orbit (per period): the solve_ivp
 # dense output is sampled there and every sign change refined by brentq.
 IVP_GAP_SAMPLES = 4000
@@ -54,17 +54,6 @@ def solver_options(solver: dict) -> dict:
         "max_periods": int(solver["max_periods"]),
         "max_period_multiple": int(solver["max_period_multiple"]),
     }
-
-
-def claim_a(a) -> bool:
-    """Claim (a) holds for an Algorithm No. 1 result: the orbit exists and its gap goes negative."""
-    return bool(a.exists and a.negative_gap_intervals)
-
-
-def claim_b(s) -> bool:
-    """Claim (b) holds for a settled motion: T_c = 2T with three impacts per cycle."""
-    return bool(s.regime == "multi_impact" and s.period_multiple == CLAIM_B_PERIOD_MULTIPLE
-                and s.impacts_per_cycle == CLAIM_B_IMPACTS)
 
 
 def next_cycle_impact(s):
@@ -173,7 +162,7 @@ def _sections(traj, p: Parameters, t0: float, n: int) -> np.ndarray:
 
 def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rtol: float = 1e-10,
              atol: float = 1e-10, section_tol: float = 1e-6, exact=None, state=None, t0: float = 0.0,
-             tolerances: Tolerances | None = None) -> dict:
+             tolerances: Tolerances | None = None, time_tol: float = 1e-8, velocity_tol: float = 1e-8) -> dict:
     """Run Algorithm No. 2 with the independent ``solve_ivp`` integrator
     (:func:`impactdamper.crosscheck.simulate_ivp`) for ``periods`` forcing periods from the
     paper's step 1 (or ``state`` at ``t0``) and read the settled motion off its own
@@ -181,9 +170,11 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
     periods earlier within ``section_tol`` (relative), and the impacts in the last k periods.
 
     With ``exact`` (a :class:`impactdamper.SteadyState` of the same start), also compares the
-    impacts of the exact solver's reported cycle with the ``solve_ivp`` impacts in the same
-    time window: largest differences of time (units of T) and closing velocity (relative to
-    x_st omega).
+    two settled cycles aligned by forcing phase (:func:`impactdamper.claims.compare_cycles`):
+    the exact solver describes its cycle on a fresh run whose clock differs from this run's by
+    whole periods, so impacts are paired by t/T modulo k, never by absolute time or by counts
+    alone. ``agree`` is both differences within ``time_tol`` (units of T) and
+    ``velocity_tol`` (relative to x_st omega).
     """
     t_end = t0 + (periods + 1) * p.T
     traj = simulate_ivp(p, t_end, t0=t0, state=state, method=method, rtol=rtol, atol=atol, tolerances=tolerances)
@@ -209,16 +200,37 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
         "claim_b": bool(k_found == CLAIM_B_PERIOD_MULTIPLE and len(impacts) == CLAIM_B_IMPACTS and not contact),
         "nfev": traj.nfev,
     }
-    if exact is not None and exact.impacts:
-        T = p.T
-        lo = exact.cycle_start - 1e-6 * T
-        ivp_imps = traj.impacts(lo, lo + exact.cycle_duration)
-        out["same_impact_count"] = len(ivp_imps) == len(exact.impacts)
-        if out["same_impact_count"]:
-            out["max_time_difference_over_T"] = max(abs(a.t - b.t) / T for a, b in zip(ivp_imps, exact.impacts))
-            out["max_velocity_difference_rel"] = max(abs(a.velocity - b.velocity) / (p.x_st * p.omega)
-                                                     for a, b in zip(ivp_imps, exact.impacts))
+    if exact is not None:
+        cmp = compare_cycles(exact.impacts, exact.period_multiple, impacts, k_found, p.T, p.x_st * p.omega,
+                             time_tol, velocity_tol)
+        out["cycle_comparison"] = {key: value for key, value in cmp.to_dict().items() if key != "pairs"}
+        out["cycle_comparison"]["pairs_time_over_T_velocity_rel"] = cmp.pairs
+        out["max_time_difference_over_T"] = cmp.max_time_difference_over_T
+        out["max_velocity_difference_rel"] = cmp.max_velocity_difference_rel
+        out["agree"] = cmp.agree
     return out
+
+
+def compare_alg1(a, ivp: dict, time_tol: float, residual_tol: float) -> dict:
+    """Algorithm No. 1's orbit against its ``solve_ivp`` re-integration (:func:`alg1_ivp`):
+    the periodicity residual must be within ``residual_tol`` and every end of the negative-gap
+    intervals within ``time_tol`` (units of T) of the exact one; a different number of
+    intervals never agrees."""
+    if not a.exists:
+        return {"agree": not ivp.get("claim_a", False), "reason": "no orbit: nothing to integrate",
+                "max_interval_end_difference_over_T": None, "periodicity_residual": None,
+                "time_tol": time_tol, "residual_tol": residual_tol}
+    ex, iv = a.negative_gap_intervals, ivp["negative_gap_intervals"]
+    residual = ivp["periodicity_residual"]
+    if len(ex) != len(iv):
+        diff, reason = math.inf, f"different numbers of negative-gap intervals: {len(ex)} and {len(iv)}"
+    else:
+        diff = max((abs(x - y) for e, i in zip(ex, iv) for x, y in zip(e, i)), default=0.0)
+        reason = "" if diff <= time_tol else f"interval ends differ by {diff:.1e} T > {time_tol:.0e}"
+    if residual > residual_tol:
+        reason = (reason + "; " if reason else "") + f"periodicity residual {residual:.1e} > {residual_tol:.0e}"
+    return {"agree": not reason, "reason": reason, "max_interval_end_difference_over_T": diff,
+            "periodicity_residual": residual, "time_tol": time_tol, "residual_tol": residual_tol}
 
 
 # --- scans: grids, ranges and their ends ------------------------------------------------
@@ -228,41 +240,18 @@ def grid(lo: float, hi: float, step: float) -> np.ndarray:
     return np.round(lo + step * np.arange(n + 1), 10)
 
 
-def bisect(pred, g_in: float, g_out: float, tol: float) -> tuple[float, float]:
-    """Shrink [g_in, g_out] (pred True at g_in, False at g_out) to width <= tol."""
-    while abs(g_out - g_in) > tol:
-        mid = 0.5 * (g_in + g_out)
-        if pred(mid):
-            g_in = mid
-        else:
-            g_out = mid
-    return g_in, g_out
-
-
 def ranges(gaps: np.ndarray, flags: list[bool], pred, tol: float) -> list[dict]:
-    """Maximal runs of True on the grid, each end bisected (or open at the window's edge)."""
+    """Maximal runs of True on the grid, each end bisected to ``tol`` (absolute) or open at
+    the window's edge (:func:`impactdamper.claims.true_intervals`), as dicts."""
     out = []
-    i, n = 0, len(gaps)
-    while i < n:
-        if not flags[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < n and flags[j + 1]:
-            j += 1
-        r = {"grid_lo": float(gaps[i]), "grid_hi": float(gaps[j])}
-        for side, k_in, k_out in (("lo", i, i - 1), ("hi", j, j + 1)):
-            if 0 <= k_out < n:
-                g_in, g_out = bisect(pred, float(gaps[k_in]), float(gaps[k_out]), tol)
-                r[side] = 0.5 * (g_in + g_out)
-                r[side + "_bracket"] = [g_in, g_out]
-                r[side + "_open"] = False
-            else:
-                r[side] = float(gaps[k_in])
-                r[side + "_bracket"] = None
-                r[side + "_open"] = True  # the range reaches the window's edge
+    for iv in true_intervals(gaps, flags, pred, 0.0, 0.0, abs_tol=tol):
+        # The run's first and last grid values: a bisected end lies between grid values.
+        r = {"grid_lo": float(min(g for g in gaps if g >= iv.lo)), "grid_hi": float(max(g for g in gaps if g <= iv.hi))}
+        for side, bracket, is_open in (("lo", iv.lo_bracket, iv.lo_open), ("hi", iv.hi_bracket, iv.hi_open)):
+            r[side] = getattr(iv, side)
+            r[side + "_bracket"] = list(bracket) if bracket is not None else None
+            r[side + "_open"] = is_open  # True: the range reaches the window's edge
         out.append(r)
-        i = j + 1
     return out
 
 

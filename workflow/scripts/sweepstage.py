@@ -36,18 +36,25 @@ FLOAT_FORMAT = "{:.12g}"
 
 
 # One colour per regime class in every sweep and map figure (labels z/k are written on them).
+# Chosen so that classes that border each other stay apart in print, in greyscale and for
+# red-green colour-blind readers (CIELAB distance >= 28 under simulated deuteranopia and
+# protanopia for every bordering pair): np, which only says "not settled within the cap", is a
+# pale cream, far from the orange of the z/k motions.
 REGIME_COLORS = {
-    "stuck": "#4d4d4d",         # persistent contact: dark grey
-    "chatter": "#7d3c98",       # contact phases reached by chatter: purple
-    "multi_impact": "#e67e22",  # several impacts or k > 1: orange
-    "single_impact": "#1f4e79", # one impact per period: blue
-    "no_contact": "#a9dfbf",    # no contact: light green
-    "nonperiodic": "#c0392b",   # not settled within the cap: red
+    "stuck": "#404040",         # persistent contact: dark grey
+    "chatter": "#c994c7",       # contact phases reached by chatter: light purple
+    "multi_impact": "#f0a830",  # several impacts or k > 1: orange
+    "single_impact": "#1f4e79", # one impact per period: dark blue
+    "no_contact": "#a6cee3",    # no contact: light blue
+    "nonperiodic": "#fff2cc",   # not settled within the cap: pale cream
     "failed": "#ffffff",        # the simulation raised (label err): white
 }
+# Text written on a band or region of each class: white on the dark ones, black elsewhere.
+REGIME_TEXT = {"stuck": "white", "single_impact": "white"}
 REGIME_NAMES = {
     "stuck": "persistent contact (S)", "chatter": "chatter, c/k", "multi_impact": "z/k impacts",
-    "single_impact": "1/1 (one impact)", "no_contact": "no contact (0/1)", "nonperiodic": "nonperiodic",
+    "single_impact": "1/1 (one impact)", "no_contact": "no contact (0/1)",
+    "nonperiodic": "np: not settled within the cap",
     "failed": "solver failed (err)",
 }
 

@@ -21,9 +21,30 @@ numeric macros are bare numbers for math mode).
 from pathlib import Path
 
 import replication as rep
+from impactdamper.claims import Interval, distance_to
 
-CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "ivp_confirms", "reproduced",
-               "located_gap", "located_result", "located_ivp_result", "located_ivp_confirms"]
+CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
+               "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",
+               "located_ivp_difference", "located_ivp_confirms"]
+CLAIMS_PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
+# Macro names of the parameters (TeX macro names are letters only).
+MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta2": "DeltaTwo", "R": "R"}
+
+
+def _difference(cc: dict, claim: str) -> str:
+    """The measured difference between the exact solver and solve_ivp behind a claim's
+    "confirms", with its tolerance."""
+    if claim == "a":
+        c = cc["algorithm1_comparison"]
+        if c["periodicity_residual"] is None:
+            return "no orbit by either method"
+        return (f"interval ends {c['max_interval_end_difference_over_T']:.1e} T, residual "
+                f"{c['periodicity_residual']:.1e} (tol {c['time_tol']:.0e}, {c['residual_tol']:.0e})")
+    c = cc["algorithm2"]["cycle_comparison"]
+    if c["reason"] and c["max_time_difference_over_T"] is None:
+        return c["reason"]
+    return (f"aligned cycles: times {c['max_time_difference_over_T']:.1e} T, velocities "
+            f"{c['max_velocity_difference_rel']:.1e} (tol {c['time_tol']:.0e}, {c['velocity_tol']:.0e})")
 
 
 def _period(k: int) -> str:
@@ -69,21 +90,26 @@ PAPER_CLAIMS = {
 }
 
 
-def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, readings_json,
-         out_json, out_csv, out_tex) -> dict:
+def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, readings_json, claims_json,
+         claims_map_csv, out_json, out_csv, out_tex) -> dict:
     ref_s, ref_l = rep.read_json(stated_json), rep.read_json(located_json)
     cc_s, cc_l = rep.read_json(cc_stated_json), rep.read_json(cc_located_json)
     scan, rd = rep.read_json(scan_json), rep.read_json(readings_json)
+    search = rep.read_json(claims_json)
+    cmap = _read_csv(claims_map_csv)
     cs, cl = claims(ref_s, cc_s), claims(ref_l, cc_l)
     rows = []
     for key, text in PAPER_CLAIMS.items():
         rows.append({
             "claim": key, "paper": text,
             "stated_gap": ref_s["parameters"]["gap"], "stated_result": cs[key]["result"],
-            "stated_ivp_result": cs[key]["ivp_result"], "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"],
+            "stated_ivp_result": cs[key]["ivp_result"], "stated_ivp_difference": _difference(cc_s, key[0]),
+            # Confirmed: the same verdict and, measured, the same motion within tolerance.
+            "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"] and cc_s["agree_" + key[0]],
             "reproduced": cs[key]["holds"] and cs[key]["ivp_holds"],
             "located_gap": ref_l["parameters"]["gap"], "located_result": cl[key]["result"],
-            "located_ivp_result": cl[key]["ivp_result"], "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"],
+            "located_ivp_result": cl[key]["ivp_result"], "located_ivp_difference": _difference(cc_l, key[0]),
+            "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"] and cc_l["agree_" + key[0]],
         })
     reproducing = [r["id"] for r in rd["readings"] if r["reproduces"]]
     partial = [r["id"] for r in rd["readings"] if (r["claim_a"] or r["claim_b"]) and not r["reproduces"]]
@@ -99,6 +125,7 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
                    "end_checks_agree": all(c["agree"] for c in scan["end_checks"])},
         "other_readings": {"reproducing": reproducing, "partial": partial, "R_ranges": rd["R_ranges"],
                            "random_states": rd["random_states"]},
+        "beyond_the_gap": beyond_the_gap(search, cmap, scan),
         "eq13_note": ("Eq. (13) as printed gives x21s' = x1s' - x2s', the opposite of eq. (12)'s x21s = x2s - x1s; "
                       "the library uses eq. (12)'s sign. With the printed sign Algorithm No. 1's orbit violates the "
                       "impact law (S/(D v) != 1), see other_readings: eq13_as_printed."),
@@ -106,8 +133,84 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     rep.write_json(out_json, result)
     rep.write_csv(out_csv, CSV_COLUMNS, rows)
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_tex).write_text(macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows))
+    Path(out_tex).write_text(macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) + claims_macros(result["beyond_the_gap"]))
     return result
+
+
+def _read_csv(path) -> list[dict]:
+    import csv
+
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
+    """Where, along each parameter alone (at the stated gap), both claims hold nearest the
+    stated value; which parameter gets there with the smallest relative change; and the
+    two-parameter map's share of cells where both hold."""
+    per = {}
+    for name in CLAIMS_PARAMETERS:
+        d = search["parameters"][name]
+        both = d["intervals"]["both"]
+        near = d["nearest_both"]
+        iv = next((r for r in both if near["nearest"] is not None and r["lo"] <= near["nearest"] <= r["hi"]), None)
+        per[name] = {**near, "interval": [iv["lo"], iv["hi"]] if iv else None,
+                     "interval_width": (iv["hi"] - iv["lo"]) if iv else None,
+                     "a": d["intervals"]["a"], "b": d["intervals"]["b"], "both": both}
+    found = [n for n in CLAIMS_PARAMETERS if per[n]["relative_distance"] is not None]
+    nearest = min(found, key=lambda n: per[n]["relative_distance"]) if found else None
+    cells = len(cmap)
+    both_cells = sum(r["both"] == "true" for r in cmap)
+    # Along the gap (the scan of gap_scan.py), for comparison.
+    stated_gap = float(scan["stated_gap"])
+    gd, gx = distance_to([Interval(r["lo"], r["hi"], r["lo_open"], r["hi_open"], None, None)
+                          for r in scan["both_ranges"]], stated_gap)
+    gap = {"stated": stated_gap, "nearest": gx, "distance": gd if gx is not None else None,
+           "relative_distance": gd / abs(stated_gap) if gx is not None else None}
+    return {"parameters": per, "nearest_parameter": nearest, "gap": gap, "none_found": [n for n in CLAIMS_PARAMETERS if n not in found],
+            "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells}
+
+
+def claims_macros(b: dict) -> str:
+    """Macros of the search beyond the gap (claims_by_parameter)."""
+    yes = lambda flag: "yes" if flag else "no"  # noqa: E731
+    m = ["% The claims searched beyond the gap (figures/claims_by_parameter.csv): each parameter alone at the\n",
+         "% stated gap. *NearestBoth: the nearest value where both claims hold; *Distance: how far from the\n",
+         "% stated value (absolute; *RelDistance relative, in per cent).\n"]
+    add = lambda name, value: m.append(rep.macro(name, value))  # noqa: E731
+    add("ClaimsRelTol", rep.sci(b["rel_tol"], 0))
+    for name in CLAIMS_PARAMETERS:
+        d, tag = b["parameters"][name], "Claims" + MACRO_OF[name]
+        add(tag + "Stated", rep.num(d["stated"], 2))
+        add(tag + "BothCount", str(d["intervals"]))
+        add(tag + "NearestBoth", rep.num(d["nearest"], 4) if d["nearest"] is not None else rep.MISSING)
+        add(tag + "Distance", rep.num(d["distance"], 4) if d["distance"] is not None else rep.MISSING)
+        add(tag + "RelDistance", rep.num(100 * d["relative_distance"], 1) if d["relative_distance"] is not None
+            else rep.MISSING)
+        iv = d["interval"]
+        add(tag + "BothLo", rep.num(iv[0], 4) if iv else rep.MISSING)
+        add(tag + "BothHi", rep.num(iv[1], 4) if iv else rep.MISSING)
+        add(tag + "BothWidth", rep.num(d["interval_width"], 4) if iv else rep.MISSING)
+        open_end = next((r for r in d["both"] if iv and r["lo"] == iv[0] and r["hi"] == iv[1]), {})
+        add(tag + "BothOpen", yes(open_end.get("lo_open", False) or open_end.get("hi_open", False)))
+    near = b["nearest_parameter"]
+    add("ClaimsNearestParameter", {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$",
+                                   "delta2": "$\\delta_2$", "R": "$R$"}[near] if near else rep.MISSING)
+    add("ClaimsNearestParameterName", near or rep.MISSING)
+    gap = b["gap"]
+    add("ClaimsGapNearest", rep.num(gap["nearest"], 3) if gap["nearest"] is not None else rep.MISSING)
+    add("ClaimsGapRelDistance", rep.num(100 * gap["relative_distance"], 1) if gap["nearest"] is not None
+        else rep.MISSING)
+    nd = b["parameters"][near] if near else None
+    add("ClaimsNearestRelDistance", rep.num(100 * nd["relative_distance"], 1) if nd else rep.MISSING)
+    add("ClaimsNearestWidth", rep.num(nd["interval_width"], 4) if nd else rep.MISSING)
+    add("ClaimsNearestLo", rep.num(nd["interval"][0], 4) if nd else rep.MISSING)
+    add("ClaimsNearestHi", rep.num(nd["interval"][1], 4) if nd else rep.MISSING)
+    add("ClaimsNearestStated", rep.num(nd["stated"], 2) if nd else rep.MISSING)
+    add("ClaimsNoneFound", str(len(b["none_found"])))
+    add("ClaimsMapCells", str(b["map_cells"]))
+    add("ClaimsMapBothCells", str(b["map_both_cells"]))
+    return "".join(m)
 
 
 def _short(text: str) -> str:
@@ -129,7 +232,7 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
          "% Generated by workflow/scripts/verdict.py (Snakemake rule verdict); do not edit.\n",
          "% Numbers are bare (for math mode); \\mbox{--} where a value does not exist. Times are in units\n",
          "% of T since the impact (Algorithm No. 1) or since the cycle's first impact (Algorithm No. 2);\n",
-         f"% velocities in m/s, impulses in N s (x_st = {p['x_st']:g} m, m1 = {p['m1']:g} kg). *MinGap: the smallest\n",
+         "% closing velocities relative to x_st omega, impulses relative to m1 x_st omega. *MinGap: the smallest\n",
          "% interior local minimum of Delta/x_st (0 when the gap has none). Ranges are in Delta0/x_st\n",
          "% (or R).\n"]
     add = lambda name, value: m.append(rep.macro(name, value))  # noqa: E731
@@ -148,8 +251,10 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
         a1, a2 = ref["algorithm1"], ref["algorithm2"]
         add(tag + "AlgOneExists", yes(a1["exists"]))
         add(tag + "AlgOneImpactPhase", rep.num(a1["impact_phase"], 5) if a1["exists"] else rep.MISSING)
-        add(tag + "AlgOneImpulse", rep.num(a1["S"], 3) if a1["exists"] else rep.MISSING)
-        add(tag + "AlgOneVelocity", rep.num(a1["velocity"], 2) if a1["exists"] else rep.MISSING)
+        q = ref["parameters"]
+        vscale, sscale = q["x_st"] * q["omega"], q["m1"] * q["x_st"] * q["omega"]
+        add(tag + "AlgOneImpulse", rep.num(a1["S"] / sscale, 4) if a1["exists"] else rep.MISSING)
+        add(tag + "AlgOneVelocity", rep.num(a1["velocity"] / vscale, 3) if a1["exists"] else rep.MISSING)
         add(tag + "AlgOneMinGap", rep.num(a1["min_gap"], 3) if a1["exists"] else rep.MISSING)
         neg = a1["negative_gap_intervals"]
         add(tag + "AlgOneNegativeIntervals", str(len(neg)))
@@ -170,13 +275,23 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
             word = ("One", "Two", "Three", "Four", "Five", "Six")[k]
             add(f"{tag}Impact{word}OverT", rep.num(row["t_over_T"], 4))
             add(f"{tag}Impact{word}Phase", rep.num(row["phase"], 4))
-            add(f"{tag}Impact{word}Velocity", rep.num(row["velocity"], 2))
-            add(f"{tag}Impact{word}Impulse", rep.num(row["impulse"], 3))
+            add(f"{tag}Impact{word}Velocity", rep.num(row["velocity"] / vscale, 3))
+            add(f"{tag}Impact{word}Impulse", rep.num(row["impulse"] / sscale, 4))
         i2 = cc["algorithm2"]
         add(tag + "IvpPeriodMultiple", str(i2["period_multiple"]))
         add(tag + "IvpImpacts", str(i2["impacts_per_cycle"]))
         add(tag + "IvpTimeDiff", rep.sci(i2.get("max_time_difference_over_T")))
         add(tag + "IvpVelocityDiff", rep.sci(i2.get("max_velocity_difference_rel")))
+        add(tag + "IvpCycleAgree", yes(i2["agree"]))
+        c1 = cc["algorithm1_comparison"]
+        end_diff = c1["max_interval_end_difference_over_T"]
+        add(tag + "IvpAlgOneEndDiff", rep.sci(end_diff) if end_diff and a1["negative_gap_intervals"]
+            else rep.MISSING)
+        add(tag + "IvpAlgOneAgree", yes(c1["agree"]))
+    cmp = cc_s["algorithm2"]["cycle_comparison"]
+    add("CrosscheckTimeTol", rep.sci(cmp["time_tol"], 0))
+    add("CrosscheckVelocityTol", rep.sci(cmp["velocity_tol"], 0))
+    add("CrosscheckResidualTol", rep.sci(cc_s["algorithm1_comparison"]["residual_tol"], 0))
     add("LocatedGap", rep.num(ref_l["parameters"]["gap"], 2))
     w = scan["window"]
     add("ScanGapMin", rep.num(w["gap_min"], 1))
@@ -194,6 +309,18 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
         add(name + "RangeHi", rep.num(r["hi"], digits) if r else rep.MISSING)
     add("EndChecksAgree", yes(all(c["agree"] for c in scan["end_checks"])))
     add("EndChecksCount", str(len(scan["end_checks"])))
+    add("EndChecksAgreeCount", str(sum(bool(c["agree"]) for c in scan["end_checks"])))
+    off = [c for c in scan["end_checks"] if not c["agree"]]
+    worst = max(off, key=lambda c: c["details"].get("max_velocity_difference_rel") or 0.0) if off else None
+    if worst is not None and "cycle_comparison" in worst["details"]:
+        cmp = worst["details"]["cycle_comparison"]
+        add("EndChecksOffGap", rep.num(worst["gap"], 3))
+        add("EndChecksOffRole", worst["role"])
+        add("EndChecksOffPeriodMultiple", str(cmp["period_multiple"][0]))
+        add("EndChecksOffImpacts", str(cmp["impacts"][0]))
+        add("EndChecksOffTimeDiff", rep.sci(cmp["max_time_difference_over_T"]))
+        add("EndChecksOffVelocityDiff", rep.sci(cmp["max_velocity_difference_rel"]))
+        add("EndChecksOffSameClaim", yes(worst["exact"] == worst["independent"]))
     orbit = scan["orbit_range"]
     if orbit.get("found"):
         add("OrbitRangeLo", rep.num(orbit["lo"], 4))
@@ -246,6 +373,7 @@ if __name__ == "__main__":
 
     sys.stderr = open(sm.log[0], "w")
     i, o = sm.input, sm.output
-    out = main(i.stated, i.located, i.cc_stated, i.cc_located, i.scan, i.readings, o.json, o.csv, o.tex)
+    out = main(i.stated, i.located, i.cc_stated, i.cc_located, i.scan, i.readings, i.claims, i.claims_map, o.json, o.csv,
+               o.tex)
     for row in out["claims"]:
         print(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})", file=sys.stderr)

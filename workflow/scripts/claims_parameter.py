@@ -1,0 +1,46 @@
+"""Searches beyond the gap for the behaviour of the paper's Fig. 2 (Timofeev et al. 2019,
+DOI 10.18698/0236-3941-2019-1-90-100): at the stated Delta0/x_st, one parameter (theta, mu,
+N, delta1, delta2 or R) is varied alone over a wide range, the others as stated, and the
+intervals where claim (a) (Algorithm No. 1: the gap goes negative between impacts), claim (b)
+(Algorithm No. 2 from the paper's step 1: T_c = 2T with three impacts) and both hold are
+located, each end bisected to ``claims_search.rel_tol`` relative
+(:func:`impactdamper.claims.search_parameter`).
+
+Why: "not reproduced" at the stated point could come from a transcription slip or another
+normalisation of any parameter, not only of the gap.
+
+Output: ``results/claims/{parameter}.json`` (gathered by claims_gather.py).
+"""
+
+import time
+
+import numpy as np
+
+import replication as rep
+from impactdamper.claims import search_parameter
+
+
+def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, log=print) -> dict:
+    rng = search["parameters"][parameter]
+    lo, hi = float(rng["start"]), float(rng["stop"])
+    values = np.linspace(lo, hi, int(rng["points"]))
+    alg1_values = np.linspace(lo, hi, int(rng["alg1_points"]))
+    p = rep.parameters(reference)
+    t = time.perf_counter()
+    result = search_parameter(p, parameter, values, alg1_values, gap_tol=float(solver["gap_tol"]),
+                              steady_kwargs=rep.solver_options(solver), rel_tol=float(search["rel_tol"]),
+                              floor=float(search["floor"]), log=log)
+    result["intervals"] = {k: [iv.to_dict() for iv in v] for k, v in result["intervals"].items()}
+    result["range"] = {"start": lo, "stop": hi, "points": int(rng["points"]), "alg1_points": int(rng["alg1_points"])}
+    log(f"{parameter}: done in {time.perf_counter() - t:.1f} s")
+    rep.write_json(out_json, result)
+    return result
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    main(sm.wildcards.parameter, rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
+         rep.json.loads(sm.params.search), sm.output.json, log=lambda msg: print(msg, file=sys.stderr, flush=True))

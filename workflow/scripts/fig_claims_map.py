@@ -1,0 +1,61 @@
+"""Extends Fig. 2 of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: where the
+behaviour the paper reports occurs over two parameters at once (config ``claims_search.map``,
+default the restitution R against the gap Delta0/x_st), the others as stated.
+
+The paper: "the gap Delta takes on negative values when t in (t1, t2)" (Algorithm No. 1, the
+paper's Fig. 2a) and "T_c = 2T and during this period T_c there are three collisions"
+(Algorithm No. 2 from its step 1, the paper's Fig. 2b). Colour per cell: neither claim, (a)
+only, (b) only, both. Star: the stated point; diamond: the located case (stated R).
+
+Deviation: a map the paper does not have; each cell is Algorithm No. 2 from the paper's step
+1 (no continuation from a neighbour), as in the verdict.
+"""
+
+import csv
+
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
+
+import replication as rep
+from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+
+CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
+           ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
+LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
+         "R": "restitution $R$", "gap": "$\\Delta_0/x_{st}$"}
+
+
+def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
+    plt = use_style()
+    with open(map_csv) as f:
+        rows = list(csv.DictReader(f))
+    settings = rep.read_json(settings_json)
+    m, ref = settings["map"], settings["reference"]
+    xs = sorted({float(r["x"]) for r in rows})
+    ys = sorted({float(r["y"]) for r in rows})
+    z = np.zeros((len(ys), len(xs)), dtype=int)
+    for r in rows:
+        a, b = r["claim_a"] == "true", r["claim_b"] == "true"
+        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(a) + 2 * int(b)
+    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 3.6))
+    dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
+    ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest", vmin=-0.5, vmax=3.5,
+              cmap=ListedColormap([c for _, c in CLASSES]), extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy))
+    ax.grid(False)
+    ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=11, mec="k", mfc="w", label="stated point")
+    located = rep.read_json(located_json)["located"]["gap"]
+    if m["y"] == "gap":
+        ax.plot([ref[m["x"]]], [located], "D", ms=6, mec="k", mfc="w", label="located case")
+    ax.set_xlabel(LABEL[m["x"]])
+    ax.set_ylabel(LABEL[m["y"]])
+    handles = [Patch(color=c, label=name) for name, c in CLASSES] + ax.get_legend_handles_labels()[0]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    save_figure(fig, out_pdf)
+    save_figure(fig, out_png)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    main(sm.input.csv, sm.input.json, sm.input.located, sm.output.pdf, sm.output.png)
