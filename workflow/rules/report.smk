@@ -19,8 +19,9 @@ rule report:
         ENV
     shell:
         # Fixed dates (SOURCE_DATE_EPOCH) and no trailer id (preamble) make the PDF
-        # byte-identical from run to run.
-        "cd paper && SOURCE_DATE_EPOCH=0 FORCE_SOURCE_DATE=1 "
+        # byte-identical from run to run. A fresh build/ each time: with the fixed dates
+        # latexmk took an edited section for up to date and kept the old PDF.
+        "cd paper && rm -rf build && SOURCE_DATE_EPOCH=0 FORCE_SOURCE_DATE=1 "
         "latexmk -r latexmkrc -outdir=build report.tex > ../{log} 2>&1 "
         "&& cp build/report.pdf report.pdf"
 
