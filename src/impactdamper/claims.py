@@ -24,6 +24,9 @@ import math
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Sequence
 
+from .algorithm1 import algorithm1
+from .steady import steady_state
+
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
            "Interval", "true_intervals", "intersect", "claim_intervals", "distance_to"]
 
@@ -283,9 +286,6 @@ def claims_at(p, *, gap_tol: float, steady_kwargs: dict) -> dict:
     """Both claims at parameters ``p``: Algorithm No. 1 (closed form, ``gap_tol``) and
     Algorithm No. 2 from the paper's step 1 run until settled
     (:func:`impactdamper.steady_state` with ``steady_kwargs``)."""
-    from .algorithm1 import algorithm1
-    from .steady import steady_state
-
     a = algorithm1(p, gap_tol=gap_tol)
     s = steady_state(p, **steady_kwargs)
     return {"claim_a": claim_a(a), "claim_b": claim_b(s), "alg1_exists": bool(a.exists),
@@ -304,9 +304,6 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
     bisected until its bracket is within ``rel_tol`` relative (absolute ``rel_tol * floor``
     near zero); "both" is the intersection. Returns the grids, their flags and the intervals.
     """
-    from .algorithm1 import algorithm1
-    from .steady import steady_state
-
     if name not in p.names():
         raise ValueError(f"`name` = {name!r} is not allowed: must be one of {', '.join(p.names())}")
     say = log or (lambda msg: None)

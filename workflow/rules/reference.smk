@@ -198,6 +198,7 @@ rule verdict:
     input:
         script="workflow/scripts/verdict.py",
         helper=REFERENCE_HELPER,
+        claims_helper="workflow/scripts/claims_gather.py",
         library=LIBRARY,
         stated="figures/reference_stated.json",
         located="figures/reference_located.json",

@@ -20,13 +20,14 @@ numeric macros are bare numbers for math mode).
 
 from pathlib import Path
 
+import claims_gather
 import replication as rep
 from impactdamper.claims import Interval, distance_to
 
 CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
                "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",
                "located_ivp_difference", "located_ivp_confirms"]
-CLAIMS_PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
+CLAIMS_PARAMETERS = claims_gather.PARAMETERS
 # Macro names of the parameters (TeX macro names are letters only).
 MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta2": "DeltaTwo", "R": "R"}
 
@@ -194,8 +195,7 @@ def claims_macros(b: dict) -> str:
         open_end = next((r for r in d["both"] if iv and r["lo"] == iv[0] and r["hi"] == iv[1]), {})
         add(tag + "BothOpen", yes(open_end.get("lo_open", False) or open_end.get("hi_open", False)))
     near = b["nearest_parameter"]
-    add("ClaimsNearestParameter", {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$",
-                                   "delta2": "$\\delta_2$", "R": "$R$"}[near] if near else rep.MISSING)
+    add("ClaimsNearestParameter", claims_gather.SYMBOL[near] if near else rep.MISSING)
     add("ClaimsNearestParameterName", near or rep.MISSING)
     gap = b["gap"]
     add("ClaimsGapNearest", rep.num(gap["nearest"], 3) if gap["nearest"] is not None else rep.MISSING)
