@@ -38,7 +38,7 @@ import numpy as np
 import scipy
 
 import impactdamper as idp
-from impactdamper.crosscheck import simulate_ivp
+from impactdamper.baselines.ivp import simulate_ivp
 
 # Issue 2's targets.
 SPEEDUP_TARGET = 20.0

@@ -38,7 +38,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import impactdamper as idp
-from impactdamper import linear, plotting
+from impactdamper.core import linear
+from impactdamper.reporting import plotting
 
 plt.style.use(plotting.STYLE_FILE)  # the project's one figure style (inline backend kept)
 

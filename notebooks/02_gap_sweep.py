@@ -33,7 +33,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import impactdamper as idp
-from impactdamper import linear, plotting, sweeps
+from impactdamper.core import linear
+from impactdamper.reporting import plotting
+from impactdamper.analysis import sweeps
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -53,7 +55,7 @@ plt.style.use(plotting.STYLE_FILE)
 # | `no_contact` | 0/1 | the bodies never touch: a linear dynamic absorber |
 # | `nonperiodic` | np | no period up to $8T$ found within the sweep's budget of periods |
 #
-# `impactdamper.sweeps` runs the gap three ways: upward and downward, each point starting
+# `impactdamper.analysis.sweeps` runs the gap three ways: upward and downward, each point starting
 # from its neighbour's settled motion (as a slowly changing machine would), and every point
 # from the paper's step 1 (Algorithm No. 2 as the paper runs it). Where they differ, several
 # motions coexist at that gap. The sweep caps each simulation at a small number of periods
@@ -100,7 +102,7 @@ differ = [float(g) for g, *pts in zip(gaps, *runs.values()) if len({pt.label for
 print("gaps where the three runs disagree (coexisting motions):", differ)
 
 # %% [markdown]
-# Some band edges have closed forms (`impactdamper.sweeps`), which the sweep should bracket:
+# Some band edges have closed forms (`impactdamper.analysis.sweeps`), which the sweep should bracket:
 #
 # * the bodies can stay joined only while the stop's force stays positive over the joined
 #   bodies' forced motion: below the lift-off gap;

@@ -42,7 +42,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import impactdamper as idp
-from impactdamper import linear, plotting
+from impactdamper.core import linear
+from impactdamper.reporting import plotting
 
 plt.style.use(plotting.STYLE_FILE)
 

@@ -127,5 +127,5 @@ def check_no_penetration(p: idp.Parameters, traj, t0: float, t1: float, per_peri
 # job depends on them; the command line (cli.py, __main__.py) is not imported by the package
 # and no rule runs it.
 _SRC = Path(__file__).resolve().parents[1] / "src" / "impactdamper"
-LIBRARY = sorted(str(p.relative_to(_SRC.parents[1])) for p in _SRC.glob("*.py")
+LIBRARY = sorted(str(p.relative_to(_SRC.parents[1])) for p in _SRC.rglob("*.py")
                  if p.name not in ("cli.py", "__main__.py"))

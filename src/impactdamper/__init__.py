@@ -15,12 +15,12 @@ solve_orbit(p)      a periodic cycle solved directly: admissibility, Floquet mul
 continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings, grazing
 """
 
-from .algorithm1 import Algorithm1Result, algorithm1
-from .parameters import REFERENCE, Parameters
-from .simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state, simulate
-from .steady import REGIMES, CycleImpact, SteadyState, steady_state
-from .orbits import (Branch, BranchPoint, OrbitError, PeriodicOrbit, SpecialPoint, continue_orbit, orbit_from_cycle,
-                     solve_orbit, steady_state_auto)
+from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1
+from impactdamper.core.parameters import REFERENCE, Parameters
+from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state, simulate
+from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, steady_state
+from impactdamper.analysis.orbits import (Branch, BranchPoint, OrbitError, PeriodicOrbit, SpecialPoint,
+                                          continue_orbit, orbit_from_cycle, solve_orbit, steady_state_auto)
 
 __version__ = "0.1.0"
 

@@ -18,11 +18,11 @@ import os
 import re
 import sys
 
-from .algorithm1 import algorithm1
-from .orbits import SEEDS, OrbitError, solve_orbit
-from .parameters import Parameters, most_extreme
-from .simulate import Tolerances
-from .steady import steady_state
+from impactdamper.core.algorithm1 import algorithm1
+from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
+from impactdamper.core.parameters import Parameters, most_extreme
+from impactdamper.core.simulate import Tolerances
+from impactdamper.core.steady import steady_state
 
 __all__ = ["main", "run", "build_parser"]
 

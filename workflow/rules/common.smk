@@ -28,9 +28,9 @@ for _name, _directory in (("PATH", Path(sys.executable).parent), ("JUPYTER_PATH"
 # The command line (cli.py, __main__.py) is left out: no rule runs it and the package does not
 # import it.
 LIBRARY = sorted(
-    str(p) for p in Path("src/impactdamper").glob("*.py") if p.name not in ("cli.py", "__main__.py")
+    str(p) for p in Path("src/impactdamper").rglob("*.py") if p.name not in ("cli.py", "__main__.py")
 )
-STYLE = ["src/impactdamper/plotting.py", "src/impactdamper/paper.mplstyle"]
+STYLE = ["src/impactdamper/reporting/plotting.py", "src/impactdamper/reporting/paper.mplstyle"]
 ENV = "../../envs/impactdamper.yaml"
 
 # Final products of each stage; rule all asks for all of them.

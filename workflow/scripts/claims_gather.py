@@ -21,7 +21,7 @@ from pathlib import Path
 import math
 
 import replication as rep
-from impactdamper.claims import Interval, distance_to
+from impactdamper.studies.claims import Interval, distance_to
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
 CLAIMS = ("a", "b", "both")

@@ -1,7 +1,7 @@
 """Both claims of the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100)
 over a grid of two parameters (config ``claims_search.map``, default R against Delta0/x_st),
 where one parameter alone does not explain where the behaviour occurs: Algorithm No. 1 and
-Algorithm No. 2 from the paper's step 1 at every cell (:func:`impactdamper.claims.claims_at`).
+Algorithm No. 2 from the paper's step 1 at every cell (:func:`impactdamper.studies.claims.claims_at`).
 One chunk of rows (contiguous y values) per Snakemake job.
 
 Output: ``results/claims/map_{chunk}.csv``.
@@ -10,7 +10,7 @@ Output: ``results/claims/map_{chunk}.csv``.
 import numpy as np
 
 import replication as rep
-from impactdamper.claims import claims_at
+from impactdamper.studies.claims import claims_at
 
 COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
            "periods"]

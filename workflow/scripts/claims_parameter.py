@@ -4,7 +4,7 @@ N, delta1, delta2 or R) is varied alone over a wide range, the others as stated,
 intervals where claim (a) (Algorithm No. 1: the gap goes negative between impacts), claim (b)
 (Algorithm No. 2 from the paper's step 1: T_c = 2T with three impacts) and both hold are
 located, each end bisected to ``claims_search.rel_tol`` relative
-(:func:`impactdamper.claims.search_parameter`).
+(:func:`impactdamper.studies.claims.search_parameter`).
 
 Why: "not reproduced" at the stated point could come from a transcription slip or another
 normalisation of any parameter, not only of the gap.
@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 import replication as rep
-from impactdamper.claims import search_parameter
+from impactdamper.studies.claims import search_parameter
 
 
 def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, log=print) -> dict:

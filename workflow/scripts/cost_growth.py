@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import performancestage as ps
 
-from impactdamper import workprecision as wp
+from impactdamper.studies import workprecision as wp
 
 CSV_COLUMNS = ["gap", "periods", "impacts", "events", "cpu_seconds", "per_impact", "per_period"]
 

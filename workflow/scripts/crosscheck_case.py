@@ -5,7 +5,7 @@
   over one period T with eqs. (2) + (9) written out again (no stop); the impact law applied
   at T must return the start (periodicity residual), and the gap's sign over the period is
   read from the dense output (negative intervals, claim (a)).
-* Algorithm No. 2: :func:`impactdamper.crosscheck.simulate_ivp` runs from the paper's step 1
+* Algorithm No. 2: :func:`impactdamper.baselines.ivp.simulate_ivp` runs from the paper's step 1
   for as many periods as the exact solver needed plus ``max_period_multiple``; the period
   T_c and the impacts per cycle are read off its own stroboscopic sections (claim (b)), and
   its settled cycle is compared with the exact solver's, aligned by forcing phase (the same

@@ -18,7 +18,7 @@ does), each labelled in its title.
 import numpy as np
 
 import replication as rep
-from impactdamper.plotting import save_figure, use_style
+from impactdamper.reporting.plotting import save_figure, use_style
 
 # Light red of the shaded negative-gap stretch.
 NEGATIVE_GAP_COLOR = "#f4cccc"

@@ -19,7 +19,7 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 import numpy as np
 
 import replication as rep
-from impactdamper.plotting import save_figure, use_style
+from impactdamper.reporting.plotting import save_figure, use_style
 
 CYCLE_COLOR = "#e8eef6"
 

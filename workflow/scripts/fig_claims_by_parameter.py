@@ -16,7 +16,7 @@ Deviation: a search the paper does not have.
 import csv
 
 import replication as rep
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
 LABEL = {"theta": "$\\theta = \\omega/\\omega_1$", "mu": "$\\mu = m_2/m_1$", "N": "$N = \\omega_2/\\omega_1$",

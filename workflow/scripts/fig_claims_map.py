@@ -18,7 +18,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 import replication as rep
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
            ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))

@@ -12,7 +12,7 @@ Timings are CPU time on the machine that ran the workflow: not pixel-stable acro
 
 import csv
 
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 MARKERS = ("o", "s", "^", "v", "D")
 

@@ -23,7 +23,7 @@ import csv
 import numpy as np
 
 import replication as rep
-from impactdamper.plotting import save_figure, use_style
+from impactdamper.reporting.plotting import save_figure, use_style
 
 RANGE_COLOR = "#f4cccc"
 # Top of the bottom panel's scale: chatter cycles with dozens of impacts are drawn as ^ there.

@@ -32,7 +32,7 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
 import orbitstage as st
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
 MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_velocity": "o", "grazing_interior": "o"}

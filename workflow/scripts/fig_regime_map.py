@@ -21,7 +21,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 import sweepstage as st
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 CLASSES = list(st.REGIME_COLORS)
 AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",

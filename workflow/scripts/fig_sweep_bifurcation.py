@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 import sweepstage as st
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
 # The analytic transitions drawn as dashed verticals (sweep_checks.json names) and their labels.

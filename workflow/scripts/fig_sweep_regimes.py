@@ -18,7 +18,7 @@ import numpy as np
 from matplotlib.patches import Patch, Rectangle
 
 import sweepstage as st
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 SHORT = {"stuck": "S", "np": "np"}
 # Band labels (points): the figure is included at the text width, so this is the print size.

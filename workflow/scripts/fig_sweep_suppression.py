@@ -15,9 +15,9 @@ Deviations: none (the paper has no such figure).
 import numpy as np
 
 import sweepstage as st
-from impactdamper.linear import forced_amplitudes
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
-from impactdamper.sweeps import object_alone_amplitude, rigid_amplitude
+from impactdamper.core.linear import forced_amplitudes
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.analysis.sweeps import object_alone_amplitude, rigid_amplitude
 
 
 def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:

@@ -16,7 +16,7 @@ across runs.
 import csv
 import math
 
-from impactdamper.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
 # One colour, marker and line per method family, the same in both panels, in legend order.

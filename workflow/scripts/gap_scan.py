@@ -10,7 +10,7 @@ This script
 2. bisects every end of a range where a claim holds to ``bisect_tol`` (Algorithm No. 1's to
    ``ALG1_BISECT_TOL``); a range reaching the window's edge is reported open there;
 3. intersects the ranges;
-4. solves the cycle of each common range directly (Newton shooting, :mod:`impactdamper.orbits`)
+4. solves the cycle of each common range directly (Newton shooting, :mod:`impactdamper.analysis.orbits`)
    and continues it in Delta0/x_st to where it stops being admissible and stable: the
    Floquet multipliers name the bifurcation at each end (the simulation slows down near a
    bifurcation, so its own ends lie slightly inside, and where exactly depends on its
@@ -20,7 +20,7 @@ This script
    bifurcations, where the settled motion converges slowly);
 5. cross-checks the ends with the independent integrators: Algorithm No. 1's orbit is
    re-integrated by ``solve_ivp`` just inside and outside each end of (a); Algorithm No. 2
-   is rerun by :func:`impactdamper.crosscheck.simulate_ivp` at the simulation's bisection
+   is rerun by :func:`impactdamper.baselines.ivp.simulate_ivp` at the simulation's bisection
    brackets of (b) and just beyond the orbit's stability boundary.
 
 Outputs: ``figures/gap_scan.csv`` (the Algorithm No. 2 grid with both claims) and
@@ -100,11 +100,11 @@ def _bifurcation(o) -> str:
 def orbit_range(p, solver: dict, lo: float, hi: float) -> dict:
     """Where the located case's cycle (T_c = 2T, three impacts) exists, is admissible and is
     stable: the cycle is solved directly (Newton shooting with the exact flow,
-    :mod:`impactdamper.orbits`), continued in Delta0/x_st in steps of ``ORBIT_STEP`` until it
+    :mod:`impactdamper.analysis.orbits`), continued in Delta0/x_st in steps of ``ORBIT_STEP`` until it
     fails, and each end bisected to ``ORBIT_BISECT_TOL``; the Floquet multipliers say which
     bifurcation ends it. An independent method for the ends of claim (b)'s range: unlike the
     simulation, it does not slow down near a bifurcation."""
-    from impactdamper.orbits import OrbitError, orbit_from_cycle, solve_orbit
+    from impactdamper.analysis.orbits import OrbitError, orbit_from_cycle, solve_orbit
 
     tol = rep.solver_options(solver)["tolerances"]
     seed = solve_orbit(p, seed=rep.run_steady(p, solver), tolerances=tol)

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import performancestage as ps
 
-from impactdamper import hardcases as hc
+from impactdamper.studies import hardcases as hc
 
 CSV_COLUMNS = ["case", "label", "stresses", "regime", "k", "z", "periods", "events", "touches", "did",
                "cpu_seconds", "terminated", "gap_nonnegative", "impact_law", "reference", "passed", "reference_kind",

@@ -4,7 +4,7 @@ two-parameter regime map (Peterka-style).
 A map has Delta0/x_st on one axis and a second parameter (theta = omega/omega1, or the damping
 ratio delta = delta1 = delta2) on the other. For each value of the second parameter the gap is
 swept one way (``maps.direction``), each point from its neighbour's settled motion
-(:func:`impactdamper.sweeps.regime_map`). The values of the second parameter are split into
+(:func:`impactdamper.analysis.sweeps.regime_map`). The values of the second parameter are split into
 ``maps.chunks`` contiguous blocks, one Snakemake job each, so the map runs in parallel locally
 or as separate cluster jobs (profiles/slurm); the job logs its progress per map row.
 
@@ -14,7 +14,7 @@ and end times so that the gather can compute the whole map's wall time).
 """
 
 import sweepstage as st
-from impactdamper.sweeps import regime_map
+from impactdamper.analysis.sweeps import regime_map
 
 COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods"]
 

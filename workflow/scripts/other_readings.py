@@ -39,10 +39,10 @@ import numpy as np
 import scipy.optimize
 
 import replication as rep
-from impactdamper.algorithm1 import unit_pulse_response
-from impactdamper.events import Segment
-from impactdamper.linear import forced_amplitudes
-from impactdamper.model import Model
+from impactdamper.core.algorithm1 import unit_pulse_response
+from impactdamper.core.events import Segment
+from impactdamper.core.linear import forced_amplitudes
+from impactdamper.core.model import Model
 
 R_BISECT_TOL = 1e-4
 # Random initial states: object position within +-RANDOM_X x_st, gap in [0, RANDOM_GAP] x_st,

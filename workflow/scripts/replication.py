@@ -24,11 +24,12 @@ import numpy as np
 import scipy.integrate
 import scipy.optimize
 
-from impactdamper import Parameters, Tolerances, algorithm1, steady_state
+from impactdamper import Parameters, Tolerances, steady_state
+from impactdamper import algorithm1
 # The claims and the aligned comparison live in the library; the stage's scripts reach them as rep.*.
-from impactdamper.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b, compare_cycles  # noqa: F401
-from impactdamper.claims import true_intervals
-from impactdamper.crosscheck import simulate_ivp
+from impactdamper.studies.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b, compare_cycles  # noqa: F401
+from impactdamper.studies.claims import true_intervals
+from impactdamper.baselines.ivp import simulate_ivp
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
 CASES = ("stated", "located")
@@ -164,13 +165,13 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
              atol: float = 1e-10, section_tol: float = 1e-6, exact=None, state=None, t0: float = 0.0,
              tolerances: Tolerances | None = None, time_tol: float = 1e-8, velocity_tol: float = 1e-8) -> dict:
     """Run Algorithm No. 2 with the independent ``solve_ivp`` integrator
-    (:func:`impactdamper.crosscheck.simulate_ivp`) for ``periods`` forcing periods from the
+    (:func:`impactdamper.baselines.ivp.simulate_ivp`) for ``periods`` forcing periods from the
     paper's step 1 (or ``state`` at ``t0``) and read the settled motion off its own
     stroboscopic sections: the smallest k <= kmax whose last k sections repeat the ones k
     periods earlier within ``section_tol`` (relative), and the impacts in the last k periods.
 
     With ``exact`` (a :class:`impactdamper.SteadyState` of the same start), also compares the
-    two settled cycles aligned by forcing phase (:func:`impactdamper.claims.compare_cycles`):
+    two settled cycles aligned by forcing phase (:func:`impactdamper.studies.claims.compare_cycles`):
     the exact solver describes its cycle on a fresh run whose clock differs from this run's by
     whole periods, so impacts are paired by t/T modulo k, never by absolute time or by counts
     alone. ``agree`` is both differences within ``time_tol`` (units of T) and
@@ -242,7 +243,7 @@ def grid(lo: float, hi: float, step: float) -> np.ndarray:
 
 def ranges(gaps: np.ndarray, flags: list[bool], pred, tol: float) -> list[dict]:
     """Maximal runs of True on the grid, each end bisected to ``tol`` (absolute) or open at
-    the window's edge (:func:`impactdamper.claims.true_intervals`), as dicts."""
+    the window's edge (:func:`impactdamper.studies.claims.true_intervals`), as dicts."""
     out = []
     for iv in true_intervals(gaps, flags, pred, 0.0, 0.0, abs_tol=tol):
         # The run's first and last grid values: a bisected end lies between grid values.

@@ -4,7 +4,7 @@ one-impact orbit along the gap sweep.
 For every sweep value, Algorithm No. 1 (eqs. 7-17: the one-impact-per-period orbit in closed
 form) gives the orbit if eq. (16) has a solution; whether it is admissible (the gap stays
 positive between impacts, the paper's Fig. 2a test) comes with it, and whether it is stable
-from its Floquet multipliers (saltation matrices, :func:`impactdamper.orbits.solve_orbit`).
+from its Floquet multipliers (saltation matrices, :func:`impactdamper.analysis.orbits.solve_orbit`).
 The bifurcation diagram draws this branch under the simulated motions.
 
 Output: ``figures/sweep_alg1.csv`` (value, exists, admissible, stable, largest multiplier
@@ -15,10 +15,10 @@ import numpy as np
 
 import sweepstage as st
 from impactdamper import algorithm1
-from impactdamper.sweeps import with_value
+from impactdamper.analysis.sweeps import with_value
 
 try:
-    from impactdamper import orbits
+    from impactdamper.analysis import orbits
 except ImportError:  # the stability column is then left empty
     orbits = None
 

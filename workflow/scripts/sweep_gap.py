@@ -5,7 +5,7 @@ together" at small forcing, work "with one impact per period" at large forcing, 
 through several impacts per period in between. Here Delta0/x_st is swept upward and downward
 over a range covering every regime of the reference case (persistent contact to no
 contact), each point starting from its neighbour's settled motion
-(:func:`impactdamper.sweeps.two_way_sweep`; the accelerators and what "nonperiodic" means are
+(:func:`impactdamper.analysis.sweeps.two_way_sweep`; the accelerators and what "nonperiodic" means are
 in that module's docstring).
 
 Outputs: ``figures/sweep_gap_settings.json`` (the configuration it ran with, for the record
@@ -21,7 +21,7 @@ import pickle
 from pathlib import Path
 
 import sweepstage as st
-from impactdamper.sweeps import two_way_sweep
+from impactdamper.analysis.sweeps import two_way_sweep
 
 
 def main(reference: dict, solver: dict, sweep: dict, out_csv, out_settings, out_pkl, out_timing,

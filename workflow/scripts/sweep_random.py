@@ -2,7 +2,7 @@
 along the gap sweep (one chunk of them).
 
 Where motions coexist, the neighbour-started sweeps show only the one each direction follows;
-several random initial states per sweep point (:func:`impactdamper.sweeps.random_starts`,
+several random initial states per sweep point (:func:`impactdamper.analysis.sweeps.random_starts`,
 fixed seed; the generator of point i, start j is seeded with (seed, i, j), so chunks do not
 change the result) show the others. Every ``random_every``-th sweep point gets
 ``random_starts`` states.
@@ -11,7 +11,7 @@ Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_ran
 """
 
 import sweepstage as st
-from impactdamper.sweeps import random_starts
+from impactdamper.analysis.sweeps import random_starts
 
 
 def points_of(sweep: dict):

@@ -2,7 +2,7 @@
 changes along the gap sweep, located by bisection and checked against analytic values.
 
 1. Every change of Peterka's label z/k between neighbouring sweep points is bisected
-   (:func:`impactdamper.sweeps.find_transitions`; each midpoint starts from the motion on the
+   (:func:`impactdamper.analysis.sweeps.find_transitions`; each midpoint starts from the motion on the
    first label's side, as a finer sweep would) to ``transition_xtol``.
 2. Three transitions have analytic values. (a) and (b) are located a second time with every
    point simulated (no closed form, no orbit continuation: ``continuation=False``), to
@@ -11,12 +11,12 @@ changes along the gap sweep, located by bisection and checked against analytic v
    (a) lift-off of the persistent contact, upward from ``stuck``: the contact force
        F = -m2 x1'' - c2 Delta0 of the joined bodies' forced response first reaches zero at
        Delta0/x_st = -(theta/N)^2/|1 - (1 + mu) theta^2 + 2 i delta1 theta|
-       (:func:`impactdamper.sweeps.stuck_liftoff_gap`);
+       (:func:`impactdamper.analysis.sweeps.stuck_liftoff_gap`);
    (b) first contact, downward from ``0/1``: the free forced response reaches the stop when
-       Delta0 falls below U1 = |x2p_hat - x1p_hat| (eq. 12, :func:`~impactdamper.sweeps.no_contact_gap`);
+       Delta0 falls below U1 = |x2p_hat - x1p_hat| (eq. 12, :func:`~impactdamper.analysis.sweeps.no_contact_gap`);
    (c) Algorithm No. 1's orbit starts to cross the stop between impacts (its interior gap
        minimum reaches zero; bisection on its admissibility,
-       :func:`~impactdamper.sweeps.algorithm1_grazing_gap`), against where the downward sweep's
+       :func:`~impactdamper.analysis.sweeps.algorithm1_grazing_gap`), against where the downward sweep's
        one-impact motion 1/1 ends -- located by the sweep's own bisection (orbit continuation),
        since from a neighbour's state at a finite step a plain simulation can leave the shrinking
        basin of the one-impact orbit early; a simulation started on the orbit itself confirms
@@ -26,7 +26,7 @@ changes along the gap sweep, located by bisection and checked against analytic v
    over a sampled and refined period of the model's own contact-force functional, root-found in
    the gap; (b) the largest x2p - x1p of the free mode's forced response, sampled and refined;
    (c) a root of Algorithm No. 1's interior gap minimum in the gap (brentq), and the grazing
-   point found by pseudo-arclength continuation of the orbit (:mod:`impactdamper.orbits`).
+   point found by pseudo-arclength continuation of the orbit (:mod:`impactdamper.analysis.orbits`).
 
 Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 ``figures/sweep_checks.json`` (the three checks).
@@ -43,13 +43,13 @@ import scipy.optimize
 
 import sweepstage as st
 from impactdamper import algorithm1
-from impactdamper.linear import free_mode
-from impactdamper.model import Model
-from impactdamper.sweeps import (algorithm1_grazing_gap, find_transitions, locate_transition, no_contact_gap,
+from impactdamper.core.linear import free_mode
+from impactdamper.core.model import Model
+from impactdamper.analysis.sweeps import (algorithm1_grazing_gap, find_transitions, locate_transition, no_contact_gap,
                                  solve_point, stuck_liftoff_gap, with_value)
 
 try:
-    from impactdamper import orbits
+    from impactdamper.analysis import orbits
 except ImportError:
     orbits = None
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdamper import Parameters, Tolerances
-from impactdamper.sweeps import SweepPoint, SweepSettings
+from impactdamper.analysis.sweeps import SweepPoint, SweepSettings
 
 # The stage sweeps the gap Delta0/x_st (the library sweeps any parameter).
 SWEEP_PARAMETER = "gap"
@@ -60,7 +60,7 @@ REGIME_NAMES = {
 
 
 def regime_of_label(label: str) -> str:
-    """The regime class of a label (inverse of impactdamper.sweeps.label_of)."""
+    """The regime class of a label (inverse of impactdamper.analysis.sweeps.label_of)."""
     if label == "stuck":
         return "stuck"
     if label == "0/1":

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import claims_gather
 import replication as rep
-from impactdamper.claims import Interval, distance_to
+from impactdamper.studies.claims import Interval, distance_to
 
 CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
                "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import performancestage as ps
 
-from impactdamper import workprecision as wp
+from impactdamper.studies import workprecision as wp
 
 CSV_COLUMNS = ["case", "family", "setting", "value", "cpu_seconds", "error", "phase_error", "state_error",
                "impacts_found", "impacts_expected", "nfev", "note"]

@@ -1,0 +1,1 @@
+"""Output for the workflow: records (CSV, JSON, logs), LaTeX formatting and the figure style."""

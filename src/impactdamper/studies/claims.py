@@ -1,0 +1,337 @@
+"""The paper's claims about its Fig. 2, the aligned comparison of two settled cycles, and where
+the claims hold along one parameter.
+
+Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100, say of
+the reference case (Delta0/x_st = -5.8, the prose around the paper's Fig. 2):
+
+* **(a)** Algorithm No. 1 (eqs. 7-17) gives an orbit whose gap is negative on an interval
+  (t1, t2) (the paper's Fig. 2a);
+* **(b)** Algorithm No. 2, run from its step 1 until the motion settles, gives T_c = 2T with
+  three impacts t1, t2, t3 per cycle (the paper's Fig. 2b).
+
+:func:`compare_cycles` compares two settled cycles of the same motion computed by different
+methods (the exact solver and an independent integrator): the cycles are aligned by forcing
+phase (the same period multiple k, impacts matched by t/T modulo k, over the k shifts by a
+whole period), and "agree" means the measured time and velocity differences are below stated
+tolerances. :func:`claim_intervals` finds, along one parameter with the others fixed, the
+intervals where each claim holds: a grid, then every end of a run bisected to a relative
+tolerance.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Callable, Sequence
+
+from impactdamper.core.algorithm1 import algorithm1
+from impactdamper.core.steady import steady_state
+
+__all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
+           "Interval", "true_intervals", "intersect", "claim_intervals", "distance_to"]
+
+# Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
+CLAIM_B_PERIOD_MULTIPLE = 2
+CLAIM_B_IMPACTS = 3
+
+
+def claim_a(alg1) -> bool:
+    """Claim (a) for an :class:`~impactdamper.Algorithm1Result`: the orbit exists (eq. 17 has
+    a root) and its gap is negative somewhere between impacts."""
+    return bool(alg1.exists and alg1.negative_gap_intervals)
+
+
+def claim_b(steady) -> bool:
+    """Claim (b) for a :class:`~impactdamper.SteadyState`: T_c = 2T, three impacts, no
+    persistent contact in the cycle."""
+    return bool(steady.regime == "multi_impact" and steady.period_multiple == CLAIM_B_PERIOD_MULTIPLE
+                and steady.impacts_per_cycle == CLAIM_B_IMPACTS)
+
+
+# --- the aligned cross-check of two settled cycles ------------------------------------------
+@dataclass(frozen=True)
+class CycleComparison:
+    """Two settled cycles compared impact by impact, aligned by forcing phase.
+
+    Attributes
+    ----------
+    period_multiple : (int, int)
+        k of each cycle (T_c = k T; 0 when a motion did not settle).
+    impacts : (int, int)
+        Impacts per cycle of each.
+    matched : int
+        Impacts paired one to one (all of them when the cycles agree).
+    shift_periods : int
+        Whole periods added to the first cycle's times to align it with the second.
+    max_time_difference_over_T : float
+        Largest |t_a - t_b|/T over the pairs (inf when the cycles cannot be paired).
+    max_velocity_difference_rel : float
+        Largest |v_a - v_b|/(x_st omega) of the closing velocities (inf when not paired).
+    time_tol, velocity_tol : float
+        The tolerances "agree" is measured against.
+    agree : bool
+        Same k, same number of impacts, every impact paired, both differences within tolerance.
+    reason : str
+        Why they do not agree ("" when they do).
+    """
+
+    period_multiple: tuple
+    impacts: tuple
+    matched: int
+    shift_periods: int
+    max_time_difference_over_T: float
+    max_velocity_difference_rel: float
+    time_tol: float
+    velocity_tol: float
+    agree: bool
+    reason: str
+    pairs: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def _circular(d: float, k: int) -> float:
+    """d modulo k folded into [-k/2, k/2)."""
+    return (d + 0.5 * k) % k - 0.5 * k
+
+
+def compare_cycles(a: Sequence, k_a: int, b: Sequence, k_b: int, T: float, velocity_scale: float,
+                   time_tol: float, velocity_tol: float) -> CycleComparison:
+    """Compare settled cycle ``a`` (impacts with ``.t`` in s and ``.velocity`` in m/s, or
+    ``(t, velocity)`` pairs) with cycle ``b``.
+
+    The two runs may use different clocks that differ by whole forcing periods (the exact
+    solver rebases its clock, and describes the cycle on a fresh run), so an impact is placed
+    by u = t/T modulo k, its forcing phase within the cycle. For each shift j = 0..k-1 the
+    impacts of ``a`` at u + j are paired with the nearest impacts of ``b``; the shift with the
+    smallest largest difference is kept. A pairing that is not one to one, a different k or a
+    different number of impacts is a disagreement, never compared by counts alone.
+
+    Parameters
+    ----------
+    a, b : sequence of impacts, each ``.t``/``.velocity`` or ``(t, velocity)``
+    k_a, k_b : int
+        Period multiples (T_c = k T) of the two cycles.
+    T : float
+        Forcing period, s.
+    velocity_scale : float
+        x_st omega, m/s: velocity differences are relative to it.
+    time_tol : float
+        Largest time difference that agrees, units of T.
+    velocity_tol : float
+        Largest velocity difference that agrees, relative to ``velocity_scale``.
+    """
+    for name, v in (("T", T), ("velocity_scale", velocity_scale), ("time_tol", time_tol),
+                    ("velocity_tol", velocity_tol)):
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"`{name}` = {v!r} is not allowed: must be a positive finite number")
+    ta = [(float(i[0]), float(i[1])) if isinstance(i, (tuple, list)) else (float(i.t), float(i.velocity)) for i in a]
+    tb = [(float(i[0]), float(i[1])) if isinstance(i, (tuple, list)) else (float(i.t), float(i.velocity)) for i in b]
+    counts, ks = (len(ta), len(tb)), (int(k_a), int(k_b))
+
+    def fail(reason: str) -> CycleComparison:
+        return CycleComparison(ks, counts, 0, 0, math.inf, math.inf, time_tol, velocity_tol, False, reason)
+
+    if k_a < 1 or k_b < 1:
+        return fail("a motion did not settle (k = 0)")
+    if k_a != k_b:
+        return fail(f"different period multiples: k = {k_a} and {k_b}")
+    if not ta and not tb:
+        return CycleComparison(ks, counts, 0, 0, 0.0, 0.0, time_tol, velocity_tol, True, "", [])
+    k = k_a
+    ua = [((t / T) % k, v) for t, v in ta]
+    ub = [((t / T) % k, v) for t, v in tb]
+    best = None
+    for j in range(k):
+        pairs, used = [], set()
+        for u, v in ua:
+            m = min(range(len(ub)), key=lambda i: abs(_circular(ub[i][0] - (u + j), k))) if ub else None
+            if m is None or m in used:
+                pairs = None
+                break
+            used.add(m)
+            pairs.append((abs(_circular(ub[m][0] - (u + j), k)), abs(ub[m][1] - v) / velocity_scale))
+        if pairs is None:
+            continue
+        worst = max(p[0] for p in pairs)
+        if best is None or worst < best[0]:
+            best = (worst, j, pairs)
+    if counts[0] != counts[1]:
+        # Report how far apart the paired ones are, but a missing impact never agrees.
+        extra = f"; the {min(counts)} paired differ by up to {best[0]:.1e} T" if best else ""
+        return fail(f"different impact counts: {counts[0]} and {counts[1]} per cycle{extra}")
+    if best is None:
+        return fail("the impacts cannot be paired one to one")
+    worst_t, j, pairs = best
+    worst_v = max(p[1] for p in pairs)
+    ok = worst_t <= time_tol and worst_v <= velocity_tol
+    reason = "" if ok else (f"time difference {worst_t:.1e} T > {time_tol:.0e}" if worst_t > time_tol
+                            else f"velocity difference {worst_v:.1e} > {velocity_tol:.0e}")
+    return CycleComparison(ks, counts, len(pairs), j, worst_t, worst_v, time_tol, velocity_tol, ok, reason,
+                           [list(p) for p in pairs])
+
+
+# --- where a claim holds along one parameter ------------------------------------------------
+@dataclass(frozen=True)
+class Interval:
+    """A run of parameter values where a predicate holds.
+
+    ``lo``/``hi`` are the ends (the midpoint of the final bracket, or the window's edge when
+    ``lo_open``/``hi_open``: the run reaches the searched range's end); ``lo_bracket`` and
+    ``hi_bracket`` are (inside, outside) values from the bisection (None at an open end).
+    """
+
+    lo: float
+    hi: float
+    lo_open: bool
+    hi_open: bool
+    lo_bracket: tuple | None
+    hi_bracket: tuple | None
+
+    @property
+    def width(self) -> float:
+        return self.hi - self.lo
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def _resolution(x: float, rel_tol: float, floor: float, abs_tol: float | None = None) -> float:
+    """Bisection stops at a bracket this wide: ``abs_tol`` when given, else ``rel_tol``
+    relative to the value, with an absolute floor ``rel_tol * floor`` for ends near zero
+    (damping, R)."""
+    return abs_tol if abs_tol is not None else rel_tol * max(abs(x), floor)
+
+
+def bisect(pred: Callable[[float], bool], x_in: float, x_out: float, rel_tol: float, floor: float,
+           abs_tol: float | None = None) -> tuple:
+    """Shrink [x_in, x_out] (pred True at x_in, False at x_out) until its width is within
+    ``rel_tol`` of the end's value, or ``abs_tol`` (see :func:`_resolution`)."""
+    while abs(x_out - x_in) > _resolution(0.5 * (x_in + x_out), rel_tol, floor, abs_tol):
+        mid = 0.5 * (x_in + x_out)
+        if pred(mid):
+            x_in = mid
+        else:
+            x_out = mid
+    return x_in, x_out
+
+
+def true_intervals(xs: Sequence[float], flags: Sequence[bool], pred: Callable[[float], bool], rel_tol: float,
+                   floor: float, abs_tol: float | None = None) -> list[Interval]:
+    """Maximal runs of True on the grid ``xs`` (increasing), each inner end bisected with
+    ``pred`` to ``rel_tol`` (or ``abs_tol``); a run reaching the grid's end is open there. A
+    run narrower than the grid step between two False grid points is not seen: the grid sets
+    the search's resolution."""
+    out, i, n = [], 0, len(xs)
+    while i < n:
+        if not flags[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and flags[j + 1]:
+            j += 1
+        ends = {}
+        for side, k_in, k_out in (("lo", i, i - 1), ("hi", j, j + 1)):
+            if 0 <= k_out < n:
+                x_in, x_out = bisect(pred, float(xs[k_in]), float(xs[k_out]), rel_tol, floor, abs_tol)
+                ends[side] = (0.5 * (x_in + x_out), False, (x_in, x_out))
+            else:
+                ends[side] = (float(xs[k_in]), True, None)
+        out.append(Interval(ends["lo"][0], ends["hi"][0], ends["lo"][1], ends["hi"][1], ends["lo"][2], ends["hi"][2]))
+        i = j + 1
+    return out
+
+
+def intersect(ra: Sequence[Interval], rb: Sequence[Interval]) -> list[Interval]:
+    """Intersections of two lists of intervals (each end taken from the interval bounding it)."""
+    out = []
+    for a in ra:
+        for b in rb:
+            lo_src = a if a.lo >= b.lo else b
+            hi_src = a if a.hi <= b.hi else b
+            if lo_src.lo < hi_src.hi:
+                out.append(Interval(lo_src.lo, hi_src.hi, lo_src.lo_open, hi_src.hi_open, lo_src.lo_bracket,
+                                    hi_src.hi_bracket))
+    return out
+
+
+def claim_intervals(xs: Sequence[float], claim_a_at: Callable[[float], bool], claim_b_at: Callable[[float], bool],
+                    rel_tol: float, floor: float, flags_a: Sequence[bool] | None = None,
+                    flags_b: Sequence[bool] | None = None) -> dict:
+    """Intervals of ``xs`` (an increasing grid of one parameter) where claim (a), claim (b)
+    and both hold; ``claim_*_at(x)`` evaluates a claim at one value (the grid's flags may be
+    passed in when already computed). Returns ``{"a": [...], "b": [...], "both": [...]}``."""
+    fa = list(flags_a) if flags_a is not None else [claim_a_at(float(x)) for x in xs]
+    fb = list(flags_b) if flags_b is not None else [claim_b_at(float(x)) for x in xs]
+    ia = true_intervals(xs, fa, claim_a_at, rel_tol, floor)
+    ib = true_intervals(xs, fb, claim_b_at, rel_tol, floor)
+    return {"a": ia, "b": ib, "both": intersect(ia, ib)}
+
+
+def distance_to(intervals: Sequence[Interval], x: float) -> tuple[float, float | None]:
+    """Distance from ``x`` to the nearest interval, and that interval's nearest point
+    (0 and ``x`` itself when ``x`` lies inside one; inf and None when there is none)."""
+    best = (math.inf, None)
+    for r in intervals:
+        nearest = min(max(x, r.lo), r.hi)
+        d = abs(nearest - x)
+        if d < best[0]:
+            best = (d, nearest)
+    return best
+
+
+# --- the claims at one point, and along one parameter ---------------------------------------
+def claims_at(p, *, gap_tol: float, steady_kwargs: dict) -> dict:
+    """Both claims at parameters ``p``: Algorithm No. 1 (closed form, ``gap_tol``) and
+    Algorithm No. 2 from the paper's step 1 run until settled
+    (:func:`impactdamper.steady_state` with ``steady_kwargs``)."""
+    a = algorithm1(p, gap_tol=gap_tol)
+    s = steady_state(p, **steady_kwargs)
+    return {"claim_a": claim_a(a), "claim_b": claim_b(s), "alg1_exists": bool(a.exists),
+            "alg1_min_gap": float(a.min_gap) if a.exists else None, "regime": s.regime,
+            "period_multiple": int(s.period_multiple), "impacts_per_cycle": int(s.impacts_per_cycle),
+            "periods": int(s.periods)}
+
+
+def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequence[float], *, gap_tol: float,
+                     steady_kwargs: dict, rel_tol: float, floor: float, log: Callable[[str], None] | None = None) -> dict:
+    """Where the claims hold along parameter ``name`` (a field of
+    :class:`~impactdamper.Parameters`), the others as in ``p``.
+
+    Claim (a) (closed form, cheap) is evaluated on the fine grid ``alg1_values``, claim (b)
+    (a settled simulation per point) on ``values``; every end of a run where a claim holds is
+    bisected until its bracket is within ``rel_tol`` relative (absolute ``rel_tol * floor``
+    near zero); "both" is the intersection. Returns the grids, their flags and the intervals.
+    """
+    if name not in p.names():
+        raise ValueError(f"`name` = {name!r} is not allowed: must be one of {', '.join(p.names())}")
+    say = log or (lambda msg: None)
+
+    def pred_a(x: float) -> bool:
+        return claim_a(algorithm1(p.replace(**{name: float(x)}), gap_tol=gap_tol))
+
+    rows: dict[float, dict] = {}
+
+    def point_b(x: float) -> dict:
+        s = steady_state(p.replace(**{name: float(x)}), **steady_kwargs)
+        row = {"value": float(x), "claim_b": claim_b(s), "regime": s.regime, "period_multiple": int(s.period_multiple),
+               "impacts_per_cycle": int(s.impacts_per_cycle), "periods": int(s.periods)}
+        rows[float(x)] = row
+        return row
+
+    def pred_b(x: float) -> bool:
+        return point_b(x)["claim_b"]
+
+    flags_a = [pred_a(x) for x in alg1_values]
+    say(f"{name}: claim (a) on {len(alg1_values)} values, holds at {sum(flags_a)}")
+    grid_b = [point_b(x) for x in values]
+    flags_b = [r["claim_b"] for r in grid_b]
+    say(f"{name}: claim (b) on {len(values)} values, holds at {sum(flags_b)}")
+    ia = true_intervals(alg1_values, flags_a, pred_a, rel_tol, floor)
+    ib = true_intervals(values, flags_b, pred_b, rel_tol, floor)
+    say(f"{name}: {len(ia)} interval(s) of (a), {len(ib)} of (b) after bisection")
+    return {"parameter": name, "stated": float(getattr(p, name)), "alg1_values": [float(x) for x in alg1_values],
+            "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
+            "bisection_points": sorted((r for x, r in rows.items() if x not in set(map(float, values))),
+                                       key=lambda r: r["value"])}

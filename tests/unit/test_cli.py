@@ -1,0 +1,194 @@
+"""Command line: ``python -m impactdamper steady|alg1 ... --json`` (run as a subprocess), and a
+bad flag value exiting with status 2 and one line naming the flag."""
+
+import io
+import json
+import math
+import subprocess
+import sys
+
+import pytest
+
+from helpers import phase_difference
+
+import impactdamper as idp
+from impactdamper.cli import main
+from impactdamper.cli import run as run_cli
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True,
+                          timeout=120)
+
+
+def test_steady_json_at_the_reference_gap():
+    proc = run("steady", "--gap", "-5.8", "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""
+    d = json.loads(proc.stdout)
+    for key in ("regime", "period_multiple", "impacts_per_cycle", "impacts", "contact_fraction", "x1_max"):
+        assert key in d
+    assert (d["regime"], d["period_multiple"], d["impacts_per_cycle"]) == ("single_impact", 1, 1)
+    (imp,) = d["impacts"]
+    assert {"t_over_T", "phase", "velocity", "impulse"} <= set(imp)
+    assert imp["t_over_T"] == 0.0
+    r = idp.algorithm1(idp.Parameters())
+    assert abs(phase_difference(imp["phase"], r.impact_phase)) <= 1e-9
+    assert imp["velocity"] == pytest.approx(r.velocity, rel=1e-8)
+    assert imp["impulse"] == pytest.approx(r.S, rel=1e-8)
+    assert d["contact_fraction"] == 0.0 and d["x1_max"] == pytest.approx(5.5619, abs=1e-4)
+    assert d == json.loads(json.dumps(idp.steady_state(idp.Parameters()).to_dict()))  # same as the API
+
+
+def test_steady_json_multi_impact_and_parameters_echoed():
+    proc = run("steady", "--gap", "-10", "--m1", "37.5", "--json")
+    assert proc.returncode == 0, proc.stderr
+    d = json.loads(proc.stdout)
+    assert (d["regime"], d["period_multiple"], d["impacts_per_cycle"]) == ("multi_impact", 2, 3)
+    assert [i["t_over_T"] for i in d["impacts"]] == sorted(i["t_over_T"] for i in d["impacts"])
+    assert d["parameters"]["gap"] == -10.0 and d["parameters"]["m1"] == 37.5
+
+
+def test_alg1_json():
+    proc = run("alg1", "--json")
+    assert proc.returncode == 0, proc.stderr
+    d = json.loads(proc.stdout)
+    for key in ("exists", "eps", "S", "min_gap", "negative_gap_intervals"):
+        assert key in d
+    r = idp.algorithm1(idp.Parameters())
+    assert d["exists"] is True and d["negative_gap_intervals"] == []
+    assert d["eps"] == r.eps and d["S"] == r.S
+
+
+def test_alg1_json_no_solution_is_valid_json():
+    proc = run("alg1", "--gap", "-12", "--json")
+    assert proc.returncode == 0
+    d = json.loads(proc.stdout)  # NaN is not JSON: the CLI writes null
+    assert d["exists"] is False and d["eps"] is None and d["S"] is None and "eq. (16)" in d["reason"]
+
+
+@pytest.mark.parametrize("args, flag", [
+    (("steady", "--gap", "abc"), "--gap"),  # type error (argparse)
+    (("alg1", "--R", "1.5"), "--R"),  # range error (Parameters)
+    (("steady", "--x-st", "-1"), "--x-st"),
+    (("steady", "--max-periods", "2.5"), "--max-periods"),
+    (("steady", "--settle-tol", "2"), "--settle-tol"),  # range error (steady_state)
+    (("steady", "--state", "0", "0", "0", "0"), "--state"),  # overlapping bodies
+])
+def test_bad_flag_exits_2_with_one_line(args, flag):
+    proc = run(*args, "--json")
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1
+    assert f"argument {flag}:" in lines[0]
+
+
+# The same rule for every flag, in-process (argparse exits through SystemExit).
+BAD_IN_PROCESS = (
+    [(name, "nan") for name in idp.Parameters.names()]
+    + [(name, "x") for name in idp.Parameters.names()]
+    + [(name, "0") for name in ("theta", "mu", "N", "omega", "x_st", "m1")]
+    + [("delta1", "-1"), ("delta2", "-1"), ("R", "-0.1"), ("R", "1.1")]
+)
+
+
+@pytest.mark.parametrize("name, value", BAD_IN_PROCESS)
+@pytest.mark.parametrize("command", ["steady", "alg1"])
+def test_every_parameter_flag_is_checked(command, name, value, capsys):
+    flag = "--" + name.replace("_", "-")
+    with pytest.raises(SystemExit) as info:
+        main([command, flag, value, "--json"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"argument {flag}:" in err
+
+
+@pytest.mark.parametrize("flag, value", [("--gap-tol", "0"), ("--chatter-tol", "1"), ("--max-period-multiple", "0"),
+                                         ("--t0", "inf"), ("--max-periods", "1")])
+def test_solver_flags_are_checked(flag, value, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["steady", flag, value])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"argument {flag}:" in err
+
+
+def test_human_readable_output(capsys):
+    assert main(["alg1", "--gap", "-10"]) == 0
+    out = capsys.readouterr().out
+    assert "not admissible" in out and "gap negative on (0.24" in out
+    assert main(["steady", "--gap", "20"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("regime no_contact") and not math.isnan(float(out.split("= ")[-1].split()[0]))
+
+
+# --- issue 15: limits of the solver and of the output, each one line ---------------------------
+def test_negative_exponent_values_are_numbers(capsys):
+    # argparse took "-1e1" for an option ("expected one argument").
+    assert main(["alg1", "--gap", "-1e1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"]["gap"] == -10.0
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["orbit", "--seed", "alg1", "--state", "0", "-5.8", "1", "-1"], "--state"),
+    (["orbit", "--seed", "alg1", "--t0", "0.1"], "--t0"),
+])
+def test_a_start_with_algorithm1s_orbit_is_a_usage_error(argv, flag, capsys):
+    # --state was ignored silently: Algorithm No. 1's orbit is closed-form.
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"argument {flag}: not allowed with --seed alg1" in err
+
+
+def test_work_bound_is_one_line_naming_the_parameter(monkeypatch, capsys):
+    # A SearchLimitError reached the user as a traceback (theta = 1e-6, after 34-56 s).
+    monkeypatch.setattr(sys.modules["impactdamper.core.simulate"], "STEPS_AT_START", 500)
+    monkeypatch.setattr(sys.modules["impactdamper.core.simulate"], "STEPS_PER_PERIOD", 500)
+    with pytest.raises(SystemExit) as info:
+        main(["steady", "--theta", "1e-3", "--json"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "argument --theta: `theta` = 0.001 is beyond what the solver resolves" in err
+    assert "work bound" in err
+
+
+def test_undamped_resonance_is_one_line_naming_theta(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["alg1", "--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "argument --theta:" in err and "undamped resonance" in err
+
+
+class _Closed(io.StringIO):
+    def write(self, text):
+        raise BrokenPipeError(32, "Broken pipe")
+
+    def flush(self):
+        raise BrokenPipeError(32, "Broken pipe")
+
+
+@pytest.mark.parametrize("argv", [["alg1", "--json"], ["alg1"], ["steady", "-h"]])
+def test_output_that_cannot_be_written_is_one_line_and_status_1(argv, monkeypatch, capsys):
+    # A closed pipe (`| head -c 1`) or a full disk (`> /dev/full`) ended in a traceback.
+    monkeypatch.setattr(sys, "stdout", _Closed())
+    assert run_cli(argv) == 1
+    assert capsys.readouterr().err == "python -m impactdamper: error: cannot write the output: Broken pipe\n"
+
+
+@pytest.mark.parametrize("args", [("steady", "--x-st", "1e-200"), ("steady", "--m1", "1e300"), ("steady", "--t0", "1e20"),
+                                  ("alg1", "--x-st", "1e200"), ("orbit", "--m1", "1e-300")])
+def test_free_scales_and_start_time_do_not_change_the_answer(args, capsys):
+    assert main([*args, "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert main([args[0], "--json"]) == 0
+    ref = json.loads(capsys.readouterr().out)
+    if args[0] == "alg1":
+        assert d["impact_phase"] == ref["impact_phase"] and d["min_gap"] == ref["min_gap"]
+        return
+    assert (d["regime"], d["period_multiple"]) == (ref["regime"], ref["period_multiple"]) == ("single_impact", 1)
+    assert d["impacts"][0]["velocity_rel"] == pytest.approx(ref["impacts"][0]["velocity_rel"], rel=1e-9)
+    assert abs(d["impacts"][0]["phase"] - ref["impacts"][0]["phase"]) < 1e-9

@@ -1,0 +1,66 @@
+"""The performance stage's DAG (workflow/rules/performance.smk, issue 6): a dry run with the
+CI config, no job executed. Every rule lists its script, the library and a log; rule all asks
+for the stage's products; the timed rules take both cores."""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+from helpers import LIBRARY  # noqa: E402 (the workflow's module list)
+RULES = ("performance_work_precision", "fig_work_precision", "performance_cost_growth", "fig_cost_growth",
+         "performance_hardcases", "performance_reference_speed", "performance_report")
+TARGETS = ("figures/work_precision.pdf", "figures/work_precision.png", "figures/work_precision.csv",
+           "figures/cost_growth.pdf", "figures/cost_growth.csv", "figures/hardcases.csv",
+           "paper/generated/hardcases_table.tex", "paper/generated/performance_macros.tex",
+           "paper/generated/workprecision_table.tex", "results/benchmarks/reference_speed.json")
+
+
+@pytest.fixture(scope="module")
+def jobs() -> dict:
+    out = subprocess.run([sys.executable, "-m", "snakemake", "--nolock", "-n", "--cores", "2", "--forceall", "-p", "--configfile",
+                          "config/ci.yaml"], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stdout + out.stderr
+    found = {}
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", out.stdout):
+        m = re.match(r"(?:local)?rule (\w+):", block)
+        if m:
+            found[m.group(1)] = (dict(re.findall(r"^\s+(input|output|log|threads): (.*)$", block, flags=re.M)), block)
+    return found
+
+
+def test_every_rule_is_in_the_dag(jobs):
+    assert set(RULES) <= set(jobs)
+    all_inputs = jobs["all"][0]["input"]
+    for target in TARGETS:
+        assert target in all_inputs
+
+
+def test_every_rule_lists_library_script_and_log(jobs):
+    for rule in RULES:
+        fields, _ = jobs[rule]
+        inputs = [s.strip() for s in fields["input"].split(",")]
+        assert set(LIBRARY) <= set(inputs), rule
+        assert any(s.startswith(("workflow/scripts/", "benchmarks/")) for s in inputs), rule
+        assert fields["log"].startswith("logs/performance/"), rule
+
+
+def test_timed_rules_take_both_cores_and_one_blas_thread(jobs):
+    for rule in ("performance_work_precision", "performance_cost_growth", "performance_hardcases",
+                 "performance_reference_speed"):
+        fields, block = jobs[rule]
+        assert fields.get("threads") == "2", rule
+    _, block = jobs["performance_reference_speed"]
+    assert "OPENBLAS_NUM_THREADS=1" in block
+    for script in ("work_precision", "cost_growth", "hardcases"):
+        text = (ROOT / "workflow" / "scripts" / f"{script}.py").read_text()
+        assert text.index('os.environ[_var] = "1"') < text.index("import numpy" if "import numpy" in text else
+                                                                     "import performancestage")
+
+
+def test_figure_rules_list_the_style(jobs):
+    for rule in ("fig_work_precision", "fig_cost_growth"):
+        assert "src/impactdamper/reporting/paper.mplstyle" in jobs[rule][0]["input"]

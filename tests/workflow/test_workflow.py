@@ -1,0 +1,283 @@
+"""The Snakemake workflow: lint, the config schema, and the reference-case stage's DAG.
+
+Every test here is a dry run (``snakemake -n``) or a lint: no job is executed. A bad config
+value must stop the run with a message naming the key (the schema in
+workflow/schemas/config.schema.yaml); the tests write a small override file, which Snakemake
+merges over config/config.yaml.
+"""
+
+import math
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+from helpers import LIBRARY  # noqa: E402 (the workflow's module list)
+REFERENCE_RULES = ("reference_case_stated", "reference_case_located", "gap_scan", "fig2a", "fig2b", "impact_table",
+                   "crosscheck_case", "other_readings", "fig_located_range", "verdict")
+REFERENCE_TARGETS = (
+    [f"figures/fig2{panel}_{case}.{ext}" for panel in "ab" for case in ("stated", "located") for ext in ("pdf", "png")]
+    + [f"figures/impacts_{case}.csv" for case in ("stated", "located")]
+    + [f"paper/generated/impacts_{case}.tex" for case in ("stated", "located")]
+    + ["figures/located_range.pdf", "figures/located_range.png"]
+    + ["figures/verdict.json", "figures/verdict.csv", "paper/generated/verdict_macros.tex"]
+)
+
+
+def snakemake(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([*SNAKEMAKE, "--nolock", *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
+
+
+def dry_run_with(tmp_path: Path, override: str, *targets: str) -> subprocess.CompletedProcess:
+    cfg = tmp_path / "override.yaml"
+    cfg.write_text(override)
+    return snakemake("-n", *targets, "--configfile", str(cfg))  # --configfile takes several values: last
+
+
+# --- lint -------------------------------------------------------------------------------------
+def test_lint_is_clean():
+    out = snakemake("--lint")
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "Congratulations, your workflow is in a good condition" in out.stdout + out.stderr
+
+
+# --- the schema rejects bad values, naming the key --------------------------------------------
+def _config_with(override: dict) -> dict:
+    """config/config.yaml with a section's keys overridden (as Snakemake merges --configfile)."""
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    for section, values in override.items():
+        config.setdefault(section, {}).update(values)
+    return config
+
+
+@pytest.mark.parametrize(
+    ("override", "key", "why"),
+    [
+        ({"reference": {"R": 1.5}}, "['reference']['R']", "greater than the maximum of 1"),
+        ({"reference": {"gap": "minus five"}}, "['reference']['gap']", "is not of type 'number'"),
+        ({"reference": {"theta": 0}}, "['reference']['theta']", "less than or equal to the minimum of 0"),
+        ({"solver": {"max_periods": 1.5}}, "['solver']['max_periods']", "is not of type 'integer'"),
+        ({"verdict": {"gap_step": -0.1}}, "['verdict']['gap_step']", "less than or equal to the minimum of 0"),
+        ({"verdict": {"ivp_method": "Euler"}}, "['verdict']['ivp_method']", "is not one of"),
+        ({"verdict": {"random_states": "many"}}, "['verdict']['random_states']", "is not of type 'integer'"),
+        ({"verdict": {"gap_stepp": 0.1}}, "['verdict']", "('gap_stepp' was unexpected)"),
+    ],
+)
+def test_schema_rejects_bad_value_naming_the_key(override, key, why):
+    """The same validation the Snakefile runs (snakemake.utils.validate), in process."""
+    from snakemake.exceptions import WorkflowError
+    from snakemake.utils import validate
+
+    with pytest.raises(WorkflowError) as err:
+        validate(_config_with(override), str(SCHEMA))
+    text = str(err.value)
+    assert key in text and why in text, text
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "ci.yaml"])
+def test_shipped_configs_are_valid(name):
+    from snakemake.utils import validate
+
+    validate(yaml.safe_load((ROOT / "config" / name).read_text()), str(SCHEMA))
+
+
+def test_snakemake_stops_on_bad_value_naming_the_key(tmp_path):
+    """End to end: a user's override file with an out-of-range value stops the dry run."""
+    out = dry_run_with(tmp_path, "reference:\n  R: 1.5\n", "reference")
+    text = out.stdout + out.stderr
+    assert out.returncode != 0
+    assert "Error validating config file" in text
+    assert "['reference']['R']" in text and "1.5 is greater than the maximum of 1" in text
+
+
+# --- the stage's DAG ---------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def forced_dry_run() -> str:
+    """The whole DAG (rule all), every job forced, with the CI config (also shows it is valid
+    end to end)."""
+    out = snakemake("-n", "--forceall", "--configfile", "config/ci.yaml")
+    assert out.returncode == 0, out.stdout + out.stderr
+    return out.stdout
+
+
+def _jobs(text: str) -> list[tuple[str, dict]]:
+    """(rule, fields) of every job in a dry run's listing."""
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", text):
+        m = re.match(r"(?:local)?rule (\w+):", block)
+        if not m:
+            continue
+        fields = dict(re.findall(r"^\s+(input|output|log|wildcards): (.*)$", block, flags=re.M))
+        jobs.append((m.group(1), fields))
+    return jobs
+
+
+def test_stage_has_every_rule_and_target(forced_dry_run):
+    jobs = _jobs(forced_dry_run)
+    rules = {rule for rule, _ in jobs}
+    assert set(REFERENCE_RULES) <= rules
+    outputs = ", ".join(f.get("output", "") for _, f in jobs)
+    for target in REFERENCE_TARGETS:
+        assert target in outputs
+
+
+def test_all_includes_the_stage(forced_dry_run):
+    all_job = [f for rule, f in _jobs(forced_dry_run) if rule == "all"]
+    assert all_job and all(t in all_job[0]["input"] for t in REFERENCE_TARGETS)
+
+
+def test_every_job_lists_library_and_script_and_log(forced_dry_run):
+    """A change to the library's source must rerun the stage: every job lists every library
+    file (and its own script) as input, and writes a log."""
+    for rule, fields in _jobs(forced_dry_run):
+        if rule not in REFERENCE_RULES:
+            continue
+        inputs = [s.strip() for s in fields["input"].split(",")]
+        assert set(LIBRARY) <= set(inputs), rule
+        assert any(s.startswith("workflow/scripts/") for s in inputs), rule
+        assert fields.get("log", "").startswith("logs/reference/"), rule
+
+
+def test_figure_jobs_list_the_style(forced_dry_run):
+    for rule, fields in _jobs(forced_dry_run):
+        if rule in ("fig2a", "fig2b", "fig_located_range"):
+            assert "src/impactdamper/reporting/paper.mplstyle" in fields["input"]
+            assert "src/impactdamper/reporting/plotting.py" in fields["input"]
+
+
+# --- a config error the schema cannot express -------------------------------------------------
+def test_scan_window_must_be_ordered(tmp_path):
+    import gap_scan
+
+    verdict = {"gap_min": -9.0, "gap_max": -10.0}
+    with pytest.raises(ValueError, match=r"`verdict.gap_min` = -9.0 is not allowed: must be < `verdict.gap_max`"):
+        gap_scan.main({}, {}, verdict, tmp_path / "scan.csv", tmp_path / "scan.json")
+
+
+# --- the README's --config example ------------------------------------------------------------
+def test_config_override_on_the_command_line_is_typed():
+    """Regression: Snakemake hands a nested --config dict's values over as strings, and the
+    schema rejected the README's own example ("'1.1' is not of type 'number'")."""
+    case = "{theta: 1.1, mu: 0.08, N: 0.5, delta1: 0.05, delta2: 0.05, R: 0.7, gap: -7.0, omega: 10.0, x_st: 1.0, m1: 1.0}"
+    ok = snakemake("-n", "--config", f"reference={case}")
+    assert ok.returncode == 0, ok.stdout + ok.stderr
+    bad = snakemake("-n", "--config", "reference=" + case.replace("theta: 1.1", "theta: -1"))
+    assert bad.returncode != 0
+    assert "theta" in bad.stdout + bad.stderr
+
+
+# --- issue 15: unknown keys, NaN and inf, reversed ranges, numbers in any YAML form -------------
+def _config_helpers() -> dict:
+    """check_config and yaml_scalars from workflow/rules/common.smk, loaded by name (the rest of
+    the file sets up the environment of a Snakemake run, which a test must not)."""
+    import ast
+    from types import SimpleNamespace
+
+    wanted = {"yaml_scalars", "_config_schema", "_schema_node", "check_config", "_config_unknown_or_not_finite",
+              "_config_disordered", "CONFIG_ORDER"}
+    tree = ast.parse((ROOT / "workflow" / "rules" / "common.smk").read_text())
+    nodes = [n for n in tree.body
+             if (isinstance(n, ast.FunctionDef) and n.name in wanted)
+             or (isinstance(n, ast.Assign) and any(getattr(t, "id", None) in wanted for t in n.targets))]
+    namespace = {"yaml": yaml, "Path": Path, "workflow": SimpleNamespace(basedir=str(ROOT))}
+    exec(compile(ast.Module(body=nodes, type_ignores=[]), "workflow/rules/common.smk", "exec"), namespace)
+    return namespace
+
+
+CONFIG = _config_helpers()
+
+
+def _shipped(name: str = "config.yaml") -> dict:
+    return CONFIG["yaml_scalars"](yaml.safe_load((ROOT / "config" / name).read_text()))
+
+
+def _set(config: dict, path: tuple, value) -> dict:
+    node = config
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    return config
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "ci.yaml"])
+def test_check_config_accepts_the_shipped_configs(name):
+    config = _shipped(name)
+    assert CONFIG["check_config"](config) is config
+
+
+@pytest.mark.parametrize(("path", "value", "message"), [
+    (("refrence",), {"theta": 5}, "['refrence'] is not a config key: did you mean 'reference'?"),
+    (("verdict", "gap_stepp"), 0.1, "['verdict']['gap_stepp'] is not a config key: did you mean 'gap_step'?"),
+    (("maps", "theta", "gap_strat"), 1.0, "['maps']['theta']['gap_strat'] is not a config key: did you mean 'gap_start'?"),
+    (("orbits", "branches", 0, "gap_mx"), 1.0,
+     "['orbits']['branches'][0]['gap_mx'] is not a config key: did you mean 'gap_max'?"),
+    (("zzz",), 1, "['zzz'] is not a config key: allowed are reference, solver"),
+    (("reference", "gap"), math.nan, "['reference']['gap']: nan is not allowed: must be a finite number"),
+    (("reference", "theta"), math.inf, "['reference']['theta']: inf is not allowed: must be a finite number"),
+    (("performance", "growth_gaps"), [-5.8, -math.inf], "['performance']['growth_gaps'][1]: -inf is not allowed"),
+    (("reference", "R"), 1.5, "['reference']['R']: 1.5 is greater than the maximum of 1"),
+    (("solver", "max_periods"), "many", "['solver']['max_periods']: 'many' is not of type 'integer'"),
+    (("verdict", "gap_min"), 50.0, "['verdict']: gap_min = 50.0 is not allowed: must be < gap_max = "),
+    (("sweep", "start"), 20.0, "['sweep']: start = 20.0 is not allowed: must be < stop = 14.0"),
+    (("maps", "damping", "gap_start"), 40.0, "['maps']['damping']: gap_start = 40.0 is not allowed: must be < gap_stop"),
+    (("orbits", "continuation", "min_step"), 1.0,
+     "['orbits']['continuation']: min_step = 1.0 is not allowed: must be <= step"),
+    (("orbits", "branches", 0, "gap"), 50.0, "['orbits']['branches'][0]: gap = 50.0 is not allowed: must be <= gap_max"),
+    (("sweep", "max_periods_after_nonperiodic"), 10**6, "['sweep']: max_periods_after_nonperiodic = 1000000 is not allowed"),
+])
+def test_check_config_names_the_key_in_one_short_line(path, value, message):
+    from snakemake.exceptions import WorkflowError
+
+    with pytest.raises(WorkflowError) as err:
+        CONFIG["check_config"](_set(_shipped(), path, value))
+    text = str(err.value)
+    assert text.startswith("Error validating config file: ") and message in text, text
+    assert "\n" not in text and len(text) < 300
+
+
+@pytest.mark.parametrize(("text", "path", "value"), [
+    ("1e-12", ("solver", "gap_tol"), 1e-12), ("1E12", ("verdict", "ivp_atol"), 1e12),
+    ("-1e-9", ("reference", "gap"), -1e-9), ("4e3", ("solver", "max_periods"), 4000),
+    ("1_000", ("solver", "max_periods"), 1000),
+    ("'yes'", ("orbits", "cases", 0, "name"), "yes"), ("yes", ("orbits", "cases", 0, "name"), "yes"),
+    (".5", ("reference", "R"), 0.5), ("true", ("verdict", "ivp_method"), "true"),
+])
+def test_numbers_in_any_yaml_form_and_strings_stay_strings(text, path, value):
+    """A value as the YAML file or Snakemake's --config hands it over (a string for a float
+    without a dot, and for every nested --config value) is read as the schema's type."""
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    raw = yaml.safe_load(f"v: {text}")["v"]
+    read = CONFIG["yaml_scalars"](_set(config, path, raw if not isinstance(raw, bool) else text))
+    node = read
+    for key in path:
+        node = node[key]
+    assert node == value and type(node) is type(value)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (("--config", "refrence={theta: 5}"), "['refrence'] is not a config key: did you mean 'reference'?"),
+    (("--config", "reference={gap: .nan}"), "['reference']['gap']: nan is not allowed: must be a finite number"),
+    (("--config", "sweep={start: 14, stop: -34}"), "['sweep']: start = 14 is not allowed: must be < stop = -34"),
+])
+def test_snakemake_stops_on_a_typo_nan_or_reversed_range_in_a_short_message(args, message):
+    out = snakemake("-n", *args)
+    text = out.stdout + out.stderr
+    assert out.returncode != 0 and message in text, text
+    assert len(text.splitlines()) < 10, text  # the message and Snakemake's frame lines, not a schema dump
+
+
+def test_snakemake_reads_numbers_in_any_yaml_form(tmp_path):
+    """1e-12 without a dot (YAML 1.1 reads it as a string) in a config file and in --config, and
+    a quoted 'yes' where a string is expected, are accepted (were "not of type 'number'"/True)."""
+    override = ("solver:\n  gap_tol: 1e-12\n  chatter_tol: 1e-9\n  max_periods: 4e3\n"
+                "orbits:\n  cases:\n    - {name: 'yes', gap: -1e1}\n")
+    out = dry_run_with(tmp_path, override, "reference")
+    assert out.returncode == 0, out.stdout + out.stderr
+    ok = snakemake("-n", "reference", "--config", "verdict={ivp_atol: 1e-10, ivp_rtol: 1e-10}")
+    assert ok.returncode == 0, ok.stdout + ok.stderr
