@@ -123,7 +123,7 @@ def test_human_readable_output(capsys):
     assert out.startswith("regime no_contact") and not math.isnan(float(out.split("= ")[-1].split()[0]))
 
 
-# --- issue 15: limits of the solver and of the output, each one line ---------------------------
+# --- limits of the solver and of the output, each one line ---------------------------
 def test_negative_exponent_values_are_numbers(capsys):
     # argparse took "-1e1" for an option ("expected one argument").
     assert main(["alg1", "--gap", "-1e1", "--json"]) == 0

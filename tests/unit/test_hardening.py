@@ -1,4 +1,4 @@
-"""Issue 15: every extreme or bad input gets the right answer or a one-line error naming the
+"""Every extreme or bad input gets the right answer or a one-line error naming the
 argument, within a bounded time: no traceback, no hang, no silently wrong result.
 
 Property-based tests (Hypothesis) draw parameters, tolerances and command-line arguments across
@@ -324,7 +324,7 @@ def test_command_line_prints_json_or_one_error_line(command, flags):
         assert err.getvalue().count("\n") == 1, err.getvalue()
 
 
-# --- regressions: the inputs issue 15's probe found ---------------------------------------------
+# --- regressions: the inputs a probe of extremes found ---------------------------------------------
 def run(*args: str, timeout: float = 60) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True,
                           timeout=timeout)

@@ -107,7 +107,7 @@ def test_replace_rejects_unknown_and_derived_names():
 ])
 def test_overflowing_relative_parameters_raise_one_line(kw, name, derived):
     # Regression: theta = 1e-300 used to escape as OverflowError from omega1**2, then named c1
-    # (not a parameter a user sets, issue 15): the message names the most extreme input.
+    # (not a parameter a user sets): the message names the most extreme input.
     with pytest.raises(ValueError) as info:
         Parameters(**kw)
     message = str(info.value)
@@ -115,7 +115,7 @@ def test_overflowing_relative_parameters_raise_one_line(kw, name, derived):
     assert "\n" not in message
 
 
-# --- issue 15: types, huge integers, numpy scalars, the reduced mass at extreme scales ---------
+# --- types, huge integers, numpy scalars, the reduced mass at extreme scales ---------
 @pytest.mark.parametrize("value", [10**400, -(10**400)])
 def test_huge_integer_is_a_named_error_not_overflow(value):
     with pytest.raises(ValueError, match=r"^`gap` = an integer of 401 digits is not allowed: must be a finite number"):

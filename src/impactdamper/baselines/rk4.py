@@ -1,6 +1,6 @@
 """Fixed-step RK4 with bisection on the gap: the integrator many impact papers use.
 
-A baseline for the work-precision study (issue 6), not a production solver. The free mode
+A baseline for the work-precision study, not a production solver. The free mode
 (eqs. 2 and 9 of Timofeev et al. 2019, written out here again) is advanced by the classical
 fourth-order Runge-Kutta method with a fixed step h. When a step ends with a negative gap
 Delta = Delta0 - (x2 - x1), the impact time inside the step is found by bisection on the

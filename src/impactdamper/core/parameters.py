@@ -230,7 +230,7 @@ class Parameters:
             if " " not in name:
                 object.__setattr__(self, name, float(value))
             # Extreme but valid inputs can still over- or underflow the dimensional values: name
-            # the input that is most extreme (issue 15: the message named c1 for theta = 1e-300).
+            # the input that is most extreme (a message once named c1 for theta = 1e-300).
             # (Its reciprocal must be finite too, but for those that may vanish: the model divides
             # by masses, stiffnesses and scales, and 1/5e-324 is inf.)
             vanishes = value == 0.0 and not may_vanish.get(name, False)

@@ -388,7 +388,7 @@ class EventDrivenSolver:
         derivs = self.model.gap_derivatives(t, full, orders=5)
         for order in (2, 3, 4):
             threshold = 1e-12 * scale * w**order
-            # Fix (notebooks helper, issue 8): an event time is only known to ~ulp(t), and
+            # An event time is only known to ~ulp(t), and
             # one ulp of t moves g^(m) by g^(m+1) ulp(t). Below that, g^(m) is rounding noise,
             # not a departure: at t ~ 382 s (gap -19, step 608) a lift-off left g'' = 1.4e-10
             # (F = -1e-11 N) with g''' = 5.8e3; order 2 gave a first step below ulp(t), the
