@@ -1,4 +1,4 @@
-"""Periodic orbits solved directly (impactdamper.analysis.orbits): shooting, admissibility, Floquet
+"""Periodic orbits solved directly (impactdamper.analysis.orbits, .shooting, .continuation): shooting, admissibility, Floquet
 multipliers from saltation matrices, continuation, the cheap steady state and the CLI.
 
 Every number is checked by an independent route: periodicity by the event-driven solver, the
@@ -17,7 +17,8 @@ import pytest
 import impactdamper as idp
 from impactdamper.cli import main
 from impactdamper.core.model import Model
-from impactdamper.analysis.orbits import (_Shooting, stroboscopic_jacobian, stroboscopic_map)
+from impactdamper.analysis.shooting import Shooting
+from impactdamper.core.strobe import stroboscopic_jacobian, stroboscopic_map
 
 REF = idp.Parameters()
 # Relative state scale (x_st, x_st, x_st omega, x_st omega).
@@ -56,7 +57,7 @@ def double(steady10):
 def test_periodicity_conditions_hold_to_1e12(which, request):
     o = request.getfixturevalue(which)
     k, z = o.period_multiple, o.impacts_per_cycle
-    shoot = _Shooting(o.p, k, z)
+    shoot = Shooting(o.p, k, z)
     F, _ = shoot.residual(shoot.pack(o.times, o.states_after), jacobian=False)
     assert np.max(np.abs(F)) <= 1e-12
     assert o.residual <= 1e-12
