@@ -11,13 +11,14 @@ import pytest
 import impactdamper as idp
 from impactdamper.analysis.transitions import stuck_liftoff_gap
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.strobe import (FD_STEP, NEWTON_TOL, section_coordinates, section_state, state_scale,
-                                      strobe_newton, stroboscopic_jacobian, stroboscopic_map, stroboscopic_step)
+from impactdamper.core.strobe import (STROBE_FD_STEP, STROBE_TOL, section_coordinates, section_state,
+                                      state_scale, strobe_newton, stroboscopic_jacobian, stroboscopic_map,
+                                      stroboscopic_step)
 
 REF = idp.REFERENCE
 TOL = idp.Tolerances()
 # Offset of the Newton start from the fixed point, relative (x_st, x_st omega): well outside
-# NEWTON_TOL, well inside Newton's basin.
+# STROBE_TOL, well inside Newton's basin.
 START_OFFSET = 1e-3
 
 
@@ -75,10 +76,10 @@ def test_newton_on_the_stop_finds_the_forced_response(stuck_case):
     assert res is not None
     assert res.jacobian.shape == (2, 2)  # (x1, v1): the state on the stop
     err = np.max(np.abs((res.state - fixed) / state_scale(p)))
-    assert err <= 1e3 * NEWTON_TOL, err
+    assert err <= 1e3 * STROBE_TOL, err
     # Multipliers of the joined bodies: the eigenvalues of e^{M T} of the stuck mode.
     exact = float(np.max(np.abs(np.linalg.eigvals(model.stuck.propagator(p.T)))))
-    assert abs(res.spectral_radius - exact) <= 1e3 * FD_STEP, (res.spectral_radius, exact)
+    assert abs(res.spectral_radius - exact) <= 1e3 * STROBE_FD_STEP, (res.spectral_radius, exact)
     assert res.periods >= 4  # the map, a 2-column difference Jacobian, at least one step
 
 
@@ -88,7 +89,7 @@ def test_newton_converges_to_algorithm1_orbit(single):
     res = strobe_newton(REF, y + START_OFFSET * state_scale(REF), FREE, 1, TOL)
     assert res is not None
     err = np.max(np.abs((res.state - y) / state_scale(REF)))
-    assert err <= 1e3 * NEWTON_TOL, err
+    assert err <= 1e3 * STROBE_TOL, err
     # The Broyden-updated Jacobian carries the start's offset: its multiplier to ~START_OFFSET.
     assert abs(res.spectral_radius - single.spectral_radius) <= 0.1 * START_OFFSET
 
@@ -96,8 +97,8 @@ def test_newton_converges_to_algorithm1_orbit(single):
 def test_fresh_jacobian_multipliers_match_saltation(single):
     y = single.state(0.0)
     res = strobe_newton(REF, y, FREE, 1, TOL)
-    # Forward differences of step FD_STEP: error ~FD_STEP (curvature) plus rounding.
-    assert abs(res.spectral_radius - single.spectral_radius) <= 10 * FD_STEP
+    # Forward differences of step STROBE_FD_STEP: error ~STROBE_FD_STEP (curvature) plus rounding.
+    assert abs(res.spectral_radius - single.spectral_radius) <= 10 * STROBE_FD_STEP
     assert res.periods == 5  # the residual (converged already) and 4 difference columns
     # The central-difference check of the same map, to its step squared.
     J = stroboscopic_jacobian(REF, 0.0, y, 1, tolerances=TOL)

@@ -446,7 +446,6 @@ def _closed_form_orbit(p: Parameters, regime: str, periods: int = 0) -> Periodic
         scale = model.force_scale
     # On the forced response the functional is g0 + Im(G e^{i w t}): its minimum is g0 - |G|.
     least = (fn.g0 - abs(fn.G)) / scale
-    t_least = ((math.atan2(fn.G.real, fn.G.imag) + math.pi) % (2 * math.pi) - 0.5 * math.pi) / p.omega % T
     # (Im(G e^{iwt}) = |G| sin(wt + arg G) is least where wt + arg G = -pi/2.)
     t_least = ((-0.5 * math.pi - math.atan2(fn.G.imag, fn.G.real)) / p.omega) % T
     admissible = least > 0.0

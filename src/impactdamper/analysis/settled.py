@@ -36,8 +36,9 @@ Delta0/x_st = -8.845, 0.004 above the grazing of Algorithm No. 1's orbit at -8.8
    (saltation-matrix Floquet multipliers). Accepted if admissible and stable.
 3. **stroboscopic Newton** -- for cycles the shooting does not cover (``chatter``, with a
    phase of persistent contact) or where it failed: Newton on the map y(0) -> y(k T) of the
-   event-driven solver, with a finite-difference Jacobian (the neighbour's, Broyden-updated;
-   fresh where the iteration stalls or a multiplier exceeds ``FRESH_JACOBIAN_ABOVE``; its
+   event-driven solver (:func:`impactdamper.core.strobe.strobe_newton`), with a
+   finite-difference Jacobian (the neighbour's, Broyden-updated; fresh where the iteration
+   stalls or a multiplier exceeds :data:`~impactdamper.core.strobe.FRESH_JACOBIAN_ABOVE`; its
    eigenvalues are the multipliers). Accepted if stable and if one simulated cycle from the
    solution returns to it to ``settle_tol``; that cycle is described exactly as
    :func:`~impactdamper.core.steady.steady_state` describes a settled one.

@@ -16,7 +16,9 @@ bracket are in :mod:`impactdamper.analysis.transitions`.
 from __future__ import annotations
 
 import logging
+import multiprocessing
 import time
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Callable, Iterable, Sequence
 
@@ -139,9 +141,6 @@ def two_way_sweep(base: Parameters, parameter: str, values: Sequence[float], *,
     values = sorted(float(v) for v in values)
     jobs = [(base, parameter, values, settings, "up"), (base, parameter, values[::-1], settings, "down")]
     if processes >= 2:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
         with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("fork")) as pool:
             up, down = pool.map(_sweep_job, jobs)
     else:

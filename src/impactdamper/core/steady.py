@@ -25,6 +25,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+import mpmath
 import numpy as np
 import scipy.optimize
 
@@ -187,8 +188,6 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
     """
     if 0.0 <= t0 < p.T:
         return t0
-    import mpmath
-
     bits = max(math.frexp(p.omega)[1] + math.frexp(t0)[1], 0) + 96
     with mpmath.workprec(bits):
         cycles = mpmath.mpf(p.omega) * mpmath.mpf(t0) / (2 * mpmath.pi)

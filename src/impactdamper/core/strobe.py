@@ -41,9 +41,9 @@ __all__ = [
     "StrobeSolution",
     "strobe_newton",
     "CHECK_FD_STEP",
-    "FD_STEP",
-    "NEWTON_TOL",
-    "NEWTON_MAX_ITERATIONS",
+    "STROBE_FD_STEP",
+    "STROBE_TOL",
+    "STROBE_MAX_ITERATIONS",
     "FRESH_JACOBIAN_ABOVE",
 ]
 
@@ -53,11 +53,11 @@ __all__ = [
 CHECK_FD_STEP = 1e-6
 # Finite-difference step of the Newton Jacobian, relative (x_st, x_st omega): the map is
 # evaluated to ~1e-14, so the derivative error is ~1e-7 (rounding) plus the curvature term.
-FD_STEP = 1e-7
+STROBE_FD_STEP = 1e-7
 # Newton on the stroboscopic map stops at this relative residual.
-NEWTON_TOL = 1e-10
+STROBE_TOL = 1e-10
 # Iterations allowed (Broyden converges superlinearly from a neighbour's fixed point: 2-4).
-NEWTON_MAX_ITERATIONS = 8
+STROBE_MAX_ITERATIONS = 8
 # Above this multiplier modulus the stability verdict of the stroboscopic Newton is taken
 # from a freshly differenced Jacobian, not from the Broyden-updated one.
 FRESH_JACOBIAN_ABOVE = 0.9
@@ -200,7 +200,7 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
     Returns
     -------
     StrobeSolution or None
-        None if the iteration failed (no convergence in ``NEWTON_MAX_ITERATIONS``, a non-finite
+        None if the iteration failed (no convergence in ``STROBE_MAX_ITERATIONS``, a non-finite
         residual, a singular system or a solver guard).
     """
     stuck = mode0 == STUCK
@@ -216,7 +216,8 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
     def fd(v, Pv):
         J = np.empty((n, n))
         for j in range(n):
-            h = -FD_STEP if (not stuck and j == 1) else FD_STEP  # open the gap, never close it
+            # Open the gap, never close it.
+            h = -STROBE_FD_STEP if (not stuck and j == 1) else STROBE_FD_STEP
             w = v.copy()
             w[j] += h
             J[:, j] = (strobe(w) - Pv) / h
@@ -229,13 +230,13 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
             r = Pu - u
             J = fd(u, Pu) if fresh else np.array(jacobian, float)
             previous_norm = math.inf
-            for _ in range(NEWTON_MAX_ITERATIONS):
+            for _ in range(STROBE_MAX_ITERATIONS):
                 norm = float(np.max(np.abs(r)))
                 if not math.isfinite(norm):
                     return None
-                if norm < NEWTON_TOL:
+                if norm < STROBE_TOL:
                     break
-                if norm > 0.5 * previous_norm and norm > 100 * NEWTON_TOL and not fresh:
+                if norm > 0.5 * previous_norm and norm > 100 * STROBE_TOL and not fresh:
                     J, fresh = fd(u, Pu), True  # stalled: a fresh Jacobian
                 du = np.linalg.solve(J - np.eye(n), -r)
                 u_new = u + du
