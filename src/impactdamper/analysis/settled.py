@@ -456,7 +456,8 @@ def _least_period(o) -> int:
 
 def _continue_orbit(p: Parameters, value: float, prev: SweepPoint, start: str, start_state: np.ndarray,
                     tol: Tolerances) -> SweepPoint | None:
-    """Newton shooting of the neighbour's impacting cycle at p (:func:`~impactdamper.analysis.orbits.orbit_from_cycle`)."""
+    """Newton shooting of the neighbour's impacting cycle at p
+    (:func:`~impactdamper.analysis.orbits.orbit_from_cycle`)."""
     if not prev.cycle:
         return None
     times, after = prev.cycle
