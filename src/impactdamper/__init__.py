@@ -11,6 +11,7 @@ Parameters          the paper's relative parameters (defaults: the reference cas
 algorithm1(p)       Algorithm No. 1, the closed-form one-impact orbit, eqs. (7)-(17)
 simulate(p, t_end)  Algorithm No. 2 with the exact flow, contact modes and grazing
 steady_state(p)     the settled motion: period, impacts, regime
+steady_state_auto(p) the same, Algorithm No. 1's orbit where it is an attractor (no transient)
 solve_orbit(p)      a periodic cycle solved directly: admissibility, Floquet multipliers
 continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings, grazing
 """
@@ -19,8 +20,9 @@ from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1
 from impactdamper.core.parameters import REFERENCE, Parameters
 from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state, simulate
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, steady_state
-from impactdamper.analysis.orbits import (Branch, BranchPoint, OrbitError, PeriodicOrbit, SpecialPoint,
-                                          continue_orbit, orbit_from_cycle, solve_orbit, steady_state_auto)
+from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
+from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
+from impactdamper.analysis.settled import steady_state_auto
 
 __version__ = "0.1.0"
 

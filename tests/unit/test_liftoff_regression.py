@@ -1,6 +1,6 @@
 """Regression: a lift-off late in a long run must not turn into a burst of zero-velocity impacts.
 
-Bug guarded (found by the notebooks helper, issue 8): at gap Delta0/x_st = -19 of the reference
+Bug guarded (found by the notebooks helper): at gap Delta0/x_st = -19 of the reference
 case, a lift-off at t ~ 382 s left the gap's second derivative at rounding level (1.4e-10 m/s^2,
 from a contact force of -1e-11 N: the lift-off time is only known to ~ulp(t), and one ulp moves
 g'' by g''' ulp(t)). It was taken as an order-2 departure whose certified first step was below

@@ -1,5 +1,6 @@
-"""Periodic orbits solved directly (impactdamper.analysis.orbits): shooting, admissibility, Floquet
-multipliers from saltation matrices, continuation, the cheap steady state and the CLI.
+"""Periodic orbits solved directly (impactdamper.analysis.orbits, .shooting, .continuation):
+shooting, admissibility, Floquet multipliers from saltation matrices, continuation, the cheap
+steady state (impactdamper.analysis.settled) and the CLI.
 
 Every number is checked by an independent route: periodicity by the event-driven solver, the
 multipliers by finite differences of the simulated stroboscopic map and by the growth of a
@@ -17,7 +18,9 @@ import pytest
 import impactdamper as idp
 from impactdamper.cli import main
 from impactdamper.core.model import Model
-from impactdamper.analysis.orbits import (_Shooting, stroboscopic_jacobian, stroboscopic_map)
+from impactdamper.analysis.orbits import stable_algorithm1_orbit
+from impactdamper.analysis.shooting import Shooting
+from impactdamper.core.strobe import stroboscopic_jacobian, stroboscopic_map
 
 REF = idp.Parameters()
 # Relative state scale (x_st, x_st, x_st omega, x_st omega).
@@ -56,7 +59,7 @@ def double(steady10):
 def test_periodicity_conditions_hold_to_1e12(which, request):
     o = request.getfixturevalue(which)
     k, z = o.period_multiple, o.impacts_per_cycle
-    shoot = _Shooting(o.p, k, z)
+    shoot = Shooting(o.p, k, z)
     F, _ = shoot.residual(shoot.pack(o.times, o.states_after), jacobian=False)
     assert np.max(np.abs(F)) <= 1e-12
     assert o.residual <= 1e-12
@@ -330,6 +333,19 @@ def test_steady_state_auto_falls_back_when_algorithm1_is_not_admissible(steady10
     assert not isinstance(a, idp.PeriodicOrbit)
     assert (a.regime, a.period_multiple, a.impacts_per_cycle) == ("multi_impact", 2, 3)
     assert a.impacts[0].phase == steady10.impacts[0].phase
+
+
+def test_stable_algorithm1_orbit_is_the_attractor_or_none(single):
+    # At the reference case Algorithm No. 1's orbit is admissible and stable: the same cycle as
+    # the direct solve from it (one Newton-confirmed impact, same phase and multipliers).
+    o = stable_algorithm1_orbit(idp.algorithm1(REF))
+    assert o is not None and o.seed == "alg1"
+    assert o.impacts[0].phase == single.impacts[0].phase
+    assert np.array_equal(o.multipliers, single.multipliers)
+    # At Delta0/x_st = -10 the orbit crosses the stop between impacts (Fig. 2a): no attractor.
+    assert not idp.algorithm1(REF.replace(gap=-10.0)).admissible
+    assert stable_algorithm1_orbit(idp.algorithm1(REF.replace(gap=-10.0))) is None
+    assert stable_algorithm1_orbit(None) is None  # Algorithm No. 1 failed: nothing to confirm
 
 
 # --- command line and bad input -----------------------------------------------------------

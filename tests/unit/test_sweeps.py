@@ -1,4 +1,4 @@
-"""Tests of the sweeps (issue 5): analytic thresholds, located transitions, the accelerators
+"""Tests of the sweeps: analytic thresholds, located transitions, the accelerators
 against plain simulation, determinism, and the committed sweep and map data.
 
 Closed forms first; then transitions located by simulation against them; then the sweep
@@ -19,22 +19,12 @@ from impactdamper import Parameters, Tolerances
 from impactdamper import algorithm1
 from impactdamper.core.linear import forced_amplitudes, free_mode, stuck_mode
 from impactdamper.core.model import Model
-from impactdamper.analysis.sweeps import (
-    SweepSettings,
-    algorithm1_grazing_gap,
-    carry_state,
-    label_of,
-    locate_transition,
-    no_contact_gap,
-    object_alone_amplitude,
-    random_starts,
-    regime_map,
-    rigid_amplitude,
-    solve_point,
-    stuck_liftoff_gap,
-    sweep,
-    with_value,
-)
+from impactdamper.analysis.continuation import continue_orbit
+from impactdamper.analysis.orbits import solve_orbit
+from impactdamper.analysis.settled import SweepSettings, carry_state, label_of, solve_point
+from impactdamper.analysis.sweeps import locate_transition, random_starts, regime_map, sweep, with_value
+from impactdamper.analysis.transitions import (algorithm1_grazing_gap, no_contact_gap, object_alone_amplitude,
+                                               rigid_amplitude, stuck_liftoff_gap)
 
 ROOT = Path(__file__).resolve().parents[2]
 REF = Parameters()
@@ -91,10 +81,8 @@ def test_algorithm1_grazing_three_ways():
     root = scipy.optimize.brentq(lambda x: algorithm1(REF.replace(gap=x)).min_gap, g + 0.05, g - 0.05, xtol=1e-13)
     assert abs(root - g) < 1e-9
     # ... and the orbit's continuation (saltation-matrix shooting) meets its grazing there.
-    from impactdamper.analysis import orbits
-
     with np.errstate(over="ignore", invalid="ignore"):
-        branch = orbits.continue_orbit(orbits.solve_orbit(REF, "alg1"), "gap", (-10.0, -5.8), direction=-1)
+        branch = continue_orbit(solve_orbit(REF, "alg1"), "gap", (-10.0, -5.8), direction=-1)
     graze = [s.value for s in branch.special if s.kind == "grazing_interior"]
     assert graze and abs(graze[0] - g) < 1e-8
     assert -9.0 < g < -8.7

@@ -30,7 +30,7 @@ from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
 from impactdamper.core.parameters import Parameters, ScaleMap, most_extreme, require_parameters
 from impactdamper.core.simulate import check_gap_tol, work_limit_message
 
-__all__ = ["Algorithm1Result", "algorithm1", "unit_pulse_response"]
+__all__ = ["Algorithm1Result", "algorithm1", "unit_pulse_response", "rescale_algorithm1"]
 
 # Sampling of the gap over the period to locate its minimum before refining it.
 MIN_GAP_SAMPLES = 512
@@ -195,7 +195,7 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
     gap_tol = check_gap_tol(gap_tol)
     if not p.native_scales():
         q = p.canonical()
-        return _rescale(algorithm1(q, gap_tol), ScaleMap(q, p))
+        return rescale_algorithm1(algorithm1(q, gap_tol), ScaleMap(q, p))
     try:
         # Overflow and invalid operations are errors here, not warnings and NaN results: the
         # closed form of extreme parameters (N = 1e12, a stiff suppressor) overflowed e^{MT}.
@@ -267,8 +267,19 @@ def _check_pulse_resonance(p: Parameters, model: Model) -> None:
             "closed form singular (a resonance of the impacts); add damping (delta1, delta2 > 0) or move theta")
 
 
-def _rescale(r: Algorithm1Result, scales: ScaleMap) -> Algorithm1Result:
-    """The same result in ``scales.target``'s units (phases and relative values unchanged)."""
+def rescale_algorithm1(r: Algorithm1Result, scales: ScaleMap) -> Algorithm1Result:
+    """The same result in ``scales.target``'s units (phases and relative values unchanged).
+
+    The impulse S (eq. 15), the amplitudes U1, U2 (eqs. 12-13), the closing velocity and the
+    state after the impact change units; the impact phase and the relative values do not (the
+    relative problem is independent of x_st, m1 and omega).
+
+    Parameters
+    ----------
+    r : Algorithm1Result
+    scales : ScaleMap
+        From ``r.p``'s units to ``scales.target``'s.
+    """
     return dataclasses.replace(
         r, p=scales.target, S=scales.apply(r.S, "impulse"),
         candidates=tuple((e, scales.apply(s, "impulse")) for e, s in r.candidates),
@@ -314,7 +325,7 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
                 intervals.append(((t - t_imp) / T, 1.0))
             break
         if t_root <= t:
-            # FIX (issue 6, hard cases): a root at the search's own start is a tangency at
+            # A root at the search's own start is a tangency at
             # rounding level (g and g' both ~0 there), not a crossing. Flipping between the gap
             # and -gap at the same instant looped for ever (gap = -8.848978948812440, the onset
             # of Algorithm No. 1's crossing). Leave the tangency by the curvature instead.

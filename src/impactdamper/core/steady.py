@@ -25,16 +25,19 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+import mpmath
 import numpy as np
 import scipy.optimize
 
 from impactdamper.core.model import STUCK
 from impactdamper.core.parameters import (Parameters, ScaleMap, finite_argument, integer_argument, real_argument,
-                         require_parameters)
+                                         require_parameters)
 from impactdamper.core.simulate import (EventDrivenSolver, Tolerances, Trajectory, check_state, check_tolerances,
-                       rescale_trajectory)
+                                       rescale_trajectory)
+from impactdamper.core.strobe import state_scale
 
-__all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES"]
+__all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES", "describe_cycle", "max_excursion", "rescale_steady",
+           "start_in_first_period"]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
 # Samples per forcing period when searching the object's largest excursion (then refined).
@@ -174,10 +177,6 @@ NONPERIODIC_WINDOW = 8
 MAX_PERIODS_LIMIT = 1_000_000
 
 
-def _scaled(p: Parameters, full: np.ndarray) -> np.ndarray:
-    return full / np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
-
-
 def start_in_first_period(p: Parameters, t0: float) -> float:
     """The time in [0, T) with the forcing's phase at ``t0``: omega t0 modulo 2 pi, exactly.
 
@@ -189,8 +188,6 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
     """
     if 0.0 <= t0 < p.T:
         return t0
-    import mpmath
-
     bits = max(math.frexp(p.omega)[1] + math.frexp(t0)[1], 0) + 96
     with mpmath.workprec(bits):
         cycles = mpmath.mpf(p.omega) * mpmath.mpf(t0) / (2 * mpmath.pi)
@@ -277,7 +274,7 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
                   max_periods: int, max_period_multiple: int) -> SteadyState:
     """steady_state on validated arguments, t0 in [0, T), in native scales."""
     T = p.T
-    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    scale = state_scale(p)
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     start_state = solver.state_at(t0) if state is None else np.asarray(state, dtype=float)
     states = np.empty((max_periods, 4))  # the section states, (x1, x2, x1', x2')
@@ -309,7 +306,7 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
         if found_k:
             break
     # (A run shorter than the window reports what it has: with max_periods = 2 the window began
-    # before the run, found by the property tests of issue 15.)
+    # before the run, found by the hardened-input property tests.)
     k = found_k if found_k else min(NONPERIODIC_WINDOW, n)
     # Describe the cycle on a fresh run from a section at least one cycle (and 4 periods)
     # before the reported one, so that its first impact's free flight is known and plots can
@@ -319,7 +316,7 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
     describer = EventDrivenSolver(p, t0=t0, state=states[first - 1] if first else start_state,
                                   tolerances=tolerances)
     describer.advance(t0 + (n - first + k + 1) * T)
-    result = _describe(p, describer.trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
+    result = describe_cycle(p, describer.trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
     return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=states[:n].copy())
 
 
@@ -393,8 +390,39 @@ def _least_period(sections: np.ndarray, modes: list, k: int, settle_tol: float) 
     return k, _mismatch(sections, modes, k)
 
 
-def _describe(p: Parameters, traj: Trajectory, window_start: float, k: int, settled: bool,
-              periods: int, residual: float) -> SteadyState:
+def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int, settled: bool,
+                   periods: int, residual: float) -> SteadyState:
+    """Describe the cycle of period k T that a trajectory repeats from ``window_start``.
+
+    This is how :func:`steady_state` reads a settled motion, and how any other route to a
+    settled cycle (the sweeps' stroboscopic Newton) must read it so that the two agree: the
+    cycle starts at the impact ending its longest free flight (the paper's Fig. 2 phase
+    convention: one impact per cycle starts it), its impacts carry their phase t/T mod 1,
+    closing velocity and impulse (eqs. (21)-(22)), and the regime follows from its impacts
+    and contact phases (see the module docstring).
+
+    Parameters
+    ----------
+    p : Parameters
+    traj : Trajectory
+        The exact motion, covering [window_start - one flight, window_start + 2 k T] (the
+        longest flight into the window and the next cycle are read).
+    window_start : float
+        A section time t = t0 + n T, s, where the cycle is taken to begin.
+    k : int
+        Period multiple (for an unsettled motion: the window's length in periods).
+    settled : bool
+        The motion repeats with period k T (False: regime ``nonperiodic``).
+    periods : int
+        Forcing periods simulated to get here (recorded).
+    residual : float
+        The relative section mismatch that decided ``settled`` (recorded).
+
+    Returns
+    -------
+    SteadyState
+        Without ``section_times`` and ``sections`` (the caller's run has them).
+    """
     T = p.T
     Tc = k * T
     window_end = window_start + Tc
@@ -435,7 +463,7 @@ def _describe(p: Parameters, traj: Trajectory, window_start: float, k: int, sett
         p=p, regime=regime, period_multiple=k if settled else 0, impacts=cycle_impacts,
         cycle_start=start, contact_fraction=contact_fraction,
         contact_phases=tuple(((a - start) / T, (b - start) / T) for a, b in contact),
-        x1_max=_max_excursion(p, traj, start, start + Tc), periods=periods, residual=residual,
+        x1_max=max_excursion(p, traj, start, start + Tc), periods=periods, residual=residual,
         trajectory=traj,
     )
 
@@ -455,8 +483,26 @@ def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, f
     return out
 
 
-def _max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
-    """max |x1|/x_st on [a, b]: dense samples, refined around the largest one on its segment."""
+def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
+    """max |x1|/x_st on [a, b] of a trajectory: the object's amplitude, the quantity of the
+    paper's Fig. 2 (x1_max) and of the suppression measure.
+
+    Dense samples (``EXCURSION_SAMPLES_PER_PERIOD`` per forcing period), the largest refined
+    by bounded minimisation on its segment (both ends for a repeating window).
+
+    Parameters
+    ----------
+    p : Parameters
+    traj : Trajectory
+        Covering [a, b].
+    a, b : float
+        The window, s (a < b).
+
+    Returns
+    -------
+    float
+        max |x1(t)|/x_st over [a, b].
+    """
     n = max(int(EXCURSION_SAMPLES_PER_PERIOD * (b - a) / p.T), 16)
     ts = np.linspace(a, b, n + 1)
     x1 = np.abs(traj.sample(ts)[0][:, 0])
@@ -473,7 +519,7 @@ def _max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float
         # The motion repeats: a peak just before the window's start shows as the largest sample
         # at its start and its end alike, and argmax takes the start, whose bracket does not
         # hold the peak (x1_max then came out up to 1e-4 low, depending on the start's phase:
-        # found by issue 15's start-time invariance test). Refine the other end's bracket too.
+        # found by the start-time invariance test). Refine the other end's bracket too.
         j = n if i == 0 else 0
         lo, hi = ts[max(j - 1, 0)], ts[min(j + 1, n)]
         k = int(traj._segment_index(np.array([0.5 * (lo + hi)]))[0])
