@@ -21,7 +21,7 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     best = read_json(chart_json)["best"]
     base = read_json(baselines_json)
     g = [float(r["gap"]) for r in rows]
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.4), sharex=True, layout="constrained",
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, layout="constrained",
                                   gridspec_kw={"height_ratios": [2, 1]})
     for key, crit, ls, text in (("peak_max_abs_x1", "peak", "-", "peak over the band"),
                                 ("band_average_max_abs_x1", "band_average", "--", "band average")):
@@ -37,18 +37,20 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
         ax.axhline(value, color=color, ls=ls, lw=0.8, label=f"{text} ({value:.2f})")
     ax.set_ylabel("$\\max|x_1|/x_{st}$ over the band")
     ax.set_ylim(0.0, None)
-    ax.legend(fontsize=6.5, ncol=2, loc="upper left")
+    ax.legend(fontsize=6.5, ncol=3, loc="lower center", bbox_to_anchor=(0.5, 1.01))
     ax2.plot(g, [cell_float(r["peak_impulse"]) for r in rows], color="C0", lw=0.9,
              label="largest pulse $S/(m_1 x_{st}\\omega)$")
     ax3 = ax2.twinx()
     ax3.plot(g, [cell_float(r["impacts_per_period"]) for r in rows], color="C1", lw=0.8, ls="--",
              label="most impacts per period")
+    ax2.set_ylim(0.0, None)
+    ax3.set_ylim(0.0, None)
     ax2.set_ylabel("pulse")
     ax3.set_ylabel("impacts per period")
     ax2.set_xlabel("initial gap $\\Delta_0/x_{st}$")
     h1, l1 = ax2.get_legend_handles_labels()
     h2, l2 = ax3.get_legend_handles_labels()
-    ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
+    ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left")
     save_figure(fig, out_pdf, formats=("pdf",))
     save_figure(fig, out_png, formats=("png",))
     plt.close(fig)

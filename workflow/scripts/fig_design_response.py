@@ -43,13 +43,14 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
                     ms=3, mew=0.7)
     ax.set_ylabel("$\\max|x_1|/x_{st}$")
     ax.set_ylim(0.0, None)
-    ax.legend(fontsize=7, ncol=2, loc="upper right")
+    ax.legend(fontsize=7, loc="upper left")
     best = summary[0]
     rs = [r for r in rows if float(r["gap"]) == best["gap"]]
     for direction, ls in (("up", "-"), ("down", "--")):
         d = [r for r in rs if r["direction"] == direction]
         ax2.plot([float(r["theta"]) for r in d], [cell_float(r["peak_impulse"]) for r in d], color="C0", ls=ls, lw=0.9,
                  label="peak pulse $S/(m_1 x_{st}\\omega)$" if direction == "up" else None)
+    ax2.set_ylim(0.0, None)
     ax2.set_ylabel("pulse per impact")
     ax2.set_xlabel("forcing frequency $\\theta = \\omega/\\omega_1$")
     ax3 = ax2.twinx()
