@@ -117,3 +117,32 @@ def test_macros_quote_the_records(tmp_path):
                        FIGURES / "design_response.csv", tmp_path / "m.tex", tmp_path / "t.tex")
     assert (tmp_path / "m.tex").read_text() == text
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "design_second_table.tex").read_text()
+
+
+def test_a_chart_row_regenerates():
+    """The chart's row at the best gap, recomputed on its own (every gap's response starts
+    afresh, so one row is the committed one), within the settle tolerance's reach."""
+    import design_common as dc
+    from impactdamper.studies.design import gap_chart
+
+    design = CONFIG["design"]
+    best = read_json(FIGURES / "design_chart.json")["best"]["peak"]
+    row = next(r for r in read_csv(FIGURES / "design_chart.csv") if float(r["gap"]) == best["gap"])
+    chart = gap_chart(dc.parameters(CONFIG["reference"], design), [best["gap"]], dc.band(design),
+                      int(design["theta_points"]), settings=dc.settings(CONFIG["sweep"], CONFIG["solver"]))
+    new = chart.rows()[0]
+    for key in ("peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period"):
+        assert new[key] == pytest.approx(float(row[key]), rel=1e-8, abs=1e-8), key
+
+
+def test_figures_regenerate_deterministically(tmp_path):
+    import fig_design_chart
+
+    for run in ("a", "b"):
+        fig_design_chart.main(FIGURES / "design_chart.csv", FIGURES / "design_chart.json",
+                              FIGURES / "design_baselines.json", tmp_path / f"{run}.pdf", tmp_path / f"{run}.png")
+    assert (tmp_path / "a.pdf").read_bytes() == (tmp_path / "b.pdf").read_bytes()
+    assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
+    from matplotlib.testing.compare import compare_images
+
+    assert compare_images(str(FIGURES / "design_chart.png"), str(tmp_path / "a.png"), tol=0.01) is None
