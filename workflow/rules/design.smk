@@ -112,6 +112,7 @@ rule design_report:
 rule fig_design_response:
     input:
         script="workflow/scripts/fig_design_response.py",
+        helper=DESIGN_HELPER,
         style=STYLE,
         response="figures/design_response.csv",
         summary="figures/design_response.json",
@@ -130,6 +131,7 @@ rule fig_design_response:
 rule fig_design_chart:
     input:
         script="workflow/scripts/fig_design_chart.py",
+        helper=DESIGN_HELPER,
         style=STYLE,
         chart="figures/design_chart.csv",
         best="figures/design_chart.json",
@@ -148,6 +150,7 @@ rule fig_design_chart:
 rule fig_design_chart_2d:
     input:
         script="workflow/scripts/fig_design_chart_2d.py",
+        helper=DESIGN_HELPER,
         style=STYLE,
         chart="figures/design_chart_2d.csv",
         best="figures/design_chart_2d.json",

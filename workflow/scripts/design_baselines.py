@@ -11,15 +11,11 @@ each reference's peak and band average).
 import numpy as np
 
 import design_common as dc
-from impactdamper.studies.design import (bare_object_amplitude, band_peak, den_hartog, optimal_tmd,
+from impactdamper.studies.design import (bare_object_amplitude, band_mean, band_peak, den_hartog, optimal_tmd,
                                          two_mass_amplitude)
 from impactdamper.reporting.records import write_csv, write_json
 
 COLUMNS = ["theta", "bare", "absorber", "tmd_peak", "tmd_band_average"]
-
-
-def _mean(y, th):
-    return float(np.trapezoid(y, th) / (th[-1] - th[0]))
 
 
 def main(reference: dict, design: dict, out_csv, out_json, log_path) -> None:
@@ -44,7 +40,7 @@ def main(reference: dict, design: dict, out_csv, out_json, log_path) -> None:
             "absorber": lambda t: two_mass_amplitude(p.mu, p.N, p.delta1, p.delta2, t)}
     summary = {
         "band": list(band), "parameters": p.to_dict(),
-        "references": {k: {"peak": band_peak(f, band), "band_average": _mean(f(th), th)} for k, f in refs.items()},
+        "references": {k: {"peak": band_peak(f, band), "band_average": band_mean(f, band)} for k, f in refs.items()},
         "tmd": {c: t.to_dict() for c, t in tmd.items()},
         "den_hartog_check": {"closed_form": dh, "optimiser": check.to_dict(), "peak_at_closed_form": dh_peak_at_dh,
                              "peak_relative_excess": check.peak / dh["peak"] - 1.0,

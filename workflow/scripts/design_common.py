@@ -44,3 +44,21 @@ def gaps(design: dict, prefix: str = "gap") -> np.ndarray:
 def logger(log_path, name: str):
     """The rule's log, with the library's progress lines (sweeps) routed there too."""
     return stage_logger(log_path, name, timestamps=True, library=True)
+
+
+def save(plt, fig, out_pdf, out_png) -> None:
+    """Save a figure of the stage as PDF (report) and PNG (README), deterministically, and close it."""
+    from impactdamper.reporting.plotting import save_figure
+
+    save_figure(fig, out_pdf, formats=("pdf",))
+    save_figure(fig, out_png, formats=("png",))
+    plt.close(fig)
+
+
+def figure_rule(sm, main, *inputs: str) -> None:
+    """Run a figure script's ``main`` under Snakemake's ``script:``: the named inputs, then the
+    outputs pdf and png; warnings and errors go to the rule's log."""
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    main(*[sm.input[name] for name in inputs], sm.output.pdf, sm.output.png)

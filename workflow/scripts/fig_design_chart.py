@@ -11,7 +11,8 @@ period, over the band.
 Deviations: none (the paper has no such figure).
 """
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+import design_common as dc
+from impactdamper.reporting.plotting import TEXT_WIDTH, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json
 
 
@@ -51,14 +52,9 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     h1, l1 = ax2.get_legend_handles_labels()
     h2, l2 = ax3.get_legend_handles_labels()
     ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left")
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    dc.save(plt, fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.input.chart, sm.input.best, sm.input.baselines, sm.output.pdf, sm.output.png)
+    # (snakemake is injected by Snakemake's script: directive)
+    dc.figure_rule(snakemake, main, "chart", "best", "baselines")  # noqa: F821

@@ -6,7 +6,8 @@ of the same mu as a horizontal line.
 Deviations: none (the paper has no such figure).
 """
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+import design_common as dc
+from impactdamper.reporting.plotting import TEXT_WIDTH, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json
 
 
@@ -31,14 +32,9 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     ax.set_ylabel("peak $\\max|x_1|/x_{st}$ over the band")
     ax.set_ylim(0.0, None)
     ax.legend(fontsize=7, ncol=3, loc="lower left")
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    dc.save(plt, fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.input.chart, sm.input.best, sm.input.baselines, sm.output.pdf, sm.output.png)
+    # (snakemake is injected by Snakemake's script: directive)
+    dc.figure_rule(snakemake, main, "chart", "best", "baselines")  # noqa: F821

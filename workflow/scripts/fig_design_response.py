@@ -12,7 +12,8 @@ Deviations: none (the paper has no such figure).
 
 import numpy as np
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+import design_common as dc
+from impactdamper.reporting.plotting import TEXT_WIDTH, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json
 
 
@@ -63,14 +64,9 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
     h2, l2 = ax3.get_legend_handles_labels()
     ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
     ax2.set_title(f"loads at the best gap $\\Delta_0/x_{{st}} = {best['gap']:.2f}$", fontsize=8)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    dc.save(plt, fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.input.response, sm.input.summary, sm.input.baselines, sm.output.pdf, sm.output.png)
+    # (snakemake is injected by Snakemake's script: directive)
+    dc.figure_rule(snakemake, main, "response", "summary", "baselines")  # noqa: F821

@@ -40,7 +40,7 @@ from impactdamper.analysis.sweeps import SweepSettings, with_value
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
 
 __all__ = ["bare_object_amplitude", "two_mass_amplitude", "den_hartog", "TunedMassDamper", "optimal_tmd",
-           "band_peak", "GapChart", "gap_chart", "good_band", "design_chart_2d", "CRITERIA",
+           "band_peak", "band_mean", "GapChart", "gap_chart", "good_band", "design_chart_2d", "CRITERIA",
            "GOOD_GAP_TOLERANCE", "LINEAR_GRID_POINTS"]
 
 CRITERIA = ("peak", "band_average")
@@ -91,8 +91,9 @@ def band_peak(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, 
     return max(float(y[i]), -float(res.fun))
 
 
-def _band_mean(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
-               points: int = LINEAR_GRID_POINTS) -> float:
+def band_mean(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
+              points: int = LINEAR_GRID_POINTS) -> float:
+    """Trapezoidal mean of a smooth ``amplitude(theta)`` over ``band`` (``points`` samples)."""
     th = np.linspace(band[0], band[1], points)
     return float(np.trapezoid(amplitude(th), th) / (band[1] - band[0]))
 
@@ -179,7 +180,7 @@ def optimal_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5)
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(CRITERIA)}")
     guess = den_hartog(mu)
     x0 = (guess["N"], guess["delta2"]) if start is None else start
-    measure = band_peak if criterion == "peak" else _band_mean
+    measure = band_peak if criterion == "peak" else band_mean
 
     def objective(x: np.ndarray) -> float:
         N, d2 = float(x[0]), math.exp(float(x[1]))
@@ -192,7 +193,7 @@ def optimal_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5)
     N, d2 = float(res.x[0]), math.exp(float(res.x[1]))
     amp = lambda th: two_mass_amplitude(mu, N, delta1, d2, th)  # noqa: E731
     return TunedMassDamper(mu=mu, delta1=delta1, band=band, criterion=criterion, N=N, delta2=d2,
-                           peak=band_peak(amp, band), band_average=_band_mean(amp, band), evaluations=int(res.nfev))
+                           peak=band_peak(amp, band), band_average=band_mean(amp, band), evaluations=int(res.nfev))
 
 
 @dataclass(frozen=True)
