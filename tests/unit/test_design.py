@@ -116,6 +116,12 @@ def test_gap_chart_picks_the_smallest_criterion():
     impulse, impacts = chart.loads()
     assert impulse[1] == max(max(q.up.peak_impulse, q.down.peak_impulse) for q in r.points)
     assert len(chart.rows()) == 3
+    # At one theta of the grid: the worse direction there, per gap.
+    at = chart.at_theta(1.0)
+    assert at[1] == max(r.points[2].up.max_abs_x1, r.points[2].down.max_abs_x1)
+    assert [row["max_abs_x1_at_theta"] for row in chart.rows(1.0)] == list(at)
+    with pytest.raises(ValueError, match="^`theta` = 1.1 is not allowed: must be on the chart's theta grid"):
+        chart.at_theta(1.1)
 
 
 @pytest.mark.parametrize("call, name", [

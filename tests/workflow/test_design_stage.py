@@ -111,6 +111,11 @@ def test_macros_quote_the_records(tmp_path):
     assert float(macros["DesignBestPeak"]) == pytest.approx(best["value"], abs=0.005)
     assert float(macros["DesignTmdPeak"]) == pytest.approx(base["tmd"]["peak"]["peak"], abs=0.005)
     assert float(macros["DesignRatioTmd"]) == pytest.approx(best["value"] / base["tmd"]["peak"]["peak"], abs=0.005)
+    # The report's text says the optimal TMD has the lower peak, and that the criterion at theta = 1
+    # alone picks another gap than the band: both must hold in the records it quotes.
+    assert best["value"] > base["tmd"]["peak"]["peak"]
+    one = read_json(FIGURES / "design_chart.json")["at_reference_theta"]
+    assert one["gap"] != best["gap"]
     # And the report step regenerates them exactly from the records.
     design_report.main(FIGURES / "design_baselines.json", FIGURES / "design_chart.json",
                        FIGURES / "design_chart_2d.json", FIGURES / "design_response.json",

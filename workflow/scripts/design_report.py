@@ -14,7 +14,7 @@ import numpy as np
 
 from impactdamper.reporting.latex import fixed, macro, tex_sci
 from impactdamper.reporting.records import read_csv, read_json
-from impactdamper.studies.design import two_mass_amplitude
+from impactdamper.studies.design import bare_object_amplitude, two_mass_amplitude
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -61,6 +61,11 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     add("DesignGoodTo", fixed(bp["good_to"], 2))
     add("DesignBestImpulse", fixed(bp["peak_impulse"], 2))
     add("DesignBestImpacts", fixed(bp["impacts_per_period"], 0))
+    one = chart["at_reference_theta"]
+    add("DesignRefTheta", fixed(one["theta"], 2))
+    add("DesignRefThetaGap", fixed(one["gap"], 2))
+    add("DesignRefThetaValue", fixed(one["value"], 2))
+    add("DesignRefThetaBare", fixed(float(bare_object_amplitude(base["parameters"]["delta1"], [one["theta"]])[0]), 2))
     add("DesignAvgBestGap", fixed(ba["gap"], 2))
     add("DesignAvgBest", fixed(ba["value"], 3))
     add("DesignAvgGoodFrom", fixed(ba["good_from"], 2))

@@ -220,6 +220,17 @@ class GapChart:
             raise ValueError(f"`criterion` = {name!r} is not allowed: must be one of {', '.join(CRITERIA)}")
         return np.array([r.peak() if name == "peak" else r.band_average() for r in self.responses])
 
+    def at_theta(self, theta: float) -> np.ndarray:
+        """The worse direction's max|x1|/x_st at one theta of the grid, per gap (the gap sweep of
+        the sweeps stage reads the gap at the reference theta = 1 only)."""
+        theta = finite_argument("theta", theta)
+        thetas = self.responses[0].thetas
+        i = int(np.argmin(np.abs(thetas - theta)))
+        if abs(thetas[i] - theta) > 1e-9 * max(abs(theta), 1.0):
+            raise ValueError(f"`theta` = {theta!r} is not allowed: must be on the chart's theta grid "
+                             f"({thetas[0]:g} to {thetas[-1]:g} in {len(thetas)} points)")
+        return np.array([r.points[i].worst_x1 for r in self.responses])
+
     def loads(self) -> tuple[np.ndarray, np.ndarray]:
         """Per gap: largest peak pulse (over m1 x_st omega) and impacts per period over the band."""
         ls = [r.loads() for r in self.responses]
@@ -235,13 +246,20 @@ class GapChart:
                 "good_from": lo, "good_to": hi, "peak_impulse": float(impulse[i]),
                 "impacts_per_period": float(impacts[i]), "index": i}
 
-    def rows(self) -> list[dict]:
+    def rows(self, theta: float | None = None) -> list[dict]:
+        """One dict per gap; with ``theta``, also ``max_abs_x1_at_theta`` (see :meth:`at_theta`)."""
         peak, mean = self.criterion("peak"), self.criterion("band_average")
         impulse, impacts = self.loads()
-        return [{"gap": float(g), "peak_max_abs_x1": float(a), "band_average_max_abs_x1": float(b),
-                 "peak_impulse": float(s), "impacts_per_period": float(z),
-                 "hysteresis_points": int(sum(q.hysteresis for q in r.points))}
-                for g, a, b, s, z, r in zip(self.gaps, peak, mean, impulse, impacts, self.responses)]
+        at = self.at_theta(theta) if theta is not None else [None] * len(self.gaps)
+        out = []
+        for g, a, b, s, z, r, x in zip(self.gaps, peak, mean, impulse, impacts, self.responses, at):
+            row = {"gap": float(g), "peak_max_abs_x1": float(a), "band_average_max_abs_x1": float(b),
+                   "peak_impulse": float(s), "impacts_per_period": float(z),
+                   "hysteresis_points": int(sum(q.hysteresis for q in r.points))}
+            if theta is not None:
+                row["max_abs_x1_at_theta"] = float(x)
+            out.append(row)
+        return out
 
 
 def good_band(gaps: Sequence[float], values: Sequence[float], tolerance: float = GOOD_GAP_TOLERANCE) -> tuple:
