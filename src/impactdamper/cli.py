@@ -1,4 +1,4 @@
-"""Command line: ``python -m impactdamper {steady,alg1,orbit} [--PARAM VALUE ...] [--json]``.
+"""Command line: ``python -m impactdamper {steady,alg1,orbit,response} [--PARAM VALUE ...] [--json]``.
 
 Every parameter of :class:`impactdamper.Parameters` is a flag (defaults: the paper's reference
 case). A bad value exits with status 2 and a one-line message naming the flag; so does a case
@@ -20,6 +20,8 @@ import sys
 
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
+from impactdamper.analysis.response import frequency_response
+from impactdamper.analysis.sweeps import SweepSettings
 from impactdamper.core.parameters import Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.steady import steady_state
@@ -101,6 +103,18 @@ def build_parser() -> argparse.ArgumentParser:
     o.add_argument("--period-multiple", type=int, default=None, metavar="K",
                    help="solve the seed's cycle repeated to K T (a multiple of its own k)")
     add_solver_flags(orbit.add_argument_group("solver (for --seed simulate)"))
+
+    response = sub.add_parser("response", help="frequency response: settled motion against theta by an upward and "
+                                               "a downward sweep, loads, energies, hysteresis, linear response")
+    add_parameters(response)
+    r = response.add_argument_group("frequency response (--theta is not used: the band is)")
+    r.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
+    r.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
+    r.add_argument("--points", type=int, default=21, help="theta values, equally spaced (default 21)")
+    r.add_argument("--settle-tol", type=float, default=SweepSettings.settle_tol,
+                   help="relative section mismatch for a settled motion")
+    r.add_argument("--max-periods", type=int, default=SweepSettings.max_periods,
+                   help="forcing periods a point may simulate before 'nonperiodic'")
     return parser
 
 
@@ -151,9 +165,15 @@ def main(argv: list[str] | None = None) -> int:
             if value is not None:
                 sub.exit(2, f"{sub.prog}: error: argument {flag}: not allowed with --seed alg1 (Algorithm No. 1's "
                             "orbit is closed-form, it has no start); use --seed simulate to start from it\n")
-    printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady}[args.command]
+    printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady,
+               "response": _print_response}[args.command]
     try:
-        if args.command == "alg1":
+        if args.command == "response":
+            settings = SweepSettings(settle_tol=args.settle_tol, max_periods=args.max_periods,
+                                     max_periods_after_nonperiodic=min(SweepSettings.max_periods_after_nonperiodic,
+                                                                       args.max_periods))
+            result = frequency_response(p, args.theta_start, args.theta_stop, args.points, settings=settings).to_dict()
+        elif args.command == "alg1":
             result = algorithm1(p).to_dict()
         else:
             solver = dict(t0=0.0 if args.t0 is None else args.t0, state=args.state,
@@ -285,3 +305,15 @@ def _print_orbit(r: dict) -> None:
           f"{r['residual']:.2g}); admissible: {'yes' if r['admissible'] else 'no, ' + r['reason']}; "
           f"stable: {'yes' if r['stable'] else 'no'}")
     print("  Floquet multipliers |mu|: " + ", ".join(f"{m:.9f}" for m in r["multipliers"]))
+
+
+def _print_response(r: dict) -> None:
+    print(f"peak max|x1|/x_st over the band {r['peak_max_abs_x1']:.6f}, band average {r['band_average_max_abs_x1']:.6f}, "
+          f"largest pulse {r['peak_impulse']:.6g} m1 x_st omega, at most {r['impacts_per_period']:g} impacts per "
+          f"period, {r['hysteresis_points']} theta values with hysteresis")
+    print("   theta   up     down   max|x1| up/down       max|x2| up   impacts/T  peak pulse  linear |x1|")
+    for q in r["points"]:
+        u, d = q["up"], q["down"]
+        print(f"  {q['theta']:.4f}  {u['label']:<6} {d['label']:<6} {u['max_abs_x1']:9.5f} {d['max_abs_x1']:9.5f}  "
+              f"{u['max_abs_x2']:9.5f}  {u['impacts_per_period']:9.4g}  {u['peak_impulse']:10.5g}  "
+              f"{q['linear_max_abs_x1']:9.5f}{'  hysteresis' if q['hysteresis'] else ''}")

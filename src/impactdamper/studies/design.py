@@ -1,0 +1,331 @@
+"""Choosing a suppressor: linear baselines and design charts over the gap.
+
+Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100, compute the suppressor's motion
+for a given gap; a designer wants the gap (and spring, restitution) that keeps the object's
+amplitude lowest over the band of forcing frequencies it will meet. This module answers that
+by simulation (:func:`impactdamper.analysis.response.frequency_response` at each gap) and sets
+the answer beside three linear references, each computed here:
+
+* the bare object (no suppressor): |x1|/x_st = 1/|1 - theta^2 + 2 i delta1 theta|;
+* the absorber without a stop: the same mu, N, delta2 (eq. 10 with no contact);
+* the optimal linear tuned-mass damper (TMD) of the same mu on the object's own damping
+  delta1: its tuning N and damping delta2 minimise the peak (or the band average) of |x1|/x_st
+  over the band, numerically. For delta1 = 0 and an unbounded band Den Hartog's closed form
+  holds: N = 1/(1 + mu), delta2 = N sqrt(3 mu/(8 (1 + mu)^3)), peak sqrt(1 + 2/mu) (the peak is
+  the height of the fixed points, the exact minimax value); it checks the optimiser.
+
+In relative form (time in 1/omega1, lengths in x_st, B = N^2 + 2 i delta2 theta) the linear
+two-mass system has
+
+    x1_hat/x_st = (B - theta^2) / ((1 - theta^2 + 2 i delta1 theta)(B - theta^2) - mu B theta^2),
+
+the relative form of eq. (10).
+
+The design criterion of an impact suppressor at one gap is the worse of the upward and downward
+sweeps at each theta (a designer cannot choose the branch), then its maximum over the band
+(peak) or its trapezoidal mean (band average).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+import scipy.optimize
+
+from impactdamper.analysis.response import FrequencyResponse, frequency_response, theta_grid
+from impactdamper.analysis.sweeps import SweepSettings, with_value
+from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
+
+__all__ = ["bare_object_amplitude", "two_mass_amplitude", "den_hartog", "TunedMassDamper", "optimal_tmd",
+           "band_peak", "band_mean", "GapChart", "gap_chart", "good_band", "design_chart_2d", "CRITERIA",
+           "GOOD_GAP_TOLERANCE", "LINEAR_GRID_POINTS"]
+
+CRITERIA = ("peak", "band_average")
+# A gap is "good" when its criterion is within this fraction of the best gap's: 10 % is about
+# the spread of max|x1| between the two sweep directions in the hysteretic part of the band, so
+# finer differences do not distinguish designs.
+GOOD_GAP_TOLERANCE = 0.10
+# Theta samples over a band for the linear peaks (then refined locally by a bounded search):
+# the TMD's resonance peaks are ~0.1 wide in theta at mu = 0.08, so 801 points over a band of 1
+# put 80 samples on each before refinement.
+LINEAR_GRID_POINTS = 801
+# Nelder-Mead stops when the peak changes by less than this (relative): the figures show 3 digits.
+OPTIMISER_FTOL = 1e-10
+
+
+def bare_object_amplitude(delta1: float, thetas: Sequence[float]) -> np.ndarray:
+    """|x1|/x_st of the object alone: 1/|1 - theta^2 + 2 i delta1 theta|. Shape (len(thetas),)."""
+    th = np.asarray(thetas, dtype=float)
+    return 1.0 / np.abs(1.0 - th**2 + 2j * delta1 * th)
+
+
+def two_mass_amplitude(mu: float, N: float, delta1: float, delta2: float, thetas: Sequence[float]) -> np.ndarray:
+    """|x1|/x_st of the linear two-mass system (absorber without a stop, or a TMD), closed form
+    (see the module docstring). Shape (len(thetas),)."""
+    th = np.asarray(thetas, dtype=float)
+    B = N * N + 2j * delta2 * th
+    return np.abs((B - th**2) / ((1.0 - th**2 + 2j * delta1 * th) * (B - th**2) - mu * B * th**2))
+
+
+def den_hartog(mu: float) -> dict:
+    """Den Hartog's optimal TMD on an undamped object: tuning N, damping delta2 and the peak of
+    |x1|/x_st (in this project's notation: delta2 = k2/(2 m2 omega1) = N zeta)."""
+    N = 1.0 / (1.0 + mu)
+    zeta = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
+    return {"N": N, "delta2": N * zeta, "peak": math.sqrt(1.0 + 2.0 / mu)}
+
+
+def band_peak(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
+              points: int = LINEAR_GRID_POINTS) -> float:
+    """Maximum of a smooth ``amplitude(theta)`` over ``band``: a grid, then a bounded search
+    around the largest sample."""
+    th = np.linspace(band[0], band[1], points)
+    y = amplitude(th)
+    i = int(np.argmax(y))
+    lo, hi = th[max(i - 1, 0)], th[min(i + 1, points - 1)]
+    res = scipy.optimize.minimize_scalar(lambda t: -float(amplitude(np.array([t]))[0]), bounds=(lo, hi),
+                                         method="bounded", options={"xatol": 1e-12})
+    return max(float(y[i]), -float(res.fun))
+
+
+def band_mean(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
+              points: int = LINEAR_GRID_POINTS) -> float:
+    """Trapezoidal mean of a smooth ``amplitude(theta)`` over ``band`` (``points`` samples)."""
+    th = np.linspace(band[0], band[1], points)
+    return float(np.trapezoid(amplitude(th), th) / (band[1] - band[0]))
+
+
+@dataclass(frozen=True)
+class TunedMassDamper:
+    """An optimal linear TMD of mass ratio ``mu`` on an object of damping ``delta1``.
+
+    Attributes
+    ----------
+    mu, delta1 : float
+    band : (float, float)
+        The theta band optimised over.
+    criterion : str
+        ``peak`` or ``band_average`` of |x1|/x_st over the band.
+    N, delta2 : float
+        The optimal tuning omega2/omega1 and damping k2/(2 m2 omega1).
+    peak, band_average : float
+        Both criteria at the optimum.
+    evaluations : int
+        Objective evaluations the optimiser took.
+    """
+
+    mu: float
+    delta1: float
+    band: tuple
+    criterion: str
+    N: float
+    delta2: float
+    peak: float
+    band_average: float
+    evaluations: int
+
+    def amplitude(self, thetas: Sequence[float]) -> np.ndarray:
+        return two_mass_amplitude(self.mu, self.N, self.delta1, self.delta2, thetas)
+
+    def to_dict(self) -> dict:
+        d = {name: getattr(self, name) for name in self.__dataclass_fields__}
+        d["band"] = list(self.band)
+        return d
+
+
+def _check_band(band: object) -> tuple[float, float]:
+    try:
+        a, b = band  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise ValueError(f"`band` = {band!r} is not allowed: must be two numbers (theta_start, theta_stop)") from None
+    theta_grid(a, b, 2)
+    return float(a), float(b)
+
+
+def optimal_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5), criterion: str = "peak",
+                start: tuple[float, float] | None = None) -> TunedMassDamper:
+    """The TMD of mass ratio ``mu`` that minimises ``criterion`` of |x1|/x_st over ``band``.
+
+    Nelder-Mead in (N, log delta2) from Den Hartog's optimum (or ``start``); the peak is a
+    minimax objective, whose optimum sits where two resonance peaks are equal, and the simplex
+    method needs no gradient there.
+
+    Parameters
+    ----------
+    mu : float
+        Mass ratio m2/m1 (> 0).
+    delta1 : float
+        The object's damping k1/(2 m1 omega1) (>= 0).
+    band : (float, float)
+        Theta band.
+    criterion : str
+        ``peak`` or ``band_average``.
+    start : (N, delta2), optional
+
+    Returns
+    -------
+    TunedMassDamper
+    """
+    mu = finite_argument("mu", mu)
+    delta1 = finite_argument("delta1", delta1)
+    if not mu > 0:
+        raise ValueError(f"`mu` = {mu!r} is not allowed: must be > 0")
+    if not delta1 >= 0:
+        raise ValueError(f"`delta1` = {delta1!r} is not allowed: must be >= 0")
+    band = _check_band(band)
+    if criterion not in CRITERIA:
+        raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(CRITERIA)}")
+    guess = den_hartog(mu)
+    x0 = (guess["N"], guess["delta2"]) if start is None else start
+    measure = band_peak if criterion == "peak" else band_mean
+
+    def objective(x: np.ndarray) -> float:
+        N, d2 = float(x[0]), math.exp(float(x[1]))
+        if not N > 0:
+            return math.inf
+        return measure(lambda th: two_mass_amplitude(mu, N, delta1, d2, th), band)
+
+    res = scipy.optimize.minimize(objective, np.array([x0[0], math.log(x0[1])]), method="Nelder-Mead",
+                                  options={"xatol": 1e-9, "fatol": OPTIMISER_FTOL, "maxiter": 4000})
+    N, d2 = float(res.x[0]), math.exp(float(res.x[1]))
+    amp = lambda th: two_mass_amplitude(mu, N, delta1, d2, th)  # noqa: E731
+    return TunedMassDamper(mu=mu, delta1=delta1, band=band, criterion=criterion, N=N, delta2=d2,
+                           peak=band_peak(amp, band), band_average=band_mean(amp, band), evaluations=int(res.nfev))
+
+
+@dataclass(frozen=True)
+class GapChart:
+    """The frequency response at each gap, and the design criteria it gives.
+
+    Attributes
+    ----------
+    p : Parameters
+        The other parameters.
+    gaps : ndarray, shape (n,)
+        Delta0/x_st, increasing.
+    responses : tuple of FrequencyResponse
+        One per gap, over the same theta grid.
+    """
+
+    p: Parameters = field(repr=False)
+    gaps: np.ndarray
+    responses: tuple = field(repr=False)
+
+    def criterion(self, name: str) -> np.ndarray:
+        """``peak`` or ``band_average`` of the worse direction's max|x1|/x_st, per gap."""
+        if name not in CRITERIA:
+            raise ValueError(f"`criterion` = {name!r} is not allowed: must be one of {', '.join(CRITERIA)}")
+        return np.array([r.peak() if name == "peak" else r.band_average() for r in self.responses])
+
+    def at_theta(self, theta: float) -> np.ndarray:
+        """The worse direction's max|x1|/x_st at one theta of the grid, per gap (the gap sweep of
+        the sweeps stage reads the gap at the reference theta = 1 only)."""
+        theta = finite_argument("theta", theta)
+        thetas = self.responses[0].thetas
+        i = int(np.argmin(np.abs(thetas - theta)))
+        if abs(thetas[i] - theta) > 1e-9 * max(abs(theta), 1.0):
+            raise ValueError(f"`theta` = {theta!r} is not allowed: must be on the chart's theta grid "
+                             f"({thetas[0]:g} to {thetas[-1]:g} in {len(thetas)} points)")
+        return np.array([r.points[i].worst_x1 for r in self.responses])
+
+    def loads(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per gap: largest peak pulse (over m1 x_st omega) and impacts per period over the band."""
+        ls = [r.loads() for r in self.responses]
+        return np.array([x["peak_impulse"] for x in ls]), np.array([x["impacts_per_period"] for x in ls])
+
+    def best(self, name: str, tolerance: float = GOOD_GAP_TOLERANCE) -> dict:
+        """The gap minimising criterion ``name`` and its band of good gaps (see :func:`good_band`)."""
+        values = self.criterion(name)
+        i = int(np.nanargmin(values))
+        lo, hi = good_band(self.gaps, values, tolerance)
+        impulse, impacts = self.loads()
+        return {"criterion": name, "gap": float(self.gaps[i]), "value": float(values[i]), "tolerance": tolerance,
+                "good_from": lo, "good_to": hi, "peak_impulse": float(impulse[i]),
+                "impacts_per_period": float(impacts[i]), "index": i}
+
+    def rows(self, theta: float | None = None) -> list[dict]:
+        """One dict per gap; with ``theta``, also ``max_abs_x1_at_theta`` (see :meth:`at_theta`)."""
+        peak, mean = self.criterion("peak"), self.criterion("band_average")
+        impulse, impacts = self.loads()
+        at = self.at_theta(theta) if theta is not None else [None] * len(self.gaps)
+        out = []
+        for g, a, b, s, z, r, x in zip(self.gaps, peak, mean, impulse, impacts, self.responses, at):
+            row = {"gap": float(g), "peak_max_abs_x1": float(a), "band_average_max_abs_x1": float(b),
+                   "peak_impulse": float(s), "impacts_per_period": float(z),
+                   "hysteresis_points": int(sum(q.hysteresis for q in r.points))}
+            if theta is not None:
+                row["max_abs_x1_at_theta"] = float(x)
+            out.append(row)
+        return out
+
+
+def good_band(gaps: Sequence[float], values: Sequence[float], tolerance: float = GOOD_GAP_TOLERANCE) -> tuple:
+    """The contiguous run of gaps around the best one whose value is within ``tolerance`` of it
+    (value <= (1 + tolerance) best). Returns (first gap, last gap) of the run."""
+    tolerance = finite_argument("tolerance", tolerance)
+    if not tolerance >= 0:
+        raise ValueError(f"`tolerance` = {tolerance!r} is not allowed: must be >= 0")
+    g = np.asarray(gaps, dtype=float)
+    v = np.asarray(values, dtype=float)
+    i = int(np.nanargmin(v))
+    limit = (1.0 + tolerance) * v[i]
+    lo = i
+    while lo > 0 and v[lo - 1] <= limit:
+        lo -= 1
+    hi = i
+    while hi < len(v) - 1 and v[hi + 1] <= limit:
+        hi += 1
+    return float(g[lo]), float(g[hi])
+
+
+def gap_chart(p: Parameters, gaps: Sequence[float], band: tuple[float, float] = (0.5, 1.5), points: int = 21, *,
+              settings: SweepSettings | None = None, progress: Callable[[str], None] | None = None) -> GapChart:
+    """The two-way frequency response over ``band`` (``points`` thetas) at each gap.
+
+    Parameters
+    ----------
+    p : Parameters
+        The other parameters (its gap and theta are not used).
+    gaps : sequence of float
+        Delta0/x_st values (sorted here).
+    band : (float, float)
+    points : int
+    settings : SweepSettings, optional
+    progress : callable(str), optional
+        Called with a one-line message after each gap.
+    """
+    p = require_parameters(p)
+    band = _check_band(band)
+    theta_grid(band[0], band[1], points)
+    gaps = np.array(sorted(finite_argument("gaps", g) for g in gaps))
+    if len(gaps) == 0:
+        raise ValueError("`gaps` = [] is not allowed: must hold at least one value")
+    out = []
+    for j, g in enumerate(gaps):
+        r = frequency_response(with_value(p, "gap", float(g)), band[0], band[1], points, settings=settings)
+        out.append(r)
+        if progress is not None:
+            progress(f"gap {j + 1}/{len(gaps)}: Delta0/x_st = {g:.4g}, peak max|x1|/x_st = {r.peak():.4g}, "
+                     f"band average {r.band_average():.4g}")
+    return GapChart(p, gaps, tuple(out))
+
+
+def design_chart_2d(p: Parameters, name: str, values: Sequence[float], gaps: Sequence[float],
+                    band: tuple[float, float] = (0.5, 1.5), points: int = 21, *,
+                    settings: SweepSettings | None = None,
+                    progress: Callable[[str], None] | None = None) -> dict[float, GapChart]:
+    """:func:`gap_chart` at each value of a second parameter ``name`` (``N`` or ``R``, or any
+    field of Parameters but ``gap`` and ``theta``). Returns {value: GapChart}."""
+    if name in ("gap", "theta") or name not in Parameters.names():
+        allowed = ", ".join(n for n in Parameters.names() if n not in ("gap", "theta"))
+        raise ValueError(f"`name` = {name!r} is not allowed: must be one of {allowed}")
+    out = {}
+    for v in values:
+        q = with_value(require_parameters(p), name, finite_argument("values", v))
+        if progress is not None:
+            progress(f"{name} = {v:.4g}")
+        out[float(v)] = gap_chart(q, gaps, band, points, settings=settings, progress=progress)
+    return out

@@ -1,0 +1,182 @@
+"""Frequency response (impactdamper.analysis.response): the upward and downward theta sweeps'
+cycles against closed forms.
+
+* Without contact (a gap far beyond the motion) the library's event-driven flow is the linear
+  forced response of eq. (10): max|x1| and max|x2| against |x1p_hat|, |x2p_hat| and against the
+  relative closed form of studies.design, and the dampers' dissipation per period against
+  pi omega (k1 |x1p_hat|^2 + k2 |x2p_hat - x1p_hat|^2).
+* Energy balance of settled impacting cycles: input = impacts + dampers (+ drift), each term
+  computed on its own.
+* Pulse per impact: m2 times the jump of the suppressor's velocity, and the steady state's own.
+* Hysteresis: a band where the upward sweep stays without contact while the downward one keeps
+  impacting (gap 3, theta 1.2-1.3) is flagged, a gap without contact is not.
+* Bad input: one-line errors naming the argument, from the API and the command line (exit 2).
+"""
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from impactdamper.analysis.response import (HYSTERESIS_TOL, cycle_metrics, energy_balance, frequency_response,
+                                            linear_response, theta_grid)
+from impactdamper.analysis.sweeps import SweepSettings, solve_point, with_value
+from impactdamper.core.linear import forced_amplitudes
+from impactdamper.core.parameters import Parameters
+from impactdamper.core.simulate import EventDrivenSolver
+from impactdamper.core.steady import steady_state
+from impactdamper.studies.design import two_mass_amplitude
+
+# A gap the motion never reaches: 1000 x_st against forced amplitudes below 30 x_st.
+NO_CONTACT_GAP = 1.0e3
+# The settled cycle is the periodic one to the sweep's settle tolerance (1e-9 x_st, x_st omega at
+# the section: the free response left over); the flow itself is exact to rounding. Ten times that.
+AMPLITUDE_ATOL = 10 * SweepSettings().settle_tol
+# Energies per period over c1 x_st^2 carry the same leftover, relative to amplitudes ~1: 1e-7.
+ENERGY_RTOL = 1e-7
+# Gauss-Legendre on smooth pieces: the balance closes to rounding (~1e-13); 1e-10 leaves margin.
+BALANCE_TOL = 1e-10
+
+
+@pytest.mark.parametrize("delta1, delta2, N", [(0.05, 0.05, 0.5), (0.0, 0.1, 0.9), (0.2, 0.01, 1.3)])
+def test_no_contact_flow_is_the_linear_forced_response(delta1, delta2, N):
+    p = Parameters(gap=NO_CONTACT_GAP, delta1=delta1, delta2=delta2, N=N)
+    r = frequency_response(p, 0.6, 1.4, 9)
+    lin1, lin2 = linear_response(p, r.thetas)
+    closed = two_mass_amplitude(p.mu, p.N, p.delta1, p.delta2, r.thetas)
+    for q, a1, a2, c in zip(r.points, lin1, lin2, closed):
+        for m in (q.up, q.down):
+            assert m.regime == "no_contact"
+            assert abs(m.max_abs_x1 - a1) <= AMPLITUDE_ATOL, (q.theta, m.max_abs_x1, a1)
+            assert abs(m.max_abs_x2 - a2) <= AMPLITUDE_ATOL, (q.theta, m.max_abs_x2, a2)
+            assert m.impacts_per_period == 0 and m.peak_impulse == 0 and m.energy_impacts == 0
+        assert abs(a1 - c) <= 1e-12 * c  # eq. (10) solved as a matrix against the relative closed form
+        assert not q.hysteresis
+        # Dissipation per period of the forced response: pi omega (k1 |X1|^2 + k2 |X2 - X1|^2).
+        pq = with_value(p, "theta", q.theta)
+        X1, X2 = forced_amplitudes(pq)
+        expected = math.pi * pq.omega * (pq.k1 * abs(X1) ** 2 + pq.k2 * abs(X2 - X1) ** 2) / (pq.c1 * pq.x_st**2)
+        assert abs(q.up.energy_dampers - expected) <= ENERGY_RTOL * expected
+        assert abs(q.up.energy_input - expected) <= ENERGY_RTOL * expected
+
+
+@pytest.mark.parametrize("gap", [0.85, -5.8, 3.0])
+def test_energy_balance_of_settled_cycles(gap):
+    r = frequency_response(Parameters(gap=gap), 0.8, 1.2, 5)
+    for q in r.points:
+        for m in (q.up, q.down):
+            assert m.balance <= BALANCE_TOL, (gap, q.theta, m)
+            if m.regime != "nonperiodic":
+                # Settled: input equals the two losses, up to the settle tolerance's drift.
+                assert abs(m.energy_input - m.energy_impacts - m.energy_dampers) <= 1e-7 * m.energy_input
+                assert m.energy_impacts >= 0 and m.energy_dampers > 0
+
+
+def test_energy_balance_over_any_window_closes_with_the_drift():
+    # A transient (not settled) from Algorithm No. 2's step 1: the mechanical energy changes,
+    # and input - losses must equal that change.
+    p = Parameters(gap=-2.0)
+    solver = EventDrivenSolver(p)
+    solver.advance(3.3 * p.T)
+    e = energy_balance(solver.trajectory, 0.1 * p.T, 3.2 * p.T)
+    assert len([x for x in solver.trajectory.events if x.kind == "impact"]) >= 2
+    assert abs(e["drift"]) > 1e-3 * p.c1 * p.x_st**2
+    assert abs(e["input"] - e["impacts"] - e["dampers"] - e["drift"]) <= BALANCE_TOL * abs(e["input"])
+
+
+def test_pulse_is_m2_times_the_suppressors_velocity_jump():
+    p = Parameters(gap=0.85)
+    solver = EventDrivenSolver(p)
+    solver.advance(5 * p.T)
+    impacts = solver.trajectory.impacts()
+    assert impacts
+    for e in impacts:
+        assert abs(e.impulse - p.m2 * (e.before[3] - e.after[3])) <= 1e-12 * e.impulse
+        assert abs(e.impulse - p.m1 * (e.after[2] - e.before[2])) <= 1e-12 * e.impulse
+    # The response's pulse equals the steady state's (its own settled run), over m1 x_st omega.
+    s = steady_state(p)
+    assert s.regime == "single_impact"
+    m = cycle_metrics(solve_point(p))
+    expected = s.impacts[0].impulse / (p.m1 * p.x_st * p.omega)
+    assert m.impacts_per_period == 1
+    assert abs(m.peak_impulse - expected) <= 1e-6 * expected
+    assert m.mean_impulse == m.peak_impulse
+    assert abs(m.max_abs_x1 - s.x1_max) <= 1e-7 * s.x1_max
+
+
+def test_hysteresis_where_the_two_sweeps_settle_on_different_motions():
+    r = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11)
+    flagged = [q for q in r.points if q.hysteresis]
+    assert flagged, [(q.theta, q.up.label, q.down.label) for q in r.points]
+    for q in flagged:
+        assert q.up.label != q.down.label or abs(q.up.max_abs_x1 - q.down.max_abs_x1) > HYSTERESIS_TOL * q.worst_x1
+    # The upward sweep leaves the impacts late, the downward one keeps them: one of each.
+    assert any(q.up.regime == "no_contact" and q.down.impacts_per_period > 0 for q in flagged)
+    for q in r.points:
+        if not q.hysteresis:
+            assert q.up.label == q.down.label
+            assert abs(q.up.max_abs_x1 - q.down.max_abs_x1) <= HYSTERESIS_TOL * q.worst_x1
+    assert r.to_dict()["hysteresis_points"] == len(flagged)
+
+
+def test_deterministic():
+    a = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 3).to_dict()
+    b = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 3).to_dict()
+    assert json.dumps(a) == json.dumps(b)
+
+
+@pytest.mark.parametrize("args, name", [
+    ((0.0, 1.0, 3), "theta_start"), ((1.0, 0.5, 3), "theta_stop"), ((0.5, 1.5, 0), "points"),
+    ((0.5, 1.5, 2.5), "points"), ((0.5, float("nan"), 3), "theta_stop"), (("a", 1.5, 3), "theta_start"),
+    ((0.5, 1.5, True), "points"), ((0.5, 0.6, 1), "theta_stop"),
+])
+def test_bad_grid_is_one_line_naming_the_argument(args, name):
+    with pytest.raises(ValueError) as err:
+        theta_grid(*args)
+    assert str(err.value).startswith(f"`{name}` = ")
+    assert "is not allowed" in str(err.value) and "\n" not in str(err.value)
+    with pytest.raises(ValueError, match=f"^`{name}` = "):
+        frequency_response(Parameters(), *args)
+
+
+def test_bad_arguments_of_frequency_response():
+    with pytest.raises(TypeError, match="^`p` = "):
+        frequency_response({"gap": 1.0})
+    with pytest.raises(ValueError, match="^`hysteresis_tol` = "):
+        frequency_response(Parameters(), hysteresis_tol=0.0)
+    with pytest.raises(TypeError, match="^`settings` = "):
+        frequency_response(Parameters(), settings={"settle_tol": 1e-9})
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "impactdamper", "response", *args], capture_output=True, text=True,
+                          timeout=120)
+
+
+def test_cli_response_json_keys_and_values():
+    proc = _cli("--gap", "0.85", "--theta-start", "0.9", "--theta-stop", "1.1", "--points", "3", "--json")
+    assert proc.returncode == 0, proc.stderr
+    d = json.loads(proc.stdout)
+    api = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 3)
+    assert d["peak_max_abs_x1"] == pytest.approx(api.peak(), rel=1e-12)
+    assert [q["theta"] for q in d["points"]] == pytest.approx([0.9, 1.0, 1.1])
+    for key in ("max_abs_x1", "max_abs_x2", "impacts_per_period", "mean_impulse", "peak_impulse", "energy_impacts",
+                "energy_dampers", "energy_input", "regime"):
+        assert key in d["points"][0]["up"] and key in d["points"][0]["down"]
+    assert "hysteresis" in d["points"][0] and "linear_max_abs_x1" in d["points"][0]
+
+
+@pytest.mark.parametrize("args, flag", [
+    (("--points", "0"), "--points"), (("--theta-start", "-1"), "--theta-start"),
+    (("--theta-start", "1.2", "--theta-stop", "1.1"), "--theta-stop"), (("--points", "x"), "--points"),
+    (("--settle-tol", "2"), "--settle-tol"), (("--gap", "nan"), "--gap"),
+])
+def test_cli_bad_input_exits_2_with_one_line(args, flag):
+    proc = _cli(*args)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"argument {flag}" in lines[0], proc.stderr

@@ -1,0 +1,187 @@
+# Stage: choosing a suppressor. Frequency responses (upward and downward theta sweeps), the
+# linear references (bare object, absorber without a stop, optimal tuned-mass damper), and the
+# design charts over the gap and a second parameter (config: design). The sweeps' caps are the
+# sweep stage's (config: sweep), the solver's tolerances config: solver.
+
+DESIGN_HELPER = "workflow/scripts/design_common.py"
+
+
+rule design_baselines:
+    input:
+        script="workflow/scripts/design_baselines.py",
+        helper=DESIGN_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/design_baselines.csv",
+        json="figures/design_baselines.json",
+    params:
+        reference=parameters_json("reference"),
+        design=parameters_json("design"),
+    log:
+        "logs/design/baselines.log",
+    conda:
+        ENV
+    script:
+        "../scripts/design_baselines.py"
+
+
+rule design_chart:
+    input:
+        script="workflow/scripts/design_chart.py",
+        helper=DESIGN_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/design_chart.csv",
+        json="figures/design_chart.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
+        design=parameters_json("design"),
+    log:
+        "logs/design/chart.log",
+    conda:
+        ENV
+    script:
+        "../scripts/design_chart.py"
+
+
+rule design_chart_2d:
+    input:
+        script="workflow/scripts/design_chart_2d.py",
+        helper=DESIGN_HELPER,
+        library=LIBRARY,
+    output:
+        csv="figures/design_chart_2d.csv",
+        json="figures/design_chart_2d.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
+        design=parameters_json("design"),
+    log:
+        "logs/design/chart_2d.log",
+    conda:
+        ENV
+    script:
+        "../scripts/design_chart_2d.py"
+
+
+rule design_response:
+    input:
+        script="workflow/scripts/design_response.py",
+        helper=DESIGN_HELPER,
+        library=LIBRARY,
+        chart="figures/design_chart.json",
+    output:
+        csv="figures/design_response.csv",
+        json="figures/design_response.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
+        design=parameters_json("design"),
+    log:
+        "logs/design/response.log",
+    conda:
+        ENV
+    script:
+        "../scripts/design_response.py"
+
+
+rule design_report:
+    input:
+        script="workflow/scripts/design_report.py",
+        library=LIBRARY,
+        baselines="figures/design_baselines.json",
+        chart="figures/design_chart.json",
+        chart2d="figures/design_chart_2d.json",
+        response="figures/design_response.json",
+        response_csv="figures/design_response.csv",
+    output:
+        macros="paper/generated/design_macros.tex",
+        table="paper/generated/design_second_table.tex",
+    log:
+        "logs/design/report.log",
+    conda:
+        ENV
+    script:
+        "../scripts/design_report.py"
+
+
+rule fig_design_response:
+    input:
+        script="workflow/scripts/fig_design_response.py",
+        helper=DESIGN_HELPER,
+        style=STYLE,
+        response="figures/design_response.csv",
+        summary="figures/design_response.json",
+        baselines="figures/design_baselines.csv",
+    output:
+        pdf="figures/design_response.pdf",
+        png="figures/design_response.png",
+    log:
+        "logs/design/fig_response.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_design_response.py"
+
+
+rule fig_design_chart:
+    input:
+        script="workflow/scripts/fig_design_chart.py",
+        helper=DESIGN_HELPER,
+        style=STYLE,
+        chart="figures/design_chart.csv",
+        best="figures/design_chart.json",
+        baselines="figures/design_baselines.json",
+    output:
+        pdf="figures/design_chart.pdf",
+        png="figures/design_chart.png",
+    log:
+        "logs/design/fig_chart.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_design_chart.py"
+
+
+rule fig_design_chart_2d:
+    input:
+        script="workflow/scripts/fig_design_chart_2d.py",
+        helper=DESIGN_HELPER,
+        style=STYLE,
+        chart="figures/design_chart_2d.csv",
+        best="figures/design_chart_2d.json",
+        baselines="figures/design_baselines.json",
+    output:
+        pdf="figures/design_chart_2d.pdf",
+        png="figures/design_chart_2d.png",
+    log:
+        "logs/design/fig_chart_2d.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_design_chart_2d.py"
+
+
+DESIGN_TARGETS = [
+    "figures/design_baselines.csv",
+    "figures/design_baselines.json",
+    "figures/design_chart.csv",
+    "figures/design_chart.json",
+    "figures/design_chart_2d.csv",
+    "figures/design_chart_2d.json",
+    "figures/design_response.csv",
+    "figures/design_response.json",
+    "figures/design_response.pdf",
+    "figures/design_response.png",
+    "figures/design_chart.pdf",
+    "figures/design_chart.png",
+    "figures/design_chart_2d.pdf",
+    "figures/design_chart_2d.png",
+    "paper/generated/design_macros.tex",
+    "paper/generated/design_second_table.tex",
+]
+ALL_TARGETS.extend(DESIGN_TARGETS)

@@ -1,0 +1,132 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the design stage's numbers
+for the report's section "Choosing a suppressor", as LaTeX macros and a booktabs table (no
+number is typed by hand).
+
+Outputs ``paper/generated/design_macros.tex`` (best gap, good band, comparisons with the bare
+object, the absorber without a stop and the optimal TMD, loads, checks) and
+``paper/generated/design_second_table.tex`` (best gap against the second parameter).
+"""
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from impactdamper.reporting.latex import fixed, macro, tex_sci
+from impactdamper.reporting.records import read_csv, read_json
+from impactdamper.studies.design import bare_object_amplitude, two_mass_amplitude
+
+
+def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
+    """Share of the theta grid (and its runs) where the impact design at ``gap`` (worse direction)
+    keeps max|x1| below the optimal TMD's."""
+    rows = [r for r in read_csv(response_csv) if abs(float(r["gap"]) - gap) < 1e-12]
+    thetas = sorted({float(r["theta"]) for r in rows})
+    worst = np.array([max(float(r["max_abs_x1"]) for r in rows if float(r["theta"]) == t) for t in thetas])
+    lin = two_mass_amplitude(tmd["mu"], tmd["N"], tmd["delta1"], tmd["delta2"], thetas)
+    better = worst < lin
+    runs, start = [], None
+    for t, b in zip(thetas + [math.nan], list(better) + [False]):
+        if b and start is None:
+            start = t
+            last = t
+        elif b:
+            last = t
+        elif start is not None:
+            runs.append((start, last))
+            start = None
+    return float(better.mean()), runs
+
+
+def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, out_macros, out_table) -> None:
+    base, chart, chart2, resp = (read_json(x) for x in (baselines_json, chart_json, chart2d_json, response_json))
+    bp, ba = chart["best"]["peak"], chart["best"]["band_average"]
+    tmd, tmd_avg = base["tmd"]["peak"], base["tmd"]["band_average"]
+    bare, absorber = base["references"]["bare"], base["references"]["absorber"]
+    best_resp = next(r for r in resp["responses"] if r["role"] == "best")
+    paper = {r["gap"]: r for r in resp["responses"]}
+    paper_gap = -5.8 if -5.8 in paper else resp["responses"][-1]["gap"]
+    share, runs = impact_better(response_csv, bp["gap"], tmd)
+    dh = base["den_hartog_check"]
+    m = []
+    add = lambda n, v: m.append(macro(n, v))  # noqa: E731
+    add("DesignBandStart", fixed(base["band"][0], 2))
+    add("DesignBandStop", fixed(base["band"][1], 2))
+    add("DesignThetaPoints", chart["theta_points"])
+    add("DesignGapStep", fixed(chart["gap_step"], 2))
+    add("DesignTolerancePct", fixed(100 * bp["tolerance"], 0))
+    add("DesignBestGap", fixed(bp["gap"], 2))
+    add("DesignBestPeak", fixed(bp["value"], 2))
+    add("DesignGoodFrom", fixed(bp["good_from"], 2))
+    add("DesignGoodTo", fixed(bp["good_to"], 2))
+    add("DesignBestImpulse", fixed(bp["peak_impulse"], 2))
+    add("DesignBestImpacts", fixed(bp["impacts_per_period"], 0))
+    one = chart["at_reference_theta"]
+    add("DesignRefTheta", fixed(one["theta"], 2))
+    add("DesignRefThetaGap", fixed(one["gap"], 2))
+    add("DesignRefThetaValue", fixed(one["value"], 2))
+    add("DesignRefThetaBare", fixed(float(bare_object_amplitude(base["parameters"]["delta1"], [one["theta"]])[0]), 2))
+    add("DesignAvgBestGap", fixed(ba["gap"], 2))
+    add("DesignAvgBest", fixed(ba["value"], 3))
+    add("DesignAvgGoodFrom", fixed(ba["good_from"], 2))
+    add("DesignAvgGoodTo", fixed(ba["good_to"], 2))
+    add("DesignBestGapAvg", fixed(best_resp["band_average"], 3))
+    add("DesignBarePeak", fixed(bare["peak"], 2))
+    add("DesignBareAvg", fixed(bare["band_average"], 3))
+    add("DesignAbsorberPeak", fixed(absorber["peak"], 2))
+    add("DesignAbsorberAvg", fixed(absorber["band_average"], 3))
+    add("DesignTmdPeak", fixed(tmd["peak"], 2))
+    add("DesignTmdAvg", fixed(tmd["band_average"], 3))
+    add("DesignTmdN", fixed(tmd["N"], 4))
+    add("DesignTmdDeltaTwo", fixed(tmd["delta2"], 4))
+    add("DesignTmdAvgOptAvg", fixed(tmd_avg["band_average"], 3))
+    add("DesignTmdAvgOptN", fixed(tmd_avg["N"], 4))
+    add("DesignTmdAvgOptDeltaTwo", fixed(tmd_avg["delta2"], 4))
+    add("DesignGainBare", fixed(bare["peak"] / bp["value"], 2))
+    add("DesignGainAbsorber", fixed(absorber["peak"] / bp["value"], 2))
+    add("DesignRatioTmd", fixed(bp["value"] / tmd["peak"], 2))
+    add("DesignRatioTmdAvg", fixed(best_resp["band_average"] / tmd["band_average"], 2))
+    add("DesignImpactBetterPct", fixed(100 * share, 0))
+    add("DesignImpactBetterRuns", ", ".join(f"${fixed(a, 2)}$--${fixed(b, 2)}$" if b > a else f"${fixed(a, 2)}$"
+                                            for a, b in runs) or "none")
+    add("DesignPaperGap", fixed(paper_gap, 1))
+    add("DesignPaperPeak", fixed(paper[paper_gap]["peak"], 2))
+    add("DesignPaperImpulse", fixed(paper[paper_gap]["peak_impulse"], 2))
+    add("DesignPaperImpacts", fixed(paper[paper_gap]["impacts_per_period"], 0))
+    add("DesignBestHysteresis", best_resp["hysteresis_points"])
+    add("DesignResponsePoints", resp["points"])
+    add("DesignBalanceMax", tex_sci(max(r["largest_balance"] for r in resp["responses"]), 1))
+    add("DesignDriftMax", tex_sci(max(r["largest_drift_settled"] for r in resp["responses"]), 1))
+    add("DesignDHPeak", fixed(dh["closed_form"]["peak"], 4))
+    add("DesignDHPeakAtDH", fixed(dh["peak_at_closed_form"], 4))
+    add("DesignDHOptPeak", fixed(dh["optimiser"]["peak"], 4))
+    add("DesignDHExcessPct", fixed(100 * dh["peak_relative_excess"], 2))
+    add("DesignDHN", fixed(dh["closed_form"]["N"], 4))
+    add("DesignDHOptN", fixed(dh["optimiser"]["N"], 4))
+    add("DesignDHNDiff", tex_sci(abs(dh["N_relative_difference"]), 1))
+    add("DesignDHDeltaTwo", fixed(dh["closed_form"]["delta2"], 4))
+    add("DesignDHOptDeltaTwo", fixed(dh["optimiser"]["delta2"], 4))
+    add("DesignSecondName", chart2["parameter"])
+    Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
+    Path(out_macros).write_text("% Written by workflow/scripts/design_report.py; do not edit.\n" + "\n".join(m) + "\n")
+    sym = {"N": "$N$", "R": "$R$"}.get(chart2["parameter"], chart2["parameter"])
+    lines = ["% Written by workflow/scripts/design_report.py; do not edit.", "\\begin{tabular}{rrrrrr}", "\\toprule",
+             f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & impacts/$T$ \\\\",
+             "\\midrule"]
+    for b in chart2["best"]:
+        if b["criterion"] != "peak":
+            continue
+        lines.append(f"{fixed(b['second'], 2)} & {fixed(b['gap'], 2)} & {fixed(b['value'], 2)} & "
+                     f"{fixed(b['good_from'], 2)} to {fixed(b['good_to'], 2)} & {fixed(b['peak_impulse'], 2)} & "
+                     f"{fixed(b['impacts_per_period'], 0)} \\\\")
+    lines += ["\\bottomrule", "\\end{tabular}"]
+    Path(out_table).write_text("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    import sys
+
+    sys.stderr = open(sm.log[0], "w")
+    main(sm.input.baselines, sm.input.chart, sm.input.chart2d, sm.input.response, sm.input.response_csv,
+         sm.output.macros, sm.output.table)

@@ -1,0 +1,40 @@
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the design chart against a
+second parameter (N or R, config ``design.second``): the peak over the band of max|x1|/x_st
+against Delta0/x_st, one curve per value, each curve's best gap marked; the optimal linear TMD
+of the same mu as a horizontal line.
+
+Deviations: none (the paper has no such figure).
+"""
+
+import design_common as dc
+from impactdamper.reporting.plotting import TEXT_WIDTH, use_style
+from impactdamper.reporting.records import cell_float, read_csv, read_json
+
+
+def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
+    plt = use_style()
+    rows = read_csv(chart_csv)
+    info = read_json(chart_json)
+    base = read_json(baselines_json)
+    name = info["parameter"]
+    symbol = {"N": "N", "R": "R"}.get(name, name)
+    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 2.9), layout="constrained")
+    values = sorted({float(r["value"]) for r in rows})
+    for i, v in enumerate(values):
+        rs = [r for r in rows if float(r["value"]) == v]
+        ax.plot([float(r["gap"]) for r in rs], [cell_float(r["peak_max_abs_x1"]) for r in rs], color=f"C{i}", lw=1.0,
+                label=f"${symbol} = {v:g}$")
+        b = next(b for b in info["best"] if b["second"] == v and b["criterion"] == "peak")
+        ax.plot([b["gap"]], [b["value"]], "o", color=f"C{i}", ms=4)
+    tmd = base["tmd"]["peak"]["peak"]
+    ax.axhline(tmd, color="0.3", ls="--", lw=0.8, label=f"optimal TMD ({tmd:.2f})")
+    ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    ax.set_ylabel("peak $\\max|x_1|/x_{st}$ over the band")
+    ax.set_ylim(0.0, None)
+    ax.legend(fontsize=7, ncol=3, loc="lower left")
+    dc.save(plt, fig, out_pdf, out_png)
+
+
+if __name__ == "__main__":
+    # (snakemake is injected by Snakemake's script: directive)
+    dc.figure_rule(snakemake, main, "chart", "best", "baselines")  # noqa: F821
