@@ -21,7 +21,7 @@ import sys
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
 from impactdamper.analysis.response import frequency_response
-from impactdamper.analysis.sweeps import SweepSettings
+from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.steady import steady_state

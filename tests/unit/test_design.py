@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 
 from impactdamper.analysis.response import frequency_response
-from impactdamper.analysis.sweeps import object_alone_amplitude, with_value
+from impactdamper.analysis.sweeps import with_value
+from impactdamper.analysis.transitions import object_alone_amplitude
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.design import (band_peak, bare_object_amplitude, den_hartog, design_chart_2d, gap_chart,

@@ -23,7 +23,8 @@ import pytest
 
 from impactdamper.analysis.response import (HYSTERESIS_TOL, cycle_metrics, energy_balance, frequency_response,
                                             linear_response, theta_grid)
-from impactdamper.analysis.sweeps import SweepSettings, solve_point, with_value
+from impactdamper.analysis.settled import SweepSettings, solve_point
+from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import EventDrivenSolver

@@ -8,7 +8,7 @@ Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-1
 
 import numpy as np
 
-from impactdamper.analysis.sweeps import SweepSettings
+from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances
 from impactdamper.reporting.records import stage_logger

@@ -34,7 +34,8 @@ from typing import Callable, Sequence
 import numpy as np
 import scipy.optimize
 
-from impactdamper.analysis.sweeps import FAILED, SweepPoint, SweepSettings, two_way_sweep, with_value
+from impactdamper.analysis.settled import FAILED, SweepPoint, SweepSettings
+from impactdamper.analysis.sweeps import two_way_sweep, with_value
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters, finite_argument, integer_argument, require_parameters
 from impactdamper.core.simulate import EventDrivenSolver, Trajectory

@@ -36,7 +36,8 @@ import numpy as np
 import scipy.optimize
 
 from impactdamper.analysis.response import FrequencyResponse, frequency_response, theta_grid
-from impactdamper.analysis.sweeps import SweepSettings, with_value
+from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
 
 __all__ = ["bare_object_amplitude", "two_mass_amplitude", "den_hartog", "TunedMassDamper", "optimal_tmd",
