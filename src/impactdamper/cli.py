@@ -107,7 +107,7 @@ def build_parser() -> argparse.ArgumentParser:
     response = sub.add_parser("response", help="frequency response: settled motion against theta by an upward and "
                                                "a downward sweep, loads, energies, hysteresis, linear response")
     add_parameters(response)
-    r = response.add_argument_group("frequency response (--theta is not used: the band is)")
+    r = response.add_argument_group("frequency response (the band replaces --theta)")
     r.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
     r.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
     r.add_argument("--points", type=int, default=21, help="theta values, equally spaced (default 21)")
@@ -165,6 +165,12 @@ def main(argv: list[str] | None = None) -> int:
             if value is not None:
                 sub.exit(2, f"{sub.prog}: error: argument {flag}: not allowed with --seed alg1 (Algorithm No. 1's "
                             "orbit is closed-form, it has no start); use --seed simulate to start from it\n")
+    if args.command == "response":
+        # The band sets theta; a single --theta would be silently unused.
+        given = sys.argv[1:] if argv is None else argv
+        if any(a == "--theta" or a.startswith("--theta=") for a in given):
+            sub.exit(2, f"{sub.prog}: error: argument --theta: not allowed with response (the band "
+                        "--theta-start .. --theta-stop sets theta)\n")
     printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady,
                "response": _print_response}[args.command]
     try:

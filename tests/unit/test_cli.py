@@ -114,6 +114,16 @@ def test_solver_flags_are_checked(flag, value, capsys):
     assert err.count("\n") == 1 and f"argument {flag}:" in err
 
 
+
+@pytest.mark.parametrize("theta", [["--theta", "1.2"], ["--theta=1.2"]])
+def test_response_refuses_a_single_theta(theta, capsys):
+    # The band sets theta: a --theta the command would ignore is an error, not a no-op.
+    with pytest.raises(SystemExit) as info:
+        main(["response", *theta, "--points", "2"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "argument --theta:" in err
+
 def test_human_readable_output(capsys):
     assert main(["alg1", "--gap", "-10"]) == 0
     out = capsys.readouterr().out
