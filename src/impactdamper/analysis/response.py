@@ -289,7 +289,7 @@ def _largest(traj: Trajectory, a: float, b: float, column: int) -> float:
     i = int(np.argmax(values))
     best = float(values[i])
     lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, n)]
-    k = int(traj._segment_index(np.array([ts[i]]))[0])
+    k = int(traj.segment_index(np.array([ts[i]]))[0])
     name, seg = traj.segments[k]
     seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
     lo, hi = max(lo, seg.t0), min(hi, seg_end)

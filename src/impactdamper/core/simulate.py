@@ -204,7 +204,9 @@ class Trajectory:
         self.segments: list[tuple[str, Segment]] = []
         self.events: list[Event] = []
 
-    def _segment_index(self, t: np.ndarray) -> np.ndarray:
+    def segment_index(self, t: np.ndarray) -> np.ndarray:
+        """Index into :attr:`segments` of the segment that holds each time of ``t`` (the last
+        one whose start is at or before it; times before the start map to segment 0)."""
         starts = np.array([seg.t0 for _, seg in self.segments])
         return np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(starts) - 1)
 
@@ -216,7 +218,7 @@ class Trajectory:
         start = self.segments[0][1].t0
         if flat.size and flat.min() < start - 1e-12 * max(abs(start), 1.0):
             raise ValueError(f"`t` = {flat.min()!r} precedes the trajectory's start {start!r}")
-        idx = self._segment_index(flat)
+        idx = self.segment_index(flat)
         out = np.empty((flat.size, 4))
         modes = np.empty(flat.size, dtype=object)
         for k in np.unique(idx):

@@ -508,7 +508,7 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
     x1 = np.abs(traj.sample(ts)[0][:, 0])
     i = int(np.argmax(x1))
     lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, n)]
-    k = int(traj._segment_index(np.array([ts[i]]))[0])
+    k = int(traj.segment_index(np.array([ts[i]]))[0])
     seg = traj.segments[k][1]
     seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
     lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
@@ -522,7 +522,7 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
         # found by the start-time invariance test). Refine the other end's bracket too.
         j = n if i == 0 else 0
         lo, hi = ts[max(j - 1, 0)], ts[min(j + 1, n)]
-        k = int(traj._segment_index(np.array([0.5 * (lo + hi)]))[0])
+        k = int(traj.segment_index(np.array([0.5 * (lo + hi)]))[0])
         seg = traj.segments[k][1]
         seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
         lo, hi = max(lo, seg.t0), min(hi, seg_end)
