@@ -48,7 +48,7 @@ import fig2a  # noqa: E402
 import fig2b  # noqa: E402
 import fig_located_range  # noqa: E402
 import impact_table  # noqa: E402
-import replication as rep  # noqa: E402
+from impactdamper.studies import replication as rep  # noqa: E402
 import solve_case  # noqa: E402
 import verdict  # noqa: E402
 

@@ -5,14 +5,11 @@
 # then the figure, and the report's macros and table.
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
-ORBIT_HELPER = "workflow/scripts/orbitstage.py"
-
 
 rule orbit_branches:
     input:
         script="workflow/scripts/orbit_branches.py",
-        helper=ORBIT_HELPER,
-        library=LIBRARY,
+        library=library(study("branches", "config"), REPORTING),
         located="figures/located_case.json",
     output:
         branches="figures/orbit_branches.csv",
@@ -33,9 +30,8 @@ rule orbit_branches:
 rule fig_orbit_branches:
     input:
         script="workflow/scripts/fig_orbit_branches.py",
-        helper=ORBIT_HELPER,
         style=STYLE,
-        library=LIBRARY,
+        library=library(REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
@@ -53,8 +49,7 @@ rule fig_orbit_branches:
 rule orbit_report:
     input:
         script="workflow/scripts/orbit_report.py",
-        helper=ORBIT_HELPER,
-        library=LIBRARY,
+        library=library(study("branches", "config"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",

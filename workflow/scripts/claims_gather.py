@@ -20,7 +20,9 @@ from pathlib import Path
 
 import math
 
-import replication as rep
+import json
+from impactdamper.studies import replication as rep
+from impactdamper.reporting.records import read_json, write_csv, write_json
 from impactdamper.studies.claims import Interval, distance_to
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
@@ -69,7 +71,7 @@ def table(per: dict) -> str:
 def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out_json, out_grid, out_tex) -> dict:
     rows, grid, per = [], [], {}
     for name in PARAMETERS:
-        r = rep.read_json(inputs[name])
+        r = read_json(inputs[name])
         for claim in CLAIMS:
             for iv in r["intervals"][claim]:
                 rows.append({"parameter": name, "claim": claim, "lo": iv["lo"], "hi": iv["hi"]})
@@ -88,9 +90,9 @@ def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out
                            "grid values where the claim fails is not seen; ends are bisected to rel_tol * max(|x|, floor)",
         "parameters": per,
     }
-    rep.write_csv(out_csv, ["parameter", "claim", "lo", "hi"], rows)
-    rep.write_csv(out_grid, GRID_COLUMNS, grid)
-    rep.write_json(out_json, settings)
+    write_csv(out_csv, ["parameter", "claim", "lo", "hi"], rows)
+    write_csv(out_grid, GRID_COLUMNS, grid)
+    write_json(out_json, settings, sort_keys=False)
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
     Path(out_tex).write_text(table(per))
     return settings
@@ -102,7 +104,7 @@ if __name__ == "__main__":
 
     sys.stderr = open(sm.log[0], "w")
     inputs = {name: path for name, path in zip(PARAMETERS, sm.input.results)}
-    out = main(inputs, rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-               rep.json.loads(sm.params.search), sm.output.csv, sm.output.json, sm.output.grid, sm.output.tex)
+    out = main(inputs, json.loads(sm.params.reference), json.loads(sm.params.solver),
+               json.loads(sm.params.search), sm.output.csv, sm.output.json, sm.output.grid, sm.output.tex)
     for name, d in out["parameters"].items():
         print(f"{name}: nearest both {d['nearest_both']}", file=sys.stderr)

@@ -26,7 +26,8 @@ import json
 from pathlib import Path
 
 import numpy as np
-import performancestage as ps
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import stage_logger, write_json
 
 from impactdamper.studies import workprecision as wp
 
@@ -41,7 +42,7 @@ def fit_exponent(rows: list[dict]) -> float:
 
 
 def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
-    base = ps.parameters(reference)
+    base = parameters(reference)
     rows = []
     for gap in performance["growth_gaps"]:
         rows += wp.cost_growth(base.replace(gap=float(gap)), performance["growth_periods"],
@@ -58,7 +59,7 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
                     for g in sorted({r["gap"] for r in rows})},
         "note": "CPU time (time.process_time), medians; not deterministic",
     }
-    ps.write_json(out_json, {"rows": rows, "summary": summary, "parameters": base.to_dict()})
+    write_json(out_json, {"rows": rows, "summary": summary, "parameters": base.to_dict()})
     Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
     with open(out_csv, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
@@ -72,6 +73,6 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    lg = ps.logger(sm.log[0], "cost_growth")
+    lg = stage_logger(sm.log[0], "cost_growth")
     main(json.loads(sm.params.reference), json.loads(sm.params.performance), sm.output.json, sm.output.csv,
          log=lg.info)

@@ -17,8 +17,8 @@ does), each labelled in its title.
 
 import numpy as np
 
-import replication as rep
-from impactdamper.reporting.plotting import save_figure, use_style
+from impactdamper.reporting.records import read_json
+from impactdamper.reporting.plotting import finish_figure, use_style
 
 # Light red of the shaded negative-gap stretch.
 NEGATIVE_GAP_COLOR = "#f4cccc"
@@ -26,7 +26,7 @@ NEGATIVE_GAP_COLOR = "#f4cccc"
 
 def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     plt = use_style()
-    data = rep.read_json(case_json)
+    data = read_json(case_json)
     a = data["algorithm1"]
     gap = data["parameters"]["gap"]
     fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
@@ -58,9 +58,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     ax.set_ylabel("relative coordinate")
     axg.set_ylabel("gap")
     ax.set_title(title, pad=14)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":

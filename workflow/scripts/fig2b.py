@@ -18,15 +18,15 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 
 import numpy as np
 
-import replication as rep
-from impactdamper.reporting.plotting import save_figure, use_style
+from impactdamper.reporting.records import read_json
+from impactdamper.reporting.plotting import finish_figure, use_style
 
 CYCLE_COLOR = "#e8eef6"
 
 
 def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     plt = use_style()
-    data = rep.read_json(case_json)
+    data = read_json(case_json)
     s = data["algorithm2"]
     gap = data["parameters"]["gap"]
     k = s["period_multiple"]
@@ -63,9 +63,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.set_title(title, pad=24)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":

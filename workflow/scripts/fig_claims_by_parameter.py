@@ -15,8 +15,8 @@ Deviation: a search the paper does not have.
 
 import csv
 
-import replication as rep
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.records import read_json
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
 LABEL = {"theta": "$\\theta = \\omega/\\omega_1$", "mu": "$\\mu = m_2/m_1$", "N": "$N = \\omega_2/\\omega_1$",
@@ -31,7 +31,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
     plt = use_style()
     with open(csv_path) as f:
         rows = list(csv.DictReader(f))
-    settings = rep.read_json(settings_json)
+    settings = read_json(settings_json)
     fig, axes = plt.subplots(len(PARAMETERS), 1, figsize=(TEXT_WIDTH, 6.6))
     for ax, name in zip(axes, PARAMETERS):
         d = settings["parameters"][name]
@@ -56,9 +56,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
     axes[0].plot([], [], color="0.2", lw=0.8, ls=":", label="stated value")
     axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=3, fontsize=7.5)
     fig.tight_layout(h_pad=0.6)
-    save_figure(fig, out_pdf)
-    save_figure(fig, out_png)
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":

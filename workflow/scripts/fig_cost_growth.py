@@ -12,7 +12,7 @@ Timings are CPU time on the machine that ran the workflow: not pixel-stable acro
 
 import csv
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 MARKERS = ("o", "s", "^", "v", "D")
 
@@ -44,8 +44,7 @@ def main(in_csv, out_stem) -> None:
     ax2.set_ylabel(r"CPU time per impact ($\mu$s)")
     ax2.set_ylim(bottom=0)
     ax1.legend(fontsize="small")
-    save_figure(fig, out_stem)
-    plt.close(fig)
+    finish_figure(fig, out_stem)
 
 
 if __name__ == "__main__":

@@ -22,8 +22,8 @@ import csv
 
 import numpy as np
 
-import replication as rep
-from impactdamper.reporting.plotting import save_figure, use_style
+from impactdamper.reporting.records import read_json
+from impactdamper.reporting.plotting import finish_figure, use_style
 
 RANGE_COLOR = "#f4cccc"
 # Top of the bottom panel's scale: chatter cycles with dozens of impacts are drawn as ^ there.
@@ -38,7 +38,7 @@ def _rows(path):
 def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     plt = use_style()
     rows = _rows(scan_csv)
-    scan = rep.read_json(scan_json)
+    scan = read_json(scan_json)
     g = np.array([float(r["gap"]) for r in rows])
     min_gap = np.array([float(r["alg1_min_gap"]) if r["alg1_min_gap"] else np.nan for r in rows])
     k = np.array([int(r["alg2_period_multiple"]) for r in rows])
@@ -80,9 +80,7 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     ax2.set_ylim(-0.5, Y_MAX + 0.6)
     ax1.set_xlim(lo, hi)
     fig.suptitle("Where the paper's Fig. 2 behaviour occurs (other parameters as stated)", y=1.02)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":

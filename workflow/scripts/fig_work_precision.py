@@ -16,7 +16,7 @@ across runs.
 import csv
 import math
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
 # One colour, marker and line per method family, the same in both panels, in legend order.
@@ -83,8 +83,7 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
         axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize="small",
                      ha="right")
     fig.legend([labels[k] for k in order], order, loc="outside lower center", ncols=4, fontsize="small")
-    save_figure(fig, out_stem)
-    plt.close(fig)
+    finish_figure(fig, out_stem)
 
 
 if __name__ == "__main__":

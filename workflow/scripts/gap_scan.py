@@ -33,12 +33,13 @@ coexist), and an end of (b) is where the settled-motion test (``settle_tol`` wit
 ``max_periods``) still recognises T_c = 2T.
 """
 
+import json
 import math
 from concurrent.futures import ProcessPoolExecutor
 
-import numpy as np
-
-import replication as rep
+from impactdamper.studies import replication as rep
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import write_csv, write_json
 
 # Algorithm No. 1 costs milliseconds: its range ends are bisected to near rounding.
 ALG1_BISECT_TOL = 1e-9
@@ -57,7 +58,7 @@ SCAN_COLUMNS = ["gap", "alg1_exists", "alg1_min_gap", "alg1_t1", "alg1_t2", "cla
 def alg2_row(args) -> dict:
     """Both claims at one gap (for the process pool)."""
     base, solver, g = args
-    p = rep.parameters(dict(base, gap=float(g)))
+    p = parameters(dict(base, gap=float(g)))
     a = rep.run_alg1(p, solver)
     s = rep.run_steady(p, solver)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
@@ -180,7 +181,7 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
         if ra is not None and not ra[side + "_open"]:
             for role, g in (("inside", ra[side] + sign * ALG1_CHECK_OFFSET), ("outside", ra[side] - sign * ALG1_CHECK_OFFSET)):
-                a = rep.run_alg1(rep.parameters(dict(base, gap=g)), solver)
+                a = rep.run_alg1(parameters(dict(base, gap=g)), solver)
                 ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
                 cmp = rep.compare_alg1(a, ivp, time_tol, residual_tol)
                 checks.append({"claim": "a", "end": side, "role": role, "gap": g, "exact": rep.claim_a(a),
@@ -194,7 +195,7 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
         if orbit.get("found") and not orbit.get(side + "_open", True):
             points.append(("beyond the orbit's stability boundary", orbit[side] - sign * ORBIT_CHECK_OFFSET))
         for role, g in points:
-            p = rep.parameters(dict(base, gap=g))
+            p = parameters(dict(base, gap=g))
             s = rep.run_steady(p, solver)
             ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]),
                                tolerances=rep.solver_options(solver)["tolerances"], exact=s, time_tol=time_tol,
@@ -238,21 +239,21 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, worker
     lo, hi = float(verdict["gap_min"]), float(verdict["gap_max"])
     if not lo < hi:
         raise ValueError(f"`verdict.gap_min` = {lo!r} is not allowed: must be < `verdict.gap_max` = {hi!r}")
-    base = rep.parameters(reference).to_dict()
+    base = parameters(reference).to_dict()
     stated_gap = base["gap"]
     kmax = int(solver["max_period_multiple"])
 
     def alg1_pred(g: float) -> bool:
-        return rep.claim_a(rep.run_alg1(rep.parameters(dict(base, gap=g)), solver))
+        return rep.claim_a(rep.run_alg1(parameters(dict(base, gap=g)), solver))
 
     def alg2_pred(g: float) -> bool:
-        return rep.claim_b(rep.run_steady(rep.parameters(dict(base, gap=g)), solver))
+        return rep.claim_b(rep.run_steady(parameters(dict(base, gap=g)), solver))
 
     # (a): fine grid, closed form.
     g1 = rep.grid(lo, hi, float(verdict["alg1_gap_step"]))
     flags1 = [alg1_pred(float(g)) for g in g1]
     ranges_a = rep.ranges(g1, flags1, alg1_pred, ALG1_BISECT_TOL)
-    probe = rep.run_alg1(rep.parameters(base), solver)
+    probe = rep.run_alg1(parameters(base), solver)
     existence_limit = math.hypot(probe.U1, probe.U2) / base["x_st"]  # |Delta0|/x_st beyond which eq. (16) has no root
 
     # (b) and the table: the coarse grid, in parallel (every point is independent).
@@ -280,7 +281,7 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, worker
             orbits.append({"found": False, "reason": "no grid point inside"})
             continue
         seed = min(inside, key=lambda g: (abs(g - 0.5 * (iv["lo"] + iv["hi"])), g))
-        orbit = orbit_range(rep.parameters(dict(base, gap=seed)), solver, lo, hi)
+        orbit = orbit_range(parameters(dict(base, gap=seed)), solver, lo, hi)
         orbits.append(orbit)
         o_lo, o_hi = (orbit["lo"], orbit["hi"]) if orbit.get("found") else (iv["lo"], iv["hi"])
         for g in inside:
@@ -314,8 +315,8 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, worker
         "orbit_range": orbit,
         "end_checks": checks,
     }
-    rep.write_csv(out_csv, SCAN_COLUMNS, rows)
-    rep.write_json(out_json, result)
+    write_csv(out_csv, SCAN_COLUMNS, rows)
+    write_json(out_json, result, sort_keys=False)
     return result
 
 
@@ -324,8 +325,8 @@ if __name__ == "__main__":
     import sys
 
     sys.stderr = open(sm.log[0], "w")
-    out = main(rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-               rep.json.loads(sm.params.verdict), sm.output.csv, sm.output.json, workers=sm.threads)
+    out = main(json.loads(sm.params.reference), json.loads(sm.params.solver),
+               json.loads(sm.params.verdict), sm.output.csv, sm.output.json, workers=sm.threads)
     print(f"claim (a) ranges {[(r['lo'], r['hi']) for r in out['claim_a_ranges']]}", file=sys.stderr)
     print(f"claim (b) ranges {[(r['lo'], r['hi']) for r in out['claim_b_ranges']]}", file=sys.stderr)
     print(f"both {[(r['lo'], r['hi']) for r in out['both_ranges']]}; located {out['located']['gap']}", file=sys.stderr)

@@ -27,7 +27,9 @@ import csv
 import json
 from pathlib import Path
 
-import performancestage as ps
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.latex import tex_escape, tex_time
+from impactdamper.reporting.records import stage_logger, write_json
 
 from impactdamper.studies import hardcases as hc
 
@@ -46,7 +48,7 @@ def _did_tex(r: dict) -> str:
         text += rf", $k = {r['k']}$, $z = {r['z']}$"
     extras = r["did"].split("; ")[1:] if r["did"] else []  # captures, grazing touches
     if extras:
-        text += "; " + "; ".join(ps.tex_escape(e) for e in extras)
+        text += "; " + "; ".join(tex_escape(e) for e in extras)
     return text
 
 
@@ -63,14 +65,14 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         failed = [CHECK_NAMES[c] for c in hc.CHECKS if not r[c]]
         checks = "all 4 passed" if not failed else "failed: " + ", ".join(failed)
-        lines.append(f"{ps.tex_escape(r['label'])} & {ps.tex_escape(r['stresses'])} & {_did_tex(r)} & "
-                     f"{ps.tex_time(r['cpu_seconds'])} & {checks} \\\\")
+        lines.append(f"{tex_escape(r['label'])} & {tex_escape(r['stresses'])} & {_did_tex(r)} & "
+                     f"{tex_time(r['cpu_seconds'])} & {checks} \\\\")
     lines += [r"\bottomrule", r"\end{tabular}", ""]
     return "\n".join(lines)
 
 
 def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
-    base = ps.parameters(reference)
+    base = parameters(reference)
     results = hc.run_suite(base, log=log)
     rows = [r.row() for r in results]
     Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
@@ -79,7 +81,7 @@ def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
         w.writeheader()
         for r in rows:
             w.writerow({k: r[k] for k in CSV_COLUMNS})
-    ps.write_json(out_json, {"cases": [dict(r.row(), details=r.details, checks=r.checks) for r in results],
+    write_json(out_json, {"cases": [dict(r.row(), details=r.details, checks=r.checks) for r in results],
                              "passed": sum(r.passed for r in results), "total": len(results),
                              "note": "cpu_seconds: CPU time of the steady-state run; not deterministic"})
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
@@ -89,5 +91,5 @@ def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    lg = ps.logger(sm.log[0], "hardcases")
+    lg = stage_logger(sm.log[0], "hardcases")
     main(json.loads(sm.params.reference), sm.output.csv, sm.output.json, sm.output.tex, log=lg.info)

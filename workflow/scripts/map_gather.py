@@ -13,11 +13,11 @@ answers "how long with ``--cores N``" when nothing else runs) with the machine's
 import json
 from pathlib import Path
 
-import sweepstage as st
+from impactdamper.reporting.records import read_csv, write_json
 
 
 def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
-    cells = [r for path in chunk_csvs for r in st.read_csv(path)]
+    cells = [r for path in chunk_csvs for r in read_csv(path)]
     slow_of = {int(r["i"]): r["slow"] for r in cells}
     gaps = {int(r["j"]): r["gap"] for r in cells}
     label = {(int(r["i"]), int(r["j"])): r["label"] for r in cells}
@@ -30,7 +30,7 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
     Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
     Path(out_csv).write_text("\n".join(lines) + "\n")
     if out_settings is not None:
-        st.write_json(out_settings, dict(config or {}, map=name))
+        write_json(out_settings, dict(config or {}, map=name), indent=2)
     timings = [json.loads(Path(p).read_text()) for p in chunk_jsons]
     methods: dict = {}
     for r in cells:
@@ -46,7 +46,7 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
         "methods": dict(sorted(methods.items())),
         "periods_simulated": sum(int(r["periods"]) for r in cells),
     }
-    st.write_json(out_timing, out)
+    write_json(out_timing, out, indent=2)
     return out
 
 

@@ -31,14 +31,16 @@ Outputs: ``figures/other_readings.csv`` (one row per reading) and
 ``figures/other_readings.json`` (the rows, the random states' motions, the R ranges).
 """
 
+import json
 import math
 import types
 from collections import Counter
 
 import numpy as np
-import scipy.optimize
 
-import replication as rep
+from impactdamper.studies import replication as rep
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import write_csv, write_json
 from impactdamper.core.algorithm1 import unit_pulse_response
 from impactdamper.core.events import Segment
 from impactdamper.core.linear import forced_amplitudes
@@ -84,24 +86,18 @@ def alg1_eq13_as_printed(p):
     t_imp = ((phi - eps21) % (2.0 * math.pi)) / p.omega
     after = model.free.forced(t_imp) + S * z0
     seg = Segment(model.free, t_imp, after)
-    n = 4000
-    tau = np.linspace(0.0, 1.0, n + 1)[1:-1]
-    gap_of = lambda s: float(model.gap_of(seg.state(t_imp + s * p.T)))  # noqa: E731
-    g = np.array([gap_of(s) for s in tau])
-    roots = [scipy.optimize.brentq(gap_of, tau[i], tau[i + 1], xtol=1e-14)
-             for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1]))]
-    edges = ([0.0] if g[0] < 0 else []) + roots + ([1.0] if g[-1] < 0 else [])
+    scan = rep.gap_sign_scan(lambda s: float(model.gap_of(seg.state(t_imp + s * p.T))), rep.IVP_GAP_SAMPLES)
     before = seg.state(t_imp + p.T)
     out.exists, out.S, out.t_impact, out.state_after = True, S, t_imp, after
-    out.negative_gap_intervals = tuple((float(a), float(b)) for a, b in zip(edges[0::2], edges[1::2]))
-    out.min_gap = float(g.min() / p.x_st)
+    out.negative_gap_intervals = scan.negative_intervals
+    out.min_gap = float(scan.samples.min() / p.x_st)
     out.ratio = float(S / (D * (before[3] - before[2])))
     return out
 
 
 def readings(base: dict) -> list[dict]:
     """The readings: id, description, parameter changes, initial state, Algorithm No. 1 variant."""
-    p = rep.parameters(base)
+    p = parameters(base)
     x1p, x2p = forced_amplitudes(p)
     g = base["gap"]
     return [
@@ -126,7 +122,7 @@ def readings(base: dict) -> list[dict]:
 
 
 def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, dict]:
-    p = rep.parameters(dict(base, **r["changes"]))
+    p = parameters(dict(base, **r["changes"]))
     kmax = int(solver["max_period_multiple"])
     ivp_kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
     if r.get("eq13_printed"):
@@ -158,7 +154,7 @@ def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, di
 
 def random_states(base: dict, solver: dict, verdict: dict) -> dict:
     """Settled motions from seeded random initial states at the stated parameters."""
-    p = rep.parameters(base)
+    p = parameters(base)
     rng = np.random.default_rng(int(verdict["seed"]))
     kmax = int(solver["max_period_multiple"])
     motions, agree, worst_time = Counter(), 0, 0.0
@@ -196,10 +192,10 @@ def r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
     Rs = rep.grid(0.0, 1.0, float(verdict["R_step"]))
 
     def pa(R):
-        return rep.claim_a(rep.run_alg1(rep.parameters(dict(base, R=float(R))), solver))
+        return rep.claim_a(rep.run_alg1(parameters(dict(base, R=float(R))), solver))
 
     def pb(R):
-        return rep.claim_b(rep.run_steady(rep.parameters(dict(base, R=float(R))), solver))
+        return rep.claim_b(rep.run_steady(parameters(dict(base, R=float(R))), solver))
 
     out = {"R_step": float(verdict["R_step"]), "bisect_tol": R_BISECT_TOL}
     for name, pred in (("claim_a", pa), ("claim_b", pb)):
@@ -209,7 +205,7 @@ def r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json) -> dict:
-    base = rep.parameters(reference).to_dict()
+    base = parameters(reference).to_dict()
     rows, details = [], {}
     for r in readings(base):
         row, d = evaluate(base, solver, verdict, r)
@@ -223,8 +219,8 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json) -> dic
                  "reproduces": rows[0]["claim_a"] and rnd["claim_b_found"]})
     result = {"paper": rep.PAPER, "stated_gap": base["gap"], "readings": rows, "details": details,
               "random_states": rnd, "R_ranges": r_ranges(base, solver, verdict)}
-    rep.write_csv(out_csv, COLUMNS, rows)
-    rep.write_json(out_json, result)
+    write_csv(out_csv, COLUMNS, rows)
+    write_json(out_json, result, sort_keys=False)
     return result
 
 
@@ -233,7 +229,7 @@ if __name__ == "__main__":
     import sys
 
     sys.stderr = open(sm.log[0], "w")
-    out = main(rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-               rep.json.loads(sm.params.verdict), sm.output.csv, sm.output.json)
+    out = main(json.loads(sm.params.reference), json.loads(sm.params.solver),
+               json.loads(sm.params.verdict), sm.output.csv, sm.output.json)
     for row in out["readings"]:
         print(f"{row['id']}: claim (a) {row['claim_a']}, claim (b) {row['claim_b']}", file=sys.stderr)

@@ -26,7 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-import sweepstage as st
+from impactdamper.studies import gapsweep as gs
+from impactdamper.reporting.records import cell_float, read_csv
 
 # A run of one label shorter than this many sweep points is not a "main" regime (the chaotic
 # bands flicker between np and narrow periodic windows).
@@ -83,7 +84,7 @@ def _macro(name: str, value) -> str:
 
 def main_runs(rows, direction: str):
     rs = [r for r in rows if r["direction"] == direction]
-    runs = st.runs([float(r["value"]) for r in rs], [r["label"] for r in rs])
+    runs = gs.runs([float(r["value"]) for r in rs], [r["label"] for r in rs])
     return [r for r in runs if r[3] >= MIN_RUN]
 
 
@@ -121,11 +122,11 @@ def special_match(t: dict, special: list[dict], tol: float):
     nearest to it and within tol: (text, gap), or None."""
     value = float(t["value"])
     cands = [s for s in special if s["label"] in (t["before"], t["after"])
-             and abs(st.num(s["gap"]) - value) <= tol]
+             and abs(cell_float(s["gap"]) - value) <= tol]
     if not cands:
         return None
-    s = min(cands, key=lambda s: abs(st.num(s["gap"]) - value))
-    return f"{SPECIAL_TEXT.get(s['kind'], s['kind'])} of {s['label']}", st.num(s["gap"])
+    s = min(cands, key=lambda s: abs(cell_float(s["gap"]) - value))
+    return f"{SPECIAL_TEXT.get(s['kind'], s['kind'])} of {s['label']}", cell_float(s["gap"])
 
 
 def mirror_match(t: dict, trans: list[dict], tol: float):
@@ -147,7 +148,7 @@ def _run_intervals(rows, trans, direction: str):
     values = [float(r["value"]) for r in rs]
     at = [float(t["value"]) for t in trans if t["direction"] == direction]
     out = []
-    for lab, a, b, _ in st.runs(values, [r["label"] for r in rs]):
+    for lab, a, b, _ in gs.runs(values, [r["label"] for r in rs]):
         i, j = values.index(a), values.index(b)
         lo = values[0] if i == 0 else next((v for v in at if values[i - 1] < v <= a), 0.5 * (values[i - 1] + a))
         hi = values[-1] if j == len(values) - 1 else next((v for v in at if b <= v < values[j + 1]),
@@ -197,7 +198,7 @@ def np_only_labels(rows) -> list[str]:
     down = {float(r["value"]): r["label"] for r in rows if r["direction"] == "down"}
     values = sorted(set(up) & set(down))
     out = []
-    for key, a, b, n in st.runs(values, [f"{up[v]}|{down[v]}" for v in values]):
+    for key, a, b, n in gs.runs(values, [f"{up[v]}|{down[v]}" for v in values]):
         u, d = key.split("|")
         if n >= 2 and (u == "np") != (d == "np"):
             lab = d if u == "np" else u
@@ -224,7 +225,7 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
     Returns {"label", "lo", "hi", "on", "off"} (slow-parameter values, row counts) or None.
     """
     slow, gaps, labels = read_map(map_csv)
-    u1 = np.array([float(r["first_contact"]) for r in st.read_csv(curves_csv)])
+    u1 = np.array([float(r["first_contact"]) for r in read_csv(curves_csv)])
     beyond = gaps[None, :] > u1[:, None]
     counts: dict[str, int] = {}
     for lab in labels[beyond]:
@@ -418,11 +419,11 @@ def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, 
            out_table) -> None:
     """The deterministic outputs (macros and table), from the committed figures/ files.
     ``maps``: map name -> (map CSV, curves CSV, settings JSON)."""
-    rows = st.read_csv(sweep_csv)
-    trans = st.read_csv(transitions_csv)
+    rows = read_csv(sweep_csv)
+    trans = read_csv(transitions_csv)
     checks_doc = json.loads(Path(checks_json).read_text())
     settings = json.loads(Path(settings_json).read_text())
-    special = st.read_csv(special_csv)
+    special = read_csv(special_csv)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(macros(rows, trans, checks_doc, settings, maps))
     Path(out_table).write_text(table(rows, trans, checks_doc, special))

@@ -32,16 +32,18 @@ Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 ``figures/sweep_checks.json`` (the three checks).
 """
 
+import json
 import math
 import multiprocessing
-import pickle
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 
 import numpy as np
 import scipy.optimize
 
-import sweepstage as st
+from impactdamper.reporting.records import Timer, stage_logger, write_csv, write_json
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper import algorithm1
 from impactdamper.core.linear import free_mode
 from impactdamper.core.model import Model
@@ -205,26 +207,28 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     return out
 
 
-def main(points_pkl, sweep: dict, out_csv, out_json, processes: int = 1, log=None) -> dict:
-    with open(points_pkl, "rb") as f:
-        data = pickle.load(f)
-    base, parameter, settings = data["base"], data["parameter"], data["settings"]
+def main(points_npz, reference: dict, solver: dict, sweep: dict, out_csv, out_json, processes: int = 1,
+         log=None) -> dict:
+    """Bisect the sweep's transitions (the points of ``points_npz``, written by sweep_gap.py with
+    the same ``reference``, ``solver`` and ``sweep`` config) and check the three analytic ones."""
+    data = gs.read_points(points_npz)
+    base, parameter, settings = parameters(reference), gs.SWEEP_PARAMETER, sweep_settings(sweep, solver)
     xtol = float(sweep["transition_xtol"])
     jobs = [(base, parameter, data[d], d, settings, xtol) for d in ("up", "down")]
-    with st.Timer() as timer:
+    with Timer() as timer:
         if processes >= 2:
             with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("fork")) as pool:
                 found = list(pool.map(_find, jobs))
         else:
             found = [_find(j) for j in jobs]
     rows = [t.row() for ts in found for t in ts]
-    st.write_csv(out_csv, rows, TRANSITION_COLUMNS)
+    write_csv(out_csv, TRANSITION_COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("%d transitions bisected to %g in %.1f s", len(rows), xtol, timer.wall)
     result = {"parameter": parameter, "base": base.to_dict(), "transition_xtol": xtol,
               "check_xtol": float(sweep["check_xtol"]),
               "checks": checks(base, parameter, data["up"], data["down"], settings, float(sweep["check_xtol"]), log)}
-    st.write_json(out_json, _clean(result))
+    write_json(out_json, _clean(result), indent=2)
     return result
 
 
@@ -242,8 +246,8 @@ def _clean(obj):
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
 
-    log = st.logger(sm.log[0], "sweep_transitions")
-    main(sm.input.points, json.loads(sm.params.sweep), sm.output.csv, sm.output.json,
+    log = stage_logger(sm.log[0], "sweep_transitions", timestamps=True, library=True)
+    main(sm.input.points, json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+         sm.output.csv, sm.output.json,
          processes=min(int(sm.threads), 2), log=log)

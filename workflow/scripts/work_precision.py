@@ -26,7 +26,8 @@ import csv
 import json
 from pathlib import Path
 
-import performancestage as ps
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import stage_logger, write_json
 
 from impactdamper.studies import workprecision as wp
 
@@ -41,10 +42,10 @@ def _fmt(v):
 
 
 def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
-    p = ps.parameters(reference)
+    p = parameters(reference)
     study = wp.run_study(p, performance, log=log)
     study["summary"] = wp.summarize(study, tuple(performance["targets"]))
-    ps.write_json(out_json, study)
+    write_json(out_json, study)
     Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
     with open(out_csv, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
@@ -57,6 +58,6 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    lg = ps.logger(sm.log[0], "work_precision")
+    lg = stage_logger(sm.log[0], "work_precision")
     main(json.loads(sm.params.reference), json.loads(sm.params.performance), sm.output.json, sm.output.csv,
          log=lg.info)

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CSV_FLOAT", "clean", "write_json", "read_json", "csv_cell", "write_csv", "read_csv", "cell_float",
+__all__ = ["CSV_FLOAT", "clean", "write_json", "read_json", "json_float", "csv_cell", "write_csv", "read_csv", "cell_float",
            "split_floats", "joined", "stage_logger", "machine", "Timer"]
 
 # Significant digits of floats in CSV records: far below any tolerance the record is compared
@@ -50,7 +50,13 @@ def write_json(path, obj, *, indent: int = 1, sort_keys: bool = True) -> None:
 
 
 def read_json(path):
+    """A JSON record as Python objects."""
     return json.loads(Path(path).read_text())
+
+
+def json_float(x) -> float:
+    """A JSON number back to float; None (a value not reached, written by :func:`clean`) to inf."""
+    return math.inf if x is None else float(x)
 
 
 def csv_cell(value, *, booleans: str = "words", float_format: str = CSV_FLOAT) -> str:
