@@ -174,7 +174,7 @@ def test_macros_and_table_from_a_study():
     assert s["cases"]["first_impacts"]["levels"]["1e-10"]["speedup"] == pytest.approx(25.0)
     assert s["cases"]["first_impacts"]["levels"]["1e-10"]["speedup_met"]
     assert not s["cases"]["settled_cycle"]["levels"]["1e-10"]["speedup_met"]  # DOP853 never got there
-    text = performance_report.macros(s, perf, study)
+    text = performance_report.macros(s, perf, study).tex()
     names = [line.split("{", 2)[1].rstrip("}") for line in text.splitlines() if line.startswith(r"\newcommand")]
     assert len(names) == len(set(names)) > 40
     assert all(n[1:].isalpha() for n in names)  # LaTeX command names: letters only

@@ -1,5 +1,5 @@
 """Figures are the record: the committed figures/ and paper/generated/ files of the reference
-case stage (issue 3) must be what the workflow's scripts make now.
+case stage must be what the workflow's scripts make now.
 
 The scripts are run into a temporary directory through their ``main()`` functions with the
 full config (config/config.yaml), and compared with the committed files:

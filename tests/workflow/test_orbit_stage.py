@@ -1,4 +1,4 @@
-"""The orbits stage (issue 4): the committed record (figures/orbit_*.csv, orbit_summary.json,
+"""The orbits stage: the committed record (figures/orbit_*.csv, orbit_summary.json,
 paper/generated/orbit_*.tex) against independent methods, and its regeneration.
 
 * Special points against simulation: on both sides of the 2T cycle's period doubling and of

@@ -1,4 +1,4 @@
-"""The performance stage's DAG (workflow/rules/performance.smk, issue 6): a dry run with the
+"""The performance stage's DAG (workflow/rules/performance.smk): a dry run with the
 CI config, no job executed. Every rule lists its script, the library and a log; rule all asks
 for the stage's products; the timed rules take both cores."""
 

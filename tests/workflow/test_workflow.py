@@ -176,7 +176,7 @@ def test_config_override_on_the_command_line_is_typed():
     assert "theta" in bad.stdout + bad.stderr
 
 
-# --- issue 15: unknown keys, NaN and inf, reversed ranges, numbers in any YAML form -------------
+# --- config errors: unknown keys, NaN and inf, reversed ranges, numbers in any YAML form -------------
 def _config_helpers() -> dict:
     """check_config and yaml_scalars from workflow/rules/common.smk, loaded by name (the rest of
     the file sets up the environment of a Snakemake run, which a test must not)."""

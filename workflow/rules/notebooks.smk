@@ -1,4 +1,4 @@
-# Issue 8: the guided-tour notebooks in notebooks/ (jupytext percent format; the .py files
+# The guided-tour notebooks in notebooks/ (jupytext percent format; the .py files
 # are the source). Each rule executes one notebook end to end in a Jupyter kernel, so a
 # broken notebook fails the build. The executed copies in results/notebooks/ are not a
 # record: the report reads no number from them.

@@ -1,6 +1,6 @@
-# Stage: speed against error, and numerical stability on hard cases (issue 6).
+# Stage: speed against error, and numerical stability on hard cases.
 # The work-precision study (every method against a 40-digit mpmath reference), the cost
-# growth of the exact solver, the hard-case suite and issue 2's reference-speed benchmark;
+# growth of the exact solver, the hard-case suite and the reference-speed benchmark;
 # then the report's macros and tables. Timings are CPU time: the timed rules take both cores
 # (threads: 2) so that, with --cores 2, nothing else runs beside them, and reset the BLAS
 # threads Snakemake then sets to 2 back to 1 (4 x 4 matrices gain nothing). Their outputs are
@@ -130,6 +130,7 @@ rule performance_report:
         hardcases="results/benchmarks/hardcases.json",
         reference_speed="results/benchmarks/reference_speed.json",
     output:
+        record="results/report/performance.json",
         macros="paper/generated/performance_macros.tex",
         table="paper/generated/workprecision_table.tex",
         summary="results/benchmarks/performance_summary.json",

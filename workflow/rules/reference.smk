@@ -1,4 +1,4 @@
-# Stage: the paper's reference case (issue 3): Fig. 2a, Fig. 2b, the impact-time table and the
+# Stage: the paper's reference case: Fig. 2a, Fig. 2b, the impact-time table and the
 # replication verdict, for the stated case (config: reference) and for the located case (where
 # the behaviour the paper reports does occur, found by rule gap_scan).
 # Convention: every script runs through `script:` and reads snakemake.input/output/params/log
@@ -187,7 +187,6 @@ rule fig_located_range:
 rule verdict:
     input:
         script="workflow/scripts/verdict.py",
-        claims_helper="workflow/scripts/claims_gather.py",
         library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
         stated="figures/reference_stated.json",
         located="figures/reference_located.json",
@@ -200,6 +199,7 @@ rule verdict:
     output:
         json="figures/verdict.json",
         csv="figures/verdict.csv",
+        record="results/report/verdict.json",
         tex="paper/generated/verdict_macros.tex",
     log:
         "logs/reference/verdict.log",

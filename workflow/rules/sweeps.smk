@@ -1,4 +1,4 @@
-# Stage: gap sweeps and regime maps (issue 5). The gap Delta0/x_st is swept up and down over
+# Stage: gap sweeps and regime maps. The gap Delta0/x_st is swept up and down over
 # every regime of the reference case (config: sweep), with random initial states, transitions
 # bisected and checked against analytic values; two-parameter maps (config: maps) run as
 # chunks, one job each (wildcards map, chunk), gathered afterwards, so the same DAG runs on a
@@ -54,6 +54,7 @@ rule sweep_random_chunk:
 rule sweep_random:
     input:
         script="workflow/scripts/gather_csv.py",
+        library=library(REPORTING),
         chunks=random_chunk_files,
     output:
         csv="figures/sweep_random.csv",
@@ -269,6 +270,7 @@ rule sweep_report:
         sweep_timing="results/benchmarks/sweep_timing.json",
         map_timings=expand("results/benchmarks/map_{map}_timing.json", map=SWEEP_MAPS),
     output:
+        record="results/report/sweeps.json",
         macros="paper/generated/sweep_macros.tex",
         table="paper/generated/sweep_transitions.tex",
         timing="paper/generated/sweep_timing.tex",

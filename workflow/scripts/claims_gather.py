@@ -18,29 +18,14 @@ Outputs:
 
 from pathlib import Path
 
-import math
-
-import json
 from impactdamper.studies import replication as rep
-from impactdamper.reporting.records import read_json, write_csv, write_json
-from impactdamper.studies.claims import Interval, distance_to
+from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS, nearest_both
 
-PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
+PARAMETERS = SEARCH_PARAMETERS
 CLAIMS = ("a", "b", "both")
 GRID_COLUMNS = ["parameter", "value", "claim_b", "regime", "period_multiple", "impacts_per_cycle", "periods"]
-
-
-def nearest_both(result: dict) -> dict:
-    """The nearest value to the stated one where both claims hold, and how far it is."""
-    stated = result["stated"]
-    ivs = [Interval(**{**iv, "lo_bracket": None, "hi_bracket": None}) for iv in result["intervals"]["both"]]
-    d, x = distance_to(ivs, stated)
-    return {"stated": stated, "nearest": x, "distance": d if math.isfinite(d) else None,
-            "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
-            "intervals": len(ivs)}
-
-
-SYMBOL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$", "R": "$R$"}
+SYMBOL = SEARCH_SYMBOLS
 
 
 def table(per: dict) -> str:
@@ -102,9 +87,9 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
+    cfg, _ = start_stage(sm)
     inputs = {name: path for name, path in zip(PARAMETERS, sm.input.results)}
-    out = main(inputs, json.loads(sm.params.reference), json.loads(sm.params.solver),
-               json.loads(sm.params.search), sm.output.csv, sm.output.json, sm.output.grid, sm.output.tex)
+    out = main(inputs, cfg["reference"], cfg["solver"],
+               cfg["search"], sm.output.csv, sm.output.json, sm.output.grid, sm.output.tex)
     for name, d in out["parameters"].items():
         print(f"{name}: nearest both {d['nearest_both']}", file=sys.stderr)

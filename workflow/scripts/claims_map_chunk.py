@@ -7,13 +7,12 @@ One chunk of rows (contiguous y values) per Snakemake job.
 Output: ``results/claims/map_{chunk}.csv``.
 """
 
-import json
 
 import numpy as np
 
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import write_csv
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper.studies.claims import claims_at
 
 COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
@@ -45,6 +44,6 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    main(int(sm.wildcards.chunk), json.loads(sm.params.reference), json.loads(sm.params.solver),
-         json.loads(sm.params.search), sm.output.csv, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    cfg, _ = start_stage(sm)
+    main(int(sm.wildcards.chunk), cfg["reference"], cfg["solver"],
+         cfg["search"], sm.output.csv, log=lambda msg: print(msg, file=sys.stderr, flush=True))

@@ -2,11 +2,10 @@
 ``figures/claims_map.csv`` (chunks in order, so the table does not depend on the number of
 jobs) and writes its settings beside it (``figures/claims_map_settings.json``)."""
 
-import json
 
 import gather_csv
 from impactdamper.studies import replication as rep
-from impactdamper.reporting.records import write_json
+from impactdamper.reporting.records import start_stage, write_json
 
 
 def main(chunks, reference: dict, solver: dict, search: dict, out_csv, out_json) -> None:
@@ -18,8 +17,6 @@ def main(chunks, reference: dict, solver: dict, search: dict, out_csv, out_json)
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(list(sm.input.chunks), json.loads(sm.params.reference), json.loads(sm.params.solver),
-         json.loads(sm.params.search), sm.output.csv, sm.output.json)
+    cfg, _ = start_stage(sm)
+    main(list(sm.input.chunks), cfg["reference"], cfg["solver"],
+         cfg["search"], sm.output.csv, sm.output.json)

@@ -12,14 +12,13 @@ normalisation of any parameter, not only of the gap.
 Output: ``results/claims/{parameter}.json`` (gathered by claims_gather.py).
 """
 
-import json
 import time
 
 import numpy as np
 
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import write_json
+from impactdamper.reporting.records import start_stage, write_json
 from impactdamper.studies.claims import search_parameter
 
 
@@ -44,6 +43,6 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.wildcards.parameter, json.loads(sm.params.reference), json.loads(sm.params.solver),
-         json.loads(sm.params.search), sm.output.json, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    cfg, _ = start_stage(sm)
+    main(sm.wildcards.parameter, cfg["reference"], cfg["solver"],
+         cfg["search"], sm.output.json, log=lambda msg: print(msg, file=sys.stderr, flush=True))

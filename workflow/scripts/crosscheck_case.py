@@ -19,11 +19,10 @@ residual and the negative-gap interval ends within tolerance, ``agree_b`` the al
 Output: ``figures/crosscheck_{case}.json``.
 """
 
-import json
 
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import read_json, write_json
+from impactdamper.reporting.records import read_json, start_stage, write_json
 
 
 def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
@@ -57,8 +56,8 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    out = main(sm.input.json, json.loads(sm.params.solver), json.loads(sm.params.verdict), sm.output.json)
+    cfg, _ = start_stage(sm)
+    out = main(sm.input.json, cfg["solver"], cfg["verdict"], sm.output.json)
     c1, c2 = out["algorithm1_comparison"], out["algorithm2"]["cycle_comparison"]
     print(f"agree (a) {out['agree_a']}: interval ends {c1['max_interval_end_difference_over_T']} T, residual "
           f"{c1['periodicity_residual']}; agree (b) {out['agree_b']}: times {c2['max_time_difference_over_T']:.1e} T "

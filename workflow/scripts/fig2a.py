@@ -17,7 +17,7 @@ does), each labelled in its title.
 
 import numpy as np
 
-from impactdamper.reporting.records import read_json
+from impactdamper.reporting.records import read_json, start_stage
 from impactdamper.reporting.plotting import finish_figure, use_style
 
 # Light red of the shaded negative-gap stretch.
@@ -63,7 +63,5 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.wildcards.case, sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

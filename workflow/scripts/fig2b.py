@@ -18,7 +18,7 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 
 import numpy as np
 
-from impactdamper.reporting.records import read_json
+from impactdamper.reporting.records import read_json, start_stage
 from impactdamper.reporting.plotting import finish_figure, use_style
 
 CYCLE_COLOR = "#e8eef6"
@@ -68,7 +68,5 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.wildcards.case, sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

@@ -1,5 +1,5 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the exact solver's cost growth (issue 6).
+the paper): the exact solver's cost growth.
 
 Caption: "Cost of Algorithm No. 2 with the exact flow from its default start. Left: CPU time
 against the simulated span. Right: CPU time per impact against the number of impacts, for

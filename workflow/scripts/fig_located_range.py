@@ -22,7 +22,7 @@ import csv
 
 import numpy as np
 
-from impactdamper.reporting.records import read_json
+from impactdamper.reporting.records import read_json, start_stage
 from impactdamper.reporting.plotting import finish_figure, use_style
 
 RANGE_COLOR = "#f4cccc"
@@ -85,7 +85,5 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

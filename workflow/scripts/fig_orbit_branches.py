@@ -31,7 +31,7 @@ import numpy as np
 from matplotlib.patches import Patch
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
-from impactdamper.reporting.records import cell_float, read_csv, read_json
+from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
@@ -193,8 +193,6 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    import sys
-
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.branches, sm.input.special, sm.input.summary, sm.output.pdf, sm.output.png)

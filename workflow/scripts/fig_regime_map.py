@@ -15,7 +15,6 @@ report's text width and no text is under 7 pt in print.
 Deviation: the paper shows no map; its introduction describes the sequence along the gap.
 """
 
-import json
 
 import numpy as np
 from matplotlib import patheffects
@@ -25,7 +24,7 @@ from matplotlib.patches import Patch
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
-from impactdamper.reporting.records import read_csv, split_floats
+from impactdamper.reporting.records import read_csv, split_floats, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 CLASSES = list(REGIME_COLORS)
@@ -131,8 +130,6 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.wildcards.map, json.loads(sm.params.reference), sm.input.map, sm.input.curves, sm.input.located,
+    cfg, _ = start_stage(sm)
+    main(sm.wildcards.map, cfg["reference"], sm.input.map, sm.input.curves, sm.input.located,
          sm.output.pdf, sm.output.png)

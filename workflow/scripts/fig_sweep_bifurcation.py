@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdamper.studies.config import located_gap
-from impactdamper.reporting.records import read_csv, split_floats
+from impactdamper.reporting.records import read_csv, split_floats, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
@@ -89,8 +89,6 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.sweep, sm.input.random, sm.input.alg1, sm.input.checks, sm.input.located,
          float(sm.params.stated_gap), sm.output.pdf, sm.output.png)

@@ -19,7 +19,7 @@ from matplotlib.patches import Patch, Rectangle
 
 from impactdamper.studies import gapsweep as gs
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
-from impactdamper.reporting.records import read_csv
+from impactdamper.reporting.records import read_csv, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 SHORT = {"stuck": "S", "np": "np"}
@@ -141,7 +141,5 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)

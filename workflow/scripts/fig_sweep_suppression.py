@@ -12,10 +12,9 @@ reference is a horizontal line, named with its value in the legend.
 Deviations: none (the paper has no such figure).
 """
 
-import json
 
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import cell_float, read_csv
+from impactdamper.reporting.records import cell_float, read_csv, start_stage
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 from impactdamper.analysis.sweeps import object_alone_amplitude, rigid_amplitude
@@ -47,7 +46,5 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(json.loads(sm.params.reference), sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)
+    cfg, _ = start_stage(sm)
+    main(cfg["reference"], sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)

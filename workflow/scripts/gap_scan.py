@@ -33,13 +33,12 @@ coexist), and an end of (b) is where the settled-motion test (``settle_tol`` wit
 ``max_periods``) still recognises T_c = 2T.
 """
 
-import json
 import math
 from concurrent.futures import ProcessPoolExecutor
 
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import write_csv, write_json
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 
 # Algorithm No. 1 costs milliseconds: its range ends are bisected to near rounding.
 ALG1_BISECT_TOL = 1e-9
@@ -241,7 +240,6 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, worker
         raise ValueError(f"`verdict.gap_min` = {lo!r} is not allowed: must be < `verdict.gap_max` = {hi!r}")
     base = parameters(reference).to_dict()
     stated_gap = base["gap"]
-    kmax = int(solver["max_period_multiple"])
 
     def alg1_pred(g: float) -> bool:
         return rep.claim_a(rep.run_alg1(parameters(dict(base, gap=g)), solver))
@@ -324,9 +322,8 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    out = main(json.loads(sm.params.reference), json.loads(sm.params.solver),
-               json.loads(sm.params.verdict), sm.output.csv, sm.output.json, workers=sm.threads)
+    cfg, _ = start_stage(sm)
+    out = main(cfg["reference"], cfg["solver"], cfg["verdict"], sm.output.csv, sm.output.json, workers=sm.threads)
     print(f"claim (a) ranges {[(r['lo'], r['hi']) for r in out['claim_a_ranges']]}", file=sys.stderr)
     print(f"claim (b) ranges {[(r['lo'], r['hi']) for r in out['claim_b_ranges']]}", file=sys.stderr)
     print(f"both {[(r['lo'], r['hi']) for r in out['both_ranges']]}; located {out['located']['gap']}", file=sys.stderr)

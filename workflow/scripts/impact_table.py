@@ -17,7 +17,7 @@ Outputs: ``figures/impacts_{case}.csv`` (full precision) and
 from pathlib import Path
 
 from impactdamper.reporting.latex import fixed
-from impactdamper.reporting.records import read_json, write_csv
+from impactdamper.reporting.records import read_json, start_stage, write_csv
 
 COLUMNS = ["impact", "t_s", "t_over_T", "phase", "velocity", "impulse", "velocity_rel", "impulse_rel", "next_cycle"]
 
@@ -57,7 +57,5 @@ def main(case: str, case_json, out_csv, out_tex) -> list[dict]:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.wildcards.case, sm.input.json, sm.output.csv, sm.output.tex)

@@ -13,11 +13,10 @@ Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
 and end times so that the gather can compute the whole map's wall time).
 """
 
-import json
 
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
-from impactdamper.reporting.records import Timer, machine, stage_logger, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.analysis.sweeps import regime_map
 
 COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods"]
@@ -60,7 +59,6 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-
-    log = stage_logger(sm.log[0], "map_chunk", timestamps=True, library=True)
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.maps),
+    cfg, log = start_stage(sm, "map_chunk", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["maps"],
          sm.wildcards.map, int(sm.wildcards.chunk), sm.output.csv, sm.output.json, log=log)

@@ -12,13 +12,12 @@ Output: ``figures/map_{map}_curves.csv`` (slow, liftoff, first_contact, alg1_gra
 ';'-joined values).
 """
 
-import json
 
 import numpy as np
 
 import map_chunk
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import write_csv
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper import algorithm1
 from impactdamper.analysis.sweeps import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap, with_value
 
@@ -49,7 +48,5 @@ def main(reference: dict, maps: dict, name: str, out_csv) -> list[dict]:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(json.loads(sm.params.reference), json.loads(sm.params.maps), sm.wildcards.map, sm.output.csv)
+    cfg, _ = start_stage(sm)
+    main(cfg["reference"], cfg["maps"], sm.wildcards.map, sm.output.csv)

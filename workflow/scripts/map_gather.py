@@ -13,7 +13,7 @@ answers "how long with ``--cores N``" when nothing else runs) with the machine's
 import json
 from pathlib import Path
 
-from impactdamper.reporting.records import read_csv, write_json
+from impactdamper.reporting.records import read_csv, start_stage, write_json
 
 
 def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
@@ -52,10 +52,8 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    config = {"reference": json.loads(sm.params.reference), "solver": json.loads(sm.params.solver),
-              "maps": json.loads(sm.params.maps)}
+    cfg, _ = start_stage(sm)
+    config = {"reference": cfg["reference"], "solver": cfg["solver"],
+              "maps": cfg["maps"]}
     main(list(sm.input.csvs), list(sm.input.jsons), sm.wildcards.map, sm.output.csv, sm.output.timing,
          sm.output.settings, config)

@@ -26,11 +26,10 @@ Deviations: none from the paper (it has no such computation); ranges and steps c
 config's ``orbits`` section.
 """
 
-import json
 
 from impactdamper.studies import branches as br
 from impactdamper.studies.config import located_gap, parameters, steady_options
-from impactdamper.reporting.records import stage_logger, write_csv, write_json
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper import solve_orbit
 
 
@@ -72,8 +71,7 @@ def compute(reference: dict, solver: dict, orbits: dict, located: float, log=Non
 
 
 def main(reference: dict, solver: dict, orbits: dict, located_json, out_branches, out_special, out_summary,
-         log_path=None) -> dict:
-    log = stage_logger(log_path, "orbit_branches") if log_path else None
+         log=None) -> dict:
     res = compute(reference, solver, orbits, located_gap(located_json), log)
     write_csv(out_branches, br.BRANCH_COLUMNS, res["branches"], booleans="digits")
     write_csv(out_special, br.SPECIAL_COLUMNS, res["special"], booleans="digits")
@@ -82,7 +80,7 @@ def main(reference: dict, solver: dict, orbits: dict, located_json, out_branches
 
 
 if __name__ == "__main__":
-
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.orbits),
-         sm.input.located, sm.output.branches, sm.output.special, sm.output.summary, log_path=sm.log[0])
+    cfg, log = start_stage(sm, "orbit_branches")
+    main(cfg["reference"], cfg["solver"], cfg["orbits"],
+         sm.input.located, sm.output.branches, sm.output.special, sm.output.summary, log=log)

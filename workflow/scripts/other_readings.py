@@ -31,7 +31,6 @@ Outputs: ``figures/other_readings.csv`` (one row per reading) and
 ``figures/other_readings.json`` (the rows, the random states' motions, the R ranges).
 """
 
-import json
 import math
 import types
 from collections import Counter
@@ -40,7 +39,7 @@ import numpy as np
 
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import write_csv, write_json
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.core.algorithm1 import unit_pulse_response
 from impactdamper.core.events import Segment
 from impactdamper.core.linear import forced_amplitudes
@@ -228,8 +227,7 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    out = main(json.loads(sm.params.reference), json.loads(sm.params.solver),
-               json.loads(sm.params.verdict), sm.output.csv, sm.output.json)
+    cfg, _ = start_stage(sm)
+    out = main(cfg["reference"], cfg["solver"], cfg["verdict"], sm.output.csv, sm.output.json)
     for row in out["readings"]:
         print(f"{row['id']}: claim (a) {row['claim_a']}, claim (b) {row['claim_b']}", file=sys.stderr)

@@ -13,12 +13,11 @@ Outputs (``case`` is ``stated`` or ``located``):
   plus the next impact (and a margin of ``FIG2B_MARGIN`` T).
 """
 
-import json
 
 import numpy as np
 
 from impactdamper.studies import replication as rep
-from impactdamper.reporting.records import read_json, write_csv, write_json
+from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
 
 # How far past the next cycle's first impact Fig. 2b runs, and how far before t1, in T.
 FIG2B_MARGIN = 0.12
@@ -53,7 +52,7 @@ def main(case: str, parameters: dict, solver: dict, out_json, out_fig2a, out_fig
     """Compute the case and write its three files. Returns the JSON object written."""
     if case not in rep.CASES:
         raise ValueError(f"`case` = {case!r} is not allowed: must be one of {', '.join(rep.CASES)}")
-    p = parameters(parameters)
+    p = rep.parameters(parameters)
     a = rep.run_alg1(p, solver)
     s = rep.run_steady(p, solver)
     steady = rep.steady_summary(s)
@@ -76,14 +75,14 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
+    cfg, _ = start_stage(sm)
     case = sm.params.case
     if case == "stated":
-        params, origin = json.loads(sm.params.reference), "the paper's stated reference case (config: reference)"
+        params, origin = cfg["reference"], "the paper's stated reference case (config: reference)"
     else:
         located = read_json(sm.input.located)["located"]
         params, origin = located["parameters"], located["rule"]
-    out = main(case, params, json.loads(sm.params.solver), sm.output.json, sm.output.fig2a, sm.output.fig2b, origin)
+    out = main(case, params, cfg["solver"], sm.output.json, sm.output.fig2a, sm.output.fig2b, origin)
     print(f"{case}: gap {out['parameters']['gap']}, claim (a) {out['algorithm1']['claim_a']}, "
           f"regime {out['algorithm2']['regime']}, T_c = {out['algorithm2']['T_c_over_T']} T, "
           f"claim (b) {out['algorithm2']['claim_b']}", file=sys.stderr)

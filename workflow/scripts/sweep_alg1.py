@@ -11,13 +11,12 @@ Output: ``figures/sweep_alg1.csv`` (value, exists, admissible, stable, largest m
 modulus, closing velocity over x_st omega, impact phase, smallest interior gap over x_st).
 """
 
-import json
 
 import numpy as np
 
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import stage_logger, write_csv
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper import algorithm1
 from impactdamper.analysis.sweeps import with_value
 
@@ -60,7 +59,6 @@ def main(reference: dict, solver: dict, sweep: dict, out_csv, log=None) -> list[
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-
-    log = stage_logger(sm.log[0], "sweep_alg1", timestamps=True, library=True)
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+    cfg, log = start_stage(sm, "sweep_alg1", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"],
          sm.output.csv, log=log)

@@ -18,11 +18,10 @@ transition bisection) and
 inside this job).
 """
 
-import json
 
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters, sweep_settings
-from impactdamper.reporting.records import Timer, machine, stage_logger, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.analysis.sweeps import two_way_sweep
 
 
@@ -71,7 +70,6 @@ def _count(points, attr: str) -> dict:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-
-    log = stage_logger(sm.log[0], "sweep_gap", timestamps=True, library=True)
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+    cfg, log = start_stage(sm, "sweep_gap", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"],
          sm.output.csv, sm.output.settings, sm.output.points, sm.output.timing, processes=min(int(sm.threads), 2), log=log)

@@ -10,11 +10,10 @@ change the result) show the others. Every ``random_every``-th sweep point gets
 Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
 """
 
-import json
 
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
-from impactdamper.reporting.records import Timer, joined, stage_logger, write_csv
+from impactdamper.reporting.records import Timer, joined, start_stage, write_csv
 from impactdamper.analysis.sweeps import random_starts
 
 
@@ -52,7 +51,6 @@ def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=No
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-
-    log = stage_logger(sm.log[0], "sweep_random", timestamps=True, library=True)
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+    cfg, log = start_stage(sm, "sweep_random", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"],
          int(sm.wildcards.chunk), sm.output.csv, log=log)

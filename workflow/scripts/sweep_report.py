@@ -27,7 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from impactdamper.studies import gapsweep as gs
-from impactdamper.reporting.records import cell_float, read_csv
+from impactdamper.reporting.latex import MacroFile, render_macros
+from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage, write_json
 
 # A run of one label shorter than this many sweep points is not a "main" regime (the chaotic
 # bands flicker between np and narrow periodic windows).
@@ -48,6 +49,8 @@ DEFAULT_INPUTS = {"settings": "figures/sweep_gap_settings.json", "special": "fig
                   "map_curves": ["figures/map_theta_curves.csv", "figures/map_damping_curves.csv"],
                   "map_settings": ["figures/map_theta_settings.json", "figures/map_damping_settings.json"]}
 MAP_MACRO = {"theta": "Theta", "damping": "Damping"}
+# What the stage's record holds (results/report/sweeps.json).
+RECORD_WHAT = "the sweeps stage's numbers for the report (paper/generated/sweep_macros.tex) and the README"
 # Cells of the bistable label a map row must hold beyond U1/x_st to count as on it.
 BISTABLE_MIN_CELLS = 3
 # Rows in a row all on the bistable label that end the alternating stretch.
@@ -78,8 +81,9 @@ def tex_sci(x, digits: int = 2) -> str:
     return f"{sign}{m:.{digits - 1}f}\\times10^{{{e}}}"
 
 
-def _macro(name: str, value) -> str:
-    return f"\\newcommand{{\\{name}}}{{{value}}}"
+def _macro(name: str, value) -> tuple:
+    """A macro of the stage's record (:class:`impactdamper.reporting.latex.MacroFile`)."""
+    return name, value
 
 
 def main_runs(rows, direction: str):
@@ -254,7 +258,7 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
 
 
 # --- outputs -----------------------------------------------------------------------------------
-def macros(rows, trans, checks_doc, settings, maps: dict) -> str:
+def macros(rows, trans, checks_doc, settings, maps: dict) -> MacroFile:
     checks = {c["name"]: c for c in checks_doc["checks"]}
     values = sorted({float(r["value"]) for r in rows})
     sweep, solver = settings["sweep"], settings["solver"]
@@ -308,7 +312,7 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> str:
               _macro(f"Map{M}BistableHigh", f"{b['hi']:.3f}" if b else "--"),
               _macro(f"Map{M}BistableRowsOn", b["on"] if b else 0),
               _macro(f"Map{M}BistableRowsOff", b["off"] if b else 0)]
-    return "\n".join(m) + "\n"
+    return MacroFile(m)
 
 
 def table(rows, trans, checks_doc, special) -> str:
@@ -415,39 +419,40 @@ def timing(sweep_timing, map_timings) -> str:
     return "\n".join(t) + "\n"
 
 
-def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps: dict, out_macros,
+def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps: dict, out_record, out_macros,
            out_table) -> None:
-    """The deterministic outputs (macros and table), from the committed figures/ files.
-    ``maps``: map name -> (map CSV, curves CSV, settings JSON)."""
+    """The deterministic outputs (the stage's record, JSON; from it the macros; the table), from
+    the committed figures/ files. ``maps``: map name -> (map CSV, curves CSV, settings JSON)."""
     rows = read_csv(sweep_csv)
     trans = read_csv(transitions_csv)
     checks_doc = json.loads(Path(checks_json).read_text())
     settings = json.loads(Path(settings_json).read_text())
     special = read_csv(special_csv)
+    write_json(out_record, macros(rows, trans, checks_doc, settings, maps).record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_macros).write_text(macros(rows, trans, checks_doc, settings, maps))
+    Path(out_macros).write_text(render_macros(read_json(out_record)))
     Path(out_table).write_text(table(rows, trans, checks_doc, special))
 
 
-def main(sweep_csv, transitions_csv, checks_json, sweep_timing, map_timings, out_macros, out_table, out_timing, *,
+def main(sweep_csv, transitions_csv, checks_json, sweep_timing, map_timings, out_record, out_macros, out_table,
+         out_timing, *,
          settings_json=DEFAULT_INPUTS["settings"], special_csv=DEFAULT_INPUTS["special"], map_csvs=None,
          map_curves=None, map_settings=None) -> None:
     map_csvs = map_csvs or DEFAULT_INPUTS["maps"]
     map_curves = map_curves or DEFAULT_INPUTS["map_curves"]
     map_settings = map_settings or DEFAULT_INPUTS["map_settings"]
     maps = {json.loads(Path(s).read_text())["map"]: (c, k, s) for c, k, s in zip(map_csvs, map_curves, map_settings)}
-    report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps, out_macros, out_table)
+    report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps, out_record, out_macros,
+           out_table)
     Path(out_timing).write_text(timing(sweep_timing, map_timings))
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     # Inputs named in the rule; DEFAULT_INPUTS for a rule that predates them.
     got = {k: getattr(sm.input, k, None) or DEFAULT_INPUTS[k] for k in DEFAULT_INPUTS}
     main(sm.input.sweep, sm.input.transitions, sm.input.checks, sm.input.sweep_timing, list(sm.input.map_timings),
-         sm.output.macros, sm.output.table, sm.output.timing, settings_json=str(got["settings"]),
+         sm.output.record, sm.output.macros, sm.output.table, sm.output.timing, settings_json=str(got["settings"]),
          special_csv=str(got["special"]), map_csvs=list(got["maps"]), map_curves=list(got["map_curves"]),
          map_settings=list(got["map_settings"]))

@@ -32,7 +32,6 @@ Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 ``figures/sweep_checks.json`` (the three checks).
 """
 
-import json
 import math
 import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
@@ -41,7 +40,7 @@ from dataclasses import replace
 import numpy as np
 import scipy.optimize
 
-from impactdamper.reporting.records import Timer, stage_logger, write_csv, write_json
+from impactdamper.reporting.records import Timer, start_stage, write_csv, write_json
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper import algorithm1
@@ -246,8 +245,7 @@ def _clean(obj):
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-
-    log = stage_logger(sm.log[0], "sweep_transitions", timestamps=True, library=True)
-    main(sm.input.points, json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+    cfg, log = start_stage(sm, "sweep_transitions", timestamps=True, library=True)
+    main(sm.input.points, cfg["reference"], cfg["solver"], cfg["sweep"],
          sm.output.csv, sm.output.json,
          processes=min(int(sm.threads), 2), log=log)

@@ -20,16 +20,15 @@ numeric macros are bare numbers for math mode).
 
 from pathlib import Path
 
-import claims_gather
 from impactdamper.studies import replication as rep
-from impactdamper.reporting.latex import fixed, macro, MISSING, sci
-from impactdamper.reporting.records import read_json, write_csv, write_json
-from impactdamper.studies.claims import Interval, distance_to
+from impactdamper.reporting.latex import MISSING, MacroFile, fixed, render_macros, sci
+from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS, Interval, distance_to
 
 CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
                "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",
                "located_ivp_difference", "located_ivp_confirms"]
-CLAIMS_PARAMETERS = claims_gather.PARAMETERS
+CLAIMS_PARAMETERS = SEARCH_PARAMETERS
 # Macro names of the parameters (TeX macro names are letters only).
 MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta2": "DeltaTwo", "R": "R"}
 
@@ -93,8 +92,12 @@ PAPER_CLAIMS = {
 }
 
 
+# What the stage's record holds (results/report/verdict.json).
+RECORD_WHAT = "the verdict's numbers for the report (paper/generated/verdict_macros.tex) and the README"
+
+
 def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, readings_json, claims_json,
-         claims_map_csv, out_json, out_csv, out_tex) -> dict:
+         claims_map_csv, out_json, out_csv, out_record, out_tex) -> dict:
     ref_s, ref_l = read_json(stated_json), read_json(located_json)
     cc_s, cc_l = read_json(cc_stated_json), read_json(cc_located_json)
     scan, rd = read_json(scan_json), read_json(readings_json)
@@ -135,8 +138,11 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     }
     write_json(out_json, result, sort_keys=False)
     write_csv(out_csv, CSV_COLUMNS, rows)
+    record = macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows).record(RECORD_WHAT)
+    record["entries"] += claims_macros(result["beyond_the_gap"]).entries
+    write_json(out_record, record, sort_keys=False)
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_tex).write_text(macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) + claims_macros(result["beyond_the_gap"]))
+    Path(out_tex).write_text(render_macros(read_json(out_record)))
     return result
 
 
@@ -174,13 +180,14 @@ def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
             "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells}
 
 
-def claims_macros(b: dict) -> str:
+def claims_macros(b: dict) -> MacroFile:
     """Macros of the search beyond the gap (claims_by_parameter)."""
     yes = lambda flag: "yes" if flag else "no"  # noqa: E731
     m = ["% The claims searched beyond the gap (figures/claims_by_parameter.csv): each parameter alone at the\n",
          "% stated gap. *NearestBoth: the nearest value where both claims hold; *Distance: how far from the\n",
          "% stated value (absolute; *RelDistance relative, in per cent).\n"]
-    add = lambda name, value: m.append((macro(name, value) + "\n"))  # noqa: E731
+    m = MacroFile(m)
+    add = m.add
     add("ClaimsRelTol", sci(b["rel_tol"], 0))
     for name in CLAIMS_PARAMETERS:
         d, tag = b["parameters"][name], "Claims" + MACRO_OF[name]
@@ -197,7 +204,7 @@ def claims_macros(b: dict) -> str:
         open_end = next((r for r in d["both"] if iv and r["lo"] == iv[0] and r["hi"] == iv[1]), {})
         add(tag + "BothOpen", yes(open_end.get("lo_open", False) or open_end.get("hi_open", False)))
     near = b["nearest_parameter"]
-    add("ClaimsNearestParameter", claims_gather.SYMBOL[near] if near else MISSING)
+    add("ClaimsNearestParameter", SEARCH_SYMBOLS[near] if near else MISSING)
     add("ClaimsNearestParameterName", near or MISSING)
     gap = b["gap"]
     add("ClaimsGapNearest", fixed(gap["nearest"], 3) if gap["nearest"] is not None else MISSING)
@@ -212,7 +219,7 @@ def claims_macros(b: dict) -> str:
     add("ClaimsNoneFound", str(len(b["none_found"])))
     add("ClaimsMapCells", str(b["map_cells"]))
     add("ClaimsMapBothCells", str(b["map_both_cells"]))
-    return "".join(m)
+    return m
 
 
 def _short(text: str) -> str:
@@ -227,7 +234,7 @@ def _range_of(ranges: list[dict], gap: float) -> dict | None:
     return None
 
 
-def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
+def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
     """Every number the report quotes, as \\newcommand (bare numbers for math mode)."""
     p = ref_s["parameters"]
     m = ["% Replication verdict of the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100).\n",
@@ -237,7 +244,8 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
          "% closing velocities relative to x_st omega, impulses relative to m1 x_st omega. *MinGap: the smallest\n",
          "% interior local minimum of Delta/x_st (0 when the gap has none). Ranges are in Delta0/x_st\n",
          "% (or R).\n"]
-    add = lambda name, value: m.append((macro(name, value) + "\n"))  # noqa: E731
+    m = MacroFile(m)
+    add = m.add
     yes = lambda b: "yes" if b else "no"  # noqa: E731
     for name, key, d in (("Theta", "theta", 2), ("Mu", "mu", 2), ("N", "N", 2), ("DeltaOne", "delta1", 2),
                          ("DeltaTwo", "delta2", 2), ("R", "R", 2), ("Gap", "gap", 1), ("Omega", "omega", 0),
@@ -366,16 +374,16 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
     if pv:
         add("PrintedVelocitiesRegime", pv["alg2_regime"].replace("_", " "))
         add("PrintedVelocitiesPeriodMultiple", str(pv["alg2_period_multiple"]))
-    return "".join(m)
+    return m
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     i, o = sm.input, sm.output
     out = main(i.stated, i.located, i.cc_stated, i.cc_located, i.scan, i.readings, i.claims, i.claims_map, o.json, o.csv,
-               o.tex)
+               o.record, o.tex)
     for row in out["claims"]:
         print(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})", file=sys.stderr)

@@ -33,6 +33,7 @@ import math
 
 from impactdamper import Parameters, continue_orbit, solve_orbit, steady_state
 from impactdamper.reporting.records import joined
+from impactdamper.studies.claims import true_runs
 from impactdamper.studies.config import steady_options, tolerances
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
@@ -168,15 +169,8 @@ def stretches(branch: dict, which: str) -> list[dict]:
     """
     pts = branch["points"]
     ok = [q.admissible and (q.stable or which == "admissible") for q in pts]
-    out = []
-    i, n = 0, len(pts)
-    while i < n:
-        if not ok[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < n and ok[j + 1]:
-            j += 1
+    out, n = [], len(pts)
+    for i, j in true_runs(ok):
         ends = []
         for edge, outside in ((i, i - 1), (j, j + 1)):
             hit = [s for s, a, b, _ in branch["special"]
@@ -194,7 +188,6 @@ def stretches(branch: dict, which: str) -> list[dict]:
         cand = ends + inside + [(float(q.value), "sampled") for q in pts[i:j + 1]]
         (va, ka), (vb, kb) = min(cand), max(cand)
         out.append({"lo": va, "hi": vb, "lo_kind": ka, "hi_kind": kb})
-        i = j + 1
     return out
 
 
