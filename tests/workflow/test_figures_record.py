@@ -123,7 +123,7 @@ def regenerated(tmp_path_factory) -> Path:
     verdict.main(fig / "reference_stated.json", fig / "reference_located.json", fig / "crosscheck_stated.json",
                  fig / "crosscheck_located.json", FIGURES / "located_case.json", FIGURES / "other_readings.json",
                  FIGURES / "claims_by_parameter_settings.json", FIGURES / "claims_map.csv",
-                 fig / "verdict.json", fig / "verdict.csv", gen / "verdict_macros.tex")
+                 fig / "verdict.json", fig / "verdict.csv", out / "verdict_record.json", gen / "verdict_macros.tex")
     return out
 
 

@@ -216,7 +216,7 @@ def test_branch_rows_next_to_the_seed_regenerate(name, config, rows, special, su
 
 def test_macros_and_table_regenerate_exactly(tmp_path):
     orbit_report.main(FIGURES / "orbit_branches.csv", FIGURES / "orbit_special_points.csv",
-                      FIGURES / "orbit_summary.json", tmp_path / "m.tex", tmp_path / "t.tex")
+                      FIGURES / "orbit_summary.json", tmp_path / "record.json", tmp_path / "m.tex", tmp_path / "t.tex")
     assert (tmp_path / "m.tex").read_text() == (GENERATED / "orbit_macros.tex").read_text()
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "orbit_special_points_table.tex").read_text()
 

@@ -45,8 +45,6 @@ REPORTING = library_files("reporting")
 # What importing anything of the library loads: the package's __init__.py imports the core and
 # the periodic orbits of the analysis part.
 PACKAGE = ["src/impactdamper/__init__.py"] + CORE + ANALYSIS
-# Every part (the notebooks, which import freely).
-LIBRARY = sorted(set(PACKAGE + BASELINES + STUDIES + REPORTING))
 
 
 def study(*names):

@@ -18,7 +18,7 @@ does), each labelled in its title.
 import numpy as np
 
 from impactdamper.reporting.records import read_json, start_stage
-from impactdamper.reporting.plotting import finish_figure, use_style
+from impactdamper.reporting.plotting import CASE_LABELS, finish_figure, use_style
 
 # Light red of the shaded negative-gap stretch.
 NEGATIVE_GAP_COLOR = "#f4cccc"
@@ -30,7 +30,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     a = data["algorithm1"]
     gap = data["parameters"]["gap"]
     fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
-    label = {"stated": "stated case", "located": "located case"}[case]
+    label = CASE_LABELS[case]
     title = f"Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{st}} = {gap:g}$"
     if not a["exists"]:
         ax.text(0.5, 0.5, "Algorithm No. 1 has no orbit:\n" + a["reason"], ha="center", va="center",

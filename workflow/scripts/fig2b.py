@@ -19,7 +19,7 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 import numpy as np
 
 from impactdamper.reporting.records import read_json, start_stage
-from impactdamper.reporting.plotting import finish_figure, use_style
+from impactdamper.reporting.plotting import CASE_LABELS, finish_figure, use_style
 
 CYCLE_COLOR = "#e8eef6"
 
@@ -31,7 +31,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     gap = data["parameters"]["gap"]
     k = s["period_multiple"]
     n = s["impacts_per_cycle"]
-    label = {"stated": "stated case", "located": "located case"}[case]
+    label = CASE_LABELS[case]
     period = "T" if k == 1 else f"{k}T"
     cycle = f"$T_c = {period}$, {n} impact{'s' if n != 1 else ''} per cycle" if k else "no settled period"
     title = f"Fig. 2b, {label}: Algorithm No. 2, $\\Delta_0/x_{{st}} = {gap:g}$: {cycle}"

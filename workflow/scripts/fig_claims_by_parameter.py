@@ -15,7 +15,7 @@ Deviation: a search the paper does not have.
 
 import csv
 
-from impactdamper.reporting.records import read_json
+from impactdamper.reporting.records import read_json, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
@@ -61,4 +61,5 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
     main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

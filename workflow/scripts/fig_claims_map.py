@@ -17,7 +17,7 @@ import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from impactdamper.reporting.records import read_json
+from impactdamper.reporting.records import read_json, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
@@ -56,4 +56,5 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
     main(sm.input.csv, sm.input.json, sm.input.located, sm.output.pdf, sm.output.png)

@@ -13,6 +13,7 @@ Timings are CPU time on the machine that ran the workflow: not pixel-stable acro
 import csv
 
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.records import start_stage
 
 MARKERS = ("o", "s", "^", "v", "D")
 
@@ -49,4 +50,5 @@ def main(in_csv, out_stem) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
     main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"))

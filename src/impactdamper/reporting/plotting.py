@@ -14,8 +14,8 @@ STYLE_FILE = Path(__file__).with_name("paper.mplstyle")
 # Text width of the report in inches (article class, 1 in margins on A4 would be 6.27 in).
 TEXT_WIDTH = 6.3
 
-__all__ = ["use_style", "save_figure", "finish_figure", "STYLE_FILE", "TEXT_WIDTH", "REGIME_COLORS", "REGIME_TEXT",
-           "REGIME_NAMES"]
+__all__ = ["use_style", "save_figure", "finish_figure", "STYLE_FILE", "TEXT_WIDTH", "CASE_LABELS", "REGIME_COLORS",
+           "REGIME_TEXT", "REGIME_NAMES"]
 
 # One colour per regime class in every sweep and map figure (labels z/k are written on them).
 # Chosen so that classes that border each other stay apart in print, in greyscale and for
@@ -31,6 +31,9 @@ REGIME_COLORS = {
     "nonperiodic": "#fff2cc",   # not settled within the cap: pale cream
     "failed": "#ffffff",        # the simulation raised (label err): white
 }
+# How the figures name the reference stage's two cases (the paper's stated parameters; the
+# located gap where its Fig. 2 behaviour occurs).
+CASE_LABELS = {"stated": "stated case", "located": "located case"}
 # Text written on a band or region of each class: white on the dark ones, black elsewhere.
 REGIME_TEXT = {"stuck": "white", "single_impact": "white"}
 REGIME_NAMES = {

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CSV_FLOAT", "BOOLEAN_CELLS", "clean", "write_json", "read_json", "json_float", "csv_cell", "write_csv", "read_csv", "cell_float",
-           "split_floats", "joined", "stage_logger", "start_stage", "machine", "Timer"]
+__all__ = ["CSV_FLOAT", "BOOLEAN_CELLS", "clean", "write_json", "read_json", "json_float", "csv_cell", "write_csv",
+           "read_csv", "cell_float", "split_floats", "joined", "stage_logger", "start_stage", "machine", "Timer"]
 
 # Significant digits of floats in CSV records: far below any tolerance the record is compared
 # with (rtol 1e-8), and it keeps the files small.
