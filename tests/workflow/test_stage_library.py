@@ -141,3 +141,19 @@ def test_config_errors_name_the_argument():
         chunk_indices(10, 3, 3)
     assert json.dumps([list(chunk_indices(10, 3, i)) for i in range(3)], default=int) == \
         "[[0, 1, 2, 3], [4, 5, 6], [7, 8, 9]]"
+
+
+# --- the transitions' second, numeric values against the closed form -------------------------------
+def test_numeric_thresholds_match_the_closed_form():
+    """(a) The joined bodies' least contact force is zero at the analytic lift-off gap; (b) the
+    free forced response's largest x2p - x1p is U1/x_st, the analytic first-contact gap. Both to
+    1e-9 (relative to the force scale, and in units of x_st): the sampled-and-refined extremum
+    resolves the phase to ~1e-14 T."""
+    from impactdamper.analysis.sweeps import no_contact_gap, stuck_liftoff_gap, with_value
+    from impactdamper.studies import transitions
+
+    base = Parameters()
+    liftoff = stuck_liftoff_gap(base)
+    assert abs(transitions.least_contact_force(with_value(base, "gap", liftoff))) <= 1e-9
+    assert transitions.least_contact_force(with_value(base, "gap", liftoff - 1.0)) > 1e-3  # pressed: F > 0
+    assert abs(transitions.largest_relative_displacement(base) - no_contact_gap(base)) <= 1e-9
