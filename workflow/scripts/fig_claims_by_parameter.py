@@ -13,9 +13,8 @@ both hold. Data: ``figures/claims_by_parameter.csv`` and its settings JSON.
 Deviation: a search the paper does not have.
 """
 
-import csv
 
-from impactdamper.reporting.records import read_json, start_stage
+from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
@@ -29,8 +28,7 @@ LANES = (("a", "claim (a): gap negative (Alg. No. 1)", "#e67e22"),
 
 def main(csv_path, settings_json, out_pdf, out_png) -> None:
     plt = use_style()
-    with open(csv_path) as f:
-        rows = list(csv.DictReader(f))
+    rows = read_csv(csv_path)
     settings = read_json(settings_json)
     fig, axes = plt.subplots(len(PARAMETERS), 1, figsize=(TEXT_WIDTH, 6.6))
     for ax, name in zip(axes, PARAMETERS):

@@ -11,13 +11,12 @@ Deviation: a map the paper does not have; each cell is Algorithm No. 2 from the 
 1 (no continuation from a neighbour), as in the verdict.
 """
 
-import csv
 
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from impactdamper.reporting.records import read_json, start_stage
+from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
@@ -28,8 +27,7 @@ LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1
 
 def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
     plt = use_style()
-    with open(map_csv) as f:
-        rows = list(csv.DictReader(f))
+    rows = read_csv(map_csv)
     settings = read_json(settings_json)
     m, ref = settings["map"], settings["reference"]
     xs = sorted({float(r["x"]) for r in rows})

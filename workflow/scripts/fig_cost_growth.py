@@ -10,18 +10,15 @@ Thin: reads figures/cost_growth.csv (made by cost_growth.py), plots with the sha
 Timings are CPU time on the machine that ran the workflow: not pixel-stable across runs.
 """
 
-import csv
 
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
-from impactdamper.reporting.records import start_stage
+from impactdamper.reporting.records import read_csv, start_stage
 
 MARKERS = ("o", "s", "^", "v", "D")
 
 
 def load(path) -> list[dict]:
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
-    return [{k: float(v) for k, v in r.items()} for r in rows]
+    return [{k: float(v) for k, v in r.items()} for r in read_csv(path)]
 
 
 def main(in_csv, out_stem) -> None:

@@ -18,11 +18,10 @@ Deviations: a scan the paper does not have; the grid and the window come from th
 ``verdict`` section.
 """
 
-import csv
 
 import numpy as np
 
-from impactdamper.reporting.records import read_json, start_stage
+from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import finish_figure, use_style
 
 RANGE_COLOR = "#f4cccc"
@@ -30,14 +29,9 @@ RANGE_COLOR = "#f4cccc"
 Y_MAX = 8
 
 
-def _rows(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
 def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     plt = use_style()
-    rows = _rows(scan_csv)
+    rows = read_csv(scan_csv)
     scan = read_json(scan_json)
     g = np.array([float(r["gap"]) for r in rows])
     min_gap = np.array([float(r["alg1_min_gap"]) if r["alg1_min_gap"] else np.nan for r in rows])

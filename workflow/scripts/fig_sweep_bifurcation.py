@@ -17,13 +17,11 @@ Deviations: velocities are the closing relative velocities x2' - x1' before each
 x_st omega; for nonperiodic points they are the impacts of the last 8 periods simulated.
 """
 
-import json
-from pathlib import Path
 
 import numpy as np
 
 from impactdamper.studies.config import located_gap
-from impactdamper.reporting.records import read_csv, split_floats, start_stage
+from impactdamper.reporting.records import read_csv, read_json, split_floats, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
@@ -45,7 +43,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     rows = read_csv(sweep_csv)
     rnd = read_csv(random_csv)
     alg1 = read_csv(alg1_csv)
-    checks = {c["name"]: c for c in json.loads(Path(checks_json).read_text())["checks"]}
+    checks = {c["name"]: c for c in read_json(checks_json)["checks"]}
     located = located_gap(located_json)
     fig, axes = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, sharey=True, layout="constrained")
     xr, yr = _scatter(rnd)

@@ -13,11 +13,10 @@ Timings are CPU time on the machine that ran the workflow: the figure is not pix
 across runs.
 """
 
-import csv
 import math
 
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
-from impactdamper.reporting.records import read_json, start_stage
+from impactdamper.reporting.records import read_csv, read_json, start_stage
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
 # One colour, marker and line per method family, the same in both panels, in legend order.
@@ -36,8 +35,7 @@ ERROR_LIMITS = (3.0, 1e-15)
 
 
 def load(path) -> list[dict]:
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
+    rows = read_csv(path)
     for r in rows:
         for k in ("value", "cpu_seconds", "error"):
             r[k] = float(r[k]) if r[k] not in ("", "nan") else math.nan

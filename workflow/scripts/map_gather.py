@@ -10,10 +10,9 @@ wall times, and the map's wall time (first job start to last job end, the figure
 answers "how long with ``--cores N``" when nothing else runs) with the machine's load.
 """
 
-import json
 from pathlib import Path
 
-from impactdamper.reporting.records import read_csv, start_stage, write_json
+from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
 
 
 def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
@@ -31,7 +30,7 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
     Path(out_csv).write_text("\n".join(lines) + "\n")
     if out_settings is not None:
         write_json(out_settings, dict(config or {}, map=name), indent=2)
-    timings = [json.loads(Path(p).read_text()) for p in chunk_jsons]
+    timings = [read_json(p) for p in chunk_jsons]
     methods: dict = {}
     for r in cells:
         methods[r["method"]] = methods.get(r["method"], 0) + 1

@@ -22,7 +22,7 @@ from pathlib import Path
 
 from impactdamper.studies import replication as rep
 from impactdamper.reporting.latex import MISSING, MacroFile, fixed, render_macros, sci
-from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.reporting.records import read_csv, read_json, start_stage, write_csv, write_json
 from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS, Interval, distance_to
 
 CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
@@ -102,7 +102,7 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     cc_s, cc_l = read_json(cc_stated_json), read_json(cc_located_json)
     scan, rd = read_json(scan_json), read_json(readings_json)
     search = read_json(claims_json)
-    cmap = _read_csv(claims_map_csv)
+    cmap = read_csv(claims_map_csv)
     cs, cl = claims(ref_s, cc_s), claims(ref_l, cc_l)
     rows = []
     for key, text in PAPER_CLAIMS.items():
@@ -144,13 +144,6 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
     Path(out_tex).write_text(render_macros(read_json(out_record)))
     return result
-
-
-def _read_csv(path) -> list[dict]:
-    import csv
-
-    with open(path) as f:
-        return list(csv.DictReader(f))
 
 
 def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
