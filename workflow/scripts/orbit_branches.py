@@ -9,7 +9,7 @@ gap Delta takes on negative values when t in (t1, t2)") and Algorithm No. 2 sett
 impacts (seeded by Algorithm No. 2's settled motion) are followed by pseudo-arclength
 continuation (:func:`impactdamper.continue_orbit`, Floquet multipliers from saltation
 matrices), with folds, period doublings, Neimark-Sacker points and grazings located on them
-(see ``orbitstage`` for where a branch ends).
+(see :mod:`impactdamper.studies.branches` for where a branch ends).
 
 Writes
 

@@ -4,6 +4,8 @@ the paper): the numbers of the orbits stage for the report.
 Reads figures/orbit_branches.csv, figures/orbit_special_points.csv and
 figures/orbit_summary.json and writes
 
+* ``results/report/orbits.json``: the stage's record (:class:`impactdamper.reporting.latex.MacroFile`),
+  from which the macros below and the README summary's numbers are rendered;
 * ``paper/generated/orbit_macros.tex``: one ``\\newcommand`` per number the report quotes.
   Names are ``\\Orbit`` + what + branch (+ ``Low``/``High`` when a kind occurs twice on a
   branch, in order of the gap; ``A``, ``B``, ... beyond two), letters only:

@@ -4,6 +4,9 @@ the paper): the numbers of the performance study for the report.
 Reads the work-precision study, the cost growth, the hard cases and the reference-speed
 benchmark (results/benchmarks/*.json) and writes
 
+* ``results/report/performance.json``: the stage's record
+  (:class:`impactdamper.reporting.latex.MacroFile`), from which the macros below and the
+  README summary's numbers are rendered;
 * ``paper/generated/performance_macros.tex``: one ``\\newcommand`` per number the report
   quotes (speed-ups against the best solve_ivp method at equal error, costs, best errors,
   error floors, per-impact cost, hard-case counts, and each target as a number, for the

@@ -3,6 +3,9 @@ numbers for the report, as LaTeX macros and a booktabs table (no number is typed
 
 Outputs:
 
+* ``results/report/sweeps.json`` -- the stage's record
+  (:class:`impactdamper.reporting.latex.MacroFile`), from which the macros below and the
+  README summary's numbers are rendered;
 * ``paper/generated/sweep_macros.tex`` -- the sweep's extent and settling cap, the regime
   sequence of each direction (runs of at least ``MIN_RUN`` points), the three closed-form
   checks (each difference with the tolerance it is held to, and for the lift-off the offset

@@ -13,8 +13,10 @@ The claims (the prose around Fig. 2, at Delta0/x_st = -5.8):
 Also notes the transcription slip of eq. (13) (x21s' printed as x1s' - x2s'; eq. 12 defines
 x21s = x2s - x1s, which the library follows) and what it would change.
 
-Outputs: ``figures/verdict.json``, ``figures/verdict.csv`` (one row per claim) and
-``paper/generated/verdict_macros.tex`` (a ``\\newcommand`` for every number the report quotes;
+Outputs: ``figures/verdict.json``, ``figures/verdict.csv`` (one row per claim),
+``results/report/verdict.json`` (the stage's record of its macros,
+:class:`impactdamper.reporting.latex.MacroFile`, from which the TeX file and the README
+summary's numbers are rendered) and ``paper/generated/verdict_macros.tex`` (a ``\\newcommand`` for every number the report quotes;
 numeric macros are bare numbers for math mode).
 """
 
