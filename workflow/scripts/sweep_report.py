@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from impactdamper.studies import gapsweep as gs
+from impactdamper.reporting import latex
 from impactdamper.reporting.latex import MacroFile, render_macros
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage, write_json
 
@@ -69,18 +70,7 @@ def _num(x, digits: int = 10) -> str:
 
 def tex_sci(x, digits: int = 2) -> str:
     """x as LaTeX math: 6.6\\times10^{-6}; 10^{-9} for an exact power of ten; '--' for None."""
-    if x is None or not math.isfinite(x):
-        return "\\text{--}"
-    if x == 0:
-        return "0"
-    e = math.floor(math.log10(abs(x)))
-    m = abs(x) / 10**e
-    if round(m, digits - 1) >= 10:
-        m, e = m / 10, e + 1
-    sign = "-" if x < 0 else ""
-    if abs(m - 1.0) < 1e-12:  # a power of ten (a tolerance)
-        return f"{sign}10^{{{e}}}"
-    return f"{sign}{m:.{digits - 1}f}\\times10^{{{e}}}"
+    return latex.tex_sci(x, digits, missing="\\text{--}", powers_of_ten=True)
 
 
 def _macro(name: str, value) -> tuple:

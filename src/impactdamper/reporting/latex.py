@@ -51,18 +51,22 @@ def sci(x, digits: int = 1) -> str:
     return f"{m:.{digits}f} \\times 10^{{{e}}}"
 
 
-def tex_sci(x, digits: int = 2) -> str:
-    """x with ``digits`` significant digits, e.g. ``3.1\\times10^{-14}``; ``\\text{---}`` when not
-    reached (the performance tables' form)."""
+def tex_sci(x, digits: int = 2, *, missing: str = r"\text{---}", powers_of_ten: bool = False) -> str:
+    """x with ``digits`` significant digits, e.g. ``3.1\\times10^{-14}`` (math mode);
+    ``missing`` when None or not finite (not reached, in the performance tables); with
+    ``powers_of_ten`` an exact power of ten as ``10^{-9}`` (a tolerance, in the sweep's macros)."""
     if x is None or not math.isfinite(x):
-        return r"\text{---}"
+        return missing
     if x == 0:
         return "0"
     e = math.floor(math.log10(abs(x)))
-    m = x / 10**e
+    m = abs(x) / 10**e
     if round(m, digits - 1) >= 10:
         m, e = m / 10, e + 1
-    return rf"{m:.{digits - 1}f}\times10^{{{e}}}"
+    sign = "-" if x < 0 else ""
+    if powers_of_ten and abs(m - 1.0) < 1e-12:
+        return f"{sign}10^{{{e}}}"
+    return rf"{sign}{m:.{digits - 1}f}\times10^{{{e}}}"
 
 
 def tex_time(seconds) -> str:
