@@ -31,7 +31,7 @@ rule reference_case_stated:
 rule gap_scan:
     input:
         script="workflow/scripts/gap_scan.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(BASELINES, study("claims", "config", "gapscan", "replication"), REPORTING),
     output:
         csv="figures/gap_scan.csv",
         json="figures/located_case.json",

@@ -154,7 +154,6 @@ rule map_gather:
 rule map_curves:
     input:
         script="workflow/scripts/map_curves.py",
-        chunk_script="workflow/scripts/map_chunk.py",
         library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="figures/map_{map}_curves.csv",

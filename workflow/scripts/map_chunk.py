@@ -22,17 +22,10 @@ from impactdamper.analysis.sweeps import regime_map
 COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods"]
 
 
-def axes(maps: dict, name: str):
-    """(slow parameter, slow values, gap values) of map ``name``."""
-    m = maps[name]
-    return (m["parameter"], gs.grid(m["start"], m["stop"], m["points"]),
-            gs.grid(m["gap_start"], m["gap_stop"], m["gap_points"]))
-
-
 def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_csv, out_json, log=None) -> dict:
     base = parameters(reference)
     settings = sweep_settings(maps, solver)
-    slow, slow_values, gaps = axes(maps, name)
+    slow, slow_values, gaps = gs.map_axes(maps, name)
     rows_idx = chunk_indices(len(slow_values), int(maps["chunks"]), chunk)
 
     def progress(i, n, row):

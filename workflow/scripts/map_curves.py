@@ -15,7 +15,7 @@ Output: ``figures/map_{map}_curves.csv`` (slow, liftoff, first_contact, alg1_gra
 
 import numpy as np
 
-import map_chunk
+from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper import algorithm1
@@ -40,7 +40,7 @@ def row(base, slow: str, value: float, gaps: np.ndarray) -> dict:
 
 def main(reference: dict, maps: dict, name: str, out_csv) -> list[dict]:
     base = parameters(reference)
-    slow, slow_values, gaps = map_chunk.axes(maps, name)
+    slow, slow_values, gaps = gs.map_axes(maps, name)
     rows = [row(base, slow, v, gaps) for v in slow_values]
     write_csv(out_csv, COLUMNS, rows, booleans="digits")
     return rows

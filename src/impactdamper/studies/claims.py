@@ -28,8 +28,8 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.steady import steady_state
 
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
-           "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to", "SEARCH_PARAMETERS",
-           "SEARCH_SYMBOLS", "nearest_both"]
+           "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
+           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both"]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2

@@ -13,7 +13,7 @@ import numpy as np
 from impactdamper.reporting.records import joined
 
 __all__ = ["SWEEP_PARAMETER", "POINT_COLUMNS", "RANDOM_COLUMNS", "VELOCITY_FORMAT", "REGIMES_OF_LABELS",
-           "regime_of_label", "runs", "grid", "point_row"]
+           "regime_of_label", "runs", "grid", "map_axes", "point_row"]
 
 # The stage sweeps the gap Delta0/x_st (the library sweeps any parameter).
 SWEEP_PARAMETER = "gap"
@@ -53,6 +53,14 @@ def runs(values, labels):
 def grid(start: float, stop: float, points: int) -> np.ndarray:
     """The sweep grid: ``points`` values from start to stop inclusive."""
     return np.linspace(float(start), float(stop), int(points))
+
+
+def map_axes(maps: dict, name: str) -> tuple:
+    """(slow parameter, slow values, gap values) of regime map ``name`` of the config's
+    ``maps`` section."""
+    m = maps[name]
+    return (m["parameter"], grid(m["start"], m["stop"], m["points"]),
+            grid(m["gap_start"], m["gap_stop"], m["gap_points"]))
 
 
 def point_row(direction: str, index: int, pt) -> dict:
