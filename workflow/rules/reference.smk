@@ -150,7 +150,7 @@ rule crosscheck_case:
 rule other_readings:
     input:
         script="workflow/scripts/other_readings.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(BASELINES, study("claims", "config", "readings", "replication"), REPORTING),
     output:
         csv="figures/other_readings.csv",
         json="figures/other_readings.json",
