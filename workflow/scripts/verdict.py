@@ -22,10 +22,10 @@ numeric macros are bare numbers for math mode).
 
 from pathlib import Path
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies import verdict as vd
 from impactdamper.reporting.latex import MISSING, MacroFile, fixed, render_macros, sci
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_csv, write_json
-from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS, Interval, distance_to
+from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS
 
 CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
                "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",
@@ -33,65 +33,6 @@ CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_resu
 CLAIMS_PARAMETERS = SEARCH_PARAMETERS
 # Macro names of the parameters (TeX macro names are letters only).
 MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta2": "DeltaTwo", "R": "R"}
-
-
-def _difference(cc: dict, claim: str) -> str:
-    """The measured difference between the exact solver and solve_ivp behind a claim's
-    "confirms", with its tolerance."""
-    if claim == "a":
-        c = cc["algorithm1_comparison"]
-        if c["periodicity_residual"] is None:
-            return "no orbit by either method"
-        return (f"interval ends {c['max_interval_end_difference_over_T']:.1e} T, residual "
-                f"{c['periodicity_residual']:.1e} (tol {c['time_tol']:.0e}, {c['residual_tol']:.0e})")
-    c = cc["algorithm2"]["cycle_comparison"]
-    if c["reason"] and c["max_time_difference_over_T"] is None:
-        return c["reason"]
-    return (f"aligned cycles: times {c['max_time_difference_over_T']:.1e} T, velocities "
-            f"{c['max_velocity_difference_rel']:.1e} (tol {c['time_tol']:.0e}, {c['velocity_tol']:.0e})")
-
-
-def _period(k: int) -> str:
-    return "T" if k == 1 else f"{k}T"
-
-
-def claims(ref: dict, cc: dict) -> dict:
-    """The three claims' results for one case (exact and independent)."""
-    a1, a2 = ref["algorithm1"], ref["algorithm2"]
-    i1, i2 = cc["algorithm1"], cc["algorithm2"]
-    neg = a1["negative_gap_intervals"]
-    ineg = i1.get("negative_gap_intervals", [])
-    fmt_iv = lambda ivs: ", ".join(f"({x:.4f}, {y:.4f}) T" for x, y in ivs)  # noqa: E731
-    return {
-        "a": {
-            "holds": bool(a1["claim_a"]),
-            "result": (f"gap negative on {fmt_iv(neg)}" if neg else
-                       ("no negative gap: the orbit is admissible" if a1["exists"] else "no orbit: " + a1["reason"])),
-            "ivp_holds": bool(i1["claim_a"]),
-            "ivp_result": (f"gap negative on {fmt_iv(ineg)}" if ineg else "no negative gap")
-            + (f"; periodicity residual {i1['periodicity_residual']:.1e}" if "periodicity_residual" in i1 else ""),
-        },
-        "b_period": {
-            "holds": a2["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE and a2["regime"] == "multi_impact",
-            "result": f"{a2['regime'].replace('_', ' ')}, T_c = {_period(a2['period_multiple'])}" if a2["period_multiple"]
-            else "no settled period",
-            "ivp_holds": i2["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE,
-            "ivp_result": f"T_c = {_period(i2['period_multiple'])}" if i2["period_multiple"] else "no period found",
-        },
-        "b_impacts": {
-            "holds": a2["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS and a2["regime"] == "multi_impact",
-            "result": f"{a2['impacts_per_cycle']} impact(s) per cycle",
-            "ivp_holds": i2["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS and not i2["contact_in_cycle"],
-            "ivp_result": f"{i2['impacts_per_cycle']} impact(s) per cycle",
-        },
-    }
-
-
-PAPER_CLAIMS = {
-    "a": "Algorithm No. 1: the gap is negative on (t1, t2)",
-    "b_period": "Algorithm No. 2: T_c = 2T",
-    "b_impacts": "Algorithm No. 2: three impacts per cycle",
-}
 
 
 # What the stage's record holds (results/report/verdict.json).
@@ -105,39 +46,7 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     scan, rd = read_json(scan_json), read_json(readings_json)
     search = read_json(claims_json)
     cmap = read_csv(claims_map_csv)
-    cs, cl = claims(ref_s, cc_s), claims(ref_l, cc_l)
-    rows = []
-    for key, text in PAPER_CLAIMS.items():
-        rows.append({
-            "claim": key, "paper": text,
-            "stated_gap": ref_s["parameters"]["gap"], "stated_result": cs[key]["result"],
-            "stated_ivp_result": cs[key]["ivp_result"], "stated_ivp_difference": _difference(cc_s, key[0]),
-            # Confirmed: the same verdict and, measured, the same motion within tolerance.
-            "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"] and cc_s["agree_" + key[0]],
-            "reproduced": cs[key]["holds"] and cs[key]["ivp_holds"],
-            "located_gap": ref_l["parameters"]["gap"], "located_result": cl[key]["result"],
-            "located_ivp_result": cl[key]["ivp_result"], "located_ivp_difference": _difference(cc_l, key[0]),
-            "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"] and cc_l["agree_" + key[0]],
-        })
-    reproducing = [r["id"] for r in rd["readings"] if r["reproduces"]]
-    partial = [r["id"] for r in rd["readings"] if (r["claim_a"] or r["claim_b"]) and not r["reproduces"]]
-    result = {
-        "paper": rep.PAPER,
-        "claims": rows,
-        "stated": {"parameters": ref_s["parameters"], "claims": cs, "crosscheck": cc_s},
-        "located": {"parameters": ref_l["parameters"], "claims": cl, "crosscheck": cc_l,
-                    "rule": scan["located"]["rule"], "range": scan["located"]["range"]},
-        "ranges": {"alg1_existence_limit": scan["alg1_existence_limit"], "claim_a": scan["claim_a_ranges"],
-                   "claim_b": scan["claim_b_ranges"], "both": scan["both_ranges"], "window": scan["window"],
-                   "orbit": scan["orbit_range"],
-                   "end_checks_agree": all(c["agree"] for c in scan["end_checks"])},
-        "other_readings": {"reproducing": reproducing, "partial": partial, "R_ranges": rd["R_ranges"],
-                           "random_states": rd["random_states"]},
-        "beyond_the_gap": beyond_the_gap(search, cmap, scan),
-        "eq13_note": ("Eq. (13) as printed gives x21s' = x1s' - x2s', the opposite of eq. (12)'s x21s = x2s - x1s; "
-                      "the library uses eq. (12)'s sign. With the printed sign Algorithm No. 1's orbit violates the "
-                      "impact law (S/(D v) != 1), see other_readings: eq13_as_printed."),
-    }
+    rows, result = vd.verdict(ref_s, ref_l, cc_s, cc_l, scan, rd, search, cmap)
     write_json(out_json, result, sort_keys=False)
     write_csv(out_csv, CSV_COLUMNS, rows)
     record = macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows).record(RECORD_WHAT)
@@ -146,33 +55,6 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
     Path(out_tex).write_text(render_macros(read_json(out_record)))
     return result
-
-
-def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
-    """Where, along each parameter alone (at the stated gap), both claims hold nearest the
-    stated value; which parameter gets there with the smallest relative change; and the
-    two-parameter map's share of cells where both hold."""
-    per = {}
-    for name in CLAIMS_PARAMETERS:
-        d = search["parameters"][name]
-        both = d["intervals"]["both"]
-        near = d["nearest_both"]
-        iv = next((r for r in both if near["nearest"] is not None and r["lo"] <= near["nearest"] <= r["hi"]), None)
-        per[name] = {**near, "interval": [iv["lo"], iv["hi"]] if iv else None,
-                     "interval_width": (iv["hi"] - iv["lo"]) if iv else None,
-                     "a": d["intervals"]["a"], "b": d["intervals"]["b"], "both": both}
-    found = [n for n in CLAIMS_PARAMETERS if per[n]["relative_distance"] is not None]
-    nearest = min(found, key=lambda n: per[n]["relative_distance"]) if found else None
-    cells = len(cmap)
-    both_cells = sum(r["both"] == "true" for r in cmap)
-    # Along the gap (the scan of gap_scan.py), for comparison.
-    stated_gap = float(scan["stated_gap"])
-    gd, gx = distance_to([Interval(r["lo"], r["hi"], r["lo_open"], r["hi_open"], None, None)
-                          for r in scan["both_ranges"]], stated_gap)
-    gap = {"stated": stated_gap, "nearest": gx, "distance": gd if gx is not None else None,
-           "relative_distance": gd / abs(stated_gap) if gx is not None else None}
-    return {"parameters": per, "nearest_parameter": nearest, "gap": gap, "none_found": [n for n in CLAIMS_PARAMETERS if n not in found],
-            "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells}
 
 
 def claims_macros(b: dict) -> MacroFile:
