@@ -1,6 +1,6 @@
 """Speed of the reference case: the exact solver against the solve_ivp cross-check.
 
-Issue 2's benchmark. In one run, on the paper's reference case (Timofeev et al. 2019,
+The reference-speed benchmark. In one run, on the paper's reference case (Timofeev et al. 2019,
 DOI 10.18698/0236-3941-2019-1-90-100, Fig. 2: theta = 1, mu = 0.08, N = 0.5,
 delta1 = delta2 = 0.05, R = 0.7, Delta0/x_st = -5.8, omega = 10 rad/s):
 
@@ -15,7 +15,7 @@ delta1 = delta2 = 0.05, R = 0.7, Delta0/x_st = -5.8, omega = 10 rad/s):
   ~1e-11 of convergence), and, for the solver error alone, the largest phase error over 20
   periods followed from Algorithm No. 1's exact post-impact state.
 
-Targets (issue 2): the exact steady state at least 20 times faster than the cross-check and
+Targets: the exact steady state at least 20 times faster than the cross-check and
 within 50 ms, with impact phases as accurate or better. The script reports whether they are
 met; ``--check`` makes it exit with status 1 when they are not.
 
@@ -40,10 +40,10 @@ import scipy
 import impactdamper as idp
 from impactdamper.baselines.ivp import simulate_ivp
 
-# Issue 2's targets.
+# The benchmark's targets.
 SPEEDUP_TARGET = 20.0
 EXACT_TIME_TARGET = 0.050  # s
-RTOL = ATOL = 1e-10  # the cross-check's tolerances named by issue 2
+RTOL = ATOL = 1e-10  # the cross-check's tolerances the targets name
 # Periods followed on Algorithm No. 1's orbit to measure each solver's own phase error.
 ORBIT_PERIODS = 20
 

@@ -123,9 +123,69 @@ def check_no_penetration(p: idp.Parameters, traj, t0: float, t1: float, per_peri
     return float(g.min())
 
 
-# The library's modules as the workflow lists them (workflow/rules/common.smk, LIBRARY): every
-# job depends on them; the command line (cli.py, __main__.py) is not imported by the package
-# and no rule runs it.
+# The library's modules (every .py file of src/impactdamper but the command line, cli.py and
+# __main__.py, which the package does not import and no rule runs).
 _SRC = Path(__file__).resolve().parents[1] / "src" / "impactdamper"
-LIBRARY = sorted(str(p.relative_to(_SRC.parents[1])) for p in _SRC.rglob("*.py")
+_ROOT = _SRC.parents[1]
+LIBRARY = sorted(str(p.relative_to(_ROOT)) for p in _SRC.rglob("*.py")
                  if p.name not in ("cli.py", "__main__.py"))
+
+
+def _module_file(name: str):
+    """The file of library module ``name`` (dotted, from ``impactdamper``), or None."""
+    parts = name.split(".")
+    if parts[0] != "impactdamper":
+        return None
+    base = _SRC.joinpath(*parts[1:])
+    for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def library_imports(path) -> list[str]:
+    """The library files that running ``path`` (a script or module) imports, followed through
+    the library's own imports (and the workflow scripts it imports), at any depth and inside
+    functions too, with the ``__init__.py``
+    of every package on the way: what a rule running the script must list as inputs so that a
+    change to them reruns it (Snakemake does not follow imports). Paths relative to the
+    repository, sorted."""
+    import ast
+
+    seen, todo = set(), [Path(path).resolve()]
+    while todo:
+        f = todo.pop()
+        for node in ast.walk(ast.parse(f.read_text())):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            for name in names:
+                sibling = f.parent / f"{name}.py"  # another workflow script it imports
+                if f.parent != _SRC and "." not in name and sibling.is_file() and sibling not in seen:
+                    seen.add(sibling)
+                    todo.append(sibling)
+                parts = name.split(".")
+                for i in range(1, len(parts) + 1):  # the packages on the way are imported too
+                    target = _module_file(".".join(parts[:i]))
+                    if target is not None and target not in seen:
+                        seen.add(target)
+                        todo.append(target)
+    return sorted(str(p.relative_to(_ROOT)) for p in seen if _SRC in p.parents)
+
+
+def library_parts(files) -> set[str]:
+    """The parts of the library that ``files`` belong to, as the workflow's rules list them
+    (workflow/rules/common.smk): a subpackage (``core``, ``reporting``, ...), one study module
+    (``studies/claims``: each study is listed on its own) or the package's ``__init__``."""
+    out = set()
+    for f in files:
+        parts = Path(f).relative_to("src/impactdamper").parts
+        if len(parts) == 1:
+            out.add(parts[0])
+        elif parts[0] == "studies":
+            out.add("studies/" + Path(parts[1]).stem)
+        else:
+            out.add(parts[0])
+    return out

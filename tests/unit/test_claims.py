@@ -171,3 +171,18 @@ def test_search_along_the_gap_finds_the_known_range():
     assert not any(iv.lo <= -5.8 <= iv.hi for iv in both)
     with pytest.raises(ValueError, match="`name`"):
         search_parameter(p, "nope", [0.0], [0.0], gap_tol=1e-12, steady_kwargs={}, rel_tol=1e-3, floor=1.0)
+
+
+def test_nearest_both_measures_from_the_stated_value():
+    """A gathered search record: both claims hold on [0.9, 0.95] and [1.2, 1.3]; stated 1.0 is
+    0.05 from the first (5 % of |stated|)."""
+    from impactdamper.studies.claims import nearest_both
+
+    both = [{"lo": 0.9, "hi": 0.95, "lo_open": False, "hi_open": False},
+            {"lo": 1.2, "hi": 1.3, "lo_open": False, "hi_open": True}]
+    got = nearest_both({"stated": 1.0, "intervals": {"both": both}})
+    assert got["nearest"] == 0.95 and got["intervals"] == 2
+    assert got["distance"] == pytest.approx(0.05, abs=1e-15)
+    assert got["relative_distance"] == pytest.approx(0.05, abs=1e-15)
+    nowhere = nearest_both({"stated": 0.0, "intervals": {"both": []}})
+    assert nowhere["nearest"] is None and nowhere["distance"] is None and nowhere["relative_distance"] is None

@@ -16,7 +16,7 @@ from impactdamper.baselines.siconos_bridge import siconos_status, simulate_sicon
 
 ROOT = Path(__file__).resolve().parents[2]
 import performance_report  # noqa: E402
-import performancestage as ps  # noqa: E402
+from impactdamper.reporting import latex  # noqa: E402
 
 REF = idp.Parameters()
 
@@ -148,12 +148,12 @@ def test_cpu_time_returns_the_result_and_a_positive_time():
 
 # --- the generated LaTeX ---------------------------------------------------------------------------
 def test_latex_numbers():
-    assert ps.tex_sci(3.14e-14) == r"3.1\times10^{-14}"
-    assert ps.tex_sci(9.96e-7) == r"1.0\times10^{-6}"
-    assert ps.tex_sci(math.inf) == r"\text{---}"
-    assert ps.tex_time(2.5e-4) == r"250\,\textmu s"
-    assert ps.tex_time(0.0123) == r"12.3\,ms"
-    assert ps.tex_escape("a_b & 10% $x_1$") == r"a\_b \& 10\% $x_1$"
+    assert latex.tex_sci(3.14e-14) == r"3.1\times10^{-14}"
+    assert latex.tex_sci(9.96e-7) == r"1.0\times10^{-6}"
+    assert latex.tex_sci(math.inf) == r"\text{---}"
+    assert latex.tex_time(2.5e-4) == r"250\,\textmu s"
+    assert latex.tex_time(0.0123) == r"12.3\,ms"
+    assert latex.tex_escape("a_b & 10% $x_1$") == r"a\_b \& 10\% $x_1$"
 
 
 def test_macros_and_table_from_a_study():
@@ -174,7 +174,7 @@ def test_macros_and_table_from_a_study():
     assert s["cases"]["first_impacts"]["levels"]["1e-10"]["speedup"] == pytest.approx(25.0)
     assert s["cases"]["first_impacts"]["levels"]["1e-10"]["speedup_met"]
     assert not s["cases"]["settled_cycle"]["levels"]["1e-10"]["speedup_met"]  # DOP853 never got there
-    text = performance_report.macros(s, perf, study)
+    text = performance_report.macros(s, perf, study).tex()
     names = [line.split("{", 2)[1].rstrip("}") for line in text.splitlines() if line.startswith(r"\newcommand")]
     assert len(names) == len(set(names)) > 40
     assert all(n[1:].isalpha() for n in names)  # LaTeX command names: letters only

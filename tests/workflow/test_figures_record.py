@@ -1,5 +1,5 @@
 """Figures are the record: the committed figures/ and paper/generated/ files of the reference
-case stage (issue 3) must be what the workflow's scripts make now.
+case stage must be what the workflow's scripts make now.
 
 The scripts are run into a temporary directory through their ``main()`` functions with the
 full config (config/config.yaml), and compared with the committed files:
@@ -48,7 +48,7 @@ import fig2a  # noqa: E402
 import fig2b  # noqa: E402
 import fig_located_range  # noqa: E402
 import impact_table  # noqa: E402
-import replication as rep  # noqa: E402
+from impactdamper.studies import replication as rep  # noqa: E402
 import solve_case  # noqa: E402
 import verdict  # noqa: E402
 
@@ -123,7 +123,7 @@ def regenerated(tmp_path_factory) -> Path:
     verdict.main(fig / "reference_stated.json", fig / "reference_located.json", fig / "crosscheck_stated.json",
                  fig / "crosscheck_located.json", FIGURES / "located_case.json", FIGURES / "other_readings.json",
                  FIGURES / "claims_by_parameter_settings.json", FIGURES / "claims_map.csv",
-                 fig / "verdict.json", fig / "verdict.csv", gen / "verdict_macros.tex")
+                 fig / "verdict.json", fig / "verdict.csv", out / "verdict_record.json", gen / "verdict_macros.tex")
     return out
 
 
@@ -230,7 +230,7 @@ SCAN_SAMPLE_EVERY = 20
 
 @pytest.mark.slow
 def test_gap_scan_matches_record():
-    import gap_scan
+    from impactdamper.studies import gapscan
 
     cfg = _config()
     base = rep.parameters(cfg["reference"]).to_dict()
@@ -241,7 +241,7 @@ def test_gap_scan_matches_record():
     sample = [r for i, r in enumerate(rows) if i % SCAN_SAMPLE_EVERY == 0 or float(r["gap"]) in wanted]
     assert len(sample) >= 3
     for r in sample:
-        new = gap_scan.alg2_row((base, cfg["solver"], float(r["gap"])))
+        new = gapscan.alg2_row((base, cfg["solver"], float(r["gap"])))
         committed = {k: _cell(v) if v not in ("true", "false") else v == "true" for k, v in r.items()}
         fresh = {k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
                  for k, v in new.items()}
@@ -258,7 +258,7 @@ def test_gap_scan_matches_record():
         assert pred(run(rep.parameters(dict(base, gap=g_in)), cfg["solver"]))
         assert not pred(run(rep.parameters(dict(base, gap=g_out)), cfg["solver"]))
     # The directly solved orbit's stability range.
-    orbit = gap_scan.orbit_range(rep.parameters(dict(base, gap=scan["orbit_range"]["seed_gap"])), cfg["solver"],
+    orbit = gapscan.orbit_range(rep.parameters(dict(base, gap=scan["orbit_range"]["seed_gap"])), cfg["solver"],
                                  scan["window"]["gap_min"], scan["window"]["gap_max"])
     assert _same(scan["orbit_range"], orbit, "orbit_range") == []
 

@@ -1,4 +1,4 @@
-"""The guided-tour notebooks (issue 8) run end to end in a Jupyter kernel, cleanly.
+"""The guided-tour notebooks run end to end in a Jupyter kernel, cleanly.
 
 Each notebook in notebooks/ (jupytext percent format, the .py is the source) is executed in a
 subprocess by ``jupytext --execute``, the way the workflow does it, so a broken notebook fails

@@ -1,4 +1,4 @@
-"""The orbits stage (issue 4): the committed record (figures/orbit_*.csv, orbit_summary.json,
+"""The orbits stage: the committed record (figures/orbit_*.csv, orbit_summary.json,
 paper/generated/orbit_*.tex) against independent methods, and its regeneration.
 
 * Special points against simulation: on both sides of the 2T cycle's period doubling and of
@@ -32,7 +32,9 @@ FIGURES = ROOT / "figures"
 GENERATED = ROOT / "paper" / "generated"
 import fig_orbit_branches  # noqa: E402
 import orbit_report  # noqa: E402
-import orbitstage as st  # noqa: E402
+from impactdamper.reporting.records import cell_float, csv_cell, read_csv, read_json, split_floats  # noqa: E402
+from impactdamper.studies import branches as st  # noqa: E402
+from impactdamper.studies.config import parameters  # noqa: E402
 
 # Numbers in the regenerated rows: far above run-to-run rounding, far below any change of the
 # physics (the continuation converges to 1e-12).
@@ -57,17 +59,17 @@ def config() -> dict:
 
 @pytest.fixture(scope="module")
 def special() -> list[dict]:
-    return st.read_csv(FIGURES / "orbit_special_points.csv")
+    return read_csv(FIGURES / "orbit_special_points.csv")
 
 
 @pytest.fixture(scope="module")
 def rows() -> list[dict]:
-    return st.read_csv(FIGURES / "orbit_branches.csv")
+    return read_csv(FIGURES / "orbit_branches.csv")
 
 
 @pytest.fixture(scope="module")
 def summary() -> dict:
-    return st.read_json(FIGURES / "orbit_summary.json")
+    return read_json(FIGURES / "orbit_summary.json")
 
 
 def point(special, branch: str, kind: str) -> dict:
@@ -97,7 +99,7 @@ def _sides(rows, sp) -> tuple[dict, dict]:
 # --- special points against simulation ------------------------------------------------------
 def test_period_doubling_of_the_double_cycle_matches_simulation_on_both_sides(special, rows, double10):
     pd = point(special, "double", "period_doubling")
-    g = st.num(pd["gap"])
+    g = cell_float(pd["gap"])
     assert g == pytest.approx(-9.488434, abs=1e-6)
     before, after = _sides(rows, pd)
     assert {before["stable"], after["stable"]} == {"0", "1"}  # the committed rows change there
@@ -120,7 +122,7 @@ def test_period_doubling_of_the_double_cycle_matches_simulation_on_both_sides(sp
 
 def test_neimark_sacker_point_of_the_double_cycle_matches_simulation_on_both_sides(special, rows, double10):
     ns = point(special, "double", "neimark_sacker")
-    g = st.num(ns["gap"])
+    g = cell_float(ns["gap"])
     assert g == pytest.approx(-10.094962, abs=1e-6)
     before, after = _sides(rows, ns)
     assert {before["stable"], after["stable"]} == {"0", "1"}
@@ -141,20 +143,20 @@ def test_single_impact_grazings_and_fold_match_algorithm1(special):
     a1 = idp.algorithm1(REF)
     # The impact vanishes where the forced relative motion just reaches the stop: Delta0 = U1.
     high = max((r for r in special if r["branch"] == "single" and r["kind"] == "grazing_velocity"),
-               key=lambda r: st.num(r["gap"]))
-    assert st.num(high["gap"]) == pytest.approx(a1.U1 / REF.x_st, abs=1e-9)
+               key=lambda r: cell_float(r["gap"]))
+    assert cell_float(high["gap"]) == pytest.approx(a1.U1 / REF.x_st, abs=1e-9)
     assert high["admissible"] == "1"
     # The fold is where Algorithm No. 1's orbit ceases to exist.
-    fold = st.num(point(special, "single", "fold")["gap"])
+    fold = cell_float(point(special, "single", "fold")["gap"])
     assert idp.algorithm1(REF.replace(gap=fold + 1e-7)).exists
     assert not idp.algorithm1(REF.replace(gap=fold - 1e-7)).exists
     # The interior touch is where Algorithm No. 1's smallest gap changes sign.
-    touch = st.num(point(special, "single", "grazing_interior")["gap"])
+    touch = cell_float(point(special, "single", "grazing_interior")["gap"])
     assert idp.algorithm1(REF.replace(gap=touch + 1e-7)).min_gap > 0
     assert idp.algorithm1(REF.replace(gap=touch - 1e-7)).min_gap < 0
     # The 2T and 3T cycles are born there: their vanishing impact is the 1/1 orbit's touch.
     for branch in ("double", "triple"):
-        assert st.num(point(special, branch, "grazing_velocity")["gap"]) == pytest.approx(touch, abs=1e-9)
+        assert cell_float(point(special, branch, "grazing_velocity")["gap"]) == pytest.approx(touch, abs=1e-9)
 
 
 # --- multipliers against the simulated map ------------------------------------------------------
@@ -177,13 +179,13 @@ def _same_row(new: dict, old: dict) -> list[str]:
     for col in st.BRANCH_COLUMNS:
         if col == "index":
             continue  # the short run's rows are numbered from its own lower end
-        a, b = st.fmt(new[col]), old[col]
+        a, b = csv_cell(new[col], booleans="digits"), old[col]
         if col in ("velocities", "phases"):
-            x, y = st.split_floats(a), st.split_floats(b)
+            x, y = split_floats(a), split_floats(b)
             if len(x) != len(y) or not np.allclose(x, y, rtol=RTOL, atol=ATOL):
                 bad.append(f"{col}: {a} != {b}")
         elif col in ("gap", "x1_max", "min_gap", "spectral_radius"):
-            x, y = st.num(a), st.num(b)
+            x, y = cell_float(a), cell_float(b)
             if not (math.isclose(x, y, rel_tol=RTOL, abs_tol=ATOL) or (math.isnan(x) and math.isnan(y))):
                 bad.append(f"{col}: {a} != {b}")
         elif a != b:
@@ -195,7 +197,7 @@ def _same_row(new: dict, old: dict) -> list[str]:
 def test_branch_rows_next_to_the_seed_regenerate(name, config, rows, special, summary):
     spec = next(b for b in config["orbits"]["branches"] if b["name"] == name)
     cont = dict(config["orbits"]["continuation"], max_points=SHORT_POINTS)
-    b = st.follow(st.parameters(config["reference"]), spec, cont, config["solver"])
+    b = st.follow(parameters(config["reference"]), spec, cont, config["solver"])
     committed = [r for r in rows if r["branch"] == name]
     seed = summary["branches"][name]["seed_index"]
     new = st.branch_rows(b)
@@ -209,12 +211,12 @@ def test_branch_rows_next_to_the_seed_regenerate(name, config, rows, special, su
         assert found  # the 2T cycle's Neimark-Sacker point, the 3T cycle's grazing
     for r in found:
         assert any(c["branch"] == name and c["kind"] == r["kind"]
-                   and math.isclose(st.num(c["gap"]), r["gap"], abs_tol=1e-9) for c in special), r
+                   and math.isclose(cell_float(c["gap"]), r["gap"], abs_tol=1e-9) for c in special), r
 
 
 def test_macros_and_table_regenerate_exactly(tmp_path):
     orbit_report.main(FIGURES / "orbit_branches.csv", FIGURES / "orbit_special_points.csv",
-                      FIGURES / "orbit_summary.json", tmp_path / "m.tex", tmp_path / "t.tex")
+                      FIGURES / "orbit_summary.json", tmp_path / "record.json", tmp_path / "m.tex", tmp_path / "t.tex")
     assert (tmp_path / "m.tex").read_text() == (GENERATED / "orbit_macros.tex").read_text()
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "orbit_special_points_table.tex").read_text()
 
@@ -223,7 +225,7 @@ def test_macros_quote_the_special_points_and_stable_interval(special):
     text = (GENERATED / "orbit_macros.tex").read_text()
     macros = dict(__import__("re").findall(r"\\newcommand\{\\(\w+)\}\{([^}]*)\}", text))
     assert all(name.isalpha() for name in macros)
-    ns, pd = (st.num(point(special, "double", k)["gap"]) for k in ("neimark_sacker", "period_doubling"))
+    ns, pd = (cell_float(point(special, "double", k)["gap"]) for k in ("neimark_sacker", "period_doubling"))
     assert float(macros["OrbitNSDouble"]) == pytest.approx(ns, abs=5e-7)
     assert float(macros["OrbitPDDouble"]) == pytest.approx(pd, abs=5e-7)
     assert (float(macros["OrbitStableDoubleLow"]), float(macros["OrbitStableDoubleHigh"])) == pytest.approx(

@@ -1,4 +1,4 @@
-"""The performance stage's DAG (workflow/rules/performance.smk, issue 6): a dry run with the
+"""The performance stage's DAG (workflow/rules/performance.smk): a dry run with the
 CI config, no job executed. Every rule lists its script, the library and a log; rule all asks
 for the stage's products; the timed rules take both cores."""
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-from helpers import LIBRARY  # noqa: E402 (the workflow's module list)
+from helpers import LIBRARY, library_imports, library_parts  # noqa: E402 (the library's modules, what a script imports)
 RULES = ("performance_work_precision", "fig_work_precision", "performance_cost_growth", "fig_cost_growth",
          "performance_hardcases", "performance_reference_speed", "performance_report")
 TARGETS = ("figures/work_precision.pdf", "figures/work_precision.png", "figures/work_precision.csv",
@@ -43,8 +43,12 @@ def test_every_rule_lists_library_script_and_log(jobs):
     for rule in RULES:
         fields, _ = jobs[rule]
         inputs = [s.strip() for s in fields["input"].split(",")]
-        assert set(LIBRARY) <= set(inputs), rule
-        assert any(s.startswith(("workflow/scripts/", "benchmarks/")) for s in inputs), rule
+        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "benchmarks/"))]
+        assert scripts, rule
+        needed = set(library_imports(ROOT / scripts[0]))
+        assert needed and needed <= set(inputs), (rule, sorted(needed - set(inputs)))
+        # Whole parts, and only the ones it imports (a figure does not rerun for a new baseline).
+        assert library_parts(set(inputs) & set(LIBRARY)) == library_parts(needed), rule
         assert fields["log"].startswith("logs/performance/"), rule
 
 
@@ -58,7 +62,7 @@ def test_timed_rules_take_both_cores_and_one_blas_thread(jobs):
     for script in ("work_precision", "cost_growth", "hardcases"):
         text = (ROOT / "workflow" / "scripts" / f"{script}.py").read_text()
         assert text.index('os.environ[_var] = "1"') < text.index("import numpy" if "import numpy" in text else
-                                                                     "import performancestage")
+                                                                     "from impactdamper")
 
 
 def test_figure_rules_list_the_style(jobs):

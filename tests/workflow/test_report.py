@@ -1,6 +1,6 @@
 """The report builds: latexmk compiles paper/report.tex from the committed figures and
 generated files with no LaTeX error, no undefined reference or citation, and no overfull box,
-into a PDF whose bytes do not depend on the time of the build (issue 7)."""
+into a PDF whose bytes do not depend on the time of the build."""
 
 import hashlib
 import os

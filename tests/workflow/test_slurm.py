@@ -1,4 +1,4 @@
-"""The cluster profile on a real Slurm scheduler (issue 13).
+"""The cluster profile on a real Slurm scheduler.
 
 Runs ``tools/slurm_check.sh``: a single-node Slurm on this machine (slurm-wlm and munge from apt
 when missing; needs root), the CI config's regime-map stage through Slurm with

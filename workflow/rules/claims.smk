@@ -11,8 +11,7 @@ CLAIMS_PARAMETERS = ["theta", "mu", "N", "delta1", "delta2", "R"]
 rule claims_parameter:
     input:
         script="workflow/scripts/claims_parameter.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
     output:
         json="results/claims/{parameter}.json",
     wildcard_constraints:
@@ -32,6 +31,7 @@ rule claims_parameter:
 rule claims_by_parameter:
     input:
         script="workflow/scripts/claims_gather.py",
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
         results=expand("results/claims/{parameter}.json", parameter=CLAIMS_PARAMETERS),
     output:
         csv="figures/claims_by_parameter.csv",
@@ -53,8 +53,7 @@ rule claims_by_parameter:
 rule claims_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
     output:
         csv="results/claims/map_{chunk}.csv",
     wildcard_constraints:
@@ -74,6 +73,7 @@ rule claims_map_chunk:
 rule claims_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
         chunks=claims_map_chunk_files,
     output:
         csv="figures/claims_map.csv",
@@ -93,6 +93,7 @@ rule claims_map:
 rule fig_claims_by_parameter:
     input:
         script="workflow/scripts/fig_claims_by_parameter.py",
+        library=library(REPORTING),
         style=STYLE,
         csv="figures/claims_by_parameter.csv",
         json="figures/claims_by_parameter_settings.json",
@@ -110,6 +111,7 @@ rule fig_claims_by_parameter:
 rule fig_claims_map:
     input:
         script="workflow/scripts/fig_claims_map.py",
+        library=library(REPORTING),
         style=STYLE,
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",

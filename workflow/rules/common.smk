@@ -23,13 +23,41 @@ def prepend_to_search_path(name, directory):
 for _name, _directory in (("PATH", Path(sys.executable).parent), ("JUPYTER_PATH", Path(sys.prefix) / "share" / "jupyter")):
     prepend_to_search_path(_name, _directory)
 
-# The library's source: every rule that imports it lists these as inputs, so a change to the
-# solver reruns what it affects (Snakemake does not follow Python imports by itself).
-# The command line (cli.py, __main__.py) is left out: no rule runs it and the package does not
-# import it.
-LIBRARY = sorted(
-    str(p) for p in Path("src/impactdamper").rglob("*.py") if p.name not in ("cli.py", "__main__.py")
-)
+# The library's source, part by part: every rule lists as inputs the parts its script imports
+# (tests/helpers.py's library_imports follows the imports and tests/workflow checks every rule),
+# so that a change reruns what it affects and nothing else (Snakemake does not follow Python
+# imports by itself). The command line (cli.py, __main__.py) is no part: no rule runs it and
+# the package does not import it.
+def library_files(part):
+    """The .py files of library part ``part``: a subpackage (``core``) or one module
+    (``studies/claims``), paths relative to the repository."""
+    path = Path("src/impactdamper", part)
+    if path.with_suffix(".py").is_file():
+        return [str(path.with_suffix(".py"))]
+    return sorted(str(p) for p in path.glob("*.py"))
+
+
+CORE = library_files("core")
+ANALYSIS = library_files("analysis")
+BASELINES = library_files("baselines")
+STUDIES = library_files("studies")
+REPORTING = library_files("reporting")
+# What importing anything of the library loads: the package's __init__.py imports the core and
+# the periodic orbits of the analysis part.
+PACKAGE = ["src/impactdamper/__init__.py"] + CORE + ANALYSIS
+
+
+def study(*names):
+    """The study modules ``names`` of the studies part (each with the modules it imports named
+    too by the caller), with the part's __init__.py."""
+    return ["src/impactdamper/studies/__init__.py"] + [f for n in names for f in library_files(f"studies/{n}")]
+
+
+def library(*parts):
+    """A rule's library inputs: the package (always loaded) and ``parts`` (lists of files)."""
+    return sorted(set(PACKAGE).union(*parts))
+
+
 STYLE = ["src/impactdamper/reporting/plotting.py", "src/impactdamper/reporting/paper.mplstyle"]
 ENV = "../../envs/impactdamper.yaml"
 
@@ -42,7 +70,7 @@ def parameters_json(section="reference"):
     return json.dumps(config[section], sort_keys=True)
 
 
-# Sweeps stage (issue 5): the chunk files a gather rule waits for.
+# Sweeps stage: the chunk files a gather rule waits for.
 def map_chunk_files(wildcards, ext="csv"):
     """Chunk outputs of regime map `wildcards.map` (config maps.chunks jobs)."""
     return expand(

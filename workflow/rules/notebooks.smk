@@ -1,4 +1,4 @@
-# Issue 8: the guided-tour notebooks in notebooks/ (jupytext percent format; the .py files
+# The guided-tour notebooks in notebooks/ (jupytext percent format; the .py files
 # are the source). Each rule executes one notebook end to end in a Jupyter kernel, so a
 # broken notebook fails the build. The executed copies in results/notebooks/ are not a
 # record: the report reads no number from them.
@@ -10,7 +10,7 @@
 rule notebook_reference_case:
     input:
         notebook="notebooks/01_reference_case.py",
-        library=LIBRARY,
+        library=library(REPORTING),
         style=STYLE,
     output:
         "results/notebooks/01_reference_case.ipynb",
@@ -25,7 +25,7 @@ rule notebook_reference_case:
 rule notebook_gap_sweep:
     input:
         notebook="notebooks/02_gap_sweep.py",
-        library=LIBRARY,
+        library=library(REPORTING),
         style=STYLE,
     output:
         "results/notebooks/02_gap_sweep.ipynb",
@@ -40,7 +40,7 @@ rule notebook_gap_sweep:
 rule notebook_your_own_damper:
     input:
         notebook="notebooks/03_your_own_damper.py",
-        library=LIBRARY,
+        library=library(REPORTING),
         style=STYLE,
     output:
         "results/notebooks/03_your_own_damper.ipynb",

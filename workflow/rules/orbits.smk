@@ -1,18 +1,15 @@
-# Stage: periodic orbits solved directly (issue 4). The one-impact orbit (seeded by Algorithm
+# Stage: periodic orbits solved directly. The one-impact orbit (seeded by Algorithm
 # No. 1), the 2T cycle with three impacts (the paper's Fig. 2b motion) and the 3T cycle with
 # four impacts are followed in Delta0/x_st by pseudo-arclength continuation with their
 # stability (Floquet multipliers from saltation matrices) and admissibility (config: orbits);
 # then the figure, and the report's macros and table.
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
-ORBIT_HELPER = "workflow/scripts/orbitstage.py"
-
 
 rule orbit_branches:
     input:
         script="workflow/scripts/orbit_branches.py",
-        helper=ORBIT_HELPER,
-        library=LIBRARY,
+        library=library(study("branches", "claims", "config"), REPORTING),
         located="figures/located_case.json",
     output:
         branches="figures/orbit_branches.csv",
@@ -33,9 +30,8 @@ rule orbit_branches:
 rule fig_orbit_branches:
     input:
         script="workflow/scripts/fig_orbit_branches.py",
-        helper=ORBIT_HELPER,
         style=STYLE,
-        library=LIBRARY,
+        library=library(REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
@@ -53,12 +49,12 @@ rule fig_orbit_branches:
 rule orbit_report:
     input:
         script="workflow/scripts/orbit_report.py",
-        helper=ORBIT_HELPER,
-        library=LIBRARY,
+        library=library(study("branches", "claims", "config"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
     output:
+        record="results/report/orbits.json",
         macros="paper/generated/orbit_macros.tex",
         table="paper/generated/orbit_special_points_table.tex",
     log:

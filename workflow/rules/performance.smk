@@ -1,20 +1,17 @@
-# Stage: speed against error, and numerical stability on hard cases (issue 6).
+# Stage: speed against error, and numerical stability on hard cases.
 # The work-precision study (every method against a 40-digit mpmath reference), the cost
-# growth of the exact solver, the hard-case suite and issue 2's reference-speed benchmark;
+# growth of the exact solver, the hard-case suite and the reference-speed benchmark;
 # then the report's macros and tables. Timings are CPU time: the timed rules take both cores
 # (threads: 2) so that, with --cores 2, nothing else runs beside them, and reset the BLAS
 # threads Snakemake then sets to 2 back to 1 (4 x 4 matrices gain nothing). Their outputs are
 # benchmark data, not deterministic (listed in figures/nondeterministic.json).
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
-PERFORMANCE_HELPER = "workflow/scripts/performancestage.py"
-
 
 rule performance_work_precision:
     input:
         script="workflow/scripts/work_precision.py",
-        helper=PERFORMANCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("config", "workprecision"), REPORTING),
     output:
         json="results/benchmarks/work_precision.json",
         csv="figures/work_precision.csv",
@@ -33,7 +30,7 @@ rule performance_work_precision:
 rule fig_work_precision:
     input:
         script="workflow/scripts/fig_work_precision.py",
-        library=LIBRARY,
+        library=library(REPORTING),
         style=STYLE,
         csv="figures/work_precision.csv",
         json="results/benchmarks/work_precision.json",
@@ -53,8 +50,7 @@ rule fig_work_precision:
 rule performance_cost_growth:
     input:
         script="workflow/scripts/cost_growth.py",
-        helper=PERFORMANCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("config", "workprecision"), REPORTING),
     output:
         json="results/benchmarks/cost_growth.json",
         csv="figures/cost_growth.csv",
@@ -73,7 +69,7 @@ rule performance_cost_growth:
 rule fig_cost_growth:
     input:
         script="workflow/scripts/fig_cost_growth.py",
-        library=LIBRARY,
+        library=library(REPORTING),
         style=STYLE,
         csv="figures/cost_growth.csv",
     output:
@@ -90,8 +86,7 @@ rule fig_cost_growth:
 rule performance_hardcases:
     input:
         script="workflow/scripts/hardcases.py",
-        helper=PERFORMANCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("config", "hardcases"), REPORTING),
     output:
         csv="figures/hardcases.csv",
         json="results/benchmarks/hardcases.json",
@@ -110,7 +105,7 @@ rule performance_hardcases:
 rule performance_reference_speed:
     input:
         script="benchmarks/reference_speed.py",
-        library=LIBRARY,
+        library=library(BASELINES),
     output:
         "results/benchmarks/reference_speed.json",
     params:
@@ -129,13 +124,13 @@ rule performance_reference_speed:
 rule performance_report:
     input:
         script="workflow/scripts/performance_report.py",
-        helper=PERFORMANCE_HELPER,
-        library=LIBRARY,
+        library=library(REPORTING),
         work_precision="results/benchmarks/work_precision.json",
         cost_growth="results/benchmarks/cost_growth.json",
         hardcases="results/benchmarks/hardcases.json",
         reference_speed="results/benchmarks/reference_speed.json",
     output:
+        record="results/report/performance.json",
         macros="paper/generated/performance_macros.tex",
         table="paper/generated/workprecision_table.tex",
         summary="results/benchmarks/performance_summary.json",

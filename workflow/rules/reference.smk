@@ -1,19 +1,17 @@
-# Stage: the paper's reference case (issue 3): Fig. 2a, Fig. 2b, the impact-time table and the
+# Stage: the paper's reference case: Fig. 2a, Fig. 2b, the impact-time table and the
 # replication verdict, for the stated case (config: reference) and for the located case (where
 # the behaviour the paper reports does occur, found by rule gap_scan).
 # Convention: every script runs through `script:` and reads snakemake.input/output/params/log
 # (so no `from __future__` import: Snakemake prepends its preamble); each also has a main()
 # that the record test (tests/test_figures_record.py) calls directly.
 
-REFERENCE_HELPER = "workflow/scripts/replication.py"
 REFERENCE_CASES = ["stated", "located"]
 
 
 rule reference_case_stated:
     input:
         script="workflow/scripts/solve_case.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
     output:
         json="figures/reference_stated.json",
         fig2a="figures/fig2a_stated.csv",
@@ -33,8 +31,7 @@ rule reference_case_stated:
 rule gap_scan:
     input:
         script="workflow/scripts/gap_scan.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "gapscan", "replication"), REPORTING),
     output:
         csv="figures/gap_scan.csv",
         json="figures/located_case.json",
@@ -54,8 +51,7 @@ rule gap_scan:
 rule reference_case_located:
     input:
         script="workflow/scripts/solve_case.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
         located="figures/located_case.json",
     output:
         json="figures/reference_located.json",
@@ -76,9 +72,8 @@ rule reference_case_located:
 rule fig2a:
     input:
         script="workflow/scripts/fig2a.py",
-        helper=REFERENCE_HELPER,
         style=STYLE,
-        library=LIBRARY,
+        library=library(REPORTING),
         csv="figures/fig2a_{case}.csv",
         json="figures/reference_{case}.json",
     output:
@@ -97,9 +92,8 @@ rule fig2a:
 rule fig2b:
     input:
         script="workflow/scripts/fig2b.py",
-        helper=REFERENCE_HELPER,
         style=STYLE,
-        library=LIBRARY,
+        library=library(REPORTING),
         csv="figures/fig2b_{case}.csv",
         json="figures/reference_{case}.json",
     output:
@@ -118,8 +112,7 @@ rule fig2b:
 rule impact_table:
     input:
         script="workflow/scripts/impact_table.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(REPORTING),
         json="figures/reference_{case}.json",
     output:
         csv="figures/impacts_{case}.csv",
@@ -137,8 +130,7 @@ rule impact_table:
 rule crosscheck_case:
     input:
         script="workflow/scripts/crosscheck_case.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
         json="figures/reference_{case}.json",
     output:
         json="figures/crosscheck_{case}.json",
@@ -158,8 +150,7 @@ rule crosscheck_case:
 rule other_readings:
     input:
         script="workflow/scripts/other_readings.py",
-        helper=REFERENCE_HELPER,
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "readings", "replication"), REPORTING),
     output:
         csv="figures/other_readings.csv",
         json="figures/other_readings.json",
@@ -178,9 +169,8 @@ rule other_readings:
 rule fig_located_range:
     input:
         script="workflow/scripts/fig_located_range.py",
-        helper=REFERENCE_HELPER,
         style=STYLE,
-        library=LIBRARY,
+        library=library(REPORTING),
         csv="figures/gap_scan.csv",
         json="figures/located_case.json",
     output:
@@ -197,9 +187,7 @@ rule fig_located_range:
 rule verdict:
     input:
         script="workflow/scripts/verdict.py",
-        helper=REFERENCE_HELPER,
-        claims_helper="workflow/scripts/claims_gather.py",
-        library=LIBRARY,
+        library=library(BASELINES, study("claims", "config", "replication", "verdict"), REPORTING),
         stated="figures/reference_stated.json",
         located="figures/reference_located.json",
         cc_stated="figures/crosscheck_stated.json",
@@ -211,6 +199,7 @@ rule verdict:
     output:
         json="figures/verdict.json",
         csv="figures/verdict.csv",
+        record="results/report/verdict.json",
         tex="paper/generated/verdict_macros.tex",
     log:
         "logs/reference/verdict.log",

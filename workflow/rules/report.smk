@@ -32,11 +32,13 @@ ALL_TARGETS.append("paper/report.pdf")
 rule readme_summary:
     input:
         script="workflow/scripts/readme_summary.py",
-        macros=[
-            "paper/generated/verdict_macros.tex",
-            "paper/generated/orbit_macros.tex",
-            "paper/generated/performance_macros.tex",
-            "paper/generated/sweep_macros.tex",
+        library=library(REPORTING),
+        # The report stages' records, in this order (a later stage's macro of the same name wins).
+        records=[
+            "results/report/verdict.json",
+            "results/report/orbits.json",
+            "results/report/performance.json",
+            "results/report/sweeps.json",
         ],
         stated="figures/impacts_stated.csv",
         located="figures/impacts_located.csv",

@@ -1,11 +1,10 @@
-# Stage: gap sweeps and regime maps (issue 5). The gap Delta0/x_st is swept up and down over
+# Stage: gap sweeps and regime maps. The gap Delta0/x_st is swept up and down over
 # every regime of the reference case (config: sweep), with random initial states, transitions
 # bisected and checked against analytic values; two-parameter maps (config: maps) run as
 # chunks, one job each (wildcards map, chunk), gathered afterwards, so the same DAG runs on a
 # cluster (profiles/slurm). Benchmarks are timed inside the jobs (results/benchmarks/).
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
-SWEEP_HELPER = "workflow/scripts/sweepstage.py"
 SWEEP_MAPS = ["theta", "damping"]
 SWEEP_MAP_PATTERN = "|".join(SWEEP_MAPS)
 
@@ -13,12 +12,11 @@ SWEEP_MAP_PATTERN = "|".join(SWEEP_MAPS)
 rule sweep_gap:
     input:
         script="workflow/scripts/sweep_gap.py",
-        helper=SWEEP_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="figures/sweep_gap.csv",
         settings="figures/sweep_gap_settings.json",
-        pkl="results/sweeps/sweep_points.pkl",
+        points="results/sweeps/sweep_points.npz",
         timing="results/benchmarks/sweep_timing.json",
     params:
         reference=parameters_json("reference"),
@@ -36,8 +34,7 @@ rule sweep_gap:
 rule sweep_random_chunk:
     input:
         script="workflow/scripts/sweep_random.py",
-        helper=SWEEP_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="results/sweeps/random_{chunk}.csv",
     wildcard_constraints:
@@ -57,6 +54,7 @@ rule sweep_random_chunk:
 rule sweep_random:
     input:
         script="workflow/scripts/gather_csv.py",
+        library=library(REPORTING),
         chunks=random_chunk_files,
     output:
         csv="figures/sweep_random.csv",
@@ -71,8 +69,7 @@ rule sweep_random:
 rule sweep_alg1:
     input:
         script="workflow/scripts/sweep_alg1.py",
-        helper=SWEEP_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="figures/sweep_alg1.csv",
     params:
@@ -90,13 +87,14 @@ rule sweep_alg1:
 rule sweep_transitions:
     input:
         script="workflow/scripts/sweep_transitions.py",
-        helper=SWEEP_HELPER,
-        library=LIBRARY,
-        points="results/sweeps/sweep_points.pkl",
+        library=library(study("config", "gapsweep", "transitions"), REPORTING),
+        points="results/sweeps/sweep_points.npz",
     output:
         csv="figures/sweep_transitions.csv",
         json="figures/sweep_checks.json",
     params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
     threads: 2
     log:
@@ -110,8 +108,7 @@ rule sweep_transitions:
 rule map_chunk:
     input:
         script="workflow/scripts/map_chunk.py",
-        helper=SWEEP_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="results/maps/{map}/chunk_{chunk}.csv",
         json="results/maps/{map}/chunk_{chunk}.json",
@@ -133,7 +130,7 @@ rule map_chunk:
 rule map_gather:
     input:
         script="workflow/scripts/map_gather.py",
-        helper=SWEEP_HELPER,
+        library=library(REPORTING),
         csvs=map_chunk_files,
         jsons=map_chunk_timings,
     output:
@@ -157,9 +154,7 @@ rule map_gather:
 rule map_curves:
     input:
         script="workflow/scripts/map_curves.py",
-        chunk_script="workflow/scripts/map_chunk.py",
-        helper=SWEEP_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="figures/map_{map}_curves.csv",
     wildcard_constraints:
@@ -178,7 +173,7 @@ rule map_curves:
 rule fig_sweep_bifurcation:
     input:
         script="workflow/scripts/fig_sweep_bifurcation.py",
-        helper=SWEEP_HELPER,
+        library=library(study("config"), REPORTING),
         style=STYLE,
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
@@ -201,7 +196,7 @@ rule fig_sweep_bifurcation:
 rule fig_sweep_regimes:
     input:
         script="workflow/scripts/fig_sweep_regimes.py",
-        helper=SWEEP_HELPER,
+        library=library(study("gapsweep"), REPORTING),
         style=STYLE,
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
@@ -219,9 +214,8 @@ rule fig_sweep_regimes:
 rule fig_sweep_suppression:
     input:
         script="workflow/scripts/fig_sweep_suppression.py",
-        helper=SWEEP_HELPER,
         style=STYLE,
-        library=LIBRARY,
+        library=library(study("config"), REPORTING),
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
     output:
@@ -240,7 +234,7 @@ rule fig_sweep_suppression:
 rule fig_regime_map:
     input:
         script="workflow/scripts/fig_regime_map.py",
-        helper=SWEEP_HELPER,
+        library=library(study("config", "gapsweep"), REPORTING),
         style=STYLE,
         map="figures/map_{map}.csv",
         curves="figures/map_{map}_curves.csv",
@@ -263,7 +257,7 @@ rule fig_regime_map:
 rule sweep_report:
     input:
         script="workflow/scripts/sweep_report.py",
-        helper=SWEEP_HELPER,
+        library=library(study("gapsweep"), REPORTING),
         sweep="figures/sweep_gap.csv",
         transitions="figures/sweep_transitions.csv",
         checks="figures/sweep_checks.json",
@@ -275,6 +269,7 @@ rule sweep_report:
         sweep_timing="results/benchmarks/sweep_timing.json",
         map_timings=expand("results/benchmarks/map_{map}_timing.json", map=SWEEP_MAPS),
     output:
+        record="results/report/sweeps.json",
         macros="paper/generated/sweep_macros.tex",
         table="paper/generated/sweep_transitions.tex",
         timing="paper/generated/sweep_timing.tex",

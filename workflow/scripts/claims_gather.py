@@ -18,27 +18,14 @@ Outputs:
 
 from pathlib import Path
 
-import math
+from impactdamper.studies import replication as rep
+from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS, nearest_both
 
-import replication as rep
-from impactdamper.studies.claims import Interval, distance_to
-
-PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
+PARAMETERS = SEARCH_PARAMETERS
 CLAIMS = ("a", "b", "both")
 GRID_COLUMNS = ["parameter", "value", "claim_b", "regime", "period_multiple", "impacts_per_cycle", "periods"]
-
-
-def nearest_both(result: dict) -> dict:
-    """The nearest value to the stated one where both claims hold, and how far it is."""
-    stated = result["stated"]
-    ivs = [Interval(**{**iv, "lo_bracket": None, "hi_bracket": None}) for iv in result["intervals"]["both"]]
-    d, x = distance_to(ivs, stated)
-    return {"stated": stated, "nearest": x, "distance": d if math.isfinite(d) else None,
-            "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
-            "intervals": len(ivs)}
-
-
-SYMBOL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$", "R": "$R$"}
+SYMBOL = SEARCH_SYMBOLS
 
 
 def table(per: dict) -> str:
@@ -69,7 +56,7 @@ def table(per: dict) -> str:
 def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out_json, out_grid, out_tex) -> dict:
     rows, grid, per = [], [], {}
     for name in PARAMETERS:
-        r = rep.read_json(inputs[name])
+        r = read_json(inputs[name])
         for claim in CLAIMS:
             for iv in r["intervals"][claim]:
                 rows.append({"parameter": name, "claim": claim, "lo": iv["lo"], "hi": iv["hi"]})
@@ -88,9 +75,9 @@ def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out
                            "grid values where the claim fails is not seen; ends are bisected to rel_tol * max(|x|, floor)",
         "parameters": per,
     }
-    rep.write_csv(out_csv, ["parameter", "claim", "lo", "hi"], rows)
-    rep.write_csv(out_grid, GRID_COLUMNS, grid)
-    rep.write_json(out_json, settings)
+    write_csv(out_csv, ["parameter", "claim", "lo", "hi"], rows)
+    write_csv(out_grid, GRID_COLUMNS, grid)
+    write_json(out_json, settings, sort_keys=False)
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
     Path(out_tex).write_text(table(per))
     return settings
@@ -100,9 +87,9 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
+    cfg, _ = start_stage(sm)
     inputs = {name: path for name, path in zip(PARAMETERS, sm.input.results)}
-    out = main(inputs, rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-               rep.json.loads(sm.params.search), sm.output.csv, sm.output.json, sm.output.grid, sm.output.tex)
+    out = main(inputs, cfg["reference"], cfg["solver"],
+               cfg["search"], sm.output.csv, sm.output.json, sm.output.grid, sm.output.tex)
     for name, d in out["parameters"].items():
         print(f"{name}: nearest both {d['nearest_both']}", file=sys.stderr)

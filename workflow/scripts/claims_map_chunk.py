@@ -7,9 +7,12 @@ One chunk of rows (contiguous y values) per Snakemake job.
 Output: ``results/claims/map_{chunk}.csv``.
 """
 
+
 import numpy as np
 
-import replication as rep
+from impactdamper.studies import replication as rep
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper.studies.claims import claims_at
 
 COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
@@ -25,7 +28,7 @@ def main(chunk: int, reference: dict, solver: dict, search: dict, out_csv, log=p
     m = search["map"]
     xs, ys = axes(m)
     rows_y = np.array_split(np.arange(len(ys)), int(m["chunks"]))[chunk]
-    base = rep.parameters(reference)
+    base = parameters(reference)
     out = []
     for j in rows_y:
         for x in xs:
@@ -33,7 +36,7 @@ def main(chunk: int, reference: dict, solver: dict, search: dict, out_csv, log=p
             c = claims_at(p, gap_tol=float(solver["gap_tol"]), steady_kwargs=rep.solver_options(solver))
             out.append({"x": float(x), "y": float(ys[j]), **c, "both": c["claim_a"] and c["claim_b"]})
         log(f"row {j}: {m['y']} = {ys[j]:.6g} done")
-    rep.write_csv(out_csv, COLUMNS, out)
+    write_csv(out_csv, COLUMNS, out)
     return out
 
 
@@ -41,6 +44,6 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    main(int(sm.wildcards.chunk), rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-         rep.json.loads(sm.params.search), sm.output.csv, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    cfg, _ = start_stage(sm)
+    main(int(sm.wildcards.chunk), cfg["reference"], cfg["solver"],
+         cfg["search"], sm.output.csv, log=lambda msg: print(msg, file=sys.stderr, flush=True))

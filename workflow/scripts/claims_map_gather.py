@@ -2,21 +2,21 @@
 ``figures/claims_map.csv`` (chunks in order, so the table does not depend on the number of
 jobs) and writes its settings beside it (``figures/claims_map_settings.json``)."""
 
+
 import gather_csv
-import replication as rep
+from impactdamper.studies import replication as rep
+from impactdamper.reporting.records import start_stage, write_json
 
 
 def main(chunks, reference: dict, solver: dict, search: dict, out_csv, out_json) -> None:
     gather_csv.main(chunks, out_csv)
-    rep.write_json(out_json, {"paper": rep.PAPER, "what": "claims (a), (b) and both over two parameters, the "
+    write_json(out_json, {"paper": rep.PAPER, "what": "claims (a), (b) and both over two parameters, the "
                               "others as stated; Algorithm No. 2 from the paper's step 1 at every cell",
-                              "map": search["map"], "reference": reference, "solver": solver})
+                              "map": search["map"], "reference": reference, "solver": solver}, sort_keys=False)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(list(sm.input.chunks), rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-         rep.json.loads(sm.params.search), sm.output.csv, sm.output.json)
+    cfg, _ = start_stage(sm)
+    main(list(sm.input.chunks), cfg["reference"], cfg["solver"],
+         cfg["search"], sm.output.csv, sm.output.json)

@@ -16,7 +16,9 @@ import time
 
 import numpy as np
 
-import replication as rep
+from impactdamper.studies import replication as rep
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import start_stage, write_json
 from impactdamper.studies.claims import search_parameter
 
 
@@ -25,7 +27,7 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
     lo, hi = float(rng["start"]), float(rng["stop"])
     values = np.linspace(lo, hi, int(rng["points"]))
     alg1_values = np.linspace(lo, hi, int(rng["alg1_points"]))
-    p = rep.parameters(reference)
+    p = parameters(reference)
     t = time.perf_counter()
     result = search_parameter(p, parameter, values, alg1_values, gap_tol=float(solver["gap_tol"]),
                               steady_kwargs=rep.solver_options(solver), rel_tol=float(search["rel_tol"]),
@@ -33,7 +35,7 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
     result["intervals"] = {k: [iv.to_dict() for iv in v] for k, v in result["intervals"].items()}
     result["range"] = {"start": lo, "stop": hi, "points": int(rng["points"]), "alg1_points": int(rng["alg1_points"])}
     log(f"{parameter}: done in {time.perf_counter() - t:.1f} s")
-    rep.write_json(out_json, result)
+    write_json(out_json, result, sort_keys=False)
     return result
 
 
@@ -41,6 +43,6 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.wildcards.parameter, rep.json.loads(sm.params.reference), rep.json.loads(sm.params.solver),
-         rep.json.loads(sm.params.search), sm.output.json, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    cfg, _ = start_stage(sm)
+    main(sm.wildcards.parameter, cfg["reference"], cfg["solver"],
+         cfg["search"], sm.output.json, log=lambda msg: print(msg, file=sys.stderr, flush=True))

@@ -1,6 +1,6 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
 the paper): how the exact solver's cost grows with the simulated time and with the number of
-impacts (issue 6), data only (the figure is drawn by fig_cost_growth.py).
+impacts, data only (the figure is drawn by fig_cost_growth.py).
 
 For each gap of ``performance.growth_gaps`` (the reference case's -5.8: one impact per
 period once settled; -10: three impacts per two periods; -13: chatter, ~10 impacts and a
@@ -21,13 +21,10 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
-import csv
-import json
-from pathlib import Path
+import numpy as np  # noqa: E402 (after the BLAS threads are set)
 
-import numpy as np
-import performancestage as ps
-
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import workprecision as wp
 
 CSV_COLUMNS = ["gap", "periods", "impacts", "events", "cpu_seconds", "per_impact", "per_period"]
@@ -41,7 +38,7 @@ def fit_exponent(rows: list[dict]) -> float:
 
 
 def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
-    base = ps.parameters(reference)
+    base = parameters(reference)
     rows = []
     for gap in performance["growth_gaps"]:
         rows += wp.cost_growth(base.replace(gap=float(gap)), performance["growth_periods"],
@@ -58,13 +55,8 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
                     for g in sorted({r["gap"] for r in rows})},
         "note": "CPU time (time.process_time), medians; not deterministic",
     }
-    ps.write_json(out_json, {"rows": rows, "summary": summary, "parameters": base.to_dict()})
-    Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
-    with open(out_csv, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: r[k] for k in CSV_COLUMNS})
+    write_json(out_json, {"rows": rows, "summary": summary, "parameters": base.to_dict()})
+    write_csv(out_csv, CSV_COLUMNS, rows, booleans="python", float_format=None)
     log(f"per-impact cost {summary['per_impact_min'] * 1e6:.0f}-{summary['per_impact_max'] * 1e6:.0f} us, "
         f"exponent {summary['exponent_cost_vs_impacts']:.3f}")
     return summary
@@ -72,6 +64,5 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    lg = ps.logger(sm.log[0], "cost_growth")
-    main(json.loads(sm.params.reference), json.loads(sm.params.performance), sm.output.json, sm.output.csv,
-         log=lg.info)
+    cfg, lg = start_stage(sm, "cost_growth")
+    main(cfg["reference"], cfg["performance"], sm.output.json, sm.output.csv, log=lg.info)

@@ -19,12 +19,15 @@ residual and the negative-gap interval ends within tolerance, ``agree_b`` the al
 Output: ``figures/crosscheck_{case}.json``.
 """
 
-import replication as rep
+
+from impactdamper.studies import replication as rep
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import read_json, start_stage, write_json
 
 
 def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
-    data = rep.read_json(case_json)
-    p = rep.parameters(data["parameters"])
+    data = read_json(case_json)
+    p = parameters(data["parameters"])
     kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
     a = rep.run_alg1(p, solver)
     s = rep.run_steady(p, solver)
@@ -45,7 +48,7 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
         "agree_a": alg1_cmp["agree"] and alg1["claim_a"] == data["algorithm1"]["claim_a"],
         "agree_b": alg2["agree"] and alg2["claim_b"] == data["algorithm2"]["claim_b"],
     }
-    rep.write_json(out_json, out)
+    write_json(out_json, out, sort_keys=False)
     return out
 
 
@@ -53,8 +56,8 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
-    out = main(sm.input.json, rep.json.loads(sm.params.solver), rep.json.loads(sm.params.verdict), sm.output.json)
+    cfg, _ = start_stage(sm)
+    out = main(sm.input.json, cfg["solver"], cfg["verdict"], sm.output.json)
     c1, c2 = out["algorithm1_comparison"], out["algorithm2"]["cycle_comparison"]
     print(f"agree (a) {out['agree_a']}: interval ends {c1['max_interval_end_difference_over_T']} T, residual "
           f"{c1['periodicity_residual']}; agree (b) {out['agree_b']}: times {c2['max_time_difference_over_T']:.1e} T "

@@ -17,8 +17,8 @@ does), each labelled in its title.
 
 import numpy as np
 
-import replication as rep
-from impactdamper.reporting.plotting import save_figure, use_style
+from impactdamper.reporting.records import read_json, start_stage
+from impactdamper.reporting.plotting import CASE_LABELS, finish_figure, use_style
 
 # Light red of the shaded negative-gap stretch.
 NEGATIVE_GAP_COLOR = "#f4cccc"
@@ -26,11 +26,11 @@ NEGATIVE_GAP_COLOR = "#f4cccc"
 
 def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     plt = use_style()
-    data = rep.read_json(case_json)
+    data = read_json(case_json)
     a = data["algorithm1"]
     gap = data["parameters"]["gap"]
     fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
-    label = {"stated": "stated case", "located": "located case"}[case]
+    label = CASE_LABELS[case]
     title = f"Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{st}} = {gap:g}$"
     if not a["exists"]:
         ax.text(0.5, 0.5, "Algorithm No. 1 has no orbit:\n" + a["reason"], ha="center", va="center",
@@ -58,14 +58,10 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     ax.set_ylabel("relative coordinate")
     axg.set_ylabel("gap")
     ax.set_title(title, pad=14)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.wildcards.case, sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

@@ -18,20 +18,20 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 
 import numpy as np
 
-import replication as rep
-from impactdamper.reporting.plotting import save_figure, use_style
+from impactdamper.reporting.records import read_json, start_stage
+from impactdamper.reporting.plotting import CASE_LABELS, finish_figure, use_style
 
 CYCLE_COLOR = "#e8eef6"
 
 
 def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     plt = use_style()
-    data = rep.read_json(case_json)
+    data = read_json(case_json)
     s = data["algorithm2"]
     gap = data["parameters"]["gap"]
     k = s["period_multiple"]
     n = s["impacts_per_cycle"]
-    label = {"stated": "stated case", "located": "located case"}[case]
+    label = CASE_LABELS[case]
     period = "T" if k == 1 else f"{k}T"
     cycle = f"$T_c = {period}$, {n} impact{'s' if n != 1 else ''} per cycle" if k else "no settled period"
     title = f"Fig. 2b, {label}: Algorithm No. 2, $\\Delta_0/x_{{st}} = {gap:g}$: {cycle}"
@@ -63,14 +63,10 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.set_title(title, pad=24)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.wildcards.case, sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

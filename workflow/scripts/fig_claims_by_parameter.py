@@ -13,10 +13,9 @@ both hold. Data: ``figures/claims_by_parameter.csv`` and its settings JSON.
 Deviation: a search the paper does not have.
 """
 
-import csv
 
-import replication as rep
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
 LABEL = {"theta": "$\\theta = \\omega/\\omega_1$", "mu": "$\\mu = m_2/m_1$", "N": "$N = \\omega_2/\\omega_1$",
@@ -29,9 +28,8 @@ LANES = (("a", "claim (a): gap negative (Alg. No. 1)", "#e67e22"),
 
 def main(csv_path, settings_json, out_pdf, out_png) -> None:
     plt = use_style()
-    with open(csv_path) as f:
-        rows = list(csv.DictReader(f))
-    settings = rep.read_json(settings_json)
+    rows = read_csv(csv_path)
+    settings = read_json(settings_json)
     fig, axes = plt.subplots(len(PARAMETERS), 1, figsize=(TEXT_WIDTH, 6.6))
     for ax, name in zip(axes, PARAMETERS):
         d = settings["parameters"][name]
@@ -56,11 +54,10 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
     axes[0].plot([], [], color="0.2", lw=0.8, ls=":", label="stated value")
     axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=3, fontsize=7.5)
     fig.tight_layout(h_pad=0.6)
-    save_figure(fig, out_pdf)
-    save_figure(fig, out_png)
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
     main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

@@ -11,14 +11,13 @@ Deviation: a map the paper does not have; each cell is Algorithm No. 2 from the 
 1 (no continuation from a neighbour), as in the verdict.
 """
 
-import csv
 
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-import replication as rep
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
            ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
@@ -28,9 +27,8 @@ LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1
 
 def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
     plt = use_style()
-    with open(map_csv) as f:
-        rows = list(csv.DictReader(f))
-    settings = rep.read_json(settings_json)
+    rows = read_csv(map_csv)
+    settings = read_json(settings_json)
     m, ref = settings["map"], settings["reference"]
     xs = sorted({float(r["x"]) for r in rows})
     ys = sorted({float(r["y"]) for r in rows})
@@ -44,18 +42,17 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
               cmap=ListedColormap([c for _, c in CLASSES]), extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy))
     ax.grid(False)
     ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=11, mec="k", mfc="w", label="stated point")
-    located = rep.read_json(located_json)["located"]["gap"]
+    located = read_json(located_json)["located"]["gap"]
     if m["y"] == "gap":
         ax.plot([ref[m["x"]]], [located], "D", ms=6, mec="k", mfc="w", label="located case")
     ax.set_xlabel(LABEL[m["x"]])
     ax.set_ylabel(LABEL[m["y"]])
     handles = [Patch(color=c, label=name) for name, c in CLASSES] + ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    save_figure(fig, out_pdf)
-    save_figure(fig, out_png)
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
     main(sm.input.csv, sm.input.json, sm.input.located, sm.output.pdf, sm.output.png)

@@ -1,5 +1,5 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the exact solver's cost growth (issue 6).
+the paper): the exact solver's cost growth.
 
 Caption: "Cost of Algorithm No. 2 with the exact flow from its default start. Left: CPU time
 against the simulated span. Right: CPU time per impact against the number of impacts, for
@@ -10,17 +10,15 @@ Thin: reads figures/cost_growth.csv (made by cost_growth.py), plots with the sha
 Timings are CPU time on the machine that ran the workflow: not pixel-stable across runs.
 """
 
-import csv
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.records import read_csv, start_stage
 
 MARKERS = ("o", "s", "^", "v", "D")
 
 
 def load(path) -> list[dict]:
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
-    return [{k: float(v) for k, v in r.items()} for r in rows]
+    return [{k: float(v) for k, v in r.items()} for r in read_csv(path)]
 
 
 def main(in_csv, out_stem) -> None:
@@ -44,10 +42,10 @@ def main(in_csv, out_stem) -> None:
     ax2.set_ylabel(r"CPU time per impact ($\mu$s)")
     ax2.set_ylim(bottom=0)
     ax1.legend(fontsize="small")
-    save_figure(fig, out_stem)
-    plt.close(fig)
+    finish_figure(fig, out_stem)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
     main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"))

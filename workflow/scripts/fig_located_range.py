@@ -18,27 +18,21 @@ Deviations: a scan the paper does not have; the grid and the window come from th
 ``verdict`` section.
 """
 
-import csv
 
 import numpy as np
 
-import replication as rep
-from impactdamper.reporting.plotting import save_figure, use_style
+from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.plotting import finish_figure, use_style
 
 RANGE_COLOR = "#f4cccc"
 # Top of the bottom panel's scale: chatter cycles with dozens of impacts are drawn as ^ there.
 Y_MAX = 8
 
 
-def _rows(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
 def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     plt = use_style()
-    rows = _rows(scan_csv)
-    scan = rep.read_json(scan_json)
+    rows = read_csv(scan_csv)
+    scan = read_json(scan_json)
     g = np.array([float(r["gap"]) for r in rows])
     min_gap = np.array([float(r["alg1_min_gap"]) if r["alg1_min_gap"] else np.nan for r in rows])
     k = np.array([int(r["alg2_period_multiple"]) for r in rows])
@@ -80,14 +74,10 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     ax2.set_ylim(-0.5, Y_MAX + 0.6)
     ax1.set_xlim(lo, hi)
     fig.suptitle("Where the paper's Fig. 2 behaviour occurs (other parameters as stated)", y=1.02)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)

@@ -31,8 +31,8 @@ import numpy as np
 from matplotlib.patches import Patch
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
-import orbitstage as st
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
 MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_velocity": "o", "grazing_interior": "o"}
@@ -64,12 +64,12 @@ def _state(r: dict) -> str:
 def sequence(rows: list[dict], special: list[dict], key: str) -> list[tuple]:
     """The branch as (gap, y, state or None) in order along it, special points inserted at
     their places (state None); y is ``key`` (nan where a special point has no value)."""
-    items = [(float(i), st.num(r["gap"]), st.num(r[key]), _state(r)) for i, r in enumerate(rows)]
+    items = [(float(i), cell_float(r["gap"]), cell_float(r[key]), _state(r)) for i, r in enumerate(rows)]
     for s in special:
         i = int(s["index"])
-        ref = st.num(rows[i - 1]["gap"]) if i > 0 else st.num(rows[0]["gap"])
+        ref = cell_float(rows[i - 1]["gap"]) if i > 0 else cell_float(rows[0]["gap"])
         # Between rows i-1 and i; two between the same rows in order of distance from row i-1.
-        items.append((i - 0.5 + 1e-3 * math.tanh(abs(st.num(s["gap"]) - ref)), st.num(s["gap"]), st.num(s[key]),
+        items.append((i - 0.5 + 1e-3 * math.tanh(abs(cell_float(s["gap"]) - ref)), cell_float(s["gap"]), cell_float(s[key]),
                       None))
     items.sort(key=lambda t: t[0])
     return [(g, y, state) for _, g, y, state in items]
@@ -92,15 +92,15 @@ def pieces(seq: list[tuple]) -> list[tuple[str, np.ndarray, np.ndarray]]:
 
 def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     plt = use_style()
-    rows = st.read_csv(branches_csv)
-    special = st.read_csv(special_csv)
-    summary = st.read_json(summary_json)
+    rows = read_csv(branches_csv)
+    special = read_csv(special_csv)
+    summary = read_json(summary_json)
     names = list(dict.fromkeys(r["branch"] for r in rows))  # the config's order
     color = {n: f"C{i}" for i, n in enumerate(names)}
     by = {n: [r for r in rows if r["branch"] == n] for n in names}
     sp = {n: [s for s in special if s["branch"] == n] for n in names}
     multi = [n for n in names if summary["branches"][n]["k"] > 1 or summary["branches"][n]["z"] > 1]
-    gaps_multi = [st.num(r["gap"]) for n in multi for r in by[n]] + [st.num(s["gap"]) for n in multi for s in sp[n]]
+    gaps_multi = [cell_float(r["gap"]) for n in multi for r in by[n]] + [cell_float(s["gap"]) for n in multi for s in sp[n]]
     zoom = (min(gaps_multi) - ZOOM_MARGIN, max(gaps_multi) + ZOOM_MARGIN)
 
     fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 5.3), sharex="col", layout="constrained",
@@ -114,24 +114,24 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                             color=color[n], lw=1.1 if state == "stable" else 0.9)
             for s in sp[n]:
                 on = s["admissible"] == "1"
-                g = st.num(s["gap"])
+                g = cell_float(s["gap"])
                 mk = dict(marker=MARKER[s["kind"]], ms=4.5 if col else 3.5, ls="none", zorder=5,
                           mfc=(color[n] if on else "white") if s["kind"] != "grazing_interior" else "white",
                           mec=color[n] if on else INADMISSIBLE_MARK, mew=0.9)
-                ax_x.plot([g], [st.num(s["x1_max"])], **mk)
-                r = st.num(s["spectral_radius"])
+                ax_x.plot([g], [cell_float(s["x1_max"])], **mk)
+                r = cell_float(s["spectral_radius"])
                 if not math.isnan(r):
                     ax_r.plot([g], [min(max(r, RADIUS_LIMITS[0]), RADIUS_LIMITS[1])], **mk)
                 inside = zoom[0] <= g <= zoom[1]
                 if (col == 1 and inside) or (col == 0 and not inside):
-                    where = (round(g, 6), round(st.num(s["x1_max"]), 4))
+                    where = (round(g, 6), round(cell_float(s["x1_max"]), 4))
                     if where in labelled[col]:
                         continue  # branches meeting at one point: one label
                     labelled[col].add(where)
                     dx, dy = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
                     ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
                     va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
-                    ax_x.annotate(SHORT[s["kind"]], (g, st.num(s["x1_max"])), xytext=(dx, dy),
+                    ax_x.annotate(SHORT[s["kind"]], (g, cell_float(s["x1_max"])), xytext=(dx, dy),
                                   textcoords="offset points", ha=ha, va=va, fontsize=7.5,
                                   color="0.1" if on else INADMISSIBLE_MARK)
         ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
@@ -159,11 +159,11 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                               fontsize=7.5, color="0.2")
     axes[0, 1].set_xlim(*zoom)
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
-    ys = [st.num(r["x1_max"]) for r in rows if zoom[0] <= st.num(r["gap"]) <= zoom[1]]
+    ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
     axes[0, 1].set_ylim(min(ys) - 2 * pad, max(ys) + pad)
-    lo = min(st.num(r["gap"]) for r in rows)
-    hi = max(st.num(r["gap"]) for r in rows)
+    lo = min(cell_float(r["gap"]) for r in rows)
+    hi = max(cell_float(r["gap"]) for r in rows)
     axes[0, 0].set_xlim(lo - 0.8, hi + 0.8)
     axes[0, 0].axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
     axes[1, 0].axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
@@ -189,14 +189,10 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     handles = [rows[i][j] for j in range(ncol) for i in range(len(rows))]
     fig.legend(handles=handles, loc="outside lower center", ncol=ncol, handlelength=1.8, columnspacing=0.9,
                handletextpad=0.4, fontsize=7.5)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    import sys
-
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.branches, sm.input.special, sm.input.summary, sm.output.pdf, sm.output.png)

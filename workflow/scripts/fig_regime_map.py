@@ -15,15 +15,19 @@ report's text width and no text is under 7 pt in print.
 Deviation: the paper shows no map; its introduction describes the sequence along the gap.
 """
 
+
 import numpy as np
 from matplotlib import patheffects
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-import sweepstage as st
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.config import located_gap
+from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
+from impactdamper.reporting.records import read_csv, split_floats, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
-CLASSES = list(st.REGIME_COLORS)
+CLASSES = list(REGIME_COLORS)
 AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
               "damping": "damping ratios $\\delta_1 = \\delta_2 = \\delta$"}
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
@@ -55,11 +59,11 @@ def _label_regions(ax, slow, gaps, labels):
             if len(ii) >= MIN_LABEL_CELLS:
                 # The region's cell nearest its centroid (a non-convex region's centroid may lie outside).
                 c = int(np.argmin((ii - ii.mean()) ** 2 / len(slow) ** 2 + (jj - jj.mean()) ** 2 / len(gaps) ** 2))
-                regime = st.regime_of_label(lab)
+                regime = gs.regime_of_label(lab)
                 ax.text(gaps[jj[c]], slow[ii[c]], "S" if lab == "stuck" else lab,
                         ha="center", va="center", fontsize=LABEL_SIZE, zorder=6,
-                        color=st.REGIME_TEXT.get(regime, "black"),
-                        bbox=dict(boxstyle="square,pad=0.15", fc=st.REGIME_COLORS[regime], ec="none"))
+                        color=REGIME_TEXT.get(regime, "black"),
+                        bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"))
 
 
 def grazing_curves(curves, step: float) -> list[tuple[list, list]]:
@@ -71,7 +75,7 @@ def grazing_curves(curves, step: float) -> list[tuple[list, list]]:
         ends = [ln for ln in lines if ln[2]]  # curves that reached the previous row
         for ln in lines:
             ln[2] = False
-        for g in st.split_floats(r["alg1_grazing"]):
+        for g in split_floats(r["alg1_grazing"]):
             near = [ln for ln in ends if abs(ln[0][-1] - g) <= JOIN_CELLS * step]
             if near:
                 ln = min(near, key=lambda ln: abs(ln[0][-1] - g))
@@ -88,12 +92,12 @@ def grazing_curves(curves, step: float) -> list[tuple[list, list]]:
 def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
     plt = use_style()
     slow, gaps, labels = read_map(map_csv)
-    codes = np.vectorize(lambda s: CLASSES.index(st.regime_of_label(s)))(labels)
+    codes = np.vectorize(lambda s: CLASSES.index(gs.regime_of_label(s)))(labels)
     fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 4.7), layout="constrained")
-    ax.pcolormesh(gaps, slow, codes, cmap=ListedColormap([st.REGIME_COLORS[c] for c in CLASSES]), vmin=-0.5,
+    ax.pcolormesh(gaps, slow, codes, cmap=ListedColormap([REGIME_COLORS[c] for c in CLASSES]), vmin=-0.5,
                   vmax=len(CLASSES) - 0.5, shading="nearest", rasterized=True)
     _label_regions(ax, slow, gaps, labels)
-    curves = st.read_csv(curves_csv)
+    curves = read_csv(curves_csv)
     s = np.array([float(r["slow"]) for r in curves])
     outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
     for i, (g, y) in enumerate(grazing_curves(curves, float(gaps[1] - gaps[0]))):
@@ -106,7 +110,7 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     ref = float(reference[REFERENCE_VALUE[name]])
     ax.plot([float(reference["gap"])], [ref], marker="*", ms=9, color="#f1c40f", mec="k", mew=0.6, ls="none",
             label=f"stated case ($\\Delta_0/x_{{st}}$ = {float(reference['gap']):g})")
-    loc = st.located_gap(located_json)
+    loc = located_gap(located_json)
     ax.plot([loc], [ref], marker="D", ms=5, color="w", mec="k", mew=0.6, ls="none",
             label=f"located case ($\\Delta_0/x_{{st}}$ = {loc:g})")
     ax.set_xlim(gaps[0], gaps[-1])
@@ -116,21 +120,16 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     ax.grid(False)
     handles, _ = ax.get_legend_handles_labels()
     present = {CLASSES[c] for c in np.unique(codes)}
-    patches = [Patch(facecolor=st.REGIME_COLORS[c], edgecolor="0.4", lw=0.5, label=st.REGIME_NAMES[c])
+    patches = [Patch(facecolor=REGIME_COLORS[c], edgecolor="0.4", lw=0.5, label=REGIME_NAMES[c])
                for c in CLASSES if c in present]
     # Under the map: the regime colours, then the lines and markers, filled column by column.
     fig.legend(handles=patches + handles, loc="outside lower center", ncol=3, fontsize=7.5, handlelength=2.4,
                columnspacing=1.0)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(sm.wildcards.map, json.loads(sm.params.reference), sm.input.map, sm.input.curves, sm.input.located,
+    cfg, _ = start_stage(sm)
+    main(sm.wildcards.map, cfg["reference"], sm.input.map, sm.input.curves, sm.input.located,
          sm.output.pdf, sm.output.png)

@@ -17,13 +17,12 @@ Deviations: velocities are the closing relative velocities x2' - x1' before each
 x_st omega; for nonperiodic points they are the impacts of the last 8 periods simulated.
 """
 
-import json
-from pathlib import Path
 
 import numpy as np
 
-import sweepstage as st
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.studies.config import located_gap
+from impactdamper.reporting.records import read_csv, read_json, split_floats, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
 # The analytic transitions drawn as dashed verticals (sweep_checks.json names) and their labels.
@@ -33,7 +32,7 @@ ANALYTIC = (("liftoff", "lift-off"), ("alg1_grazing", "Alg. 1 grazing"), ("first
 def _scatter(rows):
     xs, ys = [], []
     for r in rows:
-        v = st.split_floats(r["velocities"])
+        v = split_floats(r["velocities"])
         xs.extend([float(r["value"])] * len(v))
         ys.extend(v)
     return np.array(xs), np.array(ys)
@@ -41,11 +40,11 @@ def _scatter(rows):
 
 def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap: float, out_pdf, out_png) -> None:
     plt = use_style()
-    rows = st.read_csv(sweep_csv)
-    rnd = st.read_csv(random_csv)
-    alg1 = st.read_csv(alg1_csv)
-    checks = {c["name"]: c for c in json.loads(Path(checks_json).read_text())["checks"]}
-    located = st.located_gap(located_json)
+    rows = read_csv(sweep_csv)
+    rnd = read_csv(random_csv)
+    alg1 = read_csv(alg1_csv)
+    checks = {c["name"]: c for c in read_json(checks_json)["checks"]}
+    located = located_gap(located_json)
     fig, axes = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, sharey=True, layout="constrained")
     xr, yr = _scatter(rnd)
     g = np.array([float(r["value"]) for r in alg1])
@@ -83,15 +82,11 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     found = dict(zip(l0 + l1, h0 + h1))
     fig.legend([found[k] for k in order], order, loc="outside upper center", ncol=4, markerscale=4, fontsize=7.5,
                handlelength=2.0, columnspacing=0.8)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.sweep, sm.input.random, sm.input.alg1, sm.input.checks, sm.input.located,
          float(sm.params.stated_gap), sm.output.pdf, sm.output.png)

@@ -17,8 +17,10 @@ Deviations: none (the paper has no such figure).
 import numpy as np
 from matplotlib.patches import Patch, Rectangle
 
-import sweepstage as st
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.studies import gapsweep as gs
+from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
+from impactdamper.reporting.records import read_csv, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 SHORT = {"stuck": "S", "np": "np"}
 # Band labels (points): the figure is included at the text width, so this is the print size.
@@ -38,10 +40,10 @@ BAND_HEIGHT = 0.8
 def _bands(ax, y, values, labels, step):
     """Draw one row's bands; return the (centre, band width, label) of each, in order."""
     out = []
-    for lab, a, b, _ in st.runs(values, labels):
-        regime = st.regime_of_label(lab)
-        ax.barh(y, b - a + step, left=a - step / 2, height=BAND_HEIGHT, color=st.REGIME_COLORS[regime], lw=0)
-        if out and st.regime_of_label(out[-1][2]) == regime:  # same colour: a thin parting line
+    for lab, a, b, _ in gs.runs(values, labels):
+        regime = gs.regime_of_label(lab)
+        ax.barh(y, b - a + step, left=a - step / 2, height=BAND_HEIGHT, color=REGIME_COLORS[regime], lw=0)
+        if out and gs.regime_of_label(out[-1][2]) == regime:  # same colour: a thin parting line
             ax.plot([a - step / 2] * 2, [y - BAND_HEIGHT / 2, y + BAND_HEIGHT / 2], color="0.25", lw=0.5)
         out.append((0.5 * (a + b), b - a + step, lab))
     return out
@@ -62,10 +64,10 @@ def _label_bands(ax, y, bands, renderer):
             continue
         mid = to_px((0.5 * (max(centre - width / 2, x0) + min(centre + width / 2, x1)), y))[0]
         x_mid = ax.transData.inverted().transform((mid, 0))[0]
-        regime = st.regime_of_label(lab)
+        regime = gs.regime_of_label(lab)
         for rotation in (0, 90):  # upright only where the band is too narrow
             t = ax.text(x_mid, y, SHORT.get(lab, lab), ha="center", va="center", fontsize=LABEL_SIZE,
-                        rotation=rotation, color=st.REGIME_TEXT.get(regime, "black"), clip_on=True)
+                        rotation=rotation, color=REGIME_TEXT.get(regime, "black"), clip_on=True)
             bb = t.get_window_extent(renderer)
             fits = (bb.x0 - pad >= left_edge and bb.x1 + pad <= right_edge
                     and bb.y0 >= bottom_edge and bb.y1 <= top_edge)
@@ -101,8 +103,8 @@ def _panel(ax, rows, rnd, xlim, with_random: bool):
 
 def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     plt = use_style()
-    rows = st.read_csv(sweep_csv)
-    rnd = st.read_csv(random_csv)
+    rows = read_csv(sweep_csv)
+    rnd = read_csv(random_csv)
     values = [float(r["value"]) for r in rows]
     n_random = len({r["start_index"] for r in rnd})
     fig = plt.figure(figsize=(TEXT_WIDTH, 1.2 + 0.3 * (2 + n_random) + 0.45 * 2 + 0.9), layout="constrained")
@@ -123,9 +125,9 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
         top.annotate(f"zoom {'abc'[i]}", (0.5 * sum(window), 0.5), xytext=(0, 1), textcoords="offset points",
                      ha="center", va="bottom", fontsize=8)
     top.set_xlabel("initial gap $\\Delta_0/x_{st}$")
-    present = {st.regime_of_label(r["label"]) for r in rows + rnd}
-    fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=st.REGIME_NAMES[k])
-                        for k, c in st.REGIME_COLORS.items() if k in present],
+    present = {gs.regime_of_label(r["label"]) for r in rows + rnd}
+    fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=REGIME_NAMES[k])
+                        for k, c in REGIME_COLORS.items() if k in present],
                loc="outside lower center", ncol=3, fontsize=8)
     # Labels are fitted to their bands once the layout is final.
     fig.canvas.draw()
@@ -134,14 +136,10 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     for ax, rows_drawn in drawn:
         for y, bands in rows_drawn:
             _label_bands(ax, y, bands, renderer)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)

@@ -12,25 +12,25 @@ reference is a horizontal line, named with its value in the legend.
 Deviations: none (the paper has no such figure).
 """
 
-import numpy as np
 
-import sweepstage as st
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import cell_float, read_csv, start_stage
 from impactdamper.core.linear import forced_amplitudes
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 from impactdamper.analysis.sweeps import object_alone_amplitude, rigid_amplitude
 
 
 def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     plt = use_style()
-    p = st.parameters(reference)
-    rows = st.read_csv(sweep_csv)
-    rnd = st.read_csv(random_csv)
+    p = parameters(reference)
+    rows = read_csv(sweep_csv)
+    rnd = read_csv(random_csv)
     fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 3.0), layout="constrained")
-    ax.scatter([float(r["value"]) for r in rnd], [st.num(r["x1_max"]) for r in rnd], s=1.5, color="0.7", lw=0,
+    ax.scatter([float(r["value"]) for r in rnd], [cell_float(r["x1_max"]) for r in rnd], s=1.5, color="0.7", lw=0,
                rasterized=True, label="random initial states")
     for direction, color, ls in (("up", "C0", "-"), ("down", "C1", "--")):
         rs = [r for r in rows if r["direction"] == direction]
-        ax.plot([float(r["value"]) for r in rs], [st.num(r["x1_max"]) for r in rs], color=color, ls=ls, lw=0.9,
+        ax.plot([float(r["value"]) for r in rs], [cell_float(r["x1_max"]) for r in rs], color=color, ls=ls, lw=0.9,
                 label=f"{'upward' if direction == 'up' else 'downward'} sweep")
     refs = ((object_alone_amplitude(p), "object alone", "0.2", ":"),
             (rigid_amplitude(p), "suppressor rigidly attached", "C4", "-."),
@@ -41,15 +41,10 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     ax.set_ylabel("$\\max|x_1|/x_{st}$")
     ax.set_ylim(0.0, 1.12 * max(r[0] for r in refs))
     ax.legend(loc="lower left", fontsize=7.5, ncol=2, markerscale=4)
-    save_figure(fig, out_pdf, formats=("pdf",))
-    save_figure(fig, out_png, formats=("png",))
-    plt.close(fig)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(json.loads(sm.params.reference), sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)
+    cfg, _ = start_stage(sm)
+    main(cfg["reference"], sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)

@@ -1,5 +1,5 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the work-precision diagram of issue 6.
+the paper): the work-precision diagram.
 
 Caption: "CPU time against error on the reference case (theta = 1, mu = 0.08, N = 0.5,
 delta1 = delta2 = 0.05, R = 0.7, Delta0/x_st = -5.8). Left: the first impacts from
@@ -13,10 +13,10 @@ Timings are CPU time on the machine that ran the workflow: the figure is not pix
 across runs.
 """
 
-import csv
 import math
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, save_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.records import read_csv, read_json, start_stage
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
 # One colour, marker and line per method family, the same in both panels, in legend order.
@@ -35,8 +35,7 @@ ERROR_LIMITS = (3.0, 1e-15)
 
 
 def load(path) -> list[dict]:
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
+    rows = read_csv(path)
     for r in rows:
         for k in ("value", "cpu_seconds", "error"):
             r[k] = float(r[k]) if r[k] not in ("", "nan") else math.nan
@@ -83,14 +82,12 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
         axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize="small",
                      ha="right")
     fig.legend([labels[k] for k in order], order, loc="outside lower center", ncols=4, fontsize="small")
-    save_figure(fig, out_stem)
-    plt.close(fig)
+    finish_figure(fig, out_stem)
 
 
 if __name__ == "__main__":
-    import json
-
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    study = json.loads(open(sm.input.json).read())
-    main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"), tuple(json.loads(sm.params.performance)["targets"]),
+    cfg, _ = start_stage(sm)
+    study = read_json(sm.input.json)
+    main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"), tuple(cfg["performance"]["targets"]),
          bool(study["siconos"]["available"]))

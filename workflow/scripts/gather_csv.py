@@ -1,10 +1,12 @@
-"""Gathers the chunks of a chunked sweeps-stage job into one table (issue 5).
+"""Gathers the chunks of a chunked sweeps-stage job into one table.
 
 Not a figure script: concatenates the chunk CSVs in chunk order (each has the same header),
 so the gathered table does not depend on how many jobs ran or in which order.
 """
 
 from pathlib import Path
+
+from impactdamper.reporting.records import start_stage
 
 
 def main(chunks, out_csv) -> None:
@@ -22,7 +24,5 @@ def main(chunks, out_csv) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(list(sm.input.chunks), sm.output.csv)

@@ -1,5 +1,5 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the hard-case suite of issue 6 (src/impactdamper/hardcases.py).
+the paper): the hard-case suite (src/impactdamper/studies/hardcases.py).
 
 Every case changes the reference case in one way (grazing at the no-contact threshold and at
 the onset of Algorithm No. 1's crossing, chatter into contact, R = 0 and 1, zero and very
@@ -23,12 +23,11 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
-import csv
-import json
 from pathlib import Path
 
-import performancestage as ps
-
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.latex import tex_escape, tex_time
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import hardcases as hc
 
 CSV_COLUMNS = ["case", "label", "stresses", "regime", "k", "z", "periods", "events", "touches", "did",
@@ -46,7 +45,7 @@ def _did_tex(r: dict) -> str:
         text += rf", $k = {r['k']}$, $z = {r['z']}$"
     extras = r["did"].split("; ")[1:] if r["did"] else []  # captures, grazing touches
     if extras:
-        text += "; " + "; ".join(ps.tex_escape(e) for e in extras)
+        text += "; " + "; ".join(tex_escape(e) for e in extras)
     return text
 
 
@@ -63,23 +62,18 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         failed = [CHECK_NAMES[c] for c in hc.CHECKS if not r[c]]
         checks = "all 4 passed" if not failed else "failed: " + ", ".join(failed)
-        lines.append(f"{ps.tex_escape(r['label'])} & {ps.tex_escape(r['stresses'])} & {_did_tex(r)} & "
-                     f"{ps.tex_time(r['cpu_seconds'])} & {checks} \\\\")
+        lines.append(f"{tex_escape(r['label'])} & {tex_escape(r['stresses'])} & {_did_tex(r)} & "
+                     f"{tex_time(r['cpu_seconds'])} & {checks} \\\\")
     lines += [r"\bottomrule", r"\end{tabular}", ""]
     return "\n".join(lines)
 
 
 def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
-    base = ps.parameters(reference)
+    base = parameters(reference)
     results = hc.run_suite(base, log=log)
     rows = [r.row() for r in results]
-    Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
-    with open(out_csv, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: r[k] for k in CSV_COLUMNS})
-    ps.write_json(out_json, {"cases": [dict(r.row(), details=r.details, checks=r.checks) for r in results],
+    write_csv(out_csv, CSV_COLUMNS, rows, booleans="python", float_format=None)
+    write_json(out_json, {"cases": [dict(r.row(), details=r.details, checks=r.checks) for r in results],
                              "passed": sum(r.passed for r in results), "total": len(results),
                              "note": "cpu_seconds: CPU time of the steady-state run; not deterministic"})
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
@@ -89,5 +83,5 @@ def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    lg = ps.logger(sm.log[0], "hardcases")
-    main(json.loads(sm.params.reference), sm.output.csv, sm.output.json, sm.output.tex, log=lg.info)
+    cfg, lg = start_stage(sm, "hardcases")
+    main(cfg["reference"], sm.output.csv, sm.output.json, sm.output.tex, log=lg.info)

@@ -13,30 +13,26 @@ Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
 and end times so that the gather can compute the whole map's wall time).
 """
 
-import sweepstage as st
+
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
+from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.analysis.sweeps import regime_map
 
 COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods"]
 
 
-def axes(maps: dict, name: str):
-    """(slow parameter, slow values, gap values) of map ``name``."""
-    m = maps[name]
-    return (m["parameter"], st.grid(m["start"], m["stop"], m["points"]),
-            st.grid(m["gap_start"], m["gap_stop"], m["gap_points"]))
-
-
 def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_csv, out_json, log=None) -> dict:
-    base = st.parameters(reference)
-    settings = st.settings(maps, solver)
-    slow, slow_values, gaps = axes(maps, name)
-    rows_idx = st.chunk_indices(len(slow_values), int(maps["chunks"]), chunk)
+    base = parameters(reference)
+    settings = sweep_settings(maps, solver)
+    slow, slow_values, gaps = gs.map_axes(maps, name)
+    rows_idx = chunk_indices(len(slow_values), int(maps["chunks"]), chunk)
 
     def progress(i, n, row):
         if log is not None:
             log.info("map %s chunk %d: row %d/%d (%s = %.6g) done", name, chunk, i + 1, n, slow, slow_values[rows_idx[i]])
 
-    with st.Timer() as timer:
+    with Timer() as timer:
         result = regime_map(base, "gap", gaps, slow, slow_values[rows_idx], direction=maps["direction"],
                             settings=settings, progress=progress)
     out = []
@@ -45,10 +41,10 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
             out.append({"i": int(i), "j": j, "slow": float(slow_values[i]), "gap": pt.value, "label": pt.label,
                         "regime": pt.regime, "k": pt.period_multiple, "z": pt.impacts_per_cycle, "x1_max": pt.x1_max,
                         "method": pt.method, "periods": pt.periods})
-    st.write_csv(out_csv, out, COLUMNS)
+    write_csv(out_csv, COLUMNS, out, booleans="digits")
     timing = {"map": name, "chunk": chunk, "rows": len(rows_idx), "cells": len(out), "wall_s": timer.wall,
-              "cpu_s": timer.cpu, "start_epoch": timer.epoch0, "end_epoch": timer.epoch1, "machine": st.machine()}
-    st.write_json(out_json, timing)
+              "cpu_s": timer.cpu, "start_epoch": timer.epoch0, "end_epoch": timer.epoch1, "machine": machine()}
+    write_json(out_json, timing, indent=2)
     if log is not None:
         log.info("map %s chunk %d: %d cells, wall %.1f s, cpu %.1f s", name, chunk, len(out), timer.wall, timer.cpu)
     return timing
@@ -56,8 +52,6 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    log = st.logger(sm.log[0], "map_chunk")
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.maps),
+    cfg, log = start_stage(sm, "map_chunk", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["maps"],
          sm.wildcards.map, int(sm.wildcards.chunk), sm.output.csv, sm.output.json, log=log)

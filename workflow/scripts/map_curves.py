@@ -12,10 +12,12 @@ Output: ``figures/map_{map}_curves.csv`` (slow, liftoff, first_contact, alg1_gra
 ';'-joined values).
 """
 
+
 import numpy as np
 
-import map_chunk
-import sweepstage as st
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper import algorithm1
 from impactdamper.analysis.sweeps import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap, with_value
 
@@ -37,17 +39,14 @@ def row(base, slow: str, value: float, gaps: np.ndarray) -> dict:
 
 
 def main(reference: dict, maps: dict, name: str, out_csv) -> list[dict]:
-    base = st.parameters(reference)
-    slow, slow_values, gaps = map_chunk.axes(maps, name)
+    base = parameters(reference)
+    slow, slow_values, gaps = gs.map_axes(maps, name)
     rows = [row(base, slow, v, gaps) for v in slow_values]
-    st.write_csv(out_csv, rows, COLUMNS)
+    write_csv(out_csv, COLUMNS, rows, booleans="digits")
     return rows
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    main(json.loads(sm.params.reference), json.loads(sm.params.maps), sm.wildcards.map, sm.output.csv)
+    cfg, _ = start_stage(sm)
+    main(cfg["reference"], cfg["maps"], sm.wildcards.map, sm.output.csv)

@@ -10,14 +10,13 @@ wall times, and the map's wall time (first job start to last job end, the figure
 answers "how long with ``--cores N``" when nothing else runs) with the machine's load.
 """
 
-import json
 from pathlib import Path
 
-import sweepstage as st
+from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
 
 
 def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
-    cells = [r for path in chunk_csvs for r in st.read_csv(path)]
+    cells = [r for path in chunk_csvs for r in read_csv(path)]
     slow_of = {int(r["i"]): r["slow"] for r in cells}
     gaps = {int(r["j"]): r["gap"] for r in cells}
     label = {(int(r["i"]), int(r["j"])): r["label"] for r in cells}
@@ -30,8 +29,8 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
     Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
     Path(out_csv).write_text("\n".join(lines) + "\n")
     if out_settings is not None:
-        st.write_json(out_settings, dict(config or {}, map=name))
-    timings = [json.loads(Path(p).read_text()) for p in chunk_jsons]
+        write_json(out_settings, dict(config or {}, map=name), indent=2)
+    timings = [read_json(p) for p in chunk_jsons]
     methods: dict = {}
     for r in cells:
         methods[r["method"]] = methods.get(r["method"], 0) + 1
@@ -46,16 +45,14 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
         "methods": dict(sorted(methods.items())),
         "periods_simulated": sum(int(r["periods"]) for r in cells),
     }
-    st.write_json(out_timing, out)
+    write_json(out_timing, out, indent=2)
     return out
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
-    config = {"reference": json.loads(sm.params.reference), "solver": json.loads(sm.params.solver),
-              "maps": json.loads(sm.params.maps)}
+    cfg, _ = start_stage(sm)
+    config = {"reference": cfg["reference"], "solver": cfg["solver"],
+              "maps": cfg["maps"]}
     main(list(sm.input.csvs), list(sm.input.jsons), sm.wildcards.map, sm.output.csv, sm.output.timing,
          sm.output.settings, config)

@@ -9,7 +9,7 @@ gap Delta takes on negative values when t in (t1, t2)") and Algorithm No. 2 sett
 impacts (seeded by Algorithm No. 2's settled motion) are followed by pseudo-arclength
 continuation (:func:`impactdamper.continue_orbit`, Floquet multipliers from saltation
 matrices), with folds, period doublings, Neimark-Sacker points and grazings located on them
-(see ``orbitstage`` for where a branch ends).
+(see :mod:`impactdamper.studies.branches` for where a branch ends).
 
 Writes
 
@@ -26,16 +26,19 @@ Deviations: none from the paper (it has no such computation); ranges and steps c
 config's ``orbits`` section.
 """
 
-import orbitstage as st
+
+from impactdamper.studies import branches as br
+from impactdamper.studies.config import located_gap, parameters, steady_options
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper import solve_orbit
 
 
 def case_summary(p, solver: dict) -> dict:
     """The directly solved steady orbit at p (Algorithm No. 1's if admissible and stable,
     else the settled cycle's: :func:`impactdamper.solve_orbit` with ``seed="auto"``)."""
-    opts = st.steady_options(solver)
+    opts = steady_options(solver)
     o = solve_orbit(p, "auto", **opts)
-    return {"gap": p.gap, "regime": o.regime, "label": st.label(o.period_multiple, o.impacts_per_cycle),
+    return {"gap": p.gap, "regime": o.regime, "label": br.label(o.period_multiple, o.impacts_per_cycle),
             "k": o.period_multiple, "z": o.impacts_per_cycle, "solved": o.solved, "seed": o.seed,
             "stable": o.stable, "admissible": o.admissible, "x1_max": o.x1_max,
             "multipliers": [abs(m) for m in o.multipliers],
@@ -46,20 +49,20 @@ def case_summary(p, solver: dict) -> dict:
 
 def compute(reference: dict, solver: dict, orbits: dict, located: float, log=None) -> dict:
     """Every branch of ``orbits.branches`` and the two cases; the CSV rows and the summary."""
-    p = st.parameters(reference)
+    p = parameters(reference)
     cont = orbits["continuation"]
     branch_rows, special_rows = [], []
-    summary = {"paper": st.PAPER, "parameter": st.PARAMETER, "order": [b["name"] for b in orbits["branches"]],
+    summary = {"paper": br.PAPER, "parameter": br.PARAMETER, "order": [b["name"] for b in orbits["branches"]],
                "branches": {}}
     for spec in orbits["branches"]:
-        b = st.follow(p, spec, cont, solver, log)
-        branch_rows += st.branch_rows(b)
-        special_rows += st.special_rows(b)
+        b = br.follow(p, spec, cont, solver, log)
+        branch_rows += br.branch_rows(b)
+        special_rows += br.special_rows(b)
         summary["branches"][b["name"]] = {
             "label": b["label"], "k": b["k"], "z": b["z"], "seed": spec["seed"], "seed_gap": float(spec["gap"]),
             "bounds": [float(spec["gap_min"]), float(spec["gap_max"])], "points": len(b["points"]),
             "seed_index": b["seed_index"],
-            "ends": b["ends"], "stable": st.stretches(b, "stable"), "admissible": st.stretches(b, "admissible")}
+            "ends": b["ends"], "stable": br.stretches(b, "stable"), "admissible": br.stretches(b, "admissible")}
     summary["cases"] = {"stated": case_summary(p, solver), "located": case_summary(p.replace(gap=located), solver)}
     for case in orbits.get("cases", []):
         summary["cases"][case["name"]] = case_summary(p.replace(gap=float(case["gap"])), solver)
@@ -68,18 +71,16 @@ def compute(reference: dict, solver: dict, orbits: dict, located: float, log=Non
 
 
 def main(reference: dict, solver: dict, orbits: dict, located_json, out_branches, out_special, out_summary,
-         log_path=None) -> dict:
-    log = st.logger(log_path, "orbit_branches") if log_path else None
-    res = compute(reference, solver, orbits, st.located_gap(located_json), log)
-    st.write_csv(out_branches, res["branches"], st.BRANCH_COLUMNS)
-    st.write_csv(out_special, res["special"], st.SPECIAL_COLUMNS)
-    st.write_json(out_summary, res["summary"])
+         log=None) -> dict:
+    res = compute(reference, solver, orbits, located_gap(located_json), log)
+    write_csv(out_branches, br.BRANCH_COLUMNS, res["branches"], booleans="digits")
+    write_csv(out_special, br.SPECIAL_COLUMNS, res["special"], booleans="digits")
+    write_json(out_summary, res["summary"])
     return res
 
 
 if __name__ == "__main__":
-    import json
-
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.orbits),
-         sm.input.located, sm.output.branches, sm.output.special, sm.output.summary, log_path=sm.log[0])
+    cfg, log = start_stage(sm, "orbit_branches")
+    main(cfg["reference"], cfg["solver"], cfg["orbits"],
+         sm.input.located, sm.output.branches, sm.output.special, sm.output.summary, log=log)

@@ -1,9 +1,12 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the numbers of issue 6's performance study for the report.
+the paper): the numbers of the performance study for the report.
 
-Reads the work-precision study, the cost growth, the hard cases and issue 2's reference-speed
+Reads the work-precision study, the cost growth, the hard cases and the reference-speed
 benchmark (results/benchmarks/*.json) and writes
 
+* ``results/report/performance.json``: the stage's record
+  (:class:`impactdamper.reporting.latex.MacroFile`), from which the macros below and the
+  README summary's numbers are rendered;
 * ``paper/generated/performance_macros.tex``: one ``\\newcommand`` per number the report
   quotes (speed-ups against the best solve_ivp method at equal error, costs, best errors,
   error floors, per-impact cost, hard-case counts, and each target as a number, for the
@@ -15,11 +18,11 @@ benchmark (results/benchmarks/*.json) and writes
 All timings are CPU time on the machine that ran the workflow: not deterministic.
 """
 
-import json
 import math
 from pathlib import Path
 
-import performancestage as ps
+from impactdamper.reporting.latex import MacroFile, render_macros, tex_escape, tex_sci, tex_time
+from impactdamper.reporting.records import json_float, read_json, start_stage, write_json
 
 CASE_MACRO = {"first_impacts": "First", "settled_cycle": "Settled"}
 CASE_TITLE = {"first_impacts": "First {n} impacts from Algorithm No.~2's start (error: impact times, units of $T$)",
@@ -33,7 +36,7 @@ LEVEL = ("Low", "High")  # the two targets, in config order
 
 
 def _m(x) -> str:
-    return rf"\ensuremath{{{ps.tex_sci(x)}}}"
+    return rf"\ensuremath{{{tex_sci(x)}}}"
 
 
 def _yes(b: bool) -> str:
@@ -50,56 +53,60 @@ def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict
     for case, s in wp["summary"].items():
         methods = s["methods"]
         exact = methods["exact"]
-        ivp_best = {m: ps.num(methods[m]["best_error"]) for m in IVP if m in methods}
+        ivp_best = {m: json_float(methods[m]["best_error"]) for m in IVP if m in methods}
         best_ivp_method = min(ivp_best, key=ivp_best.get) if ivp_best else None
         c = {
-            "exact_best_error": ps.num(exact["best_error"]),
-            "exact_cost": ps.num(exact["min_cost"]),
-            "exact_phase_target_met": ps.num(exact["best_error"]) <= float(perf["phase_target"]),
+            "exact_best_error": json_float(exact["best_error"]),
+            "exact_cost": json_float(exact["min_cost"]),
+            "exact_phase_target_met": json_float(exact["best_error"]) <= float(perf["phase_target"]),
             "best_ivp_error": ivp_best.get(best_ivp_method, math.inf) if best_ivp_method else math.inf,
             "best_ivp_error_method": best_ivp_method,
             "levels": {},
         }
         for key in ("alg1", "RK4", "Moreau-Jean"):
             if key in methods:
-                c[f"{key}_best_error"] = ps.num(methods[key]["best_error"])
-                c[f"{key}_min_cost"] = ps.num(methods[key]["min_cost"])
+                c[f"{key}_best_error"] = json_float(methods[key]["best_error"])
+                c[f"{key}_min_cost"] = json_float(methods[key]["min_cost"])
         for t in targets:
             sp = s["speedup_vs_best_ivp"][f"{t:g}"]
-            speedup = ps.num(sp["speedup"])
-            rk4 = ps.num(methods["RK4"]["cost_to_reach"][f"{t:g}"]) if "RK4" in methods else math.inf
-            exact_t = ps.num(exact["cost_to_reach"][f"{t:g}"])
+            speedup = json_float(sp["speedup"])
+            rk4 = json_float(methods["RK4"]["cost_to_reach"][f"{t:g}"]) if "RK4" in methods else math.inf
+            exact_t = json_float(exact["cost_to_reach"][f"{t:g}"])
             c["levels"][f"{t:g}"] = {
-                "speedup": speedup, "best_ivp_method": sp["best_ivp_method"], "best_ivp_cost": ps.num(sp["best_ivp_cost"]),
+                "speedup": speedup, "best_ivp_method": sp["best_ivp_method"], "best_ivp_cost": json_float(sp["best_ivp_cost"]),
                 "exact_cost": exact_t, "speedup_met": math.isfinite(speedup) and speedup >= float(perf["speedup_target"]),
                 "speedup_vs_rk4": rk4 / exact_t if math.isfinite(rk4) and math.isfinite(exact_t) else math.inf,
             }
         out["cases"][case] = c
     out["cost_growth"] = growth["summary"]
     out["hardcases"] = {"passed": hard["passed"], "total": hard["total"],
-                        "slowest": max(hard["cases"], key=lambda r: ps.num(r["cpu_seconds"]))["case"],
-                        "slowest_seconds": max(ps.num(r["cpu_seconds"]) for r in hard["cases"]),
-                        "total_seconds": sum(ps.num(r["cpu_seconds"]) for r in hard["cases"]),
+                        "slowest": max(hard["cases"], key=lambda r: json_float(r["cpu_seconds"]))["case"],
+                        "slowest_seconds": max(json_float(r["cpu_seconds"]) for r in hard["cases"]),
+                        "total_seconds": sum(json_float(r["cpu_seconds"]) for r in hard["cases"]),
                         "failed": [r["case"] for r in hard["cases"] if not r["passed"]]}
     ex, tg, cross = ref.get("exact", {}), ref.get("targets", {}), ref.get("crosscheck", {})
     fastest = min(cross, key=lambda m: cross[m]["median_s"]) if cross else None
-    out["reference_speed"] = {"steady_state_seconds": ps.num(ex.get("steady_state_median_s")),
-                              "speedup_vs_fastest_crosscheck": ps.num(tg.get("speedup_vs_fastest_crosscheck")),
-                              "speedup_target": ps.num(tg.get("speedup_target")),
-                              "exact_time_target_s": ps.num(tg.get("exact_time_target_s")),
+    out["reference_speed"] = {"steady_state_seconds": json_float(ex.get("steady_state_median_s")),
+                              "speedup_vs_fastest_crosscheck": json_float(tg.get("speedup_vs_fastest_crosscheck")),
+                              "speedup_target": json_float(tg.get("speedup_target")),
+                              "exact_time_target_s": json_float(tg.get("exact_time_target_s")),
                               "speedup_met": bool(tg.get("speedup_met", False)),
                               "exact_time_met": bool(tg.get("exact_time_met", False)),
                               "fastest_crosscheck": fastest,
-                              "crosscheck_rtol": ps.num(cross[fastest]["rtol"]) if fastest else math.inf,
-                              "phase_error": ps.num(ex.get("phase_error"))}
+                              "crosscheck_rtol": json_float(cross[fastest]["rtol"]) if fastest else math.inf,
+                              "phase_error": json_float(ex.get("phase_error"))}
     return out
 
 
-def macros(s: dict, perf: dict, wp: dict) -> str:
-    lines = ["% Numbers of the performance study (issue 6), Timofeev et al. (2019) extension.",
+# What the stage's record holds (results/report/performance.json).
+RECORD_WHAT = "the performance stage's numbers for the report (paper/generated/performance_macros.tex) and the README"
+
+
+def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
+    lines = MacroFile(["% Numbers of the performance study (issue 6), Timofeev et al. (2019) extension.",
              "% Generated by workflow/scripts/performance_report.py (Snakemake rule performance_report); do not edit.",
-             "% Timings are CPU time on the machine that ran the workflow: not deterministic."]
-    add = lambda n, v: lines.append(ps.macro(n, v))  # noqa: E731
+             "% Timings are CPU time on the machine that ran the workflow: not deterministic."])
+    add = lines.add
     add("PerfDigits", perf["digits"])
     add("PerfNImpacts", perf["n_impacts"])
     add("PerfSettledPeriods", perf["settled_periods"])
@@ -112,51 +119,51 @@ def macros(s: dict, perf: dict, wp: dict) -> str:
     add("PerfIvpRtolMin", _m(min(rtols)) if rtols else "---")
     add("PerfSiconosAvailable", _yes(s["siconos"]["available"]))
     sic = [r for r in wp["runs"] if r["family"] == "Moreau-Jean"]
-    add("PerfSiconosDetail", ps.tex_escape(s["siconos"]["detail"]).replace("/", "/\\allowbreak "))
+    add("PerfSiconosDetail", tex_escape(s["siconos"]["detail"]).replace("/", "/\\allowbreak "))
     add("PerfSiconosRuns", len(sic))
     for case, c in s["cases"].items():
         C = CASE_MACRO[case]
         add(f"Perf{C}ExactError", _m(c["exact_best_error"]))
-        add(f"Perf{C}ExactCost", ps.tex_time(c["exact_cost"]))
+        add(f"Perf{C}ExactCost", tex_time(c["exact_cost"]))
         add(f"Perf{C}BestIvpError", _m(c["best_ivp_error"]))
         add(f"Perf{C}BestIvpErrorMethod", c["best_ivp_error_method"] or "---")
         for key, name in (("alg1", "AlgOne"), ("RK4", "RkFour"), ("Moreau-Jean", "MoreauJean")):
             if f"{key}_best_error" in c:
                 add(f"Perf{C}{name}Error", _m(c[f"{key}_best_error"]))
-                add(f"Perf{C}{name}Cost", ps.tex_time(c[f"{key}_min_cost"]))
+                add(f"Perf{C}{name}Cost", tex_time(c[f"{key}_min_cost"]))
         for lev, t in zip(LEVEL, s["targets"]):
             L = c["levels"][f"{t:g}"]
             add(f"Perf{C}Speedup{lev}", _speedup(L["speedup"]))
             add(f"Perf{C}BestIvp{lev}", L["best_ivp_method"] or "none")
-            add(f"Perf{C}BestIvpCost{lev}", ps.tex_time(L["best_ivp_cost"]))
-            add(f"Perf{C}ExactCost{lev}", ps.tex_time(L["exact_cost"]))
+            add(f"Perf{C}BestIvpCost{lev}", tex_time(L["best_ivp_cost"]))
+            add(f"Perf{C}ExactCost{lev}", tex_time(L["exact_cost"]))
             add(f"Perf{C}SpeedupRkFour{lev}", _speedup(L["speedup_vs_rk4"]))
     g = s["cost_growth"]
-    add("PerfCostPerImpact", ps.tex_time(g["per_impact_median"]))
-    add("PerfCostPerImpactMin", ps.tex_time(g["per_impact_min"]))
-    add("PerfCostPerImpactMax", ps.tex_time(g["per_impact_max"]))
+    add("PerfCostPerImpact", tex_time(g["per_impact_median"]))
+    add("PerfCostPerImpactMin", tex_time(g["per_impact_min"]))
+    add("PerfCostPerImpactMax", tex_time(g["per_impact_max"]))
     add("PerfCostPerImpactSpread", f"{g['per_impact_spread']:.2f}")
     add("PerfCostExponent", f"{g['exponent_cost_vs_impacts']:.3f}")
     h = s["hardcases"]
     add("PerfHardCasesTotal", h["total"])
     add("PerfHardCasesPassed", h["passed"])
-    add("PerfHardCasesSlowest", ps.tex_escape(h["slowest"]))
-    add("PerfHardCasesSlowestTime", ps.tex_time(h["slowest_seconds"]))
-    add("PerfHardCasesTotalTime", ps.tex_time(h["total_seconds"]))
+    add("PerfHardCasesSlowest", tex_escape(h["slowest"]))
+    add("PerfHardCasesSlowestTime", tex_time(h["slowest_seconds"]))
+    add("PerfHardCasesTotalTime", tex_time(h["total_seconds"]))
     r = s["reference_speed"]
-    add("PerfRefSteadyTime", ps.tex_time(r["steady_state_seconds"]))
+    add("PerfRefSteadyTime", tex_time(r["steady_state_seconds"]))
     add("PerfRefSpeedup", _speedup(r["speedup_vs_fastest_crosscheck"]))
     add("PerfRefSpeedupTarget", f"{r['speedup_target']:g}" if math.isfinite(r["speedup_target"]) else "---")
-    add("PerfRefTimeTarget", ps.tex_time(r["exact_time_target_s"]))
+    add("PerfRefTimeTarget", tex_time(r["exact_time_target_s"]))
     add("PerfRefCrosscheckMethod", r["fastest_crosscheck"] or "---")
     add("PerfRefCrosscheckRtol", _m(r["crosscheck_rtol"]))
     add("PerfRefPhaseError", _m(r["phase_error"]))
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def table(wp: dict, perf: dict) -> str:
     targets = [float(t) for t in perf["targets"]]
-    head = " & ".join([r"Method"] + [rf"to ${ps.tex_sci(t, 1)}$" for t in targets] + ["Best error", "its cost"])
+    head = " & ".join([r"Method"] + [rf"to ${tex_sci(t, 1)}$" for t in targets] + ["Best error", "its cost"])
     lines = ["% CPU time per run to reach each error, best error reached (issue 6, work-precision study).",
              "% Generated by workflow/scripts/performance_report.py (Snakemake rule performance_report); do not edit.",
              "% Timings are CPU time on the machine that ran the workflow: not deterministic.",
@@ -168,29 +175,34 @@ def table(wp: dict, perf: dict) -> str:
         for fam, label in FAMILY_LABEL.items():
             if fam not in s["methods"]:
                 if fam == "Moreau-Jean" and not wp["siconos"]["available"]:
-                    lines.append(rf"{label} & \multicolumn{{{ncol - 1}}}{{l}}{{not available: {ps.tex_escape(wp['siconos']['detail'])}}} \\")
+                    lines.append(rf"{label} & \multicolumn{{{ncol - 1}}}{{l}}{{not available: {tex_escape(wp['siconos']['detail'])}}} \\")
                 continue
             m = s["methods"][fam]
-            cells = [ps.tex_time(ps.num(m["cost_to_reach"][f"{t:g}"])) for t in targets]
-            best = ps.num(m["best_error"])
-            cells += [rf"${ps.tex_sci(best)}$" if math.isfinite(best) else "---", ps.tex_time(ps.num(m["cost_at_best"]))]
+            cells = [tex_time(json_float(m["cost_to_reach"][f"{t:g}"])) for t in targets]
+            best = json_float(m["best_error"])
+            cells += [rf"${tex_sci(best)}$" if math.isfinite(best) else "---", tex_time(json_float(m["cost_at_best"]))]
             lines.append(" & ".join([label] + cells) + r" \\")
     lines += [r"\bottomrule", r"\end{tabular}", ""]
     return "\n".join(lines)
 
 
-def main(performance: dict, in_wp, in_growth, in_hard, in_ref, out_macros, out_table, out_summary) -> dict:
-    wp = ps.read_json(in_wp)
-    s = summarize(wp, ps.read_json(in_growth), ps.read_json(in_hard), ps.read_json(in_ref), performance)
-    ps.write_json(out_summary, s)
+def main(performance: dict, in_wp, in_growth, in_hard, in_ref, out_record, out_macros, out_table,
+         out_summary) -> dict:
+    """Write the summary, the stage's record (``out_record``, JSON) and from it the macros
+    (``out_macros``), and the work-precision table."""
+    wp = read_json(in_wp)
+    s = summarize(wp, read_json(in_growth), read_json(in_hard), read_json(in_ref), performance)
+    write_json(out_summary, s)
+    write_json(out_record, macros(s, performance, wp).record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_macros).write_text(macros(s, performance, wp))
+    Path(out_macros).write_text(render_macros(read_json(out_record)))
     Path(out_table).write_text(table(wp, performance))
     return s
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    ps.logger(sm.log[0], "performance_report").info("writing %s", sm.output.macros)
-    main(json.loads(sm.params.performance), sm.input.work_precision, sm.input.cost_growth, sm.input.hardcases,
-         sm.input.reference_speed, sm.output.macros, sm.output.table, sm.output.summary)
+    cfg, log = start_stage(sm, "performance_report")
+    log.info("writing %s", sm.output.macros)
+    main(cfg["performance"], sm.input.work_precision, sm.input.cost_growth, sm.input.hardcases,
+         sm.input.reference_speed, sm.output.record, sm.output.macros, sm.output.table, sm.output.summary)

@@ -1,38 +1,26 @@
 """Writes the README's block of results (figures/readme_summary.md) from the workflow's outputs.
 
-Every number the README states comes from here: the same generated macro files the report
-uses (paper/generated/*_macros.tex) and the impact tables (figures/impacts_*.csv). Only
-results that a rerun reproduces exactly are quoted: timings change from run to run and stay
-in the report, so that a user's own run leaves the README's copy current. The README
-carries a verbatim copy of this file between its ``BEGIN generated`` and ``END generated``
-markers; tests/test_readme.py checks that the copy is current.
+Every number the README states comes from here: the report stages' records
+(results/report/{verdict,orbits,performance,sweeps}.json, the same records their TeX macro
+files are rendered from, :class:`impactdamper.reporting.latex.MacroFile`) and the impact
+tables (figures/impacts_*.csv). Only results that a rerun reproduces exactly are quoted:
+timings change from run to run and stay in the report, so that a user's own run leaves the
+README's copy current. The README carries a verbatim copy of this file between its ``BEGIN
+generated`` and ``END generated`` markers; tests/workflow/test_readme.py checks that the copy
+is current.
 """
 
-
 import csv
-import re
 import sys
 from pathlib import Path
 
-MACRO = re.compile(r"\\newcommand\{\\([A-Za-z]+)\}\{(.*)\}\s*$")
+from impactdamper.reporting.latex import macro_texts
+from impactdamper.reporting.records import read_json
 
 
-def read_macros(paths: list[str]) -> dict[str, str]:
-    """\\newcommand values as plain text (math markup removed)."""
-    out = {}
-    for path in paths:
-        for line in Path(path).read_text().splitlines():
-            m = MACRO.match(line.strip())
-            if m:
-                out[m.group(1)] = plain(m.group(2))
-    return out
-
-
-def plain(tex: str) -> str:
-    text = tex.replace(r"\ensuremath", "").replace(r"\,", " ").replace(r"\textmu ", "µ").replace(r"\textmu", "µ")
-    text = re.sub(r"\s*\\times\s*10\^\{([-0-9]+)\}", r"e\1", text)
-    text = text.replace(r"$\to$", "->").replace(r"$\times$", "x").replace(r"\mbox{--}", "–").replace("--", "–").replace("{", "").replace("}", "").replace("\\", "")
-    return re.sub(r"\s+", " ", text).strip()
+def read_records(paths: list[str]) -> dict[str, str]:
+    """The records' macros by name, as plain text."""
+    return macro_texts(*(read_json(path) for path in paths))
 
 
 def impact_table(path: str) -> list[str]:
@@ -83,7 +71,7 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         "",
         *impact_table(located_csv),
         "",
-        f"At the stated case the cycle is one impact per period (`figures/impacts_stated.csv`):",
+        "At the stated case the cycle is one impact per period (`figures/impacts_stated.csv`):",
         "",
         *impact_table(stated_csv),
         "",
@@ -114,13 +102,13 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main(macro_files: list[str], stated_csv: str, located_csv: str, output: str) -> None:
-    Path(output).write_text(summary(read_macros(macro_files), stated_csv, located_csv))
+def main(records: list[str], stated_csv: str, located_csv: str, output: str) -> None:
+    Path(output).write_text(summary(read_records(records), stated_csv, located_csv))
 
 
 if __name__ == "__main__":
     if "snakemake" in globals():
         sm = globals()["snakemake"]
-        main(list(sm.input.macros), sm.input.stated, sm.input.located, sm.output[0])
-    else:  # python readme_summary.py OUT STATED_CSV LOCATED_CSV MACRO...
+        main(list(sm.input.records), sm.input.stated, sm.input.located, sm.output[0])
+    else:  # python readme_summary.py OUT STATED_CSV LOCATED_CSV RECORD...
         main(sys.argv[4:], sys.argv[2], sys.argv[3], sys.argv[1])

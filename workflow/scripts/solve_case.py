@@ -13,9 +13,11 @@ Outputs (``case`` is ``stated`` or ``located``):
   plus the next impact (and a margin of ``FIG2B_MARGIN`` T).
 """
 
+
 import numpy as np
 
-import replication as rep
+from impactdamper.studies import replication as rep
+from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
 
 # How far past the next cycle's first impact Fig. 2b runs, and how far before t1, in T.
 FIG2B_MARGIN = 0.12
@@ -63,9 +65,9 @@ def main(case: str, parameters: dict, solver: dict, out_json, out_fig2a, out_fig
         "algorithm1": rep.alg1_summary(a),
         "algorithm2": steady,
     }
-    rep.write_json(out_json, result)
-    rep.write_csv(out_fig2a, CURVE_COLUMNS, _alg1_curve(a) if a.exists else [])
-    rep.write_csv(out_fig2b, CURVE_COLUMNS, _alg2_curve(s, steady["impact_table"]))
+    write_json(out_json, result, sort_keys=False)
+    write_csv(out_fig2a, CURVE_COLUMNS, _alg1_curve(a) if a.exists else [])
+    write_csv(out_fig2b, CURVE_COLUMNS, _alg2_curve(s, steady["impact_table"]))
     return result
 
 
@@ -73,14 +75,14 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
+    cfg, _ = start_stage(sm)
     case = sm.params.case
     if case == "stated":
-        params, origin = rep.json.loads(sm.params.reference), "the paper's stated reference case (config: reference)"
+        params, origin = cfg["reference"], "the paper's stated reference case (config: reference)"
     else:
-        located = rep.read_json(sm.input.located)["located"]
+        located = read_json(sm.input.located)["located"]
         params, origin = located["parameters"], located["rule"]
-    out = main(case, params, rep.json.loads(sm.params.solver), sm.output.json, sm.output.fig2a, sm.output.fig2b, origin)
+    out = main(case, params, cfg["solver"], sm.output.json, sm.output.fig2a, sm.output.fig2b, origin)
     print(f"{case}: gap {out['parameters']['gap']}, claim (a) {out['algorithm1']['claim_a']}, "
           f"regime {out['algorithm2']['regime']}, T_c = {out['algorithm2']['T_c_over_T']} T, "
           f"claim (b) {out['algorithm2']['claim_b']}", file=sys.stderr)

@@ -11,9 +11,12 @@ Output: ``figures/sweep_alg1.csv`` (value, exists, admissible, stable, largest m
 modulus, closing velocity over x_st omega, impact phase, smallest interior gap over x_st).
 """
 
+
 import numpy as np
 
-import sweepstage as st
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper import algorithm1
 from impactdamper.analysis.sweeps import with_value
 
@@ -44,10 +47,10 @@ def row(base, parameter: str, value: float, gap_tol: float) -> dict:
 
 
 def main(reference: dict, solver: dict, sweep: dict, out_csv, log=None) -> list[dict]:
-    base = st.parameters(reference)
-    values = st.grid(sweep["start"], sweep["stop"], sweep["points"])
-    rows = [row(base, st.SWEEP_PARAMETER, v, float(solver["gap_tol"])) for v in values]
-    st.write_csv(out_csv, rows, COLUMNS)
+    base = parameters(reference)
+    values = gs.grid(sweep["start"], sweep["stop"], sweep["points"])
+    rows = [row(base, gs.SWEEP_PARAMETER, v, float(solver["gap_tol"])) for v in values]
+    write_csv(out_csv, COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("%d values, orbit exists at %d, admissible at %d", len(rows), sum(r["exists"] for r in rows),
                  sum(r["admissible"] for r in rows))
@@ -56,8 +59,6 @@ def main(reference: dict, solver: dict, sweep: dict, out_csv, log=None) -> list[
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    log = st.logger(sm.log[0], "sweep_alg1")
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+    cfg, log = start_stage(sm, "sweep_alg1", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"],
          sm.output.csv, log=log)

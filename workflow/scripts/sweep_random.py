@@ -10,37 +10,40 @@ change the result) show the others. Every ``random_every``-th sweep point gets
 Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
 """
 
-import sweepstage as st
+
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
+from impactdamper.reporting.records import Timer, joined, start_stage, write_csv
 from impactdamper.analysis.sweeps import random_starts
 
 
 def points_of(sweep: dict):
     """(indices, values) of the sweep points that get random starts."""
-    values = st.grid(sweep["start"], sweep["stop"], sweep["points"])
+    values = gs.grid(sweep["start"], sweep["stop"], sweep["points"])
     idx = list(range(0, len(values), int(sweep["random_every"])))
     return idx, values[idx]
 
 
 def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=None) -> list[dict]:
-    base = st.parameters(reference)
-    settings = st.settings(sweep, solver)
+    base = parameters(reference)
+    settings = sweep_settings(sweep, solver)
     idx, values = points_of(sweep)
-    mine = st.chunk_indices(len(idx), int(sweep["random_chunks"]), chunk)
+    mine = chunk_indices(len(idx), int(sweep["random_chunks"]), chunk)
     indices = [idx[i] for i in mine]
-    with st.Timer() as timer:
+    with Timer() as timer:
         def progress(i, n, pt):
             if log is not None and ((i + 1) % max(n // 10, 1) == 0 or i + 1 == n):
-                log.info("random starts: %d/%d values (%s = %.6g)", i + 1, n, st.SWEEP_PARAMETER, pt.value)
+                log.info("random starts: %d/%d values (%s = %.6g)", i + 1, n, gs.SWEEP_PARAMETER, pt.value)
 
-        res = random_starts(base, st.SWEEP_PARAMETER, values[mine], int(sweep["random_starts"]), int(sweep["seed"]),
+        res = random_starts(base, gs.SWEEP_PARAMETER, values[mine], int(sweep["random_starts"]), int(sweep["seed"]),
                             indices=indices, settings=settings, progress=progress)
     rows = []
     for i, starts in zip(indices, res):
         for j, pt in enumerate(starts):
             rows.append({"index": i, "start_index": j, "value": pt.value, "label": pt.label, "regime": pt.regime,
                          "k": pt.period_multiple, "z": pt.impacts_per_cycle, "x1_max": pt.x1_max,
-                         "method": pt.method, "periods": pt.periods, "velocities": st.joined(pt.velocities)})
-    st.write_csv(out_csv, rows, st.RANDOM_COLUMNS)
+                         "method": pt.method, "periods": pt.periods, "velocities": joined(pt.velocities)})
+    write_csv(out_csv, gs.RANDOM_COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("chunk %d: %d runs, wall %.1f s, cpu %.1f s", chunk, len(rows), timer.wall, timer.cpu)
     return rows
@@ -48,8 +51,6 @@ def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=No
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    log = st.logger(sm.log[0], "sweep_random")
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
+    cfg, log = start_stage(sm, "sweep_random", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"],
          int(sm.wildcards.chunk), sm.output.csv, log=log)

@@ -3,6 +3,9 @@ numbers for the report, as LaTeX macros and a booktabs table (no number is typed
 
 Outputs:
 
+* ``results/report/sweeps.json`` -- the stage's record
+  (:class:`impactdamper.reporting.latex.MacroFile`), from which the macros below and the
+  README summary's numbers are rendered;
 * ``paper/generated/sweep_macros.tex`` -- the sweep's extent and settling cap, the regime
   sequence of each direction (runs of at least ``MIN_RUN`` points), the three closed-form
   checks (each difference with the tolerance it is held to, and for the lift-off the offset
@@ -20,13 +23,15 @@ Outputs:
   inside the jobs). The only output of the stage that changes from run to run.
 """
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 
-import sweepstage as st
+from impactdamper.studies import gapsweep as gs
+from impactdamper.reporting import latex
+from impactdamper.reporting.latex import MacroFile, render_macros
+from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage, write_json
 
 # A run of one label shorter than this many sweep points is not a "main" regime (the chaotic
 # bands flicker between np and narrow periodic windows).
@@ -47,6 +52,8 @@ DEFAULT_INPUTS = {"settings": "figures/sweep_gap_settings.json", "special": "fig
                   "map_curves": ["figures/map_theta_curves.csv", "figures/map_damping_curves.csv"],
                   "map_settings": ["figures/map_theta_settings.json", "figures/map_damping_settings.json"]}
 MAP_MACRO = {"theta": "Theta", "damping": "Damping"}
+# What the stage's record holds (results/report/sweeps.json).
+RECORD_WHAT = "the sweeps stage's numbers for the report (paper/generated/sweep_macros.tex) and the README"
 # Cells of the bistable label a map row must hold beyond U1/x_st to count as on it.
 BISTABLE_MIN_CELLS = 3
 # Rows in a row all on the bistable label that end the alternating stretch.
@@ -63,27 +70,17 @@ def _num(x, digits: int = 10) -> str:
 
 def tex_sci(x, digits: int = 2) -> str:
     """x as LaTeX math: 6.6\\times10^{-6}; 10^{-9} for an exact power of ten; '--' for None."""
-    if x is None or not math.isfinite(x):
-        return "\\text{--}"
-    if x == 0:
-        return "0"
-    e = math.floor(math.log10(abs(x)))
-    m = abs(x) / 10**e
-    if round(m, digits - 1) >= 10:
-        m, e = m / 10, e + 1
-    sign = "-" if x < 0 else ""
-    if abs(m - 1.0) < 1e-12:  # a power of ten (a tolerance)
-        return f"{sign}10^{{{e}}}"
-    return f"{sign}{m:.{digits - 1}f}\\times10^{{{e}}}"
+    return latex.tex_sci(x, digits, missing="\\text{--}", powers_of_ten=True)
 
 
-def _macro(name: str, value) -> str:
-    return f"\\newcommand{{\\{name}}}{{{value}}}"
+def _macro(name: str, value) -> tuple:
+    """A macro of the stage's record (:class:`impactdamper.reporting.latex.MacroFile`)."""
+    return name, value
 
 
 def main_runs(rows, direction: str):
     rs = [r for r in rows if r["direction"] == direction]
-    runs = st.runs([float(r["value"]) for r in rs], [r["label"] for r in rs])
+    runs = gs.runs([float(r["value"]) for r in rs], [r["label"] for r in rs])
     return [r for r in runs if r[3] >= MIN_RUN]
 
 
@@ -121,11 +118,11 @@ def special_match(t: dict, special: list[dict], tol: float):
     nearest to it and within tol: (text, gap), or None."""
     value = float(t["value"])
     cands = [s for s in special if s["label"] in (t["before"], t["after"])
-             and abs(st.num(s["gap"]) - value) <= tol]
+             and abs(cell_float(s["gap"]) - value) <= tol]
     if not cands:
         return None
-    s = min(cands, key=lambda s: abs(st.num(s["gap"]) - value))
-    return f"{SPECIAL_TEXT.get(s['kind'], s['kind'])} of {s['label']}", st.num(s["gap"])
+    s = min(cands, key=lambda s: abs(cell_float(s["gap"]) - value))
+    return f"{SPECIAL_TEXT.get(s['kind'], s['kind'])} of {s['label']}", cell_float(s["gap"])
 
 
 def mirror_match(t: dict, trans: list[dict], tol: float):
@@ -147,7 +144,7 @@ def _run_intervals(rows, trans, direction: str):
     values = [float(r["value"]) for r in rs]
     at = [float(t["value"]) for t in trans if t["direction"] == direction]
     out = []
-    for lab, a, b, _ in st.runs(values, [r["label"] for r in rs]):
+    for lab, a, b, _ in gs.runs(values, [r["label"] for r in rs]):
         i, j = values.index(a), values.index(b)
         lo = values[0] if i == 0 else next((v for v in at if values[i - 1] < v <= a), 0.5 * (values[i - 1] + a))
         hi = values[-1] if j == len(values) - 1 else next((v for v in at if b <= v < values[j + 1]),
@@ -197,7 +194,7 @@ def np_only_labels(rows) -> list[str]:
     down = {float(r["value"]): r["label"] for r in rows if r["direction"] == "down"}
     values = sorted(set(up) & set(down))
     out = []
-    for key, a, b, n in st.runs(values, [f"{up[v]}|{down[v]}" for v in values]):
+    for key, a, b, n in gs.runs(values, [f"{up[v]}|{down[v]}" for v in values]):
         u, d = key.split("|")
         if n >= 2 and (u == "np") != (d == "np"):
             lab = d if u == "np" else u
@@ -224,7 +221,7 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
     Returns {"label", "lo", "hi", "on", "off"} (slow-parameter values, row counts) or None.
     """
     slow, gaps, labels = read_map(map_csv)
-    u1 = np.array([float(r["first_contact"]) for r in st.read_csv(curves_csv)])
+    u1 = np.array([float(r["first_contact"]) for r in read_csv(curves_csv)])
     beyond = gaps[None, :] > u1[:, None]
     counts: dict[str, int] = {}
     for lab in labels[beyond]:
@@ -253,7 +250,7 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
 
 
 # --- outputs -----------------------------------------------------------------------------------
-def macros(rows, trans, checks_doc, settings, maps: dict) -> str:
+def macros(rows, trans, checks_doc, settings, maps: dict) -> MacroFile:
     checks = {c["name"]: c for c in checks_doc["checks"]}
     values = sorted({float(r["value"]) for r in rows})
     sweep, solver = settings["sweep"], settings["solver"]
@@ -298,7 +295,7 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> str:
           _macro("SweepMatchSteps", f"{1 / MATCH_STEPS:g}")]
     for name, (map_csv, curves_csv, map_settings) in maps.items():
         M = MAP_MACRO[name]
-        ms = json.loads(Path(map_settings).read_text())["maps"]
+        ms = read_json(map_settings)["maps"]
         b = bistable_rows(map_csv, curves_csv)
         m += [_macro(f"Map{M}MaxPeriods", int(ms["max_periods"])),
               _macro(f"Map{M}MaxPeriodsAfterNonperiodic", int(ms["max_periods_after_nonperiodic"])),
@@ -307,7 +304,7 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> str:
               _macro(f"Map{M}BistableHigh", f"{b['hi']:.3f}" if b else "--"),
               _macro(f"Map{M}BistableRowsOn", b["on"] if b else 0),
               _macro(f"Map{M}BistableRowsOff", b["off"] if b else 0)]
-    return "\n".join(m) + "\n"
+    return MacroFile(m)
 
 
 def table(rows, trans, checks_doc, special) -> str:
@@ -394,7 +391,7 @@ def table(rows, trans, checks_doc, special) -> str:
 
 
 def timing(sweep_timing, map_timings) -> str:
-    sw = json.loads(Path(sweep_timing).read_text())
+    sw = read_json(sweep_timing)
     t = ["% Generated by workflow/scripts/sweep_report.py (issue 5): benchmark, changes from run to run.",
          f"\\newcommand{{\\SweepBenchPoints}}{{{sw['points']}}}",
          f"\\newcommand{{\\SweepBenchProcesses}}{{{sw['processes']}}}",
@@ -404,7 +401,7 @@ def timing(sweep_timing, map_timings) -> str:
          f"\\newcommand{{\\SweepBenchLoad}}{{{sw['machine_before']['load_average'][0]:.1f}}}",
          f"\\newcommand{{\\SweepBenchTarget}}{{{sw['target_wall_s']:.0f}}}"]
     for path in map_timings:
-        mt = json.loads(Path(path).read_text())
+        mt = read_json(path)
         name = MAP_MACRO[mt["map"]]
         t += [f"\\newcommand{{\\Map{name}Cells}}{{{mt['shape'][0]} $\\times$ {mt['shape'][1]}}}",
               f"\\newcommand{{\\Map{name}Chunks}}{{{mt['chunks']}}}",
@@ -414,39 +411,40 @@ def timing(sweep_timing, map_timings) -> str:
     return "\n".join(t) + "\n"
 
 
-def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps: dict, out_macros,
+def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps: dict, out_record, out_macros,
            out_table) -> None:
-    """The deterministic outputs (macros and table), from the committed figures/ files.
-    ``maps``: map name -> (map CSV, curves CSV, settings JSON)."""
-    rows = st.read_csv(sweep_csv)
-    trans = st.read_csv(transitions_csv)
-    checks_doc = json.loads(Path(checks_json).read_text())
-    settings = json.loads(Path(settings_json).read_text())
-    special = st.read_csv(special_csv)
+    """The deterministic outputs (the stage's record, JSON; from it the macros; the table), from
+    the committed figures/ files. ``maps``: map name -> (map CSV, curves CSV, settings JSON)."""
+    rows = read_csv(sweep_csv)
+    trans = read_csv(transitions_csv)
+    checks_doc = read_json(checks_json)
+    settings = read_json(settings_json)
+    special = read_csv(special_csv)
+    write_json(out_record, macros(rows, trans, checks_doc, settings, maps).record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_macros).write_text(macros(rows, trans, checks_doc, settings, maps))
+    Path(out_macros).write_text(render_macros(read_json(out_record)))
     Path(out_table).write_text(table(rows, trans, checks_doc, special))
 
 
-def main(sweep_csv, transitions_csv, checks_json, sweep_timing, map_timings, out_macros, out_table, out_timing, *,
+def main(sweep_csv, transitions_csv, checks_json, sweep_timing, map_timings, out_record, out_macros, out_table,
+         out_timing, *,
          settings_json=DEFAULT_INPUTS["settings"], special_csv=DEFAULT_INPUTS["special"], map_csvs=None,
          map_curves=None, map_settings=None) -> None:
     map_csvs = map_csvs or DEFAULT_INPUTS["maps"]
     map_curves = map_curves or DEFAULT_INPUTS["map_curves"]
     map_settings = map_settings or DEFAULT_INPUTS["map_settings"]
-    maps = {json.loads(Path(s).read_text())["map"]: (c, k, s) for c, k, s in zip(map_csvs, map_curves, map_settings)}
-    report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps, out_macros, out_table)
+    maps = {read_json(s)["map"]: (c, k, s) for c, k, s in zip(map_csvs, map_curves, map_settings)}
+    report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps, out_record, out_macros,
+           out_table)
     Path(out_timing).write_text(timing(sweep_timing, map_timings))
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     # Inputs named in the rule; DEFAULT_INPUTS for a rule that predates them.
     got = {k: getattr(sm.input, k, None) or DEFAULT_INPUTS[k] for k in DEFAULT_INPUTS}
     main(sm.input.sweep, sm.input.transitions, sm.input.checks, sm.input.sweep_timing, list(sm.input.map_timings),
-         sm.output.macros, sm.output.table, sm.output.timing, settings_json=str(got["settings"]),
+         sm.output.record, sm.output.macros, sm.output.table, sm.output.timing, settings_json=str(got["settings"]),
          special_csv=str(got["special"]), map_csvs=list(got["maps"]), map_curves=list(got["map_curves"]),
          map_settings=list(got["map_settings"]))

@@ -4,246 +4,54 @@ changes along the gap sweep, located by bisection and checked against analytic v
 1. Every change of Peterka's label z/k between neighbouring sweep points is bisected
    (:func:`impactdamper.analysis.sweeps.find_transitions`; each midpoint starts from the motion on the
    first label's side, as a finer sweep would) to ``transition_xtol``.
-2. Three transitions have analytic values. (a) and (b) are located a second time with every
-   point simulated (no closed form, no orbit continuation: ``continuation=False``), to
-   ``check_xtol``, so the check is independent of the formula; (c) as said below:
-
-   (a) lift-off of the persistent contact, upward from ``stuck``: the contact force
-       F = -m2 x1'' - c2 Delta0 of the joined bodies' forced response first reaches zero at
-       Delta0/x_st = -(theta/N)^2/|1 - (1 + mu) theta^2 + 2 i delta1 theta|
-       (:func:`impactdamper.analysis.sweeps.stuck_liftoff_gap`);
-   (b) first contact, downward from ``0/1``: the free forced response reaches the stop when
-       Delta0 falls below U1 = |x2p_hat - x1p_hat| (eq. 12, :func:`~impactdamper.analysis.sweeps.no_contact_gap`);
-   (c) Algorithm No. 1's orbit starts to cross the stop between impacts (its interior gap
-       minimum reaches zero; bisection on its admissibility,
-       :func:`~impactdamper.analysis.sweeps.algorithm1_grazing_gap`), against where the downward sweep's
-       one-impact motion 1/1 ends -- located by the sweep's own bisection (orbit continuation),
-       since from a neighbour's state at a finite step a plain simulation can leave the shrinking
-       basin of the one-impact orbit early; a simulation started on the orbit itself confirms
-       that it is the settled motion just above the grazing and not just below.
-
-   Each analytic value is also computed numerically a second way: (a) the least contact force
-   over a sampled and refined period of the model's own contact-force functional, root-found in
-   the gap; (b) the largest x2p - x1p of the free mode's forced response, sampled and refined;
-   (c) a root of Algorithm No. 1's interior gap minimum in the gap (brentq), and the grazing
-   point found by pseudo-arclength continuation of the orbit (:mod:`impactdamper.analysis.orbits`).
+2. The three transitions with analytic values (lift-off of the persistent contact, first
+   contact, Algorithm No. 1's grazing), each computed numerically a second way and located
+   again by the sweep (:func:`impactdamper.studies.transitions.checks`, whose module docstring
+   says how).
 
 Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 ``figures/sweep_checks.json`` (the three checks).
 """
 
-import math
 import multiprocessing
-import pickle
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import replace
 
-import numpy as np
-import scipy.optimize
-
-import sweepstage as st
-from impactdamper import algorithm1
-from impactdamper.core.linear import free_mode
-from impactdamper.core.model import Model
-from impactdamper.analysis.sweeps import (algorithm1_grazing_gap, find_transitions, locate_transition, no_contact_gap,
-                                 solve_point, stuck_liftoff_gap, with_value)
-
-try:
-    from impactdamper.analysis import orbits
-except ImportError:
-    orbits = None
+from impactdamper.reporting.records import Timer, clean, start_stage, write_csv, write_json
+from impactdamper.studies import gapsweep as gs
+from impactdamper.studies import transitions as tr
+from impactdamper.studies.config import parameters, sweep_settings
 
 TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped",
                       "one_sided"]
-# Samples per period before refining an extremum of a periodic function of time.
-EXTREMUM_SAMPLES = 2048
 
 
-def _find(args):
-    base, parameter, points, direction, settings, xtol = args
-    return find_transitions(base, parameter, points, direction, settings=settings, xtol=xtol)
-
-
-def _extremum(f, T: float, sign: float) -> float:
-    """max (sign = 1) or min (sign = -1) of a T-periodic f over a period: samples, then refined."""
-    ts = np.linspace(0.0, T, EXTREMUM_SAMPLES, endpoint=False)
-    vals = np.array([sign * f(t) for t in ts])
-    i = int(np.argmax(vals))
-    res = scipy.optimize.minimize_scalar(lambda t: -sign * f(t), bounds=(ts[i] - T / EXTREMUM_SAMPLES,
-                                                                         ts[i] + T / EXTREMUM_SAMPLES),
-                                         method="bounded", options={"xatol": 1e-14 * T})
-    return sign * max(vals[i], -float(res.fun))
-
-
-def least_contact_force(p) -> float:
-    """min over a period of the contact force of the joined bodies' forced response, relative."""
-    model = Model(p)
-    mode, fn = model.stuck, model.contact_force
-    return _extremum(lambda t: float(fn.of_state(t, mode.forced(t))), p.T, -1.0) / model.force_scale
-
-
-def largest_relative_displacement(p) -> float:
-    """max over a period of x2p - x1p of the free mode's forced response, over x_st."""
-    mode = free_mode(p)
-    return _extremum(lambda t: float(mode.forced(t)[1] - mode.forced(t)[0]), p.T, 1.0) / p.x_st
-
-
-# Distance from the grazing at which the simulation check starts on Algorithm No. 1's orbit.
-SIMULATION_OFFSET = 1e-4
-FINITE_STEP_NOTE = ("with every point simulated from its neighbour's state, the downward sweep leaves 1/1 "
-                    "a little above the grazing (the one-impact orbit's basin shrinks as its gap minimum "
-                    "approaches zero)")
-
-
-def _settles_on_alg1(base, gap: float, settings) -> str:
-    """Label of the motion simulated from Algorithm No. 1's orbit (state 1e-9 x_st off it)."""
-    p = with_value(base, "gap", gap)
-    a = algorithm1(p)
-    if not a.exists:
-        return "no orbit"
-    state = a.sample(np.array([p.T - a.t_impact]))[0]  # at t = T (phase 0), inside the flight
-    state = state + np.array([1e-9, 0.0, 0.0, 0.0]) * p.x_st
-    return solve_point(p, gap, state=state, settings=replace(settings, continuation=False)).label
-
-
-def _run(points, label_ok, after: bool):
-    """Index pairs (i, i+1) in sweep order where a run of labels satisfying label_ok ends."""
-    for i in range(len(points) - 1):
-        if label_ok(points[i]) and not label_ok(points[i + 1]):
-            return i
-    return None
-
-
-def _check(name, description, analytic, numeric, located, bracket, method):
-    """One check; ``located_bracket`` is [lower, upper, label before, label after, stopped early]."""
-    return {
-        "name": name, "description": description, "analytic": analytic, "numeric": numeric,
-        "located": located, "located_bracket": bracket, "located_method": method,
-        "analytic_minus_numeric": None if numeric is None else analytic - numeric,
-        "analytic_minus_located": None if located is None else analytic - located,
-    }
-
-
-def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> list[dict]:
-    sim = replace(settings, continuation=False)
-    out = []
-    # (a) lift-off of the persistent contact (upward sweep leaves "stuck").
-    analytic = stuck_liftoff_gap(base)
-    numeric = scipy.optimize.brentq(lambda g: least_contact_force(with_value(base, "gap", g)),
-                                    analytic - 1.0, analytic + 1.0, xtol=1e-14, rtol=1e-15)
-    i = _run(up, lambda p: p.label == "stuck", True)
-    located = bracket = None
-    if i is not None:
-        tr = locate_transition(base, parameter, up[i], up[i + 1], "up", settings=sim, xtol=xtol)
-        located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-    out.append(_check("liftoff", "persistent contact lifts off (upward sweep leaves stuck)", analytic, numeric,
-                      located, bracket, "simulation bisection from the stuck motion"))
-    if log is not None:
-        log.info("(a) analytic %.12g numeric %.12g located %s", analytic, numeric, located)
-    # (b) first contact (downward sweep leaves "0/1").
-    analytic = no_contact_gap(base)
-    numeric = largest_relative_displacement(base)
-    rdown = down[::-1]
-    i = _run(rdown, lambda p: p.label == "0/1", True)
-    located = bracket = None
-    if i is not None:
-        tr = locate_transition(base, parameter, rdown[i], rdown[i + 1], "down", settings=sim, xtol=xtol)
-        located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-    out.append(_check("first_contact", "free forced response reaches the stop (downward sweep leaves 0/1)",
-                      analytic, numeric, located, bracket, "simulation bisection from the no-contact motion"))
-    if log is not None:
-        log.info("(b) analytic %.12g numeric %.12g located %s", analytic, numeric, located)
-    # (c) Algorithm No. 1's orbit crosses the stop: bracket from the stated gap downward.
-    g0 = float(base.gap)
-    values = sorted(p.value for p in down)
-    below = [v for v in values if v <= g0][::-1]
-    adm = [bool(algorithm1(with_value(base, "gap", v)).admissible) for v in below]
-    analytic = numeric = located = bracket = None
-    extra = {}
-    if adm and adm[0] and not all(adm):
-        j = adm.index(False)
-        analytic = algorithm1_grazing_gap(base, (below[j - 1], below[j]), xtol=1e-12)
-        try:
-            numeric = scipy.optimize.brentq(lambda g: algorithm1(with_value(base, "gap", g)).min_gap,
-                                            analytic + 0.05, analytic - 0.05, xtol=1e-14, rtol=1e-15)
-        except ValueError:
-            numeric = None
-        if orbits is not None:
-            try:
-                with np.errstate(over="ignore", invalid="ignore"):
-                    o = orbits.solve_orbit(base, "alg1")
-                    br = orbits.continue_orbit(o, "gap", (below[j] - 1.0, g0), direction=-1)
-                graze = [s.value for s in br.special if s.kind == "grazing_interior"]
-                extra["continuation"] = graze[0] if graze else None
-            except (orbits.OrbitError, ValueError):
-                extra["continuation"] = None
-        # The downward sweep's one-impact motion containing the stated gap: where it ends, by
-        # the sweep's own bisection (orbit continuation). A plain simulation from the
-        # neighbour's state is not used here: near the grazing the one-impact orbit's basin
-        # shrinks, and a finite step can throw the motion onto the coexisting 4/3 motion a
-        # little before the orbit ends (see FINITE_STEP_NOTE).
-        i0 = min(range(len(rdown)), key=lambda i: abs(rdown[i].value - g0))
-        k = i0
-        while k + 1 < len(rdown) and rdown[k + 1].label == rdown[i0].label:
-            k += 1
-        if rdown[i0].label == "1/1" and k + 1 < len(rdown):
-            tr = locate_transition(base, parameter, rdown[k], rdown[k + 1], "down", settings=settings, xtol=xtol)
-            located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-        # Simulation confirms: started on Algorithm No. 1's orbit (perturbed by 1e-9) just
-        # above the grazing it settles on 1/1; just below, the orbit crosses the stop.
-        extra["simulation_above"] = _settles_on_alg1(base, analytic + SIMULATION_OFFSET, settings)
-        extra["simulation_below"] = _settles_on_alg1(base, analytic - SIMULATION_OFFSET, settings)
-    c = _check("alg1_grazing", "Algorithm No. 1's orbit starts to cross the stop between impacts "
-               "(downward sweep's 1/1 ends)", analytic, numeric, located, bracket,
-               "sweep bisection (orbit continuation) from the one-impact motion")
-    c.update(extra)
-    c["note"] = FINITE_STEP_NOTE
-    out.append(c)
-    if log is not None:
-        log.info("(c) analytic %s numeric %s located %s continuation %s", analytic, numeric, located,
-                 extra.get("continuation"))
-    return out
-
-
-def main(points_pkl, sweep: dict, out_csv, out_json, processes: int = 1, log=None) -> dict:
-    with open(points_pkl, "rb") as f:
-        data = pickle.load(f)
-    base, parameter, settings = data["base"], data["parameter"], data["settings"]
+def main(points_npz, reference: dict, solver: dict, sweep: dict, out_csv, out_json, processes: int = 1,
+         log=None) -> dict:
+    """Bisect the sweep's transitions (the points of ``points_npz``, written by sweep_gap.py with
+    the same ``reference``, ``solver`` and ``sweep`` config) and check the three analytic ones."""
+    data = gs.read_points(points_npz)
+    base, parameter, settings = parameters(reference), gs.SWEEP_PARAMETER, sweep_settings(sweep, solver)
     xtol = float(sweep["transition_xtol"])
     jobs = [(base, parameter, data[d], d, settings, xtol) for d in ("up", "down")]
-    with st.Timer() as timer:
+    with Timer() as timer:
         if processes >= 2:
             with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("fork")) as pool:
-                found = list(pool.map(_find, jobs))
+                found = list(pool.map(tr.find_both, jobs))
         else:
-            found = [_find(j) for j in jobs]
+            found = [tr.find_both(j) for j in jobs]
     rows = [t.row() for ts in found for t in ts]
-    st.write_csv(out_csv, rows, TRANSITION_COLUMNS)
+    write_csv(out_csv, TRANSITION_COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("%d transitions bisected to %g in %.1f s", len(rows), xtol, timer.wall)
     result = {"parameter": parameter, "base": base.to_dict(), "transition_xtol": xtol,
               "check_xtol": float(sweep["check_xtol"]),
-              "checks": checks(base, parameter, data["up"], data["down"], settings, float(sweep["check_xtol"]), log)}
-    st.write_json(out_json, _clean(result))
+              "checks": tr.checks(base, parameter, data["up"], data["down"], settings, float(sweep["check_xtol"]), log)}
+    write_json(out_json, clean(result), indent=2)
     return result
-
-
-def _clean(obj):
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, (np.floating,)):
-        return _clean(float(obj))
-    if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    return obj
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    log = st.logger(sm.log[0], "sweep_transitions")
-    main(sm.input.points, json.loads(sm.params.sweep), sm.output.csv, sm.output.json,
+    cfg, log = start_stage(sm, "sweep_transitions", timestamps=True, library=True)
+    main(sm.input.points, cfg["reference"], cfg["solver"], cfg["sweep"], sm.output.csv, sm.output.json,
          processes=min(int(sm.threads), 2), log=log)

@@ -13,204 +13,90 @@ The claims (the prose around Fig. 2, at Delta0/x_st = -5.8):
 Also notes the transcription slip of eq. (13) (x21s' printed as x1s' - x2s'; eq. 12 defines
 x21s = x2s - x1s, which the library follows) and what it would change.
 
-Outputs: ``figures/verdict.json``, ``figures/verdict.csv`` (one row per claim) and
-``paper/generated/verdict_macros.tex`` (a ``\\newcommand`` for every number the report quotes;
+Outputs: ``figures/verdict.json``, ``figures/verdict.csv`` (one row per claim),
+``results/report/verdict.json`` (the stage's record of its macros,
+:class:`impactdamper.reporting.latex.MacroFile`, from which the TeX file and the README
+summary's numbers are rendered) and ``paper/generated/verdict_macros.tex`` (a ``\\newcommand`` for every number the report quotes;
 numeric macros are bare numbers for math mode).
 """
 
 from pathlib import Path
 
-import claims_gather
-import replication as rep
-from impactdamper.studies.claims import Interval, distance_to
+from impactdamper.studies import verdict as vd
+from impactdamper.reporting.latex import MISSING, MacroFile, fixed, render_macros, sci
+from impactdamper.reporting.records import read_csv, read_json, start_stage, write_csv, write_json
+from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS
 
 CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
                "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",
                "located_ivp_difference", "located_ivp_confirms"]
-CLAIMS_PARAMETERS = claims_gather.PARAMETERS
+CLAIMS_PARAMETERS = SEARCH_PARAMETERS
 # Macro names of the parameters (TeX macro names are letters only).
 MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta2": "DeltaTwo", "R": "R"}
 
 
-def _difference(cc: dict, claim: str) -> str:
-    """The measured difference between the exact solver and solve_ivp behind a claim's
-    "confirms", with its tolerance."""
-    if claim == "a":
-        c = cc["algorithm1_comparison"]
-        if c["periodicity_residual"] is None:
-            return "no orbit by either method"
-        return (f"interval ends {c['max_interval_end_difference_over_T']:.1e} T, residual "
-                f"{c['periodicity_residual']:.1e} (tol {c['time_tol']:.0e}, {c['residual_tol']:.0e})")
-    c = cc["algorithm2"]["cycle_comparison"]
-    if c["reason"] and c["max_time_difference_over_T"] is None:
-        return c["reason"]
-    return (f"aligned cycles: times {c['max_time_difference_over_T']:.1e} T, velocities "
-            f"{c['max_velocity_difference_rel']:.1e} (tol {c['time_tol']:.0e}, {c['velocity_tol']:.0e})")
-
-
-def _period(k: int) -> str:
-    return "T" if k == 1 else f"{k}T"
-
-
-def claims(ref: dict, cc: dict) -> dict:
-    """The three claims' results for one case (exact and independent)."""
-    a1, a2 = ref["algorithm1"], ref["algorithm2"]
-    i1, i2 = cc["algorithm1"], cc["algorithm2"]
-    neg = a1["negative_gap_intervals"]
-    ineg = i1.get("negative_gap_intervals", [])
-    fmt_iv = lambda ivs: ", ".join(f"({x:.4f}, {y:.4f}) T" for x, y in ivs)  # noqa: E731
-    return {
-        "a": {
-            "holds": bool(a1["claim_a"]),
-            "result": (f"gap negative on {fmt_iv(neg)}" if neg else
-                       ("no negative gap: the orbit is admissible" if a1["exists"] else "no orbit: " + a1["reason"])),
-            "ivp_holds": bool(i1["claim_a"]),
-            "ivp_result": (f"gap negative on {fmt_iv(ineg)}" if ineg else "no negative gap")
-            + (f"; periodicity residual {i1['periodicity_residual']:.1e}" if "periodicity_residual" in i1 else ""),
-        },
-        "b_period": {
-            "holds": a2["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE and a2["regime"] == "multi_impact",
-            "result": f"{a2['regime'].replace('_', ' ')}, T_c = {_period(a2['period_multiple'])}" if a2["period_multiple"]
-            else "no settled period",
-            "ivp_holds": i2["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE,
-            "ivp_result": f"T_c = {_period(i2['period_multiple'])}" if i2["period_multiple"] else "no period found",
-        },
-        "b_impacts": {
-            "holds": a2["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS and a2["regime"] == "multi_impact",
-            "result": f"{a2['impacts_per_cycle']} impact(s) per cycle",
-            "ivp_holds": i2["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS and not i2["contact_in_cycle"],
-            "ivp_result": f"{i2['impacts_per_cycle']} impact(s) per cycle",
-        },
-    }
-
-
-PAPER_CLAIMS = {
-    "a": "Algorithm No. 1: the gap is negative on (t1, t2)",
-    "b_period": "Algorithm No. 2: T_c = 2T",
-    "b_impacts": "Algorithm No. 2: three impacts per cycle",
-}
+# What the stage's record holds (results/report/verdict.json).
+RECORD_WHAT = "the verdict's numbers for the report (paper/generated/verdict_macros.tex) and the README"
 
 
 def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, readings_json, claims_json,
-         claims_map_csv, out_json, out_csv, out_tex) -> dict:
-    ref_s, ref_l = rep.read_json(stated_json), rep.read_json(located_json)
-    cc_s, cc_l = rep.read_json(cc_stated_json), rep.read_json(cc_located_json)
-    scan, rd = rep.read_json(scan_json), rep.read_json(readings_json)
-    search = rep.read_json(claims_json)
-    cmap = _read_csv(claims_map_csv)
-    cs, cl = claims(ref_s, cc_s), claims(ref_l, cc_l)
-    rows = []
-    for key, text in PAPER_CLAIMS.items():
-        rows.append({
-            "claim": key, "paper": text,
-            "stated_gap": ref_s["parameters"]["gap"], "stated_result": cs[key]["result"],
-            "stated_ivp_result": cs[key]["ivp_result"], "stated_ivp_difference": _difference(cc_s, key[0]),
-            # Confirmed: the same verdict and, measured, the same motion within tolerance.
-            "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"] and cc_s["agree_" + key[0]],
-            "reproduced": cs[key]["holds"] and cs[key]["ivp_holds"],
-            "located_gap": ref_l["parameters"]["gap"], "located_result": cl[key]["result"],
-            "located_ivp_result": cl[key]["ivp_result"], "located_ivp_difference": _difference(cc_l, key[0]),
-            "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"] and cc_l["agree_" + key[0]],
-        })
-    reproducing = [r["id"] for r in rd["readings"] if r["reproduces"]]
-    partial = [r["id"] for r in rd["readings"] if (r["claim_a"] or r["claim_b"]) and not r["reproduces"]]
-    result = {
-        "paper": rep.PAPER,
-        "claims": rows,
-        "stated": {"parameters": ref_s["parameters"], "claims": cs, "crosscheck": cc_s},
-        "located": {"parameters": ref_l["parameters"], "claims": cl, "crosscheck": cc_l,
-                    "rule": scan["located"]["rule"], "range": scan["located"]["range"]},
-        "ranges": {"alg1_existence_limit": scan["alg1_existence_limit"], "claim_a": scan["claim_a_ranges"],
-                   "claim_b": scan["claim_b_ranges"], "both": scan["both_ranges"], "window": scan["window"],
-                   "orbit": scan["orbit_range"],
-                   "end_checks_agree": all(c["agree"] for c in scan["end_checks"])},
-        "other_readings": {"reproducing": reproducing, "partial": partial, "R_ranges": rd["R_ranges"],
-                           "random_states": rd["random_states"]},
-        "beyond_the_gap": beyond_the_gap(search, cmap, scan),
-        "eq13_note": ("Eq. (13) as printed gives x21s' = x1s' - x2s', the opposite of eq. (12)'s x21s = x2s - x1s; "
-                      "the library uses eq. (12)'s sign. With the printed sign Algorithm No. 1's orbit violates the "
-                      "impact law (S/(D v) != 1), see other_readings: eq13_as_printed."),
-    }
-    rep.write_json(out_json, result)
-    rep.write_csv(out_csv, CSV_COLUMNS, rows)
+         claims_map_csv, out_json, out_csv, out_record, out_tex) -> dict:
+    ref_s, ref_l = read_json(stated_json), read_json(located_json)
+    cc_s, cc_l = read_json(cc_stated_json), read_json(cc_located_json)
+    scan, rd = read_json(scan_json), read_json(readings_json)
+    search = read_json(claims_json)
+    cmap = read_csv(claims_map_csv)
+    rows, result = vd.verdict(ref_s, ref_l, cc_s, cc_l, scan, rd, search, cmap)
+    write_json(out_json, result, sort_keys=False)
+    write_csv(out_csv, CSV_COLUMNS, rows)
+    record = macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows).record(RECORD_WHAT)
+    record["entries"] += claims_macros(result["beyond_the_gap"]).entries
+    write_json(out_record, record, sort_keys=False)
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_tex).write_text(macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) + claims_macros(result["beyond_the_gap"]))
+    Path(out_tex).write_text(render_macros(read_json(out_record)))
     return result
 
 
-def _read_csv(path) -> list[dict]:
-    import csv
-
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
-def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
-    """Where, along each parameter alone (at the stated gap), both claims hold nearest the
-    stated value; which parameter gets there with the smallest relative change; and the
-    two-parameter map's share of cells where both hold."""
-    per = {}
-    for name in CLAIMS_PARAMETERS:
-        d = search["parameters"][name]
-        both = d["intervals"]["both"]
-        near = d["nearest_both"]
-        iv = next((r for r in both if near["nearest"] is not None and r["lo"] <= near["nearest"] <= r["hi"]), None)
-        per[name] = {**near, "interval": [iv["lo"], iv["hi"]] if iv else None,
-                     "interval_width": (iv["hi"] - iv["lo"]) if iv else None,
-                     "a": d["intervals"]["a"], "b": d["intervals"]["b"], "both": both}
-    found = [n for n in CLAIMS_PARAMETERS if per[n]["relative_distance"] is not None]
-    nearest = min(found, key=lambda n: per[n]["relative_distance"]) if found else None
-    cells = len(cmap)
-    both_cells = sum(r["both"] == "true" for r in cmap)
-    # Along the gap (the scan of gap_scan.py), for comparison.
-    stated_gap = float(scan["stated_gap"])
-    gd, gx = distance_to([Interval(r["lo"], r["hi"], r["lo_open"], r["hi_open"], None, None)
-                          for r in scan["both_ranges"]], stated_gap)
-    gap = {"stated": stated_gap, "nearest": gx, "distance": gd if gx is not None else None,
-           "relative_distance": gd / abs(stated_gap) if gx is not None else None}
-    return {"parameters": per, "nearest_parameter": nearest, "gap": gap, "none_found": [n for n in CLAIMS_PARAMETERS if n not in found],
-            "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells}
-
-
-def claims_macros(b: dict) -> str:
+def claims_macros(b: dict) -> MacroFile:
     """Macros of the search beyond the gap (claims_by_parameter)."""
     yes = lambda flag: "yes" if flag else "no"  # noqa: E731
     m = ["% The claims searched beyond the gap (figures/claims_by_parameter.csv): each parameter alone at the\n",
          "% stated gap. *NearestBoth: the nearest value where both claims hold; *Distance: how far from the\n",
          "% stated value (absolute; *RelDistance relative, in per cent).\n"]
-    add = lambda name, value: m.append(rep.macro(name, value))  # noqa: E731
-    add("ClaimsRelTol", rep.sci(b["rel_tol"], 0))
+    m = MacroFile(m)
+    add = m.add
+    add("ClaimsRelTol", sci(b["rel_tol"], 0))
     for name in CLAIMS_PARAMETERS:
         d, tag = b["parameters"][name], "Claims" + MACRO_OF[name]
-        add(tag + "Stated", rep.num(d["stated"], 2))
+        add(tag + "Stated", fixed(d["stated"], 2))
         add(tag + "BothCount", str(d["intervals"]))
-        add(tag + "NearestBoth", rep.num(d["nearest"], 4) if d["nearest"] is not None else rep.MISSING)
-        add(tag + "Distance", rep.num(d["distance"], 4) if d["distance"] is not None else rep.MISSING)
-        add(tag + "RelDistance", rep.num(100 * d["relative_distance"], 1) if d["relative_distance"] is not None
-            else rep.MISSING)
+        add(tag + "NearestBoth", fixed(d["nearest"], 4) if d["nearest"] is not None else MISSING)
+        add(tag + "Distance", fixed(d["distance"], 4) if d["distance"] is not None else MISSING)
+        add(tag + "RelDistance", fixed(100 * d["relative_distance"], 1) if d["relative_distance"] is not None
+            else MISSING)
         iv = d["interval"]
-        add(tag + "BothLo", rep.num(iv[0], 4) if iv else rep.MISSING)
-        add(tag + "BothHi", rep.num(iv[1], 4) if iv else rep.MISSING)
-        add(tag + "BothWidth", rep.num(d["interval_width"], 4) if iv else rep.MISSING)
+        add(tag + "BothLo", fixed(iv[0], 4) if iv else MISSING)
+        add(tag + "BothHi", fixed(iv[1], 4) if iv else MISSING)
+        add(tag + "BothWidth", fixed(d["interval_width"], 4) if iv else MISSING)
         open_end = next((r for r in d["both"] if iv and r["lo"] == iv[0] and r["hi"] == iv[1]), {})
         add(tag + "BothOpen", yes(open_end.get("lo_open", False) or open_end.get("hi_open", False)))
     near = b["nearest_parameter"]
-    add("ClaimsNearestParameter", claims_gather.SYMBOL[near] if near else rep.MISSING)
-    add("ClaimsNearestParameterName", near or rep.MISSING)
+    add("ClaimsNearestParameter", SEARCH_SYMBOLS[near] if near else MISSING)
+    add("ClaimsNearestParameterName", near or MISSING)
     gap = b["gap"]
-    add("ClaimsGapNearest", rep.num(gap["nearest"], 3) if gap["nearest"] is not None else rep.MISSING)
-    add("ClaimsGapRelDistance", rep.num(100 * gap["relative_distance"], 1) if gap["nearest"] is not None
-        else rep.MISSING)
+    add("ClaimsGapNearest", fixed(gap["nearest"], 3) if gap["nearest"] is not None else MISSING)
+    add("ClaimsGapRelDistance", fixed(100 * gap["relative_distance"], 1) if gap["nearest"] is not None
+        else MISSING)
     nd = b["parameters"][near] if near else None
-    add("ClaimsNearestRelDistance", rep.num(100 * nd["relative_distance"], 1) if nd else rep.MISSING)
-    add("ClaimsNearestWidth", rep.num(nd["interval_width"], 4) if nd else rep.MISSING)
-    add("ClaimsNearestLo", rep.num(nd["interval"][0], 4) if nd else rep.MISSING)
-    add("ClaimsNearestHi", rep.num(nd["interval"][1], 4) if nd else rep.MISSING)
-    add("ClaimsNearestStated", rep.num(nd["stated"], 2) if nd else rep.MISSING)
+    add("ClaimsNearestRelDistance", fixed(100 * nd["relative_distance"], 1) if nd else MISSING)
+    add("ClaimsNearestWidth", fixed(nd["interval_width"], 4) if nd else MISSING)
+    add("ClaimsNearestLo", fixed(nd["interval"][0], 4) if nd else MISSING)
+    add("ClaimsNearestHi", fixed(nd["interval"][1], 4) if nd else MISSING)
+    add("ClaimsNearestStated", fixed(nd["stated"], 2) if nd else MISSING)
     add("ClaimsNoneFound", str(len(b["none_found"])))
     add("ClaimsMapCells", str(b["map_cells"]))
     add("ClaimsMapBothCells", str(b["map_both_cells"]))
-    return "".join(m)
+    return m
 
 
 def _short(text: str) -> str:
@@ -225,7 +111,7 @@ def _range_of(ranges: list[dict], gap: float) -> dict | None:
     return None
 
 
-def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
+def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
     """Every number the report quotes, as \\newcommand (bare numbers for math mode)."""
     p = ref_s["parameters"]
     m = ["% Replication verdict of the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100).\n",
@@ -235,14 +121,15 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
          "% closing velocities relative to x_st omega, impulses relative to m1 x_st omega. *MinGap: the smallest\n",
          "% interior local minimum of Delta/x_st (0 when the gap has none). Ranges are in Delta0/x_st\n",
          "% (or R).\n"]
-    add = lambda name, value: m.append(rep.macro(name, value))  # noqa: E731
+    m = MacroFile(m)
+    add = m.add
     yes = lambda b: "yes" if b else "no"  # noqa: E731
     for name, key, d in (("Theta", "theta", 2), ("Mu", "mu", 2), ("N", "N", 2), ("DeltaOne", "delta1", 2),
                          ("DeltaTwo", "delta2", 2), ("R", "R", 2), ("Gap", "gap", 1), ("Omega", "omega", 0),
                          ("Xst", "x_st", 0)):
-        add("Stated" + name, rep.num(p[key], d))
+        add("Stated" + name, fixed(p[key], d))
     T = 2 * 3.141592653589793 / p["omega"]
-    add("StatedT", rep.num(T, 4))
+    add("StatedT", fixed(T, 4))
     verdict_text = {True: "reproduced", False: "not reproduced"}
     for r, name in zip(rows, ("ClaimA", "ClaimBPeriod", "ClaimBImpacts")):
         add(name + "Verdict", verdict_text[r["reproduced"]])
@@ -250,63 +137,63 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
     for tag, ref, cc in (("Stated", ref_s, cc_s), ("Located", ref_l, cc_l)):
         a1, a2 = ref["algorithm1"], ref["algorithm2"]
         add(tag + "AlgOneExists", yes(a1["exists"]))
-        add(tag + "AlgOneImpactPhase", rep.num(a1["impact_phase"], 5) if a1["exists"] else rep.MISSING)
+        add(tag + "AlgOneImpactPhase", fixed(a1["impact_phase"], 5) if a1["exists"] else MISSING)
         q = ref["parameters"]
         vscale, sscale = q["x_st"] * q["omega"], q["m1"] * q["x_st"] * q["omega"]
-        add(tag + "AlgOneImpulse", rep.num(a1["S"] / sscale, 4) if a1["exists"] else rep.MISSING)
-        add(tag + "AlgOneVelocity", rep.num(a1["velocity"] / vscale, 3) if a1["exists"] else rep.MISSING)
-        add(tag + "AlgOneMinGap", rep.num(a1["min_gap"], 3) if a1["exists"] else rep.MISSING)
+        add(tag + "AlgOneImpulse", fixed(a1["S"] / sscale, 4) if a1["exists"] else MISSING)
+        add(tag + "AlgOneVelocity", fixed(a1["velocity"] / vscale, 3) if a1["exists"] else MISSING)
+        add(tag + "AlgOneMinGap", fixed(a1["min_gap"], 3) if a1["exists"] else MISSING)
         neg = a1["negative_gap_intervals"]
         add(tag + "AlgOneNegativeIntervals", str(len(neg)))
-        add(tag + "AlgOneTOne", rep.num(neg[0][0], 4) if neg else rep.MISSING)
-        add(tag + "AlgOneTTwo", rep.num(neg[0][1], 4) if neg else rep.MISSING)
+        add(tag + "AlgOneTOne", fixed(neg[0][0], 4) if neg else MISSING)
+        add(tag + "AlgOneTTwo", fixed(neg[0][1], 4) if neg else MISSING)
         i1 = cc["algorithm1"]
-        add(tag + "IvpAlgOneResidual", rep.sci(i1.get("periodicity_residual")))
+        add(tag + "IvpAlgOneResidual", sci(i1.get("periodicity_residual")))
         ineg = i1.get("negative_gap_intervals", [])
-        add(tag + "IvpAlgOneTOne", rep.num(ineg[0][0], 4) if ineg else rep.MISSING)
-        add(tag + "IvpAlgOneTTwo", rep.num(ineg[0][1], 4) if ineg else rep.MISSING)
+        add(tag + "IvpAlgOneTOne", fixed(ineg[0][0], 4) if ineg else MISSING)
+        add(tag + "IvpAlgOneTTwo", fixed(ineg[0][1], 4) if ineg else MISSING)
         add(tag + "AlgTwoRegime", a2["regime"].replace("_", " "))
         add(tag + "AlgTwoPeriodMultiple", str(a2["period_multiple"]))
         add(tag + "AlgTwoImpacts", str(a2["impacts_per_cycle"]))
         add(tag + "AlgTwoPeriods", str(a2["periods_simulated"]))
-        add(tag + "AlgTwoXOneMax", rep.num(a2["x1_max"], 3))
+        add(tag + "AlgTwoXOneMax", fixed(a2["x1_max"], 3))
         table = a2["impact_table"]
         for k, row in enumerate(table[:6]):
             word = ("One", "Two", "Three", "Four", "Five", "Six")[k]
-            add(f"{tag}Impact{word}OverT", rep.num(row["t_over_T"], 4))
-            add(f"{tag}Impact{word}Phase", rep.num(row["phase"], 4))
-            add(f"{tag}Impact{word}Velocity", rep.num(row["velocity"] / vscale, 3))
-            add(f"{tag}Impact{word}Impulse", rep.num(row["impulse"] / sscale, 4))
+            add(f"{tag}Impact{word}OverT", fixed(row["t_over_T"], 4))
+            add(f"{tag}Impact{word}Phase", fixed(row["phase"], 4))
+            add(f"{tag}Impact{word}Velocity", fixed(row["velocity"] / vscale, 3))
+            add(f"{tag}Impact{word}Impulse", fixed(row["impulse"] / sscale, 4))
         i2 = cc["algorithm2"]
         add(tag + "IvpPeriodMultiple", str(i2["period_multiple"]))
         add(tag + "IvpImpacts", str(i2["impacts_per_cycle"]))
-        add(tag + "IvpTimeDiff", rep.sci(i2.get("max_time_difference_over_T")))
-        add(tag + "IvpVelocityDiff", rep.sci(i2.get("max_velocity_difference_rel")))
+        add(tag + "IvpTimeDiff", sci(i2.get("max_time_difference_over_T")))
+        add(tag + "IvpVelocityDiff", sci(i2.get("max_velocity_difference_rel")))
         add(tag + "IvpCycleAgree", yes(i2["agree"]))
         c1 = cc["algorithm1_comparison"]
         end_diff = c1["max_interval_end_difference_over_T"]
-        add(tag + "IvpAlgOneEndDiff", rep.sci(end_diff) if end_diff and a1["negative_gap_intervals"]
-            else rep.MISSING)
+        add(tag + "IvpAlgOneEndDiff", sci(end_diff) if end_diff and a1["negative_gap_intervals"]
+            else MISSING)
         add(tag + "IvpAlgOneAgree", yes(c1["agree"]))
     cmp = cc_s["algorithm2"]["cycle_comparison"]
-    add("CrosscheckTimeTol", rep.sci(cmp["time_tol"], 0))
-    add("CrosscheckVelocityTol", rep.sci(cmp["velocity_tol"], 0))
-    add("CrosscheckResidualTol", rep.sci(cc_s["algorithm1_comparison"]["residual_tol"], 0))
-    add("LocatedGap", rep.num(ref_l["parameters"]["gap"], 2))
+    add("CrosscheckTimeTol", sci(cmp["time_tol"], 0))
+    add("CrosscheckVelocityTol", sci(cmp["velocity_tol"], 0))
+    add("CrosscheckResidualTol", sci(cc_s["algorithm1_comparison"]["residual_tol"], 0))
+    add("LocatedGap", fixed(ref_l["parameters"]["gap"], 2))
     w = scan["window"]
-    add("ScanGapMin", rep.num(w["gap_min"], 1))
-    add("ScanGapMax", rep.num(w["gap_max"], 1))
-    add("ScanGapStep", rep.num(w["alg2_gap_step"], 2))
-    add("ScanAlgOneGapStep", rep.num(w["alg1_gap_step"], 3))
-    add("ScanBisectTol", rep.sci(w["alg2_bisect_tol"], 0))
-    add("AlgOneExistenceLimit", rep.num(scan["alg1_existence_limit"], 3))
+    add("ScanGapMin", fixed(w["gap_min"], 1))
+    add("ScanGapMax", fixed(w["gap_max"], 1))
+    add("ScanGapStep", fixed(w["alg2_gap_step"], 2))
+    add("ScanAlgOneGapStep", fixed(w["alg1_gap_step"], 3))
+    add("ScanBisectTol", sci(w["alg2_bisect_tol"], 0))
+    add("AlgOneExistenceLimit", fixed(scan["alg1_existence_limit"], 3))
     g_loc = ref_l["parameters"]["gap"]
     for name, key, digits in (("ClaimA", "claim_a_ranges", 3), ("ClaimB", "claim_b_ranges", 3), ("Both", "both_ranges", 3)):
         rs = scan[key]
         add(name + "RangeCount", str(len(rs)))
         r = _range_of(rs, g_loc) or (rs[0] if rs else None)
-        add(name + "RangeLo", rep.num(r["lo"], digits) if r else rep.MISSING)
-        add(name + "RangeHi", rep.num(r["hi"], digits) if r else rep.MISSING)
+        add(name + "RangeLo", fixed(r["lo"], digits) if r else MISSING)
+        add(name + "RangeHi", fixed(r["hi"], digits) if r else MISSING)
     add("EndChecksAgree", yes(all(c["agree"] for c in scan["end_checks"])))
     add("EndChecksCount", str(len(scan["end_checks"])))
     add("EndChecksAgreeCount", str(sum(bool(c["agree"]) for c in scan["end_checks"])))
@@ -314,47 +201,47 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
     worst = max(off, key=lambda c: c["details"].get("max_velocity_difference_rel") or 0.0) if off else None
     if worst is not None and "cycle_comparison" in worst["details"]:
         cmp = worst["details"]["cycle_comparison"]
-        add("EndChecksOffGap", rep.num(worst["gap"], 3))
+        add("EndChecksOffGap", fixed(worst["gap"], 3))
         add("EndChecksOffRole", worst["role"])
         add("EndChecksOffPeriodMultiple", str(cmp["period_multiple"][0]))
         add("EndChecksOffImpacts", str(cmp["impacts"][0]))
-        add("EndChecksOffTimeDiff", rep.sci(cmp["max_time_difference_over_T"]))
-        add("EndChecksOffVelocityDiff", rep.sci(cmp["max_velocity_difference_rel"]))
+        add("EndChecksOffTimeDiff", sci(cmp["max_time_difference_over_T"]))
+        add("EndChecksOffVelocityDiff", sci(cmp["max_velocity_difference_rel"]))
         add("EndChecksOffSameClaim", yes(worst["exact"] == worst["independent"]))
     orbit = scan["orbit_range"]
     if orbit.get("found"):
-        add("OrbitRangeLo", rep.num(orbit["lo"], 4))
-        add("OrbitRangeHi", rep.num(orbit["hi"], 4))
+        add("OrbitRangeLo", fixed(orbit["lo"], 4))
+        add("OrbitRangeHi", fixed(orbit["hi"], 4))
         add("OrbitLoBifurcation", _short(orbit.get("lo_bifurcation", "")))
         add("OrbitHiBifurcation", _short(orbit.get("hi_bifurcation", "")))
-        add("OrbitSeedGap", rep.num(orbit["seed_gap"], 2))
+        add("OrbitSeedGap", fixed(orbit["seed_gap"], 2))
         g_loc = ref_l["parameters"]["gap"]
         nearest = min(orbit["branch"], key=lambda b: abs(b[0] - g_loc))
         if abs(nearest[0] - g_loc) < 1e-9:
-            add("LocatedSpectralRadius", rep.num(nearest[1], 3))
+            add("LocatedSpectralRadius", fixed(nearest[1], 3))
     readings = {r["id"]: r for r in rd["readings"]}
     add("ReadingsCount", str(len(readings) - 1))  # the stated baseline is not a reading
     add("ReadingsReproducing", str(sum(bool(r["reproduces"]) for k, r in readings.items() if k != "stated")))
     eq13 = readings.get("eq13_as_printed")
     if eq13:
         add("EqThirteenClaimA", yes(eq13["claim_a"]))
-        add("EqThirteenTOne", rep.num(eq13["alg1_t1"], 4) if eq13["alg1_t1"] is not None else rep.MISSING)
-        add("EqThirteenTTwo", rep.num(eq13["alg1_t2"], 4) if eq13["alg1_t2"] is not None else rep.MISSING)
-        add("EqThirteenMinGap", rep.num(eq13["alg1_min_gap"], 3) if eq13["alg1_min_gap"] is not None else rep.MISSING)
+        add("EqThirteenTOne", fixed(eq13["alg1_t1"], 4) if eq13["alg1_t1"] is not None else MISSING)
+        add("EqThirteenTTwo", fixed(eq13["alg1_t2"], 4) if eq13["alg1_t2"] is not None else MISSING)
+        add("EqThirteenMinGap", fixed(eq13["alg1_min_gap"], 3) if eq13["alg1_min_gap"] is not None else MISSING)
         ratio = rd["details"]["eq13_as_printed"].get("impact_law_ratio")
-        add("EqThirteenImpactLawRatio", rep.num(ratio, 3) if ratio is not None else rep.MISSING)
+        add("EqThirteenImpactLawRatio", fixed(ratio, 3) if ratio is not None else MISSING)
     loss = readings.get("R_as_loss")
     if loss:
-        add("RAsLossR", rep.num(loss["R"], 2))
+        add("RAsLossR", fixed(loss["R"], 2))
         add("RAsLossReproduces", yes(loss["reproduces"]))
-        add("RAsLossTOne", rep.num(loss["alg1_t1"], 4) if loss["alg1_t1"] is not None else rep.MISSING)
-        add("RAsLossTTwo", rep.num(loss["alg1_t2"], 4) if loss["alg1_t2"] is not None else rep.MISSING)
-        add("RAsLossMinGap", rep.num(loss["alg1_min_gap"], 4) if loss["alg1_min_gap"] is not None else rep.MISSING)
+        add("RAsLossTOne", fixed(loss["alg1_t1"], 4) if loss["alg1_t1"] is not None else MISSING)
+        add("RAsLossTTwo", fixed(loss["alg1_t2"], 4) if loss["alg1_t2"] is not None else MISSING)
+        add("RAsLossMinGap", fixed(loss["alg1_min_gap"], 4) if loss["alg1_min_gap"] is not None else MISSING)
     rr = rd["R_ranges"]
     for name, key in (("RClaimA", "claim_a"), ("RClaimB", "claim_b"), ("RBoth", "both")):
         r = rr[key][0] if rr[key] else None
-        add(name + "Lo", rep.num(r["lo"], 3) if r else rep.MISSING)
-        add(name + "Hi", rep.num(r["hi"], 3) if r else rep.MISSING)
+        add(name + "Lo", fixed(r["lo"], 3) if r else MISSING)
+        add(name + "Hi", fixed(r["hi"], 3) if r else MISSING)
     rs = rd["random_states"]
     add("RandomStatesCount", str(rs["count"]))
     add("RandomStatesSeed", str(rs["seed"]))
@@ -364,16 +251,16 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> str:
     if pv:
         add("PrintedVelocitiesRegime", pv["alg2_regime"].replace("_", " "))
         add("PrintedVelocitiesPeriodMultiple", str(pv["alg2_period_multiple"]))
-    return "".join(m)
+    return m
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     i, o = sm.input, sm.output
     out = main(i.stated, i.located, i.cc_stated, i.cc_located, i.scan, i.readings, i.claims, i.claims_map, o.json, o.csv,
-               o.tex)
+               o.record, o.tex)
     for row in out["claims"]:
         print(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})", file=sys.stderr)

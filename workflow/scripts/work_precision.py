@@ -1,5 +1,5 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the work-precision study of issue 6, data only (the figure is drawn by
+the paper): the work-precision study, data only (the figure is drawn by
 fig_work_precision.py).
 
 On the reference case, the first impacts from Algorithm No. 2's default start and the
@@ -22,41 +22,25 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
-import csv
-import json
-from pathlib import Path
-
-import performancestage as ps
-
+from impactdamper.studies.config import parameters
+from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import workprecision as wp
 
 CSV_COLUMNS = ["case", "family", "setting", "value", "cpu_seconds", "error", "phase_error", "state_error",
                "impacts_found", "impacts_expected", "nfev", "note"]
 
 
-def _fmt(v):
-    if isinstance(v, float):
-        return repr(v)
-    return v
-
-
 def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
-    p = ps.parameters(reference)
+    p = parameters(reference)
     study = wp.run_study(p, performance, log=log)
     study["summary"] = wp.summarize(study, tuple(performance["targets"]))
-    ps.write_json(out_json, study)
-    Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
-    with open(out_csv, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=CSV_COLUMNS, lineterminator="\n")
-        w.writeheader()
-        for r in study["runs"]:
-            w.writerow({k: _fmt(r[k]) for k in CSV_COLUMNS})
+    write_json(out_json, study)
+    write_csv(out_csv, CSV_COLUMNS, study["runs"], booleans="python", float_format=None)
     log(f"siconos: {study['siconos']['detail']}")
     return study
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    lg = ps.logger(sm.log[0], "work_precision")
-    main(json.loads(sm.params.reference), json.loads(sm.params.performance), sm.output.json, sm.output.csv,
-         log=lg.info)
+    cfg, lg = start_stage(sm, "work_precision")
+    main(cfg["reference"], cfg["performance"], sm.output.json, sm.output.csv, log=lg.info)

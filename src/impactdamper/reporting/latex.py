@@ -9,7 +9,8 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["MISSING", "macro", "camel", "fixed", "sci", "tex_sci", "tex_time", "tex_escape"]
+__all__ = ["MISSING", "macro", "camel", "fixed", "sci", "tex_sci", "tex_time", "tex_escape", "plain_text", "MacroFile",
+           "render_macros", "macro_texts"]
 
 # A value that does not exist, in a macro (works in math and text mode).
 MISSING = "\\mbox{--}"
@@ -50,18 +51,22 @@ def sci(x, digits: int = 1) -> str:
     return f"{m:.{digits}f} \\times 10^{{{e}}}"
 
 
-def tex_sci(x, digits: int = 2) -> str:
-    """x with ``digits`` significant digits, e.g. ``3.1\\times10^{-14}``; ``\\text{---}`` when not
-    reached (the performance tables' form)."""
+def tex_sci(x, digits: int = 2, *, missing: str = r"\text{---}", powers_of_ten: bool = False) -> str:
+    """x with ``digits`` significant digits, e.g. ``3.1\\times10^{-14}`` (math mode);
+    ``missing`` when None or not finite (not reached, in the performance tables); with
+    ``powers_of_ten`` an exact power of ten as ``10^{-9}`` (a tolerance, in the sweep's macros)."""
     if x is None or not math.isfinite(x):
-        return r"\text{---}"
+        return missing
     if x == 0:
         return "0"
     e = math.floor(math.log10(abs(x)))
-    m = x / 10**e
+    m = abs(x) / 10**e
     if round(m, digits - 1) >= 10:
         m, e = m / 10, e + 1
-    return rf"{m:.{digits - 1}f}\times10^{{{e}}}"
+    sign = "-" if x < 0 else ""
+    if powers_of_ten and abs(m - 1.0) < 1e-12:
+        return f"{sign}10^{{{e}}}"
+    return rf"{sign}{m:.{digits - 1}f}\times10^{{{e}}}"
 
 
 def tex_time(seconds) -> str:
@@ -89,3 +94,64 @@ def tex_escape(text: str) -> str:
         else:
             out.append(ch)
     return "".join(out)
+
+
+def plain_text(tex: str) -> str:
+    """A macro's value as plain text for the README (Markdown): the math markup our formatters
+    write (``\\times 10^{e}``, ``\\,``, ``\\textmu``, ``$\\to$``, :data:`MISSING`) as text.
+    Applied once, when a stage records its macros (:class:`MacroFile`), never to a TeX file."""
+    text = tex.replace(r"\ensuremath", "").replace(r"\,", " ").replace(r"\textmu ", "µ").replace(r"\textmu", "µ")
+    text = re.sub(r"\s*\\times\s*10\^\{([-0-9]+)\}", r"e\1", text)
+    text = (text.replace(r"$\to$", "->").replace(r"$\times$", "x").replace(MISSING, "–").replace("--", "–")
+            .replace("{", "").replace("}", "").replace("\\", ""))
+    return re.sub(r"\s+", " ", text).strip()
+
+
+class MacroFile:
+    """The macros of one report stage, in order, with its comment lines.
+
+    A stage adds its numbers here (:meth:`add`, :meth:`append` for a comment line) and writes
+    :meth:`record` as its one JSON record; the TeX macro file (:func:`render_macros`) and the
+    README summary (:func:`macro_texts`) are both rendered from that record, so that nothing
+    reads a number back out of TeX.
+    """
+
+    def __init__(self, lines=()):
+        """``lines``: the first lines, each a comment line (str) or a macro ((name, value))."""
+        self.entries: list[dict] = []
+        self.extend(lines)
+
+    def extend(self, lines) -> None:
+        """Lines in order, each a comment line (str) or a macro ((name, value))."""
+        for line in lines:
+            if isinstance(line, tuple):
+                self.add(*line)
+            else:
+                self.append(line)
+
+    def append(self, line: str) -> None:
+        """A line of the file that is not a macro (a comment), without its newline."""
+        self.entries.append({"line": line[:-1] if line.endswith("\n") else line})
+
+    def add(self, name: str, value) -> None:
+        """One macro: ``value`` as TeX (checked by :func:`macro`) and as plain text."""
+        macro(name, value)
+        self.entries.append({"name": name, "tex": str(value), "text": plain_text(str(value))})
+
+    def record(self, what: str) -> dict:
+        """The JSON record: what the macros are (``what``) and the entries in file order."""
+        return {"what": what, "entries": list(self.entries)}
+
+    def tex(self) -> str:
+        """The TeX macro file (as :func:`render_macros` renders the record)."""
+        return render_macros(self.record(""))
+
+
+def render_macros(record: dict) -> str:
+    """The TeX macro file of a record written from a :class:`MacroFile`."""
+    return "".join((macro(e["name"], e["tex"]) if "name" in e else e["line"]) + "\n" for e in record["entries"])
+
+
+def macro_texts(*records: dict) -> dict[str, str]:
+    """The macros of the records by name, as plain text (for the README summary)."""
+    return {e["name"]: e["text"] for record in records for e in record["entries"] if "name" in e}

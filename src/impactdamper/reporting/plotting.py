@@ -14,7 +14,34 @@ STYLE_FILE = Path(__file__).with_name("paper.mplstyle")
 # Text width of the report in inches (article class, 1 in margins on A4 would be 6.27 in).
 TEXT_WIDTH = 6.3
 
-__all__ = ["use_style", "save_figure", "STYLE_FILE", "TEXT_WIDTH"]
+__all__ = ["use_style", "save_figure", "finish_figure", "STYLE_FILE", "TEXT_WIDTH", "CASE_LABELS", "REGIME_COLORS",
+           "REGIME_TEXT", "REGIME_NAMES"]
+
+# One colour per regime class in every sweep and map figure (labels z/k are written on them).
+# Chosen so that classes that border each other stay apart in print, in greyscale and for
+# red-green colour-blind readers (CIELAB distance >= 28 under simulated deuteranopia and
+# protanopia for every bordering pair): np, which only says "not settled within the cap", is a
+# pale cream, far from the orange of the z/k motions.
+REGIME_COLORS = {
+    "stuck": "#404040",         # persistent contact: dark grey
+    "chatter": "#c994c7",       # contact phases reached by chatter: light purple
+    "multi_impact": "#f0a830",  # several impacts or k > 1: orange
+    "single_impact": "#1f4e79", # one impact per period: dark blue
+    "no_contact": "#a6cee3",    # no contact: light blue
+    "nonperiodic": "#fff2cc",   # not settled within the cap: pale cream
+    "failed": "#ffffff",        # the simulation raised (label err): white
+}
+# How the figures name the reference stage's two cases (the paper's stated parameters; the
+# located gap where its Fig. 2 behaviour occurs).
+CASE_LABELS = {"stated": "stated case", "located": "located case"}
+# Text written on a band or region of each class: white on the dark ones, black elsewhere.
+REGIME_TEXT = {"stuck": "white", "single_impact": "white"}
+REGIME_NAMES = {
+    "stuck": "persistent contact (S)", "chatter": "chatter, c/k", "multi_impact": "z/k impacts",
+    "single_impact": "1/1 (one impact)", "no_contact": "no contact (0/1)",
+    "nonperiodic": "np: not settled within the cap",
+    "failed": "solver failed (err)",
+}
 
 
 def use_style(backend: str | None = "Agg"):
@@ -47,4 +74,18 @@ def save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -
                     "svg": {"Date": None, "Creator": None}}.get(fmt, {})
         fig.savefig(out, format=fmt, metadata=metadata)
         written.append(out)
+    return written
+
+
+def finish_figure(fig, *paths: str | Path, log=None) -> list[Path]:
+    """The end of every figure script: save ``fig`` to each of ``paths`` (as :func:`save_figure`:
+    a path with a suffix in that format, one without as PDF and PNG), close it, and say what was
+    written through ``log`` (a callable taking one line, e.g. ``logger.info``) if given.
+    Returns the written paths."""
+    import matplotlib.pyplot as plt
+
+    written = [out for path in paths for out in save_figure(fig, path)]
+    plt.close(fig)
+    if log is not None:
+        log("wrote " + ", ".join(str(p) for p in written))
     return written

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CSV_FLOAT", "clean", "write_json", "read_json", "csv_cell", "write_csv", "read_csv", "cell_float",
-           "split_floats", "joined", "stage_logger", "machine", "Timer"]
+__all__ = ["CSV_FLOAT", "BOOLEAN_CELLS", "clean", "write_json", "read_json", "json_float", "csv_cell", "write_csv",
+           "read_csv", "cell_float", "split_floats", "joined", "stage_logger", "start_stage", "machine", "Timer"]
 
 # Significant digits of floats in CSV records: far below any tolerance the record is compared
 # with (rtol 1e-8), and it keeps the files small.
@@ -50,24 +50,38 @@ def write_json(path, obj, *, indent: int = 1, sort_keys: bool = True) -> None:
 
 
 def read_json(path):
+    """A JSON record as Python objects."""
     return json.loads(Path(path).read_text())
 
 
-def csv_cell(value, *, booleans: str = "words", float_format: str = CSV_FLOAT) -> str:
-    """One CSV cell: floats to ``float_format`` (non-finite and None empty), booleans as
-    ``true``/``false`` (``booleans="words"``) or ``1``/``0`` (``"digits"``)."""
+def json_float(x) -> float:
+    """A JSON number back to float; None (a value not reached, written by :func:`clean`) to inf."""
+    return math.inf if x is None else float(x)
+
+
+# How booleans are written in a CSV cell (``booleans=`` of :func:`write_csv`).
+BOOLEAN_CELLS = {"words": ("false", "true"), "digits": ("0", "1"), "python": ("False", "True")}
+
+
+def csv_cell(value, *, booleans: str = "words", float_format: str | None = CSV_FLOAT) -> str:
+    """One CSV cell: floats to ``float_format`` (non-finite and None empty; ``None``: Python's
+    shortest round-trip form, ``nan`` and ``inf`` included, for the timing records), booleans
+    as ``true``/``false`` (``booleans="words"``), ``1``/``0`` (``"digits"``) or
+    ``True``/``False`` (``"python"``)."""
+    if booleans not in BOOLEAN_CELLS:
+        raise ValueError(f"`booleans` = {booleans!r} is not allowed: must be one of {', '.join(BOOLEAN_CELLS)}")
     if isinstance(value, (bool, np.bool_)):
-        if booleans == "digits":
-            return str(int(value))
-        return "true" if value else "false"
+        return BOOLEAN_CELLS[booleans][bool(value)]
     if isinstance(value, (float, np.floating)):
+        if float_format is None:
+            return repr(float(value))
         return format(float(value), float_format) if math.isfinite(float(value)) else ""
     if value is None:
         return ""
     return str(value)
 
 
-def write_csv(path, columns, rows, *, booleans: str = "words", float_format: str = CSV_FLOAT) -> None:
+def write_csv(path, columns, rows, *, booleans: str = "words", float_format: str | None = CSV_FLOAT) -> None:
     """CSV with a header row ``columns``; each row a dict (missing keys empty); cells by
     :func:`csv_cell`."""
     path = Path(path)
@@ -113,6 +127,42 @@ def stage_logger(log_path, name: str, *, timestamps: bool = False, library: bool
         lg.setLevel(logging.INFO)
         lg.propagate = False
     return logging.getLogger(name)
+
+
+def start_stage(sm, name: str | None = None, *, timestamps: bool = False, library: bool = False):
+    """The start of every workflow script that Snakemake runs (``script:``): where it logs, and
+    the rule's ``params`` with the config sections (JSON strings, the workflow's
+    ``parameters_json``) read back as dicts.
+
+    Parameters
+    ----------
+    sm : snakemake.script.Snakemake
+        The object Snakemake hands the script.
+    name : str, optional
+        The script's logger name: progress lines go to the rule's log through
+        :func:`stage_logger` (``timestamps``, ``library`` as there). Without it, the script's
+        standard error is the log.
+
+    Returns
+    -------
+    params : dict
+        Each of the rule's params by name; a string holding a JSON object is read as a dict.
+    log : logging.Logger or None
+        The logger, if ``name`` was given.
+    """
+    log = None
+    if name is None:
+        import sys
+
+        sys.stderr = open(sm.log[0], "w")  # noqa: SIM115 (open for the job's life)
+    else:
+        log = stage_logger(sm.log[0], name, timestamps=timestamps, library=library)
+    params = {}
+    for key, value in sm.params.items():
+        if isinstance(value, str) and value.startswith("{"):
+            value = json.loads(value)
+        params[key] = value
+    return params, log
 
 
 def machine() -> dict:

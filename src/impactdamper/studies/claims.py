@@ -28,7 +28,8 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.steady import steady_state
 
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
-           "Interval", "true_intervals", "intersect", "claim_intervals", "distance_to"]
+           "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
+           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both"]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2
@@ -217,13 +218,9 @@ def bisect(pred: Callable[[float], bool], x_in: float, x_out: float, rel_tol: fl
     return x_in, x_out
 
 
-def true_intervals(xs: Sequence[float], flags: Sequence[bool], pred: Callable[[float], bool], rel_tol: float,
-                   floor: float, abs_tol: float | None = None) -> list[Interval]:
-    """Maximal runs of True on the grid ``xs`` (increasing), each inner end bisected with
-    ``pred`` to ``rel_tol`` (or ``abs_tol``); a run reaching the grid's end is open there. A
-    run narrower than the grid step between two False grid points is not seen: the grid sets
-    the search's resolution."""
-    out, i, n = [], 0, len(xs)
+def true_runs(flags: Sequence[bool]) -> list[tuple[int, int]]:
+    """The maximal runs of True in ``flags``, as (first, last) indices, in order."""
+    out, i, n = [], 0, len(flags)
     while i < n:
         if not flags[i]:
             i += 1
@@ -231,6 +228,19 @@ def true_intervals(xs: Sequence[float], flags: Sequence[bool], pred: Callable[[f
         j = i
         while j + 1 < n and flags[j + 1]:
             j += 1
+        out.append((i, j))
+        i = j + 1
+    return out
+
+
+def true_intervals(xs: Sequence[float], flags: Sequence[bool], pred: Callable[[float], bool], rel_tol: float,
+                   floor: float, abs_tol: float | None = None) -> list[Interval]:
+    """Maximal runs of True on the grid ``xs`` (increasing), each inner end bisected with
+    ``pred`` to ``rel_tol`` (or ``abs_tol``); a run reaching the grid's end is open there. A
+    run narrower than the grid step between two False grid points is not seen: the grid sets
+    the search's resolution."""
+    out, n = [], len(xs)
+    for i, j in true_runs(flags):
         ends = {}
         for side, k_in, k_out in (("lo", i, i - 1), ("hi", j, j + 1)):
             if 0 <= k_out < n:
@@ -239,7 +249,6 @@ def true_intervals(xs: Sequence[float], flags: Sequence[bool], pred: Callable[[f
             else:
                 ends[side] = (float(xs[k_in]), True, None)
         out.append(Interval(ends["lo"][0], ends["hi"][0], ends["lo"][1], ends["hi"][1], ends["lo"][2], ends["hi"][2]))
-        i = j + 1
     return out
 
 
@@ -335,3 +344,30 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
             "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
             "bisection_points": sorted((r for x, r in rows.items() if x not in set(map(float, values))),
                                        key=lambda r: r["value"])}
+
+
+# The parameters the claims are searched along beyond the gap, each varied alone at the stated
+# Delta0/x_st (config claims_search), in the order of the report's table, and their symbols there.
+SEARCH_PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
+SEARCH_SYMBOLS = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
+                  "R": "$R$"}
+
+
+def nearest_both(result: dict) -> dict:
+    """The nearest value to the stated one where both claims hold, and how far it is, from one
+    parameter's search record (``stated`` and ``intervals["both"]`` as dicts of
+    :class:`Interval`'s fields).
+
+    Returns
+    -------
+    dict
+        ``stated``, ``nearest`` (None: nowhere), ``distance`` (absolute, None: nowhere),
+        ``relative_distance`` (over |stated|; None when nowhere or stated is 0), ``intervals``
+        (how many intervals where both hold).
+    """
+    stated = result["stated"]
+    ivs = [Interval(**{**iv, "lo_bracket": None, "hi_bracket": None}) for iv in result["intervals"]["both"]]
+    d, x = distance_to(ivs, stated)
+    return {"stated": stated, "nearest": x, "distance": d if math.isfinite(d) else None,
+            "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
+            "intervals": len(ivs)}

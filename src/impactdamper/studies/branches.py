@@ -1,9 +1,7 @@
-"""Shared helpers of the orbits stage (issue 4): branches of periodic orbits followed in
-Delta0/x_st, their special points and stable stretches, and deterministic writers.
+"""Branches of periodic orbits followed in Delta0/x_st, their special points and stable
+stretches: the orbits stage's study (``workflow/scripts/orbit_*.py`` write its records).
 
-Not a figure script. The stage's scripts import it (Snakemake puts ``workflow/scripts`` on
-``sys.path`` for ``script:`` rules; the tests import the scripts by path). The paper is
-Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100; it
+The paper is Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100; it
 computes no periodic orbits directly, so everything here extends it.
 
 How a branch is followed
@@ -28,15 +26,15 @@ fold. A leg ends at
 * the bound, or a Newton failure below the least step (the leg's ``end``).
 """
 
-import csv
-import json
+from __future__ import annotations
+
 import logging
 import math
-from pathlib import Path
 
-import numpy as np
-
-from impactdamper import Parameters, Tolerances, continue_orbit, solve_orbit, steady_state
+from impactdamper import Parameters, continue_orbit, solve_orbit, steady_state
+from impactdamper.reporting.records import joined
+from impactdamper.studies.claims import true_runs
+from impactdamper.studies.config import steady_options, tolerances
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
 # The continuation parameter of the stage (the library follows any field of Parameters).
@@ -54,9 +52,9 @@ BRANCH_COLUMNS = ["branch", "label", "index", "gap", "x1_max", "min_gap", "spect
 # passed, "down" or "up" in the gap from the branch's seed (e.g. "loses stability").
 SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectral_radius", "admissible", "leg",
                    "detail"]
-# Significant digits of every number in the committed CSVs (the record test compares at a
-# relative 1e-8; the continuation converges to 1e-12).
-CSV_FLOAT = ".12g"
+# Significant digits of the joined velocities and phases in the committed CSVs (the record
+# test compares at a relative 1e-8; the continuation converges to 1e-12).
+JOINED_FORMAT = "{:.12g}"
 # Short names of the special points in the figure and the table.
 KIND_SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "grazing_velocity": "grazing",
               "grazing_interior": "grazing"}
@@ -65,26 +63,6 @@ KIND_TEXT = {"period_doubling": "period doubling", "neimark_sacker": "Neimark--S
 
 
 # --- config --------------------------------------------------------------------------------
-def parameters(d: dict) -> Parameters:
-    """Parameters from a config-like dict holding every relative parameter."""
-    return Parameters(**{name: float(d[name]) for name in Parameters.names()})
-
-
-def tolerances(solver: dict) -> Tolerances:
-    return Tolerances(gap_tol=float(solver["gap_tol"]), chatter_tol=float(solver["chatter_tol"]))
-
-
-def steady_options(solver: dict) -> dict:
-    """Keyword arguments of :func:`impactdamper.steady_state` from the config's ``solver``."""
-    return {"tolerances": tolerances(solver), "settle_tol": float(solver["settle_tol"]),
-            "max_periods": int(solver["max_periods"]), "max_period_multiple": int(solver["max_period_multiple"])}
-
-
-def located_gap(located_json) -> float:
-    """The located case's Delta0/x_st from the reference stage (figures/located_case.json)."""
-    return float(json.loads(Path(located_json).read_text())["located"]["gap"])
-
-
 def label(k: int, z: int) -> str:
     """Peterka's z/k label: z impacts in k forcing periods."""
     return f"{int(z)}/{int(k)}"
@@ -191,15 +169,8 @@ def stretches(branch: dict, which: str) -> list[dict]:
     """
     pts = branch["points"]
     ok = [q.admissible and (q.stable or which == "admissible") for q in pts]
-    out = []
-    i, n = 0, len(pts)
-    while i < n:
-        if not ok[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < n and ok[j + 1]:
-            j += 1
+    out, n = [], len(pts)
+    for i, j in true_runs(ok):
         ends = []
         for edge, outside in ((i, i - 1), (j, j + 1)):
             hit = [s for s, a, b, _ in branch["special"]
@@ -217,30 +188,17 @@ def stretches(branch: dict, which: str) -> list[dict]:
         cand = ends + inside + [(float(q.value), "sampled") for q in pts[i:j + 1]]
         (va, ka), (vb, kb) = min(cand), max(cand)
         out.append({"lo": va, "hi": vb, "lo_kind": ka, "hi_kind": kb})
-        i = j + 1
     return out
 
 
 # --- tables ---------------------------------------------------------------------------------
-def fmt(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        return "" if not math.isfinite(float(v)) else format(float(v), CSV_FLOAT)
-    return str(v)
-
-
-def joined(values) -> str:
-    return ";".join(format(float(v), CSV_FLOAT) for v in values)
-
-
 def branch_rows(branch: dict) -> list[dict]:
     rows = []
     for i, q in enumerate(branch["points"]):
         rows.append({"branch": branch["name"], "label": branch["label"], "index": i, "gap": q.value,
                      "x1_max": q.x1_max, "min_gap": q.min_gap, "spectral_radius": abs(q.multipliers[0]),
-                     "stable": q.stable, "admissible": q.admissible, "velocities": joined(q.velocities),
-                     "phases": joined(q.phases)})
+                     "stable": q.stable, "admissible": q.admissible, "velocities": joined(q.velocities, JOINED_FORMAT),
+                     "phases": joined(q.phases, JOINED_FORMAT)})
     return rows
 
 
@@ -252,76 +210,3 @@ def special_rows(branch: dict) -> list[dict]:
                      "index": 0 if a is None else a + 1, "x1_max": s.point.x1_max, "spectral_radius": radius,
                      "admissible": _on_motion(branch, a, b), "leg": leg, "detail": s.detail})
     return sorted(rows, key=lambda r: r["gap"])
-
-
-def write_csv(path, rows: list[dict], columns: list[str]) -> None:
-    """Deterministic CSV: fixed column order, floats to ``CSV_FLOAT``, '\\n' line ends."""
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(columns)
-        for r in rows:
-            w.writerow([fmt(r[c]) for c in columns])
-
-
-def read_csv(path) -> list[dict]:
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
-def num(s: str) -> float:
-    """A CSV cell as float (empty: nan)."""
-    return float(s) if s not in ("", None) else math.nan
-
-
-def split_floats(s: str) -> list[float]:
-    return [float(x) for x in s.split(";")] if s else []
-
-
-def clean(obj):
-    """JSON-ready copy: numpy scalars to Python, non-finite floats to None."""
-    if isinstance(obj, dict):
-        return {str(k): clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [clean(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(float(obj)) else None
-    return obj
-
-
-def write_json(path, obj) -> None:
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    Path(path).write_text(json.dumps(clean(obj), indent=1, sort_keys=True) + "\n")
-
-
-def read_json(path):
-    return json.loads(Path(path).read_text())
-
-
-def logger(log_path, name: str) -> logging.Logger:
-    """A logger writing progress lines (no timestamps) to the rule's log file."""
-    Path(log_path).parent.mkdir(parents=True, exist_ok=True)
-    handler = logging.FileHandler(log_path, mode="w")
-    handler.setFormatter(logging.Formatter("%(message)s"))
-    lg = logging.getLogger(name)
-    lg.handlers[:] = [handler]
-    lg.setLevel(logging.INFO)
-    lg.propagate = False
-    return lg
-
-
-# --- LaTeX ----------------------------------------------------------------------------------
-def macro(name: str, value) -> str:
-    """One ``\\newcommand``; LaTeX macro names are letters only."""
-    if not name.isalpha() or not name.isascii():
-        raise ValueError(f"macro name {name!r} is not allowed: letters only")
-    return f"\\newcommand{{\\{name}}}{{{value}}}"
-
-
-def camel(name: str) -> str:
-    """Config branch name (lower-case letters) as a macro-name part: ``double`` -> ``Double``."""
-    return name[:1].upper() + name[1:]

@@ -1,35 +1,37 @@
-"""Shared helpers of the reference-case stage (issue 3): cases, the paper's claims, the
-independent ``solve_ivp`` cross-checks and deterministic writers.
+"""The reference case's replication checks: cases, the paper's claims, the independent
+``solve_ivp`` cross-checks and the scans of the gap Delta0/x_st.
 
-Not a figure script. The stage's scripts import it (Snakemake puts ``workflow/scripts`` on
-``sys.path`` for ``script:`` rules; the tests import the scripts by path). The paper is
-Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100.
-
+The paper is Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100.
 The two claims about the reference case (the prose around Fig. 2):
 
 * **(a)** Algorithm No. 1 gives an orbit whose gap is negative on an interval (t1, t2);
 * **(b)** Algorithm No. 2 settles to T_c = 2T with three impacts per cycle (t1, t2, t3; the
   next cycle starts at t4).
+
+The workflow's reference stage (``workflow/scripts/solve_case.py``, ``crosscheck_case.py``,
+``gap_scan.py``, ``other_readings.py``, ``verdict.py``) calls these and writes the records.
 """
 
 from __future__ import annotations
 
-import csv
-import json
 import math
-import re
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.integrate
 import scipy.optimize
 
-from impactdamper import Parameters, Tolerances, steady_state
-from impactdamper import algorithm1
-# The claims and the aligned comparison live in the library; the stage's scripts reach them as rep.*.
-from impactdamper.studies.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b, compare_cycles  # noqa: F401
-from impactdamper.studies.claims import true_intervals
+from impactdamper import Parameters, Tolerances, algorithm1, steady_state
 from impactdamper.baselines.ivp import simulate_ivp
+from impactdamper.core.model import Model
+from impactdamper.studies.claims import (CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b,
+                                         compare_cycles, true_intervals)
+from impactdamper.studies.config import parameters, steady_options
+
+__all__ = ["PAPER", "CASES", "SAMPLES_PER_PERIOD", "IVP_GAP_SAMPLES", "CLAIM_B_IMPACTS", "CLAIM_B_PERIOD_MULTIPLE",
+           "claim_a", "claim_b", "parameters", "solver_options", "free_rhs", "GapScan", "gap_sign_scan",
+           "next_cycle_impact", "alg1_summary", "steady_summary", "alg1_ivp", "alg2_ivp", "compare_alg1", "grid",
+           "ranges", "overlap", "run_steady", "run_alg1"]
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
 CASES = ("stated", "located")
@@ -39,24 +41,63 @@ SAMPLES_PER_PERIOD = 400
 # Grid of the independent gap scan of an Algorithm No. 1 orbit (per period): the solve_ivp
 # dense output is sampled there and every sign change refined by brentq.
 IVP_GAP_SAMPLES = 4000
+# Absolute tolerance (units of T) of a refined sign change of the gap: far below the
+# cross-check's tolerance on the interval ends (config verdict), near rounding of t/T ~ 1.
+GAP_ROOT_XTOL = 1e-14
+
+# The solver options are the config module's; the stage's scripts know them by this name.
+solver_options = steady_options
+
+
+def free_rhs(p: Parameters):
+    """The right-hand side of eqs. (2) + (9) without the stop, f(t, y) with y = (x1, x2, x1',
+    x2'): the independent integrator's own definition
+    (:mod:`impactdamper.baselines.ivp`), so that it is written once."""
+    from impactdamper.baselines.ivp import _Equations
+
+    return _Equations(p).free_rhs
+
+
+@dataclass(frozen=True)
+class GapScan:
+    """The gap's sign over one period, from a sampled and refined scan (:func:`gap_sign_scan`).
+
+    Attributes
+    ----------
+    samples : ndarray, shape (n - 1,)
+        The gap at the interior sample points s = 1/n, ..., (n-1)/n of the period, m.
+    crossings : tuple of float
+        Its sign changes in units of the period, each refined by Brent's method.
+    negative_intervals : tuple of (float, float)
+        Where the gap is negative, in units of the period (0 and 1 where it is negative at an
+        end of the scan).
+    """
+
+    samples: np.ndarray
+    crossings: tuple
+    negative_intervals: tuple
+
+    @property
+    def interior_minima(self) -> list[float]:
+        """The gap at the samples' interior local minima, m."""
+        g = self.samples
+        return [float(g[i]) for i in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1]
+
+
+def gap_sign_scan(gap_of, samples: int, xtol: float = GAP_ROOT_XTOL) -> GapScan:
+    """Scan ``gap_of(s)`` (the gap at s periods after an impact, s in (0, 1)) at ``samples``
+    intervals strictly inside the period; refine every sign change by Brent's method to
+    ``xtol``. The sign of the gap Delta = Delta0 - (x2 - x1) is the paper's Fig. 2a test."""
+    tau = np.linspace(0.0, 1.0, int(samples) + 1)[1:-1]  # strictly inside the period
+    g = np.array([float(gap_of(s)) for s in tau])
+    crossings = tuple(float(scipy.optimize.brentq(gap_of, tau[i], tau[i + 1], xtol=xtol))
+                      for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])))
+    edges = ([0.0] if g[0] < 0 else []) + list(crossings) + ([1.0] if g[-1] < 0 else [])
+    return GapScan(samples=g, crossings=crossings,
+                   negative_intervals=tuple((lo, hi) for lo, hi in zip(edges[0::2], edges[1::2])))
 
 
 # --- cases ----------------------------------------------------------------------------------
-def parameters(d: dict) -> Parameters:
-    """Parameters from a config-like dict holding every relative parameter."""
-    return Parameters(**{name: float(d[name]) for name in Parameters.names()})
-
-
-def solver_options(solver: dict) -> dict:
-    """Keyword arguments of :func:`impactdamper.steady_state` from the config's ``solver``."""
-    return {
-        "tolerances": Tolerances(gap_tol=float(solver["gap_tol"]), chatter_tol=float(solver["chatter_tol"])),
-        "settle_tol": float(solver["settle_tol"]),
-        "max_periods": int(solver["max_periods"]),
-        "max_period_multiple": int(solver["max_period_multiple"]),
-    }
-
-
 def next_cycle_impact(s):
     """The first impact of the next repetition of the settled cycle (the paper's t4), or None."""
     T = s.p.T
@@ -94,19 +135,6 @@ def steady_summary(s) -> dict:
 
 
 # --- the independent cross-checks -----------------------------------------------------------
-def _free_rhs(p: Parameters):
-    """Eqs. (2) + (9) written out (no stop): m1 x1'' = P0 sin(wt) - k1 x1' - k2 (x1' - x2')
-    - c1 x1 - c2 (x1 - x2), m2 x2'' = -k2 (x2' - x1') - c2 (x2 - x1)."""
-
-    def rhs(t, y):
-        x1, x2, v1, v2 = y
-        a1 = (p.P0 * math.sin(p.omega * t) - p.k1 * v1 - p.k2 * (v1 - v2) - p.c1 * x1 - p.c2 * (x1 - x2)) / p.m1
-        a2 = (-p.k2 * (v2 - v1) - p.c2 * (x2 - x1)) / p.m2
-        return [v1, v2, a1, a2]
-
-    return rhs
-
-
 def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10) -> dict:
     """Check an Algorithm No. 1 orbit with ``solve_ivp``: integrate eqs. (2) + (9) (no stop)
     from the state just after the impact over one period T, then
@@ -119,31 +147,20 @@ def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10
     """
     p = a.p
     t0 = a.t_impact
-    sol = scipy.integrate.solve_ivp(_free_rhs(p), (t0, t0 + p.T), a.state_after, method=method, rtol=rtol,
+    sol = scipy.integrate.solve_ivp(free_rhs(p), (t0, t0 + p.T), a.state_after, method=method, rtol=rtol,
                                     atol=atol, dense_output=True)
-    end = sol.y[:, -1].copy()
-    v = end[3] - end[2]
-    S = p.reduced_mass * (1.0 + p.R) * v
-    end[2] += S / p.m1
-    end[3] -= S / p.m2
+    before = sol.y[:, -1]
+    v = before[3] - before[2]
+    end, _, _ = Model(p).impact(before)
     scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
     residual = float(np.max(np.abs(end - a.state_after) / scale))
 
-    def gap(t):
-        y = sol.sol(t)
+    def gap(s):  # the gap s periods after the impact, m
+        y = sol.sol(t0 + s * p.T)
         return p.Delta0 - (y[1] - y[0])
 
-    tau = np.linspace(0.0, 1.0, IVP_GAP_SAMPLES + 1)[1:-1]  # strictly inside the period
-    g = np.array([gap(t0 + s * p.T) for s in tau])
-    crossings = []
-    for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
-        r = scipy.optimize.brentq(lambda s: gap(t0 + s * p.T), tau[i], tau[i + 1], xtol=1e-14)
-        crossings.append(float(r))
-    minima = [float(g[i]) for i in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1]
-    intervals = []
-    edges = ([0.0] if g[0] < 0 else []) + crossings + ([1.0] if g[-1] < 0 else [])
-    for lo, hi in zip(edges[0::2], edges[1::2]):
-        intervals.append([lo, hi])
+    scan = gap_sign_scan(gap, IVP_GAP_SAMPLES)
+    minima = scan.interior_minima
     return {
         "method": method, "rtol": rtol, "atol": atol,
         "periodicity_residual": residual,
@@ -151,8 +168,8 @@ def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10
         # As Algorithm1Result.min_gap: the smallest interior local minimum of the gap (0 when
         # the gap has none, i.e. it only rises from the impact and falls to the next one).
         "min_gap": float(min(minima) / p.x_st) if minima else 0.0,
-        "negative_gap_intervals": intervals,
-        "claim_a": bool(intervals),
+        "negative_gap_intervals": [list(iv) for iv in scan.negative_intervals],
+        "claim_a": bool(scan.negative_intervals),
     }
 
 
@@ -271,94 +288,6 @@ def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
                             "hi_open": hi_src["hi_open"]})
     return out
 
-
-
-# --- deterministic writers ------------------------------------------------------------------
-def clean(obj):
-    """JSON-ready copy: numpy scalars to Python, NaN/inf to None, tuples to lists."""
-    if isinstance(obj, dict):
-        return {str(k): clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [clean(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    return obj
-
-
-def write_json(path, obj) -> None:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(clean(obj), indent=1) + "\n")
-
-
-def read_json(path):
-    return json.loads(Path(path).read_text())
-
-
-def _cell(v) -> str:
-    if isinstance(v, (bool, np.bool_)):
-        return "true" if v else "false"
-    if isinstance(v, (float, np.floating)):
-        return format(float(v), CSV_FLOAT) if math.isfinite(v) else ""
-    if v is None:
-        return ""
-    return str(v)
-
-
-# Significant digits of floats in the CSV files: far below any tolerance the record is
-# compared with (rtol 1e-8), and it keeps the files small.
-CSV_FLOAT = ".12g"
-
-
-def write_csv(path, columns: list[str], rows: list[dict]) -> None:
-    """CSV with a header; floats with 12 significant digits, booleans as true/false,
-    missing values empty."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(columns)
-        for row in rows:
-            w.writerow([_cell(row.get(c)) for c in columns])
-
-
-MACRO_NAME = re.compile(r"^[A-Za-z]+$")
-
-
-def macro(name: str, value: str) -> str:
-    """One ``\\newcommand`` line (macro names are letters only, as TeX needs)."""
-    if not MACRO_NAME.match(name):
-        raise ValueError(f"`name` = {name!r} is not allowed: a TeX macro name has letters only")
-    return f"\\newcommand{{\\{name}}}{{{value}}}\n"
-
-
-# A value that does not exist, in a macro (works in math and text mode).
-MISSING = "\\mbox{--}"
-
-
-def num(x: float, digits: int) -> str:
-    """A number for the report (math mode), fixed decimals; MISSING when missing."""
-    if x is None or (isinstance(x, float) and not math.isfinite(x)):
-        return MISSING
-    s = f"{x:.{digits}f}"
-    return s[1:] if s.startswith("-") and float(s) == 0.0 else s  # no "-0.00"
-
-
-def sci(x: float, digits: int = 1) -> str:
-    """A small number as m \\times 10^{e} (math mode)."""
-    if x is None or not math.isfinite(x):
-        return MISSING
-    if x == 0:
-        return "0"
-    e = int(math.floor(math.log10(abs(x))))
-    m = x / 10**e
-    if round(abs(m), digits) >= 10:
-        m, e = m / 10, e + 1
-    return f"{m:.{digits}f} \\times 10^{{{e}}}"
 
 
 def run_steady(p: Parameters, solver: dict, **kw):
