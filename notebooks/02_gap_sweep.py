@@ -35,7 +35,7 @@ import numpy as np
 import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
-from impactdamper.analysis import sweeps
+from impactdamper.analysis import settled, sweeps, transitions
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -70,7 +70,7 @@ start = time.perf_counter()
 both = sweeps.two_way_sweep(reference, "gap", gaps)
 print(f"up and down sweeps of {len(gaps)} gaps: {time.perf_counter() - start:.1f} s")
 start = time.perf_counter()
-from_step1 = [sweeps.solve_point(reference.replace(gap=float(g))) for g in gaps]
+from_step1 = [settled.solve_point(reference.replace(gap=float(g))) for g in gaps]
 print(f"every gap from step 1: {time.perf_counter() - start:.1f} s")
 runs = {"up": both["up"], "down": both["down"], "step 1": from_step1}
 
@@ -102,7 +102,7 @@ differ = [float(g) for g, *pts in zip(gaps, *runs.values()) if len({pt.label for
 print("gaps where the three runs disagree (coexisting motions):", differ)
 
 # %% [markdown]
-# Some band edges have closed forms (`impactdamper.analysis.sweeps`), which the sweep should bracket:
+# Some band edges have closed forms (`impactdamper.analysis.transitions`), which the sweep should bracket:
 #
 # * the bodies can stay joined only while the stop's force stays positive over the joined
 #   bodies' forced motion: below the lift-off gap;
@@ -113,10 +113,10 @@ print("gaps where the three runs disagree (coexisting motions):", differ)
 
 # %%
 thresholds = {
-    "stuck lift-off": sweeps.stuck_liftoff_gap(reference),
-    "no contact above (U1)": sweeps.no_contact_gap(reference),
-    "Alg. 1 exists within +-": sweeps.algorithm1_existence_gap(reference),
-    "Alg. 1 admissible above": sweeps.algorithm1_grazing_gap(reference, (-7.0, -11.0)),
+    "stuck lift-off": transitions.stuck_liftoff_gap(reference),
+    "no contact above (U1)": transitions.no_contact_gap(reference),
+    "Alg. 1 exists within +-": transitions.algorithm1_existence_gap(reference),
+    "Alg. 1 admissible above": transitions.algorithm1_grazing_gap(reference, (-7.0, -11.0)),
 }
 for name, value in thresholds.items():
     print(f"  {name:>24s}: {value:9.4f}")
@@ -137,8 +137,8 @@ for name, value in thresholds.items():
 COLORS = {"stuck": "C5", "chatter": "C3", "multi_impact": "C4", "single_impact": "C0",
           "no_contact": "C2", "nonperiodic": "C1"}
 p = reference
-alone = sweeps.object_alone_amplitude(p)
-rigid = sweeps.rigid_amplitude(p)
+alone = transitions.object_alone_amplitude(p)
+rigid = transitions.rigid_amplitude(p)
 absorber = abs(linear.forced_amplitudes(p)[0]) / p.x_st
 
 fig, axes = plt.subplots(6, 1, sharex=True, figsize=(6.3, 7.4), height_ratios=(0.22, 0.22, 0.22, 1.4, 1, 1),
@@ -223,7 +223,7 @@ for regime in idp.REGIMES:
     if any(pt.regime == regime for pt in runs["up"]):
         pt = representative(runs["up"], regime)
         s = idp.steady_state(pt.p, state=pt.start_state, max_periods=1500)
-        again = sweeps.label_of(s.regime, s.period_multiple, s.impacts_per_cycle)
+        again = settled.label_of(s.regime, s.period_multiple, s.impacts_per_cycle)
         print(f"gap {pt.value:7.2f}: sweep {pt.label:>6s} ({pt.method}), steady_state {again:>6s}, max|x1|/x_st"
               f" {pt.x1_max:.6f} vs {s.x1_max:.6f}")
         cases.append(s)

@@ -41,7 +41,8 @@ def test_notebooks_are_the_listed_ones_in_percent_format():
 
 def test_only_the_public_api_is_imported():
     allowed = {"impactdamper", "impactdamper.core.linear", "impactdamper.reporting.plotting",
-               "impactdamper.analysis.sweeps"}
+               "impactdamper.analysis.sweeps", "impactdamper.analysis.settled",
+               "impactdamper.analysis.transitions"}
     for name in NOTEBOOKS:
         for line in (NOTEBOOK_DIR / f"{name}.py").read_text().splitlines():
             words = line.split()

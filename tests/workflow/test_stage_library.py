@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from impactdamper import Parameters
-from impactdamper.analysis.sweeps import SweepSettings, two_way_sweep
+from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.sweeps import two_way_sweep
 from impactdamper.reporting import latex, records
 from impactdamper.reporting.plotting import finish_figure, use_style
 from impactdamper.studies import gapsweep, replication
@@ -149,7 +150,8 @@ def test_numeric_thresholds_match_the_closed_form():
     free forced response's largest x2p - x1p is U1/x_st, the analytic first-contact gap. Both to
     1e-9 (relative to the force scale, and in units of x_st): the sampled-and-refined extremum
     resolves the phase to ~1e-14 T."""
-    from impactdamper.analysis.sweeps import no_contact_gap, stuck_liftoff_gap, with_value
+    from impactdamper.analysis.sweeps import with_value
+    from impactdamper.analysis.transitions import no_contact_gap, stuck_liftoff_gap
     from impactdamper.studies import transitions
 
     base = Parameters()

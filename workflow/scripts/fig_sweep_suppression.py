@@ -17,7 +17,7 @@ from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import cell_float, read_csv, start_stage
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
-from impactdamper.analysis.sweeps import object_alone_amplitude, rigid_amplitude
+from impactdamper.analysis.transitions import object_alone_amplitude, rigid_amplitude
 
 
 def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:

@@ -2,11 +2,11 @@
 boundaries drawn over a regime map.
 
 For each value of the map's second parameter: the lift-off threshold of the persistent
-contact (:func:`impactdamper.analysis.sweeps.stuck_liftoff_gap`), the gap above which the free forced
-response never reaches the stop (U1/x_st, :func:`~impactdamper.analysis.sweeps.no_contact_gap`), and
+contact (:func:`impactdamper.analysis.transitions.stuck_liftoff_gap`), the gap above which the free forced
+response never reaches the stop (U1/x_st, :func:`~impactdamper.analysis.transitions.no_contact_gap`), and
 every gap where Algorithm No. 1's orbit starts or stops crossing the stop between impacts
 (its admissibility changes along a scan of ``SCAN_POINTS`` gaps over the map's range, each
-change bisected to ``BISECT_XTOL`` by :func:`~impactdamper.analysis.sweeps.algorithm1_grazing_gap`).
+change bisected to ``BISECT_XTOL`` by :func:`~impactdamper.analysis.transitions.algorithm1_grazing_gap`).
 
 Output: ``figures/map_{map}_curves.csv`` (slow, liftoff, first_contact, alg1_grazing with
 ';'-joined values).
@@ -19,7 +19,8 @@ from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper import algorithm1
-from impactdamper.analysis.sweeps import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap, with_value
+from impactdamper.analysis.sweeps import with_value
+from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap
 
 COLUMNS = ["slow", "liftoff", "first_contact", "alg1_grazing"]
 # Algorithm No. 1 costs ~2 ms: a scan of this many gaps per row finds the admissibility

@@ -14,16 +14,12 @@ modulus, closing velocity over x_st omega, impact phase, smallest interior gap o
 
 import numpy as np
 
+from impactdamper import algorithm1
+from impactdamper.analysis.orbits import OrbitError, solve_orbit
+from impactdamper.analysis.sweeps import with_value
+from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import start_stage, write_csv
-from impactdamper import algorithm1
-from impactdamper.analysis.sweeps import with_value
-
-try:
-    from impactdamper.analysis import orbits
-except ImportError:  # the stability column is then left empty
-    orbits = None
 
 COLUMNS = ["value", "exists", "admissible", "stable", "multiplier", "velocity", "phase", "min_gap"]
 
@@ -36,13 +32,12 @@ def row(base, parameter: str, value: float, gap_tol: float) -> dict:
     if not a.exists:
         return out
     out.update(velocity=a.velocity / (p.x_st * p.omega), phase=a.impact_phase, min_gap=a.min_gap)
-    if orbits is not None:
-        try:
-            with np.errstate(over="ignore", invalid="ignore"):
-                o = orbits.solve_orbit(p, a)
-            out.update(stable=int(bool(o.stable)), multiplier=o.spectral_radius)
-        except (orbits.OrbitError, ValueError, np.linalg.LinAlgError):
-            pass
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            o = solve_orbit(p, a)
+        out.update(stable=int(bool(o.stable)), multiplier=o.spectral_radius)
+    except (OrbitError, ValueError, np.linalg.LinAlgError):
+        pass  # the stability columns stay empty where the orbit cannot be solved
     return out
 
 

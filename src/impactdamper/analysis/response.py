@@ -67,7 +67,7 @@ class CycleMetrics:
     Attributes
     ----------
     regime, label : str
-        As in :class:`~impactdamper.analysis.sweeps.SweepPoint` (``failed`` gives nan metrics).
+        As in :class:`~impactdamper.analysis.settled.SweepPoint` (``failed`` gives nan metrics).
     period_multiple : int
         k in T_c = k T (0 when nonperiodic: the metrics then cover ``NONPERIODIC_PERIODS`` T).
     max_abs_x1, max_abs_x2 : float

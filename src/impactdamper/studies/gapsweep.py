@@ -33,7 +33,7 @@ REGIMES_OF_LABELS = {"stuck": "stuck", "0/1": "no_contact", "np": "nonperiodic",
 
 
 def regime_of_label(label: str) -> str:
-    """The regime class of a label (inverse of impactdamper.analysis.sweeps.label_of)."""
+    """The regime class of a label (inverse of impactdamper.analysis.settled.label_of)."""
     if label in REGIMES_OF_LABELS:
         return REGIMES_OF_LABELS[label]
     return "chatter" if label.startswith("c/") else "multi_impact"
@@ -64,7 +64,7 @@ def map_axes(maps: dict, name: str) -> tuple:
 
 
 def point_row(direction: str, index: int, pt) -> dict:
-    """One row of the sweep table from a :class:`impactdamper.analysis.sweeps.SweepPoint`."""
+    """One row of the sweep table from a :class:`impactdamper.analysis.settled.SweepPoint`."""
     r = pt.row()
     r.update(direction=direction, index=index, velocities=joined(pt.velocities, VELOCITY_FORMAT))
     return r
@@ -159,7 +159,7 @@ def read_points(path) -> dict:
     from dataclasses import fields
 
     from impactdamper import Parameters
-    from impactdamper.analysis.sweeps import SweepPoint
+    from impactdamper.analysis.settled import SweepPoint
 
     with np.load(path, allow_pickle=False) as data:
         keys = list(data.keys())

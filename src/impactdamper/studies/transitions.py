@@ -10,12 +10,12 @@ Extends Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-201
    (a) lift-off of the persistent contact, upward from ``stuck``: the contact force
        F = -m2 x1'' - c2 Delta0 of the joined bodies' forced response first reaches zero at
        Delta0/x_st = -(theta/N)^2/|1 - (1 + mu) theta^2 + 2 i delta1 theta|
-       (:func:`impactdamper.analysis.sweeps.stuck_liftoff_gap`);
+       (:func:`impactdamper.analysis.transitions.stuck_liftoff_gap`);
    (b) first contact, downward from ``0/1``: the free forced response reaches the stop when
-       Delta0 falls below U1 = |x2p_hat - x1p_hat| (eq. 12, :func:`~impactdamper.analysis.sweeps.no_contact_gap`);
+       Delta0 falls below U1 = |x2p_hat - x1p_hat| (eq. 12, :func:`~impactdamper.analysis.transitions.no_contact_gap`);
    (c) Algorithm No. 1's orbit starts to cross the stop between impacts (its interior gap
        minimum reaches zero; bisection on its admissibility,
-       :func:`~impactdamper.analysis.sweeps.algorithm1_grazing_gap`), against where the downward sweep's
+       :func:`~impactdamper.analysis.transitions.algorithm1_grazing_gap`), against where the downward sweep's
        one-impact motion 1/1 ends -- located by the sweep's own bisection (orbit continuation),
        since from a neighbour's state at a finite step a plain simulation can leave the shrinking
        basin of the one-impact orbit early; a simulation started on the orbit itself confirms
@@ -36,15 +36,13 @@ import numpy as np
 import scipy.optimize
 
 from impactdamper import algorithm1
-from impactdamper.analysis.sweeps import (algorithm1_grazing_gap, find_transitions, locate_transition, no_contact_gap,
-                                          solve_point, stuck_liftoff_gap, with_value)
+from impactdamper.analysis.continuation import continue_orbit
+from impactdamper.analysis.orbits import OrbitError, solve_orbit
+from impactdamper.analysis.settled import solve_point
+from impactdamper.analysis.sweeps import find_transitions, locate_transition, with_value
+from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap
 from impactdamper.core.linear import free_mode
 from impactdamper.core.model import Model
-
-try:
-    from impactdamper.analysis import orbits
-except ImportError:
-    orbits = None
 
 __all__ = ["EXTREMUM_SAMPLES", "SIMULATION_OFFSET", "FINITE_STEP_NOTE", "find_both", "least_contact_force",
            "largest_relative_displacement", "checks"]
@@ -167,15 +165,14 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
                                             analytic + 0.05, analytic - 0.05, xtol=1e-14, rtol=1e-15)
         except ValueError:
             numeric = None
-        if orbits is not None:
-            try:
-                with np.errstate(over="ignore", invalid="ignore"):
-                    o = orbits.solve_orbit(base, "alg1")
-                    br = orbits.continue_orbit(o, "gap", (below[j] - 1.0, g0), direction=-1)
-                graze = [s.value for s in br.special if s.kind == "grazing_interior"]
-                extra["continuation"] = graze[0] if graze else None
-            except (orbits.OrbitError, ValueError):
-                extra["continuation"] = None
+        try:
+            with np.errstate(over="ignore", invalid="ignore"):
+                o = solve_orbit(base, "alg1")
+                br = continue_orbit(o, "gap", (below[j] - 1.0, g0), direction=-1)
+            graze = [s.value for s in br.special if s.kind == "grazing_interior"]
+            extra["continuation"] = graze[0] if graze else None
+        except (OrbitError, ValueError):
+            extra["continuation"] = None
         # The downward sweep's one-impact motion containing the stated gap: where it ends, by
         # the sweep's own bisection (orbit continuation). A plain simulation from the
         # neighbour's state is not used here: near the grazing the one-impact orbit's basin
