@@ -110,7 +110,7 @@ class IvpLeg:
     sol: object = None
 
 
-class _Equations:
+class Equations:
     """The two modes' right-hand sides, Jacobians and event functions (written from eqs. 2, 9)."""
 
     def __init__(self, p: Parameters):
@@ -199,7 +199,7 @@ class IvpTrajectory:
     same method and tolerances, hence the same steps, the last one clipped at the leg's end.
     """
 
-    def __init__(self, p: Parameters, eq: _Equations, method: str, rtol: float, atol: float):
+    def __init__(self, p: Parameters, eq: Equations, method: str, rtol: float, atol: float):
         self.p = p
         self._eq = eq
         self.method = method
@@ -248,7 +248,7 @@ class IvpTrajectory:
         return out.reshape(t.shape + (4,)), modes.reshape(t.shape)
 
 
-def _solve(eq: _Equations, mode: str, t0: float, t1: float, y0: np.ndarray, method: str, rtol: float,
+def _solve(eq: Equations, mode: str, t0: float, t1: float, y0: np.ndarray, method: str, rtol: float,
            atol: float, events, dense_output: bool):
     fun, jac = (eq.free_rhs, eq.free_jac) if mode == FREE else (eq.stuck_rhs, eq.stuck_jac)
     options = {"jac": jac} if method in ("Radau", "LSODA") else {}
@@ -264,7 +264,7 @@ class _Driver:
 
     def __init__(self, p, t0, state, method, rtol, atol, tol: Tolerances, max_events):
         self.p = p
-        self.eq = _Equations(p)
+        self.eq = Equations(p)
         self.method, self.rtol, self.atol = method, rtol, atol
         self.tol = tol
         self.max_events = max_events

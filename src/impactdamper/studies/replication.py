@@ -53,9 +53,9 @@ def free_rhs(p: Parameters):
     """The right-hand side of eqs. (2) + (9) without the stop, f(t, y) with y = (x1, x2, x1',
     x2'): the independent integrator's own definition
     (:mod:`impactdamper.baselines.ivp`), so that it is written once."""
-    from impactdamper.baselines.ivp import _Equations
+    from impactdamper.baselines.ivp import Equations
 
-    return _Equations(p).free_rhs
+    return Equations(p).free_rhs
 
 
 @dataclass(frozen=True)
