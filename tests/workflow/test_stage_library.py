@@ -152,7 +152,7 @@ def test_numeric_thresholds_match_the_closed_form():
     resolves the phase to ~1e-14 T."""
     from impactdamper.analysis.sweeps import with_value
     from impactdamper.analysis.transitions import no_contact_gap, stuck_liftoff_gap
-    from impactdamper.studies import transitions
+    from impactdamper.studies import transition_checks as transitions
 
     base = Parameters()
     liftoff = stuck_liftoff_gap(base)

@@ -87,7 +87,7 @@ rule sweep_alg1:
 rule sweep_transitions:
     input:
         script="workflow/scripts/sweep_transitions.py",
-        library=library(study("config", "gapsweep", "transitions"), REPORTING),
+        library=library(study("config", "gapsweep", "transition_checks"), REPORTING),
         points="results/sweeps/sweep_points.npz",
     output:
         csv="figures/sweep_transitions.csv",

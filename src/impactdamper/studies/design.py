@@ -42,7 +42,8 @@ from impactdamper.core.parameters import Parameters, finite_argument, require_pa
 
 __all__ = ["bare_object_amplitude", "two_mass_amplitude", "den_hartog", "TunedMassDamper", "optimal_tmd",
            "band_peak", "band_mean", "GapChart", "gap_chart", "good_band", "design_chart_2d", "CRITERIA",
-           "GOOD_GAP_TOLERANCE", "LINEAR_GRID_POINTS"]
+           "GOOD_GAP_TOLERANCE", "LINEAR_GRID_POINTS", "DESIGN_FIELDS", "design_parameters", "design_band",
+           "design_gaps", "response_gaps", "runs_where"]
 
 CRITERIA = ("peak", "band_average")
 # A gap is "good" when its criterion is within this fraction of the best gap's: 10 % is about
@@ -55,6 +56,67 @@ GOOD_GAP_TOLERANCE = 0.10
 LINEAR_GRID_POINTS = 801
 # Nelder-Mead stops when the peak changes by less than this (relative): the figures show 3 digits.
 OPTIMISER_FTOL = 1e-10
+# The parameters the config's ``design`` section may set for the suppressor it studies; the
+# others (gap, theta and the scales) stay the reference case's.
+DESIGN_FIELDS = ("mu", "N", "delta1", "delta2", "R")
+# Two gaps closer than this (Delta0/x_st) are one gap of the frequency responses: far below the
+# design chart's step.
+SAME_GAP = 1e-12
+
+
+def design_parameters(reference: dict, design: dict) -> Parameters:
+    """The suppressor the design stage studies: the config's ``reference`` case with the
+    ``design`` section's own values of :data:`DESIGN_FIELDS` (those it gives).
+
+    Parameters
+    ----------
+    reference : dict
+        Every relative parameter (the config's ``reference`` section).
+    design : dict
+        The config's ``design`` section; keys other than :data:`DESIGN_FIELDS` are ignored.
+    """
+    values = {name: float(reference[name]) for name in Parameters.names()}
+    values.update({name: float(design[name]) for name in DESIGN_FIELDS if name in design})
+    return Parameters(**values)
+
+
+def design_band(design: dict) -> tuple[float, float]:
+    """The band of forcing frequencies theta = omega/omega1 (``theta_start``, ``theta_stop``
+    of the config's ``design`` section)."""
+    return float(design["theta_start"]), float(design["theta_stop"])
+
+
+def design_gaps(design: dict, second: bool = False) -> np.ndarray:
+    """The design chart's gaps Delta0/x_st, evenly spaced from ``gap_start`` to ``gap_stop`` of
+    the config's ``design`` section: ``gap_points`` of them, or ``second_gap_points`` for the
+    chart against a second parameter (``second=True``). Shape (points,)."""
+    points = design["second_gap_points" if second else "gap_points"]
+    return np.linspace(float(design["gap_start"]), float(design["gap_stop"]), int(points))
+
+
+def response_gaps(best: float, gaps: Sequence[float]) -> list[float]:
+    """The gaps of the frequency-response figure: the design chart's best gap ``best``, then
+    ``gaps`` (the config's ``response_gaps``) in order, each once (within :data:`SAME_GAP`)."""
+    out = [float(best)]
+    for g in gaps:
+        if all(abs(float(g) - x) > SAME_GAP for x in out):
+            out.append(float(g))
+    return out
+
+
+def runs_where(thetas: Sequence[float], flags: Sequence[bool]) -> list[tuple[float, float]]:
+    """The contiguous runs of ``thetas`` (increasing) where ``flags`` holds, as (first theta,
+    last theta) of each run; a run of one theta has first == last."""
+    runs, start, last = [], None, None
+    for t, b in zip(list(thetas) + [math.nan], list(flags) + [False]):
+        if b and start is None:
+            start = last = t
+        elif b:
+            last = t
+        elif start is not None:
+            runs.append((start, last))
+            start = None
+    return runs
 
 
 def bare_object_amplitude(delta1: float, thetas: Sequence[float]) -> np.ndarray:
