@@ -38,8 +38,9 @@ import numpy as np
 from numba import njit
 
 from impactdamper.core.events import MAX_STEPS, MIN_BOUND, NEWTON_ITERATIONS, NEWTON_MAX_STEP, LinearFunctional
-from impactdamper.core.model import Model
-from impactdamper.core.parameters import Parameters, require_parameters
+from impactdamper.core.linear import MODAL_CONDITION_LIMIT
+from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
+from impactdamper.core.parameters import NATIVE_SCALES, Parameters, require_parameters
 from impactdamper.core.simulate import (DEFAULT_KICK, DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, STEPS_AT_START,
                                         STEPS_PER_PERIOD, Event, EventDrivenSolver, Tolerances, Trajectory,
                                         check_state, check_tolerances, simulate)
@@ -60,7 +61,7 @@ _GAP, _FORCE, _NEG_FORCE = 0, 1, 2
 # wrapper then raises by re-running the reference), CAPACITY asks for larger event buffers.
 OK, ERR_BUDGET, ERR_SEARCH, ERR_DEGENERATE, ERR_STUCK_RESONANT, ERR_CAPACITY = 0, 1, 2, 3, 4, 5
 # Why a point was not solved by the kernels (see the module docstring).
-FALLBACK_REASONS = ("", "matrix_exponential", "scales", "error")
+FALLBACK_REASONS = ("", "matrix_exponential", "scales", "error", "rescue")
 # Golden-section iterations of the x1_max refinement: 0.618^80 ~ 2e-17 of a bracket of 2/256 T,
 # below the reference's xatol of 1e-12 T.
 GOLDEN_ITERATIONS = 80
@@ -93,6 +94,8 @@ class Pack:
         G, then c . V_j.
     fallback : int
         Index into :data:`FALLBACK_REASONS` (0: the kernels apply).
+
+    Built by :func:`pack_many` (one leading axis per parameter set) or :func:`pack_parameters`.
     """
 
     s: np.ndarray
@@ -104,58 +107,176 @@ class Pack:
     fallback: int
 
 
-def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
-    """The kernels' arrays for ``p``, built by the reference classes (Model, LinearMode).
+# The relative parameters, in the columns of pack_many's input.
+PARAMETER_COLUMNS = ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1")
+# Pack flags (pack_many's second output), as in FALLBACK_REASONS: 0 the kernels apply.
+_PACK_OK, _PACK_EXPM, _PACK_SCALES, _PACK_ERROR = 0, 1, 2, 3
 
-    Raises
-    ------
-    ValueError
-        As :class:`~impactdamper.core.model.Model` does (extreme parameters, free resonance).
+
+def _stacked_mode(M: np.ndarray, b: np.ndarray, omega: np.ndarray, W: np.ndarray):
+    """The reference's LinearMode.__post_init__ for a stack of modes (shapes (P, n, n), (P, n),
+    (P,), (P, n, n)), with the same LAPACK calls: (roots, V, V^-1, Yhat, L^-T, powers, modal, ok)."""
+    P, n = M.shape[0], M.shape[1]
+    with np.errstate(all="ignore"):
+        lam, V = np.linalg.eig(M)
+        condition = np.linalg.cond(V)
+        modal = np.isfinite(condition) & (condition < MODAL_CONDITION_LIMIT)
+        Vinv = np.zeros_like(V)
+        if modal.any():
+            Vinv[modal] = np.linalg.inv(V[modal])
+        A = 1j * omega[:, None, None] * np.eye(n) - M
+        try:
+            Yhat = np.linalg.solve(A, b.astype(complex)[..., None])[..., 0]
+        except np.linalg.LinAlgError:  # a singular one in the stack: solve them one by one
+            Yhat = np.full((P, n), np.inf + 0j)
+            for i in range(P):
+                try:
+                    Yhat[i] = np.linalg.solve(A[i], b[i].astype(complex))
+                except np.linalg.LinAlgError:
+                    pass
+        ok = np.ones(P, bool)
+        try:
+            L = np.linalg.cholesky(W)
+        except np.linalg.LinAlgError:
+            L = np.empty_like(W)
+            for i in range(P):
+                try:
+                    L[i] = np.linalg.cholesky(W[i])
+                except np.linalg.LinAlgError:
+                    L[i], ok[i] = np.eye(n), False
+        LiT = np.swapaxes(np.linalg.inv(L), -1, -2)
+        powers = [np.broadcast_to(np.eye(n), M.shape)]
+        for _ in range(5):
+            powers.append(powers[-1] @ M)
+        powers = np.stack(powers, axis=1)  # (P, 6, n, n)
+        ok &= np.isfinite(powers).all(axis=(1, 2, 3)) & np.isfinite(LiT).all(axis=(1, 2))
+    return lam, V, Vinv, Yhat, LiT, powers, modal, ok
+
+
+def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple[Pack, np.ndarray]:
+    """The kernels' arrays for many parameter sets at once (numpy over the stack).
+
+    Parameters
+    ----------
+    values : ndarray, shape (P, 10)
+        Relative parameters in the order of :data:`PARAMETER_COLUMNS`, each row valid for
+        :class:`Parameters` (the caller validates).
+    tolerances : Tolerances, optional
+
+    Returns
+    -------
+    pack : Pack
+        Arrays with a leading axis P (s (P, 16), cm (P, 2, 10, 4), ...).
+    flags : ndarray of int, shape (P,)
+        Per row, an index into :data:`FALLBACK_REASONS`: 0 where the kernels apply; 1 where a
+        mode is not modal (repeated roots); 2 outside the native scales; 3 where the reference
+        Model raises (extreme parameters, resonance), so that the reference reports it.
     """
-    p = require_parameters(p)
     tol = check_tolerances(tolerances)
-    if not p.native_scales():
-        return Pack(np.zeros(_N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
-                    np.zeros((3, 6)), np.zeros((3, 5), complex), FALLBACK_REASONS.index("scales"))
-    model = Model(p)
-    s = np.zeros(_N_SCALARS)
-    s[_OMEGA], s[_T], s[_DELTA0], s[_R] = p.omega, p.T, p.Delta0, p.R
-    s[_M1], s[_M2], s[_MRED], s[_OMEGA1] = p.m1, p.m2, p.reduced_mass, p.omega1
-    s[_LSCALE], s[_FSCALE] = model.length_scale, model.force_scale
-    s[_GAP_EPS] = tol.gap_tol * model.length_scale
-    s[_CHATTER] = tol.chatter_tol
-    s[_FORCE_EPS] = tol.force_tol * model.force_scale
-    s[_STUCK_RES] = float(model.stuck_resonant)
-    s[_XST] = p.x_st
-    cm = np.zeros((2, 10, 4), complex)
-    fm = np.zeros((2, 5, 4))
-    modal = True
-    for i, lm in enumerate((model.free, model.stuck)):
-        n = lm.n
-        modal = modal and lm.modal
-        cm[i, 0, :n] = lm.roots
-        cm[i, 1, :n] = lm.Yhat
-        cm[i, 2:2 + n, :n] = lm.eigenvectors
-        if lm.modal:
-            cm[i, 6:6 + n, :n] = lm.eigenvectors_inv
-        fm[i, :n, :n] = lm.energy_weight
-        fm[i, 4, :n] = lm.b
-    fc = np.zeros((3, 8, 6))
-    fk = np.zeros((3, 6))
-    fg = np.zeros((3, 5), complex)
-    force = model.contact_force
-    neg = LinearFunctional(force.mode, -force.c, -force.g0, -force.d_s)  # as the reference's _dip_unresolved
-    with np.errstate(all="ignore"):  # (inf amplitudes of a resonant stuck mode: refused on entering it)
-        for i, fn in enumerate((model.gap, force, neg)):
-            n = fn.mode.n
-            for k in range(6):
-                fc[i, k, :n] = fn.cM[k]
-                fc[i, 7, k] = float(fn.cM[k] @ fn.mode.b)
-            fc[i, 6, 0], fc[i, 6, 1] = fn.g0, fn.d_s
-            fk[i] = fn.kappa
-            fg[i, 0] = fn.G
-            fg[i, 1:1 + n] = fn.cV
-    return Pack(s, cm, fm, fc, fk, fg, 0 if modal else FALLBACK_REASONS.index("matrix_exponential"))
+    v = np.asarray(values, dtype=float).reshape(-1, len(PARAMETER_COLUMNS))
+    P = v.shape[0]
+    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v.T
+    # The derived values with the operations of Parameters.__post_init__ (same rounding).
+    omega1 = omega / theta
+    omega2 = N * omega1
+    m2 = mu * m1
+    c1 = m1 * (omega1 * omega1)
+    c2 = m2 * (omega2 * omega2)
+    k1 = 2.0 * m1 * omega1 * delta1
+    k2 = 2.0 * m2 * omega1 * delta2
+    P0 = m1 * (omega1 * omega1) * x_st
+    Delta0 = gap * x_st
+    T = 2.0 * math.pi / omega
+    mred = m1 * m2 / (m1 + m2)
+    bad = (mred == 0.0) | ~np.isfinite(mred)
+    mred = np.where(bad, m1 * (mu / (1.0 + mu)), mred)
+    z = np.zeros(P)
+    # Free mode (reference's free_mode): state (x1, x2, x1', x2').
+    Kf = np.stack([np.stack([c1 + c2, -c2], -1), np.stack([-c2, c2], -1)], 1)
+    Cf = np.stack([np.stack([k1 + k2, -k2], -1), np.stack([-k2, k2], -1)], 1)
+    Minv = np.zeros((P, 2, 2))
+    Minv[:, 0, 0], Minv[:, 1, 1] = 1.0 / m1, 1.0 / m2
+    with np.errstate(all="ignore"):
+        Mf = np.zeros((P, 4, 4))
+        Mf[:, 0, 2] = Mf[:, 1, 3] = 1.0
+        Mf[:, 2:, :2] = -Minv @ Kf
+        Mf[:, 2:, 2:] = -Minv @ Cf
+        bf = np.stack([z, z, P0 / m1, z], -1)
+        Wf = np.zeros((P, 4, 4))
+        Wf[:, :2, :2] = Kf
+        Wf[:, 2, 2], Wf[:, 3, 3] = m1, m2
+        # Stuck mode (reference's stuck_mode): state (x1, x1').
+        m = m1 + m2
+        Ms = np.zeros((P, 2, 2))
+        Ms[:, 0, 1] = 1.0
+        Ms[:, 1, 0], Ms[:, 1, 1] = -c1 / m, -k1 / m
+        bs = np.stack([z, P0 / m], -1)
+        Ws = np.zeros((P, 2, 2))
+        Ws[:, 0, 0], Ws[:, 1, 1] = c1, m
+    flags = np.zeros(P, np.int64)
+    cm = np.zeros((P, 2, 10, 4), complex)
+    fm = np.zeros((P, 2, 5, 4))
+    modes = []
+    for i, (M, b, W) in enumerate(((Mf, bf, Wf), (Ms, bs, Ws))):
+        good = np.isfinite(M).all(axis=(1, 2)) & np.isfinite(W).all(axis=(1, 2)) & np.isfinite(b).all(axis=1)
+        Mg, bg, Wg = (np.where(good[:, None, None], M, np.eye(M.shape[1])), np.where(good[:, None], b, 0.0),
+                      np.where(good[:, None, None], W, np.eye(M.shape[1])))
+        lam, V, Vinv, Yhat, LiT, powers, modal, ok = _stacked_mode(Mg, bg, omega, Wg)
+        n = M.shape[1]
+        ok &= good
+        flags[~ok] = _PACK_ERROR
+        flags[(flags == 0) & ~modal] = _PACK_EXPM
+        cm[:, i, 0, :n], cm[:, i, 1, :n] = lam, Yhat
+        cm[:, i, 2:2 + n, :n], cm[:, i, 6:6 + n, :n] = V, Vinv
+        fm[:, i, :n, :n], fm[:, i, 4, :n] = W, b
+        modes.append((V, Yhat, LiT, powers, b, np.abs(Yhat[:, : n // 2]).max(axis=1)))
+    # The reference Model's checks: a free-mode forced response beyond FORCED_AMPLITUDE_LIMIT x_st
+    # is refused (a resonance), a stuck-mode one only when the bodies stay in contact.
+    with np.errstate(invalid="ignore"):
+        flags[(flags == 0) & ~(modes[0][5] <= FORCED_AMPLITUDE_LIMIT * x_st)] = _PACK_ERROR
+        stuck_res = ~(modes[1][5] <= FORCED_AMPLITUDE_LIMIT * x_st)
+    native = np.ones(P, bool)
+    for name, (lo, hi) in NATIVE_SCALES.items():
+        col = v[:, PARAMETER_COLUMNS.index(name)]
+        native &= (lo <= col) & (col <= hi)
+    flags[~native] = _PACK_SCALES
+    # The functionals: the gap (eq. 20), the contact force and minus it.
+    cg = np.broadcast_to(np.array([1.0, -1.0, 0.0, 0.0]), (P, 4))
+    cf = np.stack([m2 * c1 / m, m2 * k1 / m], -1)
+    fc = np.zeros((P, 3, 8, 6))
+    fk = np.zeros((P, 3, 6))
+    fg = np.zeros((P, 3, 5), complex)
+    specs = ((0, cg, Delta0, z), (1, cf, -c2 * Delta0, -m2 * P0 / m), (1, -cf, -(-c2 * Delta0), -(-m2 * P0 / m)))
+    with np.errstate(all="ignore"):
+        for f, (mi, c, g0, d_s) in enumerate(specs):
+            V, Yhat, LiT, powers, b, _ = modes[mi]
+            n = c.shape[1]
+            cM = np.einsum("pi,pkij->pkj", c, powers)  # c M^k, (P, 6, n)
+            fc[:, f, :6, :n] = cM
+            fc[:, f, 7, :6] = np.einsum("pkj,pj->pk", cM, b)
+            fc[:, f, 6, 0], fc[:, f, 6, 1] = g0, d_s
+            fk[:, f] = np.linalg.norm(np.einsum("pkj,pjl->pkl", cM, LiT), axis=2)
+            fg[:, f, 0] = np.einsum("pi,pi->p", c, Yhat) + d_s
+            fg[:, f, 1:1 + n] = np.einsum("pi,pij->pj", c, V)
+    s = np.zeros((P, _N_SCALARS))
+    s[:, _OMEGA], s[:, _T], s[:, _DELTA0], s[:, _R] = omega, T, Delta0, R
+    s[:, _M1], s[:, _M2], s[:, _MRED], s[:, _OMEGA1] = m1, m2, mred, omega1
+    s[:, _LSCALE] = x_st
+    s[:, _FSCALE] = mred * x_st * np.maximum(np.maximum(omega, omega1), omega2) ** 2
+    s[:, _GAP_EPS] = tol.gap_tol * x_st
+    s[:, _CHATTER] = tol.chatter_tol
+    s[:, _FORCE_EPS] = tol.force_tol * s[:, _FSCALE]
+    s[:, _STUCK_RES] = stuck_res
+    s[:, _XST] = x_st
+    return Pack(s, cm, fm, fc, fk, fg, 0), flags
+
+
+def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
+    """The kernels' arrays for one parameter set (:func:`pack_many` for one row); its
+    ``fallback`` is the row's flag."""
+    p = require_parameters(p)
+    pack, flags = pack_many(np.array([[getattr(p, name) for name in PARAMETER_COLUMNS]]), tolerances)
+    return Pack(pack.s[0], pack.cm[0], pack.fm[0], pack.fc[0], pack.fk[0], pack.fg[0], int(flags[0]))
 
 
 # ------------------------------------------------------------------------------------------
@@ -927,6 +1048,62 @@ def _steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, 
 
 
 # ------------------------------------------------------------------------------------------
+# Kernels: many points per call (a sweep's or a map row's points, each from its neighbour)
+# ------------------------------------------------------------------------------------------
+# Stop codes of _row_kernel: the row is done, or point i needs the reference (its pack flag,
+# an error of the kernels, a nonperiodic point to rescue).
+ROW_DONE, ROW_FLAGGED, ROW_ERROR, ROW_RESCUE = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def _row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_mode, prev_periodic, chain, rescue,
+                settle_tol, max_periods, max_periods_np, kmax, capacity, regime, kk, zz, x1max, frac, periods,
+                residual, starts, sections, sec_mode, phases, vels):
+    """Settle points i0, i0 + 1, ... in order, as the reference's solve_point without its
+    accelerators: each from its predecessor's section (``chain``, the reference's carry_state)
+    or from Algorithm No. 2's step 1. Fills the output arrays; returns (stop code, index)."""
+    P = S.shape[0]
+    out_imp = np.zeros((64 * kmax, 5))
+    section = np.zeros(5)
+    full = np.empty(4)
+    for i in range(i0, P):
+        if flags[i] != 0:
+            return ROW_FLAGGED, i
+        s = S[i]
+        if chain and have_prev:
+            full[:] = prev_section
+            if prev_mode == _STUCK:
+                full[1] = full[0] + s[_DELTA0]
+                full[3] = full[2]
+            elif s[_DELTA0] - (full[1] - full[0]) < 0.0:
+                full[1] = full[0] + s[_DELTA0]
+        else:
+            S0 = DEFAULT_KICK * s[_M1] * s[_OMEGA1] * s[_XST]
+            full[0], full[1], full[2], full[3] = 0.0, s[_DELTA0], S0 / s[_M1], -S0 / s[_M2]
+        cap = max_periods_np if (chain and have_prev and not prev_periodic) else max_periods
+        err, rg, k, z, start, fr, x1, n, res = _steady_kernel(CM[i], FM[i], FC[i], FK[i], FG[i], S[i], 0.0, full.copy(),
+                                                              False, settle_tol, cap, kmax, capacity, out_imp, section)
+        if err != OK or z > out_imp.shape[0]:
+            return ROW_ERROR, i
+        starts[i] = full
+        if rg == _RG_NONPERIODIC and rescue:
+            return ROW_RESCUE, i
+        regime[i], kk[i], zz[i], x1max[i], frac[i] = rg, k, z, x1, fr
+        periods[i] = n + max(k, 1) + 1
+        residual[i] = res
+        sections[i] = section[:4]
+        sec_mode[i] = int(section[4])
+        for j in range(min(z, phases.shape[1])):
+            phases[i, j] = out_imp[j, 2]
+            vels[i, j] = out_imp[j, 3] / (s[_XST] * s[_OMEGA])
+        have_prev = True
+        prev_section = section[:4].copy()
+        prev_mode = int(section[4])
+        prev_periodic = rg != _RG_NONPERIODIC
+    return ROW_DONE, P
+
+
+# ------------------------------------------------------------------------------------------
 # Python API
 # ------------------------------------------------------------------------------------------
 def _default_state(p: Parameters) -> np.ndarray:
@@ -1156,6 +1333,9 @@ def warm_up() -> float:
     t = time.perf_counter()
     p = Parameters()
     steady_state_compiled(p, max_periods=40)
+    from impactdamper.analysis.batch import settled_batch
+
+    settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
     simulate_compiled(p, 2 * p.T)
     count_events_compiled(p, 2 * p.T)
     return time.perf_counter() - t
