@@ -37,19 +37,20 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from impactdamper.core.events import MAX_STEPS, MIN_BOUND, NEWTON_ITERATIONS, NEWTON_MAX_STEP, LinearFunctional
+from impactdamper.core.events import MAX_STEPS, MIN_BOUND, NEWTON_ITERATIONS, NEWTON_MAX_STEP
 from impactdamper.core.linear import MODAL_CONDITION_LIMIT
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
-from impactdamper.core.parameters import NATIVE_SCALES, Parameters, require_parameters
-from impactdamper.core.simulate import (DEFAULT_KICK, DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, STEPS_AT_START,
-                                        STEPS_PER_PERIOD, Event, EventDrivenSolver, Tolerances, Trajectory,
-                                        check_state, check_tolerances, simulate)
+from impactdamper.core.parameters import NATIVE_SCALES, Parameters, finite_argument, require_parameters
+from impactdamper.core.simulate import (DEFAULT_KICK, DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, MAX_SIMULATE_PERIODS,
+                                        STEPS_AT_START, STEPS_PER_PERIOD, Event, EventDrivenSolver, Tolerances,
+                                        Trajectory, check_start_time, check_state, check_tolerances, simulate)
 from impactdamper.core.steady import (DIVISOR_DECAY, DIVISOR_FLOOR_FACTOR, DIVISOR_SUSPECT,
                                       EXCURSION_SAMPLES_PER_PERIOD, NONPERIODIC_WINDOW, PERIODS_BEFORE_CYCLE,
                                       REBASE_PERIODS, REGIMES, STALL_WINDOW, start_in_first_period, steady_state)
 
-__all__ = ["CompiledSteady", "pack_parameters", "simulate_compiled", "steady_state_compiled", "warm_up",
-           "EVENT_KINDS", "FALLBACK_REASONS"]
+__all__ = ["CompiledRun", "CompiledSteady", "Pack", "pack_many", "pack_parameters", "run_compiled",
+           "simulate_compiled", "steady_state_compiled", "count_events_compiled", "warm_up", "EVENT_KINDS",
+           "FALLBACK_REASONS"]
 
 EVENT_KINDS = ("impact", "stick", "liftoff")
 _IMPACT, _STICK, _LIFTOFF = 0, 1, 2
@@ -271,12 +272,178 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
     return Pack(s, cm, fm, fc, fk, fg, 0), flags
 
 
+@njit(cache=True)
+def _pack_mode(i, n, M, b, W, lam, V, omega, cm, fm, powers, LiT):
+    """One mode of the reference's LinearMode.__post_init__ (eigen-decomposition given).
+    Returns (modal, forced amplitude, finite)."""
+    condition = np.linalg.cond(V)
+    modal = math.isfinite(condition) and condition < MODAL_CONDITION_LIMIT
+    A = np.zeros((n, n), np.complex128)
+    for r in range(n):
+        for c in range(n):
+            A[r, c] = -M[r, c]
+        A[r, r] += 1j * omega
+    Yhat = np.linalg.solve(A, b.astype(np.complex128))
+    L = np.linalg.cholesky(W)
+    Li = np.linalg.inv(L)
+    for r in range(n):
+        for c in range(n):
+            LiT[r, c] = Li[c, r]
+    cm[i, 0, :n] = lam
+    cm[i, 1, :n] = Yhat
+    cm[i, 2:2 + n, :n] = V
+    if modal:
+        cm[i, 6:6 + n, :n] = np.linalg.inv(V)
+    fm[i, :n, :n] = W
+    fm[i, 4, :n] = b
+    finite = True
+    P = np.eye(n)
+    for k in range(6):
+        powers[k, :n, :n] = P
+        for r in range(n):
+            for c in range(n):
+                if not math.isfinite(P[r, c]):
+                    finite = False
+        P = P @ M
+    for r in range(n):
+        for c in range(n):
+            if not math.isfinite(LiT[r, c]):
+                finite = False
+    amp = 0.0
+    for r in range(n // 2):
+        amp = max(amp, abs(Yhat[r]))
+    return modal, amp, finite
+
+
+@njit(cache=True)
+def _pack_functional(f, n, c, g0, d_s, powers, LiT, b, Yhat, V, fc, fk, fg):
+    """One functional of the reference's LinearFunctional.__post_init__."""
+    for k in range(6):
+        acc_b = 0.0
+        for j in range(n):
+            acc = 0.0
+            for r in range(n):
+                acc += c[r] * powers[k, r, j]
+            fc[f, k, j] = acc
+            acc_b += acc * b[j]
+        fc[f, 7, k] = acc_b
+        sq = 0.0
+        for l in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += fc[f, k, j] * LiT[j, l]
+            sq += acc * acc
+        fk[f, k] = math.sqrt(sq)
+    fc[f, 6, 0], fc[f, 6, 1] = g0, d_s
+    G = 0j
+    for r in range(n):
+        G += c[r] * Yhat[r]
+    fg[f, 0] = G + d_s
+    for j in range(n):
+        acc = 0j
+        for r in range(n):
+            acc += c[r] * V[r, j]
+        fg[f, 1 + j] = acc
+
+
+@njit(cache=True)
+def _pack_one(v, tols, lam_f, V_f, lam_s, V_s, s, cm, fm, fc, fk, fg):
+    """The kernels' arrays for one parameter set (relative values v in PARAMETER_COLUMNS
+    order, tolerances (gap, chatter, force)) given the eigen-decompositions of the two
+    modes' state matrices (see _state_matrices). Returns its flag (FALLBACK_REASONS)."""
+    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
+    Mf, bf, Wf, Ms, bs, Ws, d = _state_matrices(v)
+    omega1, m2, c1, c2, k1, P0, Delta0, T, mred = d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7], d[8]
+    omega2 = N * omega1
+    m = m1 + m2
+    powers_f, LiT_f = np.zeros((6, 4, 4)), np.zeros((4, 4))
+    powers_s, LiT_s = np.zeros((6, 2, 2)), np.zeros((2, 2))
+    modal_f, amp_f, fin_f = _pack_mode(0, 4, Mf, bf, Wf, lam_f, V_f, omega, cm, fm, powers_f, LiT_f)
+    modal_s, amp_s, fin_s = _pack_mode(1, 2, Ms, bs, Ws, lam_s, V_s, omega, cm, fm, powers_s, LiT_s)
+    cg = np.array([1.0, -1.0, 0.0, 0.0])
+    cf = np.array([m2 * c1 / m, m2 * k1 / m])
+    _pack_functional(_GAP, 4, cg, Delta0, 0.0, powers_f, LiT_f, bf, cm[0, 1], V_f, fc, fk, fg)
+    _pack_functional(_FORCE, 2, cf, -c2 * Delta0, -m2 * P0 / m, powers_s, LiT_s, bs, cm[1, 1], V_s, fc, fk, fg)
+    _pack_functional(_NEG_FORCE, 2, -cf, -(-c2 * Delta0), -(-m2 * P0 / m), powers_s, LiT_s, bs, cm[1, 1], V_s,
+                     fc, fk, fg)
+    s[_OMEGA], s[_T], s[_DELTA0], s[_R] = omega, T, Delta0, R
+    s[_M1], s[_M2], s[_MRED], s[_OMEGA1] = m1, m2, mred, omega1
+    s[_LSCALE] = x_st
+    s[_FSCALE] = mred * x_st * max(omega, omega1, omega2) ** 2
+    s[_GAP_EPS] = tols[0] * x_st
+    s[_CHATTER] = tols[1]
+    s[_FORCE_EPS] = tols[2] * s[_FSCALE]
+    s[_STUCK_RES] = 0.0 if amp_s <= FORCED_AMPLITUDE_LIMIT * x_st else 1.0
+    s[_XST] = x_st
+    if not (fin_f and fin_s) or not amp_f <= FORCED_AMPLITUDE_LIMIT * x_st:
+        return _PACK_ERROR
+    if not (modal_f and modal_s):
+        return _PACK_EXPM
+    return _PACK_OK
+
+
+@njit(cache=True)
+def _state_matrices(v):
+    """The two modes' (M, b, W) (the reference's free_mode and stuck_mode) and the derived
+    values (omega1, m2, c1, c2, k1, P0, Delta0, T, reduced mass), with the operations of
+    Parameters.__post_init__ (same rounding)."""
+    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
+    omega1 = omega / theta
+    omega2 = N * omega1
+    m2 = mu * m1
+    c1 = m1 * (omega1 * omega1)
+    c2 = m2 * (omega2 * omega2)
+    k1 = 2.0 * m1 * omega1 * delta1
+    k2 = 2.0 * m2 * omega1 * delta2
+    P0 = m1 * (omega1 * omega1) * x_st
+    Delta0 = gap * x_st
+    T = 2.0 * math.pi / omega
+    mred = m1 * m2 / (m1 + m2)
+    if mred == 0.0 or not math.isfinite(mred):
+        mred = m1 * (mu / (1.0 + mu))
+    Mf = np.zeros((4, 4))
+    Mf[0, 2] = Mf[1, 3] = 1.0
+    Mf[2, 0], Mf[2, 1] = -(1.0 / m1) * (c1 + c2), -(1.0 / m1) * -c2
+    Mf[3, 0], Mf[3, 1] = -(1.0 / m2) * -c2, -(1.0 / m2) * c2
+    Mf[2, 2], Mf[2, 3] = -(1.0 / m1) * (k1 + k2), -(1.0 / m1) * -k2
+    Mf[3, 2], Mf[3, 3] = -(1.0 / m2) * -k2, -(1.0 / m2) * k2
+    bf = np.array([0.0, 0.0, P0 / m1, 0.0])
+    Wf = np.zeros((4, 4))
+    Wf[0, 0], Wf[0, 1], Wf[1, 0], Wf[1, 1] = c1 + c2, -c2, -c2, c2
+    Wf[2, 2], Wf[3, 3] = m1, m2
+    m = m1 + m2
+    Ms = np.zeros((2, 2))
+    Ms[0, 1] = 1.0
+    Ms[1, 0], Ms[1, 1] = -c1 / m, -k1 / m
+    bs = np.array([0.0, P0 / m])
+    Ws = np.zeros((2, 2))
+    Ws[0, 0], Ws[1, 1] = c1, m
+    d = np.array([omega1, m2, c1, c2, k1, P0, Delta0, T, mred])
+    return Mf, bf, Wf, Ms, bs, Ws, d
+
+
 def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
-    """The kernels' arrays for one parameter set (:func:`pack_many` for one row); its
-    ``fallback`` is the row's flag."""
+    """The kernels' arrays for one parameter set (the eigen-decompositions by numpy, as the
+    reference; the rest compiled); its ``fallback`` is the set's flag (FALLBACK_REASONS)."""
     p = require_parameters(p)
-    pack, flags = pack_many(np.array([[getattr(p, name) for name in PARAMETER_COLUMNS]]), tolerances)
-    return Pack(pack.s[0], pack.cm[0], pack.fm[0], pack.fc[0], pack.fk[0], pack.fg[0], int(flags[0]))
+    tol = check_tolerances(tolerances)
+    s, cm, fm = np.zeros(_N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4))
+    fc, fk, fg = np.zeros((3, 8, 6)), np.zeros((3, 6)), np.zeros((3, 5), complex)
+    if not p.native_scales():
+        return Pack(s, cm, fm, fc, fk, fg, _PACK_SCALES)
+    v = np.array([getattr(p, name) for name in PARAMETER_COLUMNS])
+    try:
+        with np.errstate(all="ignore"):
+            Mf, _, _, Ms, _, _, _ = _state_matrices(v)
+            lam_f, V_f = np.linalg.eig(Mf)
+            lam_s, V_s = np.linalg.eig(Ms)
+            flag = _pack_one(v, np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol]), lam_f.astype(complex),
+                             V_f.astype(complex), lam_s.astype(complex), V_s.astype(complex), s, cm, fm, fc, fk, fg)
+    except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+        # (a singular or indefinite matrix: extreme parameters or an undamped resonance, which
+        # the reference Model reports by name)
+        flag = _PACK_ERROR
+    return Pack(s, cm, fm, fc, fk, fg, int(flag))
 
 
 # ------------------------------------------------------------------------------------------
@@ -1124,15 +1291,72 @@ def _checked_state(p: Parameters, state, tol: Tolerances) -> np.ndarray:
     return full
 
 
+@dataclass(frozen=True)
+class CompiledRun:
+    """A compiled run's events and segments, as arrays (no Python object per event).
+
+    Attributes
+    ----------
+    kinds : ndarray of int, shape (E,)
+        Indices into :data:`EVENT_KINDS`.
+    events : ndarray, shape (E, 12)
+        Per event: t (s), closing velocity (m/s), pulse (N s), state before (4), after (4),
+        accumulation time t_inf (s).
+    segment_modes : ndarray of int, shape (S,)
+        0 free, 1 stuck.
+    segments : ndarray, shape (S, 5)
+        Per segment: start time t0 (s) and start state (4; stuck: x1, x1', 0, 0).
+    """
+
+    kinds: np.ndarray
+    events: np.ndarray
+    segment_modes: np.ndarray
+    segments: np.ndarray
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.events[:, 0]
+
+
+def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
+                 tolerances: Tolerances | None = None, *, pack: Pack | None = None) -> CompiledRun | None:
+    """Algorithm No. 2 with contact modes from ``t0`` to ``t_end`` in the kernels, as arrays.
+
+    Parameters
+    ----------
+    p, t_end, t0, state, tolerances
+        As for :func:`simulate_compiled` (validated there, not here).
+    pack : Pack, optional
+        :func:`pack_parameters` of ``p`` and ``tolerances``, if already made.
+
+    Returns
+    -------
+    CompiledRun, or None where the kernels do not apply or stopped on an error (the caller
+    then runs the reference).
+    """
+    pack = pack_parameters(p, tolerances) if pack is None else pack
+    if pack.fallback:
+        return None
+    full = _default_state(p) if state is None else np.asarray(state, dtype=float)
+    capacity = INITIAL_CAPACITY
+    while True:
+        err, ev_k, ev_f, seg_m, seg_f, _ = _simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
+                                                            float(t0), full, float(t_end), capacity)
+        if err != ERR_CAPACITY:
+            break
+        capacity *= 4
+    return None if err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
+
+
 def simulate_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
                       tolerances: Tolerances | None = None) -> Trajectory:
     """Algorithm No. 2 with contact modes from ``t0`` to ``t_end``, compiled.
 
     The same motion as :func:`impactdamper.core.simulate.simulate` (the same events, kinds and
-    order; times to rounding): a :class:`Trajectory` whose segments are the reference's
-    :class:`~impactdamper.core.events.Segment` objects, so ``sample`` works as there. Where the
-    kernels do not apply (see the module docstring) the reference runs instead; the returned
-    trajectory then has ``compiled = False``.
+    order; times to rounding, see the tests): a :class:`Trajectory` whose segments are the
+    reference's :class:`~impactdamper.core.events.Segment` objects, so ``sample`` works as
+    there. Where the kernels do not apply (see the module docstring) the reference runs
+    instead; the returned trajectory's ``compiled`` attribute says which ran.
 
     Parameters
     ----------
@@ -1150,25 +1374,18 @@ def simulate_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.nd
     """
     p = require_parameters(p)
     tol = check_tolerances(tolerances)
-    pack = pack_parameters(p, tol)
-    t0f, t_endf = float(t0), float(t_end)
-    if pack.fallback or not (math.isfinite(t0f) and math.isfinite(t_endf) and t_endf > t0f):
-        traj = simulate(p, t_end, t0, state, tolerances)
-        traj.compiled = False
-        return traj
+    t_endf = finite_argument("t_end", t_end)
+    t0f = check_start_time(t0, p)
+    check_start_time(t_endf, p, "t_end")
+    if not t_endf > t0f or (t_endf - t0f) / p.T > MAX_SIMULATE_PERIODS:
+        simulate(p, t_end, t0, state, tolerances)  # raises the reference's named error
     full = _checked_state(p, state, tol)
-    capacity = INITIAL_CAPACITY
-    while True:
-        err, ev_k, ev_f, seg_m, seg_f, seg_a = _simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
-                                                                t0f, full, t_endf, capacity)
-        if err != ERR_CAPACITY:
-            break
-        capacity *= 4
-    if err:
-        traj = simulate(p, t_end, t0, state, tolerances)  # raises the reference's error (or agrees with it)
+    run = run_compiled(p, t_endf, t0f, full, tol)
+    if run is None:
+        traj = simulate(p, t_end, t0, state, tolerances)  # raises the reference's error, or runs where it must
         traj.compiled = False
         return traj
-    return _trajectory(p, ev_k, ev_f, seg_m, seg_f)
+    return _trajectory(p, run.kinds, run.events, run.segment_modes, run.segments)
 
 
 def _trajectory(p: Parameters, ev_k, ev_f, seg_m, seg_f) -> Trajectory:
