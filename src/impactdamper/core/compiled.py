@@ -67,8 +67,16 @@ FALLBACK_REASONS = ("", "matrix_exponential", "scales", "error", "rescue")
 # below the reference's xatol of 1e-12 T.
 GOLDEN_ITERATIONS = 80
 _GOLD = 0.5 * (3.0 - math.sqrt(5.0))
-# Events and segments held before the buffers grow (the wrapper doubles them and re-runs).
-INITIAL_CAPACITY = 4096
+# Events and segments held before the buffers grow (the run is repeated with 4 times as many):
+# a settled cycle's description holds ~10 periods of a few events each; larger buffers cost more
+# to allocate than the rare repeat.
+INITIAL_CAPACITY = 256
+# Events per forcing period a run's buffers are first sized for (a periodic impacting motion has
+# 1-3; a chatter cycle ~30, found by growing them).
+EVENTS_PER_PERIOD_GUESS = 4
+# The default tolerances, made once (constructing and validating them costs more than packing's
+# compiled part).
+_DEFAULT_TOLERANCES = Tolerances()
 # Scalars of the pack, by index.
 (_OMEGA, _T, _DELTA0, _R, _M1, _M2, _MRED, _OMEGA1, _LSCALE, _FSCALE, _GAP_EPS, _CHATTER, _FORCE_EPS,
  _STUCK_RES, _XST, _N_SCALARS) = range(16)
@@ -347,12 +355,38 @@ def _pack_functional(f, n, c, g0, d_s, powers, LiT, b, Yhat, V, fc, fk, fg):
 
 
 @njit(cache=True)
-def _pack_one(v, tols, lam_f, V_f, lam_s, V_s, s, cm, fm, fc, fk, fg):
-    """The kernels' arrays for one parameter set (relative values v in PARAMETER_COLUMNS
-    order, tolerances (gap, chatter, force)) given the eigen-decompositions of the two
-    modes' state matrices (see _state_matrices). Returns its flag (FALLBACK_REASONS)."""
+def _eig2(M):
+    """Eigenvalues and unit eigenvectors of the stuck mode's M = [[0, 1], [a, b]] in closed form
+    (what LAPACK returns up to rounding: a complex pair as exact conjugates, the one with the
+    positive imaginary part first; real roots without cancellation)."""
+    a, b = M[1, 0], M[1, 1]
+    h = 0.5 * b
+    disc = h * h + a
+    lam = np.empty(2, np.complex128)
+    if disc < 0.0:
+        w = math.sqrt(-disc)
+        lam[0], lam[1] = complex(h, w), complex(h, -w)
+    else:
+        r = h + math.copysign(math.sqrt(disc), h)  # the root of larger modulus
+        lam[0] = r
+        lam[1] = -a / r if r != 0.0 else 0.0
+    V = np.empty((2, 2), np.complex128)
+    for j in range(2):
+        norm = math.sqrt(1.0 + abs(lam[j]) ** 2)
+        V[0, j], V[1, j] = 1.0 / norm, lam[j] / norm
+    return lam, V
+
+
+@njit(cache=True)
+def _pack_one(v, tols, lam_f, V_f):
+    """The kernels' arrays (s, cm, fm, fc, fk, fg, flag) for one parameter set (relative
+    values v in PARAMETER_COLUMNS order, tolerances (gap, chatter, force)) given the free
+    mode's eigen-decomposition (see _state_matrices); flag indexes FALLBACK_REASONS."""
+    s, cm, fm = np.zeros(_N_SCALARS), np.zeros((2, 10, 4), np.complex128), np.zeros((2, 5, 4))
+    fc, fk, fg = np.zeros((3, 8, 6)), np.zeros((3, 6)), np.zeros((3, 5), np.complex128)
     theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
     Mf, bf, Wf, Ms, bs, Ws, d = _state_matrices(v)
+    lam_s, V_s = _eig2(Ms)
     omega1, m2, c1, c2, k1, P0, Delta0, T, mred = d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7], d[8]
     omega2 = N * omega1
     m = m1 + m2
@@ -375,11 +409,12 @@ def _pack_one(v, tols, lam_f, V_f, lam_s, V_s, s, cm, fm, fc, fk, fg):
     s[_FORCE_EPS] = tols[2] * s[_FSCALE]
     s[_STUCK_RES] = 0.0 if amp_s <= FORCED_AMPLITUDE_LIMIT * x_st else 1.0
     s[_XST] = x_st
+    flag = _PACK_OK
     if not (fin_f and fin_s) or not amp_f <= FORCED_AMPLITUDE_LIMIT * x_st:
-        return _PACK_ERROR
-    if not (modal_f and modal_s):
-        return _PACK_EXPM
-    return _PACK_OK
+        flag = _PACK_ERROR
+    elif not (modal_f and modal_s):
+        flag = _PACK_EXPM
+    return s, cm, fm, fc, fk, fg, flag
 
 
 @njit(cache=True)
@@ -423,27 +458,29 @@ def _state_matrices(v):
 
 
 def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
-    """The kernels' arrays for one parameter set (the eigen-decompositions by numpy, as the
-    reference; the rest compiled); its ``fallback`` is the set's flag (FALLBACK_REASONS)."""
+    """The kernels' arrays for one parameter set (the free mode's eigen-decomposition by numpy,
+    as the reference; the rest compiled); its ``fallback`` is the set's flag (FALLBACK_REASONS)."""
     p = require_parameters(p)
-    tol = check_tolerances(tolerances)
-    s, cm, fm = np.zeros(_N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4))
-    fc, fk, fg = np.zeros((3, 8, 6)), np.zeros((3, 6)), np.zeros((3, 5), complex)
+    tol = _DEFAULT_TOLERANCES if tolerances is None else check_tolerances(tolerances)
     if not p.native_scales():
-        return Pack(s, cm, fm, fc, fk, fg, _PACK_SCALES)
-    v = np.array([getattr(p, name) for name in PARAMETER_COLUMNS])
+        return Pack(np.zeros(_N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
+                    np.zeros((3, 6)), np.zeros((3, 5), complex), _PACK_SCALES)
+    v = np.array([p.theta, p.mu, p.N, p.delta1, p.delta2, p.R, p.gap, p.omega, p.x_st, p.m1])
     try:
-        with np.errstate(all="ignore"):
-            Mf, _, _, Ms, _, _, _ = _state_matrices(v)
-            lam_f, V_f = np.linalg.eig(Mf)
-            lam_s, V_s = np.linalg.eig(Ms)
-            flag = _pack_one(v, np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol]), lam_f.astype(complex),
-                             V_f.astype(complex), lam_s.astype(complex), V_s.astype(complex), s, cm, fm, fc, fk, fg)
+        lam_f, V_f = np.linalg.eig(_free_matrix(v))
+        *arrays, flag = _pack_one(v, np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol]),
+                                  lam_f.astype(complex), V_f.astype(complex))
     except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
         # (a singular or indefinite matrix: extreme parameters or an undamped resonance, which
         # the reference Model reports by name)
-        flag = _PACK_ERROR
-    return Pack(s, cm, fm, fc, fk, fg, int(flag))
+        return Pack(np.zeros(_N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
+                    np.zeros((3, 6)), np.zeros((3, 5), complex), _PACK_ERROR)
+    return Pack(*arrays, int(flag))
+
+
+@njit(cache=True)
+def _free_matrix(v):
+    return _state_matrices(v)[0]
 
 
 # ------------------------------------------------------------------------------------------
@@ -1248,8 +1285,13 @@ def _row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_
             S0 = DEFAULT_KICK * s[_M1] * s[_OMEGA1] * s[_XST]
             full[0], full[1], full[2], full[3] = 0.0, s[_DELTA0], S0 / s[_M1], -S0 / s[_M2]
         cap = max_periods_np if (chain and have_prev and not prev_periodic) else max_periods
-        err, rg, k, z, start, fr, x1, n, res = _steady_kernel(CM[i], FM[i], FC[i], FK[i], FG[i], S[i], 0.0, full.copy(),
-                                                              False, settle_tol, cap, kmax, capacity, out_imp, section)
+        while True:
+            err, rg, k, z, start, fr, x1, n, res = _steady_kernel(CM[i], FM[i], FC[i], FK[i], FG[i], S[i], 0.0,
+                                                                  full.copy(), False, settle_tol, cap, kmax, capacity,
+                                                                  out_imp, section)
+            if err != ERR_CAPACITY:
+                break
+            capacity *= 4
         if err != OK or z > out_imp.shape[0]:
             return ROW_ERROR, i
         starts[i] = full
@@ -1338,7 +1380,7 @@ def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray
     if pack.fallback:
         return None
     full = _default_state(p) if state is None else np.asarray(state, dtype=float)
-    capacity = INITIAL_CAPACITY
+    capacity = max(INITIAL_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (float(t_end) - float(t0)) / p.T))
     while True:
         err, ev_k, ev_f, seg_m, seg_f, _ = _simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
                                                             float(t0), full, float(t_end), capacity)
