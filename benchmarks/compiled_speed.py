@@ -261,6 +261,14 @@ def run(args) -> dict:
         m["met"] = (m["wall_min_s"] <= MAP_TIME_TARGET_S) if n == 200 else None
         maps[f"{n}x{n}"] = m
     out["maps"] = maps
+    out["notes"] = [
+        "maps run the batch entry point without the rescue (SweepSettings(rescue=False)): the rescue is the "
+        "reference's Python Newton and would settle each nonperiodic point in Python; their count is in 'regimes'",
+        "the reference regime_map uses its accelerators (orbit continuation, stroboscopic Newton); the batch "
+        "simulates every point (solve_point with continuation=False), as tests/unit/test_compiled.py checks",
+        "first_10_impacts 'compiled' packs the parameter set (numpy eig of the free mode, the rest compiled) in "
+        "each call; 'compiled_packed_once' reuses the packed arrays, as a search over one parameter set would",
+    ]
     out["machine"] = {"python": platform.python_version(), "numpy": np.__version__,
                       "numba": __import__("numba").__version__, "platform": platform.platform(),
                       "cpu_count": os.cpu_count(), "load_1min_end": load()}

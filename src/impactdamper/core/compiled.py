@@ -184,44 +184,11 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
     tol = check_tolerances(tolerances)
     v = np.asarray(values, dtype=float).reshape(-1, len(PARAMETER_COLUMNS))
     P = v.shape[0]
-    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v.T
-    # The derived values with the operations of Parameters.__post_init__ (same rounding).
-    omega1 = omega / theta
-    omega2 = N * omega1
-    m2 = mu * m1
-    c1 = m1 * (omega1 * omega1)
-    c2 = m2 * (omega2 * omega2)
-    k1 = 2.0 * m1 * omega1 * delta1
-    k2 = 2.0 * m2 * omega1 * delta2
-    P0 = m1 * (omega1 * omega1) * x_st
-    Delta0 = gap * x_st
-    T = 2.0 * math.pi / omega
-    mred = m1 * m2 / (m1 + m2)
-    bad = (mred == 0.0) | ~np.isfinite(mred)
-    mred = np.where(bad, m1 * (mu / (1.0 + mu)), mred)
+    Mf, bf, Wf, Ms, bs, Ws, D = _state_matrices_many(v)
+    omega1, m2, c1, c2, k1, P0, Delta0, T, mred = D.T
+    omega, x_st, R = v[:, 7], v[:, 8], v[:, 5]
+    m = v[:, 9] + m2
     z = np.zeros(P)
-    # Free mode (reference's free_mode): state (x1, x2, x1', x2').
-    Kf = np.stack([np.stack([c1 + c2, -c2], -1), np.stack([-c2, c2], -1)], 1)
-    Cf = np.stack([np.stack([k1 + k2, -k2], -1), np.stack([-k2, k2], -1)], 1)
-    Minv = np.zeros((P, 2, 2))
-    Minv[:, 0, 0], Minv[:, 1, 1] = 1.0 / m1, 1.0 / m2
-    with np.errstate(all="ignore"):
-        Mf = np.zeros((P, 4, 4))
-        Mf[:, 0, 2] = Mf[:, 1, 3] = 1.0
-        Mf[:, 2:, :2] = -Minv @ Kf
-        Mf[:, 2:, 2:] = -Minv @ Cf
-        bf = np.stack([z, z, P0 / m1, z], -1)
-        Wf = np.zeros((P, 4, 4))
-        Wf[:, :2, :2] = Kf
-        Wf[:, 2, 2], Wf[:, 3, 3] = m1, m2
-        # Stuck mode (reference's stuck_mode): state (x1, x1').
-        m = m1 + m2
-        Ms = np.zeros((P, 2, 2))
-        Ms[:, 0, 1] = 1.0
-        Ms[:, 1, 0], Ms[:, 1, 1] = -c1 / m, -k1 / m
-        bs = np.stack([z, P0 / m], -1)
-        Ws = np.zeros((P, 2, 2))
-        Ws[:, 0, 0], Ws[:, 1, 1] = c1, m
     flags = np.zeros(P, np.int64)
     cm = np.zeros((P, 2, 10, 4), complex)
     fm = np.zeros((P, 2, 5, 4))
@@ -269,9 +236,9 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
             fg[:, f, 1:1 + n] = np.einsum("pi,pij->pj", c, V)
     s = np.zeros((P, _N_SCALARS))
     s[:, _OMEGA], s[:, _T], s[:, _DELTA0], s[:, _R] = omega, T, Delta0, R
-    s[:, _M1], s[:, _M2], s[:, _MRED], s[:, _OMEGA1] = m1, m2, mred, omega1
+    s[:, _M1], s[:, _M2], s[:, _MRED], s[:, _OMEGA1] = v[:, 9], m2, mred, omega1
     s[:, _LSCALE] = x_st
-    s[:, _FSCALE] = mred * x_st * np.maximum(np.maximum(omega, omega1), omega2) ** 2
+    s[:, _FSCALE] = mred * x_st * np.maximum(np.maximum(omega, omega1), v[:, 2] * omega1) ** 2
     s[:, _GAP_EPS] = tol.gap_tol * x_st
     s[:, _CHATTER] = tol.chatter_tol
     s[:, _FORCE_EPS] = tol.force_tol * s[:, _FSCALE]
@@ -455,6 +422,19 @@ def _state_matrices(v):
     Ws[0, 0], Ws[1, 1] = c1, m
     d = np.array([omega1, m2, c1, c2, k1, P0, Delta0, T, mred])
     return Mf, bf, Wf, Ms, bs, Ws, d
+
+
+@njit(cache=True)
+def _state_matrices_many(values):
+    """_state_matrices for each row of values (P, 10): stacked (M, b, W) of both modes and the
+    derived values (P, 9)."""
+    P = values.shape[0]
+    Mf, bf, Wf = np.zeros((P, 4, 4)), np.zeros((P, 4)), np.zeros((P, 4, 4))
+    Ms, bs, Ws = np.zeros((P, 2, 2)), np.zeros((P, 2)), np.zeros((P, 2, 2))
+    D = np.zeros((P, 9))
+    for i in range(P):
+        Mf[i], bf[i], Wf[i], Ms[i], bs[i], Ws[i], D[i] = _state_matrices(values[i])
+    return Mf, bf, Wf, Ms, bs, Ws, D
 
 
 def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
@@ -674,6 +654,15 @@ _SI_MODE, _SI_DEPM, _SI_SAME, _SI_NEV, _SI_NSEG, _SI_REC, _SI_ERR = range(7)
 
 
 @njit(cache=True)
+def _no_room(si, k, rows):
+    """Whether row k is past a buffer of ``rows`` rows (then the capacity error is set)."""
+    if k >= rows:
+        si[_SI_ERR] = ERR_CAPACITY
+        return True
+    return False
+
+
+@njit(cache=True)
 def _record_event(s, sf, si, ev_k, ev_f, t, kind, v, S, before, after, t_acc):
     if si[_SI_NEV] > 0 and t - sf[_SF_LAST] <= 4 * np.spacing(max(abs(t), 1.0)):
         si[_SI_SAME] += 1
@@ -684,8 +673,7 @@ def _record_event(s, sf, si, ev_k, ev_f, t, kind, v, S, before, after, t_acc):
         si[_SI_SAME] = 0
     k = si[_SI_NEV]
     if si[_SI_REC]:
-        if k >= ev_k.shape[0]:
-            si[_SI_ERR] = ERR_CAPACITY
+        if _no_room(si, k, ev_k.shape[0]):
             return
         ev_k[k] = kind
         ev_f[k, 0], ev_f[k, 1], ev_f[k, 2], ev_f[k, 11] = t, v, S, t_acc
@@ -709,10 +697,7 @@ def _start(cm, s, sf, si, y0, alpha, seg_m, seg_f, seg_a, mode, t, y, dep_m, dep
     _alpha(cm, s, mode, t, y0, alpha)
     sf[_SF_T0] = t
     k = si[_SI_NSEG]
-    if si[_SI_REC]:
-        if k >= seg_m.shape[0]:
-            si[_SI_ERR] = ERR_CAPACITY
-            return
+    if si[_SI_REC] and not _no_room(si, k, seg_m.shape[0]):
         seg_m[k] = mode
         seg_f[k, 0] = t
         for i in range(4):
@@ -933,19 +918,20 @@ def _state_at(cm, s, sf, si, alpha, t, out):
 
 
 @njit(cache=True)
+def _solver_buffers(capacity):
+    """A solver's state (sf, si, y0, alpha) and its event and segment buffers of ``capacity``
+    rows (0: not recorded)."""
+    return (np.zeros(8), np.zeros(8, np.int64), np.zeros(4), np.zeros(4, np.complex128),
+            np.empty(capacity, np.int64), np.empty((capacity, 12)), np.empty(capacity, np.int64),
+            np.empty((capacity, 5)), np.empty((capacity, 4), np.complex128))
+
+
+@njit(cache=True)
 def _simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity):
     """A recorded run from (t0, state) to t_end. Returns (error, events' kinds and values,
     segments' modes, values and alphas), cut to their lengths."""
-    sf = np.zeros(8)
-    si = np.zeros(8, np.int64)
+    sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a = _solver_buffers(capacity)
     si[_SI_REC] = 1
-    y0 = np.zeros(4)
-    alpha = np.zeros(4, np.complex128)
-    ev_k = np.empty(capacity, np.int64)
-    ev_f = np.empty((capacity, 12))
-    seg_m = np.empty(capacity, np.int64)
-    seg_f = np.empty((capacity, 5))
-    seg_a = np.empty((capacity, 4), np.complex128)
     _init(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, state)
     if si[_SI_ERR] == 0:
         _advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_end)
@@ -957,15 +943,7 @@ def _simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity):
 @njit(cache=True)
 def _count_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end):
     """An unrecorded run: (error, events) only (the benchmark's per-impact cost)."""
-    sf = np.zeros(8)
-    si = np.zeros(8, np.int64)
-    y0 = np.zeros(4)
-    alpha = np.zeros(4, np.complex128)
-    ev_k = np.empty(0, np.int64)
-    ev_f = np.empty((0, 12))
-    seg_m = np.empty(0, np.int64)
-    seg_f = np.empty((0, 5))
-    seg_a = np.empty((0, 4), np.complex128)
+    sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a = _solver_buffers(0)
     _init(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, state)
     if si[_SI_ERR] == 0:
         _advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_end)
@@ -1178,15 +1156,7 @@ def _steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, 
     fraction, x1_max, periods, residual); out_imp and section filled by _describe."""
     T = s[_T]
     scale = np.array([s[_XST], s[_XST], s[_XST] * s[_OMEGA], s[_XST] * s[_OMEGA]])
-    sf = np.zeros(8)
-    si = np.zeros(8, np.int64)
-    y0 = np.zeros(4)
-    alpha = np.zeros(4, np.complex128)
-    e_k = np.empty(0, np.int64)
-    e_f = np.empty((0, 12))
-    s_m = np.empty(0, np.int64)
-    s_f = np.empty((0, 5))
-    s_a = np.empty((0, 4), np.complex128)
+    sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a = _solver_buffers(0)
     _init(cm, fc, s, sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a, t0, state)
     if si[_SI_ERR]:
         return si[_SI_ERR], 0, 0, 0, 0.0, 0.0, 0.0, 0, 0.0
@@ -1233,11 +1203,7 @@ def _steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, 
             break
     k = found_k if found_k else min(NONPERIODIC_WINDOW, n)
     first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
-    ev_k = np.empty(capacity, np.int64)
-    ev_f = np.empty((capacity, 12))
-    seg_m = np.empty(capacity, np.int64)
-    seg_f = np.empty((capacity, 5))
-    seg_a = np.empty((capacity, 4), np.complex128)
+    _, _, _, _, ev_k, ev_f, seg_m, seg_f, seg_a = _solver_buffers(capacity)
     si[_SI_REC] = 1
     _init(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0,
           states[first - 1].copy() if first else start_state)
