@@ -150,7 +150,8 @@ def steady(p, repeats: int) -> dict:
     out["speedup_vs_dop853"] = dop["cpu_min_s"] / compiled["cpu_min_s"]
     out["speedup_vs_python"] = python["cpu_min_s"] / compiled["cpu_min_s"]
     out["targets"] = {"time_s": STEADY_TIME_TARGET_S, "time_met": compiled["cpu_min_s"] <= STEADY_TIME_TARGET_S,
-                      "speedup": STEADY_SPEEDUP_TARGET, "speedup_met": out["speedup_vs_dop853"] >= STEADY_SPEEDUP_TARGET,
+                      "speedup": STEADY_SPEEDUP_TARGET,
+                      "speedup_met": out["speedup_vs_dop853"] >= STEADY_SPEEDUP_TARGET,
                       "phase": PHASE_TARGET, "phase_met": max(err_alg1, err_python) <= PHASE_TARGET}
     return out
 

@@ -202,3 +202,17 @@ def test_fallback_is_counted():
 def test_bad_batch_arguments(kwargs, name):
     with pytest.raises(ValueError, match=f"`{name}`"):
         settled_batch(Parameters(), **kwargs)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: cc.steady_state_compiled(Parameters(), max_periods=1), "max_periods"),
+    (lambda: cc.steady_state_compiled(Parameters(), settle_tol=2.0), "settle_tol"),
+    (lambda: cc.steady_state_compiled(Parameters(), t0=math.inf), "t0"),
+    (lambda: cc.steady_state_compiled("reference"), "p"),
+    (lambda: cc.simulate_compiled(Parameters(), -1.0), "t_end"),
+    (lambda: cc.simulate_compiled(Parameters(), 1.0, state=[0.0, 10.0, 0.0, 0.0]), "state"),
+])
+def test_bad_compiled_arguments(call, name):
+    """The compiled entry points name a bad argument as the reference does."""
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        call()

@@ -193,12 +193,14 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     for n in names:
         if n not in swept_names():
             raise ValueError(f"`names` = {names!r} is not allowed: {n!r} is not one of {', '.join(swept_names())}")
+    shown = repr(values) if len(repr(values)) <= 60 else repr(values)[:40] + "...(truncated)"
+    allowed = f"must be finite numbers of shape (P, {len(names)}), one column per name"
     try:
         values = np.array(values, dtype=float).reshape(-1, len(names)) if len(names) else None
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"`values` = {values!r} is not allowed: must be numbers of shape (P, {len(names)})") from None
+        raise ArgumentTypeError(f"`values` = {shown} is not allowed: {allowed}") from None
     if values is None or not np.all(np.isfinite(values)):
-        raise ValueError(f"`values` is not allowed: must be finite numbers of shape (P, {len(names)}) with names given")
+        raise ValueError(f"`values` = {shown} is not allowed: {allowed}")
     if not isinstance(chain, bool):
         raise ArgumentTypeError(f"`chain` = {chain!r} is not allowed: must be True or False")
     settings = settings or SweepSettings()

@@ -40,13 +40,15 @@ from numba import njit
 from impactdamper.core.events import MAX_STEPS, MIN_BOUND, NEWTON_ITERATIONS, NEWTON_MAX_STEP
 from impactdamper.core.linear import MODAL_CONDITION_LIMIT
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
-from impactdamper.core.parameters import NATIVE_SCALES, Parameters, finite_argument, require_parameters
+from impactdamper.core.parameters import (NATIVE_SCALES, Parameters, finite_argument, integer_argument, real_argument,
+                                          require_parameters)
 from impactdamper.core.simulate import (DEFAULT_KICK, DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, MAX_SIMULATE_PERIODS,
                                         STEPS_AT_START, STEPS_PER_PERIOD, Event, EventDrivenSolver, Tolerances,
                                         Trajectory, check_start_time, check_state, check_tolerances, simulate)
 from impactdamper.core.steady import (DIVISOR_DECAY, DIVISOR_FLOOR_FACTOR, DIVISOR_SUSPECT,
-                                      EXCURSION_SAMPLES_PER_PERIOD, NONPERIODIC_WINDOW, PERIODS_BEFORE_CYCLE,
-                                      REBASE_PERIODS, REGIMES, STALL_WINDOW, start_in_first_period, steady_state)
+                                      EXCURSION_SAMPLES_PER_PERIOD, MAX_PERIODS_LIMIT, NONPERIODIC_WINDOW,
+                                      PERIODS_BEFORE_CYCLE, REBASE_PERIODS, REGIMES, STALL_WINDOW,
+                                      start_in_first_period, steady_state)
 
 __all__ = ["CompiledRun", "CompiledSteady", "Pack", "pack_many", "pack_parameters", "run_compiled",
            "simulate_compiled", "steady_state_compiled", "count_events_compiled", "warm_up", "EVENT_KINDS",
@@ -1508,17 +1510,18 @@ def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray |
     """
     p = require_parameters(p)
     tol = check_tolerances(tolerances)
+    t0 = finite_argument("t0", t0)
+    settle_tol = real_argument("settle_tol", settle_tol)
+    if not (math.isfinite(settle_tol) and 0 < settle_tol < 1):
+        raise ValueError(f"`settle_tol` = {settle_tol!r} is not allowed: must be in (0, 1)")
+    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
+    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, max_periods - 1)
     pack = pack_parameters(p, tol)
     args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
                 max_period_multiple=max_period_multiple)
     if pack.fallback:
         return _from_reference(p, steady_state(p, **args), FALLBACK_REASONS[pack.fallback])
-    if not (isinstance(max_periods, int) and isinstance(max_period_multiple, int)
-            and 2 <= max_periods and 1 <= max_period_multiple < max_periods
-            and isinstance(settle_tol, float) and 0.0 < settle_tol < 1.0 and isinstance(t0, (int, float))
-            and math.isfinite(t0)):
-        steady_state(p, **args)  # raises the reference's named error
-    start = start_in_first_period(p, float(t0))
+    start = start_in_first_period(p, t0)
     full = _checked_state(p, state, tol)
     result = _steady_run(pack, start, full, state is None, settle_tol, max_periods, max_period_multiple)
     if result is None:
