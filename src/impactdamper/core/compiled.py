@@ -491,15 +491,15 @@ def _alpha(cm, s, mode, t0, y0, alpha):
 @njit(cache=True)
 def _free_part(cm, mode, alpha, tau, out):
     """z(tau) = Re V (alpha e^{lambda tau}), the free response."""
+    # Summed over j in the same order as Re(V e) (the real part of a complex sum is the sum of
+    # the real parts), without a temporary array: this is the state's hot path.
     n = _n_of(mode)
-    e = np.empty(4, np.complex128)
-    for j in range(n):
-        e[j] = alpha[j] * np.exp(cm[mode, 0, j] * tau)
     for i in range(n):
-        acc = 0j
-        for j in range(n):
-            acc += cm[mode, 2 + i, j] * e[j]
-        out[i] = acc.real
+        out[i] = 0.0
+    for j in range(n):
+        e = alpha[j] * np.exp(cm[mode, 0, j] * tau)
+        for i in range(n):
+            out[i] += (cm[mode, 2 + i, j] * e).real
 
 
 @njit(cache=True)
@@ -1021,38 +1021,50 @@ def _seg_index(seg_f, ns, t):
 
 
 @njit(cache=True)
-def _sample(cm, s, seg_m, seg_f, seg_a, ns, t, out):
+def _sample(cm, s, seg_m, seg_f, seg_a, ns, t, out, y):
+    """Full state at t (into out; y is scratch), and the mode there."""
     k = _seg_index(seg_f, ns, t)
-    y = np.empty(4)
     _state(cm, s, seg_m[k], seg_f[k, 0], seg_a[k], t, y)
     _full_state(s, seg_m[k], y, out)
     return seg_m[k]
 
 
 @njit(cache=True)
-def _abs_x1(cm, s, seg_m, seg_f, seg_a, k, t):
-    y = np.empty(4)
-    _state(cm, s, seg_m[k], seg_f[k, 0], seg_a[k], t, y)
-    return abs(y[0])
+def _abs_x1(cm, s, seg_m, seg_f, seg_a, k, t, y):
+    """|x1(t)| on segment k: the first row of eq. (18) alone, one root of each conjugate pair
+    (as the event search's evaluator), the excursion search's hot path. It differs from the
+    full state's x1 by rounding only, which moves the maximum's value by rounding only."""
+    mode = seg_m[k]
+    n = _n_of(mode)
+    tau = t - seg_f[k, 0]
+    acc = 0.0
+    for j in range(n):
+        lam = cm[mode, 0, j]
+        if lam.imag < 0.0:
+            continue
+        term = (cm[mode, 2, j] * seg_a[k, j] * np.exp(lam * tau)).real
+        acc += 2.0 * term if lam.imag > 0.0 else term
+    return abs(acc + (cm[mode, 1, 0] * np.exp(1j * s[_OMEGA] * t)).imag)
 
 
 @njit(cache=True)
 def _golden_max(cm, s, seg_m, seg_f, seg_a, k, lo, hi):
     """max |x1| on [lo, hi] of segment k by golden-section search."""
+    y = np.empty(4)
     a, b = lo, hi
     c = a + _GOLD * (b - a)
     d = b - _GOLD * (b - a)
-    fc_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, c)
-    fd_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, d)
+    fc_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, c, y)
+    fd_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, d, y)
     for _ in range(GOLDEN_ITERATIONS):
         if fc_ >= fd_:
             b, d, fd_ = d, c, fc_
             c = a + _GOLD * (b - a)
-            fc_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, c)
+            fc_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, c, y)
         else:
             a, c, fc_ = c, d, fd_
             d = b - _GOLD * (b - a)
-            fd_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, d)
+            fd_ = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, d, y)
     return max(fc_, fd_)
 
 
@@ -1062,10 +1074,14 @@ def _max_excursion(cm, s, seg_m, seg_f, seg_a, ns, a, b):
     n = max(int(EXCURSION_SAMPLES_PER_PERIOD * (b - a) / T), 16)
     ts = np.linspace(a, b, n + 1)
     x1 = np.empty(n + 1)
-    full = np.empty(4)
+    y = np.empty(4)
+    k = _seg_index(seg_f, ns, ts[0])
     for j in range(n + 1):
-        _sample(cm, s, seg_m, seg_f, seg_a, ns, ts[j], full)
-        x1[j] = abs(full[0])
+        # The samples increase: the segment index only moves forward (the same index as
+        # _seg_index gives, without a search per sample).
+        while k + 1 < ns and seg_f[k + 1, 0] <= ts[j]:
+            k += 1
+        x1[j] = _abs_x1(cm, s, seg_m, seg_f, seg_a, k, ts[j], y)
     i = int(np.argmax(x1))
     best = x1[i]
     for end in range(2):
@@ -1146,7 +1162,7 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
     x1_max = _max_excursion(cm, s, seg_m, seg_f, seg_a, ns, start, start + Tc)
     t_sec = math.ceil(start / T - 1e-9) * T
     full = np.empty(4)
-    section[4] = _sample(cm, s, seg_m, seg_f, seg_a, ns, t_sec, full)
+    section[4] = _sample(cm, s, seg_m, seg_f, seg_a, ns, t_sec, full, np.empty(4))
     section[:4] = full
     return regime, z, start, contact_fraction, x1_max
 
