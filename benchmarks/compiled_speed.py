@@ -195,7 +195,9 @@ def _map_rows(args) -> tuple[list, float, float, int]:
 def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
     gaps = np.linspace(*MAP_GAPS, n)
     thetas = np.linspace(*MAP_THETAS, n)
-    blocks = np.array_split(thetas, workers)
+    # Rows dealt round-robin: the costly rows (near resonance, theta ~ 1) are contiguous, and a
+    # contiguous split left one worker with most of them.
+    blocks = [thetas[w::workers] for w in range(workers)]
     walls, cpus, result = [], [], None
     with ProcessPoolExecutor(workers) as pool:
         list(pool.map(_map_rows, [(b[:1], gaps[:4], rescue) for b in blocks]))  # each worker loads the kernels
@@ -204,6 +206,8 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
             result = list(pool.map(_map_rows, [(b, gaps, rescue) for b in blocks]))
             walls.append(time.perf_counter() - w)
             cpus.append(sum(r[1] for r in result))
+    worker_cpu = [r[1] for r in result]
+    worker_wall = [r[2] for r in result]
     rows = [row for r in result for row in r[0]]
     codes = np.array([row["regime"] for row in rows])
     periods = np.array([row["periods"] for row in rows])
@@ -211,6 +215,7 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
     return {"points": n * n, "grid": [n, n], "workers": workers, "rescue": rescue, "wall_min_s": min(walls),
             "wall_median_s": statistics.median(walls), "cpu_total_min_s": min(cpus), "load_1min": load(),
             "fallback_points": int(sum(r[3] for r in result)), "regimes": regimes,
+            "worker_cpu_s": worker_cpu, "worker_wall_s": worker_wall,
             "simulated_periods": int(periods.sum()), "us_per_point": 1e6 * min(cpus) / (n * n)}, periods, gaps, thetas
 
 
@@ -303,7 +308,9 @@ def summary(out: dict) -> str:
     ]
     for name, m in out["maps"].items():
         line = (f"map {name} ({m['workers']} processes, rescue off, load {m['load_1min']:.1f}): wall "
-                f"{m['wall_min_s']:.1f} s (median {m['wall_median_s']:.1f}), cpu {m['cpu_total_min_s']:.1f} s, "
+                f"{m['wall_min_s']:.1f} s (median {m['wall_median_s']:.1f}), cpu {m['cpu_total_min_s']:.1f} s (per "
+                f"worker {', '.join(f'{c:.1f}' for c in m['worker_cpu_s'])} s cpu, "
+                f"{', '.join(f'{w:.1f}' for w in m['worker_wall_s'])} s wall), "
                 f"{m['us_per_point']:.0f} us per point, {m['simulated_periods']} periods simulated; "
                 f"nonperiodic {m['regimes'].get('nonperiodic', 0)} points")
         if m.get("target_s"):
