@@ -1,0 +1,350 @@
+"""Speed of the compiled exact solver against the pure-Python one and solve_ivp DOP853.
+
+In one run, on the paper's reference case (Timofeev et al. 2019, DOI
+10.18698/0236-3941-2019-1-90-100, Fig. 2: theta = 1, mu = 0.08, N = 0.5,
+delta1 = delta2 = 0.05, R = 0.7, Delta0/x_st = -5.8, omega = 10 rad/s):
+
+* JIT compile time: the kernels compiled from scratch (a fresh numba cache, in a subprocess),
+  and loaded from the cache (a second subprocess), each on its own line;
+* microseconds per impact over a long run (``--long-periods`` forcing periods, >= 1e4 impacts),
+  for the compiled solver; the pure-Python solver and DOP853 over ``--ivp-periods`` of the same
+  run (their cost per impact is flat in the run's length);
+* the reference case's settled motion (``steady_state``), with its phase error against
+  Algorithm No. 1's closed form (eqs. 13-17) and against the pure-Python steady state;
+* the first 10 impacts from Algorithm No. 2's step 1;
+* a 200 x 200 regime map (the full config's theta map: Delta0/x_st in [-40, 15] against
+  theta in [0.5, 1.5], each row swept upward, cell from cell) through the batch entry point,
+  split over ``--workers`` processes as the workflow's chunks would be; DOP853 and the
+  pure-Python map are timed on a sample of the map's points and rows and extrapolated by
+  simulated periods (saying so).
+
+Every timing is CPU time of the timed process (time.process_time) and wall time, minimum and
+median of ``--repeats`` runs, with the 1-minute load average beside it (the machine is shared).
+Targets (the issue): at most 3 us per impact; the steady state in at most 1 ms and at least
+300x faster than DOP853, phase error at most 1e-12 T; the first 10 impacts at least 100x
+faster; the map in at most 15 s.
+
+Usage: ``python benchmarks/compiled_speed.py figures/compiled_speed.json [--quick]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+import impactdamper as idp
+from impactdamper.analysis.batch import regime_map_batch
+from impactdamper.analysis.sweeps import SweepSettings, regime_map
+from impactdamper.baselines.ivp import simulate_ivp
+from impactdamper.core import compiled as cc
+
+# The issue's targets.
+US_PER_IMPACT_TARGET = 3.0
+STEADY_TIME_TARGET_S = 1e-3
+STEADY_SPEEDUP_TARGET = 300.0
+PHASE_TARGET = 1e-12
+FIRST10_SPEEDUP_TARGET = 100.0
+MAP_TIME_TARGET_S = 15.0
+RTOL = ATOL = 1e-10  # DOP853's tolerances named by the issue
+# The full config's theta map (config/config.yaml, maps.theta) and its settings.
+MAP_GAPS = (-40.0, 15.0)
+MAP_THETAS = (0.5, 1.5)
+MAP_SETTINGS = dict(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, max_period_multiple=8)
+# Map points whose DOP853 cost is timed and extrapolated (a full DOP853 map would take hours).
+IVP_MAP_SAMPLE = 6
+
+
+def load() -> float:
+    return os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan
+
+
+def timed(fn, repeats: int) -> dict:
+    """CPU and wall times of ``repeats`` calls (after one warm-up call), min and median."""
+    result = fn()
+    cpu, wall = [], []
+    for _ in range(repeats):
+        c, w = time.process_time(), time.perf_counter()
+        result = fn()
+        cpu.append(time.process_time() - c)
+        wall.append(time.perf_counter() - w)
+    return {"cpu_min_s": min(cpu), "cpu_median_s": statistics.median(cpu), "wall_min_s": min(wall),
+            "wall_median_s": statistics.median(wall), "repeats": repeats, "load_1min": load(), "result": result}
+
+
+def strip(d: dict) -> dict:
+    return {k: v for k, v in d.items() if k != "result"}
+
+
+def phase_error(phase: float, reference: float) -> float:
+    return abs((phase - reference + 0.5) % 1.0 - 0.5)
+
+
+def compile_times() -> dict:
+    """Kernels compiled into an empty cache, then loaded from it, each in a fresh process."""
+    code = "import time; t = time.perf_counter(); from impactdamper.core.compiled import warm_up; warm_up(); " \
+           "print(time.perf_counter() - t)"
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        for name in ("cold_compile_s", "cached_load_s"):
+            run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+            out[name] = float(run.stdout.strip().splitlines()[-1])
+    out["load_1min"] = load()
+    return out
+
+
+def per_impact(p, long_periods: int, ivp_periods: int, repeats: int) -> dict:
+    n_events = cc.count_events_compiled(p, long_periods * p.T)
+    traj = cc.simulate_compiled(p, long_periods * p.T)
+    impacts = len(traj.impacts())
+    compiled = timed(lambda: cc.count_events_compiled(p, long_periods * p.T), repeats)
+    short_ref = idp.simulate(p, ivp_periods * p.T)
+    short_impacts = len(short_ref.impacts())
+    python = timed(lambda: idp.simulate(p, ivp_periods * p.T), max(1, repeats // 3))
+    dop = timed(lambda: simulate_ivp(p, ivp_periods * p.T, method="DOP853", rtol=RTOL, atol=ATOL), 1)
+    out = {
+        "compiled": {**strip(compiled), "periods": long_periods, "events": n_events, "impacts": impacts,
+                     "us_per_impact_min": 1e6 * compiled["cpu_min_s"] / impacts,
+                     "us_per_impact_median": 1e6 * compiled["cpu_median_s"] / impacts},
+        "python": {**strip(python), "periods": ivp_periods, "impacts": short_impacts,
+                   "us_per_impact_min": 1e6 * python["cpu_min_s"] / short_impacts},
+        "dop853": {**strip(dop), "periods": ivp_periods, "impacts": len(dop["result"].impacts()),
+                   "us_per_impact_min": 1e6 * dop["cpu_min_s"] / max(len(dop["result"].impacts()), 1)},
+    }
+    out["target_us"] = US_PER_IMPACT_TARGET
+    out["met"] = out["compiled"]["us_per_impact_min"] <= US_PER_IMPACT_TARGET
+    out["speedup_vs_python"] = out["python"]["us_per_impact_min"] / out["compiled"]["us_per_impact_min"]
+    out["speedup_vs_dop853"] = out["dop853"]["us_per_impact_min"] / out["compiled"]["us_per_impact_min"]
+    return out
+
+
+def steady(p, repeats: int) -> dict:
+    alg1 = idp.algorithm1(p)
+    reference = alg1.impact_phase
+    compiled = timed(lambda: cc.steady_state_compiled(p), repeats)
+    s = compiled["result"]
+    python = timed(lambda: idp.steady_state(p), max(1, repeats // 10))
+    sp = python["result"]
+    k = max(s.period_multiple, 1)
+    t_span = (s.periods + k + 1) * p.T  # what steady_state simulates: settling, then one cycle and a period
+    dop = timed(lambda: simulate_ivp(p, t_span, method="DOP853", rtol=RTOL, atol=ATOL), 2)
+    pack = timed(lambda: cc.pack_parameters(p), repeats)
+    err_alg1 = phase_error(float(s.impact_phases[0]), reference)
+    err_python = phase_error(float(s.impact_phases[0]), sp.impacts[0].phase)
+    out = {"regime": s.regime, "periods": s.periods, "phase": float(s.impact_phases[0]),
+           "phase_alg1": reference, "phase_error_vs_alg1": err_alg1, "phase_error_vs_python": err_python,
+           "x1_max": s.x1_max, "x1_max_python": sp.x1_max, "simulated_periods": t_span / p.T,
+           "compiled": strip(compiled), "packing_only": strip(pack), "python": strip(python), "dop853": strip(dop)}
+    out["speedup_vs_dop853"] = dop["cpu_min_s"] / compiled["cpu_min_s"]
+    out["speedup_vs_python"] = python["cpu_min_s"] / compiled["cpu_min_s"]
+    out["targets"] = {"time_s": STEADY_TIME_TARGET_S, "time_met": compiled["cpu_min_s"] <= STEADY_TIME_TARGET_S,
+                      "speedup": STEADY_SPEEDUP_TARGET,
+                      "speedup_met": out["speedup_vs_dop853"] >= STEADY_SPEEDUP_TARGET,
+                      "phase": PHASE_TARGET, "phase_met": max(err_alg1, err_python) <= PHASE_TARGET}
+    return out
+
+
+def first_impacts(p, repeats: int, count: int = 10) -> dict:
+    ref = idp.simulate(p, 40 * p.T)
+    t_end = ref.impacts()[count - 1].t + 1e-6 * p.T  # just past the count-th impact
+    compiled = timed(lambda: cc.run_compiled(p, t_end), repeats)
+    pack = cc.pack_parameters(p)
+    solver = timed(lambda: cc.run_compiled(p, t_end, pack=pack), repeats)
+    objects = timed(lambda: cc.simulate_compiled(p, t_end), repeats)
+    python = timed(lambda: idp.simulate(p, t_end), max(1, repeats // 5))
+    dop = timed(lambda: simulate_ivp(p, t_end, method="DOP853", rtol=RTOL, atol=ATOL), 3)
+    run, b = compiled["result"], python["result"]
+    times = run.times[run.kinds == 0]
+    dt = float(np.max(np.abs(times - np.array([e.t for e in b.impacts()])))) / p.T
+    out = {"impacts": count, "t_end_periods": t_end / p.T, "max_time_difference_vs_python_T": dt,
+           "compiled": strip(compiled), "compiled_packed_once": strip(solver),
+           "compiled_with_trajectory_objects": strip(objects), "python": strip(python),
+           "dop853": strip(dop),
+           "speedup_vs_dop853": dop["cpu_min_s"] / compiled["cpu_min_s"],
+           "speedup_vs_python": python["cpu_min_s"] / compiled["cpu_min_s"]}
+    out["speedup_vs_dop853_packed_once"] = dop["cpu_min_s"] / solver["cpu_min_s"]
+    out["target_speedup"] = FIRST10_SPEEDUP_TARGET
+    out["met"] = out["speedup_vs_dop853"] >= FIRST10_SPEEDUP_TARGET
+    return out
+
+
+def _map_rows(args) -> tuple[list, float, float, int]:
+    """One worker's block of map rows (a chunk): (rows as dicts, cpu, wall, fallback points)."""
+    thetas, gaps, rescue = args
+    c, w = time.process_time(), time.perf_counter()
+    settings = SweepSettings(**MAP_SETTINGS, rescue=rescue)
+    rows = regime_map_batch(idp.Parameters(), "gap", gaps, "theta", thetas, settings=settings)
+    cpu, wall = time.process_time() - c, time.perf_counter() - w
+    out = [{"regime": r.regime_code.tolist(), "k": r.period_multiple.tolist(), "z": r.impacts_per_cycle.tolist(),
+            "periods": r.periods.tolist(), "fallback": sum(r.fallbacks.values())} for r in rows]
+    return out, cpu, wall, sum(o["fallback"] for o in out)
+
+
+def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
+    gaps = np.linspace(*MAP_GAPS, n)
+    thetas = np.linspace(*MAP_THETAS, n)
+    # Rows dealt round-robin: the costly rows (near resonance, theta ~ 1) are contiguous, and a
+    # contiguous split left one worker with most of them.
+    blocks = [thetas[w::workers] for w in range(workers)]
+    walls, cpus, result = [], [], None
+    with ProcessPoolExecutor(workers) as pool:
+        list(pool.map(_map_rows, [(b[:1], gaps[:4], rescue) for b in blocks]))  # each worker loads the kernels
+        for _ in range(repeats):
+            w = time.perf_counter()
+            result = list(pool.map(_map_rows, [(b, gaps, rescue) for b in blocks]))
+            walls.append(time.perf_counter() - w)
+            cpus.append(sum(r[1] for r in result))
+    worker_cpu = [r[1] for r in result]
+    worker_wall = [r[2] for r in result]
+    rows = [row for r in result for row in r[0]]
+    codes = np.array([row["regime"] for row in rows])
+    periods = np.array([row["periods"] for row in rows])
+    regimes = {name: int(np.sum(codes == i)) for i, name in enumerate(cc.REGIMES)}
+    return {"points": n * n, "grid": [n, n], "workers": workers, "rescue": rescue, "wall_min_s": min(walls),
+            "wall_median_s": statistics.median(walls), "cpu_total_min_s": min(cpus), "load_1min": load(),
+            "fallback_points": int(sum(r[3] for r in result)), "regimes": regimes,
+            "worker_cpu_s": worker_cpu, "worker_wall_s": worker_wall,
+            "simulated_periods": int(periods.sum()), "us_per_point": 1e6 * min(cpus) / (n * n)}, periods, gaps, thetas
+
+
+def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> dict:
+    """DOP853 on a sample of map points over their simulated periods, and one pure-Python row,
+    each extrapolated to the whole map by simulated periods (rows)."""
+    rng = np.random.default_rng(0)
+    n = len(gaps)
+    picks = rng.choice(n * n, IVP_MAP_SAMPLE, replace=False)
+    cpu, sim = 0.0, 0
+    for idx in picks:
+        i, j = divmod(int(idx), n)
+        p = idp.Parameters(theta=float(thetas[i]), gap=float(gaps[j]))
+        c = time.process_time()
+        try:
+            simulate_ivp(p, int(periods[i, j]) * p.T, method="DOP853", rtol=RTOL, atol=ATOL)
+        except RuntimeError:
+            continue
+        cpu += time.process_time() - c
+        sim += int(periods[i, j])
+    per_period = cpu / max(sim, 1)
+    row = n // 2
+    settings = SweepSettings(**MAP_SETTINGS, continuation=True)
+    c = time.process_time()
+    regime_map(idp.Parameters(), "gap", gaps, "theta", thetas[row:row + 1], settings=settings)
+    py_row = time.process_time() - c
+    return {"dop853_sample_points": IVP_MAP_SAMPLE, "dop853_s_per_period": per_period,
+            "dop853_map_estimate_s": per_period * float(periods.sum()),
+            "python_row_cpu_s": py_row, "python_map_estimate_s": py_row * n, "load_1min": load(),
+            "note": "estimates: DOP853 per simulated period on a random sample of map points times the map's "
+                    "simulated periods; the pure-Python regime_map (with its accelerators) on the middle row times "
+                    "the number of rows"}
+
+
+def run(args) -> dict:
+    p = idp.Parameters()
+    cc.warm_up()
+    out = {"case": p.to_dict(), "compile": compile_times()}
+    out["per_impact"] = per_impact(p, args.long_periods, args.ivp_periods, args.repeats)
+    out["steady_state"] = steady(p, args.repeats * 10)
+    out["first_10_impacts"] = first_impacts(p, args.repeats * 10)
+    maps = {}
+    for n in args.map_sizes:
+        m, periods, gaps, thetas = regime_map_timing(n, args.workers, args.map_repeats, rescue=False)
+        if n == args.map_sizes[0]:
+            m["baselines"] = map_baselines(periods, gaps, thetas)
+            m["speedup_vs_dop853_estimate"] = m["baselines"]["dop853_map_estimate_s"] / m["cpu_total_min_s"]
+        m["target_s"] = MAP_TIME_TARGET_S if n == 200 else None
+        m["met"] = (m["wall_min_s"] <= MAP_TIME_TARGET_S) if n == 200 else None
+        maps[f"{n}x{n}"] = m
+    out["maps"] = maps
+    out["notes"] = [
+        "maps run the batch entry point without the rescue (SweepSettings(rescue=False)): the rescue is the "
+        "reference's Python Newton and would settle each nonperiodic point in Python; their count is in 'regimes'",
+        "the reference regime_map uses its accelerators (orbit continuation, stroboscopic Newton); the batch "
+        "simulates every point (solve_point with continuation=False), as tests/unit/test_compiled.py checks",
+        "first_10_impacts 'compiled' packs the parameter set (numpy eig of the free mode, the rest compiled) in "
+        "each call; 'compiled_packed_once' reuses the packed arrays, as a search over one parameter set would",
+    ]
+    out["machine"] = {"python": platform.python_version(), "numpy": np.__version__,
+                      "numba": __import__("numba").__version__, "platform": platform.platform(),
+                      "cpu_count": os.cpu_count(), "load_1min_end": load()}
+    return out
+
+
+def summary(out: dict) -> str:
+    c, pi, st, f10 = out["compile"], out["per_impact"], out["steady_state"], out["first_10_impacts"]
+    yes = {True: "met", False: "NOT met", None: "-"}
+    lines = [
+        f"JIT compile from scratch: {c['cold_compile_s']:.1f} s",
+        f"JIT load from the cache:  {c['cached_load_s']:.2f} s",
+        f"per impact ({pi['compiled']['impacts']} impacts, load {pi['compiled']['load_1min']:.1f}): compiled "
+        f"{pi['compiled']['us_per_impact_min']:.2f} us (median {pi['compiled']['us_per_impact_median']:.2f}); "
+        f"python {pi['python']['us_per_impact_min']:.1f} us; DOP853 {pi['dop853']['us_per_impact_min']:.0f} us; "
+        f"target <= {pi['target_us']} us: {yes[pi['met']]}",
+        f"steady state ({st['regime']}, {st['periods']} periods, load {st['compiled']['load_1min']:.1f}): compiled "
+        f"{1e3 * st['compiled']['cpu_min_s']:.3f} ms (median {1e3 * st['compiled']['cpu_median_s']:.3f}; packing "
+        f"{1e3 * st['packing_only']['cpu_min_s']:.3f}); python {1e3 * st['python']['cpu_min_s']:.1f} ms; DOP853 "
+        f"{1e3 * st['dop853']['cpu_min_s']:.0f} ms: {st['speedup_vs_dop853']:.0f}x; phase error vs Alg. 1 "
+        f"{st['phase_error_vs_alg1']:.1e} T, vs python {st['phase_error_vs_python']:.1e} T; targets <= 1 ms: "
+        f"{yes[st['targets']['time_met']]}, >= 300x: {yes[st['targets']['speedup_met']]}, phase <= 1e-12 T: "
+        f"{yes[st['targets']['phase_met']]}",
+        f"first 10 impacts: compiled {1e3 * f10['compiled']['cpu_min_s']:.3f} ms (parameters packed once "
+        f"{1e3 * f10['compiled_packed_once']['cpu_min_s']:.3f} ms, {f10['speedup_vs_dop853_packed_once']:.0f}x; "
+        f"as a Trajectory "
+        f"{1e3 * f10['compiled_with_trajectory_objects']['cpu_min_s']:.3f} ms); python "
+        f"{1e3 * f10['python']['cpu_min_s']:.2f} ms; DOP853 {1e3 * f10['dop853']['cpu_min_s']:.1f} ms: "
+        f"{f10['speedup_vs_dop853']:.0f}x (target >= 100x: {yes[f10['met']]}); times vs python "
+        f"{f10['max_time_difference_vs_python_T']:.1e} T",
+    ]
+    for name, m in out["maps"].items():
+        line = (f"map {name} ({m['workers']} processes, rescue off, load {m['load_1min']:.1f}): wall "
+                f"{m['wall_min_s']:.1f} s (median {m['wall_median_s']:.1f}), cpu {m['cpu_total_min_s']:.1f} s (per "
+                f"worker {', '.join(f'{c:.1f}' for c in m['worker_cpu_s'])} s cpu, "
+                f"{', '.join(f'{w:.1f}' for w in m['worker_wall_s'])} s wall), "
+                f"{m['us_per_point']:.0f} us per point, {m['simulated_periods']} periods simulated; "
+                f"nonperiodic {m['regimes'].get('nonperiodic', 0)} points")
+        if m.get("target_s"):
+            line += f"; target <= {m['target_s']:.0f} s: {yes[m['met']]}"
+        if "baselines" in m:
+            b = m["baselines"]
+            line += (f"; DOP853 estimate {b['dop853_map_estimate_s']:.0f} s ({m['speedup_vs_dop853_estimate']:.0f}x), "
+                     f"python regime_map estimate {b['python_map_estimate_s']:.0f} s")
+        lines.append(line)
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("output", type=Path)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--map-repeats", type=int, default=2)
+    ap.add_argument("--long-periods", type=int, default=10_000)
+    ap.add_argument("--ivp-periods", type=int, default=200)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--map-sizes", type=int, nargs="+", default=[200])
+    ap.add_argument("--quick", action="store_true", help="a small run (maps 40 x 40, fewer periods) to try it out")
+    args = ap.parse_args(argv)
+    for name in ("repeats", "map_repeats", "long_periods", "ivp_periods", "workers"):
+        if getattr(args, name) < 1:
+            ap.error(f"`--{name.replace('_', '-')}` = {getattr(args, name)} is not allowed: must be >= 1")
+    if args.quick:
+        args.map_sizes, args.long_periods, args.ivp_periods, args.map_repeats = [40], 10_000, 50, 1
+    out = run(args)
+    args.output.parent.mkdir(parents=True, exist_ok=True)
+    args.output.write_text(json.dumps(out, indent=1, sort_keys=True) + "\n")
+    print(summary(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

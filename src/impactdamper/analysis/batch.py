@@ -1,0 +1,271 @@
+"""Many parameter points per call: settled motions for sweeps, maps and searches, compiled.
+
+A sweep or a map row settles its points in order, each from its neighbour's settled motion
+(:func:`impactdamper.analysis.sweeps.solve_point` with a ``previous``). Here a whole row goes to
+the compiled kernels (:mod:`impactdamper.core.compiled`) in one call, so that no per-point Python
+work remains: the parameter sets are packed together (numpy over the stack), and the kernels run
+the points one after the other, carrying each settled section to the next point.
+
+What is computed is :func:`~impactdamper.analysis.sweeps.solve_point` **without its
+accelerators** (``SweepSettings(continuation=False)``): every point is simulated until it
+settles (Algorithm No. 2 with the stroboscopic period test of
+:func:`~impactdamper.core.steady.steady_state`). The points the kernels do not settle themselves
+go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
+
+* ``rescue``: a nonperiodic point with ``settings.rescue`` (the Newton rescue is Python);
+* ``matrix_exponential``: a mode with repeated roots (no modal form);
+* ``scales``: free scales outside the native range;
+* ``error``: the kernels stopped on an error (step budget, degenerate contact, resonance);
+  the reference then gives its ``failed`` point or raises its own error.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from impactdamper.analysis.sweeps import (FAILED, SweepPoint, SweepSettings, label_of, solve_point, swept_names,
+                                          with_value)
+from impactdamper.core import compiled as cc
+from impactdamper.core.model import FREE, STUCK
+from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
+from impactdamper.core.steady import REGIMES
+
+__all__ = ["BatchResult", "settled_batch", "regime_map_batch", "BATCH_REGIMES", "MAX_REPORTED_IMPACTS"]
+
+# Regime codes of BatchResult.regime_code: steady.REGIMES, then the failed point of solve_point.
+BATCH_REGIMES = REGIMES + (FAILED,)
+# Impacts per cycle whose phase and velocity are kept per point (a map reads k, z and x1_max;
+# a sweep's table the first few impacts); z itself is always exact.
+MAX_REPORTED_IMPACTS = 16
+
+
+@dataclass
+class BatchResult:
+    """Settled motions of P points, as arrays.
+
+    Attributes
+    ----------
+    values : ndarray, shape (P, len(names))
+        The points, as given.
+    names : tuple of str
+        The swept parameters.
+    regime_code : ndarray of int, shape (P,)
+        Index into :data:`BATCH_REGIMES`.
+    period_multiple, impacts_per_cycle : ndarray of int, shape (P,)
+        k and z.
+    x1_max, contact_fraction, residual : ndarray, shape (P,)
+        As in :class:`~impactdamper.analysis.sweeps.SweepPoint` (x1_max in x_st).
+    periods : ndarray of int, shape (P,)
+        Forcing periods simulated per point (SweepPoint's count).
+    phases, velocities : ndarray, shape (P, MAX_REPORTED_IMPACTS)
+        The first impacts' forcing phases t/T mod 1 and closing velocities over x_st omega
+        (NaN beyond z).
+    start_states, sections : ndarray, shape (P, 4)
+        Each point's start state and settled section state (x1, x2, x1', x2').
+    section_modes : ndarray of int, shape (P,)
+        0 free, 1 stuck at the section.
+    fallback : ndarray of object, shape (P,)
+        "" where the kernels settled the point, else why the reference did (module docstring).
+    method : ndarray of object, shape (P,)
+        ``simulation``, ``rescue`` or ``error`` (SweepPoint's method).
+    elapsed : float
+        Wall time of the call, s.
+    """
+
+    values: np.ndarray
+    names: tuple
+    regime_code: np.ndarray
+    period_multiple: np.ndarray
+    impacts_per_cycle: np.ndarray
+    x1_max: np.ndarray
+    contact_fraction: np.ndarray
+    residual: np.ndarray
+    periods: np.ndarray
+    phases: np.ndarray
+    velocities: np.ndarray
+    start_states: np.ndarray
+    sections: np.ndarray
+    section_modes: np.ndarray
+    fallback: np.ndarray
+    method: np.ndarray
+    elapsed: float = field(default=0.0)
+
+    @property
+    def regime(self) -> np.ndarray:
+        """Regime names, shape (P,)."""
+        return np.array([BATCH_REGIMES[c] for c in self.regime_code], dtype=object)
+
+    @property
+    def label(self) -> np.ndarray:
+        """Peterka's z/k labels (:func:`~impactdamper.analysis.sweeps.label_of`), shape (P,)."""
+        return np.array([label_of(BATCH_REGIMES[c], int(k), int(z)) for c, k, z in
+                         zip(self.regime_code, self.period_multiple, self.impacts_per_cycle)], dtype=object)
+
+    @property
+    def fallbacks(self) -> dict:
+        """Points settled by the reference, by reason ({} when the kernels did them all)."""
+        reasons, counts = np.unique(self.fallback[self.fallback != ""].astype(str), return_counts=True)
+        return {str(r): int(c) for r, c in zip(reasons, counts)}
+
+
+def _point_values(base: Parameters, names: tuple, values: np.ndarray) -> np.ndarray:
+    """(P, 10) relative parameters (columns of compiled.PARAMETER_COLUMNS), validated: every
+    distinct value of each swept name goes through Parameters once (its named errors)."""
+    out = np.tile(np.array([getattr(base, c) for c in cc.PARAMETER_COLUMNS], float), (len(values), 1))
+    for j, name in enumerate(names):
+        for v in np.unique(values[:, j]):
+            q = with_value(base, name, float(v))  # raises the named error for a bad value
+            rows = values[:, j] == v
+            for c, col in enumerate(cc.PARAMETER_COLUMNS):
+                if getattr(q, col) != getattr(base, col):
+                    out[rows, c] = getattr(q, col)
+    return out
+
+
+def _parameters(row: np.ndarray) -> Parameters:
+    return Parameters(**{c: float(x) for c, x in zip(cc.PARAMETER_COLUMNS, row)})
+
+
+def _sweep_point(res: BatchResult, i: int, p: Parameters) -> SweepPoint:
+    """Point i as the reference's SweepPoint (what solve_point reads of a ``previous``)."""
+    rg = BATCH_REGIMES[res.regime_code[i]]
+    z = int(res.impacts_per_cycle[i])
+    m = min(z, MAX_REPORTED_IMPACTS)
+    return SweepPoint(p=p, value=float(res.values[i, 0]), regime=rg, period_multiple=int(res.period_multiple[i]),
+                      impacts_per_cycle=z, label=label_of(rg, int(res.period_multiple[i]), z), stable=None,
+                      multiplier=math.nan, x1_max=float(res.x1_max[i]), velocities=tuple(res.velocities[i, :m]),
+                      phases=tuple(res.phases[i, :m]), contact_fraction=float(res.contact_fraction[i]),
+                      method=str(res.method[i]), periods=int(res.periods[i]), start="",
+                      start_state=res.start_states[i].copy(), section=res.sections[i].copy(),
+                      section_mode=STUCK if res.section_modes[i] == 1 else FREE)
+
+
+def _store_reference(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> None:
+    res.regime_code[i] = BATCH_REGIMES.index(pt.regime)
+    res.period_multiple[i], res.impacts_per_cycle[i] = pt.period_multiple, pt.impacts_per_cycle
+    res.x1_max[i], res.contact_fraction[i], res.periods[i] = pt.x1_max, pt.contact_fraction, pt.periods
+    m = min(len(pt.phases), MAX_REPORTED_IMPACTS)
+    res.phases[i, :m], res.velocities[i, :m] = pt.phases[:m], pt.velocities[:m]
+    res.start_states[i], res.sections[i] = pt.start_state, pt.section
+    res.section_modes[i] = 1 if pt.section_mode == STUCK else 0
+    res.fallback[i], res.method[i] = reason, pt.method
+
+
+def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: SweepSettings | None = None,
+                  chain: bool = True) -> BatchResult:
+    """Settle many parameter points in one call.
+
+    Parameters
+    ----------
+    base : Parameters
+        The parameters not swept.
+    names : sequence of str
+        Swept parameters (see :func:`~impactdamper.analysis.sweeps.swept_names`).
+    values : array_like, shape (P, len(names))
+        The points, in the order they are settled.
+    settings : SweepSettings, optional
+        As for :func:`~impactdamper.analysis.sweeps.solve_point`; its ``continuation`` is not
+        used (no accelerators, see the module docstring).
+    chain : bool
+        Each point from the previous point's settled section (a sweep: the reference's
+        ``solve_point(p, previous=...)``); False: each from Algorithm No. 2's step 1.
+
+    Returns
+    -------
+    BatchResult
+
+    Raises
+    ------
+    TypeError, ValueError
+        A bad argument, named (``ArgumentTypeError`` is both).
+    """
+    t_begin = time.perf_counter()
+    base = require_parameters(base, "base")
+    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+        raise ArgumentTypeError(f"`names` = {names!r} is not allowed: must be a sequence of parameter names")
+    names = tuple(names)
+    for n in names:
+        if n not in swept_names():
+            raise ValueError(f"`names` = {names!r} is not allowed: {n!r} is not one of {', '.join(swept_names())}")
+    shown = repr(values) if len(repr(values)) <= 60 else repr(values)[:40] + "...(truncated)"
+    allowed = f"must be finite numbers of shape (P, {len(names)}), one column per name"
+    try:
+        values = np.array(values, dtype=float).reshape(-1, len(names)) if len(names) else None
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"`values` = {shown} is not allowed: {allowed}") from None
+    if values is None or not np.all(np.isfinite(values)):
+        raise ValueError(f"`values` = {shown} is not allowed: {allowed}")
+    if not isinstance(chain, bool):
+        raise ArgumentTypeError(f"`chain` = {chain!r} is not allowed: must be True or False")
+    settings = settings or SweepSettings()
+    if not isinstance(settings, SweepSettings):
+        raise ArgumentTypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings or None")
+    ref_settings = dataclasses.replace(settings, continuation=False)
+    rows = _point_values(base, names, values)
+    pack, flags = cc.pack_many(rows, settings.tolerances)
+    P = len(rows)
+    res = BatchResult(values=values, names=names, regime_code=np.zeros(P, np.int64),
+                      period_multiple=np.zeros(P, np.int64), impacts_per_cycle=np.zeros(P, np.int64),
+                      x1_max=np.full(P, np.nan), contact_fraction=np.full(P, np.nan), residual=np.full(P, np.nan),
+                      periods=np.zeros(P, np.int64), phases=np.full((P, MAX_REPORTED_IMPACTS), np.nan),
+                      velocities=np.full((P, MAX_REPORTED_IMPACTS), np.nan), start_states=np.zeros((P, 4)),
+                      sections=np.zeros((P, 4)), section_modes=np.zeros(P, np.int64),
+                      fallback=np.full(P, "", dtype=object), method=np.full(P, "simulation", dtype=object))
+    i, have_prev = 0, False
+    while i < P:
+        prev = i - 1
+        code, stop = cc._row_kernel(
+            pack.s, pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, flags, i, have_prev,
+            res.sections[prev].copy() if have_prev else np.zeros(4), int(res.section_modes[prev]) if have_prev else 0,
+            bool(have_prev and res.regime_code[prev] < BATCH_REGIMES.index("nonperiodic")), chain,
+            settings.rescue, settings.settle_tol, settings.max_periods, settings.max_periods_after_nonperiodic,
+            settings.max_period_multiple, cc.INITIAL_CAPACITY, res.regime_code, res.period_multiple,
+            res.impacts_per_cycle, res.x1_max, res.contact_fraction, res.periods, res.residual, res.start_states,
+            res.sections, res.section_modes, res.phases, res.velocities)
+        if code == cc.ROW_DONE:
+            break
+        # Point `stop` goes to the reference, from the same neighbour.
+        p = _parameters(rows[stop])
+        previous = _sweep_point(res, stop - 1, _parameters(rows[stop - 1])) if (chain and stop > 0) else None
+        reason = {cc.ROW_FLAGGED: cc.FALLBACK_REASONS[int(flags[stop])] if stop < P else "error",
+                  cc.ROW_ERROR: "error", cc.ROW_RESCUE: "rescue"}[int(code)]
+        pt = solve_point(p, float(values[stop, 0]), previous, settings=ref_settings)
+        _store_reference(res, stop, pt, reason)
+        i, have_prev = stop + 1, True
+    res.elapsed = time.perf_counter() - t_begin
+    return res
+
+
+def regime_map_batch(base: Parameters, fast: str, fast_values: Sequence[float], slow: str, slow_values: Sequence[float],
+                     *, direction: str = "up", settings: SweepSettings | None = None) -> list[BatchResult]:
+    """A regime map, one :func:`settled_batch` call per value of ``slow``: the row sweeps
+    ``fast`` over its sorted values in ``direction``, each point from its neighbour (as
+    :func:`~impactdamper.analysis.sweeps.regime_map` with ``continuation=False``).
+
+    Returns
+    -------
+    list of BatchResult
+        One per slow value, its points in increasing ``fast`` (whatever the direction).
+    """
+    if direction not in ("up", "down"):
+        raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
+    fast_sorted = np.array(sorted(float(v) for v in fast_values))
+    order = fast_sorted if direction == "up" else fast_sorted[::-1]
+    out = []
+    for s in slow_values:
+        pts = np.column_stack([order, np.full(len(order), float(s))])
+        r = settled_batch(base, (fast, slow), pts, settings=settings)
+        if direction == "down":
+            idx = np.arange(len(order))[::-1]
+            for f in dataclasses.fields(r):
+                v = getattr(r, f.name)
+                if isinstance(v, np.ndarray) and v.shape[:1] == (len(order),):
+                    setattr(r, f.name, v[idx])
+        out.append(r)
+    return out

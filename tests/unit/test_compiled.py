@@ -1,0 +1,220 @@
+"""The compiled solver (impactdamper.core.compiled) and the batch entry points
+(impactdamper.analysis.batch) against the pure-Python reference.
+
+Event times: two correct implementations of the same algorithm agree to the rounding of their
+arithmetic only as far as the motion's conditioning allows. An impact's time moves by
+dg / v when the gap g is off by dg at closing velocity v; along an accumulating sequence
+(chatter) the errors of earlier, slower impacts carry into later ones. The tolerance per event
+is therefore the brief's 1e-12 T plus CONDITIONING times the rounding of positions
+(eps * X, X the largest position) over the slowest closing velocity so far. After a grazing
+touch (v below TOUCH_VELOCITY) the map's square-root singularity amplifies any difference
+without bound (the hard case "grazing_alg1_onset": 6e-10 T at the touch, 5e-5 T three
+periods on), so later times are not compared; kinds and order are, over the whole window.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from impactdamper import Parameters
+from impactdamper.analysis.batch import regime_map_batch, settled_batch
+from impactdamper.analysis.sweeps import SweepSettings, regime_map, solve_point
+from impactdamper.core import compiled as cc
+from impactdamper.core.simulate import simulate
+from impactdamper.core.steady import steady_state
+from impactdamper.studies.hardcases import TOUCH_VELOCITY, hard_cases
+
+# Event times agree to this, in forcing periods, where the motion is well conditioned (the brief).
+TIME_TOL = 1e-12
+# Allowed amplification of the position rounding eps * X over the slowest closing velocity so
+# far (measured: at most 2 on the hard cases over 10 periods; 100 leaves room for other
+# parameter sets, and stays below 1e-8 T for every compared event).
+CONDITIONING = 100.0
+# Periods over which the events are compared.
+WINDOW_PERIODS = 10
+# Settled results: phases in T and x1_max in x_st (both settle to settle_tol = 1e-10; the
+# reference's Brent search and the kernels' golden section stop at 1e-12 T).
+PHASE_TOL = 1e-9
+X1_TOL = 1e-9
+
+
+@pytest.fixture(scope="module", autouse=True)
+def compiled_kernels():
+    """Compile (or load the cache of) every kernel once for the module."""
+    return cc.warm_up()
+
+
+def compare_events(p, t0, state, periods=WINDOW_PERIODS):
+    """(largest time difference over its tolerance, events compared); asserts kinds and order."""
+    a = cc.simulate_compiled(p, t0 + periods * p.T, t0, state)
+    b = simulate(p, t0 + periods * p.T, t0, state)
+    assert [e.kind for e in a.events] == [e.kind for e in b.events]
+    X = max([1.0] + [float(np.max(np.abs(e.before[:2]))) / p.x_st for e in b.events]) * p.x_st
+    v_min, worst, compared = math.inf, 0.0, 0
+    for ea, eb in zip(a.events, b.events):
+        if eb.kind == "impact":
+            v = eb.velocity / (p.x_st * p.omega)
+            if v < TOUCH_VELOCITY:
+                break
+            v_min = min(v_min, eb.velocity)
+        tol = TIME_TOL * p.T + CONDITIONING * np.finfo(float).eps * X / v_min
+        worst = max(worst, abs(ea.t - eb.t) / tol)
+        compared += 1
+    return worst, compared, a.compiled
+
+
+# --- closed-form checks on the compiled events ------------------------------------------------
+@pytest.mark.parametrize("R", [0.0, 0.7, 1.0])
+def test_impact_law(R):
+    """Every compiled impact: the relative velocity becomes -R times itself, momentum is kept,
+    energy never rises; the gap at the impact is zero (the event residual)."""
+    p = Parameters(R=R)
+    traj = cc.simulate_compiled(p, 10 * p.T)
+    impacts = [e for e in traj.events if e.kind == "impact"]
+    assert traj.compiled and impacts
+    vs = p.x_st * p.omega
+    for e in impacts:
+        v_before = e.before[3] - e.before[2]
+        v_after = e.after[3] - e.after[2]
+        assert abs(v_after + R * v_before) <= 1e-12 * vs
+        momentum = p.m1 * e.before[2] + p.m2 * e.before[3]
+        assert abs(p.m1 * e.after[2] + p.m2 * e.after[3] - momentum) <= 1e-12 * p.m1 * vs
+        assert traj.model.energy(e.after) <= traj.model.energy(e.before) * (1 + 1e-14)
+        assert abs(traj.model.gap_of(e.before)) <= 1e-12 * p.x_st
+
+
+@pytest.mark.parametrize("gap", [-5.8, 5.0])
+def test_gap_at_impacts_from_the_flow(gap):
+    """The gap of the compiled trajectory's segment at each impact, from the exact flow, is
+    within the grazing tolerance of zero (both signs of the initial gap)."""
+    p = Parameters(gap=gap)
+    traj = cc.simulate_compiled(p, 10 * p.T)
+    for e in traj.impacts():
+        full, _ = traj.sample(np.array([e.t - 1e-15]))
+        assert abs(traj.model.gap_of(full[0])) <= 1e-9 * p.x_st
+
+
+# --- the same events as the reference ----------------------------------------------------------
+HARD = {h.name: h for h in hard_cases()}
+
+
+@pytest.mark.parametrize("name", sorted(HARD))
+def test_hard_case_events(name):
+    h = HARD[name]
+    p = h.parameters()
+    t0, state = h.initial(p)
+    worst, compared, used_kernels = compare_events(p, t0, state)
+    assert worst <= 1.0, f"{name}: time difference {worst:.3g} x its tolerance over {compared} events"
+    # Only the double root of eq. (4) needs the matrix exponential (the reference runs it).
+    assert used_kernels == (name != "repeated_roots")
+
+
+def random_parameters(seed):
+    rng = np.random.default_rng(seed)
+    return Parameters(theta=rng.uniform(0.5, 2.0), mu=rng.uniform(0.02, 0.3), N=rng.uniform(0.3, 1.5),
+                      delta1=rng.uniform(0.0, 0.2), delta2=rng.uniform(0.0, 0.2), R=rng.uniform(0.0, 1.0),
+                      gap=rng.uniform(-20.0, 10.0))
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_random_parameter_events(seed):
+    p = random_parameters(seed)
+    worst, compared, used_kernels = compare_events(p, 0.0, None)
+    assert used_kernels
+    assert worst <= 1.0, f"{p}: time difference {worst:.3g} x its tolerance over {compared} events"
+
+
+# --- the same settled motions -------------------------------------------------------------
+SWEEP_GAPS = np.linspace(-34.0, 14.0, 13)
+
+
+@pytest.mark.parametrize("gap", SWEEP_GAPS)
+def test_steady_state_on_sweep_grid(gap):
+    p = Parameters(gap=float(gap))
+    a = cc.steady_state_compiled(p, max_periods=300)
+    b = steady_state(p, max_periods=300)
+    assert a.fallback == ""
+    assert (a.regime, a.periods) == (b.regime, b.periods)
+    # A nonperiodic run (chaotic at gap -18) amplifies rounding differences without bound: its
+    # last window's impacts are not the same motion, only its verdict is.
+    if b.settled:
+        assert (a.period_multiple, a.impacts_per_cycle) == (b.period_multiple, b.impacts_per_cycle)
+        phases = np.array([i.phase for i in b.impacts])
+        assert np.all(np.abs(a.impact_phases - phases) <= PHASE_TOL)
+        assert abs(a.x1_max - b.x1_max) <= X1_TOL
+
+
+def test_batch_matches_regime_map():
+    """A coarse theta map: the batch gives the reference regime_map's points without its
+    accelerators (regime and periods everywhere; k, z and x1_max to X1_TOL on settled points);
+    nonperiodic points go to the reference's rescue and are counted. A nonperiodic (chaotic)
+    run's last window is not compared: rounding differences grow without bound there (on the
+    CI config's 12 x 12 maps 6 of 288 points differ in that window's z, none in the regime)."""
+    base = Parameters()
+    gaps, thetas = np.linspace(-40.0, 15.0, 8), np.linspace(0.5, 1.5, 4)
+    settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, continuation=False)
+    rows = regime_map_batch(base, "gap", gaps, "theta", thetas, settings=settings)
+    ref = regime_map(base, "gap", gaps, "theta", thetas, settings=settings)
+    rescued = 0
+    for r, row in zip(rows, ref):
+        assert list(r.regime) == [pt.regime for pt in row]
+        assert list(r.periods) == [pt.periods for pt in row]
+        for i, pt in enumerate(row):
+            if pt.regime != "nonperiodic":
+                assert (r.period_multiple[i], r.impacts_per_cycle[i]) == (pt.period_multiple, pt.impacts_per_cycle)
+                assert abs(r.x1_max[i] - pt.x1_max) <= X1_TOL
+        rescued += r.fallbacks.get("rescue", 0)
+        assert set(r.fallbacks) <= {"rescue"}
+    assert rescued == sum(pt.method == "rescue" or pt.regime == "nonperiodic" for row in ref for pt in row)
+
+
+def test_batch_down_and_unchained():
+    """Direction down gives the points in increasing order; chain=False starts each point
+    from Algorithm No. 2's step 1, as steady_state does."""
+    base = Parameters()
+    gaps = np.array([-8.0, -5.8, 2.0])
+    settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, rescue=False)
+    down = regime_map_batch(base, "gap", gaps, "theta", [1.0], direction="down", settings=settings)[0]
+    assert list(down.values[:, 0]) == sorted(gaps)
+    single = settled_batch(base, ("gap",), gaps[:, None], settings=settings, chain=False)
+    for i, g in enumerate(gaps):
+        s = steady_state(Parameters(gap=float(g)), settle_tol=1e-9, max_periods=100)
+        assert (single.regime[i], single.period_multiple[i]) == (s.regime, s.period_multiple)
+
+
+def test_fallback_is_counted():
+    """A double root of eq. (4) has no modal form: the point goes to the reference, and says so."""
+    delta2 = HARD["repeated_roots"].changes["delta2"]
+    p = Parameters(N=0.9, delta2=delta2)
+    settings = SweepSettings(max_periods=40, max_periods_after_nonperiodic=30, rescue=False, continuation=False)
+    res = settled_batch(p, ("gap",), [[-5.8]], settings=settings)
+    assert res.fallbacks == {"matrix_exponential": 1}
+    ref = solve_point(p, settings=settings)
+    assert (res.regime[0], res.periods[0]) == (ref.regime, ref.periods)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(names=("nope",), values=[[1.0]]), "names"),
+    (dict(names="gap", values=[[1.0]]), "names"),
+    (dict(names=("gap",), values=[[math.nan]]), "values"),
+    (dict(names=("gap",), values=[[1.0]], chain=1), "chain"),
+    (dict(names=("theta",), values=[[-1.0]]), "theta"),
+])
+def test_bad_batch_arguments(kwargs, name):
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        settled_batch(Parameters(), **kwargs)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: cc.steady_state_compiled(Parameters(), max_periods=1), "max_periods"),
+    (lambda: cc.steady_state_compiled(Parameters(), settle_tol=2.0), "settle_tol"),
+    (lambda: cc.steady_state_compiled(Parameters(), t0=math.inf), "t0"),
+    (lambda: cc.steady_state_compiled("reference"), "p"),
+    (lambda: cc.simulate_compiled(Parameters(), -1.0), "t_end"),
+    (lambda: cc.simulate_compiled(Parameters(), 1.0, state=[0.0, 10.0, 0.0, 0.0]), "state"),
+])
+def test_bad_compiled_arguments(call, name):
+    """The compiled entry points name a bad argument as the reference does."""
+    with pytest.raises(ValueError, match=f"`{name}`"):
+        call()
