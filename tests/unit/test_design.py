@@ -13,6 +13,8 @@ design chart's bookkeeping.
 * The optimum with the object's damping is a local minimum (no nearby design is better).
 * The chart picks the gap with the smallest criterion; the good band is the contiguous run
   within the tolerance.
+* The design stage's config: its parameters override the reference case's, the gap grids, the
+  response's gaps (the best first, each once), the runs of a flag over theta.
 """
 
 import math
@@ -25,8 +27,9 @@ from impactdamper.analysis.sweeps import with_value
 from impactdamper.analysis.transitions import object_alone_amplitude
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
-from impactdamper.studies.design import (band_peak, bare_object_amplitude, den_hartog, design_chart_2d, gap_chart,
-                                         good_band, optimal_tmd, two_mass_amplitude)
+from impactdamper.studies.design import (band_peak, bare_object_amplitude, den_hartog, design_band, design_chart_2d,
+                                         design_gaps, design_parameters, gap_chart, good_band, optimal_tmd,
+                                         response_gaps, runs_where, two_mass_amplitude)
 
 NO_CONTACT_GAP = 1.0e3
 # The settled cycle is the periodic one to the sweep's settle tolerance 1e-9 (in x_st): ten times.
@@ -123,6 +126,31 @@ def test_gap_chart_picks_the_smallest_criterion():
     assert [row["max_abs_x1_at_theta"] for row in chart.rows(1.0)] == list(at)
     with pytest.raises(ValueError, match="^`theta` = 1.1 is not allowed: must be on the chart's theta grid"):
         chart.at_theta(1.1)
+
+
+def test_design_config_overrides_the_reference_case():
+    reference = Parameters(gap=-5.8, theta=1.1).to_dict()
+    design = {"mu": 0.1, "N": 0.6, "R": 0.5, "theta_start": 0.6, "theta_stop": 1.4, "gap_start": -8.0,
+              "gap_stop": 5.0, "gap_points": 53, "second_gap_points": 14}
+    p = design_parameters(reference, design)
+    assert (p.mu, p.N, p.R) == (0.1, 0.6, 0.5)
+    assert (p.delta1, p.delta2, p.gap, p.theta) == (reference["delta1"], reference["delta2"], -5.8, 1.1)
+    assert design_band(design) == (0.6, 1.4)
+    assert np.diff(design_gaps(design)) == pytest.approx(0.25, rel=1e-12)
+    assert design_gaps(design, second=True)[[0, -1]].tolist() == [-8.0, 5.0]
+    assert np.diff(design_gaps(design, second=True)) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_response_gaps_put_the_best_first_and_each_once():
+    assert response_gaps(0.85, [-5.8, 0.85]) == [0.85, -5.8]
+    assert response_gaps(-2.0, [-5.8, 0.85, -5.8]) == [-2.0, -5.8, 0.85]
+
+
+def test_runs_where_a_flag_holds():
+    thetas = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
+    assert runs_where(thetas, [True, True, False, True, False, True]) == [(0.5, 0.6), (0.8, 0.8), (1.0, 1.0)]
+    assert runs_where(thetas, [False] * 6) == []
+    assert runs_where(thetas, np.ones(6, dtype=bool)) == [(0.5, 1.0)]
 
 
 @pytest.mark.parametrize("call, name", [

@@ -59,8 +59,7 @@ def test_best_gap_and_good_band_follow_from_the_chart():
 
 
 def test_baselines_regenerate_byte_for_byte(tmp_path):
-    design_baselines.main(CONFIG["reference"], CONFIG["design"], tmp_path / "b.csv", tmp_path / "b.json",
-                          tmp_path / "b.log")
+    design_baselines.main(CONFIG["reference"], CONFIG["design"], tmp_path / "b.csv", tmp_path / "b.json")
     assert (tmp_path / "b.csv").read_bytes() == (FIGURES / "design_baselines.csv").read_bytes()
     assert (tmp_path / "b.json").read_bytes() == (FIGURES / "design_baselines.json").read_bytes()
 
@@ -127,14 +126,14 @@ def test_macros_quote_the_records(tmp_path):
 def test_a_chart_row_regenerates():
     """The chart's row at the best gap, recomputed on its own (every gap's response starts
     afresh, so one row is the committed one), within the settle tolerance's reach."""
-    import design_common as dc
-    from impactdamper.studies.design import gap_chart
+    from impactdamper.studies.config import sweep_settings
+    from impactdamper.studies.design import design_band, design_parameters, gap_chart
 
     design = CONFIG["design"]
     best = read_json(FIGURES / "design_chart.json")["best"]["peak"]
     row = next(r for r in read_csv(FIGURES / "design_chart.csv") if float(r["gap"]) == best["gap"])
-    chart = gap_chart(dc.parameters(CONFIG["reference"], design), [best["gap"]], dc.band(design),
-                      int(design["theta_points"]), settings=dc.settings(CONFIG["sweep"], CONFIG["solver"]))
+    chart = gap_chart(design_parameters(CONFIG["reference"], design), [best["gap"]], design_band(design),
+                      int(design["theta_points"]), settings=sweep_settings(CONFIG["sweep"], CONFIG["solver"]))
     new = chart.rows()[0]
     for key in ("peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period"):
         assert new[key] == pytest.approx(float(row[key]), rel=1e-8, abs=1e-8), key

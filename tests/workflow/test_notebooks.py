@@ -22,7 +22,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOK_DIR = ROOT / "notebooks"
 # name -> least number of figures the executed notebook shows
-NOTEBOOKS = {"01_reference_case": 7, "02_gap_sweep": 3, "03_your_own_damper": 3}
+NOTEBOOKS = {"01_reference_case": 7, "02_gap_sweep": 3, "03_your_own_damper": 3, "04_choosing_a_suppressor": 2}
 STRICT = "import warnings\nwarnings.simplefilter('error')"
 RELAX = "import warnings\nwarnings.resetwarnings()"
 # Generous: the slowest notebook takes ~40 s on one free core.
@@ -42,7 +42,8 @@ def test_notebooks_are_the_listed_ones_in_percent_format():
 def test_only_the_public_api_is_imported():
     allowed = {"impactdamper", "impactdamper.core.linear", "impactdamper.reporting.plotting",
                "impactdamper.analysis.sweeps", "impactdamper.analysis.settled",
-               "impactdamper.analysis.transitions"}
+               "impactdamper.analysis.transitions", "impactdamper.analysis.response",
+               "impactdamper.studies.design"}
     for name in NOTEBOOKS:
         for line in (NOTEBOOK_DIR / f"{name}.py").read_text().splitlines():
             words = line.split()

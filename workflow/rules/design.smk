@@ -1,16 +1,14 @@
 # Stage: choosing a suppressor. Frequency responses (upward and downward theta sweeps), the
 # linear references (bare object, absorber without a stop, optimal tuned-mass damper), and the
 # design charts over the gap and a second parameter (config: design). The sweeps' caps are the
-# sweep stage's (config: sweep), the solver's tolerances config: solver.
-
-DESIGN_HELPER = "workflow/scripts/design_common.py"
+# sweep stage's (config: sweep), the solver's tolerances config: solver. The design parameters,
+# the band and the gap grids come from the config through impactdamper.studies.design.
 
 
 rule design_baselines:
     input:
         script="workflow/scripts/design_baselines.py",
-        helper=DESIGN_HELPER,
-        library=LIBRARY,
+        library=library(study("design"), REPORTING),
     output:
         csv="figures/design_baselines.csv",
         json="figures/design_baselines.json",
@@ -28,8 +26,7 @@ rule design_baselines:
 rule design_chart:
     input:
         script="workflow/scripts/design_chart.py",
-        helper=DESIGN_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "design"), REPORTING),
     output:
         csv="figures/design_chart.csv",
         json="figures/design_chart.json",
@@ -49,8 +46,7 @@ rule design_chart:
 rule design_chart_2d:
     input:
         script="workflow/scripts/design_chart_2d.py",
-        helper=DESIGN_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "design"), REPORTING),
     output:
         csv="figures/design_chart_2d.csv",
         json="figures/design_chart_2d.json",
@@ -70,8 +66,7 @@ rule design_chart_2d:
 rule design_response:
     input:
         script="workflow/scripts/design_response.py",
-        helper=DESIGN_HELPER,
-        library=LIBRARY,
+        library=library(study("config", "design"), REPORTING),
         chart="figures/design_chart.json",
     output:
         csv="figures/design_response.csv",
@@ -92,7 +87,7 @@ rule design_response:
 rule design_report:
     input:
         script="workflow/scripts/design_report.py",
-        library=LIBRARY,
+        library=library(study("design"), REPORTING),
         baselines="figures/design_baselines.json",
         chart="figures/design_chart.json",
         chart2d="figures/design_chart_2d.json",
@@ -112,7 +107,7 @@ rule design_report:
 rule fig_design_response:
     input:
         script="workflow/scripts/fig_design_response.py",
-        helper=DESIGN_HELPER,
+        library=library(REPORTING),
         style=STYLE,
         response="figures/design_response.csv",
         summary="figures/design_response.json",
@@ -131,7 +126,7 @@ rule fig_design_response:
 rule fig_design_chart:
     input:
         script="workflow/scripts/fig_design_chart.py",
-        helper=DESIGN_HELPER,
+        library=library(REPORTING),
         style=STYLE,
         chart="figures/design_chart.csv",
         best="figures/design_chart.json",
@@ -150,7 +145,7 @@ rule fig_design_chart:
 rule fig_design_chart_2d:
     input:
         script="workflow/scripts/fig_design_chart_2d.py",
-        helper=DESIGN_HELPER,
+        library=library(REPORTING),
         style=STYLE,
         chart="figures/design_chart_2d.csv",
         best="figures/design_chart_2d.json",

@@ -52,10 +52,26 @@ rule notebook_your_own_damper:
         "jupytext --to ipynb --execute {input.notebook} --output {output} > {log} 2>&1"
 
 
+rule notebook_choosing_a_suppressor:
+    input:
+        notebook="notebooks/04_choosing_a_suppressor.py",
+        library=library(study("design"), REPORTING),
+        style=STYLE,
+    output:
+        "results/notebooks/04_choosing_a_suppressor.ipynb",
+    log:
+        "logs/notebooks/04_choosing_a_suppressor.log",
+    conda:
+        ENV
+    shell:
+        "jupytext --to ipynb --execute {input.notebook} --output {output} > {log} 2>&1"
+
+
 ALL_TARGETS.extend(
     [
         "results/notebooks/01_reference_case.ipynb",
         "results/notebooks/02_gap_sweep.ipynb",
         "results/notebooks/03_your_own_damper.ipynb",
+        "results/notebooks/04_choosing_a_suppressor.ipynb",
     ]
 )

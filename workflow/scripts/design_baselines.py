@@ -8,20 +8,21 @@ Den Hartog's closed form and the optimiser's result for an undamped object as it
 each reference's peak and band average).
 """
 
+import logging
+
 import numpy as np
 
-import design_common as dc
-from impactdamper.studies.design import (bare_object_amplitude, band_mean, band_peak, den_hartog, optimal_tmd,
-                                         two_mass_amplitude)
-from impactdamper.reporting.records import write_csv, write_json
+from impactdamper.reporting.records import start_stage, write_csv, write_json
+from impactdamper.studies.design import (band_mean, band_peak, bare_object_amplitude, den_hartog, design_band,
+                                         design_parameters, optimal_tmd, two_mass_amplitude)
 
 COLUMNS = ["theta", "bare", "absorber", "tmd_peak", "tmd_band_average"]
 
 
-def main(reference: dict, design: dict, out_csv, out_json, log_path) -> None:
-    log = dc.logger(log_path, "design_baselines")
-    p = dc.parameters(reference, design)
-    band = dc.band(design)
+def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
+    log = log if log is not None else logging.getLogger("design_baselines")
+    p = design_parameters(reference, design)
+    band = design_band(design)
     th = np.linspace(band[0], band[1], int(design["baseline_points"]))
     tmd = {c: optimal_tmd(p.mu, p.delta1, band, c) for c in ("peak", "band_average")}
     for c, t in tmd.items():
@@ -54,6 +55,5 @@ def main(reference: dict, design: dict, out_csv, out_json, log_path) -> None:
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    main(json.loads(sm.params.reference), json.loads(sm.params.design), sm.output.csv, sm.output.json, sm.log[0])
+    cfg, log = start_stage(sm, "design_baselines", timestamps=True, library=True)
+    main(cfg["reference"], cfg["design"], sm.output.csv, sm.output.json, log=log)

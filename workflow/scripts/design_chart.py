@@ -8,24 +8,26 @@ Outputs ``figures/design_chart.csv`` (one row per gap) and ``figures/design_char
 gap for each criterion, its band of good gaps, its loads, and the run's timing).
 """
 
+import logging
+
 import numpy as np
 
-import design_common as dc
-from impactdamper.studies.design import CRITERIA, gap_chart
-from impactdamper.reporting.records import Timer, machine, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
+from impactdamper.studies.config import sweep_settings
+from impactdamper.studies.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
 
 COLUMNS = ["gap", "peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period",
            "hysteresis_points", "max_abs_x1_at_theta"]
 
 
-def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log_path) -> None:
-    log = dc.logger(log_path, "design_chart")
-    p = dc.parameters(reference, design)
-    gaps = dc.gaps(design)
+def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log=None) -> None:
+    log = log if log is not None else logging.getLogger("design_chart")
+    p = design_parameters(reference, design)
+    gaps, band = design_gaps(design), design_band(design)
     log.info("design chart: %d gaps from %g to %g, theta band %s with %d points", len(gaps), gaps[0], gaps[-1],
-             dc.band(design), int(design["theta_points"]))
+             band, int(design["theta_points"]))
     with Timer() as t:
-        chart = gap_chart(p, gaps, dc.band(design), int(design["theta_points"]), settings=dc.settings(sweep, solver),
+        chart = gap_chart(p, gaps, band, int(design["theta_points"]), settings=sweep_settings(sweep, solver),
                           progress=log.info)
     # The gap sweep (sweeps stage) reads the gap at the reference case's forcing frequency alone.
     theta = float(reference["theta"])
@@ -37,7 +39,7 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
         log.info("best gap (%s): %g, %.4g; good from %g to %g", c, b["gap"], b["value"], b["good_from"], b["good_to"])
     log.info("at theta = %g alone: best gap %g, max|x1|/x_st %.4g", theta, chart.gaps[i], at[i])
     write_json(out_json, {"at_reference_theta": {"theta": theta, "gap": float(chart.gaps[i]), "value": float(at[i])},
-                          "best": best, "parameters": p.to_dict(), "band": list(dc.band(design)),
+                          "best": best, "parameters": p.to_dict(), "band": list(band),
                           "theta_points": int(design["theta_points"]), "gap_step": float(gaps[1] - gaps[0])
                           if len(gaps) > 1 else 0.0})
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
@@ -45,7 +47,5 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
-         json.loads(sm.params.design), sm.output.csv, sm.output.json, sm.log[0])
+    cfg, log = start_stage(sm, "design_chart", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.output.csv, sm.output.json, log=log)

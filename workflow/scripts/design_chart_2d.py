@@ -6,20 +6,22 @@ Outputs ``figures/design_chart_2d.csv`` (one row per value and gap) and
 ``figures/design_chart_2d.json`` (the best gap for each value and criterion).
 """
 
-import design_common as dc
-from impactdamper.studies.design import CRITERIA, design_chart_2d
-from impactdamper.reporting.records import write_csv, write_json
+import logging
+
+from impactdamper.reporting.records import start_stage, write_csv, write_json
+from impactdamper.studies.config import sweep_settings
+from impactdamper.studies.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
 
 COLUMNS = ["value", "gap", "peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period",
            "hysteresis_points"]
 
 
-def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log_path) -> None:
-    log = dc.logger(log_path, "design_chart_2d")
-    p = dc.parameters(reference, design)
+def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log=None) -> None:
+    log = log if log is not None else logging.getLogger("design_chart_2d")
+    p = design_parameters(reference, design)
     name = design["second"]
-    charts = design_chart_2d(p, name, [float(v) for v in design["second_values"]], dc.gaps(design, "second_gap"),
-                             dc.band(design), int(design["theta_points"]), settings=dc.settings(sweep, solver),
+    charts = design_chart_2d(p, name, [float(v) for v in design["second_values"]], design_gaps(design, second=True),
+                             design_band(design), int(design["theta_points"]), settings=sweep_settings(sweep, solver),
                              progress=log.info)
     rows, best = [], []
     for value, chart in charts.items():
@@ -34,7 +36,5 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
-         json.loads(sm.params.design), sm.output.csv, sm.output.json, sm.log[0])
+    cfg, log = start_stage(sm, "design_chart_2d", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.output.csv, sm.output.json, log=log)

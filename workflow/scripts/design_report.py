@@ -7,14 +7,13 @@ object, the absorber without a stop and the optimal TMD, loads, checks) and
 ``paper/generated/design_second_table.tex`` (best gap against the second parameter).
 """
 
-import math
 from pathlib import Path
 
 import numpy as np
 
-from impactdamper.reporting.latex import fixed, macro, tex_sci
-from impactdamper.reporting.records import read_csv, read_json
-from impactdamper.studies.design import bare_object_amplitude, two_mass_amplitude
+from impactdamper.reporting.latex import MacroFile, fixed, tex_sci
+from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.studies.design import bare_object_amplitude, runs_where, two_mass_amplitude
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -25,17 +24,7 @@ def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
     worst = np.array([max(float(r["max_abs_x1"]) for r in rows if float(r["theta"]) == t) for t in thetas])
     lin = two_mass_amplitude(tmd["mu"], tmd["N"], tmd["delta1"], tmd["delta2"], thetas)
     better = worst < lin
-    runs, start = [], None
-    for t, b in zip(thetas + [math.nan], list(better) + [False]):
-        if b and start is None:
-            start = t
-            last = t
-        elif b:
-            last = t
-        elif start is not None:
-            runs.append((start, last))
-            start = None
-    return float(better.mean()), runs
+    return float(better.mean()), runs_where(thetas, better)
 
 
 def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, out_macros, out_table) -> None:
@@ -48,8 +37,8 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     paper_gap = -5.8 if -5.8 in paper else resp["responses"][-1]["gap"]
     share, runs = impact_better(response_csv, bp["gap"], tmd)
     dh = base["den_hartog_check"]
-    m = []
-    add = lambda n, v: m.append(macro(n, v))  # noqa: E731
+    m = MacroFile(["% Written by workflow/scripts/design_report.py; do not edit."])
+    add = m.add
     add("DesignBandStart", fixed(base["band"][0], 2))
     add("DesignBandStop", fixed(base["band"][1], 2))
     add("DesignThetaPoints", chart["theta_points"])
@@ -108,10 +97,11 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     add("DesignDHOptDeltaTwo", fixed(dh["optimiser"]["delta2"], 4))
     add("DesignSecondName", chart2["parameter"])
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_macros).write_text("% Written by workflow/scripts/design_report.py; do not edit.\n" + "\n".join(m) + "\n")
+    Path(out_macros).write_text(m.tex())
     sym = {"N": "$N$", "R": "$R$"}.get(chart2["parameter"], chart2["parameter"])
     lines = ["% Written by workflow/scripts/design_report.py; do not edit.", "\\begin{tabular}{rrrrrr}", "\\toprule",
-             f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & impacts/$T$ \\\\",
+             f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & "
+             "impacts/$T$ \\\\",
              "\\midrule"]
     for b in chart2["best"]:
         if b["criterion"] != "peak":
@@ -125,8 +115,6 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    sys.stderr = open(sm.log[0], "w")
+    start_stage(sm)
     main(sm.input.baselines, sm.input.chart, sm.input.chart2d, sm.input.response, sm.input.response_csv,
          sm.output.macros, sm.output.table)

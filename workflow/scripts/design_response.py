@@ -8,36 +8,32 @@ impacts per period, pulses, energies, hysteresis) and ``figures/design_response.
 peak, band average, loads, hysteresis count, the energy balance's largest mismatch).
 """
 
+import logging
+
 import numpy as np
 
-import design_common as dc
 from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.sweeps import with_value
-from impactdamper.reporting.records import read_json, write_csv, write_json
+from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.studies.config import sweep_settings
+from impactdamper.studies.design import design_band, design_parameters, response_gaps
 
 COLUMNS = ["gap", "theta", "direction", "regime", "label", "period_multiple", "max_abs_x1", "max_abs_x2",
            "impacts_per_period", "mean_impulse", "peak_impulse", "energy_input", "energy_impacts", "energy_dampers",
            "balance", "drift", "hysteresis", "linear_max_abs_x1", "linear_max_abs_x2"]
 
 
-def response_gaps(design: dict, chart_json) -> list:
-    """The best gap (peak criterion) of the design chart, then the config's gaps, without repeats."""
-    best = read_json(chart_json)["best"]["peak"]["gap"]
-    out = [float(best)]
-    for g in design["response_gaps"]:
-        if all(abs(float(g) - x) > 1e-12 for x in out):
-            out.append(float(g))
-    return out
-
-
-def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, out_csv, out_json, log_path) -> None:
-    log = dc.logger(log_path, "design_response")
-    p = dc.parameters(reference, design)
+def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, out_csv, out_json, log=None) -> None:
+    log = log if log is not None else logging.getLogger("design_response")
+    p = design_parameters(reference, design)
+    band = design_band(design)
+    # The best gap (peak criterion) of the design chart first, then the config's.
+    gaps = response_gaps(read_json(chart_json)["best"]["peak"]["gap"], design["response_gaps"])
     rows, summary = [], []
-    for role, g in zip(["best"] + ["config"] * 99, response_gaps(design, chart_json)):
+    for role, g in zip(["best"] + ["config"] * (len(gaps) - 1), gaps):
         log.info("frequency response at Delta0/x_st = %g (%s)", g, role)
-        r = frequency_response(with_value(p, "gap", g), *dc.band(design), int(design["response_points"]),
-                               settings=dc.settings(sweep, solver), progress=log.info)
+        r = frequency_response(with_value(p, "gap", g), *band, int(design["response_points"]),
+                               settings=sweep_settings(sweep, solver), progress=log.info)
         rows.extend({"gap": g, **row} for row in r.rows())
         ms = [m for q in r.points for m in (q.up, q.down)]
         summary.append({"gap": g, "role": role, "peak": r.peak(), "band_average": r.band_average(), **r.loads(),
@@ -47,13 +43,12 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
                         "largest_drift_settled": float(np.nanmax([abs(m.drift) for m in ms
                                                                   if m.regime not in ("nonperiodic", "failed")]))})
     write_csv(out_csv, COLUMNS, rows, booleans="digits")
-    write_json(out_json, {"responses": summary, "band": list(dc.band(design)),
+    write_json(out_json, {"responses": summary, "band": list(band),
                           "points": int(design["response_points"])})
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import json
-
-    main(json.loads(sm.params.reference), json.loads(sm.params.solver), json.loads(sm.params.sweep),
-         json.loads(sm.params.design), sm.input.chart, sm.output.csv, sm.output.json, sm.log[0])
+    cfg, log = start_stage(sm, "design_response", timestamps=True, library=True)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.input.chart, sm.output.csv, sm.output.json,
+         log=log)

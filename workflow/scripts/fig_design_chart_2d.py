@@ -6,9 +6,8 @@ of the same mu as a horizontal line.
 Deviations: none (the paper has no such figure).
 """
 
-import design_common as dc
-from impactdamper.reporting.plotting import TEXT_WIDTH, use_style
-from impactdamper.reporting.records import cell_float, read_csv, read_json
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 
 
 def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
@@ -32,9 +31,10 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     ax.set_ylabel("peak $\\max|x_1|/x_{st}$ over the band")
     ax.set_ylim(0.0, None)
     ax.legend(fontsize=7, ncol=3, loc="lower left")
-    dc.save(plt, fig, out_pdf, out_png)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    # (snakemake is injected by Snakemake's script: directive)
-    dc.figure_rule(snakemake, main, "chart", "best", "baselines")  # noqa: F821
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
+    main(sm.input.chart, sm.input.best, sm.input.baselines, sm.output.pdf, sm.output.png)

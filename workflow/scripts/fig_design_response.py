@@ -12,9 +12,8 @@ Deviations: none (the paper has no such figure).
 
 import numpy as np
 
-import design_common as dc
-from impactdamper.reporting.plotting import TEXT_WIDTH, use_style
-from impactdamper.reporting.records import cell_float, read_csv, read_json
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 
 
 def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
@@ -64,9 +63,10 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
     h2, l2 = ax3.get_legend_handles_labels()
     ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
     ax2.set_title(f"loads at the best gap $\\Delta_0/x_{{st}} = {best['gap']:.2f}$", fontsize=8)
-    dc.save(plt, fig, out_pdf, out_png)
+    finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    # (snakemake is injected by Snakemake's script: directive)
-    dc.figure_rule(snakemake, main, "response", "summary", "baselines")  # noqa: F821
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
+    main(sm.input.response, sm.input.summary, sm.input.baselines, sm.output.pdf, sm.output.png)
