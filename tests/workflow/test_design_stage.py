@@ -118,7 +118,7 @@ def test_macros_quote_the_records(tmp_path):
     # And the report step regenerates them exactly from the records.
     design_report.main(FIGURES / "design_baselines.json", FIGURES / "design_chart.json",
                        FIGURES / "design_chart_2d.json", FIGURES / "design_response.json",
-                       FIGURES / "design_response.csv", tmp_path / "m.tex", tmp_path / "t.tex")
+                       FIGURES / "design_response.csv", tmp_path / "r.json", tmp_path / "m.tex", tmp_path / "t.tex")
     assert (tmp_path / "m.tex").read_text() == text
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "design_second_table.tex").read_text()
 

@@ -94,6 +94,7 @@ rule design_report:
         response="figures/design_response.json",
         response_csv="figures/design_response.csv",
     output:
+        record="results/report/design.json",
         macros="paper/generated/design_macros.tex",
         table="paper/generated/design_second_table.tex",
     log:

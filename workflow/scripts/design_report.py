@@ -2,7 +2,8 @@
 for the report's section "Choosing a suppressor", as LaTeX macros and a booktabs table (no
 number is typed by hand).
 
-Outputs ``paper/generated/design_macros.tex`` (best gap, good band, comparisons with the bare
+Outputs ``results/report/design.json`` (the stage's record, from which the macros and the
+README's lines are rendered), ``paper/generated/design_macros.tex`` (best gap, good band, comparisons with the bare
 object, the absorber without a stop and the optimal TMD, loads, checks) and
 ``paper/generated/design_second_table.tex`` (best gap against the second parameter).
 """
@@ -11,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdamper.reporting.latex import MacroFile, fixed, tex_sci
-from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.latex import MacroFile, fixed, render_macros, tex_sci
+from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
 from impactdamper.studies.design import bare_object_amplitude, runs_where, two_mass_amplitude
 
 
@@ -27,7 +28,14 @@ def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
     return float(better.mean()), runs_where(thetas, better)
 
 
-def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, out_macros, out_table) -> None:
+# What the stage's record holds (results/report/design.json).
+RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design stage)"
+
+
+def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, out_record, out_macros,
+         out_table) -> None:
+    """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), and
+    the second-parameter table (``out_table``)."""
     base, chart, chart2, resp = (read_json(x) for x in (baselines_json, chart_json, chart2d_json, response_json))
     bp, ba = chart["best"]["peak"], chart["best"]["band_average"]
     tmd, tmd_avg = base["tmd"]["peak"], base["tmd"]["band_average"]
@@ -96,8 +104,9 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     add("DesignDHDeltaTwo", fixed(dh["closed_form"]["delta2"], 4))
     add("DesignDHOptDeltaTwo", fixed(dh["optimiser"]["delta2"], 4))
     add("DesignSecondName", chart2["parameter"])
+    write_json(out_record, m.record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
-    Path(out_macros).write_text(m.tex())
+    Path(out_macros).write_text(render_macros(read_json(out_record)))
     sym = {"N": "$N$", "R": "$R$"}.get(chart2["parameter"], chart2["parameter"])
     lines = ["% Written by workflow/scripts/design_report.py; do not edit.", "\\begin{tabular}{rrrrrr}", "\\toprule",
              f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & "
@@ -117,4 +126,4 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
     main(sm.input.baselines, sm.input.chart, sm.input.chart2d, sm.input.response, sm.input.response_csv,
-         sm.output.macros, sm.output.table)
+         sm.output.record, sm.output.macros, sm.output.table)

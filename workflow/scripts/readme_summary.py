@@ -1,7 +1,7 @@
 """Writes the README's block of results (figures/readme_summary.md) from the workflow's outputs.
 
 Every number the README states comes from here: the report stages' records
-(results/report/{verdict,orbits,performance,sweeps}.json, the same records their TeX macro
+(results/report/{verdict,orbits,performance,sweeps,design}.json, the same records their TeX macro
 files are rendered from, :class:`impactdamper.reporting.latex.MacroFile`) and the impact
 tables (figures/impacts_*.csv). Only results that a rerun reproduces exactly are quoted:
 timings change from run to run and stay in the report, so that a user's own run leaves the
@@ -92,6 +92,15 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"contact at {m['SweepFirstContactLocated']} (U1/x_st = {m['SweepFirstContactAnalytic']}), Algorithm No. 1's "
         f"orbit touching the stop between impacts at {m['SweepAlgOneGrazingLocated']} (analytic "
         f"{m['SweepAlgOneGrazingAnalytic']}).",
+        "",
+        f"**Choosing a suppressor** (`figures/design_chart.png`): over the band theta = {m['DesignBandStart']} to "
+        f"{m['DesignBandStop']}, the gap Delta0/x_st = {m['DesignBestGap']} keeps the peak of max|x1|/x_st lowest, "
+        f"{m['DesignBestPeak']} (gaps from {m['DesignGoodFrom']} to {m['DesignGoodTo']} within {m['DesignTolerancePct']} %): "
+        f"{m['DesignGainBare']} times lower than the bare object's {m['DesignBarePeak']} and {m['DesignGainAbsorber']} "
+        f"times lower than the absorber's without a stop ({m['DesignAbsorberPeak']}), with up to "
+        f"{m['DesignBestImpacts']} impact per period and pulses up to {m['DesignBestImpulse']} m1 x_st omega. An "
+        f"optimally tuned linear absorber of the same mass (N = {m['DesignTmdN']}, delta2 = {m['DesignTmdDeltaTwo']}) "
+        f"does better at the peak: {m['DesignTmdPeak']}, a ratio of {m['DesignRatioTmd']}.",
         "",
         f"**Accuracy** (against a {m['PerfDigits']}-digit recomputation): the exact solver's impact times are "
         f"within {m['PerfFirstExactError']} T on the first {m['PerfNImpacts']} impacts and {m['PerfSettledExactError']} "
