@@ -45,8 +45,9 @@ from pathlib import Path
 import numpy as np
 
 import impactdamper as idp
-from impactdamper.analysis.batch import regime_map_batch
-from impactdamper.analysis.sweeps import SweepSettings, regime_map
+from impactdamper.analysis.batch import regime_map_batch, warm_up
+from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.sweeps import regime_map
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core import compiled as cc
 
@@ -93,7 +94,7 @@ def phase_error(phase: float, reference: float) -> float:
 
 def compile_times() -> dict:
     """Kernels compiled into an empty cache, then loaded from it, each in a fresh process."""
-    code = "import time; t = time.perf_counter(); from impactdamper.core.compiled import warm_up; warm_up(); " \
+    code = "import time; t = time.perf_counter(); from impactdamper.analysis.batch import warm_up; warm_up(); " \
            "print(time.perf_counter() - t)"
     out = {}
     with tempfile.TemporaryDirectory() as cache:
@@ -252,7 +253,7 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> 
 
 def run(args) -> dict:
     p = idp.Parameters()
-    cc.warm_up()
+    warm_up()
     out = {"case": p.to_dict(), "compile": compile_times()}
     out["per_impact"] = per_impact(p, args.long_periods, args.ivp_periods, args.repeats)
     out["steady_state"] = steady(p, args.repeats * 10)

@@ -18,8 +18,9 @@ import numpy as np
 import pytest
 
 from impactdamper import Parameters
-from impactdamper.analysis.batch import regime_map_batch, settled_batch
-from impactdamper.analysis.sweeps import SweepSettings, regime_map, solve_point
+from impactdamper.analysis.batch import regime_map_batch, settled_batch, warm_up
+from impactdamper.analysis.settled import SweepSettings, solve_point
+from impactdamper.analysis.sweeps import regime_map
 from impactdamper.core import compiled as cc
 from impactdamper.core.simulate import simulate
 from impactdamper.core.steady import steady_state
@@ -42,7 +43,7 @@ X1_TOL = 1e-9
 @pytest.fixture(scope="module", autouse=True)
 def compiled_kernels():
     """Compile (or load the cache of) every kernel once for the module."""
-    return cc.warm_up()
+    return warm_up()
 
 
 def compare_events(p, t0, state, periods=WINDOW_PERIODS):

@@ -1,12 +1,12 @@
 """Many parameter points per call: settled motions for sweeps, maps and searches, compiled.
 
 A sweep or a map row settles its points in order, each from its neighbour's settled motion
-(:func:`impactdamper.analysis.sweeps.solve_point` with a ``previous``). Here a whole row goes to
+(:func:`impactdamper.analysis.settled.solve_point` with a ``previous``). Here a whole row goes to
 the compiled kernels (:mod:`impactdamper.core.compiled`) in one call, so that no per-point Python
 work remains: the parameter sets are packed together (numpy over the stack), and the kernels run
 the points one after the other, carrying each settled section to the next point.
 
-What is computed is :func:`~impactdamper.analysis.sweeps.solve_point` **without its
+What is computed is :func:`~impactdamper.analysis.settled.solve_point` **without its
 accelerators** (``SweepSettings(continuation=False)``): every point is simulated until it
 settles (Algorithm No. 2 with the stroboscopic period test of
 :func:`~impactdamper.core.steady.steady_state`). The points the kernels do not settle themselves
@@ -29,14 +29,14 @@ from typing import Sequence
 
 import numpy as np
 
-from impactdamper.analysis.sweeps import (FAILED, SweepPoint, SweepSettings, label_of, solve_point, swept_names,
-                                          with_value)
+from impactdamper.analysis.settled import FAILED, SweepPoint, SweepSettings, label_of, solve_point
+from impactdamper.analysis.sweeps import swept_names, with_value
 from impactdamper.core import compiled as cc
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.steady import REGIMES
 
-__all__ = ["BatchResult", "settled_batch", "regime_map_batch", "BATCH_REGIMES", "MAX_REPORTED_IMPACTS"]
+__all__ = ["BatchResult", "settled_batch", "regime_map_batch", "warm_up", "BATCH_REGIMES", "MAX_REPORTED_IMPACTS"]
 
 # Regime codes of BatchResult.regime_code: steady.REGIMES, then the failed point of solve_point.
 BATCH_REGIMES = REGIMES + (FAILED,)
@@ -60,7 +60,7 @@ class BatchResult:
     period_multiple, impacts_per_cycle : ndarray of int, shape (P,)
         k and z.
     x1_max, contact_fraction, residual : ndarray, shape (P,)
-        As in :class:`~impactdamper.analysis.sweeps.SweepPoint` (x1_max in x_st).
+        As in :class:`~impactdamper.analysis.settled.SweepPoint` (x1_max in x_st).
     periods : ndarray of int, shape (P,)
         Forcing periods simulated per point (SweepPoint's count).
     phases, velocities : ndarray, shape (P, MAX_REPORTED_IMPACTS)
@@ -103,7 +103,7 @@ class BatchResult:
 
     @property
     def label(self) -> np.ndarray:
-        """Peterka's z/k labels (:func:`~impactdamper.analysis.sweeps.label_of`), shape (P,)."""
+        """Peterka's z/k labels (:func:`~impactdamper.analysis.settled.label_of`), shape (P,)."""
         return np.array([label_of(BATCH_REGIMES[c], int(k), int(z)) for c, k, z in
                          zip(self.regime_code, self.period_multiple, self.impacts_per_cycle)], dtype=object)
 
@@ -170,7 +170,7 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     values : array_like, shape (P, len(names))
         The points, in the order they are settled.
     settings : SweepSettings, optional
-        As for :func:`~impactdamper.analysis.sweeps.solve_point`; its ``continuation`` is not
+        As for :func:`~impactdamper.analysis.settled.solve_point`; its ``continuation`` is not
         used (no accelerators, see the module docstring).
     chain : bool
         Each point from the previous point's settled section (a sweep: the reference's
@@ -220,7 +220,7 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     i, have_prev = 0, False
     while i < P:
         prev = i - 1
-        code, stop = cc._row_kernel(
+        code, stop = cc.row_kernel(
             pack.s, pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, flags, i, have_prev,
             res.sections[prev].copy() if have_prev else np.zeros(4), int(res.section_modes[prev]) if have_prev else 0,
             bool(have_prev and res.regime_code[prev] < BATCH_REGIMES.index("nonperiodic")), chain,
@@ -269,3 +269,23 @@ def regime_map_batch(base: Parameters, fast: str, fast_values: Sequence[float], 
                     setattr(r, f.name, v[idx])
         out.append(r)
     return out
+
+
+def warm_up() -> float:
+    """Compile (or load from the numba cache) every compiled kernel, on the reference case.
+
+    The single-point entry points of :mod:`impactdamper.core.compiled` and :func:`settled_batch`
+    each run once, briefly, so that later calls pay no compilation.
+
+    Returns
+    -------
+    float
+        The wall time it took, s.
+    """
+    t = time.perf_counter()
+    p = Parameters()
+    cc.steady_state_compiled(p, max_periods=40)
+    settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
+    cc.simulate_compiled(p, 2 * p.T)
+    cc.count_events_compiled(p, 2 * p.T)
+    return time.perf_counter() - t

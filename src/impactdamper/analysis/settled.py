@@ -84,7 +84,7 @@ from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances, check_tolerances, default_initial_state
-from impactdamper.core.steady import SteadyState, describe_cycle, steady_state
+from impactdamper.core.steady import SteadyState, describe_cycle, section_of, steady_state
 from impactdamper.core.strobe import state_scale, strobe_newton
 
 __all__ = [
@@ -361,18 +361,6 @@ def _cycle_of(s: SteadyState) -> tuple:
     return np.array(times), np.array(after)
 
 
-def _section_of(s: SteadyState) -> tuple[np.ndarray, str]:
-    """State and mode at a section t = n T (forcing phase zero) of the reported cycle.
-
-    The section is the first one at or after the cycle's start, inside the stored trajectory
-    (which :func:`steady_state` keeps around the reported cycle; its clock differs from the
-    run's by a multiple of T, so the phase is the same)."""
-    T = s.p.T
-    t = math.ceil(s.cycle_start / T - 1e-9) * T
-    full, modes = s.trajectory.sample(np.array([t]))
-    return full[0], str(modes[0])
-
-
 def _point_from_steady(p: Parameters, value: float, s: SteadyState, *, method: str, start: str,
                        start_state: np.ndarray, periods: int, multiplier: float = math.nan,
                        stable: bool | None = None) -> SweepPoint:
@@ -382,7 +370,7 @@ def _point_from_steady(p: Parameters, value: float, s: SteadyState, *, method: s
     if isinstance(s, PeriodicOrbit) and s.solved:
         section, mode = _orbit_section(s)
     else:
-        section, mode = _section_of(s)
+        section, mode = section_of(s)
     return SweepPoint(
         p=p, value=value, regime=s.regime, period_multiple=s.period_multiple,
         impacts_per_cycle=s.impacts_per_cycle, label=label_of(s.regime, s.period_multiple, s.impacts_per_cycle),
@@ -547,7 +535,7 @@ def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings
                 section, mode = _orbit_section(o)
                 return _verify(p, value, section, o.period_multiple, settings, method="rescue", start=start,
                                start_state=start_state, periods=periods, rho=o.spectral_radius)
-    full, mode = _section_of(s)
+    full, mode = section_of(s)
     res = strobe_newton(p, full, mode, k, settings.tolerances)
     if res is None:
         return None

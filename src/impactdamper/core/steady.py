@@ -37,7 +37,7 @@ from impactdamper.core.simulate import (EventDrivenSolver, Tolerances, Trajector
 from impactdamper.core.strobe import state_scale
 
 __all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES", "describe_cycle", "max_excursion", "rescale_steady",
-           "start_in_first_period"]
+           "section_of", "start_in_first_period", "check_settle_options"]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
 # Samples per forcing period when searching the object's largest excursion (then refined).
@@ -196,6 +196,24 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
     return start if start < p.T else 0.0  # (a fraction that rounds to 1 is the phase 0)
 
 
+def check_settle_options(settle_tol, max_periods, max_period_multiple) -> tuple[float, int, int]:
+    """The settled-motion search's options, checked: ``settle_tol`` in (0, 1), ``max_periods``
+    an integer in [2, MAX_PERIODS_LIMIT], ``max_period_multiple`` an integer in
+    [1, max_periods - 1].
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the argument and what is allowed.
+    """
+    settle_tol = real_argument("settle_tol", settle_tol)
+    if not (math.isfinite(settle_tol) and 0 < settle_tol < 1):
+        raise ValueError(f"`settle_tol` = {settle_tol!r} is not allowed: must be in (0, 1)")
+    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
+    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, max_periods - 1)
+    return settle_tol, max_periods, max_period_multiple
+
+
 def steady_state(
     p: Parameters,
     *,
@@ -243,11 +261,7 @@ def steady_state(
     t0 = finite_argument("t0", t0)
     tolerances = check_tolerances(tolerances)
     state = check_state(state, p)
-    settle_tol = real_argument("settle_tol", settle_tol)
-    if not (math.isfinite(settle_tol) and 0 < settle_tol < 1):
-        raise ValueError(f"`settle_tol` = {settle_tol!r} is not allowed: must be in (0, 1)")
-    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
-    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, max_periods - 1)
+    settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
     start = start_in_first_period(p, t0)
     if not p.native_scales():
         q = p.canonical()
@@ -268,6 +282,32 @@ def rescale_steady(s: SteadyState, scales: ScaleMap) -> SteadyState:
         section_times=None if s.section_times is None else scales.apply(s.section_times, "time"),
         sections=None if s.sections is None else scales.full(s.sections),
     )
+
+
+def section_of(s: SteadyState) -> tuple[np.ndarray, str]:
+    """State and mode at a stroboscopic section of the reported cycle.
+
+    The section is the first time t = n T (forcing phase zero) at or after the cycle's start,
+    inside the stored trajectory (which :func:`steady_state` keeps around the reported cycle;
+    its clock differs from the run's by a multiple of T, so the phase is the same). A sweep
+    carries this state to its next point.
+
+    Parameters
+    ----------
+    s : SteadyState
+        A settled motion, with its trajectory.
+
+    Returns
+    -------
+    state : ndarray, shape (4,)
+        (x1, x2, x1', x2') at the section, in m and m/s.
+    mode : str
+        The contact mode there, ``free`` or ``stuck``.
+    """
+    T = s.p.T
+    t = math.ceil(s.cycle_start / T - 1e-9) * T
+    full, modes = s.trajectory.sample(np.array([t]))
+    return full[0], str(modes[0])
 
 
 def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances, settle_tol: float,

@@ -1,0 +1,54 @@
+"""The exact event-driven solver, compiled: Algorithm No. 2 and the settled motion in numba.
+
+The same algorithm as the readable reference, step for step, with the same constants:
+
+* the exact flow between events, eq. (18) with alpha_j of eq. (19) in modal form, and the
+  periodic forced response of eqs. (10)-(11) (:mod:`impactdamper.core.linear`);
+* the certified root march of the gap, eq. (20), and of the contact force, with the same
+  Taylor lower bound, departure orders, Newton polish and step budget
+  (:mod:`impactdamper.core.events`);
+* the impact law of eqs. (21)-(22), the capture into persistent contact, lift-off, the
+  brief-dip rule and grazing (:mod:`impactdamper.core.simulate`);
+* the stroboscopic sections, the period test with its divisor rule, the re-basing of the
+  clock and the description of the cycle (:mod:`impactdamper.core.steady`).
+
+The matrices (modal eigenvectors, forced amplitudes, derivative-bound factors) are computed once
+per parameter set by the reference classes (:class:`~impactdamper.core.model.Model`) and packed
+into arrays; the kernels only evaluate. Whatever the kernels do not reproduce falls back to the
+pure-Python solver, and the result says so (``fallback``):
+
+* a mode whose eigenvector matrix is ill conditioned (repeated roots of eq. (4)), where the
+  reference uses the matrix exponential;
+* parameters outside the native scales (the reference rescales them);
+* any error of the reference (step budget, degenerate contact, a resonance in contact): the
+  reference is re-run so that its exception, with its message, is raised.
+
+The maximum excursion x1_max is refined by golden-section search where the reference uses
+scipy's bounded Brent search; both stop at 1e-12 T, and the maximum's value differs by the
+square of that (far below 1e-12 x_st).
+
+The modules, each one idea:
+
+* :mod:`~impactdamper.core.compiled.layout` -- the codes and indices the kernels share;
+* :mod:`~impactdamper.core.compiled.pack` -- a parameter set packed into arrays;
+* :mod:`~impactdamper.core.compiled.flow` -- the exact flow between events;
+* :mod:`~impactdamper.core.compiled.march` -- the certified event march and its polish;
+* :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law and the modes;
+* :mod:`~impactdamper.core.compiled.settle` -- the settled motion, one point or a row of them;
+* :mod:`~impactdamper.core.compiled.api` -- the Python entry points, re-exported here.
+"""
+
+from __future__ import annotations
+
+from impactdamper.core.compiled.api import (INITIAL_CAPACITY, CompiledRun, CompiledSteady, count_events_compiled,
+                                            run_compiled, simulate_compiled, steady_state_compiled)
+from impactdamper.core.compiled.layout import EVENT_KINDS, FALLBACK_REASONS
+from impactdamper.core.compiled.pack import PARAMETER_COLUMNS, Pack, pack_many, pack_parameters
+from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel
+# The regime names; the kernels' regime codes index them (as BatchResult.regime_code does).
+from impactdamper.core.steady import REGIMES
+
+__all__ = ["CompiledRun", "CompiledSteady", "Pack", "pack_many", "pack_parameters", "run_compiled",
+           "simulate_compiled", "steady_state_compiled", "count_events_compiled", "row_kernel", "EVENT_KINDS",
+           "FALLBACK_REASONS", "PARAMETER_COLUMNS", "INITIAL_CAPACITY", "REGIMES", "ROW_DONE", "ROW_FLAGGED",
+           "ROW_ERROR", "ROW_RESCUE"]

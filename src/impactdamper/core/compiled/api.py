@@ -1,0 +1,299 @@
+"""The compiled solver's Python entry points: arguments checked, kernels run, results typed.
+
+Each entry point validates its arguments as the reference does, packs the parameters
+(:mod:`~impactdamper.core.compiled.pack`), runs a kernel and returns a small dataclass or the
+reference's :class:`~impactdamper.core.simulate.Trajectory`. Where the kernels do not apply or
+stop on an error, the reference runs instead, and the result says so.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from impactdamper.core.compiled.layout import ERR_CAPACITY, EVENT_KINDS, FALLBACK_REASONS, MODE_FREE, OK
+from impactdamper.core.compiled.loop import count_kernel, simulate_kernel
+from impactdamper.core.compiled.pack import Pack, pack_parameters
+from impactdamper.core.compiled.settle import steady_kernel
+from impactdamper.core.events import Segment
+from impactdamper.core.model import FREE, STUCK, Model
+from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
+from impactdamper.core.simulate import (DEFAULT_KICK, MAX_SIMULATE_PERIODS, Event, EventDrivenSolver, Tolerances,
+                                        Trajectory, check_start_time, check_state, check_tolerances, simulate)
+from impactdamper.core.steady import REGIMES, check_settle_options, section_of, start_in_first_period, steady_state
+
+__all__ = ["CompiledRun", "CompiledSteady", "run_compiled", "simulate_compiled", "steady_state_compiled",
+           "count_events_compiled", "INITIAL_CAPACITY"]
+
+# Events and segments held before the buffers grow (the run is repeated with 4 times as many):
+# a settled cycle's description holds ~10 periods of a few events each; larger buffers cost more
+# to allocate than the rare repeat.
+INITIAL_CAPACITY = 256
+# Events per forcing period a run's buffers are first sized for (a periodic impacting motion has
+# 1-3; a chatter cycle ~30, found by growing them).
+EVENTS_PER_PERIOD_GUESS = 4
+
+
+def _default_state(p: Parameters) -> np.ndarray:
+    """Algorithm No. 2's step 1 (the reference's default_initial_state)."""
+    S0 = DEFAULT_KICK * p.m1 * p.omega1 * p.x_st
+    return np.array([0.0, p.Delta0, S0 / p.m1, -S0 / p.m2])
+
+
+def _checked_state(p: Parameters, state, tol: Tolerances) -> np.ndarray:
+    """The start state, validated as the reference's solver does (by constructing it when the
+    state is unusual: the reference raises the named error)."""
+    full = check_state(state, p)
+    if full is None:
+        return _default_state(p)
+    gap = p.Delta0 - (full[1] - full[0])
+    if gap < -tol.gap_tol * p.x_st:
+        EventDrivenSolver(p, t0=0.0, state=full, tolerances=tol)  # raises the reference's message
+    return full
+
+
+@dataclass(frozen=True)
+class CompiledRun:
+    """A compiled run's events and segments, as arrays (no Python object per event).
+
+    Attributes
+    ----------
+    kinds : ndarray of int, shape (E,)
+        Indices into :data:`EVENT_KINDS`.
+    events : ndarray, shape (E, 12)
+        Per event: t (s), closing velocity (m/s), pulse (N s), state before (4), after (4),
+        accumulation time t_inf (s).
+    segment_modes : ndarray of int, shape (S,)
+        0 free, 1 stuck.
+    segments : ndarray, shape (S, 5)
+        Per segment: start time t0 (s) and start state (4; stuck: x1, x1', 0, 0).
+    """
+
+    kinds: np.ndarray
+    events: np.ndarray
+    segment_modes: np.ndarray
+    segments: np.ndarray
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.events[:, 0]
+
+
+def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
+                 tolerances: Tolerances | None = None, *, pack: Pack | None = None) -> CompiledRun | None:
+    """Algorithm No. 2 with contact modes from ``t0`` to ``t_end`` in the kernels, as arrays.
+
+    Parameters
+    ----------
+    p, t_end, t0, state, tolerances
+        As for :func:`simulate_compiled` (validated there, not here).
+    pack : Pack, optional
+        :func:`pack_parameters` of ``p`` and ``tolerances``, if already made.
+
+    Returns
+    -------
+    CompiledRun, or None where the kernels do not apply or stopped on an error (the caller
+    then runs the reference).
+    """
+    pack = pack_parameters(p, tolerances) if pack is None else pack
+    if pack.fallback:
+        return None
+    full = _default_state(p) if state is None else np.asarray(state, dtype=float)
+    capacity = max(INITIAL_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (float(t_end) - float(t0)) / p.T))
+    while True:
+        err, ev_k, ev_f, seg_m, seg_f, _ = simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
+                                                           float(t0), full, float(t_end), capacity)
+        if err != ERR_CAPACITY:
+            break
+        capacity *= 4
+    return None if err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
+
+
+def simulate_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
+                      tolerances: Tolerances | None = None) -> Trajectory:
+    """Algorithm No. 2 with contact modes from ``t0`` to ``t_end``, compiled.
+
+    The same motion as :func:`impactdamper.core.simulate.simulate` (the same events, kinds and
+    order; times to rounding, see the tests): a :class:`Trajectory` whose segments are the
+    reference's :class:`~impactdamper.core.events.Segment` objects, so ``sample`` works as
+    there. Where the kernels do not apply (see the package docstring) the reference runs
+    instead; the returned trajectory's ``compiled`` attribute says which ran.
+
+    Parameters
+    ----------
+    p : Parameters
+    t_end, t0 : float
+        End and start, s.
+    state : ndarray, shape (4,), optional
+        (x1, x2, x1', x2') at t0; default Algorithm No. 2's step 1.
+    tolerances : Tolerances, optional
+
+    Raises
+    ------
+    TypeError, ValueError, SearchLimitError
+        As :func:`~impactdamper.core.simulate.simulate` (the reference raises them).
+    """
+    p = require_parameters(p)
+    tol = check_tolerances(tolerances)
+    t_endf = finite_argument("t_end", t_end)
+    t0f = check_start_time(t0, p)
+    check_start_time(t_endf, p, "t_end")
+    if not t_endf > t0f or (t_endf - t0f) / p.T > MAX_SIMULATE_PERIODS:
+        simulate(p, t_end, t0, state, tolerances)  # raises the reference's named error
+    full = _checked_state(p, state, tol)
+    run = run_compiled(p, t_endf, t0f, full, tol)
+    if run is None:
+        traj = simulate(p, t_end, t0, state, tolerances)  # raises the reference's error, or runs where it must
+        traj.compiled = False
+        return traj
+    return _trajectory(p, run.kinds, run.events, run.segment_modes, run.segments)
+
+
+def _trajectory(p: Parameters, ev_k, ev_f, seg_m, seg_f) -> Trajectory:
+    model = Model(p)
+    traj = Trajectory(model)
+    for m, row in zip(seg_m.tolist(), seg_f):
+        name = FREE if m == MODE_FREE else STUCK
+        n = 4 if m == MODE_FREE else 2
+        traj.segments.append((name, Segment(model.mode(name), float(row[0]), row[1:1 + n].copy())))
+    for k, row in zip(ev_k.tolist(), ev_f):
+        traj.events.append(Event(float(row[0]), EVENT_KINDS[k], float(row[1]), float(row[2]), row[3:7].copy(),
+                                 row[7:11].copy(), float(row[11])))
+    traj.compiled = True
+    return traj
+
+
+def count_events_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
+                          tolerances: Tolerances | None = None) -> int:
+    """Events of the run from ``t0`` to ``t_end`` without recording them (the solver's pure
+    cost, for benchmarks). Raises ValueError if the kernels do not apply to ``p``."""
+    pack = pack_parameters(p, tolerances)
+    if pack.fallback:
+        raise ValueError(f"`p` = {p!r} is not allowed here: the kernels do not apply "
+                         f"({FALLBACK_REASONS[pack.fallback]})")
+    full = _checked_state(p, state, check_tolerances(tolerances))
+    err, n = count_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, float(t0), full, float(t_end))
+    if err:
+        raise RuntimeError(f"the compiled run failed with error code {err}; run simulate() for the message")
+    return int(n)
+
+
+@dataclass(frozen=True)
+class CompiledSteady:
+    """The settled motion's fields that sweeps and maps read (those of
+    :class:`~impactdamper.core.steady.SteadyState`).
+
+    Attributes
+    ----------
+    regime : str
+        One of :data:`impactdamper.core.steady.REGIMES`.
+    period_multiple : int
+        k in T_c = k T (0 when nonperiodic).
+    impact_times, impact_phases, velocities, impulses : ndarray, shape (z,)
+        The cycle's impacts: absolute times (s), forcing phases t/T mod 1, closing velocities
+        (m/s), pulses (N s).
+    cycle_start : float
+        Time the reported cycle starts, s.
+    contact_fraction : float
+    x1_max : float
+        max |x1|/x_st over the cycle.
+    periods : int
+        Forcing periods simulated until settled.
+    residual : float
+        Largest relative section mismatch over the final cycle.
+    section : ndarray, shape (4,)
+        State at the first section t = n T in the cycle (carried to a sweep's next point).
+    section_mode : str
+        ``free`` or ``stuck`` there.
+    fallback : str
+        "" if the kernels computed it, else why the reference did (see :data:`FALLBACK_REASONS`).
+    """
+
+    regime: str
+    period_multiple: int
+    impact_times: np.ndarray
+    impact_phases: np.ndarray
+    velocities: np.ndarray
+    impulses: np.ndarray
+    cycle_start: float
+    contact_fraction: float
+    x1_max: float
+    periods: int
+    residual: float
+    section: np.ndarray
+    section_mode: str
+    fallback: str = ""
+
+    @property
+    def impacts_per_cycle(self) -> int:
+        return len(self.impact_phases)
+
+
+def _from_reference(p: Parameters, s, reason: str) -> CompiledSteady:
+    section, mode = section_of(s)  # the reference's own reading of the section
+    return CompiledSteady(
+        regime=s.regime, period_multiple=s.period_multiple,
+        impact_times=np.array([i.t for i in s.impacts]), impact_phases=np.array([i.phase for i in s.impacts]),
+        velocities=np.array([i.velocity for i in s.impacts]), impulses=np.array([i.impulse for i in s.impacts]),
+        cycle_start=s.cycle_start, contact_fraction=float(s.contact_fraction), x1_max=float(s.x1_max),
+        periods=s.periods, residual=float(s.residual), section=np.asarray(section, float), section_mode=mode,
+        fallback=reason)
+
+
+def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
+                          tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
+                          max_period_multiple: int = 8) -> CompiledSteady:
+    """The settled motion, compiled: :func:`impactdamper.core.steady.steady_state`'s result.
+
+    Parameters and their meaning as there. The reference runs instead (and ``fallback`` says
+    why) where the kernels do not apply, or where they stopped on an error (the reference then
+    raises its own exception, with its message).
+
+    Raises
+    ------
+    TypeError, ValueError, SearchLimitError
+        As :func:`~impactdamper.core.steady.steady_state`.
+    """
+    p = require_parameters(p)
+    tol = check_tolerances(tolerances)
+    t0 = finite_argument("t0", t0)
+    settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
+    pack = pack_parameters(p, tol)
+    args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
+                max_period_multiple=max_period_multiple)
+    if pack.fallback:
+        return _from_reference(p, steady_state(p, **args), FALLBACK_REASONS[pack.fallback])
+    start = start_in_first_period(p, t0)
+    full = _checked_state(p, state, tol)
+    result = _steady_run(pack, start, full, state is None, settle_tol, max_periods, max_period_multiple)
+    if result is None:
+        return _from_reference(p, steady_state(p, **args), "error")
+    return result
+
+
+def _steady_run(pack: Pack, t0: float, full: np.ndarray, default_start: bool, settle_tol: float, max_periods: int,
+                kmax: int) -> CompiledSteady | None:
+    """One kernel run; None if the kernels stopped on an error."""
+    capacity = INITIAL_CAPACITY
+    out_imp = np.zeros((64 * kmax, 5))
+    section = np.zeros(5)
+    while True:
+        (err, regime, k, z, start, frac, x1_max, n,
+         residual) = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, t0, full, default_start,
+                                   settle_tol, max_periods, kmax, capacity, out_imp, section)
+        if err == ERR_CAPACITY:
+            capacity *= 4
+            continue
+        if err == OK and z > out_imp.shape[0]:
+            out_imp = np.zeros((z, 5))
+            continue
+        break
+    if err:
+        return None
+    imp = out_imp[:z]
+    return CompiledSteady(regime=REGIMES[regime], period_multiple=int(k), impact_times=imp[:, 0].copy(),
+                          impact_phases=imp[:, 2].copy(), velocities=imp[:, 3].copy(), impulses=imp[:, 4].copy(),
+                          cycle_start=float(start), contact_fraction=float(frac), x1_max=float(x1_max),
+                          periods=int(n), residual=float(residual), section=section[:4].copy(),
+                          section_mode="free" if section[4] == MODE_FREE else "stuck")

@@ -1,0 +1,410 @@
+"""A parameter set packed into the compiled kernels' arrays.
+
+The kernels only evaluate: the matrices of both contact modes (modal eigenvectors, forced
+amplitudes of eqs. (10)-(11), the energy weight) and of the functionals (the gap of eq. (20),
+the contact force and minus it, with their derivative-bound factors) are computed here, with the
+operations of the reference classes (:class:`~impactdamper.core.model.Model`,
+:class:`~impactdamper.core.linear.LinearMode`) so that they round the same way, and packed into
+a :class:`Pack`. A set the kernels do not cover is flagged with its reason
+(:data:`~impactdamper.core.compiled.layout.FALLBACK_REASONS`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from impactdamper.core.compiled.layout import (FORCE, GAP, NEG_FORCE, N_SCALARS, S_CHATTER, S_DELTA0, S_FORCE_EPS,
+                                               S_FSCALE, S_GAP_EPS, S_LSCALE, S_M1, S_M2, S_MRED, S_OMEGA, S_OMEGA1,
+                                               S_R, S_STUCK_RES, S_T, S_XST)
+from impactdamper.core.linear import MODAL_CONDITION_LIMIT
+from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT
+from impactdamper.core.parameters import NATIVE_SCALES, Parameters, require_parameters
+from impactdamper.core.simulate import Tolerances, check_tolerances
+
+
+@dataclass(frozen=True)
+class Pack:
+    """One parameter set's arrays for the kernels (see :func:`pack_parameters`).
+
+    Attributes
+    ----------
+    s : ndarray, shape (16,)
+        Scalars (omega, T, Delta0, R, m1, m2, reduced mass, omega1, length and force scales,
+        gap and force tolerances in units, chatter tolerance, stuck resonance flag, x_st).
+    cm : ndarray, shape (2, 10, 4), complex
+        Per mode (free, stuck): roots, forced amplitudes Yhat, V (rows 2-5), V^-1 (rows 6-9).
+    fm : ndarray, shape (2, 5, 4)
+        Per mode: energy weight W (rows 0-3), forcing direction b (row 4).
+    fc : ndarray, shape (3, 8, 6)
+        Per functional (gap, force, -force): c M^k (rows 0-5), (g0, d_s) (row 6), c M^k b (row 7).
+    fk : ndarray, shape (3, 6)
+        Derivative-bound factors kappa_k.
+    fg : ndarray, shape (3, 5), complex
+        G, then c . V_j.
+    fallback : int
+        Index into :data:`FALLBACK_REASONS` (0: the kernels apply).
+
+    Built by :func:`pack_many` (one leading axis per parameter set) or :func:`pack_parameters`.
+    """
+
+    s: np.ndarray
+    cm: np.ndarray
+    fm: np.ndarray
+    fc: np.ndarray
+    fk: np.ndarray
+    fg: np.ndarray
+    fallback: int
+
+
+# The relative parameters, in the columns of pack_many's input.
+PARAMETER_COLUMNS = ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1")
+# Pack flags (pack_many's second output), as in FALLBACK_REASONS: 0 the kernels apply.
+_PACK_OK, _PACK_EXPM, _PACK_SCALES, _PACK_ERROR = 0, 1, 2, 3
+# The default tolerances, made once (constructing and validating them costs more than packing's
+# compiled part).
+_DEFAULT_TOLERANCES = Tolerances()
+
+
+def _stacked_mode(M: np.ndarray, b: np.ndarray, omega: np.ndarray, W: np.ndarray):
+    """The reference's LinearMode.__post_init__ for a stack of modes (shapes (P, n, n), (P, n),
+    (P,), (P, n, n)), with the same LAPACK calls: (roots, V, V^-1, Yhat, L^-T, powers, modal, ok)."""
+    P, n = M.shape[0], M.shape[1]
+    with np.errstate(all="ignore"):
+        lam, V = np.linalg.eig(M)
+        condition = np.linalg.cond(V)
+        modal = np.isfinite(condition) & (condition < MODAL_CONDITION_LIMIT)
+        Vinv = np.zeros_like(V)
+        if modal.any():
+            Vinv[modal] = np.linalg.inv(V[modal])
+        A = 1j * omega[:, None, None] * np.eye(n) - M
+        try:
+            Yhat = np.linalg.solve(A, b.astype(complex)[..., None])[..., 0]
+        except np.linalg.LinAlgError:  # a singular one in the stack: solve them one by one
+            Yhat = np.full((P, n), np.inf + 0j)
+            for i in range(P):
+                try:
+                    Yhat[i] = np.linalg.solve(A[i], b[i].astype(complex))
+                except np.linalg.LinAlgError:
+                    pass
+        ok = np.ones(P, bool)
+        try:
+            L = np.linalg.cholesky(W)
+        except np.linalg.LinAlgError:
+            L = np.empty_like(W)
+            for i in range(P):
+                try:
+                    L[i] = np.linalg.cholesky(W[i])
+                except np.linalg.LinAlgError:
+                    L[i], ok[i] = np.eye(n), False
+        LiT = np.swapaxes(np.linalg.inv(L), -1, -2)
+        powers = [np.broadcast_to(np.eye(n), M.shape)]
+        for _ in range(5):
+            powers.append(powers[-1] @ M)
+        powers = np.stack(powers, axis=1)  # (P, 6, n, n)
+        ok &= np.isfinite(powers).all(axis=(1, 2, 3)) & np.isfinite(LiT).all(axis=(1, 2))
+    return lam, V, Vinv, Yhat, LiT, powers, modal, ok
+
+
+def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple[Pack, np.ndarray]:
+    """The kernels' arrays for many parameter sets at once (numpy over the stack).
+
+    Parameters
+    ----------
+    values : ndarray, shape (P, 10)
+        Relative parameters in the order of :data:`PARAMETER_COLUMNS`, each row valid for
+        :class:`Parameters` (the caller validates).
+    tolerances : Tolerances, optional
+
+    Returns
+    -------
+    pack : Pack
+        Arrays with a leading axis P (s (P, 16), cm (P, 2, 10, 4), ...).
+    flags : ndarray of int, shape (P,)
+        Per row, an index into :data:`FALLBACK_REASONS`: 0 where the kernels apply; 1 where a
+        mode is not modal (repeated roots); 2 outside the native scales; 3 where the reference
+        Model raises (extreme parameters, resonance), so that the reference reports it.
+    """
+    tol = check_tolerances(tolerances)
+    v = np.asarray(values, dtype=float).reshape(-1, len(PARAMETER_COLUMNS))
+    P = v.shape[0]
+    Mf, bf, Wf, Ms, bs, Ws, D = _state_matrices_many(v)
+    omega1, m2, c1, c2, k1, P0, Delta0, T, mred = D.T
+    omega, x_st, R = v[:, 7], v[:, 8], v[:, 5]
+    m = v[:, 9] + m2
+    z = np.zeros(P)
+    flags = np.zeros(P, np.int64)
+    cm = np.zeros((P, 2, 10, 4), complex)
+    fm = np.zeros((P, 2, 5, 4))
+    modes = []
+    for i, (M, b, W) in enumerate(((Mf, bf, Wf), (Ms, bs, Ws))):
+        good = np.isfinite(M).all(axis=(1, 2)) & np.isfinite(W).all(axis=(1, 2)) & np.isfinite(b).all(axis=1)
+        Mg, bg, Wg = (np.where(good[:, None, None], M, np.eye(M.shape[1])), np.where(good[:, None], b, 0.0),
+                      np.where(good[:, None, None], W, np.eye(M.shape[1])))
+        lam, V, Vinv, Yhat, LiT, powers, modal, ok = _stacked_mode(Mg, bg, omega, Wg)
+        n = M.shape[1]
+        ok &= good
+        flags[~ok] = _PACK_ERROR
+        flags[(flags == 0) & ~modal] = _PACK_EXPM
+        cm[:, i, 0, :n], cm[:, i, 1, :n] = lam, Yhat
+        cm[:, i, 2:2 + n, :n], cm[:, i, 6:6 + n, :n] = V, Vinv
+        fm[:, i, :n, :n], fm[:, i, 4, :n] = W, b
+        modes.append((V, Yhat, LiT, powers, b, np.abs(Yhat[:, : n // 2]).max(axis=1)))
+    # The reference Model's checks: a free-mode forced response beyond FORCED_AMPLITUDE_LIMIT x_st
+    # is refused (a resonance), a stuck-mode one only when the bodies stay in contact.
+    with np.errstate(invalid="ignore"):
+        flags[(flags == 0) & ~(modes[0][5] <= FORCED_AMPLITUDE_LIMIT * x_st)] = _PACK_ERROR
+        stuck_res = ~(modes[1][5] <= FORCED_AMPLITUDE_LIMIT * x_st)
+    native = np.ones(P, bool)
+    for name, (lo, hi) in NATIVE_SCALES.items():
+        col = v[:, PARAMETER_COLUMNS.index(name)]
+        native &= (lo <= col) & (col <= hi)
+    flags[~native] = _PACK_SCALES
+    # The functionals: the gap (eq. 20), the contact force and minus it.
+    cg = np.broadcast_to(np.array([1.0, -1.0, 0.0, 0.0]), (P, 4))
+    cf = np.stack([m2 * c1 / m, m2 * k1 / m], -1)
+    fc = np.zeros((P, 3, 8, 6))
+    fk = np.zeros((P, 3, 6))
+    fg = np.zeros((P, 3, 5), complex)
+    specs = ((0, cg, Delta0, z), (1, cf, -c2 * Delta0, -m2 * P0 / m), (1, -cf, -(-c2 * Delta0), -(-m2 * P0 / m)))
+    with np.errstate(all="ignore"):
+        for f, (mi, c, g0, d_s) in enumerate(specs):
+            V, Yhat, LiT, powers, b, _ = modes[mi]
+            n = c.shape[1]
+            cM = np.einsum("pi,pkij->pkj", c, powers)  # c M^k, (P, 6, n)
+            fc[:, f, :6, :n] = cM
+            fc[:, f, 7, :6] = np.einsum("pkj,pj->pk", cM, b)
+            fc[:, f, 6, 0], fc[:, f, 6, 1] = g0, d_s
+            fk[:, f] = np.linalg.norm(np.einsum("pkj,pjl->pkl", cM, LiT), axis=2)
+            fg[:, f, 0] = np.einsum("pi,pi->p", c, Yhat) + d_s
+            fg[:, f, 1:1 + n] = np.einsum("pi,pij->pj", c, V)
+    s = np.zeros((P, N_SCALARS))
+    s[:, S_OMEGA], s[:, S_T], s[:, S_DELTA0], s[:, S_R] = omega, T, Delta0, R
+    s[:, S_M1], s[:, S_M2], s[:, S_MRED], s[:, S_OMEGA1] = v[:, 9], m2, mred, omega1
+    s[:, S_LSCALE] = x_st
+    s[:, S_FSCALE] = mred * x_st * np.maximum(np.maximum(omega, omega1), v[:, 2] * omega1) ** 2
+    s[:, S_GAP_EPS] = tol.gap_tol * x_st
+    s[:, S_CHATTER] = tol.chatter_tol
+    s[:, S_FORCE_EPS] = tol.force_tol * s[:, S_FSCALE]
+    s[:, S_STUCK_RES] = stuck_res
+    s[:, S_XST] = x_st
+    return Pack(s, cm, fm, fc, fk, fg, 0), flags
+
+
+@njit(cache=True)
+def _pack_mode(i, n, M, b, W, lam, V, omega, cm, fm, powers, LiT):
+    """One mode of the reference's LinearMode.__post_init__ (eigen-decomposition given).
+    Returns (modal, forced amplitude, finite)."""
+    condition = np.linalg.cond(V)
+    modal = math.isfinite(condition) and condition < MODAL_CONDITION_LIMIT
+    A = np.zeros((n, n), np.complex128)
+    for r in range(n):
+        for c in range(n):
+            A[r, c] = -M[r, c]
+        A[r, r] += 1j * omega
+    Yhat = np.linalg.solve(A, b.astype(np.complex128))
+    L = np.linalg.cholesky(W)
+    Li = np.linalg.inv(L)
+    for r in range(n):
+        for c in range(n):
+            LiT[r, c] = Li[c, r]
+    cm[i, 0, :n] = lam
+    cm[i, 1, :n] = Yhat
+    cm[i, 2:2 + n, :n] = V
+    if modal:
+        cm[i, 6:6 + n, :n] = np.linalg.inv(V)
+    fm[i, :n, :n] = W
+    fm[i, 4, :n] = b
+    finite = True
+    P = np.eye(n)
+    for k in range(6):
+        powers[k, :n, :n] = P
+        for r in range(n):
+            for c in range(n):
+                if not math.isfinite(P[r, c]):
+                    finite = False
+        P = P @ M
+    for r in range(n):
+        for c in range(n):
+            if not math.isfinite(LiT[r, c]):
+                finite = False
+    amp = 0.0
+    for r in range(n // 2):
+        amp = max(amp, abs(Yhat[r]))
+    return modal, amp, finite
+
+
+@njit(cache=True)
+def _pack_functional(f, n, c, g0, d_s, powers, LiT, b, Yhat, V, fc, fk, fg):
+    """One functional of the reference's LinearFunctional.__post_init__."""
+    for k in range(6):
+        acc_b = 0.0
+        for j in range(n):
+            acc = 0.0
+            for r in range(n):
+                acc += c[r] * powers[k, r, j]
+            fc[f, k, j] = acc
+            acc_b += acc * b[j]
+        fc[f, 7, k] = acc_b
+        sq = 0.0
+        for l in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += fc[f, k, j] * LiT[j, l]
+            sq += acc * acc
+        fk[f, k] = math.sqrt(sq)
+    fc[f, 6, 0], fc[f, 6, 1] = g0, d_s
+    G = 0j
+    for r in range(n):
+        G += c[r] * Yhat[r]
+    fg[f, 0] = G + d_s
+    for j in range(n):
+        acc = 0j
+        for r in range(n):
+            acc += c[r] * V[r, j]
+        fg[f, 1 + j] = acc
+
+
+@njit(cache=True)
+def _eig2(M):
+    """Eigenvalues and unit eigenvectors of the stuck mode's M = [[0, 1], [a, b]] in closed form
+    (what LAPACK returns up to rounding: a complex pair as exact conjugates, the one with the
+    positive imaginary part first; real roots without cancellation)."""
+    a, b = M[1, 0], M[1, 1]
+    h = 0.5 * b
+    disc = h * h + a
+    lam = np.empty(2, np.complex128)
+    if disc < 0.0:
+        w = math.sqrt(-disc)
+        lam[0], lam[1] = complex(h, w), complex(h, -w)
+    else:
+        r = h + math.copysign(math.sqrt(disc), h)  # the root of larger modulus
+        lam[0] = r
+        lam[1] = -a / r if r != 0.0 else 0.0
+    V = np.empty((2, 2), np.complex128)
+    for j in range(2):
+        norm = math.sqrt(1.0 + abs(lam[j]) ** 2)
+        V[0, j], V[1, j] = 1.0 / norm, lam[j] / norm
+    return lam, V
+
+
+@njit(cache=True)
+def _pack_one(v, tols, lam_f, V_f):
+    """The kernels' arrays (s, cm, fm, fc, fk, fg, flag) for one parameter set (relative
+    values v in PARAMETER_COLUMNS order, tolerances (gap, chatter, force)) given the free
+    mode's eigen-decomposition (see _state_matrices); flag indexes FALLBACK_REASONS."""
+    s, cm, fm = np.zeros(N_SCALARS), np.zeros((2, 10, 4), np.complex128), np.zeros((2, 5, 4))
+    fc, fk, fg = np.zeros((3, 8, 6)), np.zeros((3, 6)), np.zeros((3, 5), np.complex128)
+    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
+    Mf, bf, Wf, Ms, bs, Ws, d = _state_matrices(v)
+    lam_s, V_s = _eig2(Ms)
+    omega1, m2, c1, c2, k1, P0, Delta0, T, mred = d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7], d[8]
+    omega2 = N * omega1
+    m = m1 + m2
+    powers_f, LiT_f = np.zeros((6, 4, 4)), np.zeros((4, 4))
+    powers_s, LiT_s = np.zeros((6, 2, 2)), np.zeros((2, 2))
+    modal_f, amp_f, fin_f = _pack_mode(0, 4, Mf, bf, Wf, lam_f, V_f, omega, cm, fm, powers_f, LiT_f)
+    modal_s, amp_s, fin_s = _pack_mode(1, 2, Ms, bs, Ws, lam_s, V_s, omega, cm, fm, powers_s, LiT_s)
+    cg = np.array([1.0, -1.0, 0.0, 0.0])
+    cf = np.array([m2 * c1 / m, m2 * k1 / m])
+    _pack_functional(GAP, 4, cg, Delta0, 0.0, powers_f, LiT_f, bf, cm[0, 1], V_f, fc, fk, fg)
+    _pack_functional(FORCE, 2, cf, -c2 * Delta0, -m2 * P0 / m, powers_s, LiT_s, bs, cm[1, 1], V_s, fc, fk, fg)
+    _pack_functional(NEG_FORCE, 2, -cf, -(-c2 * Delta0), -(-m2 * P0 / m), powers_s, LiT_s, bs, cm[1, 1], V_s,
+                     fc, fk, fg)
+    s[S_OMEGA], s[S_T], s[S_DELTA0], s[S_R] = omega, T, Delta0, R
+    s[S_M1], s[S_M2], s[S_MRED], s[S_OMEGA1] = m1, m2, mred, omega1
+    s[S_LSCALE] = x_st
+    s[S_FSCALE] = mred * x_st * max(omega, omega1, omega2) ** 2
+    s[S_GAP_EPS] = tols[0] * x_st
+    s[S_CHATTER] = tols[1]
+    s[S_FORCE_EPS] = tols[2] * s[S_FSCALE]
+    s[S_STUCK_RES] = 0.0 if amp_s <= FORCED_AMPLITUDE_LIMIT * x_st else 1.0
+    s[S_XST] = x_st
+    flag = _PACK_OK
+    if not (fin_f and fin_s) or not amp_f <= FORCED_AMPLITUDE_LIMIT * x_st:
+        flag = _PACK_ERROR
+    elif not (modal_f and modal_s):
+        flag = _PACK_EXPM
+    return s, cm, fm, fc, fk, fg, flag
+
+
+@njit(cache=True)
+def _state_matrices(v):
+    """The two modes' (M, b, W) (the reference's free_mode and stuck_mode) and the derived
+    values (omega1, m2, c1, c2, k1, P0, Delta0, T, reduced mass), with the operations of
+    Parameters.__post_init__ (same rounding)."""
+    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
+    omega1 = omega / theta
+    omega2 = N * omega1
+    m2 = mu * m1
+    c1 = m1 * (omega1 * omega1)
+    c2 = m2 * (omega2 * omega2)
+    k1 = 2.0 * m1 * omega1 * delta1
+    k2 = 2.0 * m2 * omega1 * delta2
+    P0 = m1 * (omega1 * omega1) * x_st
+    Delta0 = gap * x_st
+    T = 2.0 * math.pi / omega
+    mred = m1 * m2 / (m1 + m2)
+    if mred == 0.0 or not math.isfinite(mred):
+        mred = m1 * (mu / (1.0 + mu))
+    Mf = np.zeros((4, 4))
+    Mf[0, 2] = Mf[1, 3] = 1.0
+    Mf[2, 0], Mf[2, 1] = -(1.0 / m1) * (c1 + c2), -(1.0 / m1) * -c2
+    Mf[3, 0], Mf[3, 1] = -(1.0 / m2) * -c2, -(1.0 / m2) * c2
+    Mf[2, 2], Mf[2, 3] = -(1.0 / m1) * (k1 + k2), -(1.0 / m1) * -k2
+    Mf[3, 2], Mf[3, 3] = -(1.0 / m2) * -k2, -(1.0 / m2) * k2
+    bf = np.array([0.0, 0.0, P0 / m1, 0.0])
+    Wf = np.zeros((4, 4))
+    Wf[0, 0], Wf[0, 1], Wf[1, 0], Wf[1, 1] = c1 + c2, -c2, -c2, c2
+    Wf[2, 2], Wf[3, 3] = m1, m2
+    m = m1 + m2
+    Ms = np.zeros((2, 2))
+    Ms[0, 1] = 1.0
+    Ms[1, 0], Ms[1, 1] = -c1 / m, -k1 / m
+    bs = np.array([0.0, P0 / m])
+    Ws = np.zeros((2, 2))
+    Ws[0, 0], Ws[1, 1] = c1, m
+    d = np.array([omega1, m2, c1, c2, k1, P0, Delta0, T, mred])
+    return Mf, bf, Wf, Ms, bs, Ws, d
+
+
+@njit(cache=True)
+def _state_matrices_many(values):
+    """_state_matrices for each row of values (P, 10): stacked (M, b, W) of both modes and the
+    derived values (P, 9)."""
+    P = values.shape[0]
+    Mf, bf, Wf = np.zeros((P, 4, 4)), np.zeros((P, 4)), np.zeros((P, 4, 4))
+    Ms, bs, Ws = np.zeros((P, 2, 2)), np.zeros((P, 2)), np.zeros((P, 2, 2))
+    D = np.zeros((P, 9))
+    for i in range(P):
+        Mf[i], bf[i], Wf[i], Ms[i], bs[i], Ws[i], D[i] = _state_matrices(values[i])
+    return Mf, bf, Wf, Ms, bs, Ws, D
+
+
+def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
+    """The kernels' arrays for one parameter set (the free mode's eigen-decomposition by numpy,
+    as the reference; the rest compiled); its ``fallback`` is the set's flag (FALLBACK_REASONS)."""
+    p = require_parameters(p)
+    tol = _DEFAULT_TOLERANCES if tolerances is None else check_tolerances(tolerances)
+    if not p.native_scales():
+        return Pack(np.zeros(N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
+                    np.zeros((3, 6)), np.zeros((3, 5), complex), _PACK_SCALES)
+    v = np.array([p.theta, p.mu, p.N, p.delta1, p.delta2, p.R, p.gap, p.omega, p.x_st, p.m1])
+    try:
+        lam_f, V_f = np.linalg.eig(_free_matrix(v))
+        *arrays, flag = _pack_one(v, np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol]),
+                                  lam_f.astype(complex), V_f.astype(complex))
+    except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+        # (a singular or indefinite matrix: extreme parameters or an undamped resonance, which
+        # the reference Model reports by name)
+        return Pack(np.zeros(N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
+                    np.zeros((3, 6)), np.zeros((3, 5), complex), _PACK_ERROR)
+    return Pack(*arrays, int(flag))
+
+
+@njit(cache=True)
+def _free_matrix(v):
+    return _state_matrices(v)[0]
