@@ -59,10 +59,11 @@ PHASE_TARGET = 1e-12
 FIRST10_SPEEDUP_TARGET = 100.0
 MAP_TIME_TARGET_S = 15.0
 RTOL = ATOL = 1e-10  # DOP853's tolerances named by the issue
-# The full config's theta map (config/config.yaml, maps.theta) and its settings.
+# The full config's theta map (config/config.yaml, maps.theta) and its settings; the workflow's
+# rule passes the config's period caps (--max-periods, --max-periods-after-nonperiodic).
 MAP_GAPS = (-40.0, 15.0)
 MAP_THETAS = (0.5, 1.5)
-MAP_SETTINGS = dict(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, max_period_multiple=8)
+MAP_SETTINGS = dict(settle_tol=1e-9, max_periods=300, max_periods_after_nonperiodic=300, max_period_multiple=8)
 # Map points whose DOP853 cost is timed and extrapolated (a full DOP853 map would take hours).
 IVP_MAP_SAMPLE = 6
 
@@ -333,11 +334,19 @@ def main(argv=None) -> int:
     ap.add_argument("--ivp-periods", type=int, default=200)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--map-sizes", type=int, nargs="+", default=[200])
+    ap.add_argument("--max-periods", type=int, default=MAP_SETTINGS["max_periods"],
+                    help="the map's period cap per point (the config's maps.max_periods)")
+    ap.add_argument("--max-periods-after-nonperiodic", type=int, default=MAP_SETTINGS["max_periods_after_nonperiodic"],
+                    help="the cap after a nonperiodic neighbour (maps.max_periods_after_nonperiodic)")
     ap.add_argument("--quick", action="store_true", help="a small run (maps 40 x 40, fewer periods) to try it out")
     args = ap.parse_args(argv)
     for name in ("repeats", "map_repeats", "long_periods", "ivp_periods", "workers"):
         if getattr(args, name) < 1:
             ap.error(f"`--{name.replace('_', '-')}` = {getattr(args, name)} is not allowed: must be >= 1")
+    for name in ("max_periods", "max_periods_after_nonperiodic"):
+        if getattr(args, name) < 2:
+            ap.error(f"`--{name.replace('_', '-')}` = {getattr(args, name)} is not allowed: must be >= 2")
+    MAP_SETTINGS.update(max_periods=args.max_periods, max_periods_after_nonperiodic=args.max_periods_after_nonperiodic)
     if args.quick:
         args.map_sizes, args.long_periods, args.ivp_periods, args.map_repeats = [40], 10_000, 50, 1
     out = run(args)

@@ -19,10 +19,11 @@ from impactdamper import Parameters, Tolerances
 from impactdamper import algorithm1
 from impactdamper.core.linear import forced_amplitudes, free_mode, stuck_mode
 from impactdamper.core.model import Model
+from impactdamper.analysis.batch import regime_map_batch
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import solve_orbit
 from impactdamper.analysis.settled import SweepSettings, carry_state, label_of, solve_point
-from impactdamper.analysis.sweeps import locate_transition, random_starts, regime_map, sweep, with_value
+from impactdamper.analysis.sweeps import locate_transition, random_starts, sweep, with_value
 from impactdamper.analysis.transitions import (algorithm1_grazing_gap, no_contact_gap, object_alone_amplitude,
                                                rigid_amplitude, stuck_liftoff_gap)
 
@@ -198,11 +199,12 @@ def test_bad_parameter_name():
 # Sweep: in each direction, every RECORD_SWEEP_EVERY-th row with a periodic label is
 # recomputed by plain simulation from the state it started from (stored in the row), so the
 # check also tests the accelerators against simulation. Maps: rows RECORD_MAP_ROWS of each map
-# are recomputed as in the workflow (one-way sweep, cell from cell) and compared cell by cell;
+# are recomputed as in the workflow (the compiled batch, regime_map_batch: one-way sweep, cell
+# from cell, no accelerators, the rescue as the map's settings say) and compared cell by cell;
 # cells labelled np or err on either side are allowed to differ (chaotic motion amplifies
 # rounding) up to RECORD_MAP_NONPERIODIC_SHARE of the row.
 RECORD_SWEEP_EVERY = 100
-RECORD_MAP_ROWS = {"theta": (0, 100, -1), "damping": (60, -1)}
+RECORD_MAP_ROWS = {"theta": (0, 100, 200, 300, -1), "damping": (60, 120, 240, -1)}
 RECORD_MAP_NONPERIODIC_SHARE = 0.05
 
 
@@ -248,14 +250,16 @@ def test_committed_sweep_reproduces_on_a_subset():
 def test_committed_map_reproduces_on_a_subset(name):
     cfg = json.loads((ROOT / "figures" / f"map_{name}_settings.json").read_text())
     base = Parameters(**{k: float(cfg["reference"][k]) for k in Parameters.names()})
-    settings = _settings(cfg["maps"], cfg["solver"])
+    assert cfg.get("method") == "regime_map_batch", \
+        f"figures/map_{name}.csv was made by {cfg.get('method', 'regime_map')}: rerun the maps (snakemake --cores 2 sweeps)"
+    settings = _settings(cfg["maps"], cfg["solver"], continuation=False, rescue=bool(cfg["maps"]["rescue"]))
     lines = [ln.split(",") for ln in (ROOT / "figures" / f"map_{name}.csv").read_text().splitlines()]
     gaps = [float(x) for x in lines[0][1:]]
     for i in RECORD_MAP_ROWS[name]:
         row = lines[1:][i]
-        computed = regime_map(base, "gap", gaps, cfg["maps"][name]["parameter"], [float(row[0])],
-                              direction=cfg["maps"]["direction"], settings=settings)[0]
-        labels = [pt.label for pt in computed]
+        computed = regime_map_batch(base, "gap", gaps, cfg["maps"][name]["parameter"], [float(row[0])],
+                                    direction=cfg["maps"]["direction"], settings=settings)[0]
+        labels = list(computed.label)
         differ = [j for j, (a, b) in enumerate(zip(labels, row[1:])) if a != b]
         loose = {"np", "err"}
         assert all(labels[j] in loose or row[1 + j] in loose for j in differ), \

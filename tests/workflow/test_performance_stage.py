@@ -12,11 +12,12 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 from helpers import LIBRARY, library_imports, library_parts  # noqa: E402 (the library's modules, what a script imports)
 RULES = ("performance_work_precision", "fig_work_precision", "performance_cost_growth", "fig_cost_growth",
-         "performance_hardcases", "performance_reference_speed", "performance_report")
+         "performance_hardcases", "performance_reference_speed", "performance_compiled_speed", "performance_report")
 TARGETS = ("figures/work_precision.pdf", "figures/work_precision.png", "figures/work_precision.csv",
            "figures/cost_growth.pdf", "figures/cost_growth.csv", "figures/hardcases.csv",
            "paper/generated/hardcases_table.tex", "paper/generated/performance_macros.tex",
-           "paper/generated/workprecision_table.tex", "results/benchmarks/reference_speed.json")
+           "paper/generated/workprecision_table.tex", "paper/generated/compiled_speed_table.tex",
+           "results/benchmarks/reference_speed.json", "figures/compiled_speed.json")
 
 
 @pytest.fixture(scope="module")
@@ -54,11 +55,12 @@ def test_every_rule_lists_library_script_and_log(jobs):
 
 def test_timed_rules_take_both_cores_and_one_blas_thread(jobs):
     for rule in ("performance_work_precision", "performance_cost_growth", "performance_hardcases",
-                 "performance_reference_speed"):
+                 "performance_reference_speed", "performance_compiled_speed"):
         fields, block = jobs[rule]
         assert fields.get("threads") == "2", rule
-    _, block = jobs["performance_reference_speed"]
-    assert "OPENBLAS_NUM_THREADS=1" in block
+    for rule in ("performance_reference_speed", "performance_compiled_speed"):
+        _, block = jobs[rule]
+        assert "OPENBLAS_NUM_THREADS=1" in block, rule
     for script in ("work_precision", "cost_growth", "hardcases"):
         text = (ROOT / "workflow" / "scripts" / f"{script}.py").read_text()
         assert text.index('os.environ[_var] = "1"') < text.index("import numpy" if "import numpy" in text else
@@ -68,3 +70,37 @@ def test_timed_rules_take_both_cores_and_one_blas_thread(jobs):
 def test_figure_rules_list_the_style(jobs):
     for rule in ("fig_work_precision", "fig_cost_growth"):
         assert "src/impactdamper/reporting/paper.mplstyle" in jobs[rule][0]["input"]
+
+
+# --- the compiled solver's numbers in the report -------------------------------------------------
+def test_met_word_is_judged_from_number_and_target():
+    from performance_report import met
+
+    assert met(2.5, 3.0, at_most=True) == "met"
+    assert met(3.5, 3.0, at_most=True) == "not met"
+    assert met(390.0, 300.0, at_most=False) == "met"
+    assert met(68.0, 100.0, at_most=False) == "not met"
+    assert met(16.0, float("inf"), at_most=True) == "---"  # no target at this map size
+
+
+def test_compiled_speed_words_agree_with_the_benchmark(tmp_path):
+    """The report's words (judged from number and target) and the benchmark's own flags
+    (figures/compiled_speed.json) say the same, and the table holds only macros."""
+    import json
+
+    from performance_report import compiled_speed, compiled_table
+
+    cs = json.loads((ROOT / "figures" / "compiled_speed.json").read_text())
+    c = compiled_speed(cs)
+    word = {True: "met", False: "not met"}
+    st = cs["steady_state"]["targets"]
+    assert c["us_per_impact"]["met"] == word[cs["per_impact"]["met"]]
+    assert c["steady_seconds"]["met"] == word[st["time_met"]]
+    assert c["steady_speedup"]["met"] == word[st["speedup_met"]]
+    assert c["steady_phase_error"]["met"] == word[st["phase_met"]]
+    assert c["first_speedup"]["met"] == word[cs["first_10_impacts"]["met"]]
+    first_map = cs["maps"].get("200x200") or next(iter(cs["maps"].values()))
+    assert c["map_wall"]["met"] == ({True: "met", False: "not met", None: "---"}[first_map["met"]])
+    body = [re.sub(r"\\[A-Za-z]+|DOP853", "", ln) for ln in compiled_table(c).splitlines()
+            if "&" in ln and not ln.startswith("Measure")]
+    assert body and not any(ch.isdigit() for ln in body for ch in ln), body  # numbers only through macros

@@ -164,6 +164,23 @@ def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_ru
             "notebook_gap_sweep", "fig_regime_map"} <= checked
 
 
+def test_every_job_running_compiled_code_waits_for_the_warm_up(forced_dry_run):
+    """Jobs whose script imports the compiled kernels (core/compiled, numba) take the warm-up's
+    output as an input, so that parallel jobs load numba's cache instead of each compiling for
+    tens of seconds (rule compiled_warm_up, workflow/rules/common.smk)."""
+    warm_up = "results/compiled/warm_up.json"
+    users = set()
+    for rule, fields in _jobs(forced_dry_run):
+        inputs = [s.strip() for s in fields.get("input", "").split(",")]
+        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "benchmarks/", "notebooks/"))]
+        needed = set().union(*(library_imports(ROOT / s) for s in scripts)) if scripts else set()
+        if rule == "compiled_warm_up" or not any(f.startswith("src/impactdamper/core/compiled/") for f in needed):
+            continue
+        assert warm_up in inputs, rule
+        users.add(rule)
+    assert {"map_chunk", "performance_compiled_speed"} <= users
+
+
 def test_figure_jobs_list_the_style(forced_dry_run):
     for rule, fields in _jobs(forced_dry_run):
         if rule in ("fig2a", "fig2b", "fig_located_range"):

@@ -29,12 +29,13 @@ for _name, _directory in (("PATH", Path(sys.executable).parent), ("JUPYTER_PATH"
 # imports by itself). The command line (cli.py, __main__.py) is no part: no rule runs it and
 # the package does not import it.
 def library_files(part):
-    """The .py files of library part ``part``: a subpackage (``core``) or one module
-    (``studies/claims``), paths relative to the repository."""
+    """The .py files of library part ``part``: a subpackage (``core``, with its own
+    subpackages such as ``core/compiled``) or one module (``studies/claims``), paths relative
+    to the repository."""
     path = Path("src/impactdamper", part)
     if path.with_suffix(".py").is_file():
         return [str(path.with_suffix(".py"))]
-    return sorted(str(p) for p in path.glob("*.py"))
+    return sorted(str(p) for p in path.rglob("*.py"))
 
 
 CORE = library_files("core")
@@ -63,6 +64,12 @@ ENV = "../../envs/impactdamper.yaml"
 
 # Final products of each stage; rule all asks for all of them.
 ALL_TARGETS = []
+
+# The compiled kernels (core/compiled, numba) are compiled once, by rule compiled_warm_up
+# (sweeps.smk), into numba's on-disk cache; every rule whose script runs compiled code lists this
+# file as an input, so that parallel jobs load the cache (about 1 s) instead of each compiling
+# (about 45 s).
+COMPILED_WARM_UP = "results/compiled/warm_up.json"
 
 
 def parameters_json(section="reference"):

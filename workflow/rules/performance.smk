@@ -121,6 +121,33 @@ rule performance_reference_speed:
         "python {input.script} {output} --repeats {params.repeats} --ivp-repeats {params.ivp_repeats} > {log} 2>&1"
 
 
+# The compiled solver's speed (core/compiled, analysis/batch.py) against its targets: per
+# impact, the reference steady state, the first 10 impacts, a regime map split over two
+# processes (hence threads: 2), and the JIT compile time (measured in a fresh cache of its own).
+rule performance_compiled_speed:
+    input:
+        script="benchmarks/compiled_speed.py",
+        library=library(BASELINES),
+        compiled=COMPILED_WARM_UP,
+    output:
+        "figures/compiled_speed.json",
+    params:
+        repeats=config["performance"]["compiled_speed_repeats"],
+        map_sizes=" ".join(str(n) for n in config["performance"]["compiled_speed_map_sizes"]),
+        max_periods=config["maps"]["max_periods"],
+        after_nonperiodic=config["maps"]["max_periods_after_nonperiodic"],
+    threads: 2
+    log:
+        "logs/performance/compiled_speed.log",
+    conda:
+        ENV
+    shell:
+        "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
+        "python {input.script} {output} --repeats {params.repeats} --map-sizes {params.map_sizes} --workers 2 "
+        "--max-periods {params.max_periods} --max-periods-after-nonperiodic {params.after_nonperiodic} "
+        "> {log} 2>&1"
+
+
 rule performance_report:
     input:
         script="workflow/scripts/performance_report.py",
@@ -129,10 +156,12 @@ rule performance_report:
         cost_growth="results/benchmarks/cost_growth.json",
         hardcases="results/benchmarks/hardcases.json",
         reference_speed="results/benchmarks/reference_speed.json",
+        compiled_speed="figures/compiled_speed.json",
     output:
         record="results/report/performance.json",
         macros="paper/generated/performance_macros.tex",
         table="paper/generated/workprecision_table.tex",
+        compiled_table="paper/generated/compiled_speed_table.tex",
         summary="results/benchmarks/performance_summary.json",
     params:
         performance=parameters_json("performance"),
@@ -156,6 +185,8 @@ ALL_TARGETS.extend(
         "paper/generated/hardcases_table.tex",
         "paper/generated/performance_macros.tex",
         "paper/generated/workprecision_table.tex",
+        "paper/generated/compiled_speed_table.tex",
         "results/benchmarks/reference_speed.json",
+        "figures/compiled_speed.json",
     ]
 )

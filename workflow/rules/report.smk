@@ -39,6 +39,7 @@ rule readme_summary:
             "results/report/orbits.json",
             "results/report/performance.json",
             "results/report/sweeps.json",
+            "results/report/design.json",
         ],
         stated="figures/impacts_stated.csv",
         located="figures/impacts_located.csv",

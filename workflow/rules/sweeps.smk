@@ -2,11 +2,28 @@
 # every regime of the reference case (config: sweep), with random initial states, transitions
 # bisected and checked against analytic values; two-parameter maps (config: maps) run as
 # chunks, one job each (wildcards map, chunk), gathered afterwards, so the same DAG runs on a
-# cluster (profiles/slurm). Benchmarks are timed inside the jobs (results/benchmarks/).
+# cluster (profiles/slurm); the chunks run the compiled batch (after rule compiled_warm_up).
+# Benchmarks are timed inside the jobs (results/benchmarks/).
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
 SWEEP_MAPS = ["theta", "damping"]
 SWEEP_MAP_PATTERN = "|".join(SWEEP_MAPS)
+
+
+# The compiled kernels, compiled (or loaded from numba's cache) once before the jobs that run
+# them: the map chunks here and the performance stage's benchmark (common.smk, COMPILED_WARM_UP).
+rule compiled_warm_up:
+    input:
+        script="workflow/scripts/compiled_warm_up.py",
+        library=library(REPORTING),
+    output:
+        json=COMPILED_WARM_UP,
+    log:
+        "logs/compiled/warm_up.log",
+    conda:
+        ENV
+    script:
+        "../scripts/compiled_warm_up.py"
 
 
 rule sweep_gap:
@@ -109,6 +126,7 @@ rule map_chunk:
     input:
         script="workflow/scripts/map_chunk.py",
         library=library(study("config", "gapsweep"), REPORTING),
+        compiled=COMPILED_WARM_UP,
     output:
         csv="results/maps/{map}/chunk_{chunk}.csv",
         json="results/maps/{map}/chunk_{chunk}.json",

@@ -33,10 +33,16 @@ AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 # The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.
 LIFTOFF_COLOR = "#33bbee"
-# Labels are written on connected regions of one label with at least this many cells.
-MIN_LABEL_CELLS = 60
+# Labels are written on connected regions of one label that cover at least this share of the
+# map (60 cells of a 200 x 200 map), and at least MIN_LABEL_CELLS cells: the same regions are
+# labelled whatever the resolution.
+MIN_LABEL_SHARE = 0.0015
+MIN_LABEL_CELLS = 4
 # Region labels (points): the figure is included at the text width, so this is the print size.
 LABEL_SIZE = 7.5
+# Least distance between two labels' centres, in axes fractions (x, y): about a label's width
+# and height at LABEL_SIZE on the text-width figure.
+LABEL_CLEARANCE = (0.05, 0.045)
 # Points of one grazing curve in neighbouring rows are joined if closer than this many cells.
 JOIN_CELLS = 6
 
@@ -50,20 +56,31 @@ def read_map(path):
 
 
 def _label_regions(ax, slow, gaps, labels):
+    """z/k on the larger regions, the largest first; a label too close to one already written
+    (LABEL_CLEARANCE) is left out, so that none overlap however fine the map."""
     import scipy.ndimage
 
+    least = max(MIN_LABEL_SHARE * labels.size, MIN_LABEL_CELLS)
+    candidates = []
     for lab in sorted(set(labels.ravel())):
         regions, n = scipy.ndimage.label(labels == lab)
         for k in range(1, n + 1):
             ii, jj = np.nonzero(regions == k)
-            if len(ii) >= MIN_LABEL_CELLS:
+            if len(ii) >= least:
                 # The region's cell nearest its centroid (a non-convex region's centroid may lie outside).
                 c = int(np.argmin((ii - ii.mean()) ** 2 / len(slow) ** 2 + (jj - jj.mean()) ** 2 / len(gaps) ** 2))
-                regime = gs.regime_of_label(lab)
-                ax.text(gaps[jj[c]], slow[ii[c]], "S" if lab == "stuck" else lab,
-                        ha="center", va="center", fontsize=LABEL_SIZE, zorder=6,
-                        color=REGIME_TEXT.get(regime, "black"),
-                        bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"))
+                candidates.append((len(ii), lab, ii[c], jj[c]))
+    placed = []
+    for _, lab, i, j in sorted(candidates, key=lambda c: -c[0]):
+        x, y = j / max(len(gaps) - 1, 1), i / max(len(slow) - 1, 1)  # axes fractions
+        if any(abs(x - px) < LABEL_CLEARANCE[0] and abs(y - py) < LABEL_CLEARANCE[1] for px, py in placed):
+            continue
+        placed.append((x, y))
+        regime = gs.regime_of_label(lab)
+        ax.text(gaps[j], slow[i], "S" if lab == "stuck" else lab,
+                ha="center", va="center", fontsize=LABEL_SIZE, zorder=6,
+                color=REGIME_TEXT.get(regime, "black"),
+                bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"))
 
 
 def grazing_curves(curves, step: float) -> list[tuple[list, list]]:

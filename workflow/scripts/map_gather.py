@@ -1,7 +1,10 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: gathers a regime
 map's chunks into the committed label matrix and its benchmark.
 
-Outputs: ``figures/map_{map}_settings.json`` (the configuration, for the record test),
+Outputs: ``figures/map_{map}_settings.json`` (the configuration, for the record test, with
+the method that computed the cells and the points the compiled kernels handed to the Python
+reference, by reason, summed over the chunks: ``fallbacks``, see
+:mod:`impactdamper.analysis.batch`),
 ``figures/map_{map}.csv`` -- the label matrix (first column the second parameter's
 value, then one column per Delta0/x_st value, header ``slow,<gap values>``; cells are
 Peterka's labels, see :func:`impactdamper.analysis.settled.label_of`) -- and
@@ -13,6 +16,18 @@ answers "how long with ``--cores N``" when nothing else runs) with the machine's
 from pathlib import Path
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
+
+# How every cell was computed (map_chunk.py), for the record and the report.
+METHOD = "regime_map_batch"
+
+
+def fallback_counts(timings: list[dict]) -> dict:
+    """The chunks' fallback counts (points settled by the Python reference), summed by reason."""
+    out: dict = {}
+    for t in timings:
+        for reason, count in t.get("fallbacks", {}).items():
+            out[reason] = out.get(reason, 0) + int(count)
+    return dict(sorted(out.items()))
 
 
 def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
@@ -28,9 +43,10 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
         lines.append(slow_of[i] + "," + ",".join(label[i, j] for j in range(nj)))
     Path(out_csv).parent.mkdir(parents=True, exist_ok=True)
     Path(out_csv).write_text("\n".join(lines) + "\n")
-    if out_settings is not None:
-        write_json(out_settings, dict(config or {}, map=name), indent=2)
     timings = [read_json(p) for p in chunk_jsons]
+    fallbacks = fallback_counts(timings)
+    if out_settings is not None:
+        write_json(out_settings, dict(config or {}, map=name, method=METHOD, fallbacks=fallbacks), indent=2)
     methods: dict = {}
     for r in cells:
         methods[r["method"]] = methods.get(r["method"], 0) + 1
@@ -44,6 +60,7 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
         "load_average": [t["machine"]["load_average"] for t in timings],
         "methods": dict(sorted(methods.items())),
         "periods_simulated": sum(int(r["periods"]) for r in cells),
+        "method": METHOD, "fallbacks": fallbacks,
     }
     write_json(out_timing, out, indent=2)
     return out

@@ -2,7 +2,8 @@
 the paper): the numbers of the performance study for the report.
 
 Reads the work-precision study, the cost growth, the hard cases and the reference-speed
-benchmark (results/benchmarks/*.json) and writes
+benchmark (results/benchmarks/*.json), and the compiled solver's benchmark
+(figures/compiled_speed.json, benchmarks/compiled_speed.py), and writes
 
 * ``results/report/performance.json``: the stage's record
   (:class:`impactdamper.reporting.latex.MacroFile`), from which the macros below and the
@@ -10,9 +11,12 @@ benchmark (results/benchmarks/*.json) and writes
 * ``paper/generated/performance_macros.tex``: one ``\\newcommand`` per number the report
   quotes (speed-ups against the best solve_ivp method at equal error, costs, best errors,
   error floors, per-impact cost, hard-case counts, and each target as a number, for the
-  report to state beside the measured one: no yes/no flags);
+  report to state beside the measured one; the compiled solver's numbers each with its target
+  and a word, "met" or "not met", computed here from the two);
 * ``paper/generated/workprecision_table.tex``: per method and problem, the CPU time to reach
   each target error, the best error reached and its cost (booktabs);
+* ``paper/generated/compiled_speed_table.tex``: the compiled solver's numbers, each beside its
+  target and the word (booktabs);
 * ``results/benchmarks/performance_summary.json``: the same numbers, machine-readable.
 
 All timings are CPU time on the machine that ran the workflow: not deterministic.
@@ -33,6 +37,8 @@ FAMILY_LABEL = {"exact": "exact, Alg.~2 (this work)", "alg1": "Alg.~1, closed fo
                 "RK4": "RK4, fixed step + bisection", "Moreau-Jean": "Moreau--Jean (Siconos)"}
 IVP = ("RK45", "DOP853", "Radau", "LSODA")
 LEVEL = ("Low", "High")  # the two targets, in config order
+# The compiled solver's map whose wall time has a target (the benchmark's MAP_TIME_TARGET_S).
+COMPILED_MAP_TARGET_SIZE = "200x200"
 
 
 def _m(x) -> str:
@@ -47,7 +53,49 @@ def _speedup(x: float) -> str:
     return "---" if not math.isfinite(x) else f"{x:.1f}"
 
 
-def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict:
+def met(value: float, target: float, at_most: bool) -> str:
+    """ "met" or "not met": ``value`` against ``target`` (an upper bound if ``at_most``, else
+    a lower one); "---" when either is missing."""
+    if value is None or target is None or not (math.isfinite(value) and math.isfinite(target)):
+        return "---"
+    return "met" if (value <= target if at_most else value >= target) else "not met"
+
+
+def compiled_speed(cs: dict) -> dict:
+    """The compiled solver's benchmark (figures/compiled_speed.json): each number with its
+    target and whether it is met (judged here, from the two)."""
+    pi, st, f10, c = cs["per_impact"], cs["steady_state"], cs["first_10_impacts"], cs["compile"]
+    tg = st["targets"]
+    phase = max(json_float(st["phase_error_vs_alg1"]), json_float(st["phase_error_vs_python"]))
+    out = {
+        "us_per_impact": {"value": json_float(pi["compiled"]["us_per_impact_min"]), "target": json_float(pi["target_us"]),
+                          "at_most": True},
+        "steady_seconds": {"value": json_float(st["compiled"]["cpu_min_s"]), "target": json_float(tg["time_s"]),
+                           "at_most": True},
+        "steady_speedup": {"value": json_float(st["speedup_vs_dop853"]), "target": json_float(tg["speedup"]),
+                           "at_most": False},
+        "steady_phase_error": {"value": phase, "target": json_float(tg["phase"]), "at_most": True},
+        "first_speedup": {"value": json_float(f10["speedup_vs_dop853"]), "target": json_float(f10["target_speedup"]),
+                          "at_most": False},
+    }
+    name = COMPILED_MAP_TARGET_SIZE if COMPILED_MAP_TARGET_SIZE in cs["maps"] else next(iter(cs["maps"]))
+    m = cs["maps"][name]
+    target = m.get("target_s")
+    out["map_wall"] = {"value": json_float(m["wall_min_s"]), "target": json_float(target) if target else math.inf,
+                       "at_most": True}
+    for v in out.values():
+        v["met"] = met(v["value"], v["target"], v["at_most"])
+    out["map"] = {"grid": m["grid"], "workers": m["workers"], "rescue": m["rescue"], "cpu_s": json_float(m["cpu_total_min_s"])}
+    out["first_speedup_packed_once"] = json_float(f10["speedup_vs_dop853_packed_once"])
+    out["steady_periods"] = st["periods"]
+    out["first_impacts"] = f10["impacts"]
+    out["per_impact_impacts"] = pi["compiled"]["impacts"]
+    out["compile_seconds"] = json_float(c["cold_compile_s"])
+    out["cache_load_seconds"] = json_float(c["cached_load_s"])
+    return out
+
+
+def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict, cs: dict) -> dict:
     targets = [float(t) for t in perf["targets"]]
     out = {"targets": targets, "siconos": wp["siconos"], "cases": {}}
     for case, s in wp["summary"].items():
@@ -95,6 +143,7 @@ def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict
                               "fastest_crosscheck": fastest,
                               "crosscheck_rtol": json_float(cross[fastest]["rtol"]) if fastest else math.inf,
                               "phase_error": json_float(ex.get("phase_error"))}
+    out["compiled_speed"] = compiled_speed(cs)
     return out
 
 
@@ -103,7 +152,7 @@ RECORD_WHAT = "the performance stage's numbers for the report (paper/generated/p
 
 
 def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
-    lines = MacroFile(["% Numbers of the performance study (issue 6), Timofeev et al. (2019) extension.",
+    lines = MacroFile(["% Numbers of the performance study, Timofeev et al. (2019) extension.",
              "% Generated by workflow/scripts/performance_report.py (Snakemake rule performance_report); do not edit.",
              "% Timings are CPU time on the machine that ran the workflow: not deterministic."])
     add = lines.add
@@ -158,13 +207,32 @@ def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
     add("PerfRefCrosscheckMethod", r["fastest_crosscheck"] or "---")
     add("PerfRefCrosscheckRtol", _m(r["crosscheck_rtol"]))
     add("PerfRefPhaseError", _m(r["phase_error"]))
+    c = s["compiled_speed"]
+    for key, name, fmt in (("us_per_impact", "UsPerImpact", lambda x: rf"{x:.2g}\,\textmu s"),
+                           ("steady_seconds", "SteadyTime", tex_time),
+                           ("steady_speedup", "SteadySpeedup", lambda x: f"{x:.0f}"),
+                           ("steady_phase_error", "PhaseError", _m),
+                           ("first_speedup", "FirstSpeedup", lambda x: f"{x:.0f}"),
+                           ("map_wall", "MapWall", tex_time)):
+        add(f"PerfCompiled{name}", fmt(c[key]["value"]))
+        add(f"PerfCompiled{name}Target", fmt(c[key]["target"]) if math.isfinite(c[key]["target"]) else "---")
+        add(f"PerfCompiled{name}Met", c[key]["met"])
+    add("PerfCompiledFirstSpeedupPacked", f"{c['first_speedup_packed_once']:.0f}")
+    add("PerfCompiledSteadyPeriods", c["steady_periods"])
+    add("PerfCompiledFirstImpacts", c["first_impacts"])
+    add("PerfCompiledImpacts", c["per_impact_impacts"])
+    add("PerfCompiledMapCells", rf"{c['map']['grid'][0]}~$\times$~{c['map']['grid'][1]}")
+    add("PerfCompiledMapWorkers", c["map"]["workers"])
+    add("PerfCompiledMapCpu", tex_time(c["map"]["cpu_s"]))
+    add("PerfCompiledCompileTime", tex_time(c["compile_seconds"]))
+    add("PerfCompiledCacheLoad", tex_time(c["cache_load_seconds"]))
     return lines
 
 
 def table(wp: dict, perf: dict) -> str:
     targets = [float(t) for t in perf["targets"]]
     head = " & ".join([r"Method"] + [rf"to ${tex_sci(t, 1)}$" for t in targets] + ["Best error", "its cost"])
-    lines = ["% CPU time per run to reach each error, best error reached (issue 6, work-precision study).",
+    lines = ["% CPU time per run to reach each error, best error reached (work-precision study).",
              "% Generated by workflow/scripts/performance_report.py (Snakemake rule performance_report); do not edit.",
              "% Timings are CPU time on the machine that ran the workflow: not deterministic.",
              r"\begin{tabular}{l" + "r" * (len(targets) + 2) + "}", r"\toprule", head + r" \\"]
@@ -186,17 +254,51 @@ def table(wp: dict, perf: dict) -> str:
     return "\n".join(lines)
 
 
-def main(performance: dict, in_wp, in_growth, in_hard, in_ref, out_record, out_macros, out_table,
-         out_summary) -> dict:
+# The compiled solver's table: (row title, macro name part, the target's bound), in order.
+COMPILED_ROWS = (
+    (r"cost per impact (\PerfCompiledImpacts{} impacts)", "UsPerImpact", r"$\le$ "),
+    (r"reference case's steady state (\PerfCompiledSteadyPeriods{} periods)", "SteadyTime", r"$\le$ "),
+    (r"\quad speed-up over DOP853", "SteadySpeedup", r"$\ge$ "),
+    (r"\quad phase error, units of $T$", "PhaseError", r"$\le$ "),
+    (r"first \PerfCompiledFirstImpacts{} impacts, speed-up over DOP853", "FirstSpeedup", r"$\ge$ "),
+    (r"regime map \PerfCompiledMapCells{}, wall time on \PerfCompiledMapWorkers{} processes", "MapWall", r"$\le$ "),
+)
+
+
+def compiled_table(c: dict) -> str:
+    """The compiled solver's numbers beside their targets (``c``: the summary's compiled_speed,
+    read for which targets exist): every number a macro of the record."""
+    def cell(name: str) -> str:
+        return rf"\Perf{name}{{}}"
+
+    lines = ["% The compiled solver against its targets (benchmarks/compiled_speed.py); every number a macro of",
+             "% performance_macros.tex. Generated by workflow/scripts/performance_report.py (Snakemake rule",
+             "% performance_report); do not edit. Timings are not deterministic.",
+             r"\begin{tabular}{lrrl}", r"\toprule", r"Measure & this run & target & \\", r"\midrule"]
+    keys = {"UsPerImpact": "us_per_impact", "SteadyTime": "steady_seconds", "SteadySpeedup": "steady_speedup",
+            "PhaseError": "steady_phase_error", "FirstSpeedup": "first_speedup", "MapWall": "map_wall"}
+    for title, name, bound in COMPILED_ROWS:
+        target = cell(f"Compiled{name}Target")
+        if not math.isfinite(c[keys[name]]["target"]):
+            bound = ""  # no target at this size: the macro says ---
+        lines.append(rf"{title} & {cell(f'Compiled{name}')} & {bound}{target} & \PerfCompiled{name}Met{{}} \\")
+    lines += [r"JIT compile from scratch (from the cache) & \PerfCompiledCompileTime{} (\PerfCompiledCacheLoad{}) & --- & \\",
+              r"\bottomrule", r"\end{tabular}", ""]
+    return "\n".join(lines)
+
+
+def main(performance: dict, in_wp, in_growth, in_hard, in_ref, in_compiled, out_record, out_macros, out_table,
+         out_compiled_table, out_summary) -> dict:
     """Write the summary, the stage's record (``out_record``, JSON) and from it the macros
-    (``out_macros``), and the work-precision table."""
+    (``out_macros``), the work-precision table and the compiled solver's table."""
     wp = read_json(in_wp)
-    s = summarize(wp, read_json(in_growth), read_json(in_hard), read_json(in_ref), performance)
+    s = summarize(wp, read_json(in_growth), read_json(in_hard), read_json(in_ref), performance, read_json(in_compiled))
     write_json(out_summary, s)
     write_json(out_record, macros(s, performance, wp).record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))
     Path(out_table).write_text(table(wp, performance))
+    Path(out_compiled_table).write_text(compiled_table(s["compiled_speed"]))
     return s
 
 
@@ -205,4 +307,5 @@ if __name__ == "__main__":
     cfg, log = start_stage(sm, "performance_report")
     log.info("writing %s", sm.output.macros)
     main(cfg["performance"], sm.input.work_precision, sm.input.cost_growth, sm.input.hardcases,
-         sm.input.reference_speed, sm.output.record, sm.output.macros, sm.output.table, sm.output.summary)
+         sm.input.reference_speed, sm.input.compiled_speed, sm.output.record, sm.output.macros, sm.output.table,
+         sm.output.compiled_table, sm.output.summary)
