@@ -10,7 +10,7 @@
 #     scratch copies under $SLURM_CHECK_DIR (default /tmp/impactdamper-slurm-check), with fixed
 #     mtimes so that Snakemake reruns nothing upstream of the maps, and without the map outputs
 #     (the committed figures/map_* of the full config), so that every target is made anew;
-#     a dry run checks that only map_chunk, map_gather, map_curves and fig_regime_map would run;
+#     a dry run checks that only compiled_warm_up, map_chunk, map_gather, map_curves and fig_regime_map would run;
 #  3. runs the map stage with --configfile config/ci.yaml: through Slurm in copy `slurm`
 #     (--profile profiles/slurm) and locally (--cores 2) in copy `local`, one after the other,
 #     both with this repository's .venv/bin/snakemake and PYTHONPATH=<copy>/src (the venv's
@@ -67,7 +67,7 @@ finish() {
 }
 trap finish EXIT
 
-# Targets: the regime-map outputs of workflow/rules/sweeps.smk (rules map_chunk, map_gather,
+# Targets: the regime-map outputs of workflow/rules/sweeps.smk (rules compiled_warm_up, map_chunk, map_gather,
 # map_curves, fig_regime_map) for the CI config's maps and chunk count.
 read -r -a MAPS <<<"$(grep -o '^SWEEP_MAPS = \[.*\]' "$ROOT/workflow/rules/sweeps.smk" | tr -d '[]",' | cut -d= -f2)"
 CHUNKS=$("$PYTHON" -c 'import sys, yaml; print(yaml.safe_load(open(sys.argv[1]))["maps"]["chunks"])' "$ROOT/$CONFIG")
@@ -142,7 +142,7 @@ run() {
   || { cat "$WORK/dryrun.log"; exit 1; }
 jobstats "$WORK/dryrun.log"
 other=$(jobstats "$WORK/dryrun.log" | awk 'NF == 2 && $2 ~ /^[0-9]+$/ && $1 != "total" {print $1}' \
-  | grep -vxE 'map_chunk|map_gather|map_curves|fig_regime_map' || true)
+  | grep -vxE 'compiled_warm_up|map_chunk|map_gather|map_curves|fig_regime_map' || true)
 [ -z "$other" ] || { echo "slurm_check: rules other than the map stage would run: $other" >&2; exit 1; }
 
 echo "== Slurm run: snakemake --profile profiles/slurm --configfile $CONFIG <map targets>"
