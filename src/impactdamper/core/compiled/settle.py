@@ -182,8 +182,9 @@ _RG_NO_CONTACT, _RG_STUCK, _RG_CHATTER, _RG_SINGLE, _RG_MULTI, _RG_NONPERIODIC =
 
 @njit(cache=True)
 def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, settled, out_imp, section):
-    """The reference's steady._describe. Fills out_imp rows (t, t/T since start, phase,
-    velocity, impulse) and section (state at the first section in the cycle, then its mode).
+    """The compiled counterpart of :func:`impactdamper.core.steady.describe_cycle`. Fills out_imp
+    rows (t, t/T since start, phase, velocity, impulse) and section (state at the first section in
+    the cycle, then its mode).
     Returns (regime code, impacts, cycle start, contact fraction, x1_max)."""
     T = s[S_T]
     Tc = k * T
