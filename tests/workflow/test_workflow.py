@@ -301,6 +301,8 @@ def test_numbers_in_any_yaml_form_and_strings_stay_strings(text, path, value):
     (("--config", "refrence={theta: 5}"), "['refrence'] is not a config key: did you mean 'reference'?"),
     (("--config", "reference={gap: .nan}"), "['reference']['gap']: nan is not allowed: must be a finite number"),
     (("--config", "sweep={start: 14, stop: -34}"), "['sweep']: start = 14 is not allowed: must be < stop = -34"),
+    (("--config", "design={theta_start: 2.0}"),
+     "['design']: theta_start = 2.0 is not allowed: must be < theta_stop = 1.5"),
 ])
 def test_snakemake_stops_on_a_typo_nan_or_reversed_range_in_a_short_message(args, message):
     out = snakemake("-n", *args)

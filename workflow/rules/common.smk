@@ -162,7 +162,7 @@ def _schema_node(schema, root):
 # a range (a reversed sweep or scan window used to fail only at run time), the continuation's
 # steps, and a branch's seed within its bounds.
 CONFIG_ORDER = [
-    ("start", "stop", True), ("gap_start", "gap_stop", True), ("x_start", "x_stop", True),
+    ("start", "stop", True), ("theta_start", "theta_stop", True), ("gap_start", "gap_stop", True), ("x_start", "x_stop", True),
     ("y_start", "y_stop", True), ("gap_min", "gap_max", True), ("gap_min", "gap", False),
     ("gap", "gap_max", False), ("min_step", "step", False), ("step", "max_step", False),
     ("max_periods_after_nonperiodic", "max_periods", False),
