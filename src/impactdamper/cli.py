@@ -25,6 +25,7 @@ from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.steady import steady_state
+from impactdamper.reporting.records import clean
 
 __all__ = ["main", "run", "build_parser"]
 
@@ -141,17 +142,6 @@ def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | N
     parser.exit(2, f"{parser.prog}: error: {prefix}{message}\n")
 
 
-def _clean(obj):
-    """JSON without NaN/inf (they are not JSON): None instead."""
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    return obj
-
-
 def main(argv: list[str] | None = None) -> int:
     """Run one command; returns the exit status (argparse and bad values exit through
     SystemExit with status 2)."""
@@ -199,7 +189,7 @@ def main(argv: list[str] | None = None) -> int:
         # that names none (never expected) is still one line, naming the likeliest cause.
         _fail(sub, err, p)
     if args.json:
-        text = json.dumps(_clean(result)) + "\n"
+        text = json.dumps(clean(result)) + "\n"
     else:
         buffer = io.StringIO()
         with contextlib.redirect_stdout(buffer):

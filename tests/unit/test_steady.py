@@ -12,7 +12,7 @@ from helpers import REF, check_impact_laws, check_no_penetration, phase_differen
 from test_linear import REPEATED
 
 import impactdamper as idp
-from impactdamper.cli import _clean
+from impactdamper.reporting.records import clean
 from impactdamper.core.linear import forced_amplitudes, free_mode
 
 # --- closed forms first ----------------------------------------------------------------------
@@ -99,7 +99,7 @@ def test_regimes_are_classified(name):
     contact = sum(b - a for a, b in s.contact_phases) * T / Tc
     assert s.contact_fraction == pytest.approx(min(contact, 1.0), abs=1e-12)
     assert (s.contact_fraction > 0) == (s.regime in ("stuck", "chatter"))
-    d = _clean(s.to_dict())
+    d = clean(s.to_dict())
     json.dumps(d, allow_nan=False)
     check_impact_laws(p, s.trajectory.events)
     check_no_penetration(p, s.trajectory, s.cycle_start, s.cycle_start + Tc)
