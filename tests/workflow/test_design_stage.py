@@ -150,3 +150,18 @@ def test_figures_regenerate_deterministically(tmp_path):
     from matplotlib.testing.compare import compare_images
 
     assert compare_images(str(FIGURES / "design_chart.png"), str(tmp_path / "a.png"), tol=0.01) is None
+
+
+@pytest.mark.parametrize("config", ["config.yaml", "ci.yaml"])
+def test_chart_grid_must_hold_the_reference_theta(config, tmp_path):
+    """A theta grid without the reference theta stops the chart before its sweeps, with one line
+    naming the key; both shipped configs have it on their grid."""
+    import design_chart
+
+    cfg = yaml.safe_load((ROOT / "config" / config).read_text())
+    band = np.linspace(cfg["design"]["theta_start"], cfg["design"]["theta_stop"], cfg["design"]["theta_points"])
+    assert np.any(np.abs(band - cfg["reference"]["theta"]) < 1e-9)
+    design = {**cfg["design"], "theta_points": 6}  # 0.5, 0.7, ..., 1.5: theta = 1 is not a grid point
+    with pytest.raises(ValueError, match=r"^`design.theta_points` = 6 is not allowed: .* reference theta = 1$"):
+        design_chart.main(cfg["reference"], cfg["solver"], cfg["sweep"], design, tmp_path / "c.csv", tmp_path / "c.json")
+    assert not (tmp_path / "c.csv").exists()

@@ -15,6 +15,7 @@ import numpy as np
 from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
+from impactdamper.analysis.response import theta_grid
 
 COLUMNS = ["gap", "peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period",
            "hysteresis_points", "max_abs_x1_at_theta"]
@@ -24,6 +25,12 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
     log = log if log is not None else logging.getLogger("design_chart")
     p = design_parameters(reference, design)
     gaps, band = design_gaps(design), design_band(design)
+    # The chart also reads each gap at the reference case's theta: it must be a grid point. Checked
+    # here, before the sweeps, so that a config without it fails at once and not minutes later.
+    thetas = theta_grid(band[0], band[1], int(design["theta_points"]))
+    if not np.any(np.abs(thetas - float(reference["theta"])) <= 1e-9 * max(abs(float(reference["theta"])), 1.0)):
+        raise ValueError(f"`design.theta_points` = {int(design['theta_points'])} is not allowed: the grid from "
+                         f"{band[0]:g} to {band[1]:g} must contain the reference theta = {float(reference['theta']):g}")
     log.info("design chart: %d gaps from %g to %g, theta band %s with %d points", len(gaps), gaps[0], gaps[-1],
              band, int(design["theta_points"]))
     with Timer() as t:
