@@ -16,6 +16,9 @@
 # so that plain `sinfo`/`squeue`/`sbatch` work too.
 # Environment: SLURM_STATE, SLURM_START_TIMEOUT (s, default 60).
 set -euo pipefail
+# The daemons (slurmctld, slurmd, munged) and runuser live in /usr/sbin, which a Debian user's
+# PATH (and PATH=/usr/bin:/bin) leaves out.
+export PATH="$PATH:/usr/sbin:/sbin"
 
 STATE="${SLURM_STATE:-/tmp/impactdamper-slurm}"
 CONF="$STATE/slurm.conf"
