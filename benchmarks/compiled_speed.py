@@ -255,7 +255,7 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> 
 def run(args) -> dict:
     p = idp.Parameters()
     warm_up()
-    out = {"case": p.to_dict(), "compile": compile_times()}
+    out = {"case": p.to_dict(), "compile": None if args.no_compile else compile_times()}
     out["per_impact"] = per_impact(p, args.long_periods, args.ivp_periods, args.repeats)
     out["steady_state"] = steady(p, args.repeats * 10)
     out["first_10_impacts"] = first_impacts(p, args.repeats * 10)
@@ -287,8 +287,8 @@ def summary(out: dict) -> str:
     c, pi, st, f10 = out["compile"], out["per_impact"], out["steady_state"], out["first_10_impacts"]
     yes = {True: "met", False: "NOT met", None: "-"}
     lines = [
-        f"JIT compile from scratch: {c['cold_compile_s']:.1f} s",
-        f"JIT load from the cache:  {c['cached_load_s']:.2f} s",
+        f"JIT compile from scratch: {c['cold_compile_s']:.1f} s" if c else "JIT compile: not measured (--no-compile)",
+        f"JIT load from the cache:  {c['cached_load_s']:.2f} s" if c else "",
         f"per impact ({pi['compiled']['impacts']} impacts, load {pi['compiled']['load_1min']:.1f}): compiled "
         f"{pi['compiled']['us_per_impact_min']:.2f} us (median {pi['compiled']['us_per_impact_median']:.2f}); "
         f"python {pi['python']['us_per_impact_min']:.1f} us; DOP853 {pi['dop853']['us_per_impact_min']:.0f} us; "
@@ -339,7 +339,19 @@ def main(argv=None) -> int:
     ap.add_argument("--max-periods-after-nonperiodic", type=int, default=MAP_SETTINGS["max_periods_after_nonperiodic"],
                     help="the cap after a nonperiodic neighbour (maps.max_periods_after_nonperiodic)")
     ap.add_argument("--quick", action="store_true", help="a small run (maps 40 x 40, fewer periods) to try it out")
+    ap.add_argument("--compile-only", action="store_true",
+                    help="measure only the JIT compile and cache-load times, write {'compile': ...} and stop")
+    ap.add_argument("--no-compile", action="store_true",
+                    help="do not measure the compile and cache-load times (a --compile-only run does; the record's "
+                         "'compile' is then null)")
     args = ap.parse_args(argv)
+    if args.compile_only:
+        record = {"compile": compile_times()}
+        args.output.parent.mkdir(parents=True, exist_ok=True)
+        args.output.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+        print(f"JIT compile from scratch: {record['compile']['cold_compile_s']:.1f} s; "
+              f"load from the cache: {record['compile']['cached_load_s']:.2f} s")
+        return 0
     for name in ("repeats", "map_repeats", "long_periods", "ivp_periods", "workers"):
         if getattr(args, name) < 1:
             ap.error(f"`--{name.replace('_', '-')}` = {getattr(args, name)} is not allowed: must be >= 1")

@@ -72,4 +72,9 @@ if command -v apt-get >/dev/null && [ -x /usr/bin/python3 ] && ! /usr/bin/python
     echo "setup: python3-siconos not installed (optional; the work-precision study will say so)"
   fi
 fi
+# The compiled solver's numba kernels, compiled once into numba's on-disk cache beside the
+# sources (about a minute on two cores), as a C extension would be built at install: the
+# workflow's and the tests' first jobs then load them (about a second) instead of compiling.
+# The workflow's rule compiled_warm_up still compiles them where the cache is missing or stale.
+"$VENV/bin/python" -c "from impactdamper.analysis.batch import warm_up; print(f'setup: compiled kernels ready in {warm_up():.0f} s')"
 echo "setup: done; the project's interpreter is $VENV/bin/python"

@@ -15,8 +15,8 @@ import math
 import pytest
 
 import impactdamper as idp
-from impactdamper.studies.claims import (Interval, claim_intervals, compare_cycles, distance_to, intersect,
-                                 search_parameter, true_intervals)
+from impactdamper.studies.claims import (Interval, check_rows, claim_intervals, compare_cycles, distance_to,
+                                         intersect, reference_check, search_parameter, true_intervals)
 
 TOL = 1e-8
 
@@ -171,6 +171,29 @@ def test_search_along_the_gap_finds_the_known_range():
     assert not any(iv.lo <= -5.8 <= iv.hi for iv in both)
     with pytest.raises(ValueError, match="`name`"):
         search_parameter(p, "nope", [0.0], [0.0], gap_tol=1e-12, steady_kwargs={}, rel_tol=1e-3, floor=1.0)
+
+
+def test_reference_check_agrees_and_can_fail():
+    """The compiled claim (b) at two theta values, repeated by the pure-Python solver: the rows
+    as computed agree; a row whose period multiple is changed is reported as a mismatch."""
+    p = idp.Parameters()
+    kw = {"max_periods": 400}
+    r = search_parameter(p, "theta", [0.9, 1.0], [0.9, 1.0], gap_tol=1e-12, steady_kwargs=kw, rel_tol=1e-2,
+                         floor=1.0)
+    rows = r["grid_b"]
+    check = reference_check(p, "theta", rows, kw)
+    assert (check["points"], check["agree"], check["mismatches"]) == (2, 2, [])
+    wrong = [dict(rows[0], period_multiple=rows[0]["period_multiple"] + 1), rows[1]]
+    check = reference_check(p, "theta", wrong, kw)
+    assert (check["points"], check["agree"], check["settling"], check["cycles"]) == (2, 1, 0, 1)
+    assert check["mismatches"][0]["value"] == 0.9
+
+
+def test_check_rows_takes_every_nth_value_and_the_final_brackets():
+    r = {"grid_b": [{"value": float(v)} for v in range(10)],
+         "bisection_points": [{"value": 2.5}, {"value": 2.75}, {"value": 7.5}],
+         "intervals": {"b": [Interval(2.75, 9.0, False, True, (2.75, 2.5), None)]}}
+    assert [row["value"] for row in check_rows(r, 4)] == [0.0, 2.5, 2.75, 4.0, 8.0]
 
 
 def test_nearest_both_measures_from_the_stated_value():

@@ -259,7 +259,11 @@ def test_modal_and_expm_paths_agree(name, monkeypatch):
     modal = free_mode(p)
     assert modal.modal
     monkeypatch.setattr(linear, "MODAL_CONDITION_LIMIT", 0.0)  # force the matrix exponential
-    expm = free_mode(p)
+    linear.clear_mode_cache()  # (the cached modal one would be returned)
+    try:
+        expm = free_mode(p)
+    finally:
+        linear.clear_mode_cache()  # (nor may the expm one outlive the patch)
     assert not expm.modal
     tau = np.linspace(0, 3 * p.T, 7)
     Pm, Pe = modal.propagator(tau), expm.propagator(tau)
@@ -269,3 +273,18 @@ def test_modal_and_expm_paths_agree(name, monkeypatch):
     y0 = np.array([1.0, -3.0, 20.0, 5.0])
     a, b = modal.state(tau, 0.1, y0), expm.state(tau, 0.1, y0)
     assert np.max(np.abs(a - b)) <= 1e-11 * np.max(np.abs(b))
+
+
+def test_modes_are_shared_by_parameters_that_differ_only_in_gap_and_R():
+    """free_mode and stuck_mode depend on neither Delta0 nor R: they are built once per set of
+    the other values (a cache), and equal a fresh construction."""
+    from impactdamper.core.linear import _free_mode, free_mode, stuck_mode
+
+    p = Parameters()
+    q = p.replace(gap=3.0, R=0.2)
+    assert free_mode(p) is free_mode(q) and stuck_mode(p) is stuck_mode(q)
+    assert free_mode(p) is not free_mode(p.replace(theta=1.1))
+    fresh = _free_mode.__wrapped__(p.m1, p.m2, p.c1, p.c2, p.k1, p.k2, p.P0, p.omega)
+    assert np.array_equal(fresh.roots, free_mode(p).roots) and np.array_equal(fresh.Yhat, free_mode(p).Yhat)
+    c = np.array([1.0, -1.0, 0.0, 0.0])
+    assert free_mode(p).derivative_bound_factor(c, 2) == fresh.derivative_bound_factor(c, 2)

@@ -123,6 +123,18 @@ def test_hysteresis_where_the_two_sweeps_settle_on_different_motions():
     assert r.to_dict()["hysteresis_points"] == len(flagged)
 
 
+def test_compiled_loop_gives_the_reference_motions():
+    """Sweeps whose simulations run their period loop compiled (the default) against the
+    pure-Python ones: the same motion at every theta both ways, and x1_max of the same cycle."""
+    a = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11)
+    b = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11, settings=SweepSettings(compiled=False))
+    for qa, qb in zip(a.points, b.points):
+        for ma, mb in ((qa.up, qb.up), (qa.down, qb.down)):
+            assert ma.label == mb.label, (qa.theta, ma.label, mb.label)
+            if ma.regime != "nonperiodic":
+                assert abs(ma.max_abs_x1 - mb.max_abs_x1) <= 1e-9 * max(1.0, mb.max_abs_x1)
+
+
 def test_deterministic():
     a = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 3).to_dict()
     b = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 3).to_dict()

@@ -60,6 +60,7 @@ def test_setup_with_debian_system_python(tmp_path):
                            timeout=SETUP_TIMEOUT)
     assert first.returncode == 0, first.stderr[-3000:]
     assert f"setup: made .venv with {version}" in first.stdout
+    assert "setup: compiled kernels ready" in first.stdout  # numba's cache filled at set-up
     cfg = (repo / ".venv" / "pyvenv.cfg").read_text()
     assert f"executable = {DEBIAN_PYTHON.resolve()}" in cfg.splitlines(), cfg
 

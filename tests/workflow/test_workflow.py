@@ -178,7 +178,7 @@ def test_every_job_running_compiled_code_waits_for_the_warm_up(forced_dry_run):
             continue
         assert warm_up in inputs, rule
         users.add(rule)
-    assert {"map_chunk", "performance_compiled_speed"} <= users
+    assert {"map_chunk", "performance_compiled_speed", "claims_parameter", "design_chart"} <= users
 
 
 def test_figure_jobs_list_the_style(forced_dry_run):

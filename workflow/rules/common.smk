@@ -55,7 +55,14 @@ def study(*names):
 
 
 def library(*parts):
-    """A rule's library inputs: the package (always loaded) and ``parts`` (lists of files)."""
+    """A rule's library inputs: the package (always loaded) and ``parts`` (lists of files), and
+    the compiled kernels' warm-up (COMPILED_WARM_UP): the package imports the compiled solver,
+    and a job that runs it must find numba's cache filled, not compile it beside other jobs."""
+    return sorted(set(PACKAGE).union(*parts)) + [COMPILED_WARM_UP]
+
+
+def library_sources(*parts):
+    """library() without the warm-up: for rule compiled_warm_up itself."""
     return sorted(set(PACKAGE).union(*parts))
 
 

@@ -39,7 +39,7 @@ rule gap_scan:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         verdict=parameters_json("verdict"),
-    threads: 2
+    priority: 50
     log:
         "logs/reference/gap_scan.log",
     conda:

@@ -3,7 +3,9 @@
 # bisected and checked against analytic values; two-parameter maps (config: maps) run as
 # chunks, one job each (wildcards map, chunk), gathered afterwards, so the same DAG runs on a
 # cluster (profiles/slurm); the chunks run the compiled batch (after rule compiled_warm_up).
-# Benchmarks are timed inside the jobs (results/benchmarks/).
+# Benchmarks are timed inside the jobs (results/benchmarks/). The gap sweep and its transitions
+# head the longest chain of jobs (sweep, transitions, report): one core each, a high priority, so
+# that they start first and the other core takes the rest.
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
 SWEEP_MAPS = ["theta", "damping"]
@@ -11,11 +13,11 @@ SWEEP_MAP_PATTERN = "|".join(SWEEP_MAPS)
 
 
 # The compiled kernels, compiled (or loaded from numba's cache) once before the jobs that run
-# them: the map chunks here and the performance stage's benchmark (common.smk, COMPILED_WARM_UP).
+# them: the map chunks here and the other stages' jobs (common.smk, COMPILED_WARM_UP).
 rule compiled_warm_up:
     input:
         script="workflow/scripts/compiled_warm_up.py",
-        library=library(REPORTING),
+        library=library_sources(REPORTING),
     output:
         json=COMPILED_WARM_UP,
     log:
@@ -39,7 +41,7 @@ rule sweep_gap:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
-    threads: 2
+    priority: 50
     log:
         "logs/sweeps/sweep_gap.log",
     conda:
@@ -113,7 +115,7 @@ rule sweep_transitions:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
-    threads: 2
+    priority: 50
     log:
         "logs/sweeps/sweep_transitions.log",
     conda:
@@ -126,7 +128,6 @@ rule map_chunk:
     input:
         script="workflow/scripts/map_chunk.py",
         library=library(study("config", "gapsweep"), REPORTING),
-        compiled=COMPILED_WARM_UP,
     output:
         csv="results/maps/{map}/chunk_{chunk}.csv",
         json="results/maps/{map}/chunk_{chunk}.json",

@@ -63,7 +63,8 @@ def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out
         for g in r["grid_b"] + r["bisection_points"]:
             grid.append({"parameter": name, **g})
         per[name] = {"range": r["range"], "intervals": r["intervals"], "nearest_both": nearest_both(r),
-                     "claim_a_grid_true": sum(r["claim_a_flags"]), "claim_b_grid_true": sum(g["claim_b"] for g in r["grid_b"])}
+                     "claim_a_grid_true": sum(r["claim_a_flags"]), "claim_b_grid_true": sum(g["claim_b"] for g in r["grid_b"]),
+                     "reference_check": r["reference_check"]}
     grid.sort(key=lambda g: (PARAMETERS.index(g["parameter"]), g["value"]))
     settings = {
         "paper": rep.PAPER,
@@ -73,6 +74,15 @@ def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out
         "reference": reference, "solver": solver, "rel_tol": float(search["rel_tol"]), "floor": float(search["floor"]),
         "resolution_note": "an interval narrower than the Algorithm No. 2 grid step (No. 1's for claim a) between two "
                            "grid values where the claim fails is not seen; ends are bisected to rel_tol * max(|x|, floor)",
+        "reference_check": {"what": "Algorithm No. 2 runs compiled; the pure-Python solver repeats it at every "
+                                    "reference_check_every-th grid value and every bisection point: the same regime, "
+                                    "k, z and claim (b) agree; 'settling': disagreements where one run settled within max_periods and "
+                                    "the other did not; 'cycles': where both settled on different cycles",
+                            "every": int(search["reference_check_every"]),
+                            "points": sum(per[n]["reference_check"]["points"] for n in PARAMETERS),
+                            "agree": sum(per[n]["reference_check"]["agree"] for n in PARAMETERS),
+                            "settling": sum(per[n]["reference_check"]["settling"] for n in PARAMETERS),
+                            "cycles": sum(per[n]["reference_check"]["cycles"] for n in PARAMETERS)},
         "parameters": per,
     }
     write_csv(out_csv, ["parameter", "claim", "lo", "hi"], rows)

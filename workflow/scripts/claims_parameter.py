@@ -9,6 +9,11 @@ located, each end bisected to ``claims_search.rel_tol`` relative
 Why: "not reproduced" at the stated point could come from a transcription slip or another
 normalisation of any parameter, not only of the gap.
 
+Algorithm No. 2 runs compiled; the pure-Python reference repeats it at every
+``claims_search.reference_check_every``-th grid value and at both ends of every final
+bisection bracket, and the
+record says where the two agree.
+
 Output: ``results/claims/{parameter}.json`` (gathered by claims_gather.py).
 """
 
@@ -19,7 +24,7 @@ import numpy as np
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_json
-from impactdamper.studies.claims import search_parameter
+from impactdamper.studies.claims import check_rows, reference_check, search_parameter
 
 
 def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, log=print) -> dict:
@@ -32,9 +37,15 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
     result = search_parameter(p, parameter, values, alg1_values, gap_tol=float(solver["gap_tol"]),
                               steady_kwargs=rep.solver_options(solver), rel_tol=float(search["rel_tol"]),
                               floor=float(search["floor"]), log=log)
+    log(f"{parameter}: searched in {time.perf_counter() - t:.1f} s")
+    t = time.perf_counter()
+    every = int(search["reference_check_every"])
+    check = reference_check(p, parameter, check_rows(result, every), rep.solver_options(solver))
+    log(f"{parameter}: the pure-Python solver agrees at {check['agree']} of {check['points']} values "
+        f"(every {every}th grid value and both ends of every final bracket), {time.perf_counter() - t:.1f} s")
+    result["reference_check"] = {"every": every, **check}
     result["intervals"] = {k: [iv.to_dict() for iv in v] for k, v in result["intervals"].items()}
     result["range"] = {"start": lo, "stop": hi, "points": int(rng["points"]), "alg1_points": int(rng["alg1_points"])}
-    log(f"{parameter}: done in {time.perf_counter() - t:.1f} s")
     write_json(out_json, result, sort_keys=False)
     return result
 

@@ -15,8 +15,7 @@ are CPU time and not deterministic.
 
 import os
 
-# The rule takes both cores (threads: 2) to have the machine to itself while timing, and
-# Snakemake then sets OPENBLAS_NUM_THREADS=2; BLAS threads only slow the solver's 4 x 4
+# One BLAS thread, whatever Snakemake sets from the rule's threads: BLAS threads only slow the solver's 4 x 4
 # matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"

@@ -88,6 +88,8 @@ def grazing_curves(curves, step: float) -> list[tuple[list, list]]:
     curve whose last point (previous row) is nearest, if within JOIN_CELLS gap cells."""
     lines = []
     for r in curves:
+        if r.get("alg1_scanned", "1") in ("0", 0):
+            continue  # the grazing scan did not run on this row (maps.grazing_every)
         y = float(r["slow"])
         ends = [ln for ln in lines if ln[2]]  # curves that reached the previous row
         for ln in lines:

@@ -90,8 +90,9 @@ def compiled_speed(cs: dict) -> dict:
     out["steady_periods"] = st["periods"]
     out["first_impacts"] = f10["impacts"]
     out["per_impact_impacts"] = pi["compiled"]["impacts"]
-    out["compile_seconds"] = json_float(c["cold_compile_s"])
-    out["cache_load_seconds"] = json_float(c["cached_load_s"])
+    # (None where the record holds no compile times: main() adds rule performance_compile_time's.)
+    out["compile_seconds"] = json_float(c["cold_compile_s"]) if c else None
+    out["cache_load_seconds"] = json_float(c["cached_load_s"]) if c else None
     return out
 
 
@@ -288,11 +289,18 @@ def compiled_table(c: dict) -> str:
 
 
 def main(performance: dict, in_wp, in_growth, in_hard, in_ref, in_compiled, out_record, out_macros, out_table,
-         out_compiled_table, out_summary) -> dict:
+         out_compiled_table, out_summary, in_compile_time=None) -> dict:
     """Write the summary, the stage's record (``out_record``, JSON) and from it the macros
-    (``out_macros``), the work-precision table and the compiled solver's table."""
+    (``out_macros``), the work-precision table and the compiled solver's table. The JIT compile
+    times come from ``in_compile_time`` (a ``--compile-only`` run of the benchmark) where the
+    benchmark's record has none."""
     wp = read_json(in_wp)
-    s = summarize(wp, read_json(in_growth), read_json(in_hard), read_json(in_ref), performance, read_json(in_compiled))
+    compiled = read_json(in_compiled)
+    if compiled.get("compile") is None:
+        if in_compile_time is None:
+            raise ValueError("the compiled benchmark's record has no compile times: give `in_compile_time`")
+        compiled["compile"] = read_json(in_compile_time)["compile"]
+    s = summarize(wp, read_json(in_growth), read_json(in_hard), read_json(in_ref), performance, compiled)
     write_json(out_summary, s)
     write_json(out_record, macros(s, performance, wp).record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
@@ -308,4 +316,4 @@ if __name__ == "__main__":
     log.info("writing %s", sm.output.macros)
     main(cfg["performance"], sm.input.work_precision, sm.input.cost_growth, sm.input.hardcases,
          sm.input.reference_speed, sm.input.compiled_speed, sm.output.record, sm.output.macros, sm.output.table,
-         sm.output.compiled_table, sm.output.summary)
+         sm.output.compiled_table, sm.output.summary, in_compile_time=sm.input.compile_time)

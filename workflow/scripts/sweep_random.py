@@ -2,9 +2,11 @@
 along the gap sweep (one chunk of them).
 
 Where motions coexist, the neighbour-started sweeps show only the one each direction follows;
-several random initial states per sweep point (:func:`impactdamper.analysis.sweeps.random_starts`,
-fixed seed; the generator of point i, start j is seeded with (seed, i, j), so chunks do not
-change the result) show the others. Every ``random_every``-th sweep point gets
+several random initial states per sweep point show the others: the compiled batch
+:func:`impactdamper.analysis.batch.random_starts_batch` (the states of
+:func:`impactdamper.analysis.sweeps.random_starts`, fixed seed; the generator of point i, start
+j is seeded with (seed, i, j), so chunks do not change the result; a start the kernels do not
+settle goes to the pure-Python reference, with its Newton rescue). Every ``random_every``-th sweep point gets
 ``random_starts`` states.
 
 Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
@@ -14,7 +16,7 @@ Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_ran
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
 from impactdamper.reporting.records import Timer, joined, start_stage, write_csv
-from impactdamper.analysis.sweeps import random_starts
+from impactdamper.analysis.batch import random_starts_batch
 
 
 def points_of(sweep: dict):
@@ -35,8 +37,10 @@ def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=No
             if log is not None and ((i + 1) % max(n // 10, 1) == 0 or i + 1 == n):
                 log.info("random starts: %d/%d values (%s = %.6g)", i + 1, n, gs.SWEEP_PARAMETER, pt.value)
 
-        res = random_starts(base, gs.SWEEP_PARAMETER, values[mine], int(sweep["random_starts"]), int(sweep["seed"]),
-                            indices=indices, settings=settings, progress=progress)
+        res = random_starts_batch(base, gs.SWEEP_PARAMETER, values[mine], int(sweep["random_starts"]),
+                                  int(sweep["seed"]), indices=indices, settings=settings)
+        for i, starts in enumerate(res):
+            progress(i, len(res), starts[-1])
     rows = []
     for i, starts in zip(indices, res):
         for j, pt in enumerate(starts):

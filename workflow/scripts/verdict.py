@@ -96,6 +96,11 @@ def claims_macros(b: dict) -> MacroFile:
     add("ClaimsNoneFound", str(len(b["none_found"])))
     add("ClaimsMapCells", str(b["map_cells"]))
     add("ClaimsMapBothCells", str(b["map_both_cells"]))
+    add("ClaimsReferenceEvery", str(b["reference_check"]["every"]))
+    add("ClaimsReferenceChecked", str(b["reference_check"]["points"]))
+    add("ClaimsReferenceAgree", str(b["reference_check"]["agree"]))
+    add("ClaimsReferenceSettling", str(b["reference_check"]["settling"]))
+    add("ClaimsReferenceCycles", str(b["reference_check"]["cycles"]))
     return m
 
 

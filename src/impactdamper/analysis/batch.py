@@ -12,7 +12,10 @@ settles (Algorithm No. 2 with the stroboscopic period test of
 :func:`~impactdamper.core.steady.steady_state`). The points the kernels do not settle themselves
 go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
 
-* ``rescue``: a nonperiodic point with ``settings.rescue`` (the Newton rescue is Python);
+* ``rescue``: a nonperiodic point with ``settings.rescue`` that the Newton rescue (Python,
+  :func:`~impactdamper.analysis.settled.rescue_from_sections`, from the kernels' last
+  sections) settled on a stable cycle; where it finds none, the kernels' nonperiodic point
+  stands and no fallback is counted;
 * ``matrix_exponential``: a mode with repeated roots (no modal form);
 * ``scales``: free scales outside the native range;
 * ``error``: the kernels stopped on an error (step budget, degenerate contact, resonance);
@@ -29,14 +32,16 @@ from typing import Sequence
 
 import numpy as np
 
-from impactdamper.analysis.settled import FAILED, SweepPoint, SweepSettings, label_of, solve_point
-from impactdamper.analysis.sweeps import swept_names, with_value
+from impactdamper.analysis.settled import (FAILED, RESCUE_MAX_K, SweepPoint, SweepSettings, label_of,
+                                           rescue_from_sections, solve_point)
+from impactdamper.analysis.sweeps import random_initial_state, swept_names, with_value
 from impactdamper.core import compiled as cc
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.steady import REGIMES
 
-__all__ = ["BatchResult", "settled_batch", "regime_map_batch", "warm_up", "BATCH_REGIMES", "MAX_REPORTED_IMPACTS"]
+__all__ = ["BatchResult", "settled_batch", "sweep_points", "two_way_batch", "regime_map_batch", "random_starts_batch",
+           "warm_up", "BATCH_REGIMES", "MAX_REPORTED_IMPACTS"]
 
 # Regime codes of BatchResult.regime_code: steady.REGIMES, then the failed point of solve_point.
 BATCH_REGIMES = REGIMES + (FAILED,)
@@ -157,8 +162,33 @@ def _store_reference(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> N
     res.fallback[i], res.method[i] = reason, pt.method
 
 
+def _start_states(states, chain: bool, values: np.ndarray, names: tuple, base: Parameters,
+                  gap_tol: float) -> np.ndarray:
+    """The batch's given start states, checked: shape (P, 4) finite with a non-negative gap at
+    every point (within the solver's ``gap_tol``), or shape (0, 4) when none are given."""
+    if states is None:
+        return np.zeros((0, 4))
+    if chain:
+        raise ValueError("`states` is not allowed with `chain=True`: a chained point starts from its neighbour")
+    allowed = f"must be finite numbers of shape ({len(values)}, 4), one start (x1, x2, x1', x2') per point"
+    try:
+        given = np.array(states, dtype=float)
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(f"`states` is not allowed: {allowed}") from None
+    if given.shape != (len(values), 4) or not np.all(np.isfinite(given)):
+        raise ValueError(f"`states` of shape {given.shape} is not allowed: {allowed}")
+    rows = _point_values(base, names, values)
+    delta0 = rows[:, cc.PARAMETER_COLUMNS.index("gap")] * rows[:, cc.PARAMETER_COLUMNS.index("x_st")]
+    gap = delta0 - (given[:, 1] - given[:, 0])
+    bad = np.flatnonzero(gap < -gap_tol * rows[:, cc.PARAMETER_COLUMNS.index("x_st")])
+    if len(bad):
+        raise ValueError(f"`states` row {int(bad[0])} is not allowed: its gap Delta0 - (x2 - x1) = {gap[bad[0]]:.6g} m "
+                         "is negative (the bodies would overlap); allowed are states with x2 - x1 <= Delta0")
+    return given
+
+
 def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: SweepSettings | None = None,
-                  chain: bool = True) -> BatchResult:
+                  chain: bool = True, states=None) -> BatchResult:
     """Settle many parameter points in one call.
 
     Parameters
@@ -174,7 +204,11 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
         used (no accelerators, see the module docstring).
     chain : bool
         Each point from the previous point's settled section (a sweep: the reference's
-        ``solve_point(p, previous=...)``); False: each from Algorithm No. 2's step 1.
+        ``solve_point(p, previous=...)``); False: each from Algorithm No. 2's step 1, or from
+        its row of ``states``.
+    states : array_like, shape (P, 4), optional
+        Start states (x1, x2, x1', x2') at t0 = 0, one per point, each with a non-negative gap
+        (the reference's ``solve_point(p, state=...)``, random starts); only with ``chain=False``.
 
     Returns
     -------
@@ -206,6 +240,7 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     settings = settings or SweepSettings()
     if not isinstance(settings, SweepSettings):
         raise ArgumentTypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings or None")
+    given = _start_states(states, chain, values, names, base, settings.tolerances.gap_tol)
     ref_settings = dataclasses.replace(settings, continuation=False)
     rows = _point_values(base, names, values)
     pack, flags = cc.pack_many(rows, settings.tolerances)
@@ -217,6 +252,7 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
                       velocities=np.full((P, MAX_REPORTED_IMPACTS), np.nan), start_states=np.zeros((P, 4)),
                       sections=np.zeros((P, 4)), section_modes=np.zeros(P, np.int64),
                       fallback=np.full(P, "", dtype=object), method=np.full(P, "simulation", dtype=object))
+    tail = np.full((2 * max(settings.max_period_multiple, RESCUE_MAX_K) + 1, 5), np.nan)
     i, have_prev = 0, False
     while i < P:
         prev = i - 1
@@ -227,19 +263,68 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
             settings.rescue, settings.settle_tol, settings.max_periods, settings.max_periods_after_nonperiodic,
             settings.max_period_multiple, cc.INITIAL_CAPACITY, res.regime_code, res.period_multiple,
             res.impacts_per_cycle, res.x1_max, res.contact_fraction, res.periods, res.residual, res.start_states,
-            res.sections, res.section_modes, res.phases, res.velocities)
+            res.sections, res.section_modes, res.phases, res.velocities, given, tail)
         if code == cc.ROW_DONE:
             break
+        if code == cc.ROW_RESCUE:
+            # The kernels ran the point and it did not settle: the Newton rescue (Python) starts
+            # from the run's last sections, as the reference's would; where it finds no stable
+            # cycle, the kernels' nonperiodic point stands.
+            p = _parameters(rows[stop])
+            pt = rescue_from_sections(p, float(values[stop, 0]), tail[:, :4], res.sections[stop],
+                                      STUCK if res.section_modes[stop] == 1 else FREE, ref_settings,
+                                      start="", start_state=res.start_states[stop].copy(),
+                                      periods=int(res.periods[stop]))
+            if pt is not None:
+                _store_reference(res, stop, pt, "rescue")
+            i, have_prev = stop + 1, True
+            continue
         # Point `stop` goes to the reference, from the same neighbour.
         p = _parameters(rows[stop])
         previous = _sweep_point(res, stop - 1, _parameters(rows[stop - 1])) if (chain and stop > 0) else None
         reason = {cc.ROW_FLAGGED: cc.FALLBACK_REASONS[int(flags[stop])] if stop < P else "error",
-                  cc.ROW_ERROR: "error", cc.ROW_RESCUE: "rescue"}[int(code)]
-        pt = solve_point(p, float(values[stop, 0]), previous, settings=ref_settings)
+                  cc.ROW_ERROR: "error"}[int(code)]
+        state = given[stop].copy() if len(given) else None
+        pt = solve_point(p, float(values[stop, 0]), previous, state=state, settings=ref_settings)
         _store_reference(res, stop, pt, reason)
         i, have_prev = stop + 1, True
     res.elapsed = time.perf_counter() - t_begin
     return res
+
+
+def sweep_points(res: BatchResult, base: Parameters) -> list[SweepPoint]:
+    """A batch's points as the reference's :class:`~impactdamper.analysis.settled.SweepPoint`
+    objects, in the batch's order (``stable`` None, ``multiplier`` nan: the batch does not
+    solve the orbits)."""
+    out = []
+    for i in range(len(res.values)):
+        p = base
+        for name, v in zip(res.names, res.values[i]):
+            p = with_value(p, name, float(v))
+        out.append(_sweep_point(res, i, p))
+    return out
+
+
+def two_way_batch(base: Parameters, parameter: str, values: Sequence[float], *,
+                  settings: SweepSettings | None = None) -> dict:
+    """:func:`impactdamper.analysis.sweeps.two_way_sweep` in two compiled batches (each point
+    from its neighbour, no accelerators).
+
+    Returns
+    -------
+    dict
+        ``{"up": [...], "down": [...]}``, each a list of SweepPoint in increasing order of the
+        value, and ``"cpu"``/``"wall"``: ``{"up": s, "down": s}``.
+    """
+    values = sorted(float(v) for v in values)
+    out = {"cpu": {}, "wall": {}}
+    for direction, order in (("up", values), ("down", values[::-1])):
+        cpu, wall = time.process_time(), time.perf_counter()
+        res = settled_batch(base, (parameter,), np.array(order)[:, None], settings=settings)
+        points = sweep_points(res, base)
+        out[direction] = points if direction == "up" else points[::-1]
+        out["cpu"][direction], out["wall"][direction] = time.process_time() - cpu, time.perf_counter() - wall
+    return out
 
 
 def regime_map_batch(base: Parameters, fast: str, fast_values: Sequence[float], slow: str, slow_values: Sequence[float],
@@ -271,6 +356,40 @@ def regime_map_batch(base: Parameters, fast: str, fast_values: Sequence[float], 
     return out
 
 
+def random_starts_batch(base: Parameters, parameter: str, values: Sequence[float], count: int, seed: int, *,
+                        indices: Sequence[int] | None = None,
+                        settings: SweepSettings | None = None) -> list[list[SweepPoint]]:
+    """:func:`impactdamper.analysis.sweeps.random_starts` in one compiled batch: the same random
+    states (the generator of value ``indices[i]``, start j is ``numpy.random.default_rng([seed,
+    indices[i], j])``), each settled from its state (no neighbour, no accelerators).
+
+    Returns
+    -------
+    list (per value) of list (per start) of SweepPoint (``start`` is ``random``).
+    """
+    base = require_parameters(base, "base")
+    if not (isinstance(count, int) and not isinstance(count, bool) and count >= 1):
+        raise ValueError(f"`count` = {count!r} is not allowed: must be an integer >= 1")
+    values = [float(v) for v in values]
+    indices = list(range(len(values))) if indices is None else [int(i) for i in indices]
+    if len(indices) != len(values):
+        raise ValueError(f"`indices` is not allowed: has {len(indices)} entries for {len(values)} values")
+    if not values:
+        return []
+    points, states = [], []
+    for i, v in zip(indices, values):
+        p = with_value(base, parameter, v)
+        for j in range(count):
+            points.append([v])
+            states.append(random_initial_state(p, np.random.default_rng([int(seed), i, j])))
+    res = settled_batch(base, (parameter,), np.array(points), settings=settings, chain=False, states=np.array(states))
+    out = []
+    for n, v in enumerate(values):
+        p = with_value(base, parameter, v)
+        out.append([dataclasses.replace(_sweep_point(res, n * count + j, p), start="random") for j in range(count)])
+    return out
+
+
 def warm_up() -> float:
     """Compile (or load from the numba cache) every compiled kernel, on the reference case.
 
@@ -286,6 +405,7 @@ def warm_up() -> float:
     p = Parameters()
     cc.steady_state_compiled(p, max_periods=40)
     settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
+    random_starts_batch(p, "gap", [-5.8], 1, 0)
     cc.simulate_compiled(p, 2 * p.T)
     cc.count_events_compiled(p, 2 * p.T)
     return time.perf_counter() - t

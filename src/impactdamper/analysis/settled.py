@@ -83,11 +83,13 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
+from impactdamper.core.compiled import steady_state_hybrid
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances, check_tolerances, default_initial_state
 from impactdamper.core.steady import SteadyState, describe_cycle, section_of, steady_state
 from impactdamper.core.strobe import state_scale, strobe_newton
 
 __all__ = [
+    "rescue_from_sections",
     "SweepSettings",
     "SweepPoint",
     "FAILED",
@@ -143,6 +145,11 @@ class SweepSettings:
         Try the Newton rescue on points that did not settle.
     tolerances : Tolerances
         Event-solver tolerances.
+    compiled : bool
+        Run each simulation's period loop in the compiled kernels
+        (:func:`~impactdamper.core.compiled.steady_state_hybrid`: the same motion, its cycle
+        described by the pure-Python solver); False: the pure-Python
+        :func:`~impactdamper.core.steady.steady_state` throughout (the reference).
     """
 
     settle_tol: float = 1e-9
@@ -152,8 +159,12 @@ class SweepSettings:
     continuation: bool = True
     rescue: bool = True
     tolerances: Tolerances = field(default_factory=Tolerances)
+    compiled: bool = True
 
     def __post_init__(self) -> None:
+        for name in ("continuation", "rescue", "compiled"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"`{name}` = {getattr(self, name)!r} is not allowed: must be True or False")
         if not (math.isfinite(self.settle_tol) and 0 < self.settle_tol < 1):
             raise ValueError(f"`settle_tol` = {self.settle_tol!r} is not allowed: must be in (0, 1)")
         if not (isinstance(self.max_period_multiple, int) and self.max_period_multiple >= 1):
@@ -503,6 +514,11 @@ def _closest_recurrence(s: SteadyState, kmax: int) -> tuple[int, float]:
         ts = np.arange(last - 2 * kmax, last + 1) * T
         ts = ts[ts >= s.trajectory.segments[0][1].t0]
         sec = s.trajectory.sample(ts)[0] / state_scale(p)
+    return _recurrence_of(sec, kmax)
+
+
+def _recurrence_of(sec: np.ndarray, kmax: int) -> tuple[int, float]:
+    """(k, mismatch) of the closest recurrence among scaled sections ``sec`` (oldest first)."""
     m = len(sec)
     best_k, best = 0, math.inf
     for k in range(1, kmax + 1):
@@ -536,7 +552,13 @@ def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings
                 return _verify(p, value, section, o.period_multiple, settings, method="rescue", start=start,
                                start_state=start_state, periods=periods, rho=o.spectral_radius)
     full, mode = section_of(s)
-    res = strobe_newton(p, full, mode, k, settings.tolerances)
+    return _strobe_rescue(p, value, full, mode, k, settings, start=start, start_state=start_state, periods=periods)
+
+
+def _strobe_rescue(p: Parameters, value: float, full: np.ndarray, mode: str, k: int, settings: SweepSettings, *,
+                   start: str, start_state: np.ndarray, periods: int) -> SweepPoint | None:
+    """Step 3 of the rescue: Newton on the stroboscopic map from section state ``full``."""
+    res = strobe_newton(p, full, mode, k, settings.tolerances, compiled=settings.compiled)
     if res is None:
         return None
     sol, rho, used, J = res.state, res.spectral_radius, res.periods, res.jacobian
@@ -544,6 +566,41 @@ def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings
         return None
     return _verify(p, value, sol, k, settings, method="rescue", start=start, start_state=start_state,
                    periods=periods + used, rho=rho, jacobian=J)
+
+
+def rescue_from_sections(p: Parameters, value: float, sections: np.ndarray, section: np.ndarray, section_mode: str,
+                         settings: SweepSettings, *, start: str, start_state: np.ndarray,
+                         periods: int) -> SweepPoint | None:
+    """The Newton rescue of a point that did not settle, from its run's last sections instead
+    of its :class:`~impactdamper.core.steady.SteadyState` (the compiled batch hands them over,
+    so the run is not repeated in Python). Only the rescue without accelerators
+    (``settings.continuation`` False): the closest recurrence k of the last sections, then
+    Newton on the stroboscopic map from ``section`` (the section state at the start of the
+    reported window, in mode ``section_mode``), then the cycle verified by simulation.
+
+    Parameters
+    ----------
+    sections : ndarray, shape (m, 4)
+        The run's last section states (x1, x2, x1', x2'), oldest first (at least
+        2 min(max_period_multiple, RESCUE_MAX_K) + 1 of them; fewer: fewer k are tried).
+    periods : int
+        Forcing periods the run simulated (the point's count, as solve_point's).
+
+    Returns
+    -------
+    SweepPoint with method ``rescue``, or None where the rescue finds no stable cycle.
+    """
+    if settings.continuation:
+        raise ValueError("`settings` is not allowed: rescue_from_sections is the rescue without accelerators "
+                         "(continuation=False)")
+    kmax = min(settings.max_period_multiple, RESCUE_MAX_K)
+    sec = np.asarray(sections, float)
+    sec = sec[np.all(np.isfinite(sec), axis=1)][-(2 * kmax + 1):] / state_scale(p)
+    k, mismatch = _recurrence_of(sec, kmax)
+    if not k or mismatch > RESCUE_MISMATCH:
+        return None
+    return _strobe_rescue(p, value, np.asarray(section, float), section_mode, k, settings, start=start,
+                          start_state=start_state, periods=periods)
 
 
 def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint | None = None, *,
@@ -590,7 +647,7 @@ def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint 
             result = _continue_orbit(p, value, previous, start, full, settings.tolerances)
         if result is None and previous.regime in ("chatter", "single_impact", "multi_impact"):
             res = strobe_newton(p, full, previous.section_mode, previous.period_multiple, settings.tolerances,
-                                jacobian=previous.jacobian)
+                                jacobian=previous.jacobian, compiled=settings.compiled)
             if res is not None and res.spectral_radius < 1.0 - STABILITY_MARGIN:
                 result = _verify(p, value, res.state, previous.period_multiple, settings, method="newton",
                                  start=start, start_state=full, periods=res.periods, rho=res.spectral_radius,
@@ -600,7 +657,8 @@ def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint 
         if previous is not None and not previous.periodic:
             cap = settings.max_periods_after_nonperiodic
         try:
-            s = steady_state(p, state=full, tolerances=settings.tolerances, settle_tol=settings.settle_tol,
+            settle = steady_state_hybrid if settings.compiled else steady_state
+            s = settle(p, state=full, tolerances=settings.tolerances, settle_tol=settings.settle_tol,
                              max_periods=cap, max_period_multiple=settings.max_period_multiple)
         except RuntimeError as err:  # the event solver's guards (SearchLimitError, degenerate contact)
             log.warning("the simulation failed at value %r (%s): %s", value, p, err)

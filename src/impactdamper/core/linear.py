@@ -27,6 +27,7 @@ handled.
 from __future__ import annotations
 
 import cmath
+import functools
 import math
 from dataclasses import dataclass
 
@@ -162,6 +163,9 @@ class LinearMode:
             for _ in range(5):
                 powers.append(powers[-1] @ M)
         object.__setattr__(self, "M_powers", powers)
+        # kappa per (functional, order): functionals of one mode differ only in their offset
+        # (the gap's Delta0), and kappa does not depend on it.
+        object.__setattr__(self, "_bound_factors", {})
         # Whether the matrices the flow and the event search use are finite: extreme parameters
         # (delta1 = 1e300) overflow M^k, and the caller (Model) reports it by name.
         object.__setattr__(self, "finite", bool(all(np.all(np.isfinite(P)) for P in powers)
@@ -218,20 +222,45 @@ class LinearMode:
     def derivative_bound_factor(self, c: np.ndarray, order: int) -> float:
         """kappa with |d^order/dt^order (c . z)| <= kappa sqrt(z^T W z) for free motion (inf if
         it overflows, at extreme scales: the event search then refuses to step)."""
-        with np.errstate(over="ignore"):
-            return float(np.linalg.norm(c @ self.M_powers[order] @ self.L_inv_T))
+        c = np.asarray(c, dtype=float)
+        key = (c.tobytes(), order)
+        kappa = self._bound_factors.get(key)
+        if kappa is None:
+            with np.errstate(over="ignore"):
+                kappa = float(np.linalg.norm(c @ self.M_powers[order] @ self.L_inv_T))
+            self._bound_factors[key] = kappa
+        return kappa
+
+
+# Modes are built once per distinct set of the values they depend on (neither Delta0 nor R):
+# a scan of the gap (Algorithm No. 1 along a map row, a sweep of Delta0/x_st) builds the same
+# two modes at every point, and building them (eigenvectors, energy factors) cost half of
+# Algorithm No. 1. A LinearMode is never changed after __post_init__, so sharing it is safe.
+MODE_CACHE_SIZE = 256
+
+
+def clear_mode_cache() -> None:
+    """Forget the built modes (after changing this module's constants, as the tests do)."""
+    _free_mode.cache_clear()
+    _stuck_mode.cache_clear()
 
 
 def free_mode(p: Parameters) -> LinearMode:
     """The bodies apart: eqs. (2) and (9), state (x1, x2, x1', x2')."""
-    mass = np.diag([p.m1, p.m2])
-    K = np.array([[p.c1 + p.c2, -p.c2], [-p.c2, p.c2]])
-    C = np.array([[p.k1 + p.k2, -p.k2], [-p.k2, p.k2]])
-    Minv = np.diag([1.0 / p.m1, 1.0 / p.m2])
+    return _free_mode(p.m1, p.m2, p.c1, p.c2, p.k1, p.k2, p.P0, p.omega)
+
+
+@functools.lru_cache(maxsize=MODE_CACHE_SIZE)
+def _free_mode(m1: float, m2: float, c1: float, c2: float, k1: float, k2: float, P0: float,
+               omega: float) -> LinearMode:
+    mass = np.diag([m1, m2])
+    K = np.array([[c1 + c2, -c2], [-c2, c2]])
+    C = np.array([[k1 + k2, -k2], [-k2, k2]])
+    Minv = np.diag([1.0 / m1, 1.0 / m2])
     M = np.block([[np.zeros((2, 2)), np.eye(2)], [-Minv @ K, -Minv @ C]])
-    b = np.array([0.0, 0.0, p.P0 / p.m1, 0.0])
+    b = np.array([0.0, 0.0, P0 / m1, 0.0])
     W = np.block([[K, np.zeros((2, 2))], [np.zeros((2, 2)), mass]])
-    return LinearMode(M, b, p.omega, W)
+    return LinearMode(M, b, omega, W)
 
 
 def stuck_mode(p: Parameters) -> LinearMode:
@@ -240,8 +269,12 @@ def stuck_mode(p: Parameters) -> LinearMode:
     The suppressor then sits at x2 = x1 + Delta0; the spring c2 and damper k2 act between the
     two bodies only, so they drop out of the motion and reappear in the contact force.
     """
-    m = p.m1 + p.m2
-    M = np.array([[0.0, 1.0], [-p.c1 / m, -p.k1 / m]])
-    b = np.array([0.0, p.P0 / m])
-    W = np.diag([p.c1, m])
-    return LinearMode(M, b, p.omega, W)
+    return _stuck_mode(p.m1 + p.m2, p.c1, p.k1, p.P0, p.omega)
+
+
+@functools.lru_cache(maxsize=MODE_CACHE_SIZE)
+def _stuck_mode(m: float, c1: float, k1: float, P0: float, omega: float) -> LinearMode:
+    M = np.array([[0.0, 1.0], [-c1 / m, -k1 / m]])
+    b = np.array([0.0, P0 / m])
+    W = np.diag([c1, m])
+    return LinearMode(M, b, omega, W)

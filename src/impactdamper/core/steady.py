@@ -37,7 +37,7 @@ from impactdamper.core.simulate import (EventDrivenSolver, Tolerances, Trajector
 from impactdamper.core.strobe import state_scale
 
 __all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES", "describe_cycle", "max_excursion", "rescale_steady",
-           "section_of", "start_in_first_period", "check_settle_options"]
+           "section_of", "start_in_first_period", "check_settle_options", "describe_run"]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
 # Samples per forcing period when searching the object's largest excursion (then refined).
@@ -345,6 +345,17 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
             found_k, residual = _least_period(sections[:n], modes, found_k, settle_tol)
         if found_k:
             break
+    return describe_run(p, t0, states[:n], found_k, residual, start_state, tolerances)
+
+
+def describe_run(p: Parameters, t0: float, states: np.ndarray, found_k: int, residual: float,
+                 start_state: np.ndarray, tolerances: Tolerances) -> SteadyState:
+    """The :class:`SteadyState` of a run of :func:`steady_state`'s period loop, from its section
+    states (x1, x2, x1', x2') at t0 + T, ..., t0 + n T, the period it found (0: none) and its
+    last residual; the cycle is described on a fresh run (below). The compiled loop
+    (:func:`impactdamper.core.compiled.steady_state_hybrid`) ends here too."""
+    T = p.T
+    n = len(states)
     # (A run shorter than the window reports what it has: with max_periods = 2 the window began
     # before the run, found by the hardened-input property tests.)
     k = found_k if found_k else min(NONPERIODIC_WINDOW, n)
@@ -357,7 +368,7 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
                                   tolerances=tolerances)
     describer.advance(t0 + (n - first + k + 1) * T)
     result = describe_cycle(p, describer.trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
-    return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=states[:n].copy())
+    return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=np.array(states, float))
 
 
 # The solver restarts from its section state every REBASE_PERIODS forcing periods, with its

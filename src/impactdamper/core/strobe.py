@@ -74,7 +74,7 @@ def state_scale(p: Parameters) -> np.ndarray:
 
 
 def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                      tolerances: Tolerances | None = None) -> tuple[np.ndarray, str]:
+                      tolerances: Tolerances | None = None, compiled: bool = False) -> tuple[np.ndarray, str]:
     """The state and contact mode at t0 + periods T from ``state`` at t0 (Algorithm No. 2).
 
     Parameters
@@ -88,6 +88,10 @@ def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
         k, the iterate of the map.
     tolerances : Tolerances, optional
         Event-solver tolerances.
+    compiled : bool
+        Run the k periods in the compiled kernels
+        (:func:`impactdamper.core.compiled.strobe_step_compiled`, the same motion); where they
+        do not apply, and with False, the pure-Python solver.
 
     Returns
     -------
@@ -96,6 +100,12 @@ def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
     mode : str
         ``free`` or ``stuck`` there.
     """
+    if compiled:
+        from impactdamper.core.compiled import strobe_step_compiled  # (compiled imports this package's steady)
+
+        result = strobe_step_compiled(p, t0, state, periods, tolerances)
+        if result is not None:
+            return result
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     solver.advance(t0 + periods * p.T)
     return solver.state_at(t0 + periods * p.T), solver.mode
@@ -174,7 +184,7 @@ class StrobeSolution:
 
 
 def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tolerances,
-                  jacobian: np.ndarray | None = None) -> StrobeSolution | None:
+                  jacobian: np.ndarray | None = None, compiled: bool = False) -> StrobeSolution | None:
     """Newton on y(0) -> y(k T) from ``full0``.
 
     The Jacobian is ``jacobian`` (the neighbour's, if it has the right shape) or finite
@@ -196,6 +206,8 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
         Event-solver tolerances.
     jacobian : ndarray, optional
         Starting Jacobian in section coordinates.
+    compiled : bool
+        Each map evaluation by the compiled kernels (see :func:`stroboscopic_step`).
 
     Returns
     -------
@@ -211,7 +223,8 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
     def strobe(v):
         nonlocal periods
         periods += k
-        return section_coordinates(p, stroboscopic_step(p, 0.0, section_state(p, v, stuck), k, tol)[0], stuck)
+        return section_coordinates(p, stroboscopic_step(p, 0.0, section_state(p, v, stuck), k, tol, compiled)[0],
+                                   stuck)
 
     def fd(v, Pv):
         J = np.empty((n, n))

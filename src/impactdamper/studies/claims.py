@@ -25,11 +25,12 @@ from dataclasses import asdict, dataclass, field
 from typing import Callable, Sequence
 
 from impactdamper.core.algorithm1 import algorithm1
+from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.core.steady import steady_state
 
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
            "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
-           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both"]
+           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both", "reference_check", "check_rows"]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2
@@ -293,10 +294,11 @@ def distance_to(intervals: Sequence[Interval], x: float) -> tuple[float, float |
 # --- the claims at one point, and along one parameter ---------------------------------------
 def claims_at(p, *, gap_tol: float, steady_kwargs: dict) -> dict:
     """Both claims at parameters ``p``: Algorithm No. 1 (closed form, ``gap_tol``) and
-    Algorithm No. 2 from the paper's step 1 run until settled
-    (:func:`impactdamper.steady_state` with ``steady_kwargs``)."""
+    Algorithm No. 2 from the paper's step 1 run until settled (the compiled
+    :func:`~impactdamper.core.compiled.steady_state_compiled`, which is
+    :func:`impactdamper.steady_state`'s motion, with ``steady_kwargs``)."""
     a = algorithm1(p, gap_tol=gap_tol)
-    s = steady_state(p, **steady_kwargs)
+    s = steady_state_compiled(p, **steady_kwargs)
     return {"claim_a": claim_a(a), "claim_b": claim_b(s), "alg1_exists": bool(a.exists),
             "alg1_min_gap": float(a.min_gap) if a.exists else None, "regime": s.regime,
             "period_multiple": int(s.period_multiple), "impacts_per_cycle": int(s.impacts_per_cycle),
@@ -309,7 +311,7 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
     :class:`~impactdamper.Parameters`), the others as in ``p``.
 
     Claim (a) (closed form, cheap) is evaluated on the fine grid ``alg1_values``, claim (b)
-    (a settled simulation per point) on ``values``; every end of a run where a claim holds is
+    (a settled simulation per point, compiled) on ``values``; every end of a run where a claim holds is
     bisected until its bracket is within ``rel_tol`` relative (absolute ``rel_tol * floor``
     near zero); "both" is the intersection. Returns the grids, their flags and the intervals.
     """
@@ -323,7 +325,7 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
     rows: dict[float, dict] = {}
 
     def point_b(x: float) -> dict:
-        s = steady_state(p.replace(**{name: float(x)}), **steady_kwargs)
+        s = steady_state_compiled(p.replace(**{name: float(x)}), **steady_kwargs)
         row = {"value": float(x), "claim_b": claim_b(s), "regime": s.regime, "period_multiple": int(s.period_multiple),
                "impacts_per_cycle": int(s.impacts_per_cycle), "periods": int(s.periods)}
         rows[float(x)] = row
@@ -344,6 +346,61 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
             "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
             "bisection_points": sorted((r for x, r in rows.items() if x not in set(map(float, values))),
                                        key=lambda r: r["value"])}
+
+
+def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> dict:
+    """Algorithm No. 2 at each row's value again, by the pure-Python reference
+    :func:`impactdamper.steady_state` (the compiled solver's independent check): the settled
+    regime, k, z (z not for a nonperiodic motion, whose final window is chaotic) and claim (b)
+    must be the same.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Rows of :func:`search_parameter` (``value``, ``regime``, ``period_multiple``,
+        ``impacts_per_cycle``, ``claim_b``).
+
+    Returns
+    -------
+    dict
+        ``points`` checked, ``agree`` (how many gave the same regime, k, z and claim),
+        ``mismatches``: per disagreeing value, both results; ``settling`` of them, where one
+        solver's run settled within ``max_periods`` and the other's did not (next to a
+        bifurcation the motion settles slowly, and whether it gets below ``settle_tol`` within
+        the cap follows the rounding of the arithmetic), and ``cycles``, where both settled, on
+        different cycles (an error of one of them: none is expected).
+    """
+    mismatches = []
+    for row in rows:
+        s = steady_state(p.replace(**{name: float(row["value"])}), **steady_kwargs)
+        ref = {"regime": s.regime, "period_multiple": int(s.period_multiple),
+               "impacts_per_cycle": int(s.impacts_per_cycle), "claim_b": claim_b(s)}
+        mine = {key: row[key] for key in ref}
+        if ref["period_multiple"] == 0 and mine["period_multiple"] == 0:
+            # A motion that does not settle is chaotic: rounding differences between the two
+            # solvers grow over the thousands of periods run, so the impacts counted in its final
+            # window differ; only "nonperiodic" itself is compared.
+            ref.pop("impacts_per_cycle"), mine.pop("impacts_per_cycle")
+        if ref != mine:
+            mismatches.append({"value": float(row["value"]), "compiled": mine, "reference": ref})
+    settling = sum(1 for m in mismatches if 0 in (m["compiled"]["period_multiple"], m["reference"]["period_multiple"]))
+    return {"points": len(rows), "agree": len(rows) - len(mismatches), "settling": settling,
+            "cycles": len(mismatches) - settling, "mismatches": mismatches}
+
+
+def check_rows(result: dict, every: int) -> list[dict]:
+    """The rows of a :func:`search_parameter` result that :func:`reference_check` repeats: every
+    ``every``-th grid value, and both values of the final bracket of every bisected end of
+    claim (b) (where the claim changes, the motion is most sensitive to the solver)."""
+    ends = set()
+    for iv in result["intervals"]["b"]:
+        for bracket in (iv.lo_bracket, iv.hi_bracket):
+            ends.update(float(x) for x in (bracket or ()))
+    rows = {float(r["value"]): r for r in list(result["grid_b"][::every])}
+    for r in list(result["grid_b"]) + list(result["bisection_points"]):
+        if float(r["value"]) in ends:
+            rows[float(r["value"])] = r
+    return [rows[x] for x in sorted(rows)]
 
 
 # The parameters the claims are searched along beyond the gap, each varied alone at the stated

@@ -8,7 +8,8 @@ The paper claims, at Delta0/x_st = -5.8: (a) Algorithm No. 1 gives a gap below z
 The scan
 
 1. evaluates (a) on a fine grid (Algorithm No. 1 is closed-form) and (b) on a coarser grid
-   (Algorithm No. 2 from the paper's step 1, run until settled), over the config's window;
+   (Algorithm No. 2 from the paper's step 1, run until settled, by the compiled solver), over
+   the config's window;
 2. bisects every end of a range where a claim holds to ``bisect_tol`` (Algorithm No. 1's to
    ``ALG1_BISECT_TOL``); a range reaching the window's edge is reported open there;
 3. intersects the ranges;
@@ -35,11 +36,12 @@ from __future__ import annotations
 import math
 from concurrent.futures import ProcessPoolExecutor
 
+from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
 
 __all__ = ["ALG1_BISECT_TOL", "ALG1_CHECK_OFFSET", "ORBIT_CHECK_OFFSET", "ORBIT_STEP", "ORBIT_BISECT_TOL", "alg2_row",
-           "orbit_range", "end_checks", "locate"]
+           "orbit_range", "end_checks", "end_check", "locate", "settled"]
 
 # Algorithm No. 1 costs milliseconds: its range ends are bisected to near rounding.
 ALG1_BISECT_TOL = 1e-9
@@ -52,12 +54,18 @@ ORBIT_CHECK_OFFSET = 1e-2
 ORBIT_STEP = 0.01
 ORBIT_BISECT_TOL = 1e-6
 
+def settled(p, solver: dict):
+    """Algorithm No. 2 from the paper's step 1 until settled, compiled (the motion of
+    :func:`impactdamper.studies.replication.run_steady`; its result's regime, k and z)."""
+    return steady_state_compiled(p, **rep.solver_options(solver))
+
+
 def alg2_row(args) -> dict:
     """Both claims at one gap (for the process pool)."""
     base, solver, g = args
     p = parameters(dict(base, gap=float(g)))
     a = rep.run_alg1(p, solver)
-    s = rep.run_steady(p, solver)
+    s = settled(p, solver)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
     row = {
         # Empty where the orbit does not exist or its gap has no interior minimum (it only
@@ -152,7 +160,8 @@ def orbit_range(p, solver: dict, lo: float, hi: float) -> dict:
     return out
 
 
-def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list, orbit: dict, g_loc: float) -> list:
+def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list, orbit: dict, g_loc: float,
+               workers: int = 1) -> list:
     """The ends of the located range, checked by the independent integrators.
 
     * Claim (a)'s ends (Algorithm No. 1): ``solve_ivp`` re-integrates the orbit
@@ -167,24 +176,17 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
     (a) the negative-gap interval ends within ``crosscheck_time_tol`` and the periodicity
     residual within ``crosscheck_residual_tol``; for (b) the same T_c and, where both settle,
     the cycles aligned by forcing phase within ``crosscheck_time_tol`` (T) and
-    ``crosscheck_velocity_tol``. ``basis`` states the numbers the verdict rests on.
+    ``crosscheck_velocity_tol``. ``basis`` states the numbers the verdict rests on. The checks
+    are independent of each other: with ``workers`` > 1 they run in a process pool (the slow
+    ones integrate thousands of periods), in the same order.
     """
-    kmax = int(solver["max_period_multiple"])
-    kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
-    time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
-    residual_tol = float(verdict["crosscheck_residual_tol"])
-    checks = []
+    jobs = []
     ra = next((r for r in ranges_a if r["lo"] <= g_loc <= r["hi"]), None)
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
         if ra is not None and not ra[side + "_open"]:
             for role, g in (("inside", ra[side] + sign * ALG1_CHECK_OFFSET),
                             ("outside", ra[side] - sign * ALG1_CHECK_OFFSET)):
-                a = rep.run_alg1(parameters(dict(base, gap=g)), solver)
-                ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
-                cmp = rep.compare_alg1(a, ivp, time_tol, residual_tol)
-                checks.append({"claim": "a", "end": side, "role": role, "gap": g, "exact": rep.claim_a(a),
-                               "independent": ivp["claim_a"], "details": ivp, "comparison": cmp,
-                               "basis": _alg1_basis(cmp)})
+                jobs.append((base, solver, verdict, "a", side, role, g))
     rb = iv  # the located case's common range
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
         points = []
@@ -193,16 +195,12 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
         if orbit.get("found") and not orbit.get(side + "_open", True):
             points.append(("beyond the orbit's stability boundary", orbit[side] - sign * ORBIT_CHECK_OFFSET))
         for role, g in points:
-            p = parameters(dict(base, gap=g))
-            s = rep.run_steady(p, solver)
-            ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]),
-                               tolerances=rep.solver_options(solver)["tolerances"], exact=s, time_tol=time_tol,
-                               velocity_tol=velocity_tol, **kw)
-            checks.append({"claim": "b", "end": side, "role": role, "gap": g, "exact": rep.claim_b(s),
-                           "exact_regime": s.regime, "exact_period_multiple": s.period_multiple,
-                           "exact_periods": s.periods, "exact_residual": s.residual, "independent": ivp["claim_b"],
-                           "independent_period_multiple": ivp["period_multiple"], "details": ivp,
-                           "basis": _alg2_basis(s, ivp)})
+            jobs.append((base, solver, verdict, "b", side, role, g))
+    if workers > 1 and len(jobs) > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            checks = list(pool.map(end_check, jobs))
+    else:
+        checks = [end_check(j) for j in jobs]
     for c in checks:
         same = c["exact"] == c["independent"]
         if c["claim"] == "a":
@@ -212,6 +210,31 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
         else:
             c["agree"] = same and c["details"]["agree"]
     return checks
+
+
+def end_check(args) -> dict:
+    """One check of :func:`end_checks` (for the process pool): (base, solver, verdict, claim
+    ``a`` or ``b``, side, role, gap)."""
+    base, solver, verdict, claim, side, role, g = args
+    kmax = int(solver["max_period_multiple"])
+    kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
+    time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
+    if claim == "a":
+        a = rep.run_alg1(parameters(dict(base, gap=g)), solver)
+        ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
+        cmp = rep.compare_alg1(a, ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
+        return {"claim": "a", "end": side, "role": role, "gap": g, "exact": rep.claim_a(a),
+                "independent": ivp["claim_a"], "details": ivp, "comparison": cmp, "basis": _alg1_basis(cmp)}
+    p = parameters(dict(base, gap=g))
+    s = rep.run_steady(p, solver)
+    ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]),
+                       tolerances=rep.solver_options(solver)["tolerances"], exact=s, time_tol=time_tol,
+                       velocity_tol=velocity_tol, **kw)
+    return {"claim": "b", "end": side, "role": role, "gap": g, "exact": rep.claim_b(s),
+            "exact_regime": s.regime, "exact_period_multiple": s.period_multiple,
+            "exact_periods": s.periods, "exact_residual": s.residual, "independent": ivp["claim_b"],
+            "independent_period_multiple": ivp["period_multiple"], "details": ivp,
+            "basis": _alg2_basis(s, ivp)}
 
 
 def _alg1_basis(cmp: dict) -> str:
@@ -255,7 +278,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
         return rep.claim_a(rep.run_alg1(parameters(dict(base, gap=g)), solver))
 
     def alg2_pred(g: float) -> bool:
-        return rep.claim_b(rep.run_steady(parameters(dict(base, gap=g)), solver))
+        return rep.claim_b(settled(parameters(dict(base, gap=g)), solver))
 
     # (a): fine grid, closed form.
     g1 = rep.grid(lo, hi, float(verdict["alg1_gap_step"]))
@@ -306,7 +329,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
             f"T_c = 2T orbit")
 
     # Independent checks of the ends of the located case's range.
-    checks = end_checks(base, solver, verdict, iv, ranges_a, orbit, g_loc)
+    checks = end_checks(base, solver, verdict, iv, ranges_a, orbit, g_loc, workers)
 
     result = {
         "paper": rep.PAPER,

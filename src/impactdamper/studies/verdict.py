@@ -100,7 +100,8 @@ def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
            "relative_distance": gd / abs(stated_gap) if gx is not None else None}
     return {"parameters": per, "nearest_parameter": nearest, "gap": gap,
             "none_found": [n for n in SEARCH_PARAMETERS if n not in found],
-            "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells}
+            "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells,
+            "reference_check": {k: search["reference_check"][k] for k in ("every", "points", "agree", "settling", "cycles")}}
 
 
 def verdict(ref_s: dict, ref_l: dict, cc_s: dict, cc_l: dict, scan: dict, rd: dict, search: dict,

@@ -41,7 +41,8 @@ The modules, each one idea:
 from __future__ import annotations
 
 from impactdamper.core.compiled.api import (INITIAL_CAPACITY, CompiledRun, CompiledSteady, count_events_compiled,
-                                            run_compiled, simulate_compiled, steady_state_compiled)
+                                            run_compiled, simulate_compiled, steady_state_compiled,
+                                            steady_state_hybrid, strobe_step_compiled)
 from impactdamper.core.compiled.layout import EVENT_KINDS, FALLBACK_REASONS
 from impactdamper.core.compiled.pack import PARAMETER_COLUMNS, Pack, pack_many, pack_parameters
 from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel
@@ -49,6 +50,6 @@ from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, 
 from impactdamper.core.steady import REGIMES
 
 __all__ = ["CompiledRun", "CompiledSteady", "Pack", "pack_many", "pack_parameters", "run_compiled",
-           "simulate_compiled", "steady_state_compiled", "count_events_compiled", "row_kernel", "EVENT_KINDS",
+           "simulate_compiled", "steady_state_compiled", "steady_state_hybrid", "strobe_step_compiled", "count_events_compiled", "row_kernel", "EVENT_KINDS",
            "FALLBACK_REASONS", "PARAMETER_COLUMNS", "INITIAL_CAPACITY", "REGIMES", "ROW_DONE", "ROW_FLAGGED",
            "ROW_ERROR", "ROW_RESCUE"]

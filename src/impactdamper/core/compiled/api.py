@@ -21,9 +21,11 @@ from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
 from impactdamper.core.simulate import (DEFAULT_KICK, MAX_SIMULATE_PERIODS, Event, EventDrivenSolver, Tolerances,
                                         Trajectory, check_start_time, check_state, check_tolerances, simulate)
-from impactdamper.core.steady import REGIMES, check_settle_options, section_of, start_in_first_period, steady_state
+from impactdamper.core.steady import (REGIMES, SteadyState, check_settle_options, describe_run, section_of,
+                                      start_in_first_period, steady_state)
 
 __all__ = ["CompiledRun", "CompiledSteady", "run_compiled", "simulate_compiled", "steady_state_compiled",
+           "steady_state_hybrid", "strobe_step_compiled",
            "count_events_compiled", "INITIAL_CAPACITY"]
 
 # Events and segments held before the buffers grow (the run is repeated with 4 times as many):
@@ -272,6 +274,10 @@ def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray |
     return result
 
 
+# steady_kernel's section tail, not wanted here.
+NO_TAIL = np.zeros((0, 5))
+
+
 def _steady_run(pack: Pack, t0: float, full: np.ndarray, default_start: bool, settle_tol: float, max_periods: int,
                 kmax: int) -> CompiledSteady | None:
     """One kernel run; None if the kernels stopped on an error."""
@@ -281,7 +287,7 @@ def _steady_run(pack: Pack, t0: float, full: np.ndarray, default_start: bool, se
     while True:
         (err, regime, k, z, start, frac, x1_max, n,
          residual) = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, t0, full, default_start,
-                                   settle_tol, max_periods, kmax, capacity, out_imp, section)
+                                   settle_tol, max_periods, kmax, capacity, out_imp, section, NO_TAIL)
         if err == ERR_CAPACITY:
             capacity *= 4
             continue
@@ -297,3 +303,67 @@ def _steady_run(pack: Pack, t0: float, full: np.ndarray, default_start: bool, se
                           cycle_start=float(start), contact_fraction=float(frac), x1_max=float(x1_max),
                           periods=int(n), residual=float(residual), section=section[:4].copy(),
                           section_mode="free" if section[4] == MODE_FREE else "stuck")
+
+
+def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
+                        tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
+                        max_period_multiple: int = 8) -> SteadyState:
+    """:func:`impactdamper.core.steady.steady_state`'s full result (a
+    :class:`~impactdamper.core.steady.SteadyState` with its trajectory and sections), its period
+    loop run by the kernels: the run until the motion repeats is compiled, and the settled cycle
+    is then described by the pure-Python solver exactly as there
+    (:func:`~impactdamper.core.steady.describe_run`, a fresh run of a few cycles from the
+    kernels' section state). Where the kernels do not apply, or stop on an error, the reference
+    runs the whole of it.
+
+    Arguments, result and errors as :func:`~impactdamper.core.steady.steady_state`'s.
+    """
+    p = require_parameters(p)
+    tol = check_tolerances(tolerances)
+    t0f = finite_argument("t0", t0)
+    settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
+    args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
+                max_period_multiple=max_period_multiple)
+    pack = pack_parameters(p, tol)
+    if pack.fallback:
+        return steady_state(p, **args)
+    start = start_in_first_period(p, t0f)
+    full = _checked_state(p, state, tol)
+    tail = np.full((max_periods, 5), np.nan)
+    out_imp = np.zeros((64 * max_period_multiple, 5))
+    section = np.zeros(5)
+    capacity = INITIAL_CAPACITY
+    while True:
+        err, _, k, _, _, _, _, n, residual = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, start,
+                                                          full, state is None, settle_tol, max_periods,
+                                                          max_period_multiple, capacity, out_imp, section, tail)
+        if err != ERR_CAPACITY:
+            break
+        capacity *= 4
+    if err:
+        return steady_state(p, **args)  # the reference's own error, or its result
+    # The reference's start state (its solver's state at the start: the given one or step 1).
+    start_state = full if state is not None else EventDrivenSolver(p, t0=start, tolerances=tol).state_at(start)
+    return describe_run(p, start, tail[max_periods - n:, :4], int(k), float(residual), start_state, tol)
+
+
+def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: int,
+                         tolerances: Tolerances | None = None) -> tuple[np.ndarray, str] | None:
+    """:func:`impactdamper.core.strobe.stroboscopic_step` by the kernels: the state and mode at
+    t0 + periods T from ``state`` at t0 (the last segment flowed to there by the Python flow).
+
+    Returns None where the kernels do not apply or stopped on an error (the caller runs the
+    reference, which raises its own error where there is one).
+    """
+    pack = pack_parameters(p, tolerances)
+    if pack.fallback:
+        return None
+    t_end = float(t0) + periods * p.T
+    run = run_compiled(p, t_end, float(t0), np.asarray(state, dtype=float), tolerances, pack=pack)
+    if run is None:
+        return None
+    model = Model(p)
+    name = FREE if run.segment_modes[-1] == MODE_FREE else STUCK
+    row = run.segments[-1]
+    seg = Segment(model.mode(name), float(row[0]), row[1:1 + (4 if name == FREE else 2)].copy())
+    return model.full_state(name, seg.state(np.array([t_end])))[0], name

@@ -245,9 +245,11 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
 
 @njit(cache=True)
 def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, max_periods, kmax, capacity,
-                  out_imp, section):
+                  out_imp, section, tail):
     """The reference's _steady_state. Returns (error, regime, k, impacts, cycle start, contact
-    fraction, x1_max, periods, residual); out_imp and section filled by _describe."""
+    fraction, x1_max, periods, residual); out_imp and section filled by _describe; ``tail``
+    (shape (R, 5), R may be 0) gets the run's last R section states and modes, oldest first
+    (rows before the run's first section NaN): what the reference's Newton rescue reads."""
     T = s[S_T]
     scale = np.array([s[S_XST], s[S_XST], s[S_XST] * s[S_OMEGA], s[S_XST] * s[S_OMEGA]])
     sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a = solver_buffers(0)
@@ -295,6 +297,14 @@ def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, m
             found_k, residual = _least_period(sections, modes, n, found_k, settle_tol)
         if found_k:
             break
+    R = tail.shape[0]
+    for j in range(R):
+        m = n - R + j
+        if m < 0:
+            tail[j, :] = np.nan
+        else:
+            tail[j, :4] = states[m]
+            tail[j, 4] = modes[m]
     k = found_k if found_k else min(NONPERIODIC_WINDOW, n)
     first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
     _, _, _, _, ev_k, ev_f, seg_m, seg_f, seg_a = solver_buffers(capacity)
@@ -322,10 +332,13 @@ ROW_DONE, ROW_FLAGGED, ROW_ERROR, ROW_RESCUE = 0, 1, 2, 3
 @njit(cache=True)
 def row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_mode, prev_periodic, chain, rescue,
                settle_tol, max_periods, max_periods_np, kmax, capacity, regime, kk, zz, x1max, frac, periods,
-               residual, starts, sections, sec_mode, phases, vels):
+               residual, starts, sections, sec_mode, phases, vels, given, tail):
     """Settle points i0, i0 + 1, ... in order, as the reference's solve_point without its
-    accelerators: each from its predecessor's section (``chain``, the reference's carry_state)
-    or from Algorithm No. 2's step 1. Fills the output arrays; returns (stop code, index)."""
+    accelerators: each from its predecessor's section (``chain``, the reference's carry_state),
+    from its row of ``given`` (shape (P, 4): the reference's ``state=``; shape (0, 4): none) or
+    from Algorithm No. 2's step 1. Fills the output arrays; returns (stop code, index). A
+    nonperiodic point with ``rescue`` stops the row after its outputs are filled, with its
+    run's last sections in ``tail`` (see steady_kernel), for the Newton rescue."""
     P = S.shape[0]
     out_imp = np.zeros((64 * kmax, 5))
     section = np.zeros(5)
@@ -341,6 +354,8 @@ def row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_m
                 full[3] = full[2]
             elif s[S_DELTA0] - (full[1] - full[0]) < 0.0:
                 full[1] = full[0] + s[S_DELTA0]
+        elif given.shape[0] > 0:
+            full[:] = given[i]
         else:
             S0 = DEFAULT_KICK * s[S_M1] * s[S_OMEGA1] * s[S_XST]
             full[0], full[1], full[2], full[3] = 0.0, s[S_DELTA0], S0 / s[S_M1], -S0 / s[S_M2]
@@ -348,15 +363,13 @@ def row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_m
         while True:
             err, rg, k, z, start, fr, x1, n, res = steady_kernel(CM[i], FM[i], FC[i], FK[i], FG[i], S[i], 0.0,
                                                                  full.copy(), False, settle_tol, cap, kmax, capacity,
-                                                                 out_imp, section)
+                                                                 out_imp, section, tail)
             if err != ERR_CAPACITY:
                 break
             capacity *= 4
         if err != OK or z > out_imp.shape[0]:
             return ROW_ERROR, i
         starts[i] = full
-        if rg == _RG_NONPERIODIC and rescue:
-            return ROW_RESCUE, i
         regime[i], kk[i], zz[i], x1max[i], frac[i] = rg, k, z, x1, fr
         periods[i] = n + max(k, 1) + 1
         residual[i] = res
@@ -369,4 +382,6 @@ def row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_m
         prev_section = section[:4].copy()
         prev_mode = int(section[4])
         prev_periodic = rg != _RG_NONPERIODIC
+        if rg == _RG_NONPERIODIC and rescue:
+            return ROW_RESCUE, i
     return ROW_DONE, P
