@@ -10,7 +10,9 @@
 #     scratch copies under $SLURM_CHECK_DIR (default /tmp/impactdamper-slurm-check), with fixed
 #     mtimes so that Snakemake reruns nothing upstream of the maps, and without the map outputs
 #     (the committed figures/map_* of the full config), so that every target is made anew;
-#     a dry run checks that only compiled_warm_up, map_chunk, map_gather, map_curves and fig_regime_map would run;
+#     a dry run checks that only compiled_warm_up, map_chunk, map_gather, map_curves and fig_regime_map would run
+#     (the runs allow only these rules: the warm-up a copy needs would otherwise rerun every job
+#     that waits for it, the gap scan behind the maps' located-case marker among them);
 #  3. runs the map stage with --configfile config/ci.yaml: through Slurm in copy `slurm`
 #     (--profile profiles/slurm) and locally (--cores 2) in copy `local`, one after the other,
 #     both with this repository's .venv/bin/snakemake and PYTHONPATH=<copy>/src (the venv's
@@ -121,6 +123,9 @@ find "$WORK/slurm/figures" "$WORK/slurm/paper/generated" -exec touch -h -d '2020
 cp -a "$WORK/slurm" "$WORK/local"
 echo "$(find "$WORK/slurm" -type f | wc -l) files in each copy ($(secs "$t" "$(now)") s)"
 
+# The map stage's rules: the only ones the runs may use (other rules' outputs are taken as they are).
+MAP_RULES=(compiled_warm_up map_chunk map_gather map_curves fig_regime_map)
+
 # jobstats LOG: the first "Job stats" table of a Snakemake log
 jobstats() { awk '/^Job stats:/ {n++} n == 1 && /^$/ {exit} n == 1' "$1"; }
 
@@ -129,7 +134,8 @@ run() {
   local name=$1; shift
   local t rc=0
   t=$(now)
-  (cd "$WORK/$name" && PYTHONPATH="$WORK/$name/src" "$SNAKEMAKE" "${TARGETS[@]}" "$@" --configfile "$CONFIG") \
+  (cd "$WORK/$name" && PYTHONPATH="$WORK/$name/src" "$SNAKEMAKE" "${TARGETS[@]}" "$@" --configfile "$CONFIG" \
+    --allowed-rules "${MAP_RULES[@]}") \
     >"$WORK/$name.log" 2>&1 || rc=$?
   echo "time: $name run $(secs "$t" "$(now)") s (exit $rc; log $WORK/$name.log)"
   if [ "$rc" != 0 ]; then tail -n 40 "$WORK/$name.log"; fi
@@ -138,7 +144,8 @@ run() {
 
 # The jobs to run: only the map rules (anything else means the copy's mtimes made Snakemake
 # rerun an upstream stage, which this check does not want).
-(cd "$WORK/slurm" && "$SNAKEMAKE" "${TARGETS[@]}" -n --quiet rules --configfile "$CONFIG") >"$WORK/dryrun.log" 2>&1 \
+(cd "$WORK/slurm" && "$SNAKEMAKE" "${TARGETS[@]}" -n --quiet rules --configfile "$CONFIG" \
+  --allowed-rules "${MAP_RULES[@]}") >"$WORK/dryrun.log" 2>&1 \
   || { cat "$WORK/dryrun.log"; exit 1; }
 jobstats "$WORK/dryrun.log"
 other=$(jobstats "$WORK/dryrun.log" | awk 'NF == 2 && $2 ~ /^[0-9]+$/ && $1 != "total" {print $1}' \

@@ -57,8 +57,10 @@ def study(*names):
 def library(*parts):
     """A rule's library inputs: the package (always loaded) and ``parts`` (lists of files), and
     the compiled kernels' warm-up (COMPILED_WARM_UP): the package imports the compiled solver,
-    and a job that runs it must find numba's cache filled, not compile it beside other jobs."""
-    return sorted(set(PACKAGE).union(*parts)) + [COMPILED_WARM_UP]
+    and a job that runs it must find numba's cache filled, not compile it beside other jobs. The
+    warm-up orders the jobs but is no data: ancient(), so that a new warm-up (a scratch copy, a
+    cluster run of one stage) does not rerun the jobs after it."""
+    return sorted(set(PACKAGE).union(*parts)) + [ancient(COMPILED_WARM_UP)]
 
 
 def library_sources(*parts):

@@ -155,7 +155,7 @@ rule performance_compiled_speed:
         max_periods=config["maps"]["max_periods"],
         after_nonperiodic=config["maps"]["max_periods_after_nonperiodic"],
     threads: 2
-    priority: 100
+    priority: 1000
     log:
         "logs/performance/compiled_speed.log",
     conda:

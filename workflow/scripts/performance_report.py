@@ -90,6 +90,9 @@ def compiled_speed(cs: dict) -> dict:
     out["steady_periods"] = st["periods"]
     out["first_impacts"] = f10["impacts"]
     out["per_impact_impacts"] = pi["compiled"]["impacts"]
+    # The same run's other solvers per impact: the machine's speed beside the absolute targets.
+    out["python_us_per_impact"] = json_float(pi["python"]["us_per_impact_min"])
+    out["dop853_us_per_impact"] = json_float(pi["dop853"]["us_per_impact_min"])
     # (None where the record holds no compile times: main() adds rule performance_compile_time's.)
     out["compile_seconds"] = json_float(c["cold_compile_s"]) if c else None
     out["cache_load_seconds"] = json_float(c["cached_load_s"]) if c else None
@@ -222,6 +225,9 @@ def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
     add("PerfCompiledSteadyPeriods", c["steady_periods"])
     add("PerfCompiledFirstImpacts", c["first_impacts"])
     add("PerfCompiledImpacts", c["per_impact_impacts"])
+    add("PerfCompiledPythonUsPerImpact", tex_time(1e-6 * c["python_us_per_impact"]))
+    add("PerfCompiledDopUsPerImpact", tex_time(1e-6 * c["dop853_us_per_impact"]))
+    add("PerfCompiledDopRatioPerImpact", f"{c['dop853_us_per_impact'] / c['us_per_impact']['value']:.0f}")
     add("PerfCompiledMapCells", rf"{c['map']['grid'][0]}~$\times$~{c['map']['grid'][1]}")
     add("PerfCompiledMapWorkers", c["map"]["workers"])
     add("PerfCompiledMapCpu", tex_time(c["map"]["cpu_s"]))
