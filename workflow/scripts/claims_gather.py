@@ -75,7 +75,8 @@ def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out
         "resolution_note": "an interval narrower than the Algorithm No. 2 grid step (No. 1's for claim a) between two "
                            "grid values where the claim fails is not seen; ends are bisected to rel_tol * max(|x|, floor)",
         "reference_check": {"what": "Algorithm No. 2 runs compiled; the pure-Python solver repeats it at every "
-                                    "reference_check_every-th grid value and every bisection point: the same regime, "
+                                    "reference_check_every-th grid value and both ends of every final bisection bracket of claim "
+                                    "(b): the same regime, "
                                     "k, z and claim (b) agree; 'settling': disagreements where one run settled within max_periods and "
                                     "the other did not; 'cycles': where both settled on different cycles",
                             "every": int(search["reference_check_every"]),
