@@ -162,22 +162,21 @@ def _store_reference(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> N
     res.fallback[i], res.method[i] = reason, pt.method
 
 
-def _start_states(states, chain: bool, values: np.ndarray, names: tuple, base: Parameters,
-                  gap_tol: float) -> np.ndarray:
+def _start_states(states, chain: bool, rows: np.ndarray, gap_tol: float) -> np.ndarray:
     """The batch's given start states, checked: shape (P, 4) finite with a non-negative gap at
-    every point (within the solver's ``gap_tol``), or shape (0, 4) when none are given."""
+    every point (within the solver's ``gap_tol``), or shape (0, 4) when none are given. ``rows``:
+    the points' parameters (_point_values)."""
     if states is None:
         return np.zeros((0, 4))
     if chain:
         raise ValueError("`states` is not allowed with `chain=True`: a chained point starts from its neighbour")
-    allowed = f"must be finite numbers of shape ({len(values)}, 4), one start (x1, x2, x1', x2') per point"
+    allowed = f"must be finite numbers of shape ({len(rows)}, 4), one start (x1, x2, x1', x2') per point"
     try:
         given = np.array(states, dtype=float)
     except (TypeError, ValueError):
         raise ArgumentTypeError(f"`states` is not allowed: {allowed}") from None
-    if given.shape != (len(values), 4) or not np.all(np.isfinite(given)):
+    if given.shape != (len(rows), 4) or not np.all(np.isfinite(given)):
         raise ValueError(f"`states` of shape {given.shape} is not allowed: {allowed}")
-    rows = _point_values(base, names, values)
     delta0 = rows[:, cc.PARAMETER_COLUMNS.index("gap")] * rows[:, cc.PARAMETER_COLUMNS.index("x_st")]
     gap = delta0 - (given[:, 1] - given[:, 0])
     bad = np.flatnonzero(gap < -gap_tol * rows[:, cc.PARAMETER_COLUMNS.index("x_st")])
@@ -240,9 +239,9 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     settings = settings or SweepSettings()
     if not isinstance(settings, SweepSettings):
         raise ArgumentTypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings or None")
-    given = _start_states(states, chain, values, names, base, settings.tolerances.gap_tol)
     ref_settings = dataclasses.replace(settings, continuation=False)
     rows = _point_values(base, names, values)
+    given = _start_states(states, chain, rows, settings.tolerances.gap_tol)
     pack, flags = cc.pack_many(rows, settings.tolerances)
     P = len(rows)
     res = BatchResult(values=values, names=names, regime_code=np.zeros(P, np.int64),

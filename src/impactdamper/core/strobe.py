@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactdamper.core.model import STUCK
+from impactdamper.core.model import STUCK, Model
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 
@@ -183,6 +183,23 @@ class StrobeSolution:
     jacobian: np.ndarray
 
 
+def _map_step(p: Parameters, tol: Tolerances, compiled: bool):
+    """(state, k) -> stroboscopic_step(p, 0, state, k, tol, compiled), with the compiled
+    solver's packed parameters and model made once (a Newton iteration evaluates the map many
+    times at one parameter set)."""
+    if not compiled:
+        return lambda state, k: stroboscopic_step(p, 0.0, state, k, tol)
+    from impactdamper.core.compiled import pack_parameters, strobe_step_compiled  # (see stroboscopic_step)
+
+    pack = pack_parameters(p, tol)
+    model = Model(p)
+
+    def step(state, k):
+        result = strobe_step_compiled(p, 0.0, state, k, tol, pack=pack, model=model)
+        return result if result is not None else stroboscopic_step(p, 0.0, state, k, tol)
+    return step
+
+
 def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tolerances,
                   jacobian: np.ndarray | None = None, compiled: bool = False) -> StrobeSolution | None:
     """Newton on y(0) -> y(k T) from ``full0``.
@@ -219,12 +236,12 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
     u = section_coordinates(p, full0, stuck)
     n = len(u)
     periods = 0
+    step = _map_step(p, tol, compiled)
 
     def strobe(v):
         nonlocal periods
         periods += k
-        return section_coordinates(p, stroboscopic_step(p, 0.0, section_state(p, v, stuck), k, tol, compiled)[0],
-                                   stuck)
+        return section_coordinates(p, step(section_state(p, v, stuck), k)[0], stuck)
 
     def fd(v, Pv):
         J = np.empty((n, n))

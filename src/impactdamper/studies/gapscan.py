@@ -36,12 +36,11 @@ from __future__ import annotations
 import math
 from concurrent.futures import ProcessPoolExecutor
 
-from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
 
 __all__ = ["ALG1_BISECT_TOL", "ALG1_CHECK_OFFSET", "ORBIT_CHECK_OFFSET", "ORBIT_STEP", "ORBIT_BISECT_TOL", "alg2_row",
-           "orbit_range", "end_checks", "end_check", "locate", "settled"]
+           "orbit_range", "end_checks", "end_check", "locate"]
 
 # Algorithm No. 1 costs milliseconds: its range ends are bisected to near rounding.
 ALG1_BISECT_TOL = 1e-9
@@ -54,18 +53,12 @@ ORBIT_CHECK_OFFSET = 1e-2
 ORBIT_STEP = 0.01
 ORBIT_BISECT_TOL = 1e-6
 
-def settled(p, solver: dict):
-    """Algorithm No. 2 from the paper's step 1 until settled, compiled (the motion of
-    :func:`impactdamper.studies.replication.run_steady`; its result's regime, k and z)."""
-    return steady_state_compiled(p, **rep.solver_options(solver))
-
-
 def alg2_row(args) -> dict:
     """Both claims at one gap (for the process pool)."""
     base, solver, g = args
     p = parameters(dict(base, gap=float(g)))
     a = rep.run_alg1(p, solver)
-    s = settled(p, solver)
+    s = rep.run_steady_compiled(p, solver)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
     row = {
         # Empty where the orbit does not exist or its gap has no interior minimum (it only
@@ -278,7 +271,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
         return rep.claim_a(rep.run_alg1(parameters(dict(base, gap=g)), solver))
 
     def alg2_pred(g: float) -> bool:
-        return rep.claim_b(settled(parameters(dict(base, gap=g)), solver))
+        return rep.claim_b(rep.run_steady_compiled(parameters(dict(base, gap=g)), solver))
 
     # (a): fine grid, closed form.
     g1 = rep.grid(lo, hi, float(verdict["alg1_gap_step"]))

@@ -37,7 +37,6 @@ from collections import Counter
 
 import numpy as np
 
-from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
 from impactdamper.core.algorithm1 import unit_pulse_response
@@ -192,7 +191,7 @@ def r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
         return rep.claim_a(rep.run_alg1(parameters(dict(base, R=float(R))), solver))
 
     def pb(R):  # compiled: the grid and its bisections are many settled runs
-        return rep.claim_b(steady_state_compiled(parameters(dict(base, R=float(R))), **rep.solver_options(solver)))
+        return rep.claim_b(rep.run_steady_compiled(parameters(dict(base, R=float(R))), solver))
 
     out = {"R_step": float(verdict["R_step"]), "bisect_tol": R_BISECT_TOL}
     for name, pred in (("claim_a", pa), ("claim_b", pb)):

@@ -23,6 +23,7 @@ import scipy.optimize
 
 from impactdamper import Parameters, Tolerances, algorithm1, steady_state
 from impactdamper.baselines.ivp import simulate_ivp
+from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.core.model import Model
 from impactdamper.studies.claims import (CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b,
                                          compare_cycles, true_intervals)
@@ -31,7 +32,7 @@ from impactdamper.studies.config import parameters, steady_options
 __all__ = ["PAPER", "CASES", "SAMPLES_PER_PERIOD", "IVP_GAP_SAMPLES", "CLAIM_B_IMPACTS", "CLAIM_B_PERIOD_MULTIPLE",
            "claim_a", "claim_b", "parameters", "solver_options", "free_rhs", "GapScan", "gap_sign_scan",
            "next_cycle_impact", "alg1_summary", "steady_summary", "alg1_ivp", "alg2_ivp", "compare_alg1", "grid",
-           "ranges", "overlap", "run_steady", "run_alg1"]
+           "ranges", "overlap", "run_steady", "run_steady_compiled", "run_alg1"]
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
 CASES = ("stated", "located")
@@ -293,6 +294,12 @@ def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
 def run_steady(p: Parameters, solver: dict, **kw):
     """:func:`impactdamper.steady_state` with the config's solver options."""
     return steady_state(p, **solver_options(solver), **kw)
+
+
+def run_steady_compiled(p: Parameters, solver: dict):
+    """:func:`run_steady` by the compiled solver (its regime, k and z:
+    :func:`~impactdamper.core.compiled.steady_state_compiled`), for grids and bisections."""
+    return steady_state_compiled(p, **solver_options(solver))
 
 
 def run_alg1(p: Parameters, solver: dict):

@@ -348,21 +348,24 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
 
 
 def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                         tolerances: Tolerances | None = None) -> tuple[np.ndarray, str] | None:
+                         tolerances: Tolerances | None = None, *, pack: Pack | None = None,
+                         model: Model | None = None) -> tuple[np.ndarray, str] | None:
     """:func:`impactdamper.core.strobe.stroboscopic_step` by the kernels: the state and mode at
     t0 + periods T from ``state`` at t0 (the last segment flowed to there by the Python flow).
+    ``pack`` and ``model`` (of ``p`` and ``tolerances``), if already made: a Newton iteration
+    evaluates the map many times at one parameter set.
 
     Returns None where the kernels do not apply or stopped on an error (the caller runs the
     reference, which raises its own error where there is one).
     """
-    pack = pack_parameters(p, tolerances)
+    pack = pack_parameters(p, tolerances) if pack is None else pack
     if pack.fallback:
         return None
     t_end = float(t0) + periods * p.T
     run = run_compiled(p, t_end, float(t0), np.asarray(state, dtype=float), tolerances, pack=pack)
     if run is None:
         return None
-    model = Model(p)
+    model = Model(p) if model is None else model
     name = FREE if run.segment_modes[-1] == MODE_FREE else STUCK
     row = run.segments[-1]
     seg = Segment(model.mode(name), float(row[0]), row[1:1 + (4 if name == FREE else 2)].copy())
