@@ -274,8 +274,9 @@ def run(args) -> dict:
         "reference's Python Newton and would settle each nonperiodic point in Python; their count is in 'regimes'",
         "the reference regime_map uses its accelerators (orbit continuation, stroboscopic Newton); the batch "
         "simulates every point (solve_point with continuation=False), as tests/unit/test_compiled.py checks",
-        "first_10_impacts 'compiled' packs the parameter set (numpy eig of the free mode, the rest compiled) in "
-        "each call; 'compiled_packed_once' reuses the packed arrays, as a search over one parameter set would",
+        "first_10_impacts 'compiled' packs the parameter set in each call, in the same compiled call as the run "
+        "(the free mode's eigen-decomposition by LAPACK's dgeev, numpy's eig bit for bit); 'compiled_packed_once' "
+        "reuses the packed arrays, as a search over one parameter set would",
     ]
     out["machine"] = {"python": platform.python_version(), "numpy": np.__version__,
                       "numba": __import__("numba").__version__, "platform": platform.platform(),

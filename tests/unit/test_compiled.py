@@ -127,6 +127,44 @@ def test_random_parameter_events(seed):
     assert worst <= 1.0, f"{p}: time difference {worst:.3g} x its tolerance over {compared} events"
 
 
+# --- packing in one compiled call ---------------------------------------------------------
+def test_compiled_eig_is_numpys():
+    """The packing's dgeev call gives numpy's eig bit for bit: complex pairs (damped), real roots
+    (overdamped) and undamped roots, on random free-mode matrices."""
+    from impactdamper.core.compiled.pack import _real_eig, _state_matrices, packing_values
+    rng = np.random.default_rng(3)
+    kinds = set()
+    for i in range(300):
+        p = Parameters(theta=rng.uniform(0.2, 4.0), mu=rng.uniform(0.01, 2.0), N=rng.uniform(0.1, 4.0),
+                       delta1=rng.uniform(0.0, 3.0) * (i % 3 > 0), delta2=rng.uniform(0.0, 3.0) * (i % 5 > 0))
+        M = _state_matrices(packing_values(p)[0])[0]
+        ok, lam, V = _real_eig(M)
+        lam_np, V_np = np.linalg.eig(M)
+        assert ok
+        assert np.array_equal(lam, lam_np) and np.array_equal(V, V_np), p
+        kinds.add(int(np.sum(lam_np.imag == 0.0)))
+    assert {0, 4} <= kinds  # both all-complex and all-real spectra were drawn
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_packed_in_the_run_is_packed_apart(seed):
+    """run_compiled packing inside its kernel call gives the events of a run on a separate pack."""
+    p = random_parameters(seed)
+    a = cc.run_compiled(p, 5 * p.T)
+    b = cc.run_compiled(p, 5 * p.T, pack=cc.pack_parameters(p))
+    assert np.array_equal(a.kinds, b.kinds) and np.array_equal(a.events, b.events)
+    assert np.array_equal(a.segments, b.segments)
+
+
+def test_packed_in_the_run_falls_back_as_the_pack():
+    """Where the pack is flagged (a double root, outside the native scales), the fused run
+    returns None, as the run on the flagged pack does."""
+    delta2 = HARD["repeated_roots"].changes["delta2"]
+    for p in (Parameters(N=0.9, delta2=delta2), Parameters(omega=1e7)):
+        assert cc.pack_parameters(p).fallback != 0
+        assert cc.run_compiled(p, 2 * p.T) is None
+
+
 # --- the same settled motions -------------------------------------------------------------
 SWEEP_GAPS = np.linspace(-34.0, 14.0, 13)
 

@@ -406,5 +406,6 @@ def warm_up() -> float:
     settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
     random_starts_batch(p, "gap", [-5.8], 1, 0)
     cc.simulate_compiled(p, 2 * p.T)
+    cc.run_compiled(p, 2 * p.T)  # (packs in its own kernel call)
     cc.count_events_compiled(p, 2 * p.T)
     return time.perf_counter() - t

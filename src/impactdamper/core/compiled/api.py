@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactdamper.core.compiled.layout import ERR_CAPACITY, EVENT_KINDS, FALLBACK_REASONS, MODE_FREE, OK
-from impactdamper.core.compiled.loop import count_kernel, simulate_kernel
-from impactdamper.core.compiled.pack import Pack, pack_parameters
+from impactdamper.core.compiled.loop import count_kernel, pack_simulate_kernel, simulate_kernel
+from impactdamper.core.compiled.pack import PACKING_ERRORS, Pack, pack_parameters, packing_values
 from impactdamper.core.compiled.settle import steady_kernel
 from impactdamper.core.events import Segment
 from impactdamper.core.model import FREE, STUCK, Model
@@ -98,11 +98,24 @@ def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray
     CompiledRun, or None where the kernels do not apply or stopped on an error (the caller
     then runs the reference).
     """
-    pack = pack_parameters(p, tolerances) if pack is None else pack
-    if pack.fallback:
-        return None
     full = _default_state(p) if state is None else np.asarray(state, dtype=float)
     capacity = max(INITIAL_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (float(t_end) - float(t0)) / p.T))
+    if pack is None:  # packed in the same compiled call as the run
+        v, tols, flag = packing_values(p, tolerances)
+        if flag:
+            return None
+        while True:
+            try:
+                flag, err, ev_k, ev_f, seg_m, seg_f, _ = pack_simulate_kernel(v, tols, float(t0), full, float(t_end),
+                                                                              capacity)
+            except PACKING_ERRORS:
+                return None
+            if flag or err != ERR_CAPACITY:
+                break
+            capacity *= 4
+        return None if flag or err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
+    if pack.fallback:
+        return None
     while True:
         err, ev_k, ev_f, seg_m, seg_f, _ = simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
                                                            float(t0), full, float(t_end), capacity)

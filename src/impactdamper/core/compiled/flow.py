@@ -18,12 +18,17 @@ from numba import njit
 from impactdamper.core.compiled.layout import MODE_FREE, S_DELTA0, S_OMEGA
 
 
-@njit(cache=True)
+# The hot path (a march step, an impact, a segment start) is inlined into its callers at numba's
+# IR level (inline="always"): measured 3.5 -> 2.5 us per impact, for about 20 s more compile time
+# (the warm-up from an empty cache, 64 -> 85 s).
+
+
+@njit(cache=True, inline="always")
 def mode_size(mode):
     return 4 if mode == MODE_FREE else 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def modal_coefficients(cm, s, mode, t0, y0, alpha):
     """alpha = V^-1 (y0 - Y(t0)), eq. (19)."""
     n = mode_size(mode)
@@ -38,7 +43,7 @@ def modal_coefficients(cm, s, mode, t0, y0, alpha):
         alpha[i] = acc
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def free_part(cm, mode, alpha, tau, out):
     """z(tau) = Re V (alpha e^{lambda tau}), the free response."""
     # Summed over j in the same order as Re(V e) (the real part of a complex sum is the sum of
@@ -52,7 +57,7 @@ def free_part(cm, mode, alpha, tau, out):
             out[i] += (cm[mode, 2 + i, j] * e).real
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mode_state(cm, s, mode, t0, alpha, t, out):
     """The mode's state at t, eq. (18): forced response plus free response."""
     n = mode_size(mode)
@@ -62,7 +67,7 @@ def mode_state(cm, s, mode, t0, alpha, t, out):
         out[i] += (cm[mode, 1, i] * rot).imag
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def full_state(s, mode, y, out):
     """(x1, x2, x1', x2') from a state of either mode."""
     if mode == MODE_FREE:
@@ -72,7 +77,7 @@ def full_state(s, mode, y, out):
         out[0], out[1], out[2], out[3] = y[0], y[0] + s[S_DELTA0], y[1], y[1]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def evaluate(cm, fc, fg, s, f, mode, t0, alpha, t):
     """(g(t), g'(t)) of functional f on the segment: the modal sums over one root of each
     conjugate pair (the reference's Segment.evaluator)."""
@@ -95,7 +100,7 @@ def evaluate(cm, fc, fg, s, f, mode, t0, alpha, t):
     return fc[f, 6, 0] + rot.imag + s0.real, w * rot.real + s1.real
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def of_state(fc, s, f, mode, t, y, derivative):
     """g^(derivative)(t) from a state y, using y' = M y + b sin(omega t)."""
     n = mode_size(mode)

@@ -24,10 +24,16 @@ from impactdamper.core.compiled.layout import (ERR_CAPACITY, ERR_DEGENERATE, ERR
                                                S_GAP_EPS, S_LSCALE, S_M1, S_M2, S_MRED, S_OMEGA, S_OMEGA1, S_R,
                                                S_STUCK_RES, S_T)
 from impactdamper.core.compiled.march import march
+from impactdamper.core.compiled.pack import pack_single
 from impactdamper.core.simulate import DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, STEPS_AT_START, STEPS_PER_PERIOD
 
 
-@njit(cache=True)
+# The hot path (a march step, an impact, a segment start) is inlined into its callers at numba's
+# IR level (inline="always"): measured 3.5 -> 2.5 us per impact, for about 20 s more compile time
+# (the warm-up from an empty cache, 64 -> 85 s).
+
+
+@njit(cache=True, inline="always")
 def _no_room(si, k, rows):
     """Whether row k is past a buffer of ``rows`` rows (then the capacity error is set)."""
     if k >= rows:
@@ -36,7 +42,7 @@ def _no_room(si, k, rows):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _record_event(s, sf, si, ev_k, ev_f, t, kind, v, S, before, after, t_acc):
     if si[SI_NEV] > 0 and t - sf[SF_LAST] <= 4 * np.spacing(max(abs(t), 1.0)):
         si[SI_SAME] += 1
@@ -58,7 +64,7 @@ def _record_event(s, sf, si, ev_k, ev_f, t, kind, v, S, before, after, t_acc):
     sf[SF_LAST] = t
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _start(cm, s, sf, si, y0, alpha, seg_m, seg_f, seg_a, mode, t, y, dep_m, dep_g):
     if mode == MODE_STUCK and s[S_STUCK_RES] != 0.0:
         si[SI_ERR] = ERR_STUCK_RESONANT
@@ -83,7 +89,7 @@ def _start(cm, s, sf, si, y0, alpha, seg_m, seg_f, seg_a, mode, t, y, dep_m, dep
     sf[SF_DEPG] = dep_g
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _gap_departure(fc, s, t, full, rebound):
     """(order, value) of the gap's first non-zero derivative leaving the stop; order 0: none."""
     scale = s[S_LSCALE]
@@ -136,7 +142,7 @@ def _stick(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, ful
     _start(cm, s, sf, si, y0, alpha, seg_m, seg_f, seg_a, MODE_STUCK, t, stuck, dm, dg)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, full, rebound):
     F = fc[FORCE, 6, 0] + fc[FORCE, 6, 1] * math.sin(s[S_OMEGA] * t) + fc[FORCE, 0, 0] * full[0] \
         + fc[FORCE, 0, 1] * full[2]
@@ -153,7 +159,7 @@ def _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a
     _start(cm, s, sf, si, y0, alpha, seg_m, seg_f, seg_a, MODE_FREE, t, full, dm, dg)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _impact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, full):
     """Eqs. (21)-(22): the pulse S = m_red (1 + R) v; then rebound, separate or stick."""
     v = max(full[3] - full[2], 0.0)
@@ -312,6 +318,17 @@ def simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity):
     ne = min(si[SI_NEV], capacity)
     ns = min(si[SI_NSEG], capacity)
     return si[SI_ERR], ev_k[:ne].copy(), ev_f[:ne].copy(), seg_m[:ns].copy(), seg_f[:ns].copy(), seg_a[:ns].copy()
+
+
+@njit(cache=True)
+def pack_simulate_kernel(v, tols, t0, state, t_end, capacity):
+    """pack_single, then simulate_kernel, in one call (a short run costs less than boxing the
+    packed arrays). Returns (pack flag, then simulate_kernel's values; empty where flag != 0)."""
+    s, cm, fm, fc, fk, fg, flag = pack_single(v, tols)
+    if flag != 0:
+        return (flag, 0, np.empty(0, np.int64), np.empty((0, 12)), np.empty(0, np.int64), np.empty((0, 5)),
+                np.empty((0, 4), np.complex128))
+    return (flag,) + simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity)
 
 
 @njit(cache=True)

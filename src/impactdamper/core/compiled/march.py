@@ -19,7 +19,12 @@ from impactdamper.core.compiled.layout import ERR_BUDGET, ERR_SEARCH, S_OMEGA
 from impactdamper.core.events import MAX_STEPS, MIN_BOUND, NEWTON_ITERATIONS, NEWTON_MAX_STEP
 
 
-@njit(cache=True)
+# The hot path (a march step, an impact, a segment start) is inlined into its callers at numba's
+# IR level (inline="always"): measured 3.5 -> 2.5 us per impact, for about 20 s more compile time
+# (the warm-up from an empty cache, 64 -> 85 s).
+
+
+@njit(cache=True, inline="always")
 def _lower_bound_root(g, g1, K):
     disc = math.sqrt(g1 * g1 + 2.0 * K * g)
     if disc == math.inf:
@@ -29,7 +34,7 @@ def _lower_bound_root(g, g1, K):
     return (g1 + disc) / K
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _polish(cm, fc, fg, s, f, mode, t0, alpha, t, g, g1):
     max_step = NEWTON_MAX_STEP * 2.0 * math.pi / s[S_OMEGA]
     for _ in range(NEWTON_ITERATIONS):
@@ -46,7 +51,7 @@ def _polish(cm, fc, fg, s, f, mode, t0, alpha, t, g, g1):
     return t, g1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def march(cm, fm, fc, fk, fg, s, f, mode, t0, alpha, t_from, t_to, tol, dep_m, dep_g, budget):
     """The reference's events.march. budget = [limit, used] (floats), updated.
 

@@ -15,7 +15,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.np.linalg import _LAPACK, ensure_lapack
 
 from impactdamper.core.compiled.layout import (FORCE, GAP, NEG_FORCE, N_SCALARS, S_CHATTER, S_DELTA0, S_FORCE_EPS,
                                                S_FSCALE, S_GAP_EPS, S_LSCALE, S_M1, S_M2, S_MRED, S_OMEGA, S_OMEGA1,
@@ -64,9 +65,17 @@ class Pack:
 PARAMETER_COLUMNS = ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1")
 # Pack flags (pack_many's second output), as in FALLBACK_REASONS: 0 the kernels apply.
 _PACK_OK, _PACK_EXPM, _PACK_SCALES, _PACK_ERROR = 0, 1, 2, 3
+# LAPACK's dgeev as numpy's eig calls it for a real matrix, reached from compiled code through
+# numba's own binding (numba's np.linalg.eig refuses a real matrix with complex roots before numpy
+# 2.5, and calling numpy's from Python cost a third of a single set's packing).
+ensure_lapack()
+_RGEEV = _LAPACK().numba_ez_rgeev(types.float64)
+_GEEV_KIND, _JOB_N, _JOB_V = ord("d"), ord("N"), ord("V")
 # The default tolerances, made once (constructing and validating them costs more than packing's
 # compiled part).
 _DEFAULT_TOLERANCES = Tolerances()
+_DEFAULT_TOLERANCE_VALUES = np.array([_DEFAULT_TOLERANCES.gap_tol, _DEFAULT_TOLERANCES.chatter_tol,
+                                      _DEFAULT_TOLERANCES.force_tol])
 
 
 def _stacked_mode(M: np.ndarray, b: np.ndarray, omega: np.ndarray, W: np.ndarray):
@@ -219,14 +228,20 @@ def _pack_mode(i, n, M, b, W, lam, V, omega, cm, fm, powers, LiT):
     fm[i, :n, :n] = W
     fm[i, 4, :n] = b
     finite = True
-    P = np.eye(n)
+    for r in range(n):
+        powers[0, r, r] = 1.0
     for k in range(6):
-        powers[k, :n, :n] = P
+        if k > 0:  # M^k = M^(k-1) M, summed in index order (a BLAS call costs more on 4 x 4)
+            for r in range(n):
+                for c in range(n):
+                    acc = 0.0
+                    for j in range(n):
+                        acc += powers[k - 1, r, j] * M[j, c]
+                    powers[k, r, c] = acc
         for r in range(n):
             for c in range(n):
-                if not math.isfinite(P[r, c]):
+                if not math.isfinite(powers[k, r, c]):
                     finite = False
-        P = P @ M
     for r in range(n):
         for c in range(n):
             if not math.isfinite(LiT[r, c]):
@@ -384,27 +399,81 @@ def _state_matrices_many(values):
     return Mf, bf, Wf, Ms, bs, Ws, D
 
 
-def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
-    """The kernels' arrays for one parameter set (the free mode's eigen-decomposition by numpy,
-    as the reference; the rest compiled); its ``fallback`` is the set's flag (FALLBACK_REASONS)."""
-    p = require_parameters(p)
-    tol = _DEFAULT_TOLERANCES if tolerances is None else check_tolerances(tolerances)
-    if not p.native_scales():
-        return Pack(np.zeros(N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
-                    np.zeros((3, 6)), np.zeros((3, 5), complex), _PACK_SCALES)
-    v = np.array([p.theta, p.mu, p.N, p.delta1, p.delta2, p.R, p.gap, p.omega, p.x_st, p.m1])
-    try:
-        lam_f, V_f = np.linalg.eig(_free_matrix(v))
-        *arrays, flag = _pack_one(v, np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol]),
-                                  lam_f.astype(complex), V_f.astype(complex))
-    except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
-        # (a singular or indefinite matrix: extreme parameters or an undamped resonance, which
-        # the reference Model reports by name)
-        return Pack(np.zeros(N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
-                    np.zeros((3, 6)), np.zeros((3, 5), complex), _PACK_ERROR)
-    return Pack(*arrays, int(flag))
+@njit(cache=True)
+def _real_eig(M):
+    """numpy.linalg.eig of a real square matrix (LAPACK dgeev), in compiled code: (ok, roots,
+    unit eigenvectors as columns), a complex pair as exact conjugates with the positive imaginary
+    part first and its vectors built from dgeev's real and imaginary columns, as numpy does."""
+    n = M.shape[0]
+    a = M.T.copy()  # C order of the transpose: M in Fortran order, as LAPACK reads it
+    wr, wi = np.empty(n), np.empty(n)
+    vl, vr = np.empty((n, 1)), np.empty((n, n))
+    info = _RGEEV(_GEEV_KIND, _JOB_N, _JOB_V, n, a.ctypes, n, wr.ctypes, wi.ctypes, vl.ctypes, 1, vr.ctypes, n)
+    lam = np.empty(n, np.complex128)
+    V = np.empty((n, n), np.complex128)
+    i = 0
+    while i < n:  # row i of vr (C order) is LAPACK's column i
+        if wi[i] == 0.0 or i + 1 == n:
+            lam[i] = complex(wr[i], wi[i])
+            for r in range(n):
+                V[r, i] = vr[i, r]
+            i += 1
+        else:
+            lam[i], lam[i + 1] = complex(wr[i], wi[i]), complex(wr[i + 1], wi[i + 1])
+            for r in range(n):
+                V[r, i] = complex(vr[i, r], vr[i + 1, r])
+                V[r, i + 1] = complex(vr[i, r], -vr[i + 1, r])
+            i += 2
+    # (keeps the arrays LAPACK wrote through pointers alive until here)
+    ok = info == 0 and a.size + vl.size + vr.size + wr.size + wi.size > 0
+    return ok, lam, V
 
 
 @njit(cache=True)
-def _free_matrix(v):
-    return _state_matrices(v)[0]
+def pack_single(v, tols):
+    """_pack_one with the free mode's eigen-decomposition computed here (one compiled call per
+    parameter set, which the kernels can share with a run); flag _PACK_ERROR where dgeev fails.
+    v and tols as :func:`packing_values` gives them."""
+    ok, lam_f, V_f = _real_eig(_state_matrices(v)[0])
+    if not ok:
+        return (np.zeros(N_SCALARS), np.zeros((2, 10, 4), np.complex128), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
+                np.zeros((3, 6)), np.zeros((3, 5), np.complex128), _PACK_ERROR)
+    return _pack_one(v, tols, lam_f, V_f)
+
+
+def _empty_pack(flag: int) -> Pack:
+    return Pack(np.zeros(N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
+                np.zeros((3, 6)), np.zeros((3, 5), complex), flag)
+
+
+def packing_values(p: Parameters, tolerances: Tolerances | None = None) -> tuple[np.ndarray, np.ndarray, int]:
+    """(v, tols, flag): the set's relative values in PARAMETER_COLUMNS order and the tolerances
+    (gap, chatter, force) that :func:`pack_single` takes, validated; flag is _PACK_SCALES
+    outside the native scales (then the kernels do not apply), else 0."""
+    p = require_parameters(p)
+    if tolerances is None:
+        tols = _DEFAULT_TOLERANCE_VALUES
+    else:
+        tol = check_tolerances(tolerances)
+        tols = np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol])
+    v = np.array([p.theta, p.mu, p.N, p.delta1, p.delta2, p.R, p.gap, p.omega, p.x_st, p.m1])
+    return v, tols, (_PACK_OK if p.native_scales() else _PACK_SCALES)
+
+
+# What packing raises on a singular or indefinite matrix (extreme parameters or an undamped
+# resonance, which the reference Model reports by name): the set is flagged _PACK_ERROR.
+PACKING_ERRORS = (np.linalg.LinAlgError, ValueError, ZeroDivisionError)
+
+
+def pack_parameters(p: Parameters, tolerances: Tolerances | None = None) -> Pack:
+    """The kernels' arrays for one parameter set, in one compiled call (the free mode's
+    eigen-decomposition by LAPACK's dgeev, as numpy's); its ``fallback`` is the set's flag
+    (FALLBACK_REASONS)."""
+    v, tols, flag = packing_values(p, tolerances)
+    if flag:
+        return _empty_pack(flag)
+    try:
+        *arrays, flag = pack_single(v, tols)
+    except PACKING_ERRORS:
+        return _empty_pack(_PACK_ERROR)
+    return Pack(*arrays, int(flag))
