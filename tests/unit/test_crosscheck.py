@@ -204,6 +204,8 @@ def test_agree_through_the_transient_from_step1():
     ({"max_events": 0}, "max_events"), ({"max_events": 2.5}, "max_events"),
     ({"state": [0.0, 0.0]}, "state"), ({"state": [0.0, -5.8, math.nan, 0.0]}, "state"),
     ({"state": ["a", 0, 0, 0]}, "state"), ({"state": [0.0, -5.0, 0.0, 0.0]}, "state"),
+    ({"sample_times": [0.5, 0.2]}, "sample_times"), ({"sample_times": [0.0, 2.0]}, "sample_times"),
+    ({"sample_times": [math.nan]}, "sample_times"),
 ])
 def test_bad_arguments_raise_one_line(kwargs, name):
     args = {"p": REF, "t_end": 1.0}
@@ -227,6 +229,28 @@ def test_sample_outside_the_run_is_refused():
     full, modes = traj.sample(np.array([0.0, 0.5 * REF.T]))
     assert full.shape == (2, 4) and modes.shape == (2,)
     assert gap(REF, full[0]) == pytest.approx(0.0, abs=1e-15)
+
+
+@pytest.mark.parametrize("p", [REF, REF.replace(gap=-20.0), REF.replace(gap=-31.0), REF.replace(gap=2.0)])
+def test_sample_times_are_the_states_sampled_afterwards(p):
+    """States recorded during the run at sample_times (free flight, chatter, persistent contact)
+    are those its legs, integrated again with dense output, give afterwards: the same steps,
+    except a leg's last one, clipped at its event (then within the integrator's tolerance)."""
+    times = p.T * np.arange(41)
+    traj = simulate_ivp(p, 41 * p.T, sample_times=times)
+    full, modes = traj.sample(times)
+    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    assert np.all(np.isfinite(traj.samples))
+    assert np.max(np.abs(traj.samples - full) / scale) <= 1e-9
+    assert list(traj.sample_modes) == list(modes)
+
+
+def test_sample_times_do_not_change_the_run():
+    """Recording samples leaves the events as they are (t_eval does not change the steps)."""
+    p = REF.replace(gap=-20.0)
+    a = simulate_ivp(p, 20 * p.T)
+    b = simulate_ivp(p, 20 * p.T, sample_times=p.T * np.arange(21))
+    assert [(e.kind, e.t) for e in a.events] == [(e.kind, e.t) for e in b.events]
 
 
 def _random_parameters(rng):

@@ -121,7 +121,7 @@ class Shooting:
         t, y = self.times_states(u)
         t_next = np.append(t[1:], t[0] + self.k * self.T)
         tau = t_next - t
-        before = np.array([self.mode.state(t_next[i], t[i], y[i]) for i in range(self.z)])
+        before = self.mode.states_from(t_next, t, y)
         return t, tau, y, before, t_next
 
     def residual(self, u: np.ndarray, jacobian: bool = True):
@@ -146,23 +146,24 @@ class Shooting:
         if not jacobian:
             return F, None
         J = np.zeros((5 * z, 5 * z))
-        for i in range(z):
-            j = (i + 1) % z
-            Phi = mode.propagator(tau[i])
-            f_start = mode.rhs(t[i], y[i])
-            f_end = mode.rhs(t_next[i], before[i])
-            # d before_i / d u: columns of phase i, phase j, state i.
-            d_phase_i = -Phi @ f_start * T
-            d_phase_j = f_end * T
-            d_state_i = Phi * D[None, :]
-            rows_gap = i
-            rows_state = slice(z + 4 * i, z + 4 * i + 4)
-            for d_before, cols in ((d_phase_i, [i]), (d_phase_j, [j])):
-                J[rows_gap, cols[0]] += self.n @ d_before / self.p.x_st
-                J[rows_state, cols[0]] += (self.JR @ d_before) / D
-            J[rows_gap, z + 4 * i: z + 4 * i + 4] += self.n @ d_state_i / self.p.x_st
-            J[rows_state, z + 4 * i: z + 4 * i + 4] += (self.JR @ d_state_i) / D[:, None]
-            J[rows_state, z + 4 * j: z + 4 * j + 4] -= np.eye(4)
+        Phis, f_starts, f_ends = mode.propagator(tau), mode.rhs(t, y), mode.rhs(t_next, before)  # (all flights)
+        # d before_i / d u for every flight i at once (j = i + 1, cyclically): columns of phase i,
+        # phase j and state i. Added with np.add.at, which sums repeated indices (z = 1: i = j).
+        i = np.arange(z)
+        j = (i + 1) % z
+        d_phase_i = -np.einsum("mrc,mc->mr", Phis, f_starts) * T
+        d_phase_j = f_ends * T
+        d_state_i = Phis * D[None, None, :]
+        rows_state = z + 4 * i[:, None] + np.arange(4)[None, :]  # (z, 4)
+        cols_state_i = rows_state  # state i's unknowns sit in the same positions as its rows
+        cols_state_j = z + 4 * j[:, None] + np.arange(4)[None, :]
+        for d_before, cols in ((d_phase_i, i), (d_phase_j, j)):
+            np.add.at(J, (i, cols), d_before @ self.n / self.p.x_st)
+            np.add.at(J, (rows_state, cols[:, None]), (d_before @ self.JR.T) / D)
+        J[i[:, None], cols_state_i] += np.einsum("r,mrc->mc", self.n, d_state_i) / self.p.x_st
+        J[rows_state[:, :, None], cols_state_i[:, None, :]] += (np.einsum("ar,mrc->mac", self.JR, d_state_i)
+                                                                / D[None, :, None])
+        J[rows_state[:, :, None], cols_state_j[:, None, :]] -= np.eye(4)
         return F, J
 
     def newton(self, u: np.ndarray, max_iterations: int = NEWTON_MAX_ITERATIONS) -> tuple[np.ndarray, int, float]:

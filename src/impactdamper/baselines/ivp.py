@@ -192,11 +192,17 @@ class IvpTrajectory:
     method : str
     rtol, atol : float
 
+    sample_times, samples, sample_modes : ndarray
+        The states (x1, x2, x1', x2') and mode names at the ``sample_times`` given to
+        :func:`simulate_ivp` (empty if none), read from each step's interpolant while the legs
+        were integrated; at an event time, the state after the event.
+
     Notes
     -----
     The legs are integrated without dense output (the cheapest form, the one the benchmark
     times). :meth:`sample` integrates a leg again with dense output the first time it needs it:
     same method and tolerances, hence the same steps, the last one clipped at the leg's end.
+    Times known before the run are cheaper as ``sample_times`` (no second integration).
     """
 
     def __init__(self, p: Parameters, eq: Equations, method: str, rtol: float, atol: float):
@@ -207,6 +213,9 @@ class IvpTrajectory:
         self.atol = atol
         self.legs: list[IvpLeg] = []
         self.events: list[Event] = []
+        self.sample_times = np.empty(0)
+        self.samples = np.empty((0, 4))
+        self.sample_modes = np.empty(0, dtype=object)
 
     @property
     def nfev(self) -> int:
@@ -249,9 +258,11 @@ class IvpTrajectory:
 
 
 def _solve(eq: Equations, mode: str, t0: float, t1: float, y0: np.ndarray, method: str, rtol: float,
-           atol: float, events, dense_output: bool):
+           atol: float, events, dense_output: bool, t_eval: np.ndarray | None = None):
     fun, jac = (eq.free_rhs, eq.free_jac) if mode == FREE else (eq.stuck_rhs, eq.stuck_jac)
     options = {"jac": jac} if method in ("Radau", "LSODA") else {}
+    if t_eval is not None:  # (read off each step's interpolant; the steps are the same without)
+        options["t_eval"] = t_eval
     res = scipy.integrate.solve_ivp(fun, (t0, t1), y0, method=method, rtol=rtol, atol=atol, events=events,
                                     dense_output=dense_output, **options)
     if res.status < 0:
@@ -262,13 +273,17 @@ def _solve(eq: Equations, mode: str, t0: float, t1: float, y0: np.ndarray, metho
 class _Driver:
     """The event loop: leg -> event -> impact law / capture / lift-off -> next leg."""
 
-    def __init__(self, p, t0, state, method, rtol, atol, tol: Tolerances, max_events):
+    def __init__(self, p, t0, state, method, rtol, atol, tol: Tolerances, max_events, sample_times=None):
         self.p = p
         self.eq = Equations(p)
         self.method, self.rtol, self.atol = method, rtol, atol
         self.tol = tol
         self.max_events = max_events
         self.traj = IvpTrajectory(p, self.eq, method, rtol, atol)
+        times = np.empty(0) if sample_times is None else np.asarray(sample_times, dtype=float)
+        self.traj.sample_times = times
+        self._samples = np.full((times.size, 4), np.nan)
+        self._sample_modes = np.empty(times.size, dtype=object)
         self.gap_offset = tol.gap_tol * p.x_st
         self._same_time = 0
         self.pending: tuple[str, float, np.ndarray] | None = None
@@ -342,9 +357,13 @@ class _Driver:
                 self.traj.legs.append(IvpLeg(mode, t0, y0, t0, 0))
                 break
             guard, rate = self._guards(mode)
+            times = self.traj.sample_times
+            lo, hi = np.searchsorted(times, t0, side="left"), np.searchsorted(times, t_end, side="right")
             res = _solve(self.eq, mode, t0, t_end, y0, self.method, self.rtol, self.atol,
-                         events=[guard, rate], dense_output=False)
-            leg = IvpLeg(mode, t0, y0, float(res.t[-1]), int(res.nfev))
+                         events=[guard, rate], dense_output=False, t_eval=times[lo:hi] if hi > lo else None)
+            # (with t_eval, res.t holds the samples: the leg ends at the terminal event or t_end)
+            t1 = float(res.t_events[0][0]) if res.status == 1 else (float(res.t[-1]) if hi <= lo else t_end)
+            leg = IvpLeg(mode, t0, y0, t1, int(res.nfev))
             self.traj.legs.append(leg)
             t_hit, y_hit = None, None
             if res.status == 1:
@@ -355,6 +374,13 @@ class _Driver:
                     t_hit, y_hit, extra = self._missed_crossing(mode, t0, y0, float(tm), guard)
                     leg.nfev += extra
                     break
+            if hi > lo:  # samples up to the leg's end; a later leg's overwrite one at its start
+                ts = np.asarray(res.t, dtype=float).reshape(-1)  # (a list when none was reached)
+                ys = np.asarray(res.y, dtype=float).reshape(len(y0), ts.size)
+                keep = ts <= (t_hit if t_hit is not None else t_end)
+                at = lo + np.searchsorted(times[lo:hi], ts[keep])
+                self._samples[at] = self.eq.full(mode, ys[:, keep].T)
+                self._sample_modes[at] = mode
             if t_hit is None:
                 break
             leg.t1 = t_hit
@@ -367,6 +393,7 @@ class _Driver:
                 full = self.eq.full(STUCK, np.asarray(y_hit, dtype=float))
                 self._record(Event(t_hit, "liftoff", 0.0, 0.0, full, full.copy(), t_hit))
                 self.pending = (FREE, t_hit, full.copy())
+        self.traj.samples, self.traj.sample_modes = self._samples, self._sample_modes
         return self.traj
 
     def _missed_crossing(self, mode, t0, y0, t_min, guard):
@@ -402,6 +429,7 @@ def simulate_ivp(
     atol: float = 1e-10,
     tolerances: Tolerances | None = None,
     max_events: int = 1_000_000,
+    sample_times: np.ndarray | None = None,
 ) -> IvpTrajectory:
     """Integrate the suppressor with ``solve_ivp`` and event location from ``t0`` to ``t_end``.
 
@@ -425,6 +453,9 @@ def simulate_ivp(
         the exact solver.
     max_events : int
         Guard: more events than this raise RuntimeError.
+    sample_times : array of float, optional
+        Increasing times in [t0, t_end] whose states the run records as it goes
+        (``IvpTrajectory.samples``), from the steps' interpolants.
 
     Returns
     -------
@@ -456,5 +487,11 @@ def simulate_ivp(
             full = None
         if full is None or full.shape != (4,) or not np.all(np.isfinite(full)):
             raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
-    driver = _Driver(p, t0, np.array(full, dtype=float), method, rtol, atol, tolerances, max_events)
+    if sample_times is not None:
+        sample_times = np.asarray(sample_times, dtype=float).reshape(-1)
+        if not (np.all(np.isfinite(sample_times)) and np.all(np.diff(sample_times) > 0.0)
+                and (sample_times.size == 0 or (sample_times[0] >= t0 and sample_times[-1] <= t_end))):
+            raise ValueError(f"`sample_times` is not allowed: must be increasing finite times in [t0, t_end] = "
+                             f"[{t0!r}, {t_end!r}]")
+    driver = _Driver(p, t0, np.array(full, dtype=float), method, rtol, atol, tolerances, max_events, sample_times)
     return driver.run(float(t_end))

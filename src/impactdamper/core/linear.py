@@ -210,6 +210,17 @@ class LinearMode:
         t = np.asarray(t, dtype=float)
         return self.forced(t) + self.free(t - t0, z0)
 
+    def states_from(self, t: np.ndarray, t0: np.ndarray, y0: np.ndarray) -> np.ndarray:
+        """Exact states at times t[i] from states y0[i] at t0[i] (shapes (m,), (m,), (m, n)),
+        shape (m, n): :meth:`state` for many starts at once (the shooting's flights)."""
+        t, t0 = np.asarray(t, dtype=float), np.asarray(t0, dtype=float)
+        z0 = np.asarray(y0, dtype=float) - self.forced(t0)
+        tau = t - t0
+        if self.modal:
+            e = np.exp(self.roots * tau[:, None]) * (z0 @ self.eigenvectors_inv.T)  # alpha_j e^{lambda_j tau}
+            return self.forced(t) + np.real(e @ self.eigenvectors.T)
+        return self.forced(t) + np.einsum("mij,mj->mi", self.propagator(tau), z0)
+
     def rhs(self, t: np.ndarray | float, y: np.ndarray) -> np.ndarray:
         """y' = M y + b sin(omega t) for states y of shape (..., n)."""
         t = np.asarray(t, dtype=float)

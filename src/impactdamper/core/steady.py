@@ -349,11 +349,13 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
 
 
 def describe_run(p: Parameters, t0: float, states: np.ndarray, found_k: int, residual: float,
-                 start_state: np.ndarray, tolerances: Tolerances) -> SteadyState:
+                 start_state: np.ndarray, tolerances: Tolerances, simulate_from=None) -> SteadyState:
     """The :class:`SteadyState` of a run of :func:`steady_state`'s period loop, from its section
     states (x1, x2, x1', x2') at t0 + T, ..., t0 + n T, the period it found (0: none) and its
     last residual; the cycle is described on a fresh run (below). The compiled loop
-    (:func:`impactdamper.core.compiled.steady_state_hybrid`) ends here too."""
+    (:func:`impactdamper.core.compiled.steady_state_hybrid`) ends here too, its fresh run made by
+    ``simulate_from(p, t_end, t0, state, tolerances)`` (a :class:`Trajectory`; None: the
+    pure-Python solver)."""
     T = p.T
     n = len(states)
     # (A run shorter than the window reports what it has: with max_periods = 2 the window began
@@ -364,10 +366,14 @@ def describe_run(p: Parameters, t0: float, states: np.ndarray, found_k: int, res
     # show what led into it, to one cycle after it (for "cycle + next impact"), with the clock
     # again near t0.
     first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
-    describer = EventDrivenSolver(p, t0=t0, state=states[first - 1] if first else start_state,
-                                  tolerances=tolerances)
-    describer.advance(t0 + (n - first + k + 1) * T)
-    result = describe_cycle(p, describer.trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
+    state, t_end = states[first - 1] if first else start_state, t0 + (n - first + k + 1) * T
+    if simulate_from is None:
+        describer = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
+        describer.advance(t_end)
+        trajectory = describer.trajectory
+    else:
+        trajectory = simulate_from(p, t_end, t0, state, tolerances)
+    result = describe_cycle(p, trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
     return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=np.array(states, float))
 
 

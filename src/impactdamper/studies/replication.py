@@ -175,7 +175,13 @@ def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10
 
 
 def _sections(traj, p: Parameters, t0: float, n: int) -> np.ndarray:
-    full, _ = traj.sample(t0 + p.T * np.arange(n + 1))
+    """The run's states at t0 + i T, i = 0..n, relative: as it recorded them (its
+    ``sample_times``), else from its legs integrated again with dense output."""
+    times = t0 + p.T * np.arange(n + 1)
+    if np.array_equal(traj.sample_times, times) and np.all(np.isfinite(traj.samples)):
+        full = traj.samples
+    else:
+        full, _ = traj.sample(times)
     return full / np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
 
 
@@ -196,7 +202,8 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
     ``velocity_tol`` (relative to x_st omega).
     """
     t_end = t0 + (periods + 1) * p.T
-    traj = simulate_ivp(p, t_end, t0=t0, state=state, method=method, rtol=rtol, atol=atol, tolerances=tolerances)
+    traj = simulate_ivp(p, t_end, t0=t0, state=state, method=method, rtol=rtol, atol=atol, tolerances=tolerances,
+                        sample_times=t0 + p.T * np.arange(periods + 1))
     sec = _sections(traj, p, t0, periods)
     k_found, mismatch = 0, math.inf
     for k in range(1, kmax + 1):

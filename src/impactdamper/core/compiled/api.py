@@ -324,10 +324,10 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
     """:func:`impactdamper.core.steady.steady_state`'s full result (a
     :class:`~impactdamper.core.steady.SteadyState` with its trajectory and sections), its period
     loop run by the kernels: the run until the motion repeats is compiled, and the settled cycle
-    is then described by the pure-Python solver exactly as there
-    (:func:`~impactdamper.core.steady.describe_run`, a fresh run of a few cycles from the
-    kernels' section state). Where the kernels do not apply, or stop on an error, the reference
-    runs the whole of it.
+    is then described as there (:func:`~impactdamper.core.steady.describe_run`, on a fresh
+    compiled run of a few cycles from the kernels' section state, as the reference's
+    :class:`~impactdamper.core.simulate.Trajectory`). Where the kernels do not apply, or stop on
+    an error, the reference runs the whole of it.
 
     Arguments, result and errors as :func:`~impactdamper.core.steady.steady_state`'s.
     """
@@ -357,7 +357,8 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
         return steady_state(p, **args)  # the reference's own error, or its result
     # The reference's start state (its solver's state at the start: the given one or step 1).
     start_state = full if state is not None else EventDrivenSolver(p, t0=start, tolerances=tol).state_at(start)
-    return describe_run(p, start, tail[max_periods - n:, :4], int(k), float(residual), start_state, tol)
+    return describe_run(p, start, tail[max_periods - n:, :4], int(k), float(residual), start_state, tol,
+                        simulate_from=simulate_compiled)
 
 
 def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: int,
