@@ -25,6 +25,7 @@ go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from dataclasses import dataclass, field
@@ -119,17 +120,33 @@ class BatchResult:
         return {str(r): int(c) for r, c in zip(reasons, counts)}
 
 
+def _shown(values) -> str:
+    """A bad ``values`` argument as an error message shows it (made only for the message: the
+    repr of a map row's array cost as much as settling the row's cheap cells)."""
+    text = repr(values)
+    return text if len(text) <= 60 else text[:40] + "...(truncated)"
+
+
+@functools.lru_cache(maxsize=4096)
+def _changed_columns(base: Parameters, name: str, value: float) -> tuple:
+    """((column index, value), ...) where ``with_value(base, name, value)`` differs from base;
+    raises its named error for a bad value. Cached: a map's rows repeat the same values of
+    their fast parameter, and constructing Parameters was a third of a cheap row's time."""
+    q = with_value(base, name, value)
+    return tuple((c, getattr(q, col)) for c, col in enumerate(cc.PARAMETER_COLUMNS)
+                 if getattr(q, col) != getattr(base, col))
+
+
 def _point_values(base: Parameters, names: tuple, values: np.ndarray) -> np.ndarray:
     """(P, 10) relative parameters (columns of compiled.PARAMETER_COLUMNS), validated: every
     distinct value of each swept name goes through Parameters once (its named errors)."""
     out = np.tile(np.array([getattr(base, c) for c in cc.PARAMETER_COLUMNS], float), (len(values), 1))
     for j, name in enumerate(names):
         for v in np.unique(values[:, j]):
-            q = with_value(base, name, float(v))  # raises the named error for a bad value
+            changed = _changed_columns(base, name, float(v))
             rows = values[:, j] == v
-            for c, col in enumerate(cc.PARAMETER_COLUMNS):
-                if getattr(q, col) != getattr(base, col):
-                    out[rows, c] = getattr(q, col)
+            for c, x in changed:
+                out[rows, c] = x
     return out
 
 
@@ -226,14 +243,14 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     for n in names:
         if n not in swept_names():
             raise ValueError(f"`names` = {names!r} is not allowed: {n!r} is not one of {', '.join(swept_names())}")
-    shown = repr(values) if len(repr(values)) <= 60 else repr(values)[:40] + "...(truncated)"
+    given_values = values
     allowed = f"must be finite numbers of shape (P, {len(names)}), one column per name"
     try:
         values = np.array(values, dtype=float).reshape(-1, len(names)) if len(names) else None
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"`values` = {shown} is not allowed: {allowed}") from None
+        raise ArgumentTypeError(f"`values` = {_shown(given_values)} is not allowed: {allowed}") from None
     if values is None or not np.all(np.isfinite(values)):
-        raise ValueError(f"`values` = {shown} is not allowed: {allowed}")
+        raise ValueError(f"`values` = {_shown(given_values)} is not allowed: {allowed}")
     if not isinstance(chain, bool):
         raise ArgumentTypeError(f"`chain` = {chain!r} is not allowed: must be True or False")
     settings = settings or SweepSettings()
