@@ -362,3 +362,36 @@ def test_bad_compiled_arguments(call, name):
     """The compiled entry points name a bad argument as the reference does."""
     with pytest.raises(ValueError, match=f"`{name}`"):
         call()
+
+
+# --- numba's cache kept in step with the sources ------------------------------------------
+def test_stale_kernel_cache_is_cleared(tmp_path):
+    """A changed source (any of the package's, not only the kernel's own file, which is all that
+    numba checks) removes the cached kernels; unchanged sources keep them."""
+    from impactdamper.core.compiled.cache import STAMP_NAME, clear_if_stale
+    src = tmp_path / "compiled"
+    src.mkdir()
+    (src / "flow.py").write_text("A = 1\n")
+    (tmp_path / "events.py").write_text("MAX_STEPS = 200000\n")
+    sources = [src / "flow.py", tmp_path / "events.py"]
+    cache = src / "__pycache__"
+    assert clear_if_stale(cache, sources) is False  # nothing cached yet: stamped
+    kernels = [cache / "loop.advance-1.py311.nbi", cache / "loop.advance-1.py311.1.nbc"]
+    for f in kernels:
+        f.write_bytes(b"kernel")
+    assert clear_if_stale(cache, sources) is False and all(f.exists() for f in kernels)
+    (tmp_path / "events.py").write_text("MAX_STEPS = 100000\n")  # a constant the kernels freeze
+    assert clear_if_stale(cache, sources) is True
+    assert not any(f.exists() for f in kernels) and (cache / STAMP_NAME).is_file()
+    assert clear_if_stale(cache, sources) is False
+
+
+def test_kernel_cache_is_stamped_with_the_sources():
+    """The package's own cache carries the digest of the sources it was compiled from."""
+    from pathlib import Path
+
+    from impactdamper.core.compiled import cache
+    here = Path(cache.__file__).resolve().parent
+    stamp = here / "__pycache__" / cache.STAMP_NAME
+    sources = sorted(here.glob("*.py")) + sorted(here.parent.glob("*.py"))
+    assert stamp.read_text().strip() == cache.sources_digest(sources)

@@ -13,8 +13,8 @@ The same algorithm as the readable reference, step for step, with the same const
   clock and the description of the cycle (:mod:`impactdamper.core.steady`).
 
 The matrices (modal eigenvectors, forced amplitudes, derivative-bound factors) are computed once
-per parameter set by the reference classes (:class:`~impactdamper.core.model.Model`) and packed
-into arrays; the kernels only evaluate. Whatever the kernels do not reproduce falls back to the
+per parameter set with the operations of the reference classes
+(:class:`~impactdamper.core.model.Model`) and packed into arrays; the kernels only evaluate. Whatever the kernels do not reproduce falls back to the
 pure-Python solver, and the result says so (``fallback``):
 
 * a mode whose eigenvector matrix is ill conditioned (repeated roots of eq. (4)), where the
@@ -35,12 +35,17 @@ The modules, each one idea:
 * :mod:`~impactdamper.core.compiled.march` -- the certified event march and its polish;
 * :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law and the modes;
 * :mod:`~impactdamper.core.compiled.settle` -- the settled motion, one point or a row of them;
-* :mod:`~impactdamper.core.compiled.api` -- the Python entry points, re-exported here.
+* :mod:`~impactdamper.core.compiled.api` -- the Python entry points, re-exported here;
+* :mod:`~impactdamper.core.compiled.cache` -- numba's cache kept in step with the sources.
 """
 
 from __future__ import annotations
 
-from impactdamper.core.compiled.api import (INITIAL_CAPACITY, CompiledRun, CompiledSteady, count_events_compiled,
+from impactdamper.core.compiled.cache import keep_in_step
+
+keep_in_step()  # before any kernel is loaded from numba's cache (see cache.py); the imports follow it
+
+from impactdamper.core.compiled.api import (INITIAL_CAPACITY, CompiledRun, CompiledSteady, count_events_compiled,  # noqa: E402
                                             run_compiled, simulate_compiled, steady_state_compiled,
                                             steady_state_hybrid, strobe_step_compiled)
 from impactdamper.core.compiled.layout import EVENT_KINDS, FALLBACK_REASONS
