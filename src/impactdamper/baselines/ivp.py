@@ -282,8 +282,8 @@ class _Driver:
         self.traj = IvpTrajectory(p, self.eq, method, rtol, atol)
         times = np.empty(0) if sample_times is None else np.asarray(sample_times, dtype=float)
         self.traj.sample_times = times
-        self._samples = np.full((times.size, 4), np.nan)
-        self._sample_modes = np.empty(times.size, dtype=object)
+        self.traj.samples = np.full((times.size, 4), np.nan)
+        self.traj.sample_modes = np.empty(times.size, dtype=object)
         self.gap_offset = tol.gap_tol * p.x_st
         self._same_time = 0
         self.pending: tuple[str, float, np.ndarray] | None = None
@@ -361,8 +361,8 @@ class _Driver:
             lo, hi = np.searchsorted(times, t0, side="left"), np.searchsorted(times, t_end, side="right")
             res = _solve(self.eq, mode, t0, t_end, y0, self.method, self.rtol, self.atol,
                          events=[guard, rate], dense_output=False, t_eval=times[lo:hi] if hi > lo else None)
-            # (with t_eval, res.t holds the samples: the leg ends at the terminal event or t_end)
-            t1 = float(res.t_events[0][0]) if res.status == 1 else (float(res.t[-1]) if hi <= lo else t_end)
+            # (the leg ends at its terminal event or at t_end; with t_eval, res.t holds the samples)
+            t1 = float(res.t_events[0][0]) if res.status == 1 else t_end
             leg = IvpLeg(mode, t0, y0, t1, int(res.nfev))
             self.traj.legs.append(leg)
             t_hit, y_hit = None, None
@@ -379,8 +379,8 @@ class _Driver:
                 ys = np.asarray(res.y, dtype=float).reshape(len(y0), ts.size)
                 keep = ts <= (t_hit if t_hit is not None else t_end)
                 at = lo + np.searchsorted(times[lo:hi], ts[keep])
-                self._samples[at] = self.eq.full(mode, ys[:, keep].T)
-                self._sample_modes[at] = mode
+                self.traj.samples[at] = self.eq.full(mode, ys[:, keep].T)
+                self.traj.sample_modes[at] = mode
             if t_hit is None:
                 break
             leg.t1 = t_hit
@@ -393,7 +393,6 @@ class _Driver:
                 full = self.eq.full(STUCK, np.asarray(y_hit, dtype=float))
                 self._record(Event(t_hit, "liftoff", 0.0, 0.0, full, full.copy(), t_hit))
                 self.pending = (FREE, t_hit, full.copy())
-        self.traj.samples, self.traj.sample_modes = self._samples, self._sample_modes
         return self.traj
 
     def _missed_crossing(self, mode, t0, y0, t_min, guard):

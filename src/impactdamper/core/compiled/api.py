@@ -98,31 +98,28 @@ def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray
     CompiledRun, or None where the kernels do not apply or stopped on an error (the caller
     then runs the reference).
     """
-    full = _default_state(p) if state is None else np.asarray(state, dtype=float)
-    capacity = max(INITIAL_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (float(t_end) - float(t0)) / p.T))
     if pack is None:  # packed in the same compiled call as the run
         v, tols, flag = packing_values(p, tolerances)
-        if flag:
-            return None
-        while True:
+    else:
+        flag = pack.fallback
+    if flag:
+        return None
+    full = _default_state(p) if state is None else np.asarray(state, dtype=float)
+    capacity = max(INITIAL_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (float(t_end) - float(t0)) / p.T))
+    while True:
+        if pack is None:
             try:
                 flag, err, ev_k, ev_f, seg_m, seg_f, _ = pack_simulate_kernel(v, tols, float(t0), full, float(t_end),
                                                                               capacity)
             except PACKING_ERRORS:
                 return None
-            if flag or err != ERR_CAPACITY:
-                break
-            capacity *= 4
-        return None if flag or err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
-    if pack.fallback:
-        return None
-    while True:
-        err, ev_k, ev_f, seg_m, seg_f, _ = simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
-                                                           float(t0), full, float(t_end), capacity)
-        if err != ERR_CAPACITY:
+        else:
+            err, ev_k, ev_f, seg_m, seg_f, _ = simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
+                                                               float(t0), full, float(t_end), capacity)
+        if flag or err != ERR_CAPACITY:
             break
         capacity *= 4
-    return None if err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
+    return None if flag or err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
 
 
 def simulate_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
