@@ -253,7 +253,7 @@ rule fig_sweep_suppression:
 rule fig_regime_map:
     input:
         script="workflow/scripts/fig_regime_map.py",
-        library=library(study("config", "gapsweep"), REPORTING),
+        library=library(study("branches", "claims", "config", "gapsweep", "sweep_results"), REPORTING),
         style=STYLE,
         map="figures/map_{map}.csv",
         curves="figures/map_{map}_curves.csv",
@@ -276,7 +276,7 @@ rule fig_regime_map:
 rule sweep_report:
     input:
         script="workflow/scripts/sweep_report.py",
-        library=library(study("gapsweep"), REPORTING),
+        library=library(study("branches", "claims", "config", "gapsweep", "sweep_record", "sweep_results"), REPORTING),
         sweep="figures/sweep_gap.csv",
         transitions="figures/sweep_transitions.csv",
         checks="figures/sweep_checks.json",

@@ -22,9 +22,10 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweep_results import grazing_curves, read_map
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
-from impactdamper.reporting.records import read_csv, split_floats, start_stage
+from impactdamper.reporting.records import read_csv, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
 CLASSES = list(REGIME_COLORS)
@@ -43,16 +44,6 @@ LABEL_SIZE = 7.5
 # Least distance between two labels' centres, in axes fractions (x, y): about a label's width
 # and height at LABEL_SIZE on the text-width figure.
 LABEL_CLEARANCE = (0.05, 0.045)
-# Points of one grazing curve in neighbouring rows are joined if closer than this many cells.
-JOIN_CELLS = 6
-
-
-def read_map(path):
-    lines = [ln.split(",") for ln in open(path).read().splitlines()]
-    gaps = np.array([float(x) for x in lines[0][1:]])
-    slow = np.array([float(ln[0]) for ln in lines[1:]])
-    labels = np.array([ln[1:] for ln in lines[1:]])
-    return slow, gaps, labels
 
 
 def _label_regions(ax, slow, gaps, labels):
@@ -81,31 +72,6 @@ def _label_regions(ax, slow, gaps, labels):
                 ha="center", va="center", fontsize=LABEL_SIZE, zorder=6,
                 color=REGIME_TEXT.get(regime, "black"),
                 bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"))
-
-
-def grazing_curves(curves, step: float) -> list[tuple[list, list]]:
-    """The Algorithm No. 1 grazing gaps of every row joined into curves: a point continues the
-    curve whose last point (previous row) is nearest, if within JOIN_CELLS gap cells."""
-    lines = []
-    for r in curves:
-        if r.get("alg1_scanned", "1") in ("0", 0):
-            continue  # the grazing scan did not run on this row (maps.grazing_every)
-        y = float(r["slow"])
-        ends = [ln for ln in lines if ln[2]]  # curves that reached the previous row
-        for ln in lines:
-            ln[2] = False
-        for g in split_floats(r["alg1_grazing"]):
-            near = [ln for ln in ends if abs(ln[0][-1] - g) <= JOIN_CELLS * step]
-            if near:
-                ln = min(near, key=lambda ln: abs(ln[0][-1] - g))
-                ends.remove(ln)
-            else:
-                ln = [[], [], False]
-                lines.append(ln)
-            ln[0].append(g)
-            ln[1].append(y)
-            ln[2] = True
-    return [(ln[0], ln[1]) for ln in lines]
 
 
 def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:

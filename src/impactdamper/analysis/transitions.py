@@ -25,6 +25,7 @@ __all__ = [
     "algorithm1_grazing_gap",
     "object_alone_amplitude",
     "rigid_amplitude",
+    "liftoff_resolution_offset",
 ]
 
 
@@ -105,3 +106,38 @@ def rigid_amplitude(p: Parameters) -> float:
     """max |x1|/x_st with the suppressor rigidly attached (m1 + m2 on c1, k1):
     1/|1 - (1 + mu) theta^2 + 2 i delta1 theta|."""
     return 1.0 / abs(1.0 - (1.0 + p.mu) * p.theta**2 + 2j * p.delta1 * p.theta)
+
+
+def liftoff_resolution_offset(p: Parameters, gap_tol: float) -> float:
+    """How far past the analytic lift-off threshold (:func:`stuck_liftoff_gap`) a simulation
+    with grazing resolution ``gap_tol`` keeps the bodies in contact, in Delta0/x_st.
+
+    Past the threshold by eps = (Delta0 - Delta_lift)/x_st, the joined bodies' contact force
+    F(t) = m2 w^2 |X| sin(...) - c2 Delta0 dips below zero by c2 eps x_st for a time 2 tau,
+    tau^2 = 2 omega2^2 eps/(omega^4 |X|/x_st) (|X|: the joined bodies' forced amplitude,
+    eqs. 10-11). Let go, the gap would open with the relative acceleration
+    -F (1/m1 + 1/m2) = (1 + mu) omega2^2 eps x_st (1 - t^2/tau^2) and reach, when F is
+    positive again, (4/3) (1 + mu) omega2^2 eps tau^2 x_st = C eps^2 x_st with
+
+        C = (8/3) (1 + mu) (N/theta)^4 |1 - (1 + mu) theta^2 + 2 i delta1 theta|
+
+    (leading order in eps). The event solver keeps contact through a dip whose gap stays at
+    or below its grazing resolution gap_tol x_st (``EventDrivenSolver._dip_unresolved``), so
+    the label stays "stuck" up to eps = sqrt(gap_tol/C).
+
+    Parameters
+    ----------
+    p : Parameters
+        The case (theta, mu, N, delta1 are used).
+    gap_tol : float
+        The solver's grazing resolution, units of x_st.
+
+    Returns
+    -------
+    float
+        eps = sqrt(gap_tol/C), units of x_st.
+    """
+    mu, n, theta, delta1 = float(p.mu), float(p.N), float(p.theta), float(p.delta1)
+    d = abs(1.0 - (1.0 + mu) * theta**2 + 2j * delta1 * theta)
+    c = 8.0 / 3.0 * (1.0 + mu) * (n / theta) ** 4 * d
+    return math.sqrt(gap_tol / c)

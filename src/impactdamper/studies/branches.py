@@ -55,11 +55,22 @@ SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectra
 # Significant digits of the joined velocities and phases in the committed CSVs (the record
 # test compares at a relative 1e-8; the continuation converges to 1e-12).
 JOINED_FORMAT = "{:.12g}"
-# Short names of the special points in the figure and the table.
-KIND_SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "grazing_velocity": "grazing",
-              "grazing_interior": "grazing"}
-KIND_TEXT = {"period_doubling": "period doubling", "neimark_sacker": "Neimark--Sacker", "fold": "fold",
-             "grazing_velocity": "grazing", "grazing_interior": "grazing"}
+# The special points' vocabulary, once: each kind the continuation reports
+# (:class:`impactdamper.analysis.continuation.SpecialPoint`) with its short name in tables
+# ("short"), its letter on the branches' figure ("mark"), its name in prose ("text") and its
+# part of a TeX macro name ("macro", letters only). The two grazings share names in prose and
+# tables; the macros and the figure's legend tell them apart.
+SPECIAL_KINDS = {
+    "period_doubling": {"short": "PD", "mark": "PD", "text": "period doubling", "macro": "PD"},
+    "neimark_sacker": {"short": "NS", "mark": "NS", "text": "Neimark--Sacker", "macro": "NS"},
+    "fold": {"short": "fold", "mark": "fold", "text": "fold", "macro": "Fold"},
+    "grazing_velocity": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingVanish"},
+    "grazing_interior": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingTouch"},
+}
+KIND_SHORT = {k: v["short"] for k, v in SPECIAL_KINDS.items()}
+KIND_TEXT = {k: v["text"] for k, v in SPECIAL_KINDS.items()}
+KIND_MARK = {k: v["mark"] for k, v in SPECIAL_KINDS.items()}
+KIND_MACRO = {k: v["macro"] for k, v in SPECIAL_KINDS.items()}
 
 
 # --- config --------------------------------------------------------------------------------

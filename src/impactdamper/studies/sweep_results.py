@@ -1,0 +1,210 @@
+"""Reading the sweeps' and regime maps' results: the main regime runs of a sweep, its
+transitions identified with a special point of a continued branch or with the other sweep
+direction, the overlaps of the two directions (hysteresis), the labels met only where the other
+direction did not settle, and the bistable rows of a regime map.
+
+Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100, whose introduction
+describes the sequence of regimes along the gap; the paper shows no sweep. The inputs are the
+committed records' rows (``figures/sweep_gap.csv``, ``figures/sweep_transitions.csv``,
+``figures/orbit_special_points.csv``, ``figures/map_{map}.csv`` and its curves), as
+:func:`impactdamper.reporting.records.read_csv` reads them (strings).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from impactdamper.reporting.records import cell_float, read_csv, split_floats
+from impactdamper.studies.branches import KIND_SHORT
+from impactdamper.studies.gapsweep import runs
+
+__all__ = ["MIN_RUN", "MATCH_STEPS", "BISTABLE_MIN_CELLS", "BISTABLE_STEADY_ROWS", "read_map", "main_runs",
+           "special_match", "mirror_match", "run_intervals", "overlaps", "np_only_labels", "bistable_rows", "grazing_curves", "JOIN_CELLS"]
+
+# A run of one label shorter than this many sweep points is not a "main" regime (the chaotic
+# bands flicker between np and narrow periodic windows).
+MIN_RUN = 5
+# A transition is identified with a special point of a continued branch, or with the same
+# change located by the other sweep direction, when they are within this share of the sweep
+# step (the step is the sweep's resolution; the bisections are 1000 times finer).
+MATCH_STEPS = 0.05
+# Cells of the bistable label a map row must hold beyond U1/x_st to count as on it.
+BISTABLE_MIN_CELLS = 3
+# Rows in a row all on the bistable label that end the alternating stretch.
+BISTABLE_STEADY_ROWS = 5
+# Points of one grazing curve in neighbouring rows of a map are joined if closer than this many
+# cells (the grazing gap moves by a few cells per row where the curve is steep).
+JOIN_CELLS = 6
+# Labels that are no periodic motion (no period settled; the solver failed).
+LOOSE = ("np", "err")
+
+
+def read_map(path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A regime map's CSV (``figures/map_{map}.csv``: a header row of gaps, then per row the
+    slow parameter's value and the cells' z/k labels).
+
+    Returns
+    -------
+    slow : ndarray, shape (rows,)
+    gaps : ndarray, shape (columns,)
+        Delta0/x_st.
+    labels : ndarray of str, shape (rows, columns)
+    """
+    lines = [ln.split(",") for ln in Path(path).read_text().splitlines()]
+    gaps = np.array([float(x) for x in lines[0][1:]])
+    slow = np.array([float(ln[0]) for ln in lines[1:]])
+    return slow, gaps, np.array([ln[1:] for ln in lines[1:]])
+
+
+def main_runs(rows: list[dict], direction: str, min_run: int = MIN_RUN) -> list[tuple]:
+    """The runs (label, first value, last value, points) of one sweep direction's labels that
+    hold at least ``min_run`` points, in order of the gap."""
+    rs = [r for r in rows if r["direction"] == direction]
+    return [r for r in runs([float(r["value"]) for r in rs], [r["label"] for r in rs]) if r[3] >= min_run]
+
+
+def special_match(t: dict, special: list[dict], tol: float) -> tuple[str, float] | None:
+    """The special point of a continued branch labelled like either side of transition ``t``,
+    nearest to it and within ``tol``: (its short name "PD of 3/2", its gap), or None."""
+    value = float(t["value"])
+    cands = [s for s in special if s["label"] in (t["before"], t["after"])
+             and abs(cell_float(s["gap"]) - value) <= tol]
+    if not cands:
+        return None
+    s = min(cands, key=lambda s: abs(cell_float(s["gap"]) - value))
+    return f"{KIND_SHORT.get(s['kind'], s['kind'])} of {s['label']}", cell_float(s["gap"])
+
+
+def mirror_match(t: dict, trans: list[dict], tol: float) -> dict | None:
+    """The same change located by the other sweep direction (labels swapped) within ``tol``."""
+    value = float(t["value"])
+    other = "down" if t["direction"] == "up" else "up"
+    cands = [u for u in trans if u["direction"] == other and u["before"] == t["after"] and u["after"] == t["before"]
+             and abs(float(u["value"]) - value) <= tol]
+    if not cands:
+        return None
+    return min(cands, key=lambda u: abs(float(u["value"]) - value))
+
+
+def run_intervals(rows: list[dict], trans: list[dict], direction: str) -> list[tuple]:
+    """Runs of the direction's labels, each (label, lo, hi, first, last): lo and hi are the
+    bisected transitions at its ends (the midpoint to the neighbour where none was bisected)."""
+    rs = sorted((r for r in rows if r["direction"] == direction), key=lambda r: float(r["value"]))
+    values = [float(r["value"]) for r in rs]
+    at = [float(t["value"]) for t in trans if t["direction"] == direction]
+    out = []
+    for lab, a, b, _ in runs(values, [r["label"] for r in rs]):
+        i, j = values.index(a), values.index(b)
+        lo = values[0] if i == 0 else next((v for v in at if values[i - 1] < v <= a), 0.5 * (values[i - 1] + a))
+        hi = values[-1] if j == len(values) - 1 else next((v for v in at if b <= v < values[j + 1]),
+                                                          0.5 * (b + values[j + 1]))
+        out.append((lab, lo, hi, a, b))
+    return out
+
+
+def overlaps(rows: list[dict], trans: list[dict]) -> list[dict]:
+    """Where the two directions settle on different periodic motions (np and err left out):
+    list of {"down": labels, "up": labels, "lo", "hi"}, adjacent pieces sharing a label merged."""
+    up, down = run_intervals(rows, trans, "up"), run_intervals(rows, trans, "down")
+    pieces = []
+    for lu, ulo, uhi, ua, ub in up:
+        for ld, dlo, dhi, da, db in down:
+            if lu == ld or lu in LOOSE or ld in LOOSE or max(ua, da) > min(ub, db):
+                continue  # the same motion, or no sweep point shared
+            pieces.append({"up": [lu], "down": [ld], "lo": max(ulo, dlo), "hi": min(uhi, dhi)})
+    pieces.sort(key=lambda p: p["lo"])
+    merged = []
+    for p in pieces:
+        q = merged[-1] if merged else None
+        if q and abs(q["hi"] - p["lo"]) < 1e-12 and (q["up"][-1] == p["up"][0] or q["down"][-1] == p["down"][0]):
+            for side in ("up", "down"):
+                q[side] += [lab for lab in p[side] if lab not in q[side]]
+            q["hi"] = p["hi"]
+        else:
+            merged.append(p)
+    return merged
+
+
+def np_only_labels(rows: list[dict]) -> list[str]:
+    """Periodic labels met in one direction at sweep points where the other did not settle
+    (np), on runs of at least two points, in order of the gap."""
+    up = {float(r["value"]): r["label"] for r in rows if r["direction"] == "up"}
+    down = {float(r["value"]): r["label"] for r in rows if r["direction"] == "down"}
+    values = sorted(set(up) & set(down))
+    out = []
+    for key, a, b, n in runs(values, [f"{up[v]}|{down[v]}" for v in values]):
+        u, d = key.split("|")
+        if n >= 2 and (u == "np") != (d == "np"):
+            lab = d if u == "np" else u
+            if lab not in ("err",) and lab not in out:
+                out.append(lab)
+    return out
+
+
+def bistable_rows(map_csv, curves_csv) -> dict | None:
+    """Rows of a map that alternate between the no-contact motion 0/1 and an impacting motion
+    where both exist (gap above U1/x_st, where 0/1 always exists).
+
+    The impacting label is the one (other than 0/1, np, err) with most cells beyond U1. A row is
+    on it with at least BISTABLE_MIN_CELLS such cells. The alternating stretch runs from the
+    first row on it to the last row off it before BISTABLE_STEADY_ROWS rows in a row are on it.
+    Returns {"label", "lo", "hi", "on", "off"} (slow-parameter values, row counts) or None.
+    """
+    slow, gaps, labels = read_map(map_csv)
+    u1 = np.array([float(r["first_contact"]) for r in read_csv(curves_csv)])
+    beyond = gaps[None, :] > u1[:, None]
+    counts: dict[str, int] = {}
+    for lab in labels[beyond]:
+        if lab not in ("0/1",) + LOOSE:
+            counts[lab] = counts.get(lab, 0) + 1
+    if not counts:
+        return None
+    lab = max(sorted(counts), key=counts.get)
+    on = [int(np.sum((labels[i] == lab) & beyond[i])) >= BISTABLE_MIN_CELLS for i in range(len(slow))]
+    if True not in on:
+        return None
+    first = on.index(True)
+    last_off = None
+    steady = 0
+    for i in range(first, len(slow)):
+        steady = steady + 1 if on[i] else 0
+        if not on[i]:
+            last_off = i
+        if steady >= BISTABLE_STEADY_ROWS and last_off is not None:
+            break
+    if last_off is None:
+        return None
+    stretch = on[first:last_off + 1]
+    return {"label": lab, "lo": float(slow[first]), "hi": float(slow[last_off]), "on": sum(stretch),
+            "off": len(stretch) - sum(stretch)}
+
+
+def grazing_curves(curves: list[dict], step: float, join_cells: float = JOIN_CELLS) -> list[tuple[list, list]]:
+    """The Algorithm No. 1 grazing gaps of every row of a map's curves
+    (``figures/map_{map}_curves.csv``) joined into curves: a point continues the curve whose
+    last point (previous row) is nearest, if within ``join_cells`` gap cells of width ``step``.
+
+    Returns a list of (gaps, slow values), one per curve.
+    """
+    lines = []
+    for r in curves:
+        if r.get("alg1_scanned", "1") in ("0", 0):
+            continue  # the grazing scan did not run on this row (maps.grazing_every)
+        y = float(r["slow"])
+        ends = [ln for ln in lines if ln[2]]  # curves that reached the previous row
+        for ln in lines:
+            ln[2] = False
+        for g in split_floats(r["alg1_grazing"]):
+            near = [ln for ln in ends if abs(ln[0][-1] - g) <= join_cells * step]
+            if near:
+                ln = min(near, key=lambda ln: abs(ln[0][-1] - g))
+                ends.remove(ln)
+            else:
+                ln = [[], [], False]
+                lines.append(ln)
+            ln[0].append(g)
+            ln[1].append(y)
+            ln[2] = True
+    return [(ln[0], ln[1]) for ln in lines]

@@ -1,0 +1,112 @@
+"""Tests of the sweeps' result readings (:mod:`impactdamper.studies.sweep_results`) and of the
+lift-off's resolution offset (:func:`impactdamper.analysis.transitions.liftoff_resolution_offset`).
+
+Small hand-made sweeps first, each with the answer worked out by hand; then the offset against
+the lift-off the sweep stage located by simulation (``figures/sweep_checks.json``).
+"""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from impactdamper import Parameters
+from impactdamper.analysis.transitions import liftoff_resolution_offset
+from impactdamper.studies import sweep_results as sr
+
+ROOT = Path(__file__).resolve().parents[2]
+# The offset is the leading order in eps (~7e-6): the located lift-off's offset agrees with it
+# to this relative tolerance (the next order is O(eps), the bisection's 1e-9 x_st is 1.5e-4 of it).
+OFFSET_RTOL = 1e-3
+
+
+def _rows(direction, labels, start=0.0, step=1.0):
+    return [{"direction": direction, "value": f"{start + i * step:g}", "label": lab} for i, lab in enumerate(labels)]
+
+
+def test_main_runs_keep_long_runs_only():
+    rows = _rows("up", ["1/1"] * 5 + ["np", "3/2", "np"] + ["3/2"] * 6)
+    assert sr.main_runs(rows, "up") == [("1/1", 0.0, 4.0, 5), ("3/2", 8.0, 13.0, 6)]
+    assert sr.main_runs(rows, "up", min_run=1)[1] == ("np", 5.0, 5.0, 1)
+    assert sr.main_runs(rows, "down") == []
+
+
+def test_overlaps_of_the_two_directions():
+    # Up: 1/1 on 0..4, 3/2 on 5..9; down: 1/1 on 0..6, 3/2 on 7..9. Both settle differently on 5..6.
+    rows = _rows("up", ["1/1"] * 5 + ["3/2"] * 5) + _rows("down", ["1/1"] * 7 + ["3/2"] * 3)
+    trans = [{"direction": "up", "value": "4.25"}, {"direction": "down", "value": "6.75"}]
+    assert sr.overlaps(rows, trans) == [{"up": ["3/2"], "down": ["1/1"], "lo": 4.25, "hi": 6.75}]
+    # Without bisected transitions the ends are the midpoints to the neighbours.
+    assert sr.overlaps(rows, []) == [{"up": ["3/2"], "down": ["1/1"], "lo": 4.5, "hi": 6.5}]
+    # np is no motion: no overlap where one direction did not settle.
+    rows_np = _rows("up", ["1/1"] * 5 + ["np"] * 5) + _rows("down", ["1/1"] * 7 + ["3/2"] * 3)
+    assert sr.overlaps(rows_np, []) == []
+
+
+def test_np_only_labels():
+    rows = _rows("up", ["1/1", "np", "np", "np", "2/2"]) + _rows("down", ["1/1", "3/2", "3/2", "np", "2/2"])
+    assert sr.np_only_labels(rows) == ["3/2"]
+    # A single point is not a run.
+    rows = _rows("up", ["1/1", "np", "1/1"]) + _rows("down", ["1/1", "3/2", "1/1"])
+    assert sr.np_only_labels(rows) == []
+
+
+def test_special_and_mirror_matches():
+    t = {"direction": "up", "value": "-4.0", "before": "3/2", "after": "np"}
+    special = [{"label": "3/2", "kind": "period_doubling", "gap": "-4.01"},
+               {"label": "3/2", "kind": "grazing_interior", "gap": "-4.002"},
+               {"label": "1/1", "kind": "fold", "gap": "-4.0"}]
+    assert sr.special_match(t, special, 0.05) == ("grazing of 3/2", -4.002)
+    assert sr.special_match(t, special, 0.001) is None
+    trans = [t, {"direction": "down", "value": "-4.03", "before": "np", "after": "3/2"},
+             {"direction": "down", "value": "-4.001", "before": "3/2", "after": "np"}]
+    assert sr.mirror_match(t, trans, 0.05) is trans[1]
+    assert sr.mirror_match(t, trans, 0.01) is None
+
+
+def _write_map(path, slow, gaps, labels):
+    lines = ["slow," + ",".join(f"{g:g}" for g in gaps)]
+    lines += [f"{s:g}," + ",".join(row) for s, row in zip(slow, labels)]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_read_map_and_bistable_rows(tmp_path):
+    gaps = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]
+    # U1 at 0.5 everywhere: cells 1..5 lie beyond it. Rows alternate on/off 1/2, then stay on.
+    on, off = ["0/1"] + ["1/2"] * 4 + ["0/1"], ["0/1"] * 6
+    pattern = [off, on, off, on, on, off] + [on] * sr.BISTABLE_STEADY_ROWS
+    slow = [0.1 * i for i in range(len(pattern))]
+    _write_map(tmp_path / "map.csv", slow, gaps, pattern)
+    (tmp_path / "curves.csv").write_text("slow,first_contact\n" + "".join(f"{s:g},0.5\n" for s in slow))
+    s, g, lab = sr.read_map(tmp_path / "map.csv")
+    assert lab.shape == (len(slow), len(gaps)) and list(g) == gaps and s[3] == pytest.approx(0.3)
+    b = sr.bistable_rows(tmp_path / "map.csv", tmp_path / "curves.csv")
+    assert b == {"label": "1/2", "lo": pytest.approx(0.1), "hi": pytest.approx(0.5), "on": 3, "off": 2}
+    _write_map(tmp_path / "plain.csv", slow, gaps, [off] * len(slow))
+    assert sr.bistable_rows(tmp_path / "plain.csv", tmp_path / "curves.csv") is None
+
+
+def test_grazing_curves_join_near_points_only():
+    curves = [{"slow": "0", "alg1_grazing": "1.0;5.0"}, {"slow": "1", "alg1_scanned": "0", "alg1_grazing": ""},
+              {"slow": "2", "alg1_grazing": "1.2;9.0"}]
+    lines = sr.grazing_curves(curves, step=0.1, join_cells=3)
+    # 1.2 is 2 cells from 1.0: joined; 9.0 starts a new curve; 5.0 ends at its row.
+    assert lines == [([1.0, 1.2], [0.0, 2.0]), ([5.0], [0.0]), ([9.0], [2.0])]
+
+
+def test_liftoff_offset_scales_as_the_root_of_the_resolution():
+    p = Parameters()
+    e1, e4 = liftoff_resolution_offset(p, 1e-12), liftoff_resolution_offset(p, 4e-12)
+    assert e4 == pytest.approx(2 * e1, rel=1e-14)
+    # Heavier suppressor (mu) opens the gap faster: a smaller offset.
+    assert liftoff_resolution_offset(p.replace(mu=0.16), 1e-12) < e1
+
+
+def test_liftoff_offset_matches_the_lift_off_located_by_simulation():
+    """The sweep stage bisected the lift-off by simulation alone to 1e-9 x_st: the located
+    gap lies past the closed form by the offset the grazing resolution predicts."""
+    doc = json.loads((ROOT / "figures" / "sweep_checks.json").read_text())
+    gap_tol = json.loads((ROOT / "figures" / "sweep_gap_settings.json").read_text())["solver"]["gap_tol"]
+    check = next(c for c in doc["checks"] if c["name"] == "liftoff")
+    eps = liftoff_resolution_offset(Parameters(**doc["base"]), gap_tol)
+    assert check["located"] - check["analytic"] == pytest.approx(eps, rel=OFFSET_RTOL)
