@@ -31,7 +31,7 @@ rule fig_orbit_branches:
     input:
         script="workflow/scripts/fig_orbit_branches.py",
         style=STYLE,
-        library=library(REPORTING),
+        library=library(study("branches", "claims", "config"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",

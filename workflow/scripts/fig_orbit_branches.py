@@ -32,12 +32,11 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.studies.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, legend_in_rows, use_style
 
 STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
 MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_velocity": "o", "grazing_interior": "o"}
-SHORT = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "fold", "grazing_velocity": "G",
-         "grazing_interior": "G"}
 INADMISSIBLE_MARK = "0.55"  # grey of special points off the motions
 ZOOM_SHADE = "0.9"  # the right column's window, shaded in the left column
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
@@ -55,53 +54,14 @@ LABEL_OFFSET = {("single", "grazing_interior"): (-4, 6), ("double", "grazing_vel
                 ("single", "grazing_velocity"): (0, -11)}
 
 
-def _state(r: dict) -> str:
-    if r["admissible"] != "1":
-        return "inadmissible"
-    return "stable" if r["stable"] == "1" else "unstable"
-
-
-def sequence(rows: list[dict], special: list[dict], key: str) -> list[tuple]:
-    """The branch as (gap, y, state or None) in order along it, special points inserted at
-    their places (state None); y is ``key`` (nan where a special point has no value)."""
-    items = [(float(i), cell_float(r["gap"]), cell_float(r[key]), _state(r)) for i, r in enumerate(rows)]
-    for s in special:
-        i = int(s["index"])
-        ref = cell_float(rows[i - 1]["gap"]) if i > 0 else cell_float(rows[0]["gap"])
-        # Between rows i-1 and i; two between the same rows in order of distance from row i-1.
-        items.append((i - 0.5 + 1e-3 * math.tanh(abs(cell_float(s["gap"]) - ref)), cell_float(s["gap"]), cell_float(s[key]),
-                      None))
-    items.sort(key=lambda t: t[0])
-    return [(g, y, state) for _, g, y, state in items]
-
-
-def pieces(seq: list[tuple]) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """Polylines of one state each: a segment takes the state of its regular end."""
-    out = []
-    for (g0, y0, s0), (g1, y1, s1) in zip(seq[:-1], seq[1:]):
-        state = s0 or s1 or "unstable"
-        if math.isnan(y0) or math.isnan(y1):
-            continue
-        if out and out[-1][0] == state and out[-1][1][-1] == g0 and out[-1][2][-1] == y0:
-            out[-1][1].append(g1)
-            out[-1][2].append(y1)
-        else:
-            out.append((state, [g0, g1], [y0, y1]))
-    return [(s, np.array(g), np.array(y)) for s, g, y in out]
-
-
 def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     plt = use_style()
-    rows = read_csv(branches_csv)
-    special = read_csv(special_csv)
-    summary = read_json(summary_json)
+    rows, special, summary = read_csv(branches_csv), read_csv(special_csv), read_json(summary_json)
     names = list(dict.fromkeys(r["branch"] for r in rows))  # the config's order
     color = {n: f"C{i}" for i, n in enumerate(names)}
     by = {n: [r for r in rows if r["branch"] == n] for n in names}
     sp = {n: [s for s in special if s["branch"] == n] for n in names}
-    multi = [n for n in names if summary["branches"][n]["k"] > 1 or summary["branches"][n]["z"] > 1]
-    gaps_multi = [cell_float(r["gap"]) for n in multi for r in by[n]] + [cell_float(s["gap"]) for n in multi for s in sp[n]]
-    zoom = (min(gaps_multi) - ZOOM_MARGIN, max(gaps_multi) + ZOOM_MARGIN)
+    zoom = multi_impact_window(rows, special, summary, ZOOM_MARGIN)
 
     fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 5.3), sharex="col", layout="constrained",
                              gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0]})
@@ -109,7 +69,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     for col, (ax_x, ax_r) in enumerate(zip(axes[0], axes[1])):
         for n in names:
             for key, ax in (("x1_max", ax_x), ("spectral_radius", ax_r)):
-                for state, g, y in pieces(sequence(by[n], sp[n], key)):
+                for state, g, y in run_pieces(by[n], sp[n], key):
                     ax.plot(g, np.clip(y, *RADIUS_LIMITS) if key == "spectral_radius" else y, STYLE[state],
                             color=color[n], lw=1.1 if state == "stable" else 0.9)
             for s in sp[n]:
@@ -131,7 +91,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                     dx, dy = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
                     ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
                     va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
-                    ax_x.annotate(SHORT[s["kind"]], (g, cell_float(s["x1_max"])), xytext=(dx, dy),
+                    ax_x.annotate(KIND_MARK[s["kind"]], (g, cell_float(s["x1_max"])), xytext=(dx, dy),
                                   textcoords="offset points", ha=ha, va=va, fontsize=7.5,
                                   color="0.1" if on else INADMISSIBLE_MARK)
         ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
@@ -157,16 +117,14 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                 ax_x.annotate(f"{case} case {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
                               xytext=(2, -3), textcoords="offset points", ha="left", va="top", rotation=90,
                               fontsize=7.5, color="0.2")
-    axes[0, 1].set_xlim(*zoom)
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
-    axes[0, 1].set_ylim(min(ys) - 2 * pad, max(ys) + pad)
-    lo = min(cell_float(r["gap"]) for r in rows)
-    hi = max(cell_float(r["gap"]) for r in rows)
-    axes[0, 0].set_xlim(lo - 0.8, hi + 0.8)
-    axes[0, 0].axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
-    axes[1, 0].axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
+    axes[0, 1].set(xlim=zoom, ylim=(min(ys) - 2 * pad, max(ys) + pad))
+    gaps = [cell_float(r["gap"]) for r in rows]
+    axes[0, 0].set_xlim(min(gaps) - 0.8, max(gaps) + 0.8)
+    for ax in axes[:, 0]:
+        ax.axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
     axes[0, 0].set_ylabel("max $|x_1|/x_{st}$")
     axes[1, 0].set_ylabel("spectral radius $\\max|\\rho|$")
     axes[0, 0].set_title("full range", loc="left", fontsize=8.5)
@@ -177,18 +135,12 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     rows = [[line(color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
             + [line(color="0.2", ls=STYLE[s], lw=1.0, label=s) for s in ("stable", "unstable", "inadmissible")],
             [line(color="0.2", marker=MARKER[k], mfc="0.2" if k != "grazing_interior" else "white", ls="none", ms=4,
-                  label=lab) for k, lab in (("period_doubling", "PD"), ("neimark_sacker", "NS"), ("fold", "fold"),
-                                            ("grazing_interior", "G: new impact"),
-                                            ("grazing_velocity", "G: impact vanishes"))]
+                  label=lab) for k, lab in KIND_LEGEND.items()]
             + [line(marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case")],
             [Patch(facecolor=ZOOM_SHADE, edgecolor="0.6", lw=0.5, label="zoom window"),
              line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$")]]
-    ncol = max(len(r) for r in rows)
-    blank = line(ls="none", label=" ")
-    rows = [r + [blank] * (ncol - len(r)) for r in rows]
-    handles = [rows[i][j] for j in range(ncol) for i in range(len(rows))]
-    fig.legend(handles=handles, loc="outside lower center", ncol=ncol, handlelength=1.8, columnspacing=0.9,
-               handletextpad=0.4, fontsize=7.5)
+    legend_in_rows(fig, rows, loc="outside lower center", handlelength=1.8, columnspacing=0.9, handletextpad=0.4,
+                   fontsize=7.5)
     finish_figure(fig, out_pdf, out_png)
 
 

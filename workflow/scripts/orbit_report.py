@@ -26,14 +26,10 @@ figures/orbit_summary.json and writes
 Numbers are bare (for math mode): gaps to 6 decimals, multipliers to 6 decimals.
 """
 
-import re
-
 from impactdamper.studies import branches as br
 from impactdamper.reporting.latex import MacroFile, camel, render_macros
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage, write_json
 
-KIND_MACRO = {"period_doubling": "PD", "neimark_sacker": "NS", "fold": "Fold", "grazing_velocity": "GrazingVanish",
-              "grazing_interior": "GrazingTouch"}
 # What the stage's record holds (results/report/orbits.json).
 RECORD_WHAT = "the orbits stage's numbers for the report (paper/generated/orbit_macros.tex) and the README"
 GAP_FORMAT = "{:.6f}"
@@ -65,7 +61,7 @@ def special_macros(special: list[dict]) -> list[tuple[str, str]]:
     for (branch, kind), rows in groups.items():
         rows = sorted(rows, key=lambda r: cell_float(r["gap"]))
         for suffix, r in zip(_suffixes(len(rows)), rows):
-            out.append((f"Orbit{KIND_MACRO[kind]}{camel(branch)}{suffix}", _gap(r["gap"])))
+            out.append((f"Orbit{br.KIND_MACRO[kind]}{camel(branch)}{suffix}", _gap(r["gap"])))
     return out
 
 
@@ -102,39 +98,6 @@ def macros(special: list[dict], summary: dict) -> MacroFile:
     return lines
 
 
-def _stability(r: dict, rows: list[dict]) -> str:
-    """Which side of a bifurcation is stable, from the branch rows on either side of it
-    (the library's own wording follows the direction of continuation)."""
-    i = int(r["index"])
-    near = [rows[j] for j in (i - 1, i) if 0 <= j < len(rows)]
-    flags = {q["stable"] == "1" for q in near}
-    if len(near) < 2 or len(flags) == 1:
-        return "; stable on both sides" if flags == {True} else "; unstable on both sides"
-    if r["kind"] == "fold":
-        return "; a stable and an unstable leg meet"
-    stable_row = next(q for q in near if q["stable"] == "1")
-    return "; stable for " + ("larger" if cell_float(stable_row["gap"]) > cell_float(r["gap"]) else "smaller") + " gaps"
-
-
-def _what(r: dict, rows: list[dict]) -> str:
-    """A short description of the special point for the table, from its kind and detail."""
-    d = r["detail"]
-    after = re.search(r"-> (\d+/\d+)", d)
-    change = f" ({r['label']} $\\to$ {after.group(1)})" if after else ""
-    kind = r["kind"]
-    if kind == "period_doubling":
-        m = re.search(r"a (\d+/\d+) \(", d)
-        return f"multiplier $-1$, a {m.group(1) if m else 'doubled'} cycle branches off{_stability(r, rows)}"
-    if kind == "neimark_sacker":
-        return f"complex pair of multipliers on the unit circle{_stability(r, rows)}"
-    if kind == "fold":
-        return f"multiplier $+1$, turning point{_stability(r, rows)}"
-    if kind == "grazing_velocity":
-        m = re.search(r"impact (\d+) of", d)
-        return f"impact {m.group(1) if m else ''} arrives with zero closing velocity{change}"
-    return f"the gap touches zero between impacts: a new impact{change}"
-
-
 def table(special: list[dict], branches: list[dict], summary: dict) -> str:
     order = summary["order"]
     rows = sorted(special, key=lambda r: (order.index(r["branch"]), cell_float(r["gap"])))
@@ -154,7 +117,7 @@ def table(special: list[dict], branches: list[dict], summary: dict) -> str:
         name = br.KIND_TEXT[r["kind"]]
         rows_b = [q for q in branches if q["branch"] == r["branch"]]
         lines.append(f"{r['label']} & {name} & ${_gap(r['gap'])}$ & {_yes(r['admissible'] == '1')} & "
-                     f"{_what(r, rows_b)} \\\\")
+                     f"{br.describe_special(r, rows_b)} \\\\")
     lines += [r"\bottomrule", r"\end{tabular}"]
     return "\n".join(lines) + "\n"
 

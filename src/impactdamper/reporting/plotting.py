@@ -89,3 +89,16 @@ def finish_figure(fig, *paths: str | Path, log=None) -> list[Path]:
     if log is not None:
         log("wrote " + ", ".join(str(p) for p in written))
     return written
+
+
+def legend_in_rows(fig, rows: list[list], **kwargs):
+    """A figure legend written row by row (matplotlib fills a legend column by column): each
+    of ``rows`` is a list of handles, shorter rows padded with blank entries. ``kwargs`` go to
+    ``fig.legend`` (``ncol`` is the longest row's length)."""
+    from matplotlib.lines import Line2D
+
+    ncol = max(len(r) for r in rows)
+    blank = Line2D([], [], ls="none", label=" ")
+    rows = [r + [blank] * (ncol - len(r)) for r in rows]
+    handles = [rows[i][j] for j in range(ncol) for i in range(len(rows))]
+    return fig.legend(handles=handles, ncol=ncol, **kwargs)

@@ -30,9 +30,12 @@ from __future__ import annotations
 
 import logging
 import math
+import re
+
+import numpy as np
 
 from impactdamper import Parameters, continue_orbit, solve_orbit, steady_state
-from impactdamper.reporting.records import joined
+from impactdamper.reporting.records import cell_float, joined
 from impactdamper.studies.claims import true_runs
 from impactdamper.studies.config import steady_options, tolerances
 
@@ -56,21 +59,25 @@ SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectra
 # test compares at a relative 1e-8; the continuation converges to 1e-12).
 JOINED_FORMAT = "{:.12g}"
 # The special points' vocabulary, once: each kind the continuation reports
-# (:class:`impactdamper.analysis.continuation.SpecialPoint`) with its short name in tables
+# (:data:`impactdamper.analysis.continuation.SPECIAL_KINDS`) with its short name in tables
 # ("short"), its letter on the branches' figure ("mark"), its name in prose ("text") and its
-# part of a TeX macro name ("macro", letters only). The two grazings share names in prose and
-# tables; the macros and the figure's legend tell them apart.
-SPECIAL_KINDS = {
-    "period_doubling": {"short": "PD", "mark": "PD", "text": "period doubling", "macro": "PD"},
-    "neimark_sacker": {"short": "NS", "mark": "NS", "text": "Neimark--Sacker", "macro": "NS"},
-    "fold": {"short": "fold", "mark": "fold", "text": "fold", "macro": "Fold"},
-    "grazing_velocity": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingVanish"},
-    "grazing_interior": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingTouch"},
+# part of a TeX macro name ("macro", letters only) and in the figure's legend ("legend", in
+# this order). The two grazings share names in prose and tables; the macros and the legend tell
+# them apart.
+SPECIAL_POINT_NAMES = {
+    "period_doubling": {"short": "PD", "mark": "PD", "text": "period doubling", "macro": "PD", "legend": "PD"},
+    "neimark_sacker": {"short": "NS", "mark": "NS", "text": "Neimark--Sacker", "macro": "NS", "legend": "NS"},
+    "fold": {"short": "fold", "mark": "fold", "text": "fold", "macro": "Fold", "legend": "fold"},
+    "grazing_interior": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingTouch",
+                         "legend": "G: new impact"},
+    "grazing_velocity": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingVanish",
+                         "legend": "G: impact vanishes"},
 }
-KIND_SHORT = {k: v["short"] for k, v in SPECIAL_KINDS.items()}
-KIND_TEXT = {k: v["text"] for k, v in SPECIAL_KINDS.items()}
-KIND_MARK = {k: v["mark"] for k, v in SPECIAL_KINDS.items()}
-KIND_MACRO = {k: v["macro"] for k, v in SPECIAL_KINDS.items()}
+KIND_SHORT = {k: v["short"] for k, v in SPECIAL_POINT_NAMES.items()}
+KIND_TEXT = {k: v["text"] for k, v in SPECIAL_POINT_NAMES.items()}
+KIND_MARK = {k: v["mark"] for k, v in SPECIAL_POINT_NAMES.items()}
+KIND_MACRO = {k: v["macro"] for k, v in SPECIAL_POINT_NAMES.items()}
+KIND_LEGEND = {k: v["legend"] for k, v in SPECIAL_POINT_NAMES.items()}
 
 
 # --- config --------------------------------------------------------------------------------
@@ -221,3 +228,103 @@ def special_rows(branch: dict) -> list[dict]:
                      "index": 0 if a is None else a + 1, "x1_max": s.point.x1_max, "spectral_radius": radius,
                      "admissible": _on_motion(branch, a, b), "leg": leg, "detail": s.detail})
     return sorted(rows, key=lambda r: r["gap"])
+
+
+# --- a branch drawn: runs of one state ---------------------------------------------------------
+def _state(r: dict) -> str:
+    """A branch row's state: stable, unstable (both admissible) or inadmissible."""
+    if r["admissible"] != "1":
+        return "inadmissible"
+    return "stable" if r["stable"] == "1" else "unstable"
+
+
+def branch_sequence(rows: list[dict], special: list[dict], key: str) -> list[tuple]:
+    """The branch as (gap, y, state or None) in order along it, special points inserted at
+    their places (state None); y is ``key`` (nan where a special point has no value).
+
+    ``rows`` and ``special``: one branch's rows of ``figures/orbit_branches.csv`` and
+    ``figures/orbit_special_points.csv`` (:func:`branch_rows`, :func:`special_rows`), as
+    strings; a state is "stable" (and admissible), "unstable" (admissible) or "inadmissible".
+    """
+    items = [(float(i), cell_float(r["gap"]), cell_float(r[key]), _state(r)) for i, r in enumerate(rows)]
+    for s in special:
+        i = int(s["index"])
+        ref = cell_float(rows[i - 1]["gap"]) if i > 0 else cell_float(rows[0]["gap"])
+        # Between rows i-1 and i; two between the same rows in order of distance from row i-1.
+        items.append((i - 0.5 + 1e-3 * math.tanh(abs(cell_float(s["gap"]) - ref)), cell_float(s["gap"]), cell_float(s[key]),
+                      None))
+    items.sort(key=lambda t: t[0])
+    return [(g, y, state) for _, g, y, state in items]
+
+
+def run_pieces(rows: list[dict], special: list[dict], key: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """A branch split into polylines of one state each (stable, unstable, inadmissible), for
+    drawing: (state, gaps, ``key`` values). The special points are vertices; a segment takes
+    the state of its regular end (:func:`branch_sequence`). Where :func:`stretches` gives a run's
+    extent, this gives its drawn line."""
+    seq = branch_sequence(rows, special, key)
+    out = []
+    for (g0, y0, s0), (g1, y1, s1) in zip(seq[:-1], seq[1:]):
+        state = s0 or s1 or "unstable"
+        if math.isnan(y0) or math.isnan(y1):
+            continue
+        if out and out[-1][0] == state and out[-1][1][-1] == g0 and out[-1][2][-1] == y0:
+            out[-1][1].append(g1)
+            out[-1][2].append(y1)
+        else:
+            out.append((state, [g0, g1], [y0, y1]))
+    return [(s, np.array(g), np.array(y)) for s, g, y in out]
+
+
+
+def multi_impact_window(rows: list[dict], special: list[dict], summary: dict, margin: float) -> tuple[float, float]:
+    """The gaps (Delta0/x_st) of the branches' rows and special points of the cycles other than
+    the one-impact orbit (k > 1 or z > 1, ``summary["branches"]``), widened by ``margin``."""
+    multi = {n for n, b in summary["branches"].items() if b["k"] > 1 or b["z"] > 1}
+    gaps = ([cell_float(r["gap"]) for n in multi for r in rows if r["branch"] == n]
+            + [cell_float(s["gap"]) for n in multi for s in special if s["branch"] == n])
+    return min(gaps) - margin, max(gaps) + margin
+
+
+# --- the special points' table ----------------------------------------------------------------
+def _stability(r: dict, rows: list[dict]) -> str:
+    """Which side of a bifurcation is stable, from the branch rows on either side of it
+    (the library's own wording follows the direction of continuation)."""
+    i = int(r["index"])
+    near = [rows[j] for j in (i - 1, i) if 0 <= j < len(rows)]
+    flags = {q["stable"] == "1" for q in near}
+    if len(near) < 2 or len(flags) == 1:
+        return "; stable on both sides" if flags == {True} else "; unstable on both sides"
+    if r["kind"] == "fold":
+        return "; a stable and an unstable leg meet"
+    stable_row = next(q for q in near if q["stable"] == "1")
+    return "; stable for " + ("larger" if cell_float(stable_row["gap"]) > cell_float(r["gap"]) else "smaller") + " gaps"
+
+
+def describe_special(r: dict, rows: list[dict]) -> str:
+    """What happens at a special point, in a few words of TeX for the special points' table.
+
+    Parameters
+    ----------
+    r : dict
+        The special point's row (``figures/orbit_special_points.csv``, :func:`special_rows`, as
+        strings): kind, label, index, gap, detail.
+    rows : list of dict
+        Its branch's rows (``figures/orbit_branches.csv``, :func:`branch_rows`, as strings):
+        which side is stable is read from the rows on either side of the point.
+    """
+    d = r["detail"]
+    after = re.search(r"-> (\d+/\d+)", d)
+    change = f" ({r['label']} $\\to$ {after.group(1)})" if after else ""
+    kind = r["kind"]
+    if kind == "period_doubling":
+        m = re.search(r"a (\d+/\d+) \(", d)
+        return f"multiplier $-1$, a {m.group(1) if m else 'doubled'} cycle branches off{_stability(r, rows)}"
+    if kind == "neimark_sacker":
+        return f"complex pair of multipliers on the unit circle{_stability(r, rows)}"
+    if kind == "fold":
+        return f"multiplier $+1$, turning point{_stability(r, rows)}"
+    if kind == "grazing_velocity":
+        m = re.search(r"impact (\d+) of", d)
+        return f"impact {m.group(1) if m else ''} arrives with zero closing velocity{change}"
+    return f"the gap touches zero between impacts: a new impact{change}"
