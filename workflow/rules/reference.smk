@@ -187,7 +187,7 @@ rule fig_located_range:
 rule verdict:
     input:
         script="workflow/scripts/verdict.py",
-        library=library(BASELINES, study("claims", "config", "replication", "verdict"), REPORTING),
+        library=library(BASELINES, study("claims", "config", "replication", "verdict", "verdict_record"), REPORTING),
         stated="figures/reference_stated.json",
         located="figures/reference_located.json",
         cc_stated="figures/crosscheck_stated.json",
