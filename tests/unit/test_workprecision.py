@@ -41,21 +41,21 @@ def test_references_are_consistent(refs):
 
 def test_exact_solver_reaches_1e12_in_impact_phase(refs):
     for ref in refs.values():
-        (run,) = wp.measure_exact(ref, [1e-12], repeats=1, min_time=0.0)
+        (run,) = wp.measure(ref, "exact", [1e-12], repeats=1, min_time=0.0)
         assert run.ok and run.phase_error < 1e-12, run
         if ref.end_state is not None:
             assert run.state_error < 1e-11
 
 
 def test_algorithm1_on_the_settled_cycle(refs):
-    (run,) = wp.measure_alg1(refs["settled_cycle"], repeats=1, min_time=0.0)
+    (run,) = wp.measure(refs["settled_cycle"], "alg1", repeats=1, min_time=0.0)
     assert run.error < 1e-12
-    assert wp.measure_alg1(refs["first_impacts"]) == []  # it has no transient to offer
+    assert wp.measure(refs["first_impacts"], "alg1") == []  # it has no transient to offer
 
 
 def test_solve_ivp_error_follows_its_tolerance(refs):
     ref = refs["first_impacts"]
-    loose, tight = wp.measure_ivp(ref, "DOP853", [1e-5, 1e-10], repeats=1, min_time=0.0)
+    loose, tight = wp.measure(ref, "DOP853", [1e-5, 1e-10], repeats=1, min_time=0.0)
     assert loose.ok and tight.ok
     assert tight.error < loose.error
     assert 1e-13 < tight.error < 1e-7

@@ -14,7 +14,7 @@
 rule performance_work_precision:
     input:
         script="workflow/scripts/work_precision.py",
-        library=library(BASELINES, study("config", "workprecision"), REPORTING),
+        library=library(BASELINES, study("config", "methods", "workprecision"), REPORTING),
     output:
         json="results/benchmarks/work_precision.json",
         csv="figures/work_precision.csv",
@@ -32,7 +32,7 @@ rule performance_work_precision:
 rule fig_work_precision:
     input:
         script="workflow/scripts/fig_work_precision.py",
-        library=library(REPORTING),
+        library=library(BASELINES, study("methods"), REPORTING),
         style=STYLE,
         csv="figures/work_precision.csv",
         json="results/benchmarks/work_precision.json",
@@ -52,7 +52,7 @@ rule fig_work_precision:
 rule performance_cost_growth:
     input:
         script="workflow/scripts/cost_growth.py",
-        library=library(BASELINES, study("config", "workprecision"), REPORTING),
+        library=library(BASELINES, study("config", "methods", "workprecision"), REPORTING),
     output:
         json="results/benchmarks/cost_growth.json",
         csv="figures/cost_growth.csv",
@@ -171,7 +171,7 @@ rule performance_compiled_speed:
 rule performance_report:
     input:
         script="workflow/scripts/performance_report.py",
-        library=library(REPORTING),
+        library=library(BASELINES, study("methods", "performance_record", "workprecision"), REPORTING),
         work_precision="results/benchmarks/work_precision.json",
         cost_growth="results/benchmarks/cost_growth.json",
         hardcases="results/benchmarks/hardcases.json",

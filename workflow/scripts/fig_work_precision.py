@@ -17,19 +17,23 @@ import math
 
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.studies.methods import METHODS
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
-# One colour, marker and line per method family, the same in both panels, in legend order.
+# One colour, marker and line per method (:data:`impactdamper.studies.methods.METHODS`, whose
+# order is the legend's and whose plot labels name the lines), the same in both panels; a method
+# without an entry here is drawn in DEFAULT_STYLE.
 STYLE = {
-    "exact": ("exact (Alg. 2)", "#1f4e79", "o", "-"),
-    "alg1": ("Alg. 1 (closed form)", "#000000", "*", "none"),
-    "RK45": ("RK45", "#c0392b", "v", "--"),
-    "DOP853": ("DOP853", "#2e8b57", "^", "--"),
-    "Radau": ("Radau", "#e67e22", "<", "--"),
-    "LSODA": ("LSODA", "#7d3c98", ">", "--"),
-    "RK4": ("RK4 + bisection", "#7f8c8d", "s", ":"),
-    "Moreau-Jean": ("Moreau-Jean (Siconos)", "#b7950b", "D", ":"),
+    "exact": ("#1f4e79", "o", "-"),
+    "alg1": ("#000000", "*", "none"),
+    "RK45": ("#c0392b", "v", "--"),
+    "DOP853": ("#2e8b57", "^", "--"),
+    "Radau": ("#e67e22", "<", "--"),
+    "LSODA": ("#7d3c98", ">", "--"),
+    "RK4": ("#7f8c8d", "s", ":"),
+    "Moreau-Jean": ("#b7950b", "D", ":"),
 }
+DEFAULT_STYLE = ("0.4", "x", "-.")
 # Error axis: from order one down to below double precision's floor.
 ERROR_LIMITS = (3.0, 1e-15)
 
@@ -47,7 +51,7 @@ def _fineness(r: dict) -> float:
     v = r["value"]
     if not math.isfinite(v):
         return 0.0
-    return -v if r["setting"] in ("rtol", "gap_tol") else v
+    return v if METHODS[r["family"]].finer_when_larger else -v
 
 
 def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None = None) -> None:
@@ -55,7 +59,8 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
     rows = load(in_csv)
     fig, axes = plt.subplots(1, 2, figsize=(TEXT_WIDTH, 0.5 * TEXT_WIDTH), sharey=True, layout="constrained")
     for ax, (case, title) in zip(axes, PANELS):
-        for fam, (label, color, marker, ls) in STYLE.items():
+        for fam, method in METHODS.items():
+            label, (color, marker, ls) = method.plot_label, STYLE.get(fam, DEFAULT_STYLE)
             # In the order of the method's own setting, from coarse to fine.
             pts = sorted((_fineness(r), r["error"], r["cpu_seconds"]) for r in rows
                          if r["case"] == case and r["family"] == fam
@@ -77,7 +82,7 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
     for ax in axes:
         for h, lab in zip(*ax.get_legend_handles_labels()):
             labels.setdefault(lab, h)
-    order = [STYLE[f][0] for f in STYLE if STYLE[f][0] in labels]
+    order = [m.plot_label for m in METHODS.values() if m.plot_label in labels]
     if siconos_available is False:
         axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize="small",
                      ha="right")

@@ -14,16 +14,11 @@ against the mpmath reference of :mod:`impactdamper.baselines.highprecision` (40 
     and the end state's max |y_i - y_i^ref| / scale_i (scales x_st, x_st, x_st omega,
     x_st omega).
 
-Methods (``family``/``setting``):
-
-* ``exact``: :func:`impactdamper.core.simulate` (Algorithm No. 2, exact flow, certified event
-  search) across ``gap_tol``; ``alg1``: :func:`impactdamper.core.algorithm1` (closed form; the
-  settled cycle only);
-* ``RK45``, ``DOP853``, ``Radau``, ``LSODA``: :func:`impactdamper.baselines.ivp.simulate_ivp`
-  (``solve_ivp`` with event location) across ``rtol``, with ``atol = rtol * x_st``;
-* ``RK4``: :func:`impactdamper.baselines.rk4.simulate_rk4` across steps per period;
-* ``Moreau-Jean``: Siconos's time-stepping (:mod:`impactdamper.baselines.siconos_bridge`), when its
-  Python module is present; the study records plainly whether it was.
+Methods: every entry of :data:`impactdamper.studies.methods.METHODS` (the exact solver,
+Algorithm No. 1 on the settled cycle, the ``solve_ivp`` methods, RK4 with bisection, Siconos's
+Moreau-Jean scheme when its Python module is present; the study records plainly whether it
+was), each across its own setting, read through one result protocol (``impacts()``,
+``state_at(t)``).
 
 Cost is the median over ``repeats`` of the process CPU time (``time.process_time``) of one
 call that computes the motion over the window, from the parameters to the list of impacts;
@@ -46,19 +41,17 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from impactdamper.baselines import highprecision as hp
-from impactdamper.core.algorithm1 import algorithm1
-from impactdamper.baselines.ivp import METHODS as IVP_METHODS
-from impactdamper.baselines.ivp import simulate_ivp
-from impactdamper.baselines.rk4 import simulate_rk4
 from impactdamper.core.parameters import Parameters
-from impactdamper.baselines.siconos_bridge import siconos_status, simulate_siconos
-from impactdamper.core.simulate import Tolerances, default_initial_state, simulate
+from impactdamper.core.simulate import default_initial_state, simulate
+from impactdamper.reporting.records import json_float
+from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected
 
-__all__ = ["CASES", "Reference", "Run", "build_references", "cpu_time", "run_study", "summarize",
-           "cost_to_reach", "cost_growth", "FAMILIES"]
+__all__ = ["CASES", "Reference", "Run", "build_references", "cpu_time", "measure", "run_study", "summarize",
+           "cost_to_reach", "cost_growth", "FAMILIES", "meets", "report_summary"]
 
 CASES = ("first_impacts", "settled_cycle")
-FAMILIES = ("exact", "alg1") + IVP_METHODS + ("RK4", "Moreau-Jean")
+# The methods' names (the runs' ``family`` column), in table order.
+FAMILIES = tuple(METHODS)
 # Siconos takes ~25 us per step in its Python loop: runs beyond this many steps are skipped
 # (unless the configuration raises it) to keep the study within minutes.
 DEFAULT_MAX_STEPS = 2_000_000
@@ -206,81 +199,38 @@ def _run(ref, family, setting, value, cpu, impact_times, end_state, nfev=0, note
     return Run(ref.case, family, setting, float(value), float(cpu), err, ph, st, found, len(ref.impact_times), nfev, note)
 
 
-def measure_exact(ref: Reference, gap_tols, repeats=5, min_time=0.05) -> list[Run]:
-    out = []
-    for g in gap_tols:
-        tol = Tolerances(gap_tol=g)
-        cpu, traj = cpu_time(lambda: simulate(ref.p, ref.t_end, t0=ref.t0, state=ref.state, tolerances=tol),
-                             repeats, min_time)
-        end = traj.sample(ref.t_end)[0] if ref.end_state is not None else None
-        out.append(_run(ref, "exact", "gap_tol", g, cpu, [e.t for e in traj.impacts()], end))
-    return out
+def measure(ref: Reference, name: str, values=(math.nan,), repeats: int = 5, min_time: float = 0.05,
+            max_steps: int = DEFAULT_MAX_STEPS) -> list[Run]:
+    """Runs of method ``name`` (:data:`impactdamper.studies.methods.METHODS`) on one problem,
+    one per setting in ``values``, each timed (median CPU time, :func:`cpu_time`, unless the
+    method times itself) and its impacts and end state compared with the reference.
 
-
-def measure_alg1(ref: Reference, repeats=5, min_time=0.05) -> list[Run]:
-    """Algorithm No. 1 on the settled cycle: the orbit directly, no transient."""
-    if ref.end_state is None:
+    A method of the settled cycle only gives no runs on the first impacts; a method whose
+    setting is steps per period skips the runs beyond ``max_steps`` steps; a run that ends in
+    an error the method declares is a failed run (error inf) with the error's first line.
+    """
+    m = METHODS[name]
+    if m.settled_only and ref.end_state is None:
         return []
-    p = ref.p
-    cpu, a1 = cpu_time(lambda: algorithm1(p), repeats, min_time)
-    if not a1.admissible:
-        return [Run(ref.case, "alg1", "-", math.nan, cpu, math.inf, math.inf, math.inf, 0,
-                    len(ref.impact_times), note="Algorithm No. 1 has no admissible orbit")]
-    T = p.T
-    k0 = math.floor((ref.t0 - a1.t_impact) / T) + 1
-    times = [a1.t_impact + k * T for k in range(k0, k0 + len(ref.impact_times) + 1)]
-    tau = (ref.t_end - a1.t_impact) % T
-    end = a1.sample(tau)
-    return [_run(ref, "alg1", "-", math.nan, cpu, times, end)]
-
-
-def measure_ivp(ref: Reference, method: str, rtols, repeats=5, min_time=0.05) -> list[Run]:
     out = []
-    for rtol in rtols:
-        atol = rtol * ref.p.x_st
+    span = (ref.t_end - ref.t0) / ref.p.T
+    for v in values:
+        if m.steps and v * span > max_steps:
+            continue
+        solve = lambda: m.solve(ref.p, ref.t_end, ref.t0, ref.state, v, repeats)  # noqa: E731
         try:
-            cpu, traj = cpu_time(lambda: simulate_ivp(ref.p, ref.t_end, t0=ref.t0, state=ref.state, method=method,
-                                                      rtol=rtol, atol=atol, max_events=100_000), repeats, min_time)
-        except RuntimeError as exc:  # a method that loops on chatter or fails to step
-            out.append(Run(ref.case, method, "rtol", rtol, math.nan, math.inf, math.inf, math.inf, 0,
+            cpu, sol = (math.nan, solve()) if m.times_itself else cpu_time(solve, repeats, min_time)
+        except m.catches as exc:  # a method that loops on chatter or fails to step
+            out.append(Run(ref.case, name, m.setting, v, math.nan, math.inf, math.inf, math.inf, 0,
                            len(ref.impact_times), note=str(exc).splitlines()[0][:120]))
             continue
-        end = traj.sample(ref.t_end)[0] if ref.end_state is not None else None
-        out.append(_run(ref, method, "rtol", rtol, cpu, [e.t for e in traj.impacts()], end, traj.nfev))
-    return out
-
-
-def measure_rk4(ref: Reference, steps_per_period, repeats=5, min_time=0.05, max_steps=DEFAULT_MAX_STEPS) -> list[Run]:
-    out = []
-    span = (ref.t_end - ref.t0) / ref.p.T
-    for n in steps_per_period:
-        if n * span > max_steps:
+        if sol is None:
+            out.append(Run(ref.case, name, m.setting, v, cpu, math.inf, math.inf, math.inf, 0,
+                           len(ref.impact_times), note=m.no_solution))
             continue
-        try:
-            cpu, traj = cpu_time(lambda: simulate_rk4(ref.p, ref.t_end, t0=ref.t0, state=ref.state,
-                                                      steps_per_period=int(n), max_events=10_000), repeats, min_time)
-        except RuntimeError as exc:
-            out.append(Run(ref.case, "RK4", "steps_per_period", n, math.nan, math.inf, math.inf, math.inf, 0,
-                           len(ref.impact_times), note=str(exc)[:120]))
-            continue
-        end = traj.state if ref.end_state is not None else None
-        out.append(_run(ref, "RK4", "steps_per_period", n, cpu, [e.t for e in traj.impacts()], end, traj.nfev))
-    return out
-
-
-def measure_siconos(ref: Reference, steps_per_period, repeats=3, max_steps=DEFAULT_MAX_STEPS,
-                    slow_steps=40_000) -> list[Run]:
-    """Moreau-Jean runs; runs above ``slow_steps`` steps are timed once."""
-    out = []
-    span = (ref.t_end - ref.t0) / ref.p.T
-    for n in steps_per_period:
-        steps = n * span
-        if steps > max_steps:
-            continue
-        res = simulate_siconos(ref.p, ref.t_end, t0=ref.t0, state=ref.state, steps_per_period=int(n),
-                               repeats=repeats if steps <= slow_steps else 1)
-        end = res.final_state if ref.end_state is not None else None
-        out.append(_run(ref, "Moreau-Jean", "steps_per_period", n, res.cpu_seconds, res.impacts, end))
+        cpu = sol.cpu_seconds if m.times_itself else cpu
+        end = sol.state_at(ref.t_end) if ref.end_state is not None else None
+        out.append(_run(ref, name, m.setting, v, cpu, sol.impacts(), end, sol.nfev))
     return out
 
 
@@ -292,22 +242,19 @@ def run_study(p: Parameters, cfg: dict, log=print) -> dict:
     repeats, min_time, max_steps.
     """
     refs = build_references(p, cfg["n_impacts"], cfg["settled_periods"], cfg["digits"])
-    available, detail = siconos_status()
+    methods = selected(cfg)
+    status = {m.name: m.status() for m in methods}
     repeats, min_time = cfg["repeats"], cfg["min_time"]
     max_steps = cfg.get("max_steps", DEFAULT_MAX_STEPS)
     runs: list[Run] = []
     for case, ref in refs.items():
-        log(f"[{case}] exact")
-        runs += measure_exact(ref, cfg["exact_gap_tols"], repeats, min_time)
-        runs += measure_alg1(ref, repeats, min_time)
-        for method in cfg["ivp_methods"]:
-            log(f"[{case}] {method}")
-            runs += measure_ivp(ref, method, cfg["ivp_rtols"], repeats, min_time)
-        log(f"[{case}] RK4")
-        runs += measure_rk4(ref, cfg["rk4_steps_per_period"], repeats, min_time, max_steps)
-        if available:
-            log(f"[{case}] Moreau-Jean (Siconos)")
-            runs += measure_siconos(ref, cfg["siconos_steps_per_period"], max(1, repeats // 2), max_steps)
+        for m in methods:
+            if not status[m.name][0]:
+                continue
+            log(f"[{case}] {m.plot_label}")
+            values = cfg[m.settings_key] if m.settings_key else (math.nan,)
+            runs += measure(ref, m.name, values, repeats, min_time, max_steps)
+    available, detail = status.get("Moreau-Jean", METHODS["Moreau-Jean"].status())
     import numpy
     import scipy
 
@@ -382,3 +329,77 @@ def cost_growth(p: Parameters, periods, repeats=3, min_time=0.05, log=print) -> 
                      "cpu_seconds": cpu, "per_impact": cpu / impacts if impacts else math.nan,
                      "per_period": cpu / n})
     return rows
+
+
+def meets(value: float, target: float, at_most: bool) -> bool:
+    """Whether ``value`` meets ``target``: at most it if ``at_most``, else at least it; never
+    where either is not finite."""
+    if value is None or target is None or not (math.isfinite(value) and math.isfinite(target)):
+        return False
+    return value <= target if at_most else value >= target
+
+
+def report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict:
+    """The performance stage's numbers for the report: per problem, the exact solver's best
+    error and cost, the best ``solve_ivp`` error, each other method's best error and cost,
+    and at each target error the speed-up over the best ``solve_ivp`` method (and over RK4)
+    judged against ``perf["speedup_target"]``; the cost growth, the hard cases and the
+    reference-speed benchmark.
+
+    Parameters
+    ----------
+    wp : dict
+        The study (:func:`run_study`) with its ``summary`` (:func:`summarize`).
+    growth, hard, ref : dict
+        The cost growth, hard-case and reference-speed benchmarks' records.
+    perf : dict
+        The ``performance`` config section (targets, speedup_target, phase_target).
+    """
+    targets = [float(t) for t in perf["targets"]]
+    out = {"targets": targets, "siconos": wp["siconos"], "cases": {}}
+    for case, s in wp["summary"].items():
+        methods = s["methods"]
+        exact = methods["exact"]
+        ivp_best = {m: json_float(methods[m]["best_error"]) for m in IVP_METHODS if m in methods}
+        best_ivp_method = min(ivp_best, key=ivp_best.get) if ivp_best else None
+        c = {
+            "exact_best_error": json_float(exact["best_error"]),
+            "exact_cost": json_float(exact["min_cost"]),
+            "exact_phase_target_met": meets(json_float(exact["best_error"]), float(perf["phase_target"]), at_most=True),
+            "best_ivp_error": ivp_best.get(best_ivp_method, math.inf) if best_ivp_method else math.inf,
+            "best_ivp_error_method": best_ivp_method,
+            "levels": {},
+        }
+        for key in reported_alone():
+            if key in methods:
+                c[f"{key}_best_error"] = json_float(methods[key]["best_error"])
+                c[f"{key}_min_cost"] = json_float(methods[key]["min_cost"])
+        for t in targets:
+            sp = s["speedup_vs_best_ivp"][f"{t:g}"]
+            speedup = json_float(sp["speedup"])
+            rk4 = json_float(methods["RK4"]["cost_to_reach"][f"{t:g}"]) if "RK4" in methods else math.inf
+            exact_t = json_float(exact["cost_to_reach"][f"{t:g}"])
+            c["levels"][f"{t:g}"] = {
+                "speedup": speedup, "best_ivp_method": sp["best_ivp_method"], "best_ivp_cost": json_float(sp["best_ivp_cost"]),
+                "exact_cost": exact_t, "speedup_met": meets(speedup, float(perf["speedup_target"]), at_most=False),
+                "speedup_vs_rk4": rk4 / exact_t if math.isfinite(rk4) and math.isfinite(exact_t) else math.inf,
+            }
+        out["cases"][case] = c
+    out["cost_growth"] = growth["summary"]
+    out["hardcases"] = {"passed": hard["passed"], "total": hard["total"],
+                        "slowest": max(hard["cases"], key=lambda r: json_float(r["cpu_seconds"]))["case"],
+                        "slowest_seconds": max(json_float(r["cpu_seconds"]) for r in hard["cases"]),
+                        "total_seconds": sum(json_float(r["cpu_seconds"]) for r in hard["cases"]),
+                        "failed": [r["case"] for r in hard["cases"] if not r["passed"]]}
+    ex, tg, cross = ref.get("exact", {}), ref.get("targets", {}), ref.get("crosscheck", {})
+    fastest = min(cross, key=lambda m: cross[m]["median_s"]) if cross else None
+    out["reference_speed"] = {"steady_state_seconds": json_float(ex.get("steady_state_median_s")),
+                              "speedup_vs_fastest_crosscheck": json_float(tg.get("speedup_vs_fastest_crosscheck")),
+                              "speedup_target": json_float(tg.get("speedup_target")),
+                              "exact_time_target_s": json_float(tg.get("exact_time_target_s")),
+                              "speedup_met": bool(tg.get("speedup_met", False)),
+                              "exact_time_met": bool(tg.get("exact_time_met", False)),
+                              "fastest_crosscheck": fastest,
+                              "crosscheck_rtol": json_float(cross[fastest]["rtol"]) if fastest else math.inf,
+                              "phase_error": json_float(ex.get("phase_error"))}
+    return out
