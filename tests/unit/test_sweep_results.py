@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from impactdamper import Parameters
-from impactdamper.analysis.transitions import liftoff_resolution_offset
+from impactdamper import Parameters, algorithm1
+from impactdamper.analysis.transitions import algorithm1_grazing_gap, algorithm1_grazing_gaps, liftoff_resolution_offset
 from impactdamper.studies import sweep_results as sr
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -110,3 +110,16 @@ def test_liftoff_offset_matches_the_lift_off_located_by_simulation():
     check = next(c for c in doc["checks"] if c["name"] == "liftoff")
     eps = liftoff_resolution_offset(Parameters(**doc["base"]), gap_tol)
     assert check["located"] - check["analytic"] == pytest.approx(eps, rel=OFFSET_RTOL)
+
+
+def test_algorithm1_grazing_gaps_are_where_admissibility_changes():
+    p = Parameters()
+    found = algorithm1_grazing_gaps(p, -14.0, 0.0, 57, xtol=1e-9)
+    assert found, "the reference case's Algorithm No. 1 orbit starts crossing the stop in this range"
+    for g in found:
+        before = algorithm1(p.replace(gap=g - 1e-7)).admissible
+        after = algorithm1(p.replace(gap=g + 1e-7)).admissible
+        assert before != after, g
+    # The same gaps as the single bracket's bisection, and in increasing order.
+    assert found == sorted(found)
+    assert found[0] == pytest.approx(algorithm1_grazing_gap(p, (found[0] - 0.1, found[0] + 0.1), xtol=1e-9), abs=2e-9)

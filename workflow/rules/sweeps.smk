@@ -41,6 +41,7 @@ rule sweep_gap:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
+        target_wall_s=config["performance"]["sweep_target_wall_s"],
     priority: 50
     log:
         "logs/sweeps/sweep_gap.log",

@@ -6,7 +6,7 @@ contact (:func:`impactdamper.analysis.transitions.stuck_liftoff_gap`), the gap a
 response never reaches the stop (U1/x_st, :func:`~impactdamper.analysis.transitions.no_contact_gap`), and
 every gap where Algorithm No. 1's orbit starts or stops crossing the stop between impacts
 (its admissibility changes along a scan of ``SCAN_POINTS`` gaps over the map's range, each
-change bisected to ``BISECT_XTOL`` by :func:`~impactdamper.analysis.transitions.algorithm1_grazing_gap`).
+change bisected to ``BISECT_XTOL``, :func:`~impactdamper.analysis.transitions.algorithm1_grazing_gaps`).
 The grazing scan costs ~200 Algorithm No. 1 runs per row, so it runs on every
 ``maps.grazing_every``-th row (and the last); the two closed-form thresholds on every row.
 
@@ -20,9 +20,8 @@ import numpy as np
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv
-from impactdamper import algorithm1
 from impactdamper.analysis.sweeps import with_value
-from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap
+from impactdamper.analysis.transitions import algorithm1_grazing_gaps, no_contact_gap, stuck_liftoff_gap
 
 COLUMNS = ["slow", "liftoff", "first_contact", "alg1_scanned", "alg1_grazing"]
 # Algorithm No. 1 costs ~2 ms: a scan of this many gaps per row finds the admissibility
@@ -36,10 +35,7 @@ def row(base, slow: str, value: float, gaps: np.ndarray, scanned: bool = True) -
     thresholds = {"slow": float(value), "liftoff": stuck_liftoff_gap(p), "first_contact": no_contact_gap(p)}
     if not scanned:
         return {**thresholds, "alg1_scanned": 0, "alg1_grazing": ""}
-    scan = np.linspace(gaps[0], gaps[-1], SCAN_POINTS)
-    adm = [bool(algorithm1(p.replace(gap=float(g))).admissible) for g in scan]
-    graze = [algorithm1_grazing_gap(p, (scan[i], scan[i + 1]), xtol=BISECT_XTOL)
-             for i in range(len(scan) - 1) if adm[i] != adm[i + 1]]
+    graze = algorithm1_grazing_gaps(p, gaps[0], gaps[-1], SCAN_POINTS, xtol=BISECT_XTOL)
     return {**thresholds, "alg1_scanned": 1, "alg1_grazing": ";".join(repr(float(g)) for g in graze)}
 
 

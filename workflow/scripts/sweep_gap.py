@@ -15,7 +15,7 @@ from, so that any row can be recomputed on its own), ``results/sweeps/sweep_poin
 (the points themselves as arrays, :func:`impactdamper.studies.gapsweep.write_points`, for the
 transition bisection) and
 ``results/benchmarks/sweep_timing.json`` (wall and processor time of the two-way sweep, timed
-inside this job).
+inside this job, beside the config's target ``performance.sweep_target_wall_s``).
 """
 
 
@@ -26,7 +26,7 @@ from impactdamper.analysis.sweeps import two_way_sweep
 
 
 def main(reference: dict, solver: dict, sweep: dict, out_csv, out_settings, out_points, out_timing,
-         processes: int = 1, log=None) -> dict:
+         processes: int = 1, log=None, *, target_wall_s: float) -> dict:
     base = parameters(reference)
     settings = sweep_settings(sweep, solver)
     values = gs.grid(sweep["start"], sweep["stop"], sweep["points"])
@@ -48,7 +48,7 @@ def main(reference: dict, solver: dict, sweep: dict, out_csv, out_settings, out_
         "wall_s": timer.wall,
         "cpu_s": res["cpu"],
         "wall_per_direction_s": res["wall"],
-        "target_wall_s": 60.0,
+        "target_wall_s": float(target_wall_s),
         "machine_before": before,
         "machine_after": machine(),
         "methods": {d: _count(res[d], "method") for d in ("up", "down")},
@@ -72,4 +72,5 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "sweep_gap", timestamps=True, library=True)
     main(cfg["reference"], cfg["solver"], cfg["sweep"],
-         sm.output.csv, sm.output.settings, sm.output.points, sm.output.timing, processes=min(int(sm.threads), 2), log=log)
+         sm.output.csv, sm.output.settings, sm.output.points, sm.output.timing, processes=min(int(sm.threads), 2), log=log,
+         target_wall_s=float(sm.params.target_wall_s))
