@@ -22,25 +22,15 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
 from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.settled import SweepSettings
-from impactdamper.core.parameters import Parameters, most_extreme
+from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.steady import steady_state
 from impactdamper.reporting.records import clean
 
 __all__ = ["main", "run", "build_parser"]
 
-PARAMETER_HELP = {
-    "theta": "forcing frequency ratio omega/omega1",
-    "mu": "mass ratio m2/m1",
-    "N": "frequency ratio omega2/omega1",
-    "delta1": "relative damping k1/(2 m1 omega1)",
-    "delta2": "relative damping k2/(2 m2 omega1)",
-    "R": "coefficient of restitution, in [0, 1]",
-    "gap": "initial gap Delta0/x_st",
-    "omega": "forcing frequency, rad/s",
-    "x_st": "static deflection P0/c1, m",
-    "m1": "object mass, kg (a free scale)",
-}
+# The flags' help, from the parameter table (one line per parameter).
+PARAMETER_HELP = {spec.name: spec.help for spec in PARAMETER_TABLE}
 
 
 class _Parser(argparse.ArgumentParser):

@@ -1,12 +1,14 @@
 """Parameters: the paper's relative form, the dimensional values, and validation."""
 
+import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
 
 import impactdamper as idp
-from impactdamper.core.parameters import REFERENCE, Parameters
+from impactdamper.core.parameters import PARAMETER_TABLE, REFERENCE, Parameters
 
 # --- closed form first ---------------------------------------------------------------------
 

@@ -27,7 +27,7 @@ import scipy.optimize
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, first_root
 from impactdamper.core.linear import characteristic_roots, forced_amplitudes, mode_shape_ratios
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
-from impactdamper.core.parameters import Parameters, ScaleMap, most_extreme, require_parameters
+from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, ScaleMap, most_extreme, require_parameters
 from impactdamper.core.simulate import check_gap_tol, work_limit_message
 
 __all__ = ["Algorithm1Result", "algorithm1", "unit_pulse_response", "rescale_algorithm1"]
@@ -202,7 +202,7 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
         with np.errstate(over="raise", invalid="raise", divide="raise"):
             return _algorithm1(p, gap_tol)
     except (FloatingPointError, ZeroDivisionError, OverflowError, np.linalg.LinAlgError) as err:
-        name = most_extreme(p, ("theta", "mu", "N", "delta1", "delta2", "R", "gap"))
+        name = most_extreme(p, RELATIVE_PARAMETERS)
         raise ValueError(f"`{name}` = {getattr(p, name)!r} is beyond what Algorithm No. 1's closed form resolves "
                          f"({type(err).__name__}: {' '.join(str(err).split())}); allowed are parameters nearer the "
                          "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)") from None

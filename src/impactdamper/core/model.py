@@ -30,7 +30,7 @@ import numpy as np
 
 from impactdamper.core.events import LinearFunctional
 from impactdamper.core.linear import LinearMode, free_mode, stuck_mode
-from impactdamper.core.parameters import Parameters, most_extreme
+from impactdamper.core.parameters import LINEAR_PARAMETERS, Parameters, most_extreme
 
 __all__ = ["Model", "FREE", "STUCK"]
 
@@ -67,7 +67,7 @@ class Model:
             # (mu = 1e300: the energy matrix diag(c, m) loses its small entries to rounding.)
             problem = str(err)
         if problem:
-            name = most_extreme(p, ("theta", "mu", "N", "delta1", "delta2"))
+            name = most_extreme(p, LINEAR_PARAMETERS)
             raise ValueError(f"`{name}` = {getattr(p, name)!r} is not allowed with the other parameters: the model's "
                              f"matrices leave the floating-point range ({problem}); allowed are parameters nearer the "
                              "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)")

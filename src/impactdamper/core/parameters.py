@@ -20,7 +20,8 @@ import math
 import numbers
 from dataclasses import dataclass, field
 
-__all__ = ["Parameters", "REFERENCE", "ArgumentTypeError"]
+__all__ = ["Parameters", "REFERENCE", "ArgumentTypeError", "ParameterSpec", "PARAMETER_TABLE", "LINEAR_PARAMETERS",
+           "RELATIVE_PARAMETERS"]
 
 
 class ArgumentTypeError(TypeError, ValueError):
@@ -108,15 +109,78 @@ _DERIVED = {
     "x_st omega": ("x_st omega", ("x_st", "omega")),
     "m1 x_st omega": ("m1 x_st omega", ("m1", "x_st", "omega")),
 }
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One parameter a user sets (a field of :class:`Parameters`), as the package reads it by
+    name: its range, the value a message measures extremes against, its role and its help.
+
+    Attributes
+    ----------
+    name : str
+        The field of :class:`Parameters` (the config key, the CLI flag ``--name``, the column
+        of the compiled kernels' packed values).
+    allowed : str
+        Its range: ``"> 0"``, ``">= 0"``, ``"in [0, 1]"``, or ``""`` (any finite value).
+    typical : float
+        Its magnitude in the reference case: a message about a numerical limit names the
+        parameter farthest from it in decades (:func:`most_extreme`).
+    role : str
+        ``"linear"``: the linear part (masses, stiffnesses, dampings, forcing; eqs. 1-11);
+        ``"impact"``: the impact law and the stop (eqs. 14, 20-22); ``"scale"``: a free scale
+        (results in relative units do not depend on it).
+    help : str
+        One line for the command line's ``--help``.
+    """
+
+    name: str
+    allowed: str
+    typical: float
+    role: str
+    help: str
+
+    def ok(self, value: float) -> bool:
+        """Whether ``value`` (finite) is in the parameter's range."""
+        return _IN_RANGE[self.allowed](value)
+
+
+_IN_RANGE = {"> 0": lambda v: v > 0, ">= 0": lambda v: v >= 0, "in [0, 1]": lambda v: 0.0 <= v <= 1.0,
+             "": lambda v: True}
+# The one table of the parameters, in the paper's order: Parameters.names(), the ranges checked
+# on construction, the compiled kernels' packed columns (compiled/pack.py reads them by name),
+# the CSV columns, the command line's flags and their help, and the sets of parameters a
+# message may name (LINEAR_PARAMETERS, RELATIVE_PARAMETERS) derive from it. A new parameter is
+# a row here and a field of Parameters (tests/unit/test_parameters.py holds the two together).
+PARAMETER_TABLE = (
+    ParameterSpec("theta", "> 0", 1.0, "linear", "forcing frequency ratio omega/omega1"),
+    ParameterSpec("mu", "> 0", 0.08, "linear", "mass ratio m2/m1"),
+    ParameterSpec("N", "> 0", 0.5, "linear", "frequency ratio omega2/omega1"),
+    ParameterSpec("delta1", ">= 0", 0.05, "linear", "relative damping k1/(2 m1 omega1)"),
+    ParameterSpec("delta2", ">= 0", 0.05, "linear", "relative damping k2/(2 m2 omega1)"),
+    ParameterSpec("R", "in [0, 1]", 0.7, "impact", "coefficient of restitution, in [0, 1]"),
+    ParameterSpec("gap", "", 5.8, "impact", "initial gap Delta0/x_st"),
+    ParameterSpec("omega", "> 0", 10.0, "scale", "forcing frequency, rad/s"),
+    ParameterSpec("x_st", "> 0", 1.0, "scale", "static deflection P0/c1, m"),
+    ParameterSpec("m1", "> 0", 1.0, "scale", "object mass, kg (a free scale)"),
+)
+# The parameters of the linear part (the model's matrices depend on these only) and all the
+# relative ones (the free scales left out): the candidates a message about the matrices, and
+# about a solver's limits, may name.
+LINEAR_PARAMETERS = tuple(s.name for s in PARAMETER_TABLE if s.role == "linear")
+RELATIVE_PARAMETERS = tuple(s.name for s in PARAMETER_TABLE if s.role != "scale")
 # Values of the reference case, against which the most extreme input is picked for a message.
-_TYPICAL = {"theta": 1.0, "mu": 0.08, "N": 0.5, "delta1": 0.05, "delta2": 0.05, "R": 0.7, "gap": 5.8,
-            "omega": 10.0, "x_st": 1.0, "m1": 1.0}
+_TYPICAL = {s.name: s.typical for s in PARAMETER_TABLE}
+# The candidates by default: every parameter but the bounded ones (R's range is [0, 1]).
+_EXTREME_BY_DEFAULT = tuple(s.name for s in PARAMETER_TABLE if not s.allowed.startswith("in "))
+# The order the ranges are checked in (the first violated is named): > 0, then >= 0, then [0, 1].
+_RANGE_ORDER = ("> 0", ">= 0", "in [0, 1]")
 
 
 def most_extreme(p: "Parameters", names: tuple[str, ...] | None = None) -> str:
     """The parameter among ``names`` farthest (in decades) from the reference case's value: the
     one a message about a numerical limit names."""
-    names = names or ("theta", "mu", "N", "delta1", "delta2", "gap", "omega", "x_st", "m1")
+    names = names or _EXTREME_BY_DEFAULT
 
     def decades(name: str) -> float:
         v = abs(float(getattr(p, name)))
@@ -195,15 +259,14 @@ class Parameters:
     T: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        for name in ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1"):
+        for name in self.names():
             # Stored as float: numpy scalars (np.float32 arithmetic) and huge ints become plain
             # floats or a named error (an int of 400 digits raised OverflowError).
             object.__setattr__(self, name, finite_argument(name, getattr(self, name)))
-        for name in ("theta", "mu", "N", "omega", "x_st", "m1"):
-            _check(name, getattr(self, name), getattr(self, name) > 0, "> 0")
-        for name in ("delta1", "delta2"):
-            _check(name, getattr(self, name), getattr(self, name) >= 0, ">= 0")
-        _check("R", self.R, 0.0 <= self.R <= 1.0, "in [0, 1]")
+        for allowed in _RANGE_ORDER:
+            for spec in PARAMETER_TABLE:
+                if spec.allowed == allowed:
+                    _check(spec.name, getattr(self, spec.name), spec.ok(getattr(self, spec.name)), allowed)
 
         omega1 = self.omega / self.theta
         omega2 = self.N * omega1
@@ -283,7 +346,7 @@ class Parameters:
     @staticmethod
     def names() -> tuple[str, ...]:
         """The relative parameters a user sets, in the paper's order."""
-        return ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1")
+        return tuple(spec.name for spec in PARAMETER_TABLE)
 
     def to_dict(self) -> dict[str, float]:
         """The relative parameters as a plain dict (JSON-ready)."""

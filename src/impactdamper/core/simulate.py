@@ -37,6 +37,7 @@ from impactdamper.core.linear import characteristic_roots
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import (NATIVE_SCALES, ArgumentTypeError, Parameters, ScaleMap, finite_argument, integer_argument,
                          most_extreme, real_argument, require_parameters)
+from impactdamper.core.parameters import RELATIVE_PARAMETERS
 
 __all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
 
@@ -152,7 +153,7 @@ def work_limit_message(p: Parameters, what: str) -> str:
     reference case (the usual cause: a free motion far faster or stiffer than the forcing)."""
     with np.errstate(all="ignore"):  # (only for the message: an overflow just shows as inf)
         rate = float(np.max(np.abs(characteristic_roots(p)))) / p.omega
-    name = most_extreme(p, ("theta", "mu", "N", "delta1", "delta2", "R", "gap"))
+    name = most_extreme(p, RELATIVE_PARAMETERS)
     return (f"`{name}` = {getattr(p, name)!r} is beyond what the solver resolves: {what} (the free motion's fastest "
             f"rate is {rate:.3g} omega); allowed are parameters nearer the reference case (theta = 1, mu = 0.08, "
             "N = 0.5, delta1 = delta2 = 0.05, R = 0.7, gap = -5.8)")

@@ -61,8 +61,14 @@ class Pack:
     fallback: int
 
 
-# The relative parameters, in the columns of pack_many's input.
-PARAMETER_COLUMNS = ("theta", "mu", "N", "delta1", "delta2", "R", "gap", "omega", "x_st", "m1")
+# The relative parameters, in the columns of pack_many's input: the parameter table's order
+# (core/parameters.py's PARAMETER_TABLE). The kernels read a column by its name's index below
+# (compile-time constants), never by position, so a parameter inserted in the table shifts
+# nothing silently.
+PARAMETER_COLUMNS = Parameters.names()
+C_THETA, C_MU, C_N = (PARAMETER_COLUMNS.index(n) for n in ("theta", "mu", "N"))
+C_DELTA1, C_DELTA2, C_R, C_GAP = (PARAMETER_COLUMNS.index(n) for n in ("delta1", "delta2", "R", "gap"))
+C_OMEGA, C_XST, C_M1 = (PARAMETER_COLUMNS.index(n) for n in ("omega", "x_st", "m1"))
 # Pack flags (pack_many's second output), as in FALLBACK_REASONS: 0 the kernels apply.
 _PACK_OK, _PACK_EXPM, _PACK_SCALES, _PACK_ERROR = 0, 1, 2, 3
 # LAPACK's dgeev as numpy's eig calls it for a real matrix, reached from compiled code through
@@ -123,7 +129,7 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
 
     Parameters
     ----------
-    values : ndarray, shape (P, 10)
+    values : ndarray, shape (P, len(PARAMETER_COLUMNS))
         Relative parameters in the order of :data:`PARAMETER_COLUMNS`, each row valid for
         :class:`Parameters` (the caller validates).
     tolerances : Tolerances, optional
@@ -313,7 +319,7 @@ def _pack_one(v, tols, lam_f, V_f):
     mode's eigen-decomposition (see _state_matrices); flag indexes FALLBACK_REASONS."""
     s, cm, fm = np.zeros(N_SCALARS), np.zeros((2, 10, 4), np.complex128), np.zeros((2, 5, 4))
     fc, fk, fg = np.zeros((3, 8, 6)), np.zeros((3, 6)), np.zeros((3, 5), np.complex128)
-    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
+    N, R, omega, x_st, m1 = v[C_N], v[C_R], v[C_OMEGA], v[C_XST], v[C_M1]
     Mf, bf, Wf, Ms, bs, Ws, d = _state_matrices(v)
     lam_s, V_s = _eig2(Ms)
     omega1, m2, c1, c2, k1, P0, Delta0, T, mred = d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7], d[8]
@@ -351,7 +357,8 @@ def _state_matrices(v):
     """The two modes' (M, b, W) (the reference's free_mode and stuck_mode) and the derived
     values (omega1, m2, c1, c2, k1, P0, Delta0, T, reduced mass), with the operations of
     Parameters.__post_init__ (same rounding)."""
-    theta, mu, N, delta1, delta2, R, gap, omega, x_st, m1 = v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]
+    theta, mu, N, delta1, delta2 = v[C_THETA], v[C_MU], v[C_N], v[C_DELTA1], v[C_DELTA2]
+    gap, omega, x_st, m1 = v[C_GAP], v[C_OMEGA], v[C_XST], v[C_M1]
     omega1 = omega / theta
     omega2 = N * omega1
     m2 = mu * m1
@@ -388,7 +395,7 @@ def _state_matrices(v):
 
 @njit(cache=True)
 def _state_matrices_many(values):
-    """_state_matrices for each row of values (P, 10): stacked (M, b, W) of both modes and the
+    """_state_matrices for each row of values (P, len(PARAMETER_COLUMNS)): stacked (M, b, W) of both modes and the
     derived values (P, 9)."""
     P = values.shape[0]
     Mf, bf, Wf = np.zeros((P, 4, 4)), np.zeros((P, 4)), np.zeros((P, 4, 4))
@@ -456,7 +463,7 @@ def packing_values(p: Parameters, tolerances: Tolerances | None = None) -> tuple
     else:
         tol = check_tolerances(tolerances)
         tols = np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol])
-    v = np.array([p.theta, p.mu, p.N, p.delta1, p.delta2, p.R, p.gap, p.omega, p.x_st, p.m1])
+    v = np.array([getattr(p, name) for name in PARAMETER_COLUMNS])
     return v, tols, (_PACK_OK if p.native_scales() else _PACK_SCALES)
 
 
