@@ -3,7 +3,6 @@ method answers through the one protocol (``impacts()``, ``state_at(t)``) on a sh
 the reference case, agreeing with the exact solver; the vocabulary the report, the figure and
 the config schema use is the table's."""
 
-import math
 from pathlib import Path
 
 import numpy as np

@@ -157,3 +157,48 @@ def test_canonical_scales():
     assert not p.native_scales() and Parameters().native_scales()
     q = p.canonical()
     assert (q.x_st, q.m1, q.omega) == (1.0, 1.0, 10.0) and (q.gap, q.theta, q.mu) == (-7.0, 1.0, 0.08)
+
+
+# --- the parameter table ---------------------------------------------------------------------
+def test_the_table_is_the_dataclass_fields_in_order():
+    fields = [f.name for f in dataclasses.fields(Parameters) if f.init]
+    assert [s.name for s in PARAMETER_TABLE] == fields == list(Parameters.names())
+    assert {s.role for s in PARAMETER_TABLE} == {"linear", "impact", "scale"}
+
+
+@pytest.mark.parametrize("spec", PARAMETER_TABLE, ids=lambda s: s.name)
+def test_each_range_of_the_table_is_checked_by_name(spec):
+    bad = {"> 0": 0.0, ">= 0": -1e-3, "in [0, 1]": 1.5}.get(spec.allowed)
+    if bad is None:
+        assert getattr(Parameters(**{spec.name: -1e6}), spec.name) == -1e6  # any finite value
+        return
+    with pytest.raises(ValueError, match=rf"^`{spec.name}` = .* is not allowed: must be {re.escape(spec.allowed)}$"):
+        Parameters(**{spec.name: bad})
+
+
+def test_packed_columns_are_read_by_name():
+    from impactdamper.core.compiled import pack
+
+    assert pack.PARAMETER_COLUMNS == Parameters.names()
+    for const, name in ((pack.C_THETA, "theta"), (pack.C_MU, "mu"), (pack.C_N, "N"), (pack.C_DELTA1, "delta1"),
+                        (pack.C_DELTA2, "delta2"), (pack.C_R, "R"), (pack.C_GAP, "gap"), (pack.C_OMEGA, "omega"),
+                        (pack.C_XST, "x_st"), (pack.C_M1, "m1")):
+        assert pack.PARAMETER_COLUMNS[const] == name
+    # Every value lands in its own name's column (all values distinct).
+    p = Parameters(theta=1.1, mu=0.09, N=0.55, delta1=0.051, delta2=0.052, R=0.71, gap=-5.9, omega=11.0, x_st=1.2,
+                   m1=1.3)
+    v, _, _ = pack.packing_values(p)
+    assert {name: v[pack.PARAMETER_COLUMNS.index(name)] for name in Parameters.names()} == p.to_dict()
+
+
+def test_cli_help_and_extremes_come_from_the_table():
+    from impactdamper.cli import PARAMETER_HELP
+    from impactdamper.core.parameters import LINEAR_PARAMETERS, RELATIVE_PARAMETERS, most_extreme
+
+    assert list(PARAMETER_HELP) == list(Parameters.names())
+    assert all(PARAMETER_HELP[s.name] == s.help for s in PARAMETER_TABLE)
+    assert LINEAR_PARAMETERS == ("theta", "mu", "N", "delta1", "delta2")
+    assert RELATIVE_PARAMETERS == LINEAR_PARAMETERS + ("R", "gap")
+    # R (bounded) is no candidate by default; the farthest from the reference in decades is.
+    assert most_extreme(Parameters(R=1e-12, mu=1e-3)) == "mu"
+    assert most_extreme(Parameters(R=1e-12, mu=1e-3), RELATIVE_PARAMETERS) == "R"
