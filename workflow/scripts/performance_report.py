@@ -28,20 +28,12 @@ from pathlib import Path
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import json_float, read_json, start_stage, write_json
 from impactdamper.studies.performance_record import compiled_table, macros, table  # noqa: F401 (the tests')
-from impactdamper.studies.workprecision import report_summary
+from impactdamper.studies.workprecision import met, report_summary
 
 # The compiled solver's map whose wall time has a target (the benchmark's MAP_TIME_TARGET_S).
 COMPILED_MAP_TARGET_SIZE = "200x200"
 # What the stage's record holds (results/report/performance.json).
 RECORD_WHAT = "the performance stage's numbers for the report (paper/generated/performance_macros.tex) and the README"
-
-
-def met(value: float, target: float, at_most: bool) -> str:
-    """ "met" or "not met": ``value`` against ``target`` (an upper bound if ``at_most``, else
-    a lower one); "---" when either is missing."""
-    if value is None or target is None or not (math.isfinite(value) and math.isfinite(target)):
-        return "---"
-    return "met" if (value <= target if at_most else value >= target) else "not met"
 
 
 def compiled_speed(cs: dict) -> dict:

@@ -44,10 +44,10 @@ from impactdamper.baselines import highprecision as hp
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import default_initial_state, simulate
 from impactdamper.reporting.records import json_float
-from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected
+from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected  # noqa: F401 (METHODS: the study's table)
 
 __all__ = ["CASES", "Reference", "Run", "build_references", "cpu_time", "measure", "run_study", "summarize",
-           "cost_to_reach", "cost_growth", "FAMILIES", "meets", "report_summary"]
+           "cost_to_reach", "cost_growth", "FAMILIES", "met", "meets", "report_summary"]
 
 CASES = ("first_impacts", "settled_cycle")
 # The methods' names (the runs' ``family`` column), in table order.
@@ -331,12 +331,17 @@ def cost_growth(p: Parameters, periods, repeats=3, min_time=0.05, log=print) -> 
     return rows
 
 
-def meets(value: float, target: float, at_most: bool) -> bool:
-    """Whether ``value`` meets ``target``: at most it if ``at_most``, else at least it; never
-    where either is not finite."""
+def met(value: float, target: float, at_most: bool) -> str:
+    """ "met" or "not met": ``value`` against ``target`` (an upper bound if ``at_most``, else
+    a lower one); "---" when either is missing."""
     if value is None or target is None or not (math.isfinite(value) and math.isfinite(target)):
-        return False
-    return value <= target if at_most else value >= target
+        return "---"
+    return "met" if (value <= target if at_most else value >= target) else "not met"
+
+
+def meets(value: float, target: float, at_most: bool) -> bool:
+    """Whether ``value`` meets ``target`` (:func:`met`); never where either is missing."""
+    return met(value, target, at_most) == "met"
 
 
 def report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict:
