@@ -23,7 +23,6 @@ MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta
 
 def claims_macros(b: dict) -> MacroFile:
     """Macros of the search beyond the gap (claims_by_parameter)."""
-    yes = lambda flag: "yes" if flag else "no"  # noqa: E731
     m = ["% The claims searched beyond the gap (figures/claims_by_parameter.csv): each parameter alone at the\n",
          "% stated gap. *NearestBoth: the nearest value where both claims hold; *Distance: how far from the\n",
          "% stated value (absolute; *RelDistance relative, in per cent).\n"]
@@ -43,7 +42,7 @@ def claims_macros(b: dict) -> MacroFile:
         add(tag + "BothHi", fixed(iv[1], 4) if iv else MISSING)
         add(tag + "BothWidth", fixed(d["interval_width"], 4) if iv else MISSING)
         open_end = next((r for r in d["both"] if iv and r["lo"] == iv[0] and r["hi"] == iv[1]), {})
-        add(tag + "BothOpen", yes(open_end.get("lo_open", False) or open_end.get("hi_open", False)))
+        add(tag + "BothOpen", _yes(open_end.get("lo_open", False) or open_end.get("hi_open", False)))
     near = b["nearest_parameter"]
     add("ClaimsNearestParameter", SEARCH_SYMBOLS[near] if near else MISSING)
     add("ClaimsNearestParameterName", near or MISSING)
@@ -71,6 +70,10 @@ def claims_macros(b: dict) -> MacroFile:
 def _short(text: str) -> str:
     """The bifurcation's name, for prose (the part before the colon)."""
     return text.split(":")[0].replace("Neimark-Sacker", "Neimark--Sacker")
+
+
+def _yes(flag) -> str:
+    return "yes" if flag else "no"
 
 
 def _range_of(ranges: list[dict], gap: float) -> dict | None:
@@ -106,7 +109,6 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
          "% (or R).\n"]
     m = MacroFile(m)
     add = m.add
-    yes = lambda b: "yes" if b else "no"  # noqa: E731
     for name, key, d in (("Theta", "theta", 2), ("Mu", "mu", 2), ("N", "N", 2), ("DeltaOne", "delta1", 2),
                          ("DeltaTwo", "delta2", 2), ("R", "R", 2), ("Gap", "gap", 1), ("Omega", "omega", 0),
                          ("Xst", "x_st", 0)):
@@ -115,49 +117,63 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
     verdict_text = {True: "reproduced", False: "not reproduced"}
     for r, name in zip(rows, ("ClaimA", "ClaimBPeriod", "ClaimBImpacts")):
         add(name + "Verdict", verdict_text[r["reproduced"]])
-        add(name + "IvpConfirms", yes(r["ivp_confirms"]))
+        add(name + "IvpConfirms", _yes(r["ivp_confirms"]))
     for tag, ref, cc in (("Stated", ref_s, cc_s), ("Located", ref_l, cc_l)):
-        a1, a2 = ref["algorithm1"], ref["algorithm2"]
-        add(tag + "AlgOneExists", yes(a1["exists"]))
-        add(tag + "AlgOneImpactPhase", fixed(a1["impact_phase"], 5) if a1["exists"] else MISSING)
-        # Closing velocities in units of x_st omega, impulses of m1 x_st omega.
-        q = Parameters(**ref["parameters"])
-        vscale, sscale = q.x_st * q.omega, q.m1 * q.x_st * q.omega
-        add(tag + "AlgOneImpulse", fixed(a1["S"] / sscale, 4) if a1["exists"] else MISSING)
-        add(tag + "AlgOneVelocity", fixed(a1["velocity"] / vscale, 3) if a1["exists"] else MISSING)
-        add(tag + "AlgOneMinGap", fixed(a1["min_gap"], 3) if a1["exists"] else MISSING)
-        neg = a1["negative_gap_intervals"]
-        add(tag + "AlgOneNegativeIntervals", str(len(neg)))
-        add(tag + "AlgOneTOne", fixed(neg[0][0], 4) if neg else MISSING)
-        add(tag + "AlgOneTTwo", fixed(neg[0][1], 4) if neg else MISSING)
-        i1 = cc["algorithm1"]
-        add(tag + "IvpAlgOneResidual", sci(i1.get("periodicity_residual")))
-        ineg = i1.get("negative_gap_intervals", [])
-        add(tag + "IvpAlgOneTOne", fixed(ineg[0][0], 4) if ineg else MISSING)
-        add(tag + "IvpAlgOneTTwo", fixed(ineg[0][1], 4) if ineg else MISSING)
-        add(tag + "AlgTwoRegime", a2["regime"].replace("_", " "))
-        add(tag + "AlgTwoPeriodMultiple", str(a2["period_multiple"]))
-        add(tag + "AlgTwoImpacts", str(a2["impacts_per_cycle"]))
-        add(tag + "AlgTwoPeriods", str(a2["periods_simulated"]))
-        add(tag + "AlgTwoXOneMax", fixed(a2["x1_max"], 3))
-        table = a2["impact_table"]
-        for k, row in enumerate(table[:6]):
-            word = ("One", "Two", "Three", "Four", "Five", "Six")[k]
-            add(f"{tag}Impact{word}OverT", fixed(row["t_over_T"], 4))
-            add(f"{tag}Impact{word}Phase", fixed(row["phase"], 4))
-            add(f"{tag}Impact{word}Velocity", fixed(row["velocity"] / vscale, 3))
-            add(f"{tag}Impact{word}Impulse", fixed(row["impulse"] / sscale, 4))
-        i2 = cc["algorithm2"]
-        add(tag + "IvpPeriodMultiple", str(i2["period_multiple"]))
-        add(tag + "IvpImpacts", str(i2["impacts_per_cycle"]))
-        add(tag + "IvpTimeDiff", sci(i2.get("max_time_difference_over_T")))
-        add(tag + "IvpVelocityDiff", sci(i2.get("max_velocity_difference_rel")))
-        add(tag + "IvpCycleAgree", yes(i2["agree"]))
-        c1 = cc["algorithm1_comparison"]
-        end_diff = c1["max_interval_end_difference_over_T"]
-        add(tag + "IvpAlgOneEndDiff", sci(end_diff) if end_diff and a1["negative_gap_intervals"]
-            else MISSING)
-        add(tag + "IvpAlgOneAgree", yes(c1["agree"]))
+        _case_macros(add, tag, ref, cc)
+    _scan_macros(add, scan, cc_s, ref_l)
+    _readings_macros(add, rd)
+    return m
+
+
+def _case_macros(add, tag: str, ref: dict, cc: dict) -> None:
+    """One case's macros (``tag``: Stated or Located): Algorithm No. 1's orbit, Algorithm No. 2's
+    cycle and its impacts, and their cross-checks by ``solve_ivp``."""
+    a1, a2 = ref["algorithm1"], ref["algorithm2"]
+    add(tag + "AlgOneExists", _yes(a1["exists"]))
+    add(tag + "AlgOneImpactPhase", fixed(a1["impact_phase"], 5) if a1["exists"] else MISSING)
+    # Closing velocities in units of x_st omega, impulses of m1 x_st omega.
+    q = Parameters(**ref["parameters"])
+    vscale, sscale = q.x_st * q.omega, q.m1 * q.x_st * q.omega
+    add(tag + "AlgOneImpulse", fixed(a1["S"] / sscale, 4) if a1["exists"] else MISSING)
+    add(tag + "AlgOneVelocity", fixed(a1["velocity"] / vscale, 3) if a1["exists"] else MISSING)
+    add(tag + "AlgOneMinGap", fixed(a1["min_gap"], 3) if a1["exists"] else MISSING)
+    neg = a1["negative_gap_intervals"]
+    add(tag + "AlgOneNegativeIntervals", str(len(neg)))
+    add(tag + "AlgOneTOne", fixed(neg[0][0], 4) if neg else MISSING)
+    add(tag + "AlgOneTTwo", fixed(neg[0][1], 4) if neg else MISSING)
+    i1 = cc["algorithm1"]
+    add(tag + "IvpAlgOneResidual", sci(i1.get("periodicity_residual")))
+    ineg = i1.get("negative_gap_intervals", [])
+    add(tag + "IvpAlgOneTOne", fixed(ineg[0][0], 4) if ineg else MISSING)
+    add(tag + "IvpAlgOneTTwo", fixed(ineg[0][1], 4) if ineg else MISSING)
+    add(tag + "AlgTwoRegime", a2["regime"].replace("_", " "))
+    add(tag + "AlgTwoPeriodMultiple", str(a2["period_multiple"]))
+    add(tag + "AlgTwoImpacts", str(a2["impacts_per_cycle"]))
+    add(tag + "AlgTwoPeriods", str(a2["periods_simulated"]))
+    add(tag + "AlgTwoXOneMax", fixed(a2["x1_max"], 3))
+    table = a2["impact_table"]
+    for k, row in enumerate(table[:6]):
+        word = ("One", "Two", "Three", "Four", "Five", "Six")[k]
+        add(f"{tag}Impact{word}OverT", fixed(row["t_over_T"], 4))
+        add(f"{tag}Impact{word}Phase", fixed(row["phase"], 4))
+        add(f"{tag}Impact{word}Velocity", fixed(row["velocity"] / vscale, 3))
+        add(f"{tag}Impact{word}Impulse", fixed(row["impulse"] / sscale, 4))
+    i2 = cc["algorithm2"]
+    add(tag + "IvpPeriodMultiple", str(i2["period_multiple"]))
+    add(tag + "IvpImpacts", str(i2["impacts_per_cycle"]))
+    add(tag + "IvpTimeDiff", sci(i2.get("max_time_difference_over_T")))
+    add(tag + "IvpVelocityDiff", sci(i2.get("max_velocity_difference_rel")))
+    add(tag + "IvpCycleAgree", _yes(i2["agree"]))
+    c1 = cc["algorithm1_comparison"]
+    end_diff = c1["max_interval_end_difference_over_T"]
+    add(tag + "IvpAlgOneEndDiff", sci(end_diff) if end_diff and a1["negative_gap_intervals"]
+        else MISSING)
+    add(tag + "IvpAlgOneAgree", _yes(c1["agree"]))
+
+
+def _scan_macros(add, scan: dict, cc_s: dict, ref_l: dict) -> None:
+    """The cross-checks' tolerances, the gap scan's window and claim ranges, its end checks and
+    the one-impact orbit's range along the gap."""
     cmp = cc_s["algorithm2"]["cycle_comparison"]
     add("CrosscheckTimeTol", sci(cmp["time_tol"], 0))
     add("CrosscheckVelocityTol", sci(cmp["velocity_tol"], 0))
@@ -177,7 +193,7 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
         r = _range_of(rs, g_loc) or (rs[0] if rs else None)
         add(name + "RangeLo", fixed(r["lo"], digits) if r else MISSING)
         add(name + "RangeHi", fixed(r["hi"], digits) if r else MISSING)
-    add("EndChecksAgree", yes(all(c["agree"] for c in scan["end_checks"])))
+    add("EndChecksAgree", _yes(all(c["agree"] for c in scan["end_checks"])))
     add("EndChecksCount", str(len(scan["end_checks"])))
     add("EndChecksAgreeCount", str(sum(bool(c["agree"]) for c in scan["end_checks"])))
     off = [c for c in scan["end_checks"] if not c["agree"]]
@@ -190,7 +206,7 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
         add("EndChecksOffImpacts", str(cmp["impacts"][0]))
         add("EndChecksOffTimeDiff", sci(cmp["max_time_difference_over_T"]))
         add("EndChecksOffVelocityDiff", sci(cmp["max_velocity_difference_rel"]))
-        add("EndChecksOffSameClaim", yes(worst["exact"] == worst["independent"]))
+        add("EndChecksOffSameClaim", _yes(worst["exact"] == worst["independent"]))
     orbit = scan["orbit_range"]
     if orbit.get("found"):
         add("OrbitRangeLo", fixed(orbit["lo"], 4))
@@ -202,12 +218,17 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
         nearest = min(orbit["branch"], key=lambda b: abs(b[0] - g_loc))
         if abs(nearest[0] - g_loc) < 1e-9:
             add("LocatedSpectralRadius", fixed(nearest[1], 3))
+
+
+def _readings_macros(add, rd: dict) -> None:
+    """The other readings of the paper: how many reproduce the claims, eq. (13) as printed, R as a
+    loss, the claims' ranges in R, the random initial states and the printed velocities."""
     readings = {r["id"]: r for r in rd["readings"]}
     add("ReadingsCount", str(len(readings) - 1))  # the stated baseline is not a reading
     add("ReadingsReproducing", str(sum(bool(r["reproduces"]) for k, r in readings.items() if k != "stated")))
     eq13 = readings.get("eq13_as_printed")
     if eq13:
-        add("EqThirteenClaimA", yes(eq13["claim_a"]))
+        add("EqThirteenClaimA", _yes(eq13["claim_a"]))
         add("EqThirteenTOne", fixed(eq13["alg1_t1"], 4) if eq13["alg1_t1"] is not None else MISSING)
         add("EqThirteenTTwo", fixed(eq13["alg1_t2"], 4) if eq13["alg1_t2"] is not None else MISSING)
         add("EqThirteenMinGap", fixed(eq13["alg1_min_gap"], 3) if eq13["alg1_min_gap"] is not None else MISSING)
@@ -216,7 +237,7 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
     loss = readings.get("R_as_loss")
     if loss:
         add("RAsLossR", fixed(loss["R"], 2))
-        add("RAsLossReproduces", yes(loss["reproduces"]))
+        add("RAsLossReproduces", _yes(loss["reproduces"]))
         add("RAsLossTOne", fixed(loss["alg1_t1"], 4) if loss["alg1_t1"] is not None else MISSING)
         add("RAsLossTTwo", fixed(loss["alg1_t2"], 4) if loss["alg1_t2"] is not None else MISSING)
         add("RAsLossMinGap", fixed(loss["alg1_min_gap"], 4) if loss["alg1_min_gap"] is not None else MISSING)
@@ -229,9 +250,8 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
     add("RandomStatesCount", str(rs["count"]))
     add("RandomStatesSeed", str(rs["seed"]))
     add("RandomStatesMotions", str(len(rs["motions"])))
-    add("RandomStatesClaimB", yes(rs["claim_b_found"]))
+    add("RandomStatesClaimB", _yes(rs["claim_b_found"]))
     pv = readings.get("printed_velocities")
     if pv:
         add("PrintedVelocitiesRegime", pv["alg2_regime"].replace("_", " "))
         add("PrintedVelocitiesPeriodMultiple", str(pv["alg2_period_multiple"]))
-    return m
