@@ -136,3 +136,26 @@ ALL_TARGETS.extend(
         "paper/generated/claims_table.tex",
     ]
 )
+
+
+rule claims_nearest:
+    input:
+        script="workflow/scripts/claims_nearest.py",
+        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+    output:
+        json="figures/claims_nearest.json",
+        timing="results/benchmarks/claims_nearest_timing.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        verdict=parameters_json("verdict"),
+        search=parameters_json("claims_search"),
+    log:
+        "logs/claims/claims_nearest.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_nearest.py"
+
+
+ALL_TARGETS.append("figures/claims_nearest.json")
