@@ -53,7 +53,7 @@ rule claims_by_parameter:
 rule claims_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(study("claims", "config"), REPORTING),
     output:
         csv="results/claims/map_{chunk}.csv",
     wildcard_constraints:
@@ -88,6 +88,76 @@ rule claims_map:
         ENV
     script:
         "../scripts/claims_map_gather.py"
+
+
+def claims_pair_map_chunk_files(wildcards):
+    """Chunk outputs of one pair map (config claims_search.pair_maps.{name}.chunks jobs)."""
+    chunks = config["claims_search"]["pair_maps"][wildcards.name]["chunks"]
+    return expand("results/claims/map_{name}_{chunk}.csv", name=wildcards.name, chunk=range(chunks))
+
+
+CLAIMS_PAIR_MAPS = list(config["claims_search"]["pair_maps"])
+
+
+rule claims_pair_map_chunk:
+    input:
+        script="workflow/scripts/claims_map_chunk.py",
+        library=library(study("claims", "config"), REPORTING),
+    output:
+        csv="results/claims/map_{name}_{chunk}.csv",
+    wildcard_constraints:
+        name="|".join(CLAIMS_PAIR_MAPS),
+        chunk=r"\d+",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        search=parameters_json("claims_search"),
+    log:
+        "logs/claims/map_{name}_{chunk}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_map_chunk.py"
+
+
+rule claims_pair_map:
+    input:
+        script="workflow/scripts/claims_map_gather.py",
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        chunks=claims_pair_map_chunk_files,
+    output:
+        csv="figures/claims_map_{name}.csv",
+        json="figures/claims_map_{name}_settings.json",
+    wildcard_constraints:
+        name="|".join(CLAIMS_PAIR_MAPS),
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        search=parameters_json("claims_search"),
+    log:
+        "logs/claims/claims_map_{name}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_map_gather.py"
+
+
+rule fig_claims_maps:
+    input:
+        script="workflow/scripts/fig_claims_maps.py",
+        library=library(REPORTING),
+        style=STYLE,
+        csv=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
+        json=["figures/claims_map_settings.json"] + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
+    output:
+        pdf="figures/claims_maps.pdf",
+        png="figures/claims_maps.png",
+    log:
+        "logs/claims/fig_claims_maps.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_claims_maps.py"
 
 
 rule fig_claims_by_parameter:
@@ -134,6 +204,8 @@ ALL_TARGETS.extend(
         "figures/claims_map.pdf",
         "figures/claims_map.png",
         "paper/generated/claims_table.tex",
+        "figures/claims_maps.pdf",
+        "figures/claims_maps.png",
     ]
 )
 

@@ -31,7 +31,7 @@ from impactdamper.core.steady import steady_state
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
            "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
            "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both", "reference_check", "check_rows",
-           "refine_grid", "batch_rows", "search_parameter"]
+           "refine_grid", "batch_rows", "search_parameter", "MAP_COLUMNS", "claims_map"]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2
@@ -580,3 +580,39 @@ def nearest_both(result: dict) -> dict:
     return {"stated": stated, "nearest": x, "distance": d if math.isfinite(d) else None,
             "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
             "intervals": len(ivs)}
+
+
+# --- both claims over two parameters ---------------------------------------------------------
+MAP_COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
+               "periods", "label"]
+
+
+def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings) -> list[dict]:
+    """Both claims at every cell of the grid ``xs`` x ``ys`` of parameters ``x`` and ``y`` (the
+    others as in ``p``): Algorithm No. 1 (closed form, ``gap_tol``) and Algorithm No. 2 from the
+    paper's step 1 on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each
+    cell alone, ``settings``), in one call for all cells.
+
+    Returns
+    -------
+    list of dict
+        One per cell, rows of y outer, x inner, with :data:`MAP_COLUMNS`.
+    """
+    import numpy as np
+
+    from impactdamper.analysis.batch import settled_batch
+
+    if x == y:
+        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    cells = np.array([(float(a), float(b)) for b in ys for a in xs], float).reshape(-1, 2)
+    res = settled_batch(p, (x, y), cells, settings=settings, chain=False)
+    out = []
+    for i, (a, b) in enumerate(cells):
+        alg1 = algorithm1(p.replace(**{x: float(a), y: float(b)}), gap_tol=gap_tol)
+        ca = claim_a(alg1)
+        rg, k, z = str(res.regime[i]), int(res.period_multiple[i]), int(res.impacts_per_cycle[i])
+        cb = rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS
+        out.append({"x": float(a), "y": float(b), "claim_a": ca, "claim_b": cb, "both": ca and cb,
+                    "alg1_exists": bool(alg1.exists), "regime": rg, "period_multiple": k, "impacts_per_cycle": z,
+                    "periods": int(res.periods[i]), "label": str(res.label[i])})
+    return out
