@@ -231,3 +231,27 @@ rule claims_nearest:
 
 
 ALL_TARGETS.append("figures/claims_nearest.json")
+
+
+rule claims_macros:
+    input:
+        script="workflow/scripts/claims_macros.py",
+        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+        nearest="figures/claims_nearest.json",
+        search="figures/claims_by_parameter_settings.json",
+        maps=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
+        located="figures/located_case.json",
+    output:
+        record="results/report/claims.json",
+        tex="paper/generated/claims_macros.tex",
+    params:
+        pair_maps=CLAIMS_PAIR_MAPS,
+    log:
+        "logs/claims/claims_macros.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_macros.py"
+
+
+ALL_TARGETS.append("paper/generated/claims_macros.tex")

@@ -31,7 +31,7 @@ from impactdamper.core.steady import steady_state
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
            "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
            "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both", "reference_check", "check_rows",
-           "refine_grid", "batch_rows", "search_parameter", "MAP_COLUMNS", "claims_map"]
+           "refine_grid", "batch_rows", "search_parameter", "MAP_COLUMNS", "claims_map", "count_end_checks"]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2
@@ -615,4 +615,37 @@ def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, g
         out.append({"x": float(a), "y": float(b), "claim_a": ca, "claim_b": cb, "both": ca and cb,
                     "alg1_exists": bool(alg1.exists), "regime": rg, "period_multiple": k, "impacts_per_cycle": z,
                     "periods": int(res.periods[i]), "label": str(res.label[i])})
+    return out
+
+
+def count_end_checks(checks: Sequence[dict]) -> dict:
+    """The located range's end checks (:func:`impactdamper.studies.gapscan.end_checks`) counted
+    by what they rest on.
+
+    Returns
+    -------
+    dict
+        ``checks``; ``compared_within``: both methods gave a motion to compare and every
+        measured difference is within its tolerance; ``nothing_to_compare``: the same verdict
+        but nothing to compare (claim a: no orbit by either method; claim b: neither settles);
+        ``outside_tolerance``: compared, a difference above its tolerance (whatever the
+        verdicts); ``different_verdict``: the two methods give different verdicts on the claim.
+    """
+    out = {"checks": len(checks), "compared_within": 0, "nothing_to_compare": 0, "outside_tolerance": 0,
+           "different_verdict": 0}
+    for c in checks:
+        if c["exact"] != c["independent"]:
+            out["different_verdict"] += 1
+        if c["claim"] == "a":
+            nothing = c["comparison"]["periodicity_residual"] is None
+            within = bool(c["comparison"]["agree"])
+        else:
+            nothing = c["exact_period_multiple"] == 0 and c["independent_period_multiple"] == 0
+            within = bool(c["details"].get("agree", False))
+        if nothing:
+            out["nothing_to_compare"] += c["exact"] == c["independent"]
+        elif within:
+            out["compared_within"] += 1
+        else:
+            out["outside_tolerance"] += 1
     return out
