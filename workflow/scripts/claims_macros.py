@@ -35,12 +35,19 @@ def round_text(rows: list[dict], tex: bool) -> str:
     parts = []
     for r in rows:
         (name, v), = r["changes"].items()
-        note = "" if r["robust"] else (", not at the margin" if not tex else ", not at the margin")
+        note = "" if r["robust"] else ", not at the margin"
         if tex:
             parts.append(f"${SYMBOL[name]}={v:g}$ (${fixed(100 * r['distance']['max'], 1)}\\,\\%${note})")
         else:
             parts.append(f"{PLAIN[name]} = {v:g} ({100 * r['distance']['max']:.1f} %{note})")
-    return ", ".join(parts) if parts else ("none" if not tex else "none")
+    return ", ".join(parts) if parts else "none"
+
+
+def add_text(m: MacroFile, name: str, tex: str, text: str) -> None:
+    """A macro whose README text is written out (the symbols of a TeX list, such as
+    ``\\Delta_0/x_{\\mathrm{st}}``, have no plain form the generic conversion could find)."""
+    m.add(name, tex)
+    m.entries[-1]["text"] = text
 
 
 def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
@@ -80,8 +87,9 @@ def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
     rows = rv["reproducing"]
     add("RoundCandidates", str(rv["candidates"]))
     add("RoundReproducing", str(len(rows)))
-    add("RoundList", round_text(rows, True))
-    add("RoundTuningList", round_text([r for r in rows if r["keeps_tuning_condition"]], True))
+    tuning = [r for r in rows if r["keeps_tuning_condition"]]
+    add_text(m, "RoundList", round_text(rows, True), round_text(rows, False))
+    add_text(m, "RoundTuningList", round_text(tuning, True), round_text(tuning, False))
     add("RoundAgreeCount", str(sum(r["verification"]["agree"] for r in rows)))
     off = [r for r in rows if not r["verification"]["agree"]]
     add("RoundOffList", round_text(off, True) if off else "none")
