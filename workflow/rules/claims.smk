@@ -90,12 +90,6 @@ rule claims_map:
         "../scripts/claims_map_gather.py"
 
 
-def claims_pair_map_chunk_files(wildcards):
-    """Chunk outputs of one pair map (config claims_search.pair_maps.{name}.chunks jobs)."""
-    chunks = config["claims_search"]["pair_maps"][wildcards.name]["chunks"]
-    return expand("results/claims/map_{name}_{chunk}.csv", name=wildcards.name, chunk=range(chunks))
-
-
 CLAIMS_PAIR_MAPS = list(config["claims_search"]["pair_maps"])
 
 
