@@ -275,3 +275,23 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
         for end in (fine[i]["value"], fine[j]["value"]):
             if 0 < i and j < len(fine) - 1:
                 assert min(abs(c - end) for c in changes) <= floor + 1e-12, end
+
+
+def test_end_checks_are_counted_by_what_they_rest_on():
+    """Two compared within tolerance, one with nothing to compare per claim, one compared
+    outside tolerance, one with different verdicts: the counts say so (not "6 of 6 agree")."""
+    from impactdamper.studies.claims import count_end_checks
+
+    a_ok = {"claim": "a", "exact": True, "independent": True, "comparison": {"periodicity_residual": 1e-10, "agree": True}}
+    a_none = {"claim": "a", "exact": False, "independent": False,
+              "comparison": {"periodicity_residual": None, "agree": True}}
+    b_ok = {"claim": "b", "exact": True, "independent": True, "exact_period_multiple": 2,
+            "independent_period_multiple": 2, "details": {"agree": True}}
+    b_none = dict(b_ok, exact=False, independent=False, exact_period_multiple=0, independent_period_multiple=0,
+                  details={})
+    b_off = dict(b_ok, exact=False, independent=False, exact_period_multiple=4, independent_period_multiple=4,
+                 details={"agree": False})
+    b_diff = dict(b_ok, independent=False, independent_period_multiple=1, details={"agree": False})
+    got = count_end_checks([a_ok, a_none, b_ok, b_none, b_off, b_diff])
+    assert got == {"checks": 6, "compared_within": 2, "nothing_to_compare": 2, "outside_tolerance": 2,
+                   "different_verdict": 1}
