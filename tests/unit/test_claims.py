@@ -209,3 +209,89 @@ def test_nearest_both_measures_from_the_stated_value():
     assert got["relative_distance"] == pytest.approx(0.05, abs=1e-15)
     nowhere = nearest_both({"stated": 0.0, "intervals": {"both": []}})
     assert nowhere["nearest"] is None and nowhere["distance"] is None and nowhere["relative_distance"] is None
+
+
+# --- adaptive refinement of claim (b)'s grid --------------------------------------------------
+def test_refine_grid_finds_a_window_between_other_labels_down_to_the_floor():
+    """A label "B" on [0.4985, 0.5) (narrower than the step 0.01) between "A" and "C": the
+    refinement splits every pair with different labels and finds it; a window of "B" inside a
+    run of "A" narrower than the step is not seen (nothing there asks for refinement)."""
+
+    def label(x):
+        if 0.4985 <= x < 0.5 or 0.2031 <= x <= 0.2049:
+            return "B"
+        return "A" if x < 0.5 else "C"
+
+    calls = []
+
+    def rows_at(xs):
+        calls.append(len(xs))
+        return [{"value": x, "label": label(x)} for x in xs]
+
+    from impactdamper.studies.claims import refine_grid
+
+    rows, rounds = refine_grid([i / 100 for i in range(101)], rows_at, 0.01 / 2 ** 4)
+    b = [r["value"] for r in rows if r["label"] == "B"]
+    assert b and all(0.4985 <= x < 0.5 for x in b)  # the window between A and C, not the one inside A
+    assert rounds == len(calls) - 1 and max(r["level"] for r in rows) == rounds
+    xs = [r["value"] for r in rows]
+    assert xs == sorted(xs) and len(set(xs)) == len(xs)
+    # Every pair of neighbours with different labels is the floor apart (within rounding).
+    assert all(b_["value"] - a["value"] < 1.01 * 0.01 / 2 ** 4 for a, b_ in zip(rows, rows[1:]) if a["label"] != b_["label"])
+    with pytest.raises(ValueError, match="`min_step`"):
+        refine_grid([0.0, 1.0], rows_at, 0.0)
+
+
+def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
+    """theta from 0.86 to 0.94 (stated point otherwise), Algorithm No. 2 from the paper's step 1
+    on the compiled batch: the refined search (step 0.01, floor 0.01/8) against a brute-force
+    grid at the floor (65 values). Every run of values where claim (b) holds on the fine grid
+    must contain a refined point where it holds, the two grids must give the same motion where
+    they share a value, and every end of a run must lie within one fine step of a change of the
+    refined grid."""
+    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.studies.claims import batch_rows, refine_grid, true_runs
+
+    p = idp.Parameters()
+    st = SweepSettings(settle_tol=1e-10, max_periods=4000, max_periods_after_nonperiodic=4000, max_period_multiple=8,
+                       continuation=False, rescue=True)
+    step, levels = 0.01, 3
+    floor = step / 2 ** levels
+    coarse = [round(0.86 + step * i, 12) for i in range(9)]
+    rows, _ = refine_grid(coarse, lambda xs: batch_rows(p, "theta", xs, st), floor)
+    fine = batch_rows(p, "theta", [round(0.86 + floor * i, 12) for i in range(8 * 8 + 1)], st)
+    runs = true_runs([r["claim_b"] for r in fine])
+    assert runs, "claim (b) holds somewhere on theta 0.86-0.94 (both claims hold near 0.90)"
+    refined = {round(r["value"], 12): r for r in rows}
+    for i, j in runs:
+        lo, hi = fine[i]["value"], fine[j]["value"]
+        assert any(r["claim_b"] and lo - 1e-12 <= r["value"] <= hi + 1e-12 for r in rows), (lo, hi)
+    for r in fine:
+        twin = refined.get(round(r["value"], 12))
+        if twin is not None:
+            assert (twin["label"], twin["claim_b"]) == (r["label"], r["claim_b"]), r["value"]
+    changes = [0.5 * (a["value"] + b["value"]) for a, b in zip(rows, rows[1:]) if a["claim_b"] != b["claim_b"]]
+    for i, j in runs:
+        for end in (fine[i]["value"], fine[j]["value"]):
+            if 0 < i and j < len(fine) - 1:
+                assert min(abs(c - end) for c in changes) <= floor + 1e-12, end
+
+
+def test_end_checks_are_counted_by_what_they_rest_on():
+    """Two compared within tolerance, one with nothing to compare per claim, one compared
+    outside tolerance, one with different verdicts: the counts say so (not "6 of 6 agree")."""
+    from impactdamper.studies.claims import count_end_checks
+
+    a_ok = {"claim": "a", "exact": True, "independent": True, "comparison": {"periodicity_residual": 1e-10, "agree": True}}
+    a_none = {"claim": "a", "exact": False, "independent": False,
+              "comparison": {"periodicity_residual": None, "agree": True}}
+    b_ok = {"claim": "b", "exact": True, "independent": True, "exact_period_multiple": 2,
+            "independent_period_multiple": 2, "details": {"agree": True}}
+    b_none = dict(b_ok, exact=False, independent=False, exact_period_multiple=0, independent_period_multiple=0,
+                  details={})
+    b_off = dict(b_ok, exact=False, independent=False, exact_period_multiple=4, independent_period_multiple=4,
+                 details={"agree": False})
+    b_diff = dict(b_ok, independent=False, independent_period_multiple=1, details={"agree": False})
+    got = count_end_checks([a_ok, a_none, b_ok, b_none, b_off, b_diff])
+    assert got == {"checks": 6, "compared_within": 2, "nothing_to_compare": 2, "outside_tolerance": 2,
+                   "different_verdict": 1}

@@ -138,7 +138,11 @@ RECORD = (
        "paper/generated/verdict_macros.tex", "figures/claims_by_parameter.csv",
        "figures/claims_by_parameter_settings.json", "figures/claims_by_parameter_grid.csv",
        "figures/claims_by_parameter.pdf", "figures/claims_by_parameter.png", "figures/claims_map.csv",
-       "figures/claims_map_settings.json", "figures/claims_map.pdf", "figures/claims_map.png"]
+       "figures/claims_map_settings.json", "figures/claims_map.pdf", "figures/claims_map.png",
+       "figures/claims_nearest.json", "figures/claims_maps.pdf", "figures/claims_maps.png",
+       "paper/generated/claims_macros.tex"]
+    + [f"figures/claims_map_{name}{ext}" for name in ("theta_N", "theta_gap", "N_gap")
+       for ext in (".csv", "_settings.json")]
 )
 
 
@@ -266,16 +270,22 @@ def test_gap_scan_matches_record():
 @pytest.mark.slow
 def test_claims_by_parameter_ends_are_where_the_claims_change():
     """Every bisected end of claims_by_parameter.csv: the claim holds at the inner bracket
-    value and fails at the outer one (recomputed, by the compiled solver that bisected them),
-    and the brackets meet the tolerance. Where the pure-Python solver was run at the same values
-    (the record's reference check), the two never settled on different cycles."""
-    from impactdamper.core.compiled import steady_state_compiled
-    from impactdamper.studies.claims import claim_a, claim_b
+    value and fails at the outer one (recomputed, by the compiled batch that bisected them,
+    with its Newton rescue of a point that does not settle), and the brackets meet the
+    tolerance. Where the pure-Python solver was run at the same values (the record's reference
+    check), the two never settled on different cycles."""
+    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.studies.claims import batch_rows, claim_a
 
     cfg = _config()
     base = rep.parameters(cfg["reference"])
     settings = json.loads((FIGURES / "claims_by_parameter_settings.json").read_text())
     rel_tol, floor = settings["rel_tol"], settings["floor"]
+    opts = rep.solver_options(cfg["solver"])
+    batch = SweepSettings(settle_tol=opts["settle_tol"], max_periods=opts["max_periods"],
+                          max_periods_after_nonperiodic=opts["max_periods"],
+                          max_period_multiple=opts["max_period_multiple"], continuation=False, rescue=True,
+                          tolerances=opts["tolerances"])
     checked = 0
     for name, d in settings["parameters"].items():
         for claim in ("a", "b"):
@@ -289,7 +299,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
                     for x, expected in ((x_in, True), (x_out, False)):
                         p = base.replace(**{name: x})
                         got = (claim_a(rep.run_alg1(p, cfg["solver"])) if claim == "a"
-                               else claim_b(steady_state_compiled(p, **rep.solver_options(cfg["solver"]))))
+                               else batch_rows(base, name, [x], batch)[0]["claim_b"])
                         assert got == expected, (name, claim, side, x)
                     checked += 1
     assert checked >= 6
@@ -312,12 +322,16 @@ def test_claims_map_sample_matches_record():
     with (FIGURES / "claims_map.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == m["x_points"] * m["y_points"]
-    from impactdamper.studies.claims import claims_at
+    from impactdamper.core.compiled import steady_state_compiled
+    from impactdamper.studies.claims import claim_a, claim_b
 
+    # Recomputed cell by cell, by the single-point compiled solver with the map's period cap
+    # (the map ran them all in one batch call).
+    opts = dict(rep.solver_options(cfg["solver"]), max_periods=int(m["max_periods"]))
     for r in rows[:: max(1, len(rows) // 12)]:
         p = base.replace(**{m["x"]: float(r["x"]), m["y"]: float(r["y"])})
-        c = claims_at(p, gap_tol=cfg["solver"]["gap_tol"], steady_kwargs=rep.solver_options(cfg["solver"]))
-        assert (r["claim_a"], r["claim_b"]) == (str(c["claim_a"]).lower(), str(c["claim_b"]).lower()), r
+        a, b = claim_a(rep.run_alg1(p, cfg["solver"])), claim_b(steady_state_compiled(p, **opts))
+        assert (r["claim_a"], r["claim_b"]) == (str(a).lower(), str(b).lower()), r
     assert claims_map_chunk.COLUMNS == list(rows[0])
 
 

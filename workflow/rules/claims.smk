@@ -53,7 +53,7 @@ rule claims_by_parameter:
 rule claims_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(study("claims", "config"), REPORTING),
     output:
         csv="results/claims/map_{chunk}.csv",
     wildcard_constraints:
@@ -88,6 +88,70 @@ rule claims_map:
         ENV
     script:
         "../scripts/claims_map_gather.py"
+
+
+CLAIMS_PAIR_MAPS = list(config["claims_search"]["pair_maps"])
+
+
+rule claims_pair_map_chunk:
+    input:
+        script="workflow/scripts/claims_map_chunk.py",
+        library=library(study("claims", "config"), REPORTING),
+    output:
+        csv="results/claims/map_{name}_{chunk}.csv",
+    wildcard_constraints:
+        name="|".join(CLAIMS_PAIR_MAPS),
+        chunk=r"\d+",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        search=parameters_json("claims_search"),
+    log:
+        "logs/claims/map_{name}_{chunk}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_map_chunk.py"
+
+
+rule claims_pair_map:
+    input:
+        script="workflow/scripts/claims_map_gather.py",
+        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        chunks=claims_pair_map_chunk_files,
+    output:
+        csv="figures/claims_map_{name}.csv",
+        json="figures/claims_map_{name}_settings.json",
+    wildcard_constraints:
+        name="|".join(CLAIMS_PAIR_MAPS),
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        search=parameters_json("claims_search"),
+    log:
+        "logs/claims/claims_map_{name}.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_map_gather.py"
+
+
+rule fig_claims_maps:
+    input:
+        script="workflow/scripts/fig_claims_maps.py",
+        library=library(REPORTING),
+        style=STYLE,
+        csv=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
+        json=["figures/claims_map_settings.json"] + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
+    output:
+        pdf="figures/claims_maps.pdf",
+        png="figures/claims_maps.png",
+    log:
+        "logs/claims/fig_claims_maps.log",
+    conda:
+        ENV
+    script:
+        "../scripts/fig_claims_maps.py"
 
 
 rule fig_claims_by_parameter:
@@ -134,5 +198,54 @@ ALL_TARGETS.extend(
         "figures/claims_map.pdf",
         "figures/claims_map.png",
         "paper/generated/claims_table.tex",
+        "figures/claims_maps.pdf",
+        "figures/claims_maps.png",
     ]
 )
+
+
+rule claims_nearest:
+    input:
+        script="workflow/scripts/claims_nearest.py",
+        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+    output:
+        json="figures/claims_nearest.json",
+        timing="results/benchmarks/claims_nearest_timing.json",
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        verdict=parameters_json("verdict"),
+        search=parameters_json("claims_search"),
+    log:
+        "logs/claims/claims_nearest.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_nearest.py"
+
+
+ALL_TARGETS.append("figures/claims_nearest.json")
+
+
+rule claims_macros:
+    input:
+        script="workflow/scripts/claims_macros.py",
+        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+        nearest="figures/claims_nearest.json",
+        search="figures/claims_by_parameter_settings.json",
+        maps=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
+        located="figures/located_case.json",
+    output:
+        record="results/report/claims.json",
+        tex="paper/generated/claims_macros.tex",
+    params:
+        pair_maps=CLAIMS_PAIR_MAPS,
+    log:
+        "logs/claims/claims_macros.log",
+    conda:
+        ENV
+    script:
+        "../scripts/claims_macros.py"
+
+
+ALL_TARGETS.append("paper/generated/claims_macros.tex")

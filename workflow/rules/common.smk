@@ -106,6 +106,12 @@ def claims_map_chunk_files(wildcards):
     return expand("results/claims/map_{chunk}.csv", chunk=range(config["claims_search"]["map"]["chunks"]))
 
 
+def claims_pair_map_chunk_files(wildcards):
+    """Chunk outputs of one pair map (config claims_search.pair_maps.{name}.chunks jobs)."""
+    chunks = config["claims_search"]["pair_maps"][wildcards.name]["chunks"]
+    return expand("results/claims/map_{name}_{chunk}.csv", name=wildcards.name, chunk=range(chunks))
+
+
 def random_chunk_files(wildcards):
     """Chunk outputs of the random initial states (config sweep.random_chunks jobs)."""
     return expand("results/sweeps/random_{chunk}.csv", chunk=range(config["sweep"]["random_chunks"]))

@@ -40,6 +40,7 @@ rule readme_summary:
             "results/report/performance.json",
             "results/report/sweeps.json",
             "results/report/design.json",
+            "results/report/claims.json",
         ],
         stated="figures/impacts_stated.csv",
         located="figures/impacts_located.csv",

@@ -1,22 +1,22 @@
 """Both claims of the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100)
-over a grid of two parameters (config ``claims_search.map``, default R against Delta0/x_st),
-where one parameter alone does not explain where the behaviour occurs: Algorithm No. 1 and
-Algorithm No. 2 from the paper's step 1 at every cell (:func:`impactdamper.studies.claims.claims_at`).
-One chunk of rows (contiguous y values) per Snakemake job.
+over a grid of two parameters (config ``claims_search.map``, R against Delta0/x_st, or one of
+``claims_search.pair_maps``), where one parameter alone does not explain where the behaviour
+occurs: Algorithm No. 1 and Algorithm No. 2 from the paper's step 1 at every cell, on the
+compiled batch (:func:`impactdamper.studies.claims.claims_map`; a cell that needs more than the
+map's ``max_periods`` to settle is nonperiodic). One chunk of rows (contiguous y values) per
+Snakemake job.
 
-Output: ``results/claims/map_{chunk}.csv``.
+Output: ``results/claims/map_{chunk}.csv`` or ``results/claims/map_{name}_{chunk}.csv``.
 """
 
 
 import numpy as np
 
-from impactdamper.studies import replication as rep
-from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv
-from impactdamper.studies.claims import claims_at
+from impactdamper.studies.claims import MAP_COLUMNS, claims_map
+from impactdamper.studies.config import parameters, sweep_settings
 
-COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
-           "periods"]
+COLUMNS = MAP_COLUMNS
 
 
 def axes(m: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -24,18 +24,22 @@ def axes(m: dict) -> tuple[np.ndarray, np.ndarray]:
             np.linspace(float(m["y_start"]), float(m["y_stop"]), int(m["y_points"])))
 
 
-def main(chunk: int, reference: dict, solver: dict, search: dict, out_csv, log=print) -> list[dict]:
-    m = search["map"]
+def map_settings(m: dict, solver: dict):
+    """The batch's settings of a map: the solver's, with the map's period cap."""
+    cap = int(m["max_periods"])
+    return sweep_settings({"settle_tol": solver["settle_tol"], "max_periods": cap, "max_periods_after_nonperiodic": cap,
+                           "max_period_multiple": solver["max_period_multiple"]}, solver, continuation=False,
+                          rescue=False)
+
+
+def main(chunk: int, reference: dict, solver: dict, search: dict, out_csv, log=print, name: str | None = None) -> list[dict]:
+    m = search["map"] if name is None else search["pair_maps"][name]
     xs, ys = axes(m)
     rows_y = np.array_split(np.arange(len(ys)), int(m["chunks"]))[chunk]
-    base = parameters(reference)
-    out = []
-    for j in rows_y:
-        for x in xs:
-            p = base.replace(**{m["x"]: float(x), m["y"]: float(ys[j])})
-            c = claims_at(p, gap_tol=float(solver["gap_tol"]), steady_kwargs=rep.solver_options(solver))
-            out.append({"x": float(x), "y": float(ys[j]), **c, "both": c["claim_a"] and c["claim_b"]})
-        log(f"row {j}: {m['y']} = {ys[j]:.6g} done")
+    out = claims_map(parameters(reference), m["x"], xs, m["y"], ys[rows_y], gap_tol=float(solver["gap_tol"]),
+                     settings=map_settings(m, solver))
+    log(f"rows {rows_y[0] if len(rows_y) else '-'}..{rows_y[-1] if len(rows_y) else '-'} of {m['y']}: {len(out)} cells, "
+        f"both claims at {sum(r['both'] for r in out)}")
     write_csv(out_csv, COLUMNS, out)
     return out
 
@@ -45,5 +49,5 @@ if __name__ == "__main__":
     import sys
 
     cfg, _ = start_stage(sm)
-    main(int(sm.wildcards.chunk), cfg["reference"], cfg["solver"],
-         cfg["search"], sm.output.csv, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    main(int(sm.wildcards.chunk), cfg["reference"], cfg["solver"], cfg["search"], sm.output.csv,
+         log=lambda msg: print(msg, file=sys.stderr, flush=True), name=getattr(sm.wildcards, "name", None))

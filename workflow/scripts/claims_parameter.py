@@ -4,7 +4,11 @@ N, delta1, delta2 or R) is varied alone over a wide range, the others as stated,
 intervals where claim (a) (Algorithm No. 1: the gap goes negative between impacts), claim (b)
 (Algorithm No. 2 from the paper's step 1: T_c = 2T with three impacts) and both hold are
 located, each end bisected to ``claims_search.rel_tol`` relative
-(:func:`impactdamper.studies.claims.search_parameter`).
+(:func:`impactdamper.studies.claims.search_parameter`). Claim (b)'s grid (the compiled batch,
+each value from the paper's step 1, a nonperiodic value rescued by Newton's method from the
+run's last sections where it can be) is refined adaptively wherever the settled motion's label
+changes between neighbours or a value does not settle, halving the step
+``claims_search.refine_levels`` times at most (the floor: step / 2^levels).
 
 Why: "not reproduced" at the stated point could come from a transcription slip or another
 normalisation of any parameter, not only of the gap.
@@ -36,7 +40,9 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
     t = time.perf_counter()
     result = search_parameter(p, parameter, values, alg1_values, gap_tol=float(solver["gap_tol"]),
                               steady_kwargs=rep.solver_options(solver), rel_tol=float(search["rel_tol"]),
-                              floor=float(search["floor"]), log=log)
+                              floor=float(search["floor"]), log=log,
+                              refine_floor=(hi - lo) / (int(rng["points"]) - 1) / 2 ** int(search["refine_levels"]),
+                              rescue=True)
     log(f"{parameter}: searched in {time.perf_counter() - t:.1f} s")
     t = time.perf_counter()
     every = int(search["reference_check_every"])

@@ -8,7 +8,8 @@ paper's Fig. 2a) and "T_c = 2T and during this period T_c there are three collis
 One panel per parameter (theta, mu, N, delta1, delta2, R), varied alone at the stated gap with
 the others as stated: bars where claim (a), claim (b) and both hold (ends bisected,
 ``claims_search.rel_tol``); dotted line: the stated value; diamond: the nearest value where
-both hold. Data: ``figures/claims_by_parameter.csv`` and its settings JSON.
+both hold. Each axis label states Algorithm No. 2's grid step and the floor its adaptive
+refinement reached down to. Data: ``figures/claims_by_parameter.csv`` and its settings JSON.
 
 Deviation: a search the paper does not have.
 """
@@ -49,7 +50,9 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
         ax.set_ylim(-0.6, 2.6)
         ax.set_yticks([2, 1, 0], ["(a)", "(b)", "both"])
         ax.grid(axis="y", visible=False)
-        ax.set_xlabel(LABEL[name], labelpad=1)
+        ref = d.get("refinement")
+        steps = f"  (Alg. No. 2 step {ref['step']:.3g}, refined to {ref['floor']:.2g})" if ref else ""
+        ax.set_xlabel(LABEL[name] + steps, labelpad=1)
         ax.tick_params(axis="y", length=0)
     axes[0].plot([], [], color="0.2", lw=0.8, ls=":", label="stated value")
     axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=3, fontsize=7.5)

@@ -30,7 +30,8 @@ from impactdamper.core.steady import steady_state
 
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
            "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
-           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both", "reference_check", "check_rows"]
+           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both", "reference_check", "check_rows",
+           "refine_grid", "batch_rows", "search_parameter", "MAP_COLUMNS", "claims_map", "count_end_checks"]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2
@@ -305,8 +306,101 @@ def claims_at(p, *, gap_tol: float, steady_kwargs: dict) -> dict:
             "periods": int(s.periods)}
 
 
+def refine_grid(xs: Sequence[float], rows_at: Callable[[list], list], min_step: float,
+                max_rounds: int = 64) -> tuple[list[dict], int]:
+    """Adaptive refinement of a labelled grid: wherever two neighbours have different labels, or
+    either did not settle (``label`` "np"), the midpoint is added, until every such pair is
+    ``min_step`` (the floor) apart or less, or ``max_rounds`` rounds were made (halving a
+    step reaches the floor when the step is the floor times a power of two). A window (a run of
+    one label) wider than ``min_step`` between two neighbours of another label is then seen
+    wherever its label differs from theirs or a neighbour does not settle; a window inside a
+    run of one settled label, narrower than the initial step, is not (nothing there asks for
+    refinement).
+
+    Parameters
+    ----------
+    xs : sequence of float
+        The initial grid, increasing.
+    rows_at : callable
+        ``rows_at(list_of_x)`` -> list of dict, each with ``value`` and ``label`` (one call per
+        round, all the round's new points at once).
+    min_step : float
+        The floor: pairs closer than this are not split.
+
+    Returns
+    -------
+    rows : list of dict
+        Every point evaluated, in increasing value, each with ``level`` (0: the initial grid,
+        n: added in round n).
+    rounds : int
+        Refinement rounds made.
+    """
+    if not (isinstance(min_step, (int, float)) and math.isfinite(min_step) and min_step > 0):
+        raise ValueError(f"`min_step` = {min_step!r} is not allowed: must be a positive finite number")
+    rows = [dict(r, level=0) for r in rows_at([float(x) for x in xs])]
+    rounds = 0
+    while rounds < max_rounds:
+        rows.sort(key=lambda r: r["value"])
+        # Midpoints rounded to 12 decimals: the same value as a grid written lo + i h (the motion
+        # next to a bifurcation changes with the last bit of a parameter).
+        new = [round(0.5 * (a["value"] + b["value"]), 12) for a, b in zip(rows, rows[1:])
+               if (a["label"] != b["label"] or "np" in (a["label"], b["label"]))
+               and b["value"] - a["value"] > 1.5 * min_step]  # (1.5: halving reaches min_step despite rounding)
+        if not new:
+            break
+        rounds += 1
+        rows += [dict(r, level=rounds) for r in rows_at(new)]
+    rows.sort(key=lambda r: r["value"])
+    return rows, rounds
+
+
+def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None) -> list[dict]:
+    """Algorithm No. 2 from the paper's step 1 at each value of ``name`` (the others as in
+    ``p``), on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each point
+    alone, ``settings``: its ``rescue`` tries the Newton rescue on a point that did not
+    settle). A point still nonperiodic is run again with ``longer_periods`` (if given).
+
+    Returns
+    -------
+    list of dict
+        ``value``, ``claim_b``, ``regime``, ``period_multiple``, ``impacts_per_cycle``,
+        ``periods``, ``label`` (Peterka's z/k, "np" when nonperiodic), ``method``
+        (``simulation``, ``rescue`` or ``longer``).
+    """
+    import dataclasses
+
+    import numpy as np
+
+    from impactdamper.analysis.batch import settled_batch
+
+    if not xs:
+        return []
+
+    def run(values, st):
+        r = settled_batch(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
+        return [{"value": float(v), "regime": str(rg), "period_multiple": int(k), "impacts_per_cycle": int(z),
+                 "periods": int(n), "label": str(lb), "method": str(m),
+                 "claim_b": bool(rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS)}
+                for v, rg, k, z, n, lb, m in zip(values, r.regime, r.period_multiple, r.impacts_per_cycle, r.periods,
+                                                 r.label, r.method)]
+
+    rows = run(list(xs), settings)
+    again = [i for i, r in enumerate(rows) if r["period_multiple"] == 0 and r["regime"] == "nonperiodic"]
+    if again and longer_periods:
+        st = dataclasses.replace(settings, max_periods=int(longer_periods),
+                                 max_periods_after_nonperiodic=int(longer_periods))
+        for i, r in zip(again, run([rows[i]["value"] for i in again], st)):
+            if r["period_multiple"] > 0:
+                rows[i] = dict(r, method="longer")
+            else:
+                rows[i]["periods"] = r["periods"]
+    return rows
+
+
 def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequence[float], *, gap_tol: float,
-                     steady_kwargs: dict, rel_tol: float, floor: float, log: Callable[[str], None] | None = None) -> dict:
+                     steady_kwargs: dict, rel_tol: float, floor: float, log: Callable[[str], None] | None = None,
+                     refine_floor: float | None = None, rescue: bool = True,
+                     longer_periods: int | None = None) -> dict:
     """Where the claims hold along parameter ``name`` (a field of
     :class:`~impactdamper.Parameters`), the others as in ``p``.
 
@@ -314,10 +408,20 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
     (a settled simulation per point, compiled) on ``values``; every end of a run where a claim holds is
     bisected until its bracket is within ``rel_tol`` relative (absolute ``rel_tol * floor``
     near zero); "both" is the intersection. Returns the grids, their flags and the intervals.
+
+    With ``refine_floor``, claim (b)'s grid runs on the compiled batch
+    (:func:`batch_rows`: a nonperiodic point is rescued (``rescue``) or run again with
+    ``longer_periods``) and is refined adaptively (:func:`refine_grid`) wherever the settled
+    motion's label changes between neighbours or a point does not settle, down to
+    ``refine_floor``; the ends are then bisected as above between the refined neighbours.
     """
     if name not in p.names():
         raise ValueError(f"`name` = {name!r} is not allowed: must be one of {', '.join(p.names())}")
     say = log or (lambda msg: None)
+    if refine_floor is not None:
+        return _search_refined(p, name, values, alg1_values, gap_tol=gap_tol, steady_kwargs=steady_kwargs,
+                               rel_tol=rel_tol, floor=floor, say=say, refine_floor=refine_floor, rescue=rescue,
+                               longer_periods=longer_periods)
 
     def pred_a(x: float) -> bool:
         return claim_a(algorithm1(p.replace(**{name: float(x)}), gap_tol=gap_tol))
@@ -346,6 +450,53 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
             "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
             "bisection_points": sorted((r for x, r in rows.items() if x not in set(map(float, values))),
                                        key=lambda r: r["value"])}
+
+
+def _search_refined(p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel_tol, floor, say, refine_floor,
+                    rescue, longer_periods) -> dict:
+    """:func:`search_parameter` with claim (b)'s grid refined (see there)."""
+    from impactdamper.analysis.settled import SweepSettings
+
+    mp = int(steady_kwargs.get("max_periods", 4000))
+    settings = SweepSettings(settle_tol=float(steady_kwargs.get("settle_tol", 1e-10)), max_periods=mp,
+                             max_periods_after_nonperiodic=mp,
+                             max_period_multiple=int(steady_kwargs.get("max_period_multiple", 8)),
+                             continuation=False, rescue=bool(rescue),
+                             **({"tolerances": steady_kwargs["tolerances"]} if "tolerances" in steady_kwargs else {}))
+
+    def pred_a(x: float) -> bool:
+        return claim_a(algorithm1(p.replace(**{name: float(x)}), gap_tol=gap_tol))
+
+    bisected: dict[float, dict] = {}
+
+    def pred_b(x: float) -> bool:
+        row = batch_rows(p, name, [float(x)], settings, longer_periods)[0]
+        bisected[float(x)] = dict(row, level=-1)
+        return row["claim_b"]
+
+    flags_a = [pred_a(x) for x in alg1_values]
+    say(f"{name}: claim (a) on {len(alg1_values)} values, holds at {sum(flags_a)}")
+    grid_b, rounds = refine_grid(values, lambda xs: batch_rows(p, name, xs, settings, longer_periods), refine_floor)
+    xs = [r["value"] for r in grid_b]
+    flags_b = [r["claim_b"] for r in grid_b]
+    say(f"{name}: claim (b) on {len(values)} values refined to {len(grid_b)} in {rounds} rounds "
+        f"(floor {refine_floor:g}), holds at {sum(flags_b)}; "
+        f"{sum(r['label'] == 'np' for r in grid_b)} still nonperiodic")
+    ia = true_intervals(alg1_values, flags_a, pred_a, rel_tol, floor)
+    ib = true_intervals(xs, flags_b, pred_b, rel_tol, floor)
+    say(f"{name}: {len(ia)} interval(s) of (a), {len(ib)} of (b) after bisection")
+    step = (float(values[-1]) - float(values[0])) / (len(values) - 1) if len(values) > 1 else 0.0
+    return {"parameter": name, "stated": float(getattr(p, name)), "alg1_values": [float(x) for x in alg1_values],
+            "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
+            "bisection_points": sorted(bisected.values(), key=lambda r: r["value"]),
+            "refinement": {"step": step, "alg1_step": (float(alg1_values[-1]) - float(alg1_values[0]))
+                           / (len(alg1_values) - 1) if len(alg1_values) > 1 else 0.0,
+                           "floor": float(refine_floor), "rounds": rounds, "points": len(grid_b),
+                           "added": len(grid_b) - len(values), "rescue": bool(rescue),
+                           "longer_periods": int(longer_periods) if longer_periods else None,
+                           "rescued": sum(r["method"] == "rescue" for r in grid_b),
+                           "settled_longer": sum(r["method"] == "longer" for r in grid_b),
+                           "nonperiodic": sum(r["label"] == "np" for r in grid_b)}}
 
 
 def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> dict:
@@ -390,13 +541,14 @@ def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> 
 
 def check_rows(result: dict, every: int) -> list[dict]:
     """The rows of a :func:`search_parameter` result that :func:`reference_check` repeats: every
-    ``every``-th grid value, and both values of the final bracket of every bisected end of
+    ``every``-th value of the initial grid (not of the points the refinement added), and both values of the final bracket of every bisected end of
     claim (b) (where the claim changes, the motion is most sensitive to the solver)."""
     ends = set()
     for iv in result["intervals"]["b"]:
         for bracket in (iv.lo_bracket, iv.hi_bracket):
             ends.update(float(x) for x in (bracket or ()))
-    rows = {float(r["value"]): r for r in list(result["grid_b"][::every])}
+    initial = [r for r in result["grid_b"] if r.get("level", 0) == 0]  # not the refinement's points
+    rows = {float(r["value"]): r for r in initial[::every]}
     for r in list(result["grid_b"]) + list(result["bisection_points"]):
         if float(r["value"]) in ends:
             rows[float(r["value"])] = r
@@ -428,3 +580,72 @@ def nearest_both(result: dict) -> dict:
     return {"stated": stated, "nearest": x, "distance": d if math.isfinite(d) else None,
             "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
             "intervals": len(ivs)}
+
+
+# --- both claims over two parameters ---------------------------------------------------------
+MAP_COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
+               "periods", "label"]
+
+
+def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings) -> list[dict]:
+    """Both claims at every cell of the grid ``xs`` x ``ys`` of parameters ``x`` and ``y`` (the
+    others as in ``p``): Algorithm No. 1 (closed form, ``gap_tol``) and Algorithm No. 2 from the
+    paper's step 1 on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each
+    cell alone, ``settings``), in one call for all cells.
+
+    Returns
+    -------
+    list of dict
+        One per cell, rows of y outer, x inner, with :data:`MAP_COLUMNS`.
+    """
+    import numpy as np
+
+    from impactdamper.analysis.batch import settled_batch
+
+    if x == y:
+        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    cells = np.array([(float(a), float(b)) for b in ys for a in xs], float).reshape(-1, 2)
+    res = settled_batch(p, (x, y), cells, settings=settings, chain=False)
+    out = []
+    for i, (a, b) in enumerate(cells):
+        alg1 = algorithm1(p.replace(**{x: float(a), y: float(b)}), gap_tol=gap_tol)
+        ca = claim_a(alg1)
+        rg, k, z = str(res.regime[i]), int(res.period_multiple[i]), int(res.impacts_per_cycle[i])
+        cb = rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS
+        out.append({"x": float(a), "y": float(b), "claim_a": ca, "claim_b": cb, "both": ca and cb,
+                    "alg1_exists": bool(alg1.exists), "regime": rg, "period_multiple": k, "impacts_per_cycle": z,
+                    "periods": int(res.periods[i]), "label": str(res.label[i])})
+    return out
+
+
+def count_end_checks(checks: Sequence[dict]) -> dict:
+    """The located range's end checks (:func:`impactdamper.studies.gapscan.end_checks`) counted
+    by what they rest on.
+
+    Returns
+    -------
+    dict
+        ``checks``; ``compared_within``: both methods gave a motion to compare and every
+        measured difference is within its tolerance; ``nothing_to_compare``: the same verdict
+        but nothing to compare (claim a: no orbit by either method; claim b: neither settles);
+        ``outside_tolerance``: compared, a difference above its tolerance (whatever the
+        verdicts); ``different_verdict``: the two methods give different verdicts on the claim.
+    """
+    out = {"checks": len(checks), "compared_within": 0, "nothing_to_compare": 0, "outside_tolerance": 0,
+           "different_verdict": 0}
+    for c in checks:
+        if c["exact"] != c["independent"]:
+            out["different_verdict"] += 1
+        if c["claim"] == "a":
+            nothing = c["comparison"]["periodicity_residual"] is None
+            within = bool(c["comparison"]["agree"])
+        else:
+            nothing = c["exact_period_multiple"] == 0 and c["independent_period_multiple"] == 0
+            within = bool(c["details"].get("agree", False))
+        if nothing:
+            out["nothing_to_compare"] += c["exact"] == c["independent"]
+        elif within:
+            out["compared_within"] += 1
+        else:
+            out["outside_tolerance"] += 1
+    return out

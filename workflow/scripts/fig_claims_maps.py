@@ -1,0 +1,67 @@
+"""Extends Fig. 2 of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: where the
+behaviour the paper reports occurs over the pairs of parameters a reader asks about first,
+(theta, N), (theta, Delta0/x_st), (N, Delta0/x_st) and (R, Delta0/x_st), the others as stated.
+
+The paper: "the gap Delta takes on negative values when t in (t1, t2)" (Algorithm No. 1, the
+paper's Fig. 2a) and "T_c = 2T and during this period T_c there are three collisions"
+(Algorithm No. 2 from its step 1, the paper's Fig. 2b). Colour per cell: neither claim, (a)
+only, (b) only, both; star: the stated point. Each panel's title states its grid steps.
+
+Deviation: maps the paper does not have; each cell is Algorithm No. 2 from the paper's step 1
+(no continuation from a neighbour), a cell not settled within the map's period cap counted as
+nonperiodic. Data: ``figures/claims_map.csv`` and ``figures/claims_map_{name}.csv`` with their
+settings JSON.
+"""
+
+
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
+
+from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+
+CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
+           ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
+LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
+         "R": "$R$", "gap": "$\\Delta_0/x_{st}$"}
+
+
+def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
+    xs = sorted({float(r["x"]) for r in rows})
+    ys = sorted({float(r["y"]) for r in rows})
+    z = np.zeros((len(ys), len(xs)), dtype=int)
+    for r in rows:
+        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(r["claim_a"] == "true") + 2 * int(r["claim_b"] == "true")
+    return xs, ys, z
+
+
+def main(csvs, jsons, out_pdf, out_png) -> None:
+    plt = use_style()
+    fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 5.4))
+    order = sorted(range(len(csvs)), key=lambda i: read_json(jsons[i])["name"] != "theta_N")
+    for ax, i in zip(axes.flat, order):
+        rows, settings = read_csv(csvs[i]), read_json(jsons[i])
+        m, ref = settings["map"], settings["reference"]
+        xs, ys, z = grid(rows)
+        dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
+        ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest", vmin=-0.5, vmax=3.5,
+                  cmap=ListedColormap([c for _, c in CLASSES]),
+                  extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy))
+        ax.grid(False)
+        ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=9, mec="k", mfc="w")
+        ax.set_xlabel(LABEL[m["x"]], labelpad=1)
+        ax.set_ylabel(LABEL[m["y"]], labelpad=1)
+        ax.set_title(f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both",
+                     fontsize=7.5)
+    handles = [Patch(color=c, label=name) for name, c in CLASSES]
+    handles.append(plt.Line2D([], [], ls="", marker="*", ms=9, mec="k", mfc="w", label="stated point"))
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7.5, bbox_to_anchor=(0.5, 0.0))
+    fig.tight_layout(rect=(0, 0.08, 1, 1), h_pad=0.8)
+    finish_figure(fig, out_pdf, out_png)
+
+
+if __name__ == "__main__":
+    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
+    start_stage(sm)
+    main(list(sm.input.csv), list(sm.input.json), sm.output.pdf, sm.output.png)
