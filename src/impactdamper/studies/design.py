@@ -11,7 +11,7 @@ the answer beside three linear references, each computed here:
 * the optimal linear tuned-mass damper (TMD) of the same mu on the object's own damping
   delta1: its tuning N and damping delta2 minimise the peak (or the band average) of |x1|/x_st
   over the band, numerically. For delta1 = 0 and an unbounded band Den Hartog's closed form
-  holds: N = 1/(1 + mu), delta2 = N sqrt(3 mu/(8 (1 + mu)^3)), peak sqrt(1 + 2/mu) (the peak is
+  holds: N = 1/(1 + mu), delta2 = sqrt(3 mu/(8 (1 + mu)^3)), peak sqrt(1 + 2/mu) (the peak is
   the height of the fixed points, the exact minimax value); it checks the optimiser.
 
 In relative form (time in 1/omega1, lengths in x_st, B = N^2 + 2 i delta2 theta) the linear
@@ -136,10 +136,18 @@ def two_mass_amplitude(mu: float, N: float, delta1: float, delta2: float, thetas
 
 def den_hartog(mu: float) -> dict:
     """Den Hartog's optimal TMD on an undamped object: tuning N, damping delta2 and the peak of
-    |x1|/x_st (in this project's notation: delta2 = k2/(2 m2 omega1) = N zeta)."""
+    |x1|/x_st.
+
+    Den Hartog (Mechanical Vibrations, 1956, sec. 3.3) gives the damping ratio on the
+    absorber's own critical damping, zeta2 = k2/(2 m2 omega2) = sqrt(3 mu/(8 (1 + mu))); this
+    project's delta2 = k2/(2 m2 omega1) = N zeta2 = sqrt(3 mu/(8 (1 + mu)^3)) (the same number as
+    his c/c_c with c_c = 2 m2 Omega_n on the main system's frequency). An earlier version
+    multiplied the latter by N once more, 1/(1 + mu) too small (8 % at mu = 0.08); the numerical
+    minimax optimum of an undamped object sits within 1 % of this delta2 (tests).
+    """
     N = 1.0 / (1.0 + mu)
-    zeta = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
-    return {"N": N, "delta2": N * zeta, "peak": math.sqrt(1.0 + 2.0 / mu)}
+    zeta2 = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu)))
+    return {"N": N, "delta2": N * zeta2, "peak": math.sqrt(1.0 + 2.0 / mu)}
 
 
 def band_peak(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
@@ -452,6 +460,9 @@ class LocatedPeak:
     jump : bool
         The maximum is the end of a branch (the next point in the sweep's direction, within the
         final bracket, is more than ``JUMP_DROP`` lower): located by bisection of the jump.
+    periodic : bool
+        The motion there settled on a cycle. False: nonperiodic (a chaotic stretch), where
+        max|x1| is the largest over the settle window and no tolerance applies.
     bracket : float
         Width of the final theta bracket (the maximum lies in it).
     change : float
@@ -464,6 +475,7 @@ class LocatedPeak:
     value: float
     direction: str
     jump: bool
+    periodic: bool
     bracket: float
     change: float
     evaluations: int
@@ -532,47 +544,50 @@ class BandResponse:
 
 def _settle_from(p: Parameters, thetas: Sequence[float], start: np.ndarray, settings) -> tuple:
     """Settle the thetas in order, each from the previous one's section (the first from
-    ``start``): continuation, as a sweep. Returns (values, sections), shapes (m,), (m, 4)."""
+    ``start``): continuation, as a sweep. Returns (values, sections, period multiples), shapes
+    (m,), (m, 4), (m,) (k = 0: nonperiodic)."""
     from impactdamper.analysis.batch import settled_batch
 
-    values, sections = [], []
+    values, sections, ks = [], [], []
     state = np.asarray(start, float)
     for t in thetas:
         r = settled_batch(p, ("theta",), np.array([[float(t)]]), settings=settings, chain=False,
                           states=state[None, :])
         values.append(float(r.x1_max[0]))
+        ks.append(int(r.period_multiple[0]))
         state = r.sections[0].copy()
         sections.append(state)
-    return np.array(values), np.array(sections)
+    return np.array(values), np.array(sections), np.array(ks)
 
 
-def _zoom(p: Parameters, a: float, b: float, y_a: float, s_a: np.ndarray, direction: str, settings,
+def _zoom(p: Parameters, a: float, b: float, y_a: float, s_a: np.ndarray, k_a: int, direction: str, settings,
           theta_tol: float, rtol: float) -> LocatedPeak:
     """The largest max|x1| on the branch continued from (a, y_a, s_a) towards b (b < a for the
     downward direction): zoom on the largest of ZOOM_POINTS continued points, from the point
     before it, until the bracket is theta_tol wide and the value changes by less than rtol."""
-    best_t, best_y = a, y_a
+    best_t, best_y, best_k = a, y_a, k_a
     evaluations, change, jump = 0, math.inf, False
     for _ in range(MAX_ZOOMS):
         ts = a + (b - a) * np.arange(1, ZOOM_POINTS + 1) / ZOOM_POINTS
-        ys, ss = _settle_from(p, ts, s_a, settings)
+        ys, ss, ks = _settle_from(p, ts, s_a, settings)
         evaluations += len(ts)
         all_t = np.concatenate([[a], ts])
         all_y = np.concatenate([[y_a], ys])
         all_s = np.vstack([s_a[None, :], ss])
+        all_k = np.concatenate([[k_a], ks])
         j = int(np.nanargmax(all_y))
         previous = best_y
         if all_y[j] >= best_y:
-            best_t, best_y = float(all_t[j]), float(all_y[j])
+            best_t, best_y, best_k = float(all_t[j]), float(all_y[j]), int(all_k[j])
         change = abs(best_y - previous) / max(abs(best_y), 1e-300)
         jump = j + 1 < len(all_y) and all_y[j + 1] < (1.0 - JUMP_DROP) * all_y[j]
         lo = max(j - 1, 0)
-        a, y_a, s_a = float(all_t[lo]), float(all_y[lo]), all_s[lo]
+        a, y_a, s_a, k_a = float(all_t[lo]), float(all_y[lo]), all_s[lo], int(all_k[lo])
         b = float(all_t[min(j + 1, len(all_t) - 1)])
         if abs(b - a) <= theta_tol and change <= rtol:
             break
-    return LocatedPeak(theta=best_t, value=best_y, direction=direction, jump=bool(jump), bracket=abs(b - a),
-                       change=float(change), evaluations=evaluations)
+    return LocatedPeak(theta=best_t, value=best_y, direction=direction, jump=bool(jump), periodic=best_k > 0,
+                       bracket=abs(b - a), change=float(change), evaluations=evaluations)
 
 
 def _local_maxima(y: np.ndarray) -> list[int]:
@@ -635,11 +650,11 @@ def impact_band_response(p: Parameters, band: tuple[float, float] = (0.5, 1.5), 
                 nxt = min(i + 1, len(order) - 1)
                 if i == len(order) - 1 and i > 0:
                     nxt = i
-                q = _zoom(p, float(order[f]), float(order[nxt]), float(y[f]), res.sections[f], direction, settings,
-                          theta_tol, rtol)
+                q = _zoom(p, float(order[f]), float(order[nxt]), float(y[f]), res.sections[f],
+                          int(res.period_multiple[f]), direction, settings, theta_tol, rtol)
                 if y[i] > q.value:  # the grid's own sample is higher (the zoom never lowers it)
-                    q = LocatedPeak(float(order[i]), float(y[i]), direction, q.jump, q.bracket, q.change,
-                                    q.evaluations)
+                    q = LocatedPeak(float(order[i]), float(y[i]), direction, q.jump, bool(res.period_multiple[i] > 0),
+                                    q.bracket, q.change, q.evaluations)
                 located.append(q)
                 evaluations += q.evaluations
     located.sort(key=lambda q: -q.value)
@@ -740,13 +755,19 @@ def linear_maxima(num: np.ndarray, den: np.ndarray, band: tuple[float, float]) -
                 candidates.append(min(max(t, a), b))
     candidates += [a, b]
     out = []
-    h = 1e-7 * (b - a)
-    for t in sorted(set(candidates)):
-        v = value(t)
+    # Neighbours 1e-5 of the band away: on a resonance of half-width >= 1e-3 of the band the
+    # function changes there by >= ~1e-4 relative, far above the rounding that 1e-12 allows.
+    h = 1e-5 * (b - a)
+    values = {t: value(t) for t in sorted(set(candidates))}
+    for t, v in values.items():
         left = value(t - h) if t - h >= a else -math.inf
         right = value(t + h) if t + h <= b else -math.inf
-        if v >= left and v >= right:
+        # A flat maximum's neighbours may exceed it by rounding: 1e-12 relative is allowed.
+        if v >= (1.0 - 1e-12) * left and v >= (1.0 - 1e-12) * right:
             out.append((t, v))
+    top = max(values.items(), key=lambda x: x[1])  # the largest stationary point or end: always a maximum
+    if top not in out:
+        out.append(top)
     return sorted(out, key=lambda x: -x[1])
 
 
