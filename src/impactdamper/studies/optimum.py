@@ -44,7 +44,7 @@ from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.studies.design import (BAND_STEP, CRITERIA, BandResponse, LinearDevice, _check_band, den_hartog,
                                          impact_band_response)
 
-__all__ = ["IMPACT_BOUNDS", "TMD_BOUNDS", "COARSE_STEP", "DETUNING_POINTS", "SENSITIVITY_WORSE", "Optimum",
+__all__ = ["design_study", "robust_impact", "worst_within", "device", "recommendation", "IMPACT_BOUNDS", "TMD_BOUNDS", "COARSE_STEP", "DETUNING_POINTS", "SENSITIVITY_WORSE", "Optimum",
            "minimise", "optimise_tmd", "optimise_impact", "detuned", "worst_case_tmd", "worst_case_impact",
            "sensitivity", "impact_stroke_and_loads", "tmd_at_stroke", "design_optima", "Budget", "CLI_BUDGET",
            "STAGE_BUDGET"]
@@ -56,11 +56,12 @@ __all__ = ["IMPACT_BOUNDS", "TMD_BOUNDS", "COARSE_STEP", "DETUNING_POINTS", "SEN
 #   are devices of their own, so the optimum lies inside (checked: ``at_bound``).
 # * N in [0.2, 1.5]: from a nearly free impact mass (the classic impact damper) to a spring
 #   stiffer than the tuned one (1/(1 + mu)) by half.
-# * delta2 in [0.005, 0.3]: from a bare steel spring to heavy viscous damping (zeta2 = delta2/N
-#   of 0.3 at N = 1).
+# * delta2 in [0, 0.3]: from no damper at all (the impacts alone dissipate; the optimum of the
+#   reference object runs there when the box stops at 0.005) to heavy viscous damping (zeta2 =
+#   delta2/N of 0.3 at N = 1).
 # * R in [0.2, 0.95]: what real stops give, a polymer pad (~0.2-0.5) to hardened steel (~0.9);
 #   0 and 1 are idealisations no buffer reaches.
-IMPACT_BOUNDS = {"gap": (-8.0, 8.0), "N": (0.2, 1.5), "delta2": (0.005, 0.3), "R": (0.2, 0.95)}
+IMPACT_BOUNDS = {"gap": (-8.0, 8.0), "N": (0.2, 1.5), "delta2": (0.0, 0.3), "R": (0.2, 0.95)}
 # The TMD's box: the same N range, delta2 from nearly undamped to heavy (Den Hartog's optimum at
 # mu = 0.08 is N = 0.93, delta2 = 0.15).
 TMD_BOUNDS = {"N": (0.2, 1.5), "delta2": (0.001, 0.3)}
@@ -255,12 +256,13 @@ def _impact_value(mu, delta1, band, criterion, step, settings, locate=False) -> 
 
 def optimise_impact(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5), criterion: str = "peak", *,
                     bounds: dict | None = None, budget: Budget = STAGE_BUDGET, settings: SweepSettings | None = None,
-                    seed: int = 0, guesses: Sequence[dict] = (),
+                    seed: int = 0, guesses: Sequence[dict] = (), step: float = BAND_STEP,
+                    coarse_step: float = COARSE_STEP,
                     progress: Callable[[str], None] | None = None) -> tuple[Optimum, BandResponse]:
     """The impact suppressor (gap, N, delta2, R) minimising ``criterion`` over ``band`` at the
     given ``mu`` and ``delta1``, by :func:`minimise`: the coarse stage on the band grid of step
-    ``COARSE_STEP``, the local stage on the band grid (peaks sampled there), then the optimum's
-    peak located (:func:`~impactdamper.studies.design.impact_band_response`).
+    ``coarse_step``, the local stage on the band grid of step ``step`` (peaks sampled there),
+    then the optimum's peak located (:func:`~impactdamper.studies.design.impact_band_response`).
 
     Returns
     -------
@@ -270,10 +272,10 @@ def optimise_impact(mu: float, delta1: float, band: tuple[float, float] = (0.5, 
     mu, delta1, band = _check(mu, delta1, band, criterion)
     bounds = dict(IMPACT_BOUNDS if bounds is None else bounds)
     settings = settings or SweepSettings()
-    coarse = _impact_value(mu, delta1, band, criterion, COARSE_STEP, settings)
-    fine = _impact_value(mu, delta1, band, criterion, BAND_STEP, settings)
+    coarse = _impact_value(mu, delta1, band, criterion, coarse_step, settings)
+    fine = _impact_value(mu, delta1, band, criterion, step, settings)
     x, _, n = minimise(coarse, fine, bounds, budget=budget, seed=seed, guesses=guesses, progress=progress)
-    r = impact_band_response(_impact_parameters(mu, delta1, x), band, BAND_STEP, settings=settings)
+    r = impact_band_response(_impact_parameters(mu, delta1, x), band, step, settings=settings)
     return Optimum("impact", criterion, dict(x), r.peak, r.peak_theta, r.band_average, n, _at_bound(x, bounds),
                    r.grid_peak()), r
 
@@ -499,3 +501,151 @@ def design_optima(band: tuple[float, float], mu: float, delta1: float, *, detuni
                     "worst_case": imp_worst["worst"] / tmd_worst}
     out["elapsed"] = time.perf_counter() - t0
     return out
+
+
+def robust_impact(mu: float, delta1: float, band, d: float, start: dict, *, evaluations: int = 40,
+                  settings: SweepSettings | None = None, step: float = COARSE_STEP) -> dict:
+    """The impact suppressor's robust optimum near ``start``: Nelder-Mead (the optimiser's local
+    stage, ``evaluations`` at most) on the worst grid peak (step ``step``) over the detunings
+    -d, -d/2, 0, d/2, d. Returns the parameters (a local answer: no global stage, for cost)."""
+    bounds = IMPACT_BOUNDS
+
+    def f(x: dict) -> float:
+        worst = 0.0
+        for e in np.linspace(-d, d, 5):
+            try:
+                q, b, scale = detuned(_impact_parameters(mu, delta1, x), band, float(e))
+                worst = max(worst, scale * impact_band_response(q, b, step, locate=False, settings=settings).grid_peak())
+            except (ValueError, RuntimeError, ArithmeticError):
+                return math.inf
+        return worst
+
+    x, _, _ = minimise(f, f, bounds, budget=Budget(starts=1, keep=1, local_evaluations=evaluations), guesses=[start])
+    return x
+
+
+def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: Sequence[float] = (0.05, 0.1), *,
+                 budget: Budget = STAGE_BUDGET, step: float = BAND_STEP, coarse_step: float = COARSE_STEP,
+                 robust_evaluations: int = 40, settings: SweepSettings | None = None, seed: int = 0,
+                 progress: Callable[[str], None] | None = None) -> dict:
+    """The design stage's record: every device of the design table, each with its parameters,
+    located peak, band average, worst case at each detuning, stroke and (impact) loads.
+
+    Devices: the bare object; the absorber without a stop and the impact suppressor with the
+    paper's N, delta2, R at ``paper.gap`` (``paper``); the optimal TMD and the impact suppressor
+    optimised jointly (gap, N, delta2, R), each for the peak and for the band average; the best
+    TMD with the impact optimum's stroke; each device's robust optimum for the largest
+    detuning (the TMD's global, the impact suppressor's local from its nominal optimum:
+    :func:`robust_impact`); and the sensitivity of both peak optima (SENSITIVITY_WORSE).
+    """
+    say = progress or (lambda m: None)
+    mu, delta1, band = _check(mu, delta1, band, "peak")
+    settings = settings or SweepSettings()
+    dmax = max(detunings)
+    rows = []
+
+    def linear_row(name: str, N: float, delta2: float, bare: bool = False, extra: dict | None = None) -> dict:
+        dev = LinearDevice(0.0 if bare else mu, N, delta1, delta2)
+        t, v = dev.peak(band)
+        worst = {}
+        for d in detunings:
+            w = 0.0
+            for e in _detunings(d):
+                f = 1.0 + e
+                de = LinearDevice(0.0 if bare else mu, N / f, delta1 / f, delta2 / f)
+                w = max(w, de.peak((band[0] / f, band[1] / f))[1] / (f * f))
+            worst[f"{d:g}"] = w
+        return {"device": name, "kind": "linear", "parameters": {} if bare else {"N": N, "delta2": delta2},
+                "peak": v, "peak_theta": t, "band_average": dev.band_average(band, step), "worst_case": worst,
+                "stroke": 0.0 if bare else dev.stroke_peak(band)[1], **(extra or {})}
+
+    def impact_row(name: str, x: dict, extra: dict | None = None) -> dict:
+        p = _impact_parameters(mu, delta1, x)
+        r = impact_band_response(p, band, step, settings=settings)
+        case = worst_case_impact(p, band, dmax, settings=settings, step=step)
+        loads = impact_stroke_and_loads(r)
+        say(f"{name}: peak {r.peak:.4f} at theta {r.peak_theta:.4f}, band average {r.band_average:.4f}, "
+            f"worst case {case['worst']:.4f}, stroke {loads['stroke']:.3f}")
+        return {"device": name, "kind": "impact", "parameters": dict(x), "peak": r.peak, "peak_theta": r.peak_theta,
+                "grid_peak": r.grid_peak(), "band_average": r.band_average,
+                "worst_case": {f"{d:g}": worst_within(case, d) for d in detunings},
+                "detuned_peaks": {"detunings": case["detunings"], "peaks": case["peaks"]},
+                "located_peaks": [q.to_dict() for q in r.peaks], **loads, "clearance": x["gap"], **(extra or {})}
+
+    say("linear references")
+    rows.append(linear_row("bare object", 1.0, 0.0, bare=True))
+    rows.append(linear_row("absorber without a stop", paper.N, paper.delta2))
+    paper_x = {"gap": paper.gap, "N": paper.N, "delta2": paper.delta2, "R": paper.R}
+    rows.append(impact_row("impact, paper's N, delta2, R", paper_x))
+    optima = {}
+    for criterion in CRITERIA:
+        t = optimise_tmd(mu, delta1, band, criterion, budget=budget, seed=seed)
+        say(f"TMD ({criterion}): {t.parameters}")
+        rows.append(linear_row(f"TMD, optimal {criterion.replace('_', ' ')}", t.parameters["N"],
+                               t.parameters["delta2"], extra={"evaluations": t.evaluations,
+                                                              "at_bound": list(t.at_bound)}))
+        o, _ = optimise_impact(mu, delta1, band, criterion, budget=budget, settings=settings, seed=seed,
+                               guesses=[paper_x], step=step, coarse_step=coarse_step, progress=say)
+        say(f"impact ({criterion}): {o.parameters}")
+        rows.append(impact_row(f"impact, optimal {criterion.replace('_', ' ')}", o.parameters,
+                               {"evaluations": o.evaluations, "at_bound": list(o.at_bound)}))
+        optima[criterion] = (t, o)
+    tmd, imp = optima["peak"]
+    imp_row = next(r for r in rows if r["device"] == "impact, optimal peak")
+    eq = tmd_at_stroke(mu, delta1, band, imp_row["stroke"], budget=budget, seed=seed)
+    rows.append(linear_row("TMD, impact's stroke", eq.parameters["N"], eq.parameters["delta2"],
+                           extra={"max_stroke": imp_row["stroke"]}))
+    say(f"robust optima (+-{dmax:g})")
+    rt = optimise_tmd(mu, delta1, band, "peak", budget=budget, seed=seed, detuning=dmax)
+    rows.append(linear_row(f"TMD, robust +-{100 * dmax:g} %", rt.parameters["N"], rt.parameters["delta2"]))
+    rx = robust_impact(mu, delta1, band, dmax, imp.parameters, evaluations=robust_evaluations, settings=settings,
+                       step=coarse_step)
+    rows.append(impact_row(f"impact, robust +-{100 * dmax:g} %", rx))
+    say("sensitivity")
+    tmd_value = _tmd_criterion(mu, delta1, band, "peak")
+    imp_value = _impact_value(mu, delta1, band, "peak", step, settings)
+    sens = {"tmd": sensitivity(tmd_value, tmd.parameters, TMD_BOUNDS),
+            "impact": sensitivity(imp_value, imp.parameters, IMPACT_BOUNDS)}
+    return {"band": list(band), "mu": mu, "delta1": delta1, "detunings": list(detunings), "step": step,
+            "coarse_step": coarse_step, "budget": {"starts": budget.starts, "keep": budget.keep,
+                                                   "local_evaluations": budget.local_evaluations,
+                                                   "robust_evaluations": robust_evaluations},
+            "bounds": {"impact": IMPACT_BOUNDS, "tmd": TMD_BOUNDS}, "devices": rows, "sensitivity": sens,
+            "sensitivity_worse": SENSITIVITY_WORSE}
+
+
+def device(record: dict, name: str) -> dict:
+    """The row ``name`` of a :func:`design_study` record's devices (ValueError naming it if absent)."""
+    for d in record["devices"]:
+        if d["device"] == name:
+            return d
+    raise ValueError(f"`device` = {name!r} is not allowed: must be one of "
+                     f"{', '.join(repr(d['device']) for d in record['devices'])}")
+
+
+def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x_st") -> str:
+    """One plain recommendation from a :func:`design_study` record: which device to build, on
+    the located peak, the worst case at the largest detuning and the stroke (``pm``, ``pct``,
+    ``xst``: how to write plus-minus, per cent and the unit x_st)."""
+    imp, tmd = device(record, "impact, optimal peak"), device(record, "TMD, optimal peak")
+    eq = device(record, "TMD, impact's stroke")
+    d = f"{100 * max(record['detunings']):g}"
+    wi, wt = imp["worst_case"][f"{max(record['detunings']):g}"], tmd["worst_case"][f"{max(record['detunings']):g}"]
+    peak_winner = "TMD" if tmd["peak"] < imp["peak"] else "impact"
+    worst_winner = "TMD" if wt < wi else "impact"
+    stroke_text = (f"its stroke is {tmd['stroke']:.1f}{xst} against the impact suppressor's {imp['stroke']:.1f}, "
+                   + ("so a stop buys no travel here" if tmd["stroke"] <= imp["stroke"] else
+                      f"and the best TMD held to the impact suppressor's stroke peaks at {eq['peak']:.2f}"))
+    if peak_winner == worst_winner == "TMD":
+        return (f"Build the linear TMD: optimally tuned it peaks at {tmd['peak']:.2f}{xst} against the optimal impact "
+                f"suppressor's {imp['peak']:.2f}, and with the object's frequency off by up to {pm}{d}{pct} its worst "
+                f"case is {wt:.2f} against {wi:.2f}; {stroke_text}. The impact suppressor's gap, a clearance "
+                f"Delta0 = {imp['parameters']['gap']:.2f} P0/c1, is optimal only at the design force amplitude P0.")
+    if peak_winner == worst_winner == "impact":
+        return (f"Build the impact suppressor: optimised it peaks at {imp['peak']:.2f}{xst} against the optimal TMD's "
+                f"{tmd['peak']:.2f}, and with the object's frequency off by up to {pm}{d}{pct} its worst case is "
+                f"{wi:.2f} against {wt:.2f}; {stroke_text}.")
+    tuned, robust = ("TMD", "impact suppressor") if peak_winner == "TMD" else ("impact suppressor", "TMD")
+    return (f"Build the {tuned} when the object's frequency is known (peak {min(imp['peak'], tmd['peak']):.2f} "
+            f"against {max(imp['peak'], tmd['peak']):.2f}{xst}), the {robust} when it may be off by {pm}{d}{pct} "
+            f"(worst case {min(wi, wt):.2f} against {max(wi, wt):.2f}); {stroke_text}.")
