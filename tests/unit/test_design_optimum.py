@@ -98,6 +98,9 @@ def test_located_peak_against_a_dense_local_scan(gap, rank):
     assert abs(t - peak.theta) <= scan_step + THETA_TOL, (t, peak)
     if rank == 0:
         assert r.peak == peak.value and r.peak >= r.grid_peak()
+        # The parabola through the grid's maximum and its neighbours: between the grid and the
+        # located peak (to the latter's tolerance).
+        assert r.grid_peak() <= r.interpolated_peak() <= r.peak * (1 + AMPLITUDE_RTOL)
 
 
 def test_band_grid_policy():

@@ -39,7 +39,8 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
     p = design_parameters(reference, design)
     paper = p.replace(gap=float(read_json(chart_json)["best"]["peak"]["gap"]))
     budget = Budget(starts=int(design["optimum_starts"]), keep=int(design["optimum_keep"]),
-                    local_evaluations=int(design["optimum_evaluations"]))
+                    local_evaluations=int(design["optimum_evaluations"]),
+                    polish_evaluations=int(design["polish_evaluations"]))
     with Timer() as t:
         record = design_study(design_band(design), p.mu, p.delta1, paper, [float(d) for d in design["detunings"]],
                               budget=budget, step=float(design["band_step"]), coarse_step=float(design["coarse_step"]),

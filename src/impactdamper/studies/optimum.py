@@ -15,7 +15,10 @@ box (seeded: deterministic), the criterion at every sample on a coarse grid, the
 (in the box scaled to the unit cube, bounded) from the best few samples on the finer criterion.
 For the TMD both stages are the exact located peak; for the impact suppressor the coarse stage
 is the peak on a band grid of step ``COARSE_STEP`` and the local stage the peak on the band grid
-(step :data:`~impactdamper.studies.design.BAND_STEP`); the optimum's peak is then located.
+(step :data:`~impactdamper.studies.design.BAND_STEP`) refined by a parabola through each local
+maximum (:meth:`~impactdamper.studies.design.BandResponse.interpolated_peak`); with a
+``polish_evaluations`` budget a last Nelder-Mead runs on the located peak itself; the optimum's
+peak is then located.
 
 **Detuning** (:func:`detuned`): the object's natural frequency omega1 is uncertain by a factor
 f = 1 + e (its stiffness c1 by f^2; the masses, the suppressor and the force are what was
@@ -86,18 +89,20 @@ NONPERIODIC_PERIODS = 8
 @dataclass(frozen=True)
 class Budget:
     """How hard :func:`minimise` works: Sobol samples (a power of 2), local runs from the best
-    of them, and Nelder-Mead evaluations per local run."""
+    of them, Nelder-Mead evaluations per local run, and (impact suppressor, peak criterion)
+    Nelder-Mead evaluations of a final polish on the located peak itself (0: none)."""
 
     starts: int = 32
     keep: int = 2
     local_evaluations: int = 80
+    polish_evaluations: int = 0
 
 
 # The command's budget: a minute on two cores (one Nelder-Mead evaluation of the impact
 # suppressor is a two-way sweep of ~100 points, ~0.15 s).
-CLI_BUDGET = Budget(starts=32, keep=2, local_evaluations=70)
+CLI_BUDGET = Budget(starts=32, keep=2, local_evaluations=70, polish_evaluations=10)
 # The design stage's: a few minutes.
-STAGE_BUDGET = Budget(starts=64, keep=3, local_evaluations=120)
+STAGE_BUDGET = Budget(starts=64, keep=3, local_evaluations=120, polish_evaluations=30)
 
 
 @dataclass(frozen=True)
@@ -249,7 +254,7 @@ def _impact_value(mu, delta1, band, criterion, step, settings, locate=False) -> 
         except (ValueError, RuntimeError, ArithmeticError):
             return math.inf  # a design the solver cannot settle is not a design to recommend
         if criterion == "peak":
-            return r.peak if locate else r.grid_peak()
+            return r.peak if locate else r.interpolated_peak()
         return r.band_average
     return f
 
@@ -275,6 +280,23 @@ def optimise_impact(mu: float, delta1: float, band: tuple[float, float] = (0.5, 
     coarse = _impact_value(mu, delta1, band, criterion, coarse_step, settings)
     fine = _impact_value(mu, delta1, band, criterion, step, settings)
     x, _, n = minimise(coarse, fine, bounds, budget=budget, seed=seed, guesses=guesses, progress=progress)
+    if criterion == "peak" and budget.polish_evaluations > 0:
+        # The polish: Nelder-Mead on the located peak from the local stage's optimum, a simplex of
+        # 2 % of each side (the local stage's peak is the grid's, interpolated).
+        located = _impact_value(mu, delta1, band, criterion, step, settings, locate=True)
+        names, lo, hi = _unit(bounds)
+        u0 = np.array([(x[k] - lo[i]) / (hi[i] - lo[i]) for i, k in enumerate(names)])
+        simplex = np.vstack([u0] + [np.clip(u0 + 0.02 * np.eye(len(names))[i] * (1 if u0[i] < 0.5 else -1), 0, 1)
+                                    for i in range(len(names))])
+        to_dict = lambda u: {k: float(v) for k, v in zip(names, lo + np.clip(u, 0.0, 1.0) * (hi - lo))}  # noqa: E731
+        res = scipy.optimize.minimize(lambda u: located(to_dict(u)), u0, method="Nelder-Mead",
+                                      bounds=[(0.0, 1.0)] * len(names),
+                                      options={"maxfev": int(budget.polish_evaluations), "xatol": 1e-4,
+                                               "fatol": 1e-6, "initial_simplex": simplex})
+        n += int(res.nfev)
+        x = to_dict(res.x)
+        if progress is not None:
+            progress(f"polish on the located peak: {float(res.fun):.5g} ({int(res.nfev)} evaluations)")
     r = impact_band_response(_impact_parameters(mu, delta1, x), band, step, settings=settings)
     return Optimum("impact", criterion, dict(x), r.peak, r.peak_theta, r.band_average, n, _at_bound(x, bounds),
                    r.grid_peak()), r
@@ -609,6 +631,7 @@ def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: S
     return {"band": list(band), "mu": mu, "delta1": delta1, "detunings": list(detunings), "step": step,
             "coarse_step": coarse_step, "budget": {"starts": budget.starts, "keep": budget.keep,
                                                    "local_evaluations": budget.local_evaluations,
+                                                   "polish_evaluations": budget.polish_evaluations,
                                                    "robust_evaluations": robust_evaluations},
             "bounds": {"impact": IMPACT_BOUNDS, "tmd": TMD_BOUNDS}, "devices": rows, "sensitivity": sens,
             "sensitivity_worse": SENSITIVITY_WORSE}
