@@ -146,7 +146,8 @@ lines go to stderr."""
 
 DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, detuning, criterion, elapsed (s); ratio: impact over TMD of
 peak, band_average, worst_case; impact, tmd, tmd_equal_stroke (the best TMD whose stroke does not
-exceed --max-stroke or the impact suppressor's), each with:
+exceed --max-stroke or the impact suppressor's), each with (the impact suppressor's gap is
+searched in [-8, 8], a stop within reach: with a gap past its travel it would be the TMD):
   parameters      {gap, N, delta2, R} (impact) or {N, delta2} (TMD), relative
   peak            located peak of max|x1|/x_st over the band (worse sweep direction)
   peak_theta      where it is

@@ -205,3 +205,29 @@ def test_design_command_json_keys():
     assert out["tmd_equal_stroke"]["stroke"] <= out["impact"]["stroke"] * (1 + 1e-6)
     assert out["ratio"]["peak"] == pytest.approx(out["impact"]["peak"] / out["tmd"]["peak"])
     assert "python -m impactdamper design: " in r.stderr  # progress lines
+
+
+def _record(imp_peak, tmd_peak, imp_worst, tmd_worst, imp_avg=2.3, tmd_avg=2.3):
+    row = lambda name, peak, worst, avg, stroke, **kw: {"device": name, "peak": peak, "band_average": avg,  # noqa: E731
+                                                         "worst_case": {"0.1": worst}, "stroke": stroke, **kw}
+    return {"detunings": [0.05, 0.1], "devices": [
+        row("impact, optimal peak", tmd_peak, 9.0, 3.0, 9.5, parameters={"gap": 12.0}, impacts_per_second=0.0),
+        row("impact, optimal peak, gap <= 8", imp_peak, 9.0, 3.0, 18.0, parameters={"gap": 4.77},
+            impacts_per_second=1.1),
+        row("TMD, optimal peak", tmd_peak, 9.0, 3.0, 9.5), row("impact, optimal band average", 9.0, 9.0, imp_avg, 1.0),
+        row("TMD, optimal band average", 9.0, 9.0, tmd_avg, 1.0), row("impact, robust +-10 %", 9.0, imp_worst, 3.0, 1.0),
+        row("TMD, robust +-10 %", 9.0, tmd_worst, 3.0, 1.0)]}
+
+
+@pytest.mark.parametrize("values, first", [
+    ((3.7, 3.6, 5.0, 4.6), "Build the linear TMD"),  # the TMD wins both
+    ((3.7, 3.6, 4.0, 4.6), "Build the impact suppressor"),  # the robust impact suppressor wins the worst case
+    ((3.6, 3.7, 4.60, 4.65), "Build the impact suppressor"),  # worst cases tie: the nominal peak decides
+    ((3.60, 3.65, 4.60, 4.65), "Either device does"),  # ties within TIE on both
+])
+def test_recommendation_follows_the_record(values, first):
+    from impactdamper.studies.optimum import recommendation
+
+    text = recommendation(_record(*values))
+    assert text.startswith(first + ":"), text
+    assert "Delta0 = 4.77 P0/c1" in text and "\n" not in text

@@ -16,7 +16,7 @@ import numpy as np
 from impactdamper.reporting.latex import MacroFile, fixed, render_macros, tex_sci
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
 from impactdamper.studies.design import bare_object_amplitude, runs_where, two_mass_amplitude
-from impactdamper.studies.optimum import device, recommendation
+from impactdamper.studies.optimum import device, impacting, recommendation
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -51,7 +51,7 @@ SYMBOLS = {"gap": "\\Delta_0/x_{st}", "N": "N", "delta2": "\\delta_2", "R": "R"}
 
 def tex_device(name: str) -> str:
     """A device's name of the record as TeX."""
-    return name.replace("+-", "$\\pm$").replace(" %", "\\,\\%").replace("delta2", "$\\delta_2$").replace(
+    return name.replace("<=", "$\\le$").replace("+-", "$\\pm$").replace(" %", "\\,\\%").replace("delta2", "$\\delta_2$").replace(
         "paper's N", "paper's $N$").replace(", R", ", $R$")
 
 
@@ -87,16 +87,18 @@ def optimum_macros(add, optimum: dict) -> None:
     eq = device(optimum, "TMD, impact's stroke")
     rob_t = next(d for d in optimum["devices"] if d["device"].startswith("TMD, robust"))
     rob_i = next(d for d in optimum["devices"] if d["device"].startswith("impact, robust"))
+    near = next(d for d in optimum["devices"] if d["device"].startswith("impact, optimal peak, gap"))
     add("DesignStep", fixed(optimum["step"], 2))
     add("DesignDetuneSmallPct", fixed(100 * min(optimum["detunings"]), 0))
     add("DesignDetuneLargePct", fixed(100 * max(optimum["detunings"]), 0))
-    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Paper", paper), ("RobImp", rob_i)):
+    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Paper", paper), ("RobImp", rob_i), ("Near", near)):
         for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
             add(f"Design{key}{name}", fixed(d["parameters"][k], digits))
     for key, d in (("TmdOpt", tmd), ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t)):
         add(f"Design{key}N", fixed(d["parameters"]["N"], 3))
         add(f"Design{key}DeltaTwo", fixed(d["parameters"]["delta2"], 3))
-    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Paper", paper), ("RobImp", rob_i), ("TmdOpt", tmd),
+    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Paper", paper), ("RobImp", rob_i), ("Near", near),
+                   ("TmdOpt", tmd),
                    ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("Bare", bare), ("Absorber", absorber)):
         add(f"Design{key}LocPeak", fixed(d["peak"], 3))
         add(f"Design{key}LocTheta", fixed(d["peak_theta"], 3))
@@ -104,6 +106,7 @@ def optimum_macros(add, optimum: dict) -> None:
         add(f"Design{key}WorstSmall", fixed(d["worst_case"][dmin], 2))
         add(f"Design{key}WorstLarge", fixed(d["worst_case"][dmax], 2))
         add(f"Design{key}Stroke", fixed(d["stroke"], 1))
+    add("DesignRobTmdDampingWord", "more" if rob_t["parameters"]["delta2"] > tmd["parameters"]["delta2"] else "less")
     add("DesignPaperGainBare", fixed(bare["peak"] / paper["peak"], 2))
     add("DesignPaperGainAbsorber", fixed(absorber["peak"] / paper["peak"], 2))
     add("DesignPaperRatioTmd", fixed(paper["peak"] / tmd["peak"], 2))
@@ -111,6 +114,24 @@ def optimum_macros(add, optimum: dict) -> None:
     add("DesignOptRatioTmdAvg", fixed(impa["band_average"] / tmda["band_average"], 3))
     add("DesignOptRatioWorstLarge", fixed(imp["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
     add("DesignOptGainBare", fixed(bare["peak"] / imp["peak"], 2))
+    add("DesignNearRatioTmd", fixed(near["peak"] / tmd["peak"], 3))
+    add("DesignNearImpulse", fixed(near["impulse_per_impact"], 2))
+    add("DesignNearImpactsPerSecond", fixed(near["impacts_per_second"], 2))
+    add("DesignNearMeanForce", fixed(near["mean_force"], 3))
+    hit = impacting(optimum["devices"])
+    add("DesignOptStopText", (f"its gap lies beyond its own travel (stroke {fixed(imp['stroke'], 1)}), so that the "
+                              "stop is never reached: allowed that, the optimiser makes the impact suppressor a TMD"
+                              if imp["impacts_per_second"] == 0 else
+                              f"its stop is reached, up to {fixed(imp['impacts_per_second'], 2)} impacts per "
+                              "natural period"))
+    for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
+        add(f"DesignHit{name}", fixed(hit["parameters"][k], digits))
+    for k, digits, name in (("peak", 3, "LocPeak"), ("stroke", 1, "Stroke"), ("impulse_per_impact", 2, "Impulse"),
+                            ("impacts_per_second", 2, "ImpactsPerSecond"), ("mean_force", 3, "MeanForce")):
+        add(f"DesignHit{name}", fixed(hit[k], digits))
+    add("DesignHitWorstLarge", fixed(hit["worst_case"][dmax], 2))
+    add("DesignHitRatioTmd", fixed(hit["peak"] / tmd["peak"], 3))
+    add("DesignHitRatioWorstLarge", fixed(hit["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
     add("DesignOptImpulse", fixed(imp["impulse_per_impact"], 2))
     add("DesignOptImpactsPerSecond", fixed(imp["impacts_per_second"], 2))
     add("DesignOptMeanForce", fixed(imp["mean_force"], 3))

@@ -95,15 +95,16 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         "",
         f"**Choosing a suppressor** (report, Table 'Design table'; `figures/design_optimum.csv`): over the band "
         f"theta = {m['DesignBandStart']} to {m['DesignBandStop']}, both devices optimised by the same optimiser on "
-        f"the located peak of max|x1|/x_st. The impact suppressor (Delta0/x_st = {m['DesignOptGap']}, "
-        f"N = {m['DesignOptN']}, delta2 = {m['DesignOptDeltaTwo']}, R = {m['DesignOptR']}) peaks at "
-        f"{m['DesignOptLocPeak']} ({m['DesignOptGainBare']} times below the bare object's {m['DesignBareLocPeak']}); "
-        f"the linear TMD of the same mass (N = {m['DesignTmdOptN']}, delta2 = {m['DesignTmdOptDeltaTwo']}) at "
-        f"{m['DesignTmdOptLocPeak']}. With the object's natural frequency off by up to +-{m['DesignDetuneLargePct']} % "
-        f"the worst cases are {m['DesignOptWorstLarge']} and {m['DesignTmdOptWorstLarge']} (robust TMD: "
-        f"{m['DesignRobTmdWorstLarge']}); strokes max|x2 - x1|/x_st {m['DesignOptStroke']} and "
-        f"{m['DesignTmdOptStroke']}. {m['DesignRecommendationPlain']} Your own object: "
-        f"`python -m impactdamper design --theta-start A --theta-stop B --mu M --delta1 D --json`.",
+        f"the located peak of max|x1|/x_st. The linear TMD of the same mass (N = {m['DesignTmdOptN']}, "
+        f"delta2 = {m['DesignTmdOptDeltaTwo']}) peaks at {m['DesignTmdOptLocPeak']} (bare object "
+        f"{m['DesignBareLocPeak']}); the impact suppressor optimised in all its parameters peaks at "
+        f"{m['DesignOptLocPeak']} ({m['DesignOptStopText']}), and with its stop within reach (Delta0/x_st = "
+        f"{m['DesignHitGap']}, N = {m['DesignHitN']}, delta2 = {m['DesignHitDeltaTwo']}, R = {m['DesignHitR']}) at "
+        f"{m['DesignHitLocPeak']}, with a stroke max|x2 - x1|/x_st of {m['DesignHitStroke']} (TMD "
+        f"{m['DesignTmdOptStroke']}). With the object's natural frequency off by up to +-{m['DesignDetuneLargePct']} % "
+        f"the worst cases are {m['DesignHitWorstLarge']} and {m['DesignTmdOptWorstLarge']} (robust designs: "
+        f"{m['DesignRobImpWorstLarge']} and {m['DesignRobTmdWorstLarge']}). {m['DesignRecommendationPlain']} "
+        f"Your own object: `python -m impactdamper design --theta-start A --theta-stop B --mu M --delta1 D --json`.",
         "",
         f"**Accuracy** (against a {m['PerfDigits']}-digit recomputation): the exact solver's impact times are "
         f"within {m['PerfFirstExactError']} T on the first {m['PerfNImpacts']} impacts and {m['PerfSettledExactError']} "
