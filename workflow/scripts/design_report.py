@@ -130,6 +130,10 @@ def optimum_macros(add, optimum: dict) -> None:
                             ("impacts_per_second", 2, "ImpactsPerSecond"), ("mean_force", 3, "MeanForce")):
         add(f"DesignHit{name}", fixed(hit[k], digits))
     add("DesignHitWorstLarge", fixed(hit["worst_case"][dmax], 2))
+    hita = impacting(optimum["devices"], "band_average")
+    add("DesignHitAvgCritGap", fixed(hita["parameters"]["gap"], 2))
+    add("DesignHitAvgCritAvg", fixed(hita["band_average"], 3))
+    add("DesignHitRatioTmdAvg", fixed(hita["band_average"] / tmda["band_average"], 3))
     add("DesignHitRatioTmd", fixed(hit["peak"] / tmd["peak"], 3))
     add("DesignHitRatioWorstLarge", fixed(hit["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
     add("DesignOptImpulse", fixed(imp["impulse_per_impact"], 2))
