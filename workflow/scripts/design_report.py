@@ -91,15 +91,15 @@ def optimum_macros(add, optimum: dict) -> None:
     add("DesignStep", fixed(optimum["step"], 2))
     add("DesignDetuneSmallPct", fixed(100 * min(optimum["detunings"]), 0))
     add("DesignDetuneLargePct", fixed(100 * max(optimum["detunings"]), 0))
-    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Paper", paper), ("RobImp", rob_i), ("Near", near)):
+    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near)):
         for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
             add(f"Design{key}{name}", fixed(d["parameters"][k], digits))
     for key, d in (("TmdOpt", tmd), ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t)):
         add(f"Design{key}N", fixed(d["parameters"]["N"], 3))
         add(f"Design{key}DeltaTwo", fixed(d["parameters"]["delta2"], 3))
-    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Paper", paper), ("RobImp", rob_i), ("Near", near),
+    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near),
                    ("TmdOpt", tmd),
-                   ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("Bare", bare), ("Absorber", absorber)):
+                   ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("BareDev", bare), ("AbsorberDev", absorber)):
         add(f"Design{key}LocPeak", fixed(d["peak"], 3))
         add(f"Design{key}LocTheta", fixed(d["peak_theta"], 3))
         add(f"Design{key}Avg", fixed(d["band_average"], 3))
@@ -107,9 +107,9 @@ def optimum_macros(add, optimum: dict) -> None:
         add(f"Design{key}WorstLarge", fixed(d["worst_case"][dmax], 2))
         add(f"Design{key}Stroke", fixed(d["stroke"], 1))
     add("DesignRobTmdDampingWord", "more" if rob_t["parameters"]["delta2"] > tmd["parameters"]["delta2"] else "less")
-    add("DesignPaperGainBare", fixed(bare["peak"] / paper["peak"], 2))
-    add("DesignPaperGainAbsorber", fixed(absorber["peak"] / paper["peak"], 2))
-    add("DesignPaperRatioTmd", fixed(paper["peak"] / tmd["peak"], 2))
+    add("DesignChartGainBare", fixed(bare["peak"] / paper["peak"], 2))
+    add("DesignChartGainAbsorber", fixed(absorber["peak"] / paper["peak"], 2))
+    add("DesignChartRatioTmd", fixed(paper["peak"] / tmd["peak"], 2))
     add("DesignOptRatioTmd", fixed(imp["peak"] / tmd["peak"], 3))
     add("DesignOptRatioTmdAvg", fixed(impa["band_average"] / tmda["band_average"], 3))
     add("DesignOptRatioWorstLarge", fixed(imp["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
@@ -140,7 +140,7 @@ def optimum_macros(add, optimum: dict) -> None:
     add("DesignOptImpactsPerSecond", fixed(imp["impacts_per_second"], 2))
     add("DesignOptMeanForce", fixed(imp["mean_force"], 3))
     add("DesignOptGridPeak", fixed(imp["grid_peak"], 3))
-    add("DesignPaperGridPeak", fixed(paper["grid_peak"], 3))
+    add("DesignChartGridPeak", fixed(paper["grid_peak"], 3))
     add("DesignOptAtBound", ", ".join(imp["at_bound"]) or "none")
     add("DesignStarts", optimum["budget"]["starts"])
     add("DesignKeep", optimum["budget"]["keep"])
@@ -149,7 +149,9 @@ def optimum_macros(add, optimum: dict) -> None:
     add("DesignSensTmd", _sensitivity_text(optimum["sensitivity"]["tmd"], SYMBOLS))
     add("DesignSensWorsePct", fixed(100 * optimum["sensitivity_worse"], 0))
     add("DesignRecommendation", recommendation(optimum, pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{st}$"))
-    add("DesignRecommendationPlain", recommendation(optimum))
+    # For the README (never expanded in TeX, where its x_st would fail; no "%", which would end the
+    # TeX line of its definition).
+    add("DesignRecommendationPlain", recommendation(optimum, pct=" per cent"))
 
 
 def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, optimum_json, out_record, out_macros,

@@ -97,7 +97,7 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"theta = {m['DesignBandStart']} to {m['DesignBandStop']}, both devices optimised by the same optimiser on "
         f"the located peak of max|x1|/x_st. The linear TMD of the same mass (N = {m['DesignTmdOptN']}, "
         f"delta2 = {m['DesignTmdOptDeltaTwo']}) peaks at {m['DesignTmdOptLocPeak']} (bare object "
-        f"{m['DesignBareLocPeak']}); the impact suppressor optimised in all its parameters peaks at "
+        f"{m['DesignBareDevLocPeak']}); the impact suppressor optimised in all its parameters peaks at "
         f"{m['DesignOptLocPeak']} ({m['DesignOptStopText']}), and with its stop within reach (Delta0/x_st = "
         f"{m['DesignHitGap']}, N = {m['DesignHitN']}, delta2 = {m['DesignHitDeltaTwo']}, R = {m['DesignHitR']}) at "
         f"{m['DesignHitLocPeak']}, with a stroke max|x2 - x1|/x_st of {m['DesignHitStroke']} (TMD "

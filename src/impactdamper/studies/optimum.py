@@ -667,10 +667,10 @@ def device(record: dict, name: str) -> dict:
 TIE = 0.02
 
 
-def _compare(impact: float, tmd: float, what: str, xst: str) -> tuple[str, str]:
+def _compare(impact: float, tmd: float, what: str, xst: str, pct: str) -> tuple[str, str]:
     """(winner or "tie", clause) for one criterion."""
     if abs(impact - tmd) <= TIE * min(impact, tmd):
-        return "tie", f"{what} they are equal within {100 * TIE:g} % (impact {impact:.2f}, TMD {tmd:.2f}{xst})"
+        return "tie", f"{what} they are equal within {100 * TIE:g}{pct} (impact {impact:.2f}, TMD {tmd:.2f}{xst})"
     if tmd < impact:
         return "TMD", f"{what} the TMD is lower ({tmd:.2f} against {impact:.2f}{xst})"
     return "impact", f"{what} the impact suppressor is lower ({impact:.2f} against {tmd:.2f}{xst})"
@@ -697,10 +697,10 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
     rob_i = next(d for d in record["devices"] if d["device"].startswith("impact, robust"))
     rob_t = next(d for d in record["devices"] if d["device"].startswith("TMD, robust"))
     d = f"{100 * dmax:g}"
-    peak = _compare(imp["peak"], tmd["peak"], "tuned to a known frequency, at the peak", xst)
+    peak = _compare(imp["peak"], tmd["peak"], "tuned to a known frequency, at the peak", xst, pct)
     worst = _compare(rob_i["worst_case"][key], rob_t["worst_case"][key],
-                     f"designed for a frequency off by up to {pm}{d}{pct}, in the worst case", xst)
-    avg = _compare(impa["band_average"], tmda["band_average"], "optimised for the band average", xst)
+                     f"designed for a frequency off by up to {pm}{d}{pct}, in the worst case", xst, pct)
+    avg = _compare(impa["band_average"], tmda["band_average"], "optimised for the band average", xst, pct)
     choice = worst[0] if worst[0] != "tie" else peak[0]
     first = {"TMD": "Build the linear TMD", "impact": "Build the impact suppressor",
              "tie": "Either device does"}[choice]
@@ -708,6 +708,6 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
               + ("the stop does not shorten the travel here" if tmd["stroke"] <= imp["stroke"] else
                  "the stop shortens the travel"))
     if "impact" not in (peak[0], worst[0], avg[0]):
-        avg = (avg[0], avg[1] + f"; no criterion favours the impact suppressor by more than {100 * TIE:g} %")
+        avg = (avg[0], avg[1] + f"; no criterion favours the impact suppressor by more than {100 * TIE:g}{pct}")
     return (f"{first}: {peak[1]}; {worst[1]}; {avg[1]}. {stroke}, and the impact suppressor's gap, a clearance "
             f"Delta0 = {imp['parameters']['gap']:.2f} P0/c1, is optimal only at the design force amplitude P0.")
