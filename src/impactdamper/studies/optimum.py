@@ -534,11 +534,13 @@ def design_optima(band: tuple[float, float], mu: float, delta1: float, *, detuni
 
 
 def robust_impact(mu: float, delta1: float, band, d: float, start: dict, *, evaluations: int = 40,
-                  settings: SweepSettings | None = None, step: float = COARSE_STEP) -> dict:
+                  settings: SweepSettings | None = None, step: float = COARSE_STEP,
+                  bounds: dict | None = None) -> dict:
     """The impact suppressor's robust optimum near ``start``: Nelder-Mead (the optimiser's local
     stage, ``evaluations`` at most) on the worst grid peak (step ``step``) over the detunings
-    -d, -d/2, 0, d/2, d. Returns the parameters (a local answer: no global stage, for cost)."""
-    bounds = IMPACT_BOUNDS
+    -d, -d/2, 0, d/2, d, within ``bounds`` (default IMPACT_BOUNDS). Returns the parameters (a
+    local answer: no global stage, for cost)."""
+    bounds = IMPACT_BOUNDS if bounds is None else bounds
 
     def f(x: dict) -> float:
         worst = 0.0
@@ -566,7 +568,8 @@ def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: S
     optimised jointly (gap, N, delta2, R), each for the peak and for the band average; the best
     TMD with the impact optimum's stroke; each device's robust optimum for the largest
     detuning (the TMD's global, the impact suppressor's local from its nominal optimum:
-    :func:`robust_impact`); and the sensitivity of both peak optima (SENSITIVITY_WORSE).
+    :func:`robust_impact`, from the impact suppressor that meets its stop, gap <= STOP_GAP); and
+    the sensitivity of the TMD's and that impact suppressor's peak optima (SENSITIVITY_WORSE).
     """
     say = progress or (lambda m: None)
     mu, delta1, band = _check(mu, delta1, band, "peak")
@@ -635,14 +638,16 @@ def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: S
     say(f"robust optima (+-{dmax:g})")
     rt = optimise_tmd(mu, delta1, band, "peak", budget=budget, seed=seed, detuning=dmax)
     rows.append(linear_row(f"TMD, robust +-{100 * dmax:g} %", rt.parameters["N"], rt.parameters["delta2"]))
-    rx = robust_impact(mu, delta1, band, dmax, imp.parameters, evaluations=robust_evaluations, settings=settings,
-                       step=coarse_step)
+    # From the impact suppressor that meets its stop, with the stop kept within reach (from the
+    # full box's optimum, a TMD when its gap is past its travel, the search stays a TMD).
+    rx = robust_impact(mu, delta1, band, dmax, imp_row["parameters"], evaluations=robust_evaluations,
+                       settings=settings, step=coarse_step, bounds=near)
     rows.append(impact_row(f"impact, robust +-{100 * dmax:g} %", rx))
     say("sensitivity")
     tmd_value = _tmd_criterion(mu, delta1, band, "peak")
     imp_value = _impact_value(mu, delta1, band, "peak", step, settings)
     sens = {"tmd": sensitivity(tmd_value, tmd.parameters, TMD_BOUNDS),
-            "impact": sensitivity(imp_value, imp.parameters, IMPACT_BOUNDS)}
+            "impact": sensitivity(imp_value, imp_row["parameters"], near)}
     return {"band": list(band), "mu": mu, "delta1": delta1, "detunings": list(detunings), "step": step,
             "coarse_step": coarse_step, "budget": {"starts": budget.starts, "keep": budget.keep,
                                                    "local_evaluations": budget.local_evaluations,
