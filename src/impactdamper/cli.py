@@ -393,7 +393,8 @@ def _print_response(r: dict) -> None:
 def _print_design(r: dict) -> None:
     print(f"object: mu = {r['mu']:g}, delta1 = {r['delta1']:g}; band theta {r['band'][0]:g} to {r['band'][1]:g}; "
           f"criterion {r['criterion']}; worst case over +-{100 * r['detuning']:g} % of omega1")
-    for key, name in (("impact", "impact suppressor"), ("tmd", "linear TMD"), ("tmd_equal_stroke", "TMD, equal stroke")):
+    for key, name in (("impact", "impact suppressor"), ("tmd", "linear TMD"),
+                      ("tmd_equal_stroke", "TMD, equal stroke")):
         d = r[key]
         pars = ", ".join(f"{k} = {v:.4g}" for k, v in d["parameters"].items())
         print(f"{name:18s} {pars}: peak {d['peak']:.4f} at theta {d['peak_theta']:.4f}, band average "

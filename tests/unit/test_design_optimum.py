@@ -215,7 +215,8 @@ def _record(imp_peak, tmd_peak, imp_worst, tmd_worst, imp_avg=2.3, tmd_avg=2.3):
         row("impact, optimal peak, gap <= 8", imp_peak, 9.0, 3.0, 18.0, parameters={"gap": 4.77},
             impacts_per_second=1.1),
         row("TMD, optimal peak", tmd_peak, 9.0, 3.0, 9.5), row("impact, optimal band average", 9.0, 9.0, imp_avg, 1.0),
-        row("TMD, optimal band average", 9.0, 9.0, tmd_avg, 1.0), row("impact, robust +-10 %", 9.0, imp_worst, 3.0, 1.0),
+        row("TMD, optimal band average", 9.0, 9.0, tmd_avg, 1.0),
+        row("impact, robust +-10 %", 9.0, imp_worst, 3.0, 1.0),
         row("TMD, robust +-10 %", 9.0, tmd_worst, 3.0, 1.0)]}
 
 

@@ -51,8 +51,10 @@ SYMBOLS = {"gap": "\\Delta_0/x_{st}", "N": "N", "delta2": "\\delta_2", "R": "R"}
 
 def tex_device(name: str) -> str:
     """A device's name of the record as TeX."""
-    return name.replace("<=", "$\\le$").replace("+-", "$\\pm$").replace(" %", "\\,\\%").replace("delta2", "$\\delta_2$").replace(
-        "paper's N", "paper's $N$").replace(", R", ", $R$")
+    for plain, tex in (("<=", "$\\le$"), ("+-", "$\\pm$"), (" %", "\\,\\%"), ("delta2", "$\\delta_2$"),
+                       ("paper's N", "paper's $N$"), (", R", ", $R$")):
+        name = name.replace(plain, tex)
+    return name
 
 
 def design_table(optimum: dict) -> str:
@@ -68,10 +70,10 @@ def design_table(optimum: dict) -> str:
         pars = ", ".join(f"${SYMBOLS[k]}={fixed(d['parameters'][k], digits[k])}$" for k in SYMBOLS
                          if k in d["parameters"]) or "---"
         worst = " & ".join(fixed(d["worst_case"][f"{x:g}"], 2) for x in optimum["detunings"])
-        loads = (f"{fixed(d['impulse_per_impact'], 2)}, {fixed(d['impacts_per_second'], 2)}, {fixed(d['mean_force'], 3)}"
-                 if d["kind"] == "impact" else "---")
-        lines.append(f"{tex_device(d['device'])} & {pars} & {fixed(d['peak'], 3)} & {fixed(d['band_average'], 3)} & {worst} & "
-                     f"{fixed(d['stroke'], 1)} & {loads} \\\\")
+        loads = (f"{fixed(d['impulse_per_impact'], 2)}, {fixed(d['impacts_per_second'], 2)}, "
+                 f"{fixed(d['mean_force'], 3)}" if d["kind"] == "impact" else "---")
+        lines.append(f"{tex_device(d['device'])} & {pars} & {fixed(d['peak'], 3)} & {fixed(d['band_average'], 3)} & "
+                     f"{worst} & {fixed(d['stroke'], 1)} & {loads} \\\\")
     lines += ["\\bottomrule", "\\end{tabular}"]
     return "\n".join(lines) + "\n"
 
@@ -99,7 +101,8 @@ def optimum_macros(add, optimum: dict) -> None:
         add(f"Design{key}DeltaTwo", fixed(d["parameters"]["delta2"], 3))
     for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near),
                    ("TmdOpt", tmd),
-                   ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("BareDev", bare), ("AbsorberDev", absorber)):
+                   ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("BareDev", bare),
+                   ("AbsorberDev", absorber)):
         add(f"Design{key}LocPeak", fixed(d["peak"], 3))
         add(f"Design{key}LocTheta", fixed(d["peak_theta"], 3))
         add(f"Design{key}Avg", fixed(d["band_average"], 3))

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
@@ -47,7 +47,8 @@ from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.studies.design import (BAND_STEP, CRITERIA, BandResponse, LinearDevice, _check_band, den_hartog,
                                          impact_band_response)
 
-__all__ = ["TIE", "impacting", "design_study", "robust_impact", "worst_within", "device", "recommendation", "IMPACT_BOUNDS", "TMD_BOUNDS", "COARSE_STEP", "DETUNING_POINTS", "SENSITIVITY_WORSE", "Optimum",
+__all__ = ["TIE", "impacting", "design_study", "robust_impact", "worst_within", "device", "recommendation",
+           "IMPACT_BOUNDS", "TMD_BOUNDS", "COARSE_STEP", "DETUNING_POINTS", "SENSITIVITY_WORSE", "Optimum",
            "minimise", "optimise_tmd", "optimise_impact", "detuned", "worst_case_tmd", "worst_case_impact",
            "sensitivity", "impact_stroke_and_loads", "tmd_at_stroke", "design_optima", "Budget", "CLI_BUDGET",
            "STAGE_BUDGET"]
@@ -547,7 +548,8 @@ def robust_impact(mu: float, delta1: float, band, d: float, start: dict, *, eval
         for e in np.linspace(-d, d, 5):
             try:
                 q, b, scale = detuned(_impact_parameters(mu, delta1, x), band, float(e))
-                worst = max(worst, scale * impact_band_response(q, b, step, locate=False, settings=settings).grid_peak())
+                r = impact_band_response(q, b, step, locate=False, settings=settings)
+                worst = max(worst, scale * r.grid_peak())
             except (ValueError, RuntimeError, ArithmeticError):
                 return math.inf
         return worst
