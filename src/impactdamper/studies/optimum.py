@@ -334,8 +334,8 @@ def worst_case_tmd(mu: float, delta1: float, N: float, delta2: float, band, d: f
     for e in _detunings(d):
         f = 1.0 + e
         dev = LinearDevice(mu, N / f, delta1 / f, delta2 / f)
-        out = max(out, dev.peak((band[0] / f, band[1] / f))[1] / (f * f))
-    return out
+        out = max(out, float(dev.peak((band[0] / f, band[1] / f))[1]) / (f * f))
+    return float(out)
 
 
 def worst_case_impact(p: Parameters, band, d: float, *, settings: SweepSettings | None = None,
