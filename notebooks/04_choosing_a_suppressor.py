@@ -90,3 +90,24 @@ print(f"your suppressor: located peak {mine.peak:.3f} at theta {mine.peak_theta:
 for q in mine.peaks:
     print(f"  local maximum {q.value:.4f} at theta {q.theta:.5f} ({q.direction}, "
           f"{'periodic' if q.periodic else 'nonperiodic'}{', at a jump' if q.jump else ''})")
+
+# %% [markdown]
+# ## When the object's frequency is off
+#
+# The worst-case peak above is the largest over the object's natural frequency detuned by up to
+# +-`detuning` (its stiffness changed; the suppressor as built). Here each device's peak against
+# the detuning, both over the nominal $x_{st}$.
+
+# %%
+es = np.array(imp["worst_case_detunings"])
+t = result["tmd"]["parameters"]
+tmd_detuned = [optimum.worst_case_tmd(mu, delta1, t["N"], t["delta2"], band, 0.0) if e == 0 else
+               design.LinearDevice(mu, t["N"] / (1 + e), delta1 / (1 + e), t["delta2"] / (1 + e))
+               .peak((band[0] / (1 + e), band[1] / (1 + e)))[1] / (1 + e) ** 2 for e in es]
+fig, ax = plt.subplots(figsize=(7, 3), layout="constrained")
+ax.plot(100 * es, imp["worst_case_peaks"], "o-", color="C2", label="optimal impact suppressor")
+ax.plot(100 * es, tmd_detuned, "s--", color="C3", label="optimal TMD")
+ax.set_xlabel("object's natural frequency off by (%)")
+ax.set_ylabel(r"peak $\max|x_1|/x_{st}$ over the band")
+ax.legend(fontsize=8)
+plt.show()
