@@ -4,9 +4,10 @@ linear peaks; impactdamper.studies.optimum's optimiser, detuning, stroke and loa
 
 * The linear devices' peaks and strokes in closed form against a dense grid (200001 points):
   never below the grid's largest value, above it by at most the grid's own error.
-* The impact suppressor's located peak against a dense local scan (continuation through 401
+* The impact suppressor's located peak against a dense local scan (continuation through 400
   points across the grid bracket of the peak): the same value to the located peak's stated
-  tolerance AMPLITUDE_RTOL and the same theta to the scan's step; a peak at a jump likewise.
+  tolerance AMPLITUDE_RTOL and the same theta to the scan's step; a peak at a jump (the end of
+  a periodic branch) likewise, to 3e-4 (a scan step's reach on a square-root fold).
 * The TMD optimum of an undamped object against Den Hartog's tuning and damping.
 * The optimiser against a brute-force grid on a small box.
 * Detuning maps the relative parameters as the physics says: a TMD on a detuned object
@@ -79,22 +80,31 @@ def _dense_scan(p, peak, r, points=401):
     return (float(ts[j]), float(ys[j])) if ys[j] > y0 else (float(start), float(y0))
 
 
+# Two impact suppressors whose downward sweep ends a periodic branch in a jump near its peak
+# (theta ~1.081 and ~1.094): the zoom's bisection of the jump against the dense scan.
+JUMP_CASES = [dict(gap=7.98, N=0.646, delta2=0.086, R=0.51), dict(gap=6.8, N=0.616, delta2=0.08, R=0.25)]
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("gap, rank", [(2.0, 0), (2.0, 2), (-5.8, 0)])
-def test_located_peak_against_a_dense_local_scan(gap, rank):
-    """The located peak (rank 0: the largest; 2: the other resonance) against a continuation
-    through 400 points across its grid bracket. (No periodic branch of the reference system
-    ends in a jump inside the band: the jumps there lie in nonperiodic stretches, where max|x1|
-    is a window's and no tolerance applies; ``periodic`` says so.)"""
-    p = Parameters(gap=gap)
+@pytest.mark.parametrize("kw, rank", [(dict(gap=2.0), 0), (dict(gap=2.0), 2), (dict(gap=-5.8), 0),
+                                      (JUMP_CASES[0], "jump"), (JUMP_CASES[1], "jump")])
+def test_located_peak_against_a_dense_local_scan(kw, rank):
+    """The located peak (rank 0: the largest; 2: the other resonance; "jump": a periodic branch's
+    end) against a continuation through 400 points across its grid bracket. (No periodic branch
+    of the reference system ends in a jump inside the band: its jumps lie in nonperiodic
+    stretches, where max|x1| is a window's and no tolerance applies; ``periodic`` says so.)"""
+    p = Parameters(**kw)
     r = impact_band_response(p, BAND)
-    peak = r.peaks[rank]
-    assert peak.periodic and not peak.jump
+    peak = next(q for q in r.peaks if q.jump and q.periodic) if rank == "jump" else r.peaks[rank]
+    assert peak.periodic and peak.jump == (rank == "jump")
     assert peak.bracket <= THETA_TOL and peak.change <= AMPLITUDE_RTOL
     t, v = _dense_scan(p, peak, r)
     scan_step = 3 * (r.thetas[1] - r.thetas[0]) / 400
-    # The scan's largest is a sample 7.5e-5 from the next: the located value to its tolerance.
-    assert abs(v / peak.value - 1) <= AMPLITUDE_RTOL, (v, peak)
+    # The scan's largest is a sample 7.5e-5 from the next: at most the located value, and below it
+    # by its tolerance on a smooth peak; at a jump (a fold, where the branch ends like a square
+    # root) the last sample before the fold may lie up to a scan step short of it: 3e-4.
+    assert v <= peak.value * (1 + AMPLITUDE_RTOL), (v, peak)
+    assert v >= peak.value * (1 - (3e-4 if peak.jump else AMPLITUDE_RTOL)), (v, peak)
     assert abs(t - peak.theta) <= scan_step + THETA_TOL, (t, peak)
     if rank == 0:
         assert r.peak == peak.value and r.peak >= r.grid_peak()
