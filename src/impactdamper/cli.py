@@ -1,4 +1,4 @@
-"""Command line: ``python -m impactdamper {steady,alg1,orbit,response} [--PARAM VALUE ...] [--json]``.
+"""Command line: ``python -m impactdamper {steady,alg1,orbit,response,design} [--PARAM VALUE ...] [--json]``.
 
 Every parameter of :class:`impactdamper.Parameters` is a flag (defaults: the paper's reference
 case). A bad value exits with status 2 and a one-line message naming the flag; so does a case
@@ -106,7 +106,53 @@ def build_parser() -> argparse.ArgumentParser:
                    help="relative section mismatch for a settled motion")
     r.add_argument("--max-periods", type=int, default=SweepSettings.max_periods,
                    help="forcing periods a point may simulate before 'nonperiodic'")
+
+    design = sub.add_parser("design", help="choose a suppressor: the impact suppressor (gap, N, delta2, R) and the "
+                                           "linear TMD (N, delta2) optimised for one object and band, with worst "
+                                           "cases, strokes and loads",
+                            description=DESIGN_DESCRIPTION, epilog=DESIGN_KEYS,
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
+    d = design.add_argument_group("object and band")
+    d.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
+    d.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
+    d.add_argument("--mu", type=float, default=defaults.mu, help=f"{PARAMETER_HELP['mu']} (default {defaults.mu})")
+    d.add_argument("--delta1", type=float, default=defaults.delta1,
+                   help=f"{PARAMETER_HELP['delta1']} (default {defaults.delta1})")
+    d.add_argument("--detuning", type=float, default=0.1,
+                   help="the object's natural frequency uncertain by +- this fraction, in [0, 0.5] (default 0.1)")
+    d.add_argument("--max-stroke", type=float, default=None, metavar="S",
+                   help="stroke limit max|x2 - x1|/x_st of the equal-stroke TMD (default: the impact suppressor's)")
+    d.add_argument("--criterion", choices=("peak", "band_average"), default="peak",
+                   help="what is minimised over the band (default peak)")
+    design.add_argument("--json", action="store_true", help="print one JSON object")
     return parser
+
+
+DESIGN_DESCRIPTION = """Choose a suppressor for an object of mass ratio mu and damping delta1 over a band of
+forcing frequencies: the impact suppressor optimised in gap, N, delta2 and R, and the linear
+tuned-mass damper (TMD) in N and delta2, by the same optimiser and criterion (a Sobol sample,
+then Nelder-Mead), peaks located (not sampled). About half a minute on two cores; progress
+lines go to stderr."""
+
+DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, detuning, criterion, elapsed (s); ratio: impact over TMD of
+peak, band_average, worst_case; impact, tmd, tmd_equal_stroke (the best TMD whose stroke does not
+exceed --max-stroke or the impact suppressor's), each with (the impact suppressor's gap is
+searched in [-8, 8], a stop within reach: with a gap past its travel it would be the TMD):
+  parameters      {gap, N, delta2, R} (impact) or {N, delta2} (TMD), relative
+  peak            located peak of max|x1|/x_st over the band (worse sweep direction)
+  peak_theta      where it is
+  band_average    mean of max|x1|/x_st over the band grid (step 0.01)
+  worst_case      largest peak with the object's frequency detuned by up to +-detuning, over
+                  the nominal x_st
+  stroke          max|x2 - x1|/x_st over the band
+  at_bound        parameters at a bound of the search box
+ and for the impact suppressor also:
+  impulse_per_impact   largest pulse per impact over P0/omega1
+  impacts_per_second   most impacts per second over f1 = omega1/(2 pi)
+  mean_force           largest mean force the impacts transmit, over P0 (the stereomechanical
+                       impact gives no contact force peak)
+  clearance            the gap Delta0 in units of P0/c1 (optimal at the design force P0 only)
+  worst_case_detunings, worst_case_peaks   the peaks behind worst_case"""
 
 
 def _parameters(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Parameters:
@@ -138,6 +184,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     sub = parser._subparsers._group_actions[0].choices[args.command]  # for error messages
+    if args.command == "design":
+        return _design(args, sub)
     p = _parameters(args, sub)
     if args.command == "orbit" and args.seed == "alg1":
         # Algorithm No. 1's orbit is found in closed form: there is no start to honour.
@@ -184,6 +232,33 @@ def main(argv: list[str] | None = None) -> int:
         buffer = io.StringIO()
         with contextlib.redirect_stdout(buffer):
             printer(result)
+        text = buffer.getvalue()
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except OSError as err:
+        return _output_failed(err)
+    return 0
+
+
+def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
+    """``design``: both devices' optima (:func:`impactdamper.studies.optimum.design_optima`)."""
+    from impactdamper.studies.optimum import design_optima
+
+    def progress(message: str) -> None:
+        print(f"{sub.prog}: {message}", file=sys.stderr, flush=True)
+
+    try:
+        result = design_optima((args.theta_start, args.theta_stop), args.mu, args.delta1, detuning=args.detuning,
+                               max_stroke=args.max_stroke, criterion=args.criterion, progress=progress)
+    except (ValueError, RuntimeError, ArithmeticError) as err:
+        _fail(sub, err)
+    if args.json:
+        text = json.dumps(clean(result)) + "\n"
+    else:
+        buffer = io.StringIO()
+        with contextlib.redirect_stdout(buffer):
+            _print_design(result)
         text = buffer.getvalue()
     try:
         sys.stdout.write(text)
@@ -303,3 +378,22 @@ def _print_response(r: dict) -> None:
         print(f"  {q['theta']:.4f}  {u['label']:<6} {d['label']:<6} {u['max_abs_x1']:9.5f} {d['max_abs_x1']:9.5f}  "
               f"{u['max_abs_x2']:9.5f}  {u['impacts_per_period']:9.4g}  {u['peak_impulse']:10.5g}  "
               f"{q['linear_max_abs_x1']:9.5f}{'  hysteresis' if q['hysteresis'] else ''}")
+
+
+def _print_design(r: dict) -> None:
+    print(f"object: mu = {r['mu']:g}, delta1 = {r['delta1']:g}; band theta {r['band'][0]:g} to {r['band'][1]:g}; "
+          f"criterion {r['criterion']}; worst case over +-{100 * r['detuning']:g} % of omega1")
+    for key, name in (("impact", "impact suppressor"), ("tmd", "linear TMD"),
+                      ("tmd_equal_stroke", "TMD, equal stroke")):
+        d = r[key]
+        pars = ", ".join(f"{k} = {v:.4g}" for k, v in d["parameters"].items())
+        print(f"{name:18s} {pars}: peak {d['peak']:.4f} at theta {d['peak_theta']:.4f}, band average "
+              f"{d['band_average']:.4f}, worst case {d['worst_case']:.4f}, stroke {d['stroke']:.3f}"
+              + (f" (at_bound: {', '.join(d['at_bound'])})" if d["at_bound"] else ""))
+    d = r["impact"]
+    print(f"impact loads: largest pulse {d['impulse_per_impact']:.4g} P0/omega1, at most {d['impacts_per_second']:.4g} "
+          f"impacts per 1/f1, mean impact force up to {d['mean_force']:.4g} P0 (no contact force peak: the impact "
+          f"is instantaneous); clearance Delta0 = {d['clearance']:.4g} P0/c1")
+    q = r["ratio"]
+    print(f"impact over TMD: peak {q['peak']:.4f}, band average {q['band_average']:.4f}, worst case "
+          f"{q['worst_case']:.4f} ({r['elapsed']:.1f} s)")

@@ -7,6 +7,10 @@ paper/generated/design_*) are present and consistent with each other and with th
 * Every cycle of the frequency response closes its energy balance; cycles without contact
   equal the linear response; the hysteresis flag matches the two directions' rows.
 * The macros quote the records.
+* The design table (figures/design_optimum.*): every linear row's located peak, band average,
+  worst cases and stroke recomputed in closed form; the optima no worse than the designs they
+  started from; the equal-stroke TMD within its stroke; the table and recommendation
+  regenerate from the record.
 """
 
 import math
@@ -29,7 +33,7 @@ CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 RECORDS = ["design_baselines.csv", "design_baselines.json", "design_chart.csv", "design_chart.json",
            "design_chart_2d.csv", "design_chart_2d.json", "design_response.csv", "design_response.json",
            "design_response.pdf", "design_response.png", "design_chart.pdf", "design_chart.png",
-           "design_chart_2d.pdf", "design_chart_2d.png"]
+           "design_chart_2d.pdf", "design_chart_2d.png", "design_optimum.json", "design_optimum.csv"]
 # The settled cycles are periodic to the sweep's settle tolerance (1e-9 x_st): ten times that.
 LINEAR_ATOL = 1e-8
 # The quadrature closes the balance to rounding (~1e-13): 1e-10 leaves margin.
@@ -39,7 +43,7 @@ BALANCE_TOL = 1e-10
 def test_records_are_present():
     for name in RECORDS:
         assert (FIGURES / name).stat().st_size > 0, name
-    for name in ("design_macros.tex", "design_second_table.tex"):
+    for name in ("design_macros.tex", "design_second_table.tex", "design_table.tex"):
         assert (GENERATED / name).stat().st_size > 0, name
 
 
@@ -118,9 +122,11 @@ def test_macros_quote_the_records(tmp_path):
     # And the report step regenerates them exactly from the records.
     design_report.main(FIGURES / "design_baselines.json", FIGURES / "design_chart.json",
                        FIGURES / "design_chart_2d.json", FIGURES / "design_response.json",
-                       FIGURES / "design_response.csv", tmp_path / "r.json", tmp_path / "m.tex", tmp_path / "t.tex")
+                       FIGURES / "design_response.csv", FIGURES / "design_optimum.json", tmp_path / "r.json",
+                       tmp_path / "m.tex", tmp_path / "t.tex", tmp_path / "d.tex")
     assert (tmp_path / "m.tex").read_text() == text
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "design_second_table.tex").read_text()
+    assert (tmp_path / "d.tex").read_text() == (GENERATED / "design_table.tex").read_text()
 
 
 def test_a_chart_row_regenerates():
@@ -165,3 +171,45 @@ def test_chart_grid_must_hold_the_reference_theta(config, tmp_path):
     with pytest.raises(ValueError, match=r"^`design.theta_points` = 6 is not allowed: .* reference theta = 1$"):
         design_chart.main(cfg["reference"], cfg["solver"], cfg["sweep"], design, tmp_path / "c.csv", tmp_path / "c.json")
     assert not (tmp_path / "c.csv").exists()
+
+
+def test_design_table_linear_rows_recompute_in_closed_form():
+    from impactdamper.studies.design import LinearDevice
+
+    rec = read_json(FIGURES / "design_optimum.json")
+    band = tuple(rec["band"])
+    for d in rec["devices"]:
+        if d["kind"] != "linear":
+            continue
+        bare = not d["parameters"]
+        dev = LinearDevice(0.0 if bare else rec["mu"], d["parameters"].get("N", 1.0), rec["delta1"],
+                           d["parameters"].get("delta2", 0.0))
+        assert dev.peak(band)[1] == pytest.approx(d["peak"], rel=1e-12), d["device"]
+        assert dev.band_average(band, rec["step"]) == pytest.approx(d["band_average"], rel=1e-12)
+        assert (0.0 if bare else dev.stroke_peak(band)[1]) == pytest.approx(d["stroke"], rel=1e-12)
+        # A worst case is over detunings that include none: never below the nominal peak.
+        for w in d["worst_case"].values():
+            assert w >= d["peak"] * (1 - 1e-12)
+
+
+def test_design_table_optima_are_no_worse_than_their_starts():
+    from impactdamper.studies.optimum import device
+
+    rec = read_json(FIGURES / "design_optimum.json")
+    imp, tmd = device(rec, "impact, optimal peak"), device(rec, "TMD, optimal peak")
+    paper = next(d for d in rec["devices"] if d["device"].startswith("impact, paper"))
+    absorber = device(rec, "absorber without a stop")
+    # The optimiser started from the paper's design among others: its located peak is no higher.
+    assert imp["peak"] <= paper["peak"] * (1 + 1e-4)
+    assert tmd["peak"] < absorber["peak"] < device(rec, "bare object")["peak"]
+    assert device(rec, "TMD, optimal band average")["band_average"] <= tmd["band_average"] * (1 + 1e-9)
+    eq = device(rec, "TMD, impact's stroke")
+    assert eq["stroke"] <= eq["max_stroke"] * (1 + 1e-3)
+    # The robust TMD's worst case at the largest detuning is no worse than the nominal optimum's.
+    key = f"{max(rec['detunings']):g}"
+    rob = next(d for d in rec["devices"] if d["device"].startswith("TMD, robust"))
+    assert rob["worst_case"][key] <= tmd["worst_case"][key] * (1 + 1e-9)
+    # Located peaks are never below the grid's.
+    for d in rec["devices"]:
+        if d["kind"] == "impact":
+            assert d["peak"] >= d["grid_peak"]

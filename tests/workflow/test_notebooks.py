@@ -43,7 +43,7 @@ def test_only_the_public_api_is_imported():
     allowed = {"impactdamper", "impactdamper.core.linear", "impactdamper.reporting.plotting",
                "impactdamper.analysis.sweeps", "impactdamper.analysis.settled",
                "impactdamper.analysis.transitions", "impactdamper.analysis.response",
-               "impactdamper.studies.design"}
+               "impactdamper.studies.design", "impactdamper.studies.optimum"}
     for name in NOTEBOOKS:
         for line in (NOTEBOOK_DIR / f"{name}.py").read_text().splitlines():
             words = line.split()

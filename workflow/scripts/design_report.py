@@ -3,9 +3,10 @@ for the report's section "Choosing a suppressor", as LaTeX macros and a booktabs
 number is typed by hand).
 
 Outputs ``results/report/design.json`` (the stage's record, from which the macros and the
-README's lines are rendered), ``paper/generated/design_macros.tex`` (best gap, good band, comparisons with the bare
-object, the absorber without a stop and the optimal TMD, loads, checks) and
-``paper/generated/design_second_table.tex`` (best gap against the second parameter).
+README's lines are rendered), ``paper/generated/design_macros.tex`` (the design table's optima,
+located peaks, worst cases, strokes, loads and the recommendation; the chart's best gap, good
+band, loads, checks), ``paper/generated/design_table.tex`` (the design table: one row per
+device) and ``paper/generated/design_second_table.tex`` (best gap against the second parameter).
 """
 
 from pathlib import Path
@@ -15,6 +16,7 @@ import numpy as np
 from impactdamper.reporting.latex import MacroFile, fixed, render_macros, tex_sci
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
 from impactdamper.studies.design import bare_object_amplitude, runs_where, two_mass_amplitude
+from impactdamper.studies.optimum import device, impacting, recommendation
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -32,11 +34,135 @@ def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
 RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design stage)"
 
 
-def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, out_record, out_macros,
-         out_table) -> None:
-    """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), and
-    the second-parameter table (``out_table``)."""
+def _sensitivity_text(sens: dict, names: dict) -> str:
+    """``$N$: -0.012/+0.020, ...``: each parameter's move for a 5 % worse peak (">" where even
+    the box's bound is not that much worse)."""
+    parts = []
+    for n in [k for k in names if k in sens]:
+        sides = sens[n]
+        text = "/".join(("$>$bound" if v is None else f"{sign}{fixed(v, 3)}") for sign, v in
+                        (("$-$", sides["down"]), ("$+$", sides["up"])))
+        parts.append(f"${names[n]}$ {text}")
+    return ", ".join(parts)
+
+
+SYMBOLS = {"gap": "\\Delta_0/x_{st}", "N": "N", "delta2": "\\delta_2", "R": "R"}
+
+
+def tex_device(name: str) -> str:
+    """A device's name of the record as TeX."""
+    for plain, tex in (("<=", "$\\le$"), ("+-", "$\\pm$"), (" %", "\\,\\%"), ("delta2", "$\\delta_2$"),
+                       ("paper's N", "paper's $N$"), (", R", ", $R$")):
+        name = name.replace(plain, tex)
+    return name
+
+
+def design_table(optimum: dict) -> str:
+    """The design table (booktabs): device; parameters; located peak; band average; worst case
+    at each detuning; stroke; loads (impact suppressors)."""
+    ds = [f"{100 * d:g}" for d in optimum["detunings"]]
+    head = ("device & parameters & peak & band avg. & "
+            + " & ".join(f"worst $\\pm{d}\\,\\%$" for d in ds) + " & stroke & pulse, impacts, force \\\\")
+    lines = ["% Written by workflow/scripts/design_report.py; do not edit.",
+             "\\begin{tabular}{ll" + "r" * (4 + len(ds)) + "}", "\\toprule", head, "\\midrule"]
+    for d in optimum["devices"]:
+        digits = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
+        pars = ", ".join(f"${SYMBOLS[k]}={fixed(d['parameters'][k], digits[k])}$" for k in SYMBOLS
+                         if k in d["parameters"]) or "---"
+        worst = " & ".join(fixed(d["worst_case"][f"{x:g}"], 2) for x in optimum["detunings"])
+        loads = (f"{fixed(d['impulse_per_impact'], 2)}, {fixed(d['impacts_per_second'], 2)}, "
+                 f"{fixed(d['mean_force'], 3)}" if d["kind"] == "impact" else "---")
+        lines.append(f"{tex_device(d['device'])} & {pars} & {fixed(d['peak'], 3)} & {fixed(d['band_average'], 3)} & "
+                     f"{worst} & {fixed(d['stroke'], 1)} & {loads} \\\\")
+    lines += ["\\bottomrule", "\\end{tabular}"]
+    return "\n".join(lines) + "\n"
+
+
+def optimum_macros(add, optimum: dict) -> None:
+    """The design table's macros (``add(name, text)``)."""
+    dmax = f"{max(optimum['detunings']):g}"
+    dmin = f"{min(optimum['detunings']):g}"
+    imp, tmd = device(optimum, "impact, optimal peak"), device(optimum, "TMD, optimal peak")
+    impa, tmda = device(optimum, "impact, optimal band average"), device(optimum, "TMD, optimal band average")
+    bare, absorber = device(optimum, "bare object"), device(optimum, "absorber without a stop")
+    paper = next(d for d in optimum["devices"] if d["device"].startswith("impact, paper"))
+    eq = device(optimum, "TMD, impact's stroke")
+    rob_t = next(d for d in optimum["devices"] if d["device"].startswith("TMD, robust"))
+    rob_i = next(d for d in optimum["devices"] if d["device"].startswith("impact, robust"))
+    near = next(d for d in optimum["devices"] if d["device"].startswith("impact, optimal peak, gap"))
+    add("DesignStep", fixed(optimum["step"], 2))
+    add("DesignDetuneSmallPct", fixed(100 * min(optimum["detunings"]), 0))
+    add("DesignDetuneLargePct", fixed(100 * max(optimum["detunings"]), 0))
+    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near)):
+        for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
+            add(f"Design{key}{name}", fixed(d["parameters"][k], digits))
+    for key, d in (("TmdOpt", tmd), ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t)):
+        add(f"Design{key}N", fixed(d["parameters"]["N"], 3))
+        add(f"Design{key}DeltaTwo", fixed(d["parameters"]["delta2"], 3))
+    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near),
+                   ("TmdOpt", tmd),
+                   ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("BareDev", bare),
+                   ("AbsorberDev", absorber)):
+        add(f"Design{key}LocPeak", fixed(d["peak"], 3))
+        add(f"Design{key}LocTheta", fixed(d["peak_theta"], 3))
+        add(f"Design{key}Avg", fixed(d["band_average"], 3))
+        add(f"Design{key}WorstSmall", fixed(d["worst_case"][dmin], 2))
+        add(f"Design{key}WorstLarge", fixed(d["worst_case"][dmax], 2))
+        add(f"Design{key}Stroke", fixed(d["stroke"], 1))
+    add("DesignRobTmdDampingWord", "more" if rob_t["parameters"]["delta2"] > tmd["parameters"]["delta2"] else "less")
+    add("DesignChartGainBare", fixed(bare["peak"] / paper["peak"], 2))
+    add("DesignChartGainAbsorber", fixed(absorber["peak"] / paper["peak"], 2))
+    add("DesignChartRatioTmd", fixed(paper["peak"] / tmd["peak"], 2))
+    add("DesignOptRatioTmd", fixed(imp["peak"] / tmd["peak"], 3))
+    add("DesignOptRatioTmdAvg", fixed(impa["band_average"] / tmda["band_average"], 3))
+    add("DesignOptRatioWorstLarge", fixed(imp["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
+    add("DesignOptGainBare", fixed(bare["peak"] / imp["peak"], 2))
+    add("DesignNearRatioTmd", fixed(near["peak"] / tmd["peak"], 3))
+    add("DesignNearImpulse", fixed(near["impulse_per_impact"], 2))
+    add("DesignNearImpactsPerSecond", fixed(near["impacts_per_second"], 2))
+    add("DesignNearMeanForce", fixed(near["mean_force"], 3))
+    hit = impacting(optimum["devices"])
+    add("DesignOptStopText", (f"its gap lies beyond its own travel (stroke {fixed(imp['stroke'], 1)}), so that the "
+                              "stop is never reached: allowed that, the optimiser makes the impact suppressor a TMD"
+                              if imp["impacts_per_second"] == 0 else
+                              f"its stop is reached, up to {fixed(imp['impacts_per_second'], 2)} impacts per "
+                              "natural period"))
+    for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
+        add(f"DesignHit{name}", fixed(hit["parameters"][k], digits))
+    for k, digits, name in (("peak", 3, "LocPeak"), ("stroke", 1, "Stroke"), ("impulse_per_impact", 2, "Impulse"),
+                            ("impacts_per_second", 2, "ImpactsPerSecond"), ("mean_force", 3, "MeanForce")):
+        add(f"DesignHit{name}", fixed(hit[k], digits))
+    add("DesignHitWorstLarge", fixed(hit["worst_case"][dmax], 2))
+    hita = impacting(optimum["devices"], "band_average")
+    add("DesignHitAvgCritGap", fixed(hita["parameters"]["gap"], 2))
+    add("DesignHitAvgCritAvg", fixed(hita["band_average"], 3))
+    add("DesignHitRatioTmdAvg", fixed(hita["band_average"] / tmda["band_average"], 3))
+    add("DesignHitRatioTmd", fixed(hit["peak"] / tmd["peak"], 3))
+    add("DesignHitRatioWorstLarge", fixed(hit["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
+    add("DesignOptImpulse", fixed(imp["impulse_per_impact"], 2))
+    add("DesignOptImpactsPerSecond", fixed(imp["impacts_per_second"], 2))
+    add("DesignOptMeanForce", fixed(imp["mean_force"], 3))
+    add("DesignOptGridPeak", fixed(imp["grid_peak"], 3))
+    add("DesignChartGridPeak", fixed(paper["grid_peak"], 3))
+    add("DesignOptAtBound", ", ".join(imp["at_bound"]) or "none")
+    add("DesignStarts", optimum["budget"]["starts"])
+    add("DesignKeep", optimum["budget"]["keep"])
+    add("DesignLocalEvaluations", optimum["budget"]["local_evaluations"])
+    add("DesignSensImpact", _sensitivity_text(optimum["sensitivity"]["impact"], SYMBOLS))
+    add("DesignSensTmd", _sensitivity_text(optimum["sensitivity"]["tmd"], SYMBOLS))
+    add("DesignSensWorsePct", fixed(100 * optimum["sensitivity_worse"], 0))
+    add("DesignRecommendation", recommendation(optimum, pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{st}$"))
+    # For the README (never expanded in TeX, where its x_st would fail; no "%", which would end the
+    # TeX line of its definition).
+    add("DesignRecommendationPlain", recommendation(optimum, pct=" per cent"))
+
+
+def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, optimum_json, out_record, out_macros,
+         out_table, out_design_table) -> None:
+    """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), the
+    second-parameter table (``out_table``) and the design table (``out_design_table``)."""
     base, chart, chart2, resp = (read_json(x) for x in (baselines_json, chart_json, chart2d_json, response_json))
+    optimum = read_json(optimum_json)
     bp, ba = chart["best"]["peak"], chart["best"]["band_average"]
     tmd, tmd_avg = base["tmd"]["peak"], base["tmd"]["band_average"]
     bare, absorber = base["references"]["bare"], base["references"]["absorber"]
@@ -104,6 +230,7 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     add("DesignDHDeltaTwo", fixed(dh["closed_form"]["delta2"], 4))
     add("DesignDHOptDeltaTwo", fixed(dh["optimiser"]["delta2"], 4))
     add("DesignSecondName", chart2["parameter"])
+    optimum_macros(add, optimum)
     write_json(out_record, m.record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))
@@ -120,10 +247,11 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
                      f"{fixed(b['impacts_per_period'], 0)} \\\\")
     lines += ["\\bottomrule", "\\end{tabular}"]
     Path(out_table).write_text("\n".join(lines) + "\n")
+    Path(out_design_table).write_text(design_table(optimum))
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
     main(sm.input.baselines, sm.input.chart, sm.input.chart2d, sm.input.response, sm.input.response_csv,
-         sm.output.record, sm.output.macros, sm.output.table)
+         sm.input.optimum, sm.output.record, sm.output.macros, sm.output.table, sm.output.design_table)
