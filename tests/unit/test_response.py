@@ -18,7 +18,6 @@ import math
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from impactdamper.analysis.response import (HYSTERESIS_TOL, cycle_metrics, energy_balance, frequency_response,

@@ -16,7 +16,6 @@ paper/generated/orbit_*.tex) against independent methods, and its regeneration.
 """
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np

@@ -60,7 +60,7 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
         for key in ("lo", "hi"):
             if orbit.get("found") and not orbit.get(key + "_open", True):
                 axis.axvline(orbit[key], color="C3", lw=0.7, ls="--")
-        for gap, name in marks:
+        for gap, _name in marks:
             axis.axvline(gap, color="0.3", lw=0.7, ls=":")
     for gap, name in marks:
         ax1.annotate(f"{name}\n{gap:g}", (gap, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2),
