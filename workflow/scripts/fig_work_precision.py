@@ -15,7 +15,7 @@ across runs.
 
 import math
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, TEXT_WIDTH, figure_size, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
@@ -53,7 +53,7 @@ def _fineness(r: dict) -> float:
 def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None = None) -> None:
     plt = use_style()
     rows = load(in_csv)
-    fig, axes = plt.subplots(1, 2, figsize=(TEXT_WIDTH, 0.5 * TEXT_WIDTH), sharey=True, layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=figure_size(0.5 * TEXT_WIDTH), sharey=True, layout="constrained")
     for ax, (case, title) in zip(axes, PANELS):
         for fam, (label, color, marker, ls) in STYLE.items():
             # In the order of the method's own setting, from coarse to fine.
@@ -79,7 +79,7 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
             labels.setdefault(lab, h)
     order = [STYLE[f][0] for f in STYLE if STYLE[f][0] in labels]
     if siconos_available is False:
-        axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize="small",
+        axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize=ANNOTATION_SIZE,
                      ha="right")
     fig.legend([labels[k] for k in order], order, loc="outside lower center", ncols=4, fontsize="small")
     finish_figure(fig, out_stem)
