@@ -187,6 +187,7 @@ def solver_arguments(draw, p: idp.Parameters) -> dict:
     return kwargs
 
 
+@pytest.mark.slow
 @settings(PROPERTY, max_examples=EXAMPLES or 100)
 @given(data=st.data())
 def test_steady_state_classifies_or_names_the_problem(data):
@@ -347,6 +348,7 @@ def test_reference_answer_whatever_the_start_time_and_scales(args):
     assert abs((d["impacts"][0]["phase"] - REFERENCE_PHASE + 0.5) % 1.0 - 0.5) < 1e-8
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command, args, flag, words", [
     ("alg1", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),
     ("steady", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),

@@ -12,6 +12,8 @@ import sys
 import termios
 import threading
 
+import pytest
+
 from impactdamper.reporting.progress import progress_bar, shows_progress
 
 RESPONSE = ["response", "--points", "3", "--json"]
@@ -66,6 +68,7 @@ def test_bar_counts_steps_on_a_terminal_only():
     assert shows_progress(stream=_Terminal()) and not shows_progress(stream=io.StringIO())
 
 
+@pytest.mark.slow
 def test_response_shows_a_bar_on_a_terminal_and_not_with_quiet():
     status, out, terminal = _on_a_terminal(*RESPONSE)
     assert status == 0, terminal
@@ -75,6 +78,7 @@ def test_response_shows_a_bar_on_a_terminal_and_not_with_quiet():
     assert out == quiet_out and len(json.loads(out)["points"]) == 3
 
 
+@pytest.mark.slow
 def test_response_piped_writes_nothing_to_stderr():
     proc = subprocess.run([sys.executable, "-m", "impactdamper", *RESPONSE], capture_output=True, text=True,
                           timeout=300)
@@ -82,6 +86,7 @@ def test_response_piped_writes_nothing_to_stderr():
     assert len(json.loads(proc.stdout)["points"]) == 3
 
 
+@pytest.mark.slow
 def test_quiet_is_a_flag_of_response_only():
     proc = subprocess.run([sys.executable, "-m", "impactdamper", "steady", "--quiet"], capture_output=True, text=True,
                           timeout=300)

@@ -64,6 +64,7 @@ def test_ci_config_holds_only_what_differs():
     assert len((ROOT / "config" / "ci.yaml").read_text().splitlines()) < 100  # was a 195-line copy
 
 
+@pytest.mark.slow
 def test_coarse_run_writes_only_under_its_root(copy):
     plan = _snakemake(copy, "-n", "--forceall", "--configfile", "config/ci.yaml")
     assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
@@ -95,6 +96,7 @@ def test_coarse_run_writes_only_under_its_root(copy):
     assert sum(p.startswith(RECORD) for p in outside) > 100
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("root", ["figures/ci", "paper", "src/out", "."])
 def test_output_root_in_the_record_or_the_sources_is_refused(tmp_path, root):
     """A root in the record or the sources stops the plan with one line naming the key
