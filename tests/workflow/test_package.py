@@ -5,6 +5,7 @@ import ast
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -30,8 +31,17 @@ def _run(args, **kwargs) -> subprocess.CompletedProcess:
 def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
     """Build a wheel, install it into a fresh venv (pip resolves only [project] dependencies),
     then `import impactdamper` and `impactdamper steady --json` must work there."""
+    # Built from a copy of what the wheel is made of (the build writes build/ and *.egg-info/
+    # beside the sources), in an environment without this checkout on PYTHONPATH.
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    source = tmp_path / "source"
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        source.mkdir(exist_ok=True)
+        shutil.copy2(ROOT / name, source / name)
+    shutil.copytree(ROOT / "src", source / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "*.nbi",
+                                                                              "*.nbc"))
     built = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "--disable-pip-version-check",
-                  "-w", tmp_path / "dist", ROOT])
+                  "-w", tmp_path / "dist", source], env=env)
     assert built.returncode == 0, built.stderr[-3000:]
     (wheel,) = (tmp_path / "dist").glob("impactdamper-*.whl")
     with zipfile.ZipFile(wheel) as zf:
@@ -45,9 +55,8 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
     assert made.returncode == 0, made.stderr
     python, script = venv / "bin" / "python", venv / "bin" / "impactdamper"
     installed = _run([python, "-m", "pip", "install", "--quiet", "--disable-pip-version-check", "-c", CONSTRAINTS,
-                      wheel])
+                      wheel], env=env)
     assert installed.returncode == 0, installed.stderr[-3000:]
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     # Outside the repository, so that nothing of it is importable from the working directory.
     imported = _run([python, "-c", "import importlib.util, impactdamper; print(impactdamper.__file__); "
                      "print(importlib.util.find_spec('matplotlib') is None, importlib.util.find_spec('snakemake') is None)"],
