@@ -80,14 +80,16 @@ def test_response_shows_a_bar_on_a_terminal_and_not_with_quiet():
 
 @pytest.mark.slow
 def test_response_piped_writes_nothing_to_stderr():
-    proc = subprocess.run([sys.executable, "-m", "impactdamper", *RESPONSE], capture_output=True, text=True,
-                          timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "impactdamper", *RESPONSE], capture_output=True, text=True, timeout=300
+    )
     assert proc.returncode == 0 and proc.stderr == ""
     assert len(json.loads(proc.stdout)["points"]) == 3
 
 
 @pytest.mark.slow
 def test_quiet_is_a_flag_of_response_only():
-    proc = subprocess.run([sys.executable, "-m", "impactdamper", "steady", "--quiet"], capture_output=True, text=True,
-                          timeout=300)
+    proc = subprocess.run(
+        [sys.executable, "-m", "impactdamper", "steady", "--quiet"], capture_output=True, text=True, timeout=300
+    )
     assert proc.returncode == 2 and "unrecognized arguments: --quiet" in proc.stderr

@@ -9,11 +9,15 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 
-@pytest.mark.parametrize("command", [
-    ["ruff", "check", "."],
-    ["ruff", "format", "--check", "."],
-    ["snakefmt", "--check", "."],
-], ids=["ruff-check", "ruff-format", "snakefmt"])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["ruff", "check", "."],
+        ["ruff", "format", "--check", "."],
+        ["snakefmt", "--check", "."],
+    ],
+    ids=["ruff-check", "ruff-format", "snakefmt"],
+)
 def test_lint_and_format_are_clean(command):
     out = subprocess.run([sys.executable, "-m", *command], cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, (out.stdout + out.stderr)[-4000:]
@@ -33,6 +37,10 @@ def test_figure_scripts_take_sizes_from_the_shared_style():
     scripts = sorted((ROOT / "workflow" / "scripts").glob("fig*.py"))
     assert len(scripts) >= 14
     numeric = re.compile(r"\b(?:fontsize|title_fontsize|size)\s*=\s*[\d.]+|figsize\s*=\s*\(|rcParams")
-    found = [f"{p.name}:{i}: {line.strip()}" for p in scripts for i, line in enumerate(p.read_text().splitlines(), 1)
-             if numeric.search(line) or re.match(r"^[A-Z_]*SIZE\s*=\s*[\d.]+", line)]
+    found = [
+        f"{p.name}:{i}: {line.strip()}"
+        for p in scripts
+        for i, line in enumerate(p.read_text().splitlines(), 1)
+        if numeric.search(line) or re.match(r"^[A-Z_]*SIZE\s*=\s*[\d.]+", line)
+    ]
     assert found == [], "\n".join(found)

@@ -37,8 +37,13 @@ def _files(top: Path) -> dict[str, tuple[int, int]]:
 def copy(tmp_path_factory) -> Path:
     """The repository's files (tracked and untracked, not ignored) in a scratch directory."""
     repo = tmp_path_factory.mktemp("repo")
-    listed = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, capture_output=True,
-                            check=True).stdout.decode().split("\0")
+    listed = (
+        subprocess.run(
+            ["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, capture_output=True, check=True
+        )
+        .stdout.decode()
+        .split("\0")
+    )
     for name in filter(None, listed):
         source = ROOT / name
         if source.is_file():
@@ -109,7 +114,9 @@ def test_output_root_in_the_record_or_the_sources_is_refused(tmp_path, root):
         assert out.returncode == 0, text[-3000:]
         return
     assert out.returncode != 0
-    message = (f"Error validating config file: ['output_root']: '{root}' is not allowed: must be '.', a directory "
-               "under results/ or one outside the repository")
+    message = (
+        f"Error validating config file: ['output_root']: '{root}' is not allowed: must be '.', a directory "
+        "under results/ or one outside the repository"
+    )
     assert message in text and len(text.splitlines()) < 10, text  # one line and Snakemake's frame lines
     assert not (ROOT / root / "paper").exists()

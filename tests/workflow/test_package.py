@@ -38,10 +38,24 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
     for name in ("pyproject.toml", "README.md", "LICENSE"):
         source.mkdir(exist_ok=True)
         shutil.copy2(ROOT / name, source / name)
-    shutil.copytree(ROOT / "src", source / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "*.nbi",
-                                                                              "*.nbc"))
-    built = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "--disable-pip-version-check",
-                  "-w", tmp_path / "dist", source], env=env)
+    shutil.copytree(
+        ROOT / "src", source / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info", "*.nbi", "*.nbc")
+    )
+    built = _run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "--quiet",
+            "--disable-pip-version-check",
+            "-w",
+            tmp_path / "dist",
+            source,
+        ],
+        env=env,
+    )
     assert built.returncode == 0, built.stderr[-3000:]
     (wheel,) = (tmp_path / "dist").glob("impactdamper-*.whl")
     with zipfile.ZipFile(wheel) as zf:
@@ -54,13 +68,21 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
     made = _run([sys.executable, "-m", "venv", venv])
     assert made.returncode == 0, made.stderr
     python, script = venv / "bin" / "python", venv / "bin" / "impactdamper"
-    installed = _run([python, "-m", "pip", "install", "--quiet", "--disable-pip-version-check", "-c", CONSTRAINTS,
-                      wheel], env=env)
+    installed = _run(
+        [python, "-m", "pip", "install", "--quiet", "--disable-pip-version-check", "-c", CONSTRAINTS, wheel], env=env
+    )
     assert installed.returncode == 0, installed.stderr[-3000:]
     # Outside the repository, so that nothing of it is importable from the working directory.
-    imported = _run([python, "-c", "import importlib.util, impactdamper; print(impactdamper.__file__); "
-                     "print(importlib.util.find_spec('matplotlib') is None, importlib.util.find_spec('snakemake') is None)"],
-                    cwd=tmp_path, env=env)
+    imported = _run(
+        [
+            python,
+            "-c",
+            "import importlib.util, impactdamper; print(impactdamper.__file__); "
+            "print(importlib.util.find_spec('matplotlib') is None, importlib.util.find_spec('snakemake') is None)",
+        ],
+        cwd=tmp_path,
+        env=env,
+    )
     assert imported.returncode == 0, imported.stderr[-3000:]
     where, no_extras = imported.stdout.splitlines()
     assert Path(where).is_relative_to(venv) and no_extras == "True True"  # the runtime dependencies alone
@@ -80,7 +102,9 @@ def test_runtime_imports_are_declared_dependencies():
     unless it is imported only by the figures' module (the workflow extra)."""
     distribution = {"yaml": "pyyaml", "mpl_toolkits": "matplotlib"}
     runtime = {re.split(r"[<>=!~ \[]", d)[0].lower() for d in PYPROJECT["project"]["dependencies"]}
-    workflow = {re.split(r"[<>=!~ \[]", d)[0].lower() for d in PYPROJECT["project"]["optional-dependencies"]["workflow"]}
+    workflow = {
+        re.split(r"[<>=!~ \[]", d)[0].lower() for d in PYPROJECT["project"]["optional-dependencies"]["workflow"]
+    }
     stdlib = set(sys.stdlib_module_names)
     # Run by Debian's /usr/bin/python3 in a subprocess (apt's python3-siconos), optional: the
     # work-precision study says so where it is missing (baselines/siconos_bridge.py).

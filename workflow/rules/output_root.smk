@@ -22,20 +22,27 @@ def output_root(config):
     outside the repository may hold another run's outputs."""
     root = config.get("output_root", ".")
     if not isinstance(root, str) or not root.strip():
-        raise WorkflowError(f"Error validating config file: ['output_root']: {root!r} is not allowed: must be a directory")
+        raise WorkflowError(
+            f"Error validating config file: ['output_root']: {root!r} is not allowed: must be a directory"
+        )
     repo = Path(workflow.basedir).resolve()
     path = Path(root).resolve()
     if path == Path.cwd().resolve():
         return root
     if (path == repo or repo in path.parents) and (repo / "results") not in [path, *path.parents][:-1]:
-        raise WorkflowError(f"Error validating config file: ['output_root']: {root!r} is not allowed: must be '.', "
-                            "a directory under results/ or one outside the repository (never the record in "
-                            "figures/ or paper/)")
+        raise WorkflowError(
+            f"Error validating config file: ['output_root']: {root!r} is not allowed: must be '.', "
+            "a directory under results/ or one outside the repository (never the record in "
+            "figures/ or paper/)"
+        )
     path.mkdir(parents=True, exist_ok=True)
     links = [(path / name, repo / name) for name in ROOT_LINKED]
     (path / "paper").mkdir(exist_ok=True)
-    links += [(path / "paper" / source.name, source) for source in sorted((repo / "paper").iterdir())
-              if source.name not in ROOT_PAPER_OUTPUTS]
+    links += [
+        (path / "paper" / source.name, source)
+        for source in sorted((repo / "paper").iterdir())
+        if source.name not in ROOT_PAPER_OUTPUTS
+    ]
     for link, target in links:
         if link.is_symlink() and link.resolve() != target:
             link.unlink()  # a link left by a clone elsewhere

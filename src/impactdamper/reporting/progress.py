@@ -37,8 +37,9 @@ class ProgressBar:
     passed as a library callback (``on_point=bar.step``, ``progress=bar.step``).
     """
 
-    def __init__(self, total: int | None, desc: str = "", *, quiet: bool = False,
-                 stream: IO[str] | None = None) -> None:
+    def __init__(
+        self, total: int | None, desc: str = "", *, quiet: bool = False, stream: IO[str] | None = None
+    ) -> None:
         stream = sys.stderr if stream is None else stream
         self._bar = None
         if shows_progress(quiet, stream):
@@ -68,8 +69,9 @@ class ProgressBar:
         self.close()
 
 
-def progress_bar(total: int | None, desc: str = "", *, quiet: bool = False,
-                 stream: IO[str] | None = None) -> ProgressBar:
+def progress_bar(
+    total: int | None, desc: str = "", *, quiet: bool = False, stream: IO[str] | None = None
+) -> ProgressBar:
     """A :class:`ProgressBar` of ``total`` steps labelled ``desc`` on ``stream`` (default
     stderr), drawn only when the stream is a terminal and ``quiet`` is false."""
     return ProgressBar(total, desc, quiet=quiet, stream=stream)
