@@ -62,7 +62,7 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
         names = set(zf.namelist())
         entry_points = next(zf.read(n).decode() for n in names if n.endswith(".dist-info/entry_points.txt"))
     assert "impactdamper/reporting/paper.mplstyle" in names  # the figures' style ships with the package
-    assert "impactdamper = impactdamper.cli:main" in entry_points
+    assert "impactdamper = impactdamper.cli:run" in entry_points
 
     venv = tmp_path / "venv"
     made = _run([sys.executable, "-m", "venv", venv])
@@ -124,7 +124,7 @@ def test_runtime_imports_are_declared_dependencies():
 
 
 def test_console_script_is_declared():
-    assert PYPROJECT["project"]["scripts"] == {"impactdamper": "impactdamper.cli:main"}
+    assert PYPROJECT["project"]["scripts"] == {"impactdamper": "impactdamper.cli:run"}
 
 
 def test_licence_is_mit_as_declared():
