@@ -6,7 +6,14 @@ from snakemake.utils import min_version, validate
 min_version("8.0")
 
 
-configfile: "config/config.yaml"
+configfile: "config/config.yaml"  # a --configfile (config/ci.yaml) is merged over it, key by key
+
+
+include: "workflow/rules/output_root.smk"
+
+
+# Everything the run writes goes under its output root ("." = the repository and its record).
+workdir: output_root(config)
 
 
 include: "workflow/rules/common.smk"

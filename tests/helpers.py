@@ -189,3 +189,18 @@ def library_parts(files) -> set[str]:
         else:
             out.add(parts[0])
     return out
+
+
+def shipped_config(name: str = "config.yaml") -> dict:
+    """A shipped config as a run sees it: config/config.yaml, with config/``name`` merged over it
+    key by key as Snakemake merges a ``--configfile`` (config/ci.yaml holds only what differs)."""
+    import copy
+
+    import yaml
+    from snakemake.utils import update_config
+
+    config = yaml.safe_load((_ROOT / "config" / "config.yaml").read_text())
+    if name != "config.yaml":
+        config = copy.deepcopy(config)
+        update_config(config, yaml.safe_load((_ROOT / "config" / name).read_text()))
+    return config

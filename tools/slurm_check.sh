@@ -37,6 +37,10 @@ WORK="${SLURM_CHECK_DIR:-/tmp/impactdamper-slurm-check}"
 SNAKEMAKE="$ROOT/.venv/bin/snakemake"
 PYTHON="$ROOT/.venv/bin/python"
 CONFIG=config/ci.yaml
+# The CI config's coarse grids, written in place in the scratch copies (its output_root keeps a
+# coarse run out of a clone's record; here the copies' committed outputs are the map stage's
+# upstream inputs, and the copies are thrown away).
+CONFIG_ARGS=(--configfile "$CONFIG" --config output_root=.)
 [ -x "$SNAKEMAKE" ] || { echo "slurm_check: $SNAKEMAKE missing: run tools/setup.sh" >&2; exit 1; }
 
 now() { date +%s.%N; }
@@ -134,7 +138,7 @@ run() {
   local name=$1; shift
   local t rc=0
   t=$(now)
-  (cd "$WORK/$name" && PYTHONPATH="$WORK/$name/src" "$SNAKEMAKE" "${TARGETS[@]}" "$@" --configfile "$CONFIG" \
+  (cd "$WORK/$name" && PYTHONPATH="$WORK/$name/src" "$SNAKEMAKE" "${TARGETS[@]}" "$@" "${CONFIG_ARGS[@]}" \
     --allowed-rules "${MAP_RULES[@]}") \
     >"$WORK/$name.log" 2>&1 || rc=$?
   echo "time: $name run $(secs "$t" "$(now)") s (exit $rc; log $WORK/$name.log)"
@@ -144,7 +148,7 @@ run() {
 
 # The jobs to run: only the map rules (anything else means the copy's mtimes made Snakemake
 # rerun an upstream stage, which this check does not want).
-(cd "$WORK/slurm" && "$SNAKEMAKE" "${TARGETS[@]}" -n --quiet rules --configfile "$CONFIG" \
+(cd "$WORK/slurm" && "$SNAKEMAKE" "${TARGETS[@]}" -n --quiet rules "${CONFIG_ARGS[@]}" \
   --allowed-rules "${MAP_RULES[@]}") >"$WORK/dryrun.log" 2>&1 \
   || { cat "$WORK/dryrun.log"; exit 1; }
 jobstats "$WORK/dryrun.log"

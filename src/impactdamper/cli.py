@@ -1,4 +1,7 @@
-"""Command line: ``python -m impactdamper {steady,alg1,orbit,response,design} [--PARAM VALUE ...] [--json]``.
+"""Command line: ``impactdamper {steady,alg1,orbit,response,design} [--PARAM VALUE ...] [--json]``.
+
+The same as ``python -m impactdamper ...``; ``impactdamper`` is the console script the package
+installs (pyproject.toml, ``[project.scripts]``).
 
 Every parameter of :class:`impactdamper.Parameters` is a flag (defaults: the paper's reference
 case). A bad value exits with status 2 and a one-line message naming the flag; so does a case
@@ -13,7 +16,6 @@ import argparse
 import contextlib
 import io
 import json
-import math
 import os
 import re
 import sys
@@ -25,9 +27,13 @@ from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.steady import steady_state
+from impactdamper.reporting.progress import progress_bar
 from impactdamper.reporting.records import clean
 
-__all__ = ["main", "run", "build_parser"]
+__all__ = ["main", "run", "build_parser", "add_quiet_flag", "PROG"]
+
+# The program's name in --help and in error messages: the console script.
+PROG = "impactdamper"
 
 # The flags' help, from the parameter table (one line per parameter).
 PARAMETER_HELP = {spec.name: spec.help for spec in PARAMETER_TABLE}
@@ -53,8 +59,15 @@ def _flag(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
+def add_quiet_flag(parser: argparse.ArgumentParser) -> None:
+    """``--quiet``, for a command that shows a progress bar on stderr when stderr is a terminal
+    (:func:`impactdamper.reporting.progress.progress_bar`)."""
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress bar (one is shown on stderr only when stderr is a terminal)")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="python -m impactdamper", description=__doc__.splitlines()[0])
+    parser = _Parser(prog=PROG, description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     defaults = Parameters()
 
@@ -106,6 +119,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="relative section mismatch for a settled motion")
     r.add_argument("--max-periods", type=int, default=SweepSettings.max_periods,
                    help="forcing periods a point may simulate before 'nonperiodic'")
+    add_quiet_flag(response)
 
     design = sub.add_parser("design", help="choose a suppressor: the impact suppressor (gap, N, delta2, R) and the "
                                            "linear TMD (N, delta2) optimised for one object and band, with worst "
@@ -206,7 +220,11 @@ def main(argv: list[str] | None = None) -> int:
             settings = SweepSettings(settle_tol=args.settle_tol, max_periods=args.max_periods,
                                      max_periods_after_nonperiodic=min(SweepSettings.max_periods_after_nonperiodic,
                                                                        args.max_periods))
-            result = frequency_response(p, args.theta_start, args.theta_stop, args.points, settings=settings).to_dict()
+            # Two sweeps (up and down) of `points` settled motions each.
+            total = 2 * args.points if args.points > 0 else None
+            with progress_bar(total, "response", quiet=args.quiet) as bar:
+                result = frequency_response(p, args.theta_start, args.theta_stop, args.points, settings=settings,
+                                            on_point=bar.step).to_dict()
         elif args.command == "alg1":
             result = algorithm1(p).to_dict()
         else:
@@ -296,7 +314,7 @@ def _one_blas_thread() -> None:
 
 
 def run(argv: list[str] | None = None) -> int:
-    """``python -m impactdamper``: :func:`main`, and the output flushed, with a write error (a
+    """``impactdamper`` and ``python -m impactdamper``: :func:`main`, and the output flushed, with a write error (a
     closed pipe as in ``| head -c 1``, a full disk) as one line on stderr and status 1 instead of
     a traceback."""
     _one_blas_thread()
@@ -331,7 +349,7 @@ def _output_failed(err: OSError) -> int:
         os.close(devnull)
     sys.stdout = _Discard()
     with contextlib.suppress(OSError, ValueError):
-        print(f"python -m impactdamper: error: cannot write the output: {err.strerror or err}", file=sys.stderr)
+        print(f"{PROG}: error: cannot write the output: {err.strerror or err}", file=sys.stderr)
     return 1
 
 

@@ -23,7 +23,7 @@ def test_both_roots_of_eq17_solve_eq16_and_the_positive_pulse_is_chosen(gap_valu
     p = REF.replace(gap=gap_value)
     r = idp.algorithm1(p)
     assert r.exists and len(r.candidates) == 2
-    for eps, S in r.candidates:
+    for eps, _S in r.candidates:
         lhs = r.U1 * math.sin(eps + r.eps21) + r.U2 * math.cos(eps + r.eps21)
         assert lhs == pytest.approx(p.Delta0, abs=1e-12 * math.hypot(r.U1, r.U2))
     assert r.S > 0 and (r.eps, r.S) in r.candidates

@@ -160,6 +160,7 @@ def test_both_is_the_intersection_and_distance_is_to_the_nearest_point():
     assert intersect([Interval(0, 1, False, False, None, None)], [Interval(2, 3, False, False, None, None)]) == []
 
 
+@pytest.mark.slow
 def test_search_along_the_gap_finds_the_known_range():
     """Along Delta0/x_st alone the claims' common range contains the located case -9.6 and not
     the stated -5.8 (the gap scan's finding, by the same predicates on another grid)."""

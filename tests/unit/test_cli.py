@@ -186,7 +186,7 @@ def test_output_that_cannot_be_written_is_one_line_and_status_1(argv, monkeypatc
     # A closed pipe (`| head -c 1`) or a full disk (`> /dev/full`) ended in a traceback.
     monkeypatch.setattr(sys, "stdout", _Closed())
     assert run_cli(argv) == 1
-    assert capsys.readouterr().err == "python -m impactdamper: error: cannot write the output: Broken pipe\n"
+    assert capsys.readouterr().err == "impactdamper: error: cannot write the output: Broken pipe\n"
 
 
 @pytest.mark.parametrize("args", [("steady", "--x-st", "1e-200"), ("steady", "--m1", "1e300"), ("steady", "--t0", "1e20"),

@@ -251,6 +251,7 @@ def test_random_starts_batch_matches_the_reference():
     assert any(pt.method == "rescue" for row in batch for pt in row)
 
 
+@pytest.mark.slow
 def test_two_way_batch_matches_the_reference():
     """A theta sweep both ways: the batch's points are the reference's without accelerators."""
     base = Parameters()

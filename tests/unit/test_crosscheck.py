@@ -135,7 +135,7 @@ CASES = {
 }
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def settled(name):
     p, kwargs, _ = CASES[name]
     return idp.steady_state(p, **kwargs)

@@ -17,13 +17,11 @@ design chart's bookkeeping.
   response's gaps (the best first, each once), the runs of a flag over theta.
 """
 
-import math
 
 import numpy as np
 import pytest
 
 from impactdamper.analysis.response import frequency_response
-from impactdamper.analysis.sweeps import with_value
 from impactdamper.analysis.transitions import object_alone_amplitude
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters

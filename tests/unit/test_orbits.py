@@ -353,6 +353,7 @@ def run(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.slow
 def test_cli_orbit_json_has_the_steady_keys_plus_the_checks(double, steady10, capsys):
     proc = run("orbit", "--gap", "-10", "--json")
     assert proc.returncode == 0 and proc.stderr == "", proc.stderr

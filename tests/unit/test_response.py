@@ -18,7 +18,6 @@ import math
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from impactdamper.analysis.response import (HYSTERESIS_TOL, cycle_metrics, energy_balance, frequency_response,
@@ -169,6 +168,7 @@ def _cli(*args):
                           timeout=120)
 
 
+@pytest.mark.slow
 def test_cli_response_json_keys_and_values():
     proc = _cli("--gap", "0.85", "--theta-start", "0.9", "--theta-stop", "1.1", "--points", "3", "--json")
     assert proc.returncode == 0, proc.stderr
@@ -182,6 +182,7 @@ def test_cli_response_json_keys_and_values():
     assert "hysteresis" in d["points"][0] and "linear_max_abs_x1" in d["points"][0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, flag", [
     (("--points", "0"), "--points"), (("--theta-start", "-1"), "--theta-start"),
     (("--theta-start", "1.2", "--theta-stop", "1.1"), "--theta-stop"), (("--points", "x"), "--points"),

@@ -3,7 +3,6 @@ independence of the free mass scale m1."""
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -145,7 +144,7 @@ def test_sample_gives_the_relative_coordinates():
     assert np.all((x1b - x2b) * REF.x_st >= -1e-12)
 
 
-# --- the hard cases: each ends in bounded time with a classification --------------------------
+# --- the hard cases: each ends (within the work bound) with a classification --------------------------
 
 U1 = abs(np.subtract(*forced_amplitudes(REF))) / REF.x_st  # no-contact threshold of the gap
 
@@ -176,9 +175,7 @@ def test_hard_cases_end_with_a_classification(name):
     kwargs = dict(kwargs)
     if kwargs.pop("forced_start", False):
         kwargs["state"] = free_mode(p).forced(0.0)  # on the forced (no-contact) orbit
-    start = time.perf_counter()
     s = idp.steady_state(p, **kwargs)
-    assert time.perf_counter() - start < 30  # bounded (generous: a loop would never return)
     assert s.regime == expected
     assert s.periods <= kwargs.get("max_periods", 4000)
     traj = s.trajectory

@@ -7,7 +7,6 @@ figures/map_*.csv recomputed and compared (see ``RECORD_*`` below).
 """
 
 import json
-import math
 from dataclasses import replace
 from pathlib import Path
 

@@ -4,7 +4,6 @@ report's generated LaTeX. Errors are asserted; CPU times never are (they are ben
 
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np

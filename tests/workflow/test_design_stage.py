@@ -164,7 +164,9 @@ def test_chart_grid_must_hold_the_reference_theta(config, tmp_path):
     naming the key; both shipped configs have it on their grid."""
     import design_chart
 
-    cfg = yaml.safe_load((ROOT / "config" / config).read_text())
+    from helpers import shipped_config
+
+    cfg = shipped_config(config)  # ci.yaml merged over config.yaml, as a run reads it
     band = np.linspace(cfg["design"]["theta_start"], cfg["design"]["theta_stop"], cfg["design"]["theta_points"])
     assert np.any(np.abs(band - cfg["reference"]["theta"]) < 1e-9)
     design = {**cfg["design"], "theta_points": 6}  # 0.5, 0.7, ..., 1.5: theta = 1 is not a grid point

@@ -22,7 +22,6 @@ import csv
 import hashlib
 import json
 import math
-import sys
 from pathlib import Path
 
 import numpy as np

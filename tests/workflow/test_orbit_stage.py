@@ -16,7 +16,6 @@ paper/generated/orbit_*.tex) against independent methods, and its regeneration.
 """
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -120,6 +119,7 @@ def test_period_doubling_of_the_double_cycle_matches_simulation_on_both_sides(sp
     assert o.multipliers[0].imag == 0.0 and o.multipliers[0].real < -1.0
 
 
+@pytest.mark.slow
 def test_neimark_sacker_point_of_the_double_cycle_matches_simulation_on_both_sides(special, rows, double10):
     ns = point(special, "double", "neimark_sacker")
     g = cell_float(ns["gap"])
@@ -234,6 +234,7 @@ def test_macros_quote_the_special_points_and_stable_interval(special):
     assert macros["OrbitExampleMultA"] == "0.925912"
 
 
+@pytest.mark.slow
 def test_figure_regenerates(tmp_path):
     from matplotlib.testing.compare import compare_images
 

@@ -41,6 +41,7 @@ def test_every_rule_is_in_the_dag(jobs):
         assert target in all_inputs
 
 
+@pytest.mark.slow
 def test_every_rule_lists_library_script_and_log(jobs):
     for rule in RULES:
         fields, _ = jobs[rule]

@@ -9,6 +9,7 @@ then plans the workflow and collects the tests with the interpreter it made.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -71,6 +72,10 @@ def test_setup_with_debian_system_python(tmp_path):
     assert "setup: done" in again.stdout
 
     venv_bin = repo / ".venv" / "bin"
+    # The console script (pyproject.toml [project.scripts]) beside `python -m impactdamper`.
+    alg1 = subprocess.run([venv_bin / "impactdamper", "alg1", "--json"], cwd=repo, env=env, capture_output=True,
+                          text=True, timeout=600)
+    assert alg1.returncode == 0 and json.loads(alg1.stdout)["exists"] is True, alg1.stderr[-3000:]
     plan = subprocess.run([venv_bin / "snakemake", "-n", "--cores", "2", "--forceall", "--configfile",
                            "config/ci.yaml"], cwd=repo, env=env, capture_output=True, text=True, timeout=600)
     assert plan.returncode == 0, plan.stderr[-3000:]

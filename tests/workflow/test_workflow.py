@@ -18,7 +18,7 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
-from helpers import LIBRARY, library_imports, library_parts  # noqa: E402 (the library's modules, what a script imports)
+from helpers import LIBRARY, library_imports, library_parts, shipped_config  # noqa: E402 (the library's modules, what a script imports)
 REFERENCE_RULES = ("reference_case_stated", "reference_case_located", "gap_scan", "fig2a", "fig2b", "impact_table",
                    "crosscheck_case", "other_readings", "fig_located_range", "verdict")
 REFERENCE_TARGETS = (
@@ -41,6 +41,7 @@ def dry_run_with(tmp_path: Path, override: str, *targets: str) -> subprocess.Com
 
 
 # --- lint -------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_lint_is_clean():
     out = snakemake("--lint")
     assert out.returncode == 0, out.stdout + out.stderr
@@ -84,9 +85,10 @@ def test_schema_rejects_bad_value_naming_the_key(override, key, why):
 def test_shipped_configs_are_valid(name):
     from snakemake.utils import validate
 
-    validate(yaml.safe_load((ROOT / "config" / name).read_text()), str(SCHEMA))
+    validate(shipped_config(name), str(SCHEMA))  # ci.yaml merged over config.yaml, as a run reads it
 
 
+@pytest.mark.slow
 def test_snakemake_stops_on_bad_value_naming_the_key(tmp_path):
     """End to end: a user's override file with an out-of-range value stops the dry run."""
     out = dry_run_with(tmp_path, "reference:\n  R: 1.5\n", "reference")
@@ -144,6 +146,7 @@ def test_every_job_lists_library_and_script_and_log(forced_dry_run):
         assert fields.get("log", "").startswith("logs/reference/"), rule
 
 
+@pytest.mark.slow
 def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_run):
     """Every job that runs a script or notebook lists the library files it imports (followed
     through the library's own imports) and, of the library, whole parts it imports only: a
@@ -164,6 +167,7 @@ def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_ru
             "notebook_gap_sweep", "fig_regime_map"} <= checked
 
 
+@pytest.mark.slow
 def test_every_job_running_compiled_code_waits_for_the_warm_up(forced_dry_run):
     """Jobs whose script imports the compiled kernels (core/compiled, numba) take the warm-up's
     output as an input, so that parallel jobs load numba's cache instead of each compiling for
@@ -198,6 +202,7 @@ def test_scan_window_must_be_ordered(tmp_path):
 
 
 # --- the README's --config example ------------------------------------------------------------
+@pytest.mark.slow
 def test_config_override_on_the_command_line_is_typed():
     """Regression: Snakemake hands a nested --config dict's values over as strings, and the
     schema rejected the README's own example ("'1.1' is not of type 'number'")."""
@@ -231,7 +236,7 @@ CONFIG = _config_helpers()
 
 
 def _shipped(name: str = "config.yaml") -> dict:
-    return CONFIG["yaml_scalars"](yaml.safe_load((ROOT / "config" / name).read_text()))
+    return CONFIG["yaml_scalars"](shipped_config(name))
 
 
 def _set(config: dict, path: tuple, value) -> dict:
@@ -297,6 +302,7 @@ def test_numbers_in_any_yaml_form_and_strings_stay_strings(text, path, value):
     assert node == value and type(node) is type(value)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("args", "message"), [
     (("--config", "refrence={theta: 5}"), "['refrence'] is not a config key: did you mean 'reference'?"),
     (("--config", "reference={gap: .nan}"), "['reference']['gap']: nan is not allowed: must be a finite number"),
@@ -311,6 +317,7 @@ def test_snakemake_stops_on_a_typo_nan_or_reversed_range_in_a_short_message(args
     assert len(text.splitlines()) < 10, text  # the message and Snakemake's frame lines, not a schema dump
 
 
+@pytest.mark.slow
 def test_snakemake_reads_numbers_in_any_yaml_form(tmp_path):
     """1e-12 without a dot (YAML 1.1 reads it as a string) in a config file and in --config, and
     a quoted 'yes' where a string is expected, are accepted (were "not of type 'number'"/True)."""

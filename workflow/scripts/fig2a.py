@@ -18,7 +18,7 @@ does), each labelled in its title.
 import numpy as np
 
 from impactdamper.reporting.records import read_json, start_stage
-from impactdamper.reporting.plotting import CASE_LABELS, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, CASE_LABELS, finish_figure, use_style
 
 # Light red of the shaded negative-gap stretch.
 NEGATIVE_GAP_COLOR = "#f4cccc"
@@ -45,13 +45,13 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
                 for axis in (ax, axg):
                     axis.axvline(x, color="0.35", lw=0.7, ls=":")
                 ax.annotate(f"$t_{{{name}}} = {x:.4f}\\,T$", (x, 1.0), xycoords=("data", "axes fraction"),
-                            xytext=(0, 2), textcoords="offset points", ha="center", va="bottom", fontsize=8)
+                            xytext=(0, 2), textcoords="offset points", ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
         ax.plot(t, x1, label="$\\bar x_1$ (object)")
         ax.plot(t, x2, ls="--", label="$\\bar x_2$ (suppressor)")
         axg.axhline(0.0, color="0.2", lw=0.6)
         axg.plot(t, g, color="C2", label="$\\Delta/x_{st} = \\bar x_1 - \\bar x_2$")
         note = "" if intervals else "gap $\\Delta \\geq 0$ over\nthe whole period:\nno interval $(t_1, t_2)$"
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), title=note or None, title_fontsize=8, alignment="left")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), title=note or None, alignment="left")
         axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
         axg.set_xlim(0.0, 1.0)
     axg.set_xlabel("time since the impact, $t/T$")

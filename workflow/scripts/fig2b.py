@@ -19,7 +19,7 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 import numpy as np
 
 from impactdamper.reporting.records import read_json, start_stage
-from impactdamper.reporting.plotting import CASE_LABELS, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, CASE_LABELS, finish_figure, use_style
 
 CYCLE_COLOR = "#e8eef6"
 
@@ -54,7 +54,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
         name = row["label"].replace("t", "t_")
         text = f"${name}$" + ("\n(next cycle)" if nxt else "")
         ax.annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2), textcoords="offset points",
-                    ha="center", va="bottom", fontsize=8)
+                    ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
     ax.plot([], [], "o", color="k", ms=3.5, label="impacts")
     ax.set_xlim(t[0], t[-1])
     ax.set_ylabel("relative coordinate")

@@ -16,7 +16,7 @@ Deviation: a search the paper does not have.
 
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
 LABEL = {"theta": "$\\theta = \\omega/\\omega_1$", "mu": "$\\mu = m_2/m_1$", "N": "$N = \\omega_2/\\omega_1$",
@@ -31,7 +31,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
     plt = use_style()
     rows = read_csv(csv_path)
     settings = read_json(settings_json)
-    fig, axes = plt.subplots(len(PARAMETERS), 1, figsize=(TEXT_WIDTH, 6.6))
+    fig, axes = plt.subplots(len(PARAMETERS), 1, figsize=figure_size(6.6))
     for ax, name in zip(axes, PARAMETERS):
         d = settings["parameters"][name]
         lo, hi = d["range"]["start"], d["range"]["stop"]
@@ -55,7 +55,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
         ax.set_xlabel(LABEL[name] + steps, labelpad=1)
         ax.tick_params(axis="y", length=0)
     axes[0].plot([], [], color="0.2", lw=0.8, ls=":", label="stated value")
-    axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=3, fontsize=7.5)
+    axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=3, fontsize="small")
     fig.tight_layout(h_pad=0.6)
     finish_figure(fig, out_pdf, out_png)
 

@@ -17,7 +17,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
            ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
@@ -36,7 +36,7 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
     for r in rows:
         a, b = r["claim_a"] == "true", r["claim_b"] == "true"
         z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(a) + 2 * int(b)
-    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 3.6))
+    fig, ax = plt.subplots(figsize=figure_size(3.6))
     dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
     ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest", vmin=-0.5, vmax=3.5,
               cmap=ListedColormap([c for _, c in CLASSES]), extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy))

@@ -11,7 +11,7 @@ Timings are CPU time on the machine that ran the workflow: not pixel-stable acro
 """
 
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import TEXT_WIDTH, figure_size, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, start_stage
 
 MARKERS = ("o", "s", "^", "v", "D")
@@ -25,7 +25,7 @@ def main(in_csv, out_stem) -> None:
     plt = use_style()
     rows = load(in_csv)
     gaps = sorted({r["gap"] for r in rows}, reverse=True)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(TEXT_WIDTH, 0.4 * TEXT_WIDTH), layout="constrained")
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=figure_size(0.4 * TEXT_WIDTH), layout="constrained")
     for gap, marker in zip(gaps, MARKERS):
         rs = sorted((r for r in rows if r["gap"] == gap), key=lambda r: r["periods"])
         label = rf"$\Delta_0/x_{{st}} = {gap:g}$"

@@ -22,7 +22,7 @@ Deviations: a scan the paper does not have; the grid and the window come from th
 import numpy as np
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.reporting.plotting import finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
 
 RANGE_COLOR = "#f4cccc"
 # Top of the bottom panel's scale: chatter cycles with dozens of impacts are drawn as ^ there.
@@ -37,7 +37,7 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     min_gap = np.array([float(r["alg1_min_gap"]) if r["alg1_min_gap"] else np.nan for r in rows])
     k = np.array([int(r["alg2_period_multiple"]) for r in rows])
     n = np.array([int(r["alg2_impacts_per_cycle"]) if r["alg2_period_multiple"] != "0" else 0 for r in rows])
-    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(6.3, 3.8))
+    fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=figure_size(3.8))
     for r in scan["claim_a_ranges"]:
         ax1.axvspan(r["lo"], r["hi"], color=RANGE_COLOR, lw=0)
     for r in scan["claim_b_ranges"]:
@@ -60,11 +60,11 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
         for key in ("lo", "hi"):
             if orbit.get("found") and not orbit.get(key + "_open", True):
                 axis.axvline(orbit[key], color="C3", lw=0.7, ls="--")
-        for gap, name in marks:
+        for gap, _name in marks:
             axis.axvline(gap, color="0.3", lw=0.7, ls=":")
     for gap, name in marks:
         ax1.annotate(f"{name}\n{gap:g}", (gap, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2),
-                     textcoords="offset points", ha="center", va="bottom", fontsize=8)
+                     textcoords="offset points", ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
     ax1.plot([], [], color=RANGE_COLOR, lw=6, label="claim (a): gap negative")
     ax2.plot([], [], color=RANGE_COLOR, lw=6, label="claim (b): $T_c = 2T$, 3 impacts")
     if orbit.get("found"):

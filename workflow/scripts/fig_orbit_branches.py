@@ -33,7 +33,7 @@ from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 from impactdamper.studies.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, legend_in_rows, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, legend_in_rows, use_style
 
 STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
 MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_velocity": "o", "grazing_interior": "o"}
@@ -63,7 +63,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     sp = {n: [s for s in special if s["branch"] == n] for n in names}
     zoom = multi_impact_window(rows, special, summary, ZOOM_MARGIN)
 
-    fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 5.3), sharex="col", layout="constrained",
+    fig, axes = plt.subplots(2, 2, figsize=figure_size(5.3), sharex="col", layout="constrained",
                              gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0]})
     labelled = (set(), set())
     for col, (ax_x, ax_r) in enumerate(zip(axes[0], axes[1])):
@@ -92,7 +92,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                     ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
                     va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
                     ax_x.annotate(KIND_MARK[s["kind"]], (g, cell_float(s["x1_max"])), xytext=(dx, dy),
-                                  textcoords="offset points", ha=ha, va=va, fontsize=7.5,
+                                  textcoords="offset points", ha=ha, va=va, fontsize=ANNOTATION_SIZE,
                                   color="0.1" if on else INADMISSIBLE_MARK)
         ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
         ax_r.set_yscale("log")
@@ -116,7 +116,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once, along its vertical
                 ax_x.annotate(f"{case} case {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
                               xytext=(2, -3), textcoords="offset points", ha="left", va="top", rotation=90,
-                              fontsize=7.5, color="0.2")
+                              fontsize=ANNOTATION_SIZE, color="0.2")
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
@@ -127,8 +127,8 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
         ax.axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
     axes[0, 0].set_ylabel("max $|x_1|/x_{st}$")
     axes[1, 0].set_ylabel("spectral radius $\\max|\\rho|$")
-    axes[0, 0].set_title("full range", loc="left", fontsize=8.5)
-    axes[0, 1].set_title("zoom near the located case (grey window on the left)", loc="left", fontsize=8.5)
+    axes[0, 0].set_title("full range", loc="left")
+    axes[0, 1].set_title("zoom near the located case (grey window on the left)", loc="left")
     # Legend in rows (branches and line styles; special points and the case; the shading and
     # the unit line), written row by row although matplotlib fills a legend column by column.
     line = lambda **kw: plt.Line2D([], [], **kw)  # noqa: E731
@@ -140,7 +140,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             [Patch(facecolor=ZOOM_SHADE, edgecolor="0.6", lw=0.5, label="zoom window"),
              line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$")]]
     legend_in_rows(fig, rows, loc="outside lower center", handlelength=1.8, columnspacing=0.9, handletextpad=0.4,
-                   fontsize=7.5)
+                   fontsize="small")
     finish_figure(fig, out_pdf, out_png)
 
 

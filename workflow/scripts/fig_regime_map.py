@@ -26,7 +26,7 @@ from impactdamper.studies.sweep_results import grazing_curves, read_map
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
 from impactdamper.reporting.records import read_csv, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
 
 CLASSES = list(REGIME_COLORS)
 AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
@@ -40,7 +40,7 @@ LIFTOFF_COLOR = "#33bbee"
 MIN_LABEL_SHARE = 0.0015
 MIN_LABEL_CELLS = 4
 # Region labels (points): the figure is included at the text width, so this is the print size.
-LABEL_SIZE = 7.5
+LABEL_SIZE = ANNOTATION_SIZE
 # Least distance between two labels' centres, in axes fractions (x, y): about a label's width
 # and height at LABEL_SIZE on the text-width figure.
 LABEL_CLEARANCE = (0.05, 0.045)
@@ -78,7 +78,7 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     plt = use_style()
     slow, gaps, labels = read_map(map_csv)
     codes = np.vectorize(lambda s: CLASSES.index(gs.regime_of_label(s)))(labels)
-    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 4.7), layout="constrained")
+    fig, ax = plt.subplots(figsize=figure_size(4.7), layout="constrained")
     ax.pcolormesh(gaps, slow, codes, cmap=ListedColormap([REGIME_COLORS[c] for c in CLASSES]), vmin=-0.5,
                   vmax=len(CLASSES) - 0.5, shading="nearest", rasterized=True)
     _label_regions(ax, slow, gaps, labels)
@@ -108,7 +108,7 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     patches = [Patch(facecolor=REGIME_COLORS[c], edgecolor="0.4", lw=0.5, label=REGIME_NAMES[c])
                for c in CLASSES if c in present]
     # Under the map: the regime colours, then the lines and markers, filled column by column.
-    fig.legend(handles=patches + handles, loc="outside lower center", ncol=3, fontsize=7.5, handlelength=2.4,
+    fig.legend(handles=patches + handles, loc="outside lower center", ncol=3, fontsize="small", handlelength=2.4,
                columnspacing=1.0)
     finish_figure(fig, out_pdf, out_png)
 

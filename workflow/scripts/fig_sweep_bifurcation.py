@@ -22,7 +22,7 @@ import numpy as np
 
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.records import read_csv, read_json, split_floats, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
 # The analytic transitions drawn as dashed verticals (sweep_checks.json names) and their labels.
@@ -45,7 +45,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     alg1 = read_csv(alg1_csv)
     checks = {c["name"]: c for c in read_json(checks_json)["checks"]}
     located = located_gap(located_json)
-    fig, axes = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, sharey=True, layout="constrained")
+    fig, axes = plt.subplots(2, 1, figsize=figure_size(4.8), sharex=True, sharey=True, layout="constrained")
     xr, yr = _scatter(rnd)
     g = np.array([float(r["value"]) for r in alg1])
     v = np.array([float(r["velocity"]) if r["velocity"] else np.nan for r in alg1])
@@ -63,7 +63,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
                            label="analytic transitions" if name == ANALYTIC[0][0] else None)
                 if direction == "up":
                     ax.annotate(text, (checks[name]["analytic"], 1.0), xycoords=("data", "axes fraction"),
-                                xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=7.5,
+                                xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=ANNOTATION_SIZE,
                                 bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8))
         ax.set_ylabel("closing velocity $v/(x_{st}\\omega)$")
         ax.set_ylim(bottom=0.0)
@@ -71,7 +71,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     for x, text in ((stated_gap, "stated"), (located, "located")):
         right = x >= min(stated_gap, located) + 0.5 * abs(stated_gap - located)
         axes[0].annotate(f"{text} {x:g}", (x, 1.0), xycoords=("data", "axes fraction"), xytext=(2 if right else -2, 2),
-                         textcoords="offset points", ha="left" if right else "right", va="bottom", fontsize=7.5)
+                         textcoords="offset points", ha="left" if right else "right", va="bottom", fontsize=ANNOTATION_SIZE)
         for ax in axes:
             ax.axvline(x, color="C2", lw=0.7, ls="-.", label="stated and located cases" if text == "stated" else None)
     axes[1].set_xlabel("initial gap $\\Delta_0/x_{st}$")
@@ -80,7 +80,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     order = ["random starts", "upward sweep", "downward sweep", "Alg. No. 1 orbit", "same, gap $<0$ between impacts",
              "analytic transitions", "stated and located cases"]
     found = dict(zip(l0 + l1, h0 + h1))
-    fig.legend([found[k] for k in order], order, loc="outside upper center", ncol=4, markerscale=4, fontsize=7.5,
+    fig.legend([found[k] for k in order], order, loc="outside upper center", ncol=4, markerscale=4, fontsize="small",
                handlelength=2.0, columnspacing=0.8)
     finish_figure(fig, out_pdf, out_png)
 

@@ -20,11 +20,11 @@ from matplotlib.patches import Patch, Rectangle
 from impactdamper.studies import gapsweep as gs
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
 from impactdamper.reporting.records import read_csv, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
 
 SHORT = {"stuck": "S", "np": "np"}
 # Band labels (points): the figure is included at the text width, so this is the print size.
-LABEL_SIZE = 7.0
+LABEL_SIZE = ANNOTATION_SIZE
 # Least gap (points) between neighbouring labels of one row, and between a label and its band's edge.
 LABEL_PAD = 1.0
 # The zooms of the lower panels (Delta0/x_st): the periodic windows between chatter and the
@@ -107,15 +107,15 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     rnd = read_csv(random_csv)
     values = [float(r["value"]) for r in rows]
     n_random = len({r["start_index"] for r in rnd})
-    fig = plt.figure(figsize=(TEXT_WIDTH, 1.2 + 0.3 * (2 + n_random) + 0.45 * 2 + 0.9), layout="constrained")
+    fig = plt.figure(figsize=figure_size(1.2 + 0.3 * (2 + n_random) + 0.45 * 2 + 0.9), layout="constrained")
     grid = fig.add_gridspec(2, len(ZOOMS), height_ratios=[2 + n_random, 3], width_ratios=ZOOM_WIDTHS)
     top = fig.add_subplot(grid[0, :])
     zooms = [fig.add_subplot(grid[1, i]) for i in range(len(ZOOMS))]
     drawn = [(top, _panel(top, rows, rnd, (min(values), max(values)), True))]
-    top.set_title("whole sweep", fontsize=8, loc="left")
+    top.set_title("whole sweep", loc="left")
     for i, (ax, window) in enumerate(zip(zooms, ZOOMS)):
         drawn.append((ax, _panel(ax, rows, rnd, window, False)))
-        ax.set_title(f"zoom {'abc'[i]}", fontsize=8, loc="left")
+        ax.set_title(f"zoom {'abc'[i]}", loc="left")
         ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
         if i:
             ax.set_yticklabels([])
@@ -123,12 +123,12 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
         top.add_patch(Rectangle((window[0], -1.5 - n_random + 0.02), window[1] - window[0], 2 + n_random - 0.04,
                                 fill=False, ec="k", lw=0.8, zorder=5))
         top.annotate(f"zoom {'abc'[i]}", (0.5 * sum(window), 0.5), xytext=(0, 1), textcoords="offset points",
-                     ha="center", va="bottom", fontsize=8)
+                     ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
     top.set_xlabel("initial gap $\\Delta_0/x_{st}$")
     present = {gs.regime_of_label(r["label"]) for r in rows + rnd}
     fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=REGIME_NAMES[k])
                         for k, c in REGIME_COLORS.items() if k in present],
-               loc="outside lower center", ncol=3, fontsize=8)
+               loc="outside lower center", ncol=3)
     # Labels are fitted to their bands once the layout is final.
     fig.canvas.draw()
     fig.set_layout_engine("none")

@@ -16,7 +16,7 @@ Deviations: none (the paper has no such figure).
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import cell_float, read_csv, start_stage
 from impactdamper.core.linear import forced_amplitudes
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.analysis.transitions import object_alone_amplitude, rigid_amplitude
 
 
@@ -25,7 +25,7 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     p = parameters(reference)
     rows = read_csv(sweep_csv)
     rnd = read_csv(random_csv)
-    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 3.0), layout="constrained")
+    fig, ax = plt.subplots(figsize=figure_size(3.0), layout="constrained")
     ax.scatter([float(r["value"]) for r in rnd], [cell_float(r["x1_max"]) for r in rnd], s=1.5, color="0.7", lw=0,
                rasterized=True, label="random initial states")
     for direction, color, ls in (("up", "C0", "-"), ("down", "C1", "--")):
@@ -40,7 +40,7 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
     ax.set_ylabel("$\\max|x_1|/x_{st}$")
     ax.set_ylim(0.0, 1.12 * max(r[0] for r in refs))
-    ax.legend(loc="lower left", fontsize=7.5, ncol=2, markerscale=4)
+    ax.legend(loc="lower left", fontsize="small", ncol=2, markerscale=4)
     finish_figure(fig, out_pdf, out_png)
 
 

@@ -15,7 +15,7 @@ across runs.
 
 import math
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, TEXT_WIDTH, figure_size, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.studies.methods import METHODS
 
@@ -57,7 +57,7 @@ def _fineness(r: dict) -> float:
 def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None = None) -> None:
     plt = use_style()
     rows = load(in_csv)
-    fig, axes = plt.subplots(1, 2, figsize=(TEXT_WIDTH, 0.5 * TEXT_WIDTH), sharey=True, layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=figure_size(0.5 * TEXT_WIDTH), sharey=True, layout="constrained")
     for ax, (case, title) in zip(axes, PANELS):
         for fam, method in METHODS.items():
             label, (color, marker, ls) = method.plot_label, STYLE.get(fam, DEFAULT_STYLE)
@@ -84,7 +84,7 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
             labels.setdefault(lab, h)
     order = [m.plot_label for m in METHODS.values() if m.plot_label in labels]
     if siconos_available is False:
-        axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize="small",
+        axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize=ANNOTATION_SIZE,
                      ha="right")
     fig.legend([labels[k] for k in order], order, loc="outside lower center", ncols=4, fontsize="small")
     finish_figure(fig, out_stem)

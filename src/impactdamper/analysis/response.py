@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import scipy.optimize
@@ -363,7 +363,8 @@ def _differ(a: CycleMetrics, b: CycleMetrics, tol: float) -> bool:
 
 def frequency_response(p: Parameters, theta_start: float = 0.5, theta_stop: float = 1.5, points: int = 41, *,
                        settings: SweepSettings | None = None, hysteresis_tol: float = HYSTERESIS_TOL,
-                       progress: Callable[[str], None] | None = None) -> FrequencyResponse:
+                       progress: Callable[[str], None] | None = None,
+                       on_point: Callable[[], None] | None = None) -> FrequencyResponse:
     """Settled motion against theta, by an upward and a downward sweep, with its metrics.
 
     Parameters
@@ -380,6 +381,9 @@ def frequency_response(p: Parameters, theta_start: float = 0.5, theta_stop: floa
         Relative difference of max|x1| above which the two directions differ (> 0).
     progress : callable(str), optional
         Called with a one-line message after each direction and every ~10 % of the points.
+    on_point : callable(), optional
+        Called after each settled point of the two sweeps (``2 points`` calls in all), for a
+        progress bar (:mod:`impactdamper.reporting.progress`).
 
     Returns
     -------
@@ -398,7 +402,7 @@ def frequency_response(p: Parameters, theta_start: float = 0.5, theta_stop: floa
     if settings is not None and not isinstance(settings, SweepSettings):
         raise TypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings")
     with_value(p, "theta", thetas[0])  # an invalid combination fails here, named, before the sweep
-    sweep = two_way_sweep(p, "theta", thetas, settings=settings)
+    sweep = two_way_sweep(p, "theta", thetas, settings=settings, on_point=on_point)
     if progress is not None:
         progress(f"theta sweeps done ({len(thetas)} points each): up {sweep['cpu']['up']:.2f} s, "
                  f"down {sweep['cpu']['down']:.2f} s processor time")

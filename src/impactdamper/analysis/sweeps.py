@@ -20,7 +20,7 @@ import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
-from typing import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -105,13 +105,15 @@ def sweep(base: Parameters, parameter: str, values: Sequence[float], *, settings
 
 
 def _sweep_job(args):
-    base, parameter, values, settings, tag = args
+    base, parameter, values, settings, tag, on_point = args
     logger = logging.getLogger(__name__)
     n = len(values)
     every = max(n // 20, 1)
     t0 = time.perf_counter()
 
     def progress(i, n, point):
+        if on_point is not None:
+            on_point()
         if (i + 1) % every == 0 or i + 1 == n:
             logger.info("%s sweep: %d/%d points (%s = %.6g: %s), %.1f s", tag, i + 1, n, parameter,
                         point.value, point.label, time.perf_counter() - t0)
@@ -122,13 +124,17 @@ def _sweep_job(args):
 
 
 def two_way_sweep(base: Parameters, parameter: str, values: Sequence[float], *,
-                  settings: SweepSettings | None = None, processes: int = 1) -> dict[str, list[SweepPoint]]:
+                  settings: SweepSettings | None = None, processes: int = 1,
+                  on_point: Callable[[], None] | None = None) -> dict[str, list[SweepPoint]]:
     """Upward and downward sweeps over the sorted ``values``.
 
     Parameters
     ----------
     processes : int
         1: one after the other; 2: the two directions in parallel processes.
+    on_point : callable(), optional
+        Called after each settled point (``2 len(values)`` calls in all), for a progress bar;
+        only with ``processes`` = 1 (a parallel direction cannot call back).
 
     Returns
     -------
@@ -139,7 +145,8 @@ def two_way_sweep(base: Parameters, parameter: str, values: Sequence[float], *,
     """
     settings = settings or SweepSettings()
     values = sorted(float(v) for v in values)
-    jobs = [(base, parameter, values, settings, "up"), (base, parameter, values[::-1], settings, "down")]
+    tick = on_point if processes < 2 else None
+    jobs = [(base, parameter, values, settings, "up", tick), (base, parameter, values[::-1], settings, "down", tick)]
     if processes >= 2:
         with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("fork")) as pool:
             up, down = pool.map(_sweep_job, jobs)

@@ -148,7 +148,7 @@ class MPModel:
         e = mp.expj(self.omega * t)
         return mp.matrix([mp.im(self.Yhat[i] * e) for i in range(4)])
 
-    def segment(self, t0, y0) -> "MPSegment":
+    def segment(self, t0, y0) -> MPSegment:
         return MPSegment(self, t0, y0)
 
     def gap_of(self, y) -> mpmath.mpf:

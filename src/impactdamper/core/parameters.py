@@ -85,7 +85,7 @@ def integer_argument(name: str, value: object, low: int, high: int | None = None
     return n
 
 
-def require_parameters(p: object, name: str = "p") -> "Parameters":
+def require_parameters(p: object, name: str = "p") -> Parameters:
     """``p`` if it is a :class:`Parameters`, else an :class:`ArgumentTypeError` naming ``name``."""
     if not isinstance(p, Parameters):
         raise ArgumentTypeError(f"`{name}` = {_show(p)} is not allowed: must be a Parameters "
@@ -177,7 +177,7 @@ _EXTREME_BY_DEFAULT = tuple(s.name for s in PARAMETER_TABLE if not s.allowed.sta
 _RANGE_ORDER = ("> 0", ">= 0", "in [0, 1]")
 
 
-def most_extreme(p: "Parameters", names: tuple[str, ...] | None = None) -> str:
+def most_extreme(p: Parameters, names: tuple[str, ...] | None = None) -> str:
     """The parameter among ``names`` farthest (in decades) from the reference case's value: the
     one a message about a numerical limit names."""
     names = names or _EXTREME_BY_DEFAULT
@@ -325,7 +325,7 @@ class Parameters:
             m = self.m1 * (self.mu / (1.0 + self.mu))
         return m
 
-    def replace(self, **changes: float) -> "Parameters":
+    def replace(self, **changes: float) -> Parameters:
         """A copy with some relative parameters changed (validated like the constructor)."""
         unknown = set(changes) - set(self.names())
         if unknown:
@@ -338,7 +338,7 @@ class Parameters:
         solver works in these units (else the entry points rescale, see :meth:`canonical`)."""
         return all(lo <= getattr(self, name) <= hi for name, (lo, hi) in NATIVE_SCALES.items())
 
-    def canonical(self) -> "Parameters":
+    def canonical(self) -> Parameters:
         """The same relative problem with the reference case's free scales (x_st = 1 m,
         m1 = 1 kg, omega = 10 rad/s): results in relative units are the same."""
         return self.replace(**CANONICAL_SCALES)

@@ -104,7 +104,7 @@ def check_gap_tol(gap_tol: object) -> float:
     return Tolerances(gap_tol=gap_tol).gap_tol
 
 
-def check_tolerances(tolerances: object) -> "Tolerances":
+def check_tolerances(tolerances: object) -> Tolerances:
     """``tolerances`` if it is a Tolerances, the defaults for None, else an error naming it."""
     if tolerances is None:
         return Tolerances()

@@ -11,11 +11,16 @@ from __future__ import annotations
 from pathlib import Path
 
 STYLE_FILE = Path(__file__).with_name("paper.mplstyle")
-# Text width of the report in inches (article class, 1 in margins on A4 would be 6.27 in).
+# Text width of the report in inches (article class, 1 in margins on A4 would be 6.27 in): the
+# style's figure width (figure.figsize), so that every figure is printed at its own size.
 TEXT_WIDTH = 6.3
+# Text on the plot itself (notes at curves and points, labels on regions and bands): matplotlib's
+# relative size "small", 0.833 of the style's font.size (9 pt: 7.5 pt printed), so that the
+# style alone sets every text size. Titles, legends and ticks take the style's own sizes.
+ANNOTATION_SIZE = "small"
 
-__all__ = ["use_style", "save_figure", "finish_figure", "STYLE_FILE", "TEXT_WIDTH", "CASE_LABELS", "REGIME_COLORS",
-           "REGIME_TEXT", "REGIME_NAMES"]
+__all__ = ["use_style", "save_figure", "finish_figure", "figure_size", "STYLE_FILE", "TEXT_WIDTH", "ANNOTATION_SIZE",
+           "CASE_LABELS", "REGIME_COLORS", "REGIME_TEXT", "REGIME_NAMES"]
 
 # One colour per regime class in every sweep and map figure (labels z/k are written on them).
 # Chosen so that classes that border each other stay apart in print, in greyscale and for
@@ -56,6 +61,13 @@ def use_style(backend: str | None = "Agg"):
 
     plt.style.use(str(STYLE_FILE))
     return plt
+
+
+def figure_size(height: float) -> tuple[float, float]:
+    """``figsize`` of a figure ``height`` inches high at the style's width (the report's text
+    width, :data:`TEXT_WIDTH`): figures are included at 100 %, so their fonts print at the
+    style's sizes."""
+    return (TEXT_WIDTH, float(height))
 
 
 def save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -> list[Path]:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.compiled import steady_state_compiled

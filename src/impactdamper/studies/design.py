@@ -30,12 +30,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 import scipy.optimize
 
-from impactdamper.analysis.response import FrequencyResponse, frequency_response, theta_grid
+from impactdamper.analysis.response import frequency_response, theta_grid
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
