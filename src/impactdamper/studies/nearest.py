@@ -44,7 +44,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from decimal import Decimal
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 

@@ -134,7 +134,7 @@ def np_only_labels(rows: list[dict]) -> list[str]:
     down = {float(r["value"]): r["label"] for r in rows if r["direction"] == "down"}
     values = sorted(set(up) & set(down))
     out = []
-    for key, a, b, n in runs(values, [f"{up[v]}|{down[v]}" for v in values]):
+    for key, _a, _b, n in runs(values, [f"{up[v]}|{down[v]}" for v in values]):
         u, d = key.split("|")
         if n >= 2 and (u == "np") != (d == "np"):
             lab = d if u == "np" else u
