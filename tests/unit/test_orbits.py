@@ -20,7 +20,7 @@ from impactdamper.cli import main
 from impactdamper.core.model import Model
 from impactdamper.analysis.orbits import stable_algorithm1_orbit
 from impactdamper.analysis.shooting import Shooting
-from impactdamper.core.strobe import stroboscopic_jacobian, stroboscopic_map
+from impactdamper.analysis.strobe import stroboscopic_jacobian, stroboscopic_map
 
 REF = idp.Parameters()
 # Relative state scale (x_st, x_st, x_st omega, x_st omega).

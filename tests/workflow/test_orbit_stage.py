@@ -24,7 +24,7 @@ import pytest
 import yaml
 
 import impactdamper as idp
-from impactdamper.core.strobe import stroboscopic_jacobian
+from impactdamper.analysis.strobe import stroboscopic_jacobian
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "workflow" / "scripts"

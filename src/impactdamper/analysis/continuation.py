@@ -31,7 +31,7 @@ from impactdamper.analysis.orbits import PeriodicOrbit, flight_scan, orbit_from_
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
 from impactdamper.core.parameters import Parameters, ScaleMap, finite_argument, integer_argument
 from impactdamper.core.simulate import Tolerances, check_tolerances
-from impactdamper.core.strobe import state_scale
+from impactdamper.core.parameters import state_scale
 
 __all__ = [
     "continue_orbit",

@@ -24,7 +24,7 @@ Stability
 The Floquet multipliers are the eigenvalues of the monodromy matrix of exact flows and
 saltation matrices (:func:`impactdamper.analysis.shooting.monodromy_matrix`); the orbit is
 stable when every multiplier has modulus < 1.
-:func:`impactdamper.core.strobe.stroboscopic_jacobian` is the independent check: the
+:func:`impactdamper.analysis.strobe.stroboscopic_jacobian` is the independent check: the
 finite-difference Jacobian of the map y(t_s) -> y(t_s + k T) computed with the event-driven
 solver.
 

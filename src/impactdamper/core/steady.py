@@ -31,10 +31,9 @@ import scipy.optimize
 
 from impactdamper.core.model import STUCK
 from impactdamper.core.parameters import (Parameters, ScaleMap, finite_argument, integer_argument, real_argument,
-                                         require_parameters)
+                                         require_parameters, state_scale)
 from impactdamper.core.simulate import (EventDrivenSolver, Tolerances, Trajectory, check_state, check_tolerances,
                                        rescale_trajectory)
-from impactdamper.core.strobe import state_scale
 
 __all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES", "describe_cycle", "max_excursion", "rescale_steady",
            "section_of", "start_in_first_period", "check_settle_options", "describe_run"]
@@ -104,6 +103,14 @@ class SteadyState:
         modulo T into [0, T)).
     sections : ndarray, shape (periods, 4)
         States (x1, x2, x1', x2') there (the transient's record).
+    method : str
+        How it was found: ``simulation`` (Algorithm No. 2 until the motion repeats) or
+        ``algorithm1`` (Algorithm No. 1's closed-form orbit, a stable attractor; no transient).
+    backend : str
+        What computed it: ``python`` (this reference) or ``compiled`` (the numba kernels).
+    fallback : str
+        "" unless another backend was asked for: then why the Python reference ran instead
+        (``matrix_exponential``, ``scales``, ``error``, ``numba_unavailable``).
     """
 
     p: Parameters = field(repr=False)
@@ -119,6 +126,9 @@ class SteadyState:
     trajectory: Trajectory = field(repr=False)
     section_times: np.ndarray = field(default=None, repr=False)
     sections: np.ndarray = field(default=None, repr=False)
+    method: str = "simulation"
+    backend: str = "python"
+    fallback: str = ""
 
     @property
     def impacts_per_cycle(self) -> int:

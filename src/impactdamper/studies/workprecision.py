@@ -50,7 +50,7 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.baselines.ivp import METHODS as IVP_METHODS
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.baselines.rk4 import simulate_rk4
-from impactdamper.core.parameters import Parameters
+from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.baselines.siconos_bridge import siconos_status, simulate_siconos
 from impactdamper.core.simulate import Tolerances, default_initial_state, simulate
 
@@ -95,8 +95,7 @@ class Reference:
 
     @property
     def scale(self) -> np.ndarray:
-        p = self.p
-        return np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+        return state_scale(self.p)
 
     def to_dict(self) -> dict:
         return {"case": self.case, "t0": self.t0, "t_end": self.t_end, "state": self.state.tolist(),
