@@ -412,7 +412,7 @@ def test_output_to_a_closed_pipe_or_a_full_disk_is_one_line():
     (lambda: idp.steady_state(REF, settle_tol="1e-10"), "settle_tol", TypeError),
     (lambda: idp.steady_state(REF, state="0 0 0 0"), "state", TypeError),
     (lambda: idp.steady_state(REF, state=[1e300, 0, 0, 0]), "state", ValueError),
-    (lambda: idp.steady_state_auto(REF, max_period=3), "max_period", TypeError),
+    (lambda: idp.steady_state(REF, backend="numba"), "backend", ValueError),
     (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=math.nan), "gap_tol", ValueError),
     (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=10.0), "gap_tol", ValueError),
     (lambda: idp.algorithm1(REF, gap_tol="1e-12"), "gap_tol", TypeError),

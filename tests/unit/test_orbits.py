@@ -320,7 +320,7 @@ def test_continuation_in_another_parameter_matches_direct_solves(single):
 # --- the cheap steady state -------------------------------------------------------------
 def test_steady_state_auto_uses_algorithm1_when_it_can(single):
     s = idp.steady_state(REF)
-    a = idp.steady_state_auto(REF)
+    a = idp.steady_state(REF, attractor=True)
     assert isinstance(a, idp.PeriodicOrbit) and a.periods == 0 and a.seed == "alg1"
     assert not isinstance(s, idp.PeriodicOrbit)  # steady_state itself is unchanged
     assert a.impacts[0].phase == pytest.approx(s.impacts[0].phase, abs=1e-9)
@@ -329,7 +329,7 @@ def test_steady_state_auto_uses_algorithm1_when_it_can(single):
 
 
 def test_steady_state_auto_falls_back_when_algorithm1_is_not_admissible(steady10):
-    a = idp.steady_state_auto(REF.replace(gap=-10.0))
+    a = idp.steady_state(REF.replace(gap=-10.0), attractor=True, backend="python")
     assert not isinstance(a, idp.PeriodicOrbit)
     assert (a.regime, a.period_multiple, a.impacts_per_cycle) == ("multi_impact", 2, 3)
     assert a.impacts[0].phase == steady10.impacts[0].phase

@@ -269,7 +269,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
     value and fails at the outer one (recomputed, by the compiled solver that bisected them),
     and the brackets meet the tolerance. Where the pure-Python solver was run at the same values
     (the record's reference check), the two never settled on different cycles."""
-    from impactdamper.core.compiled import steady_state_compiled
+    from impactdamper import steady_state
     from impactdamper.studies.claims import claim_a, claim_b
 
     cfg = _config()
@@ -289,7 +289,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
                     for x, expected in ((x_in, True), (x_out, False)):
                         p = base.replace(**{name: x})
                         got = (claim_a(rep.run_alg1(p, cfg["solver"])) if claim == "a"
-                               else claim_b(steady_state_compiled(p, **rep.solver_options(cfg["solver"]))))
+                               else claim_b(steady_state(p, **rep.solver_options(cfg["solver"]), backend="compiled")))
                         assert got == expected, (name, claim, side, x)
                     checked += 1
     assert checked >= 6

@@ -440,7 +440,7 @@ def warm_up() -> float:
     """
     t = time.perf_counter()
     p = Parameters()
-    cc.steady_state_compiled(p, max_periods=40)
+    cc.steady_state_full(p, max_periods=40)
     settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
     random_starts_batch(p, "gap", [-5.8], 1, 0)
     cc.simulate_compiled(p, 2 * p.T)

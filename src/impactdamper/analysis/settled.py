@@ -74,6 +74,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -320,7 +321,11 @@ def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
     ------
     TypeError
         A keyword that :func:`steady_state` does not take, named.
+
+    .. deprecated:: use ``impactdamper.steady_state(p, attractor=True)``.
     """
+    warnings.warn("steady_state_auto is deprecated: use impactdamper.steady_state(p, attractor=True)",
+                  DeprecationWarning, stacklevel=2)
     p = require_parameters(p)
     unknown = sorted(set(kwargs) - set(STEADY_KEYWORDS))
     if unknown:

@@ -15,6 +15,7 @@ The workflow's reference stage (``workflow/scripts/solve_case.py``, ``crosscheck
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +24,6 @@ import scipy.optimize
 
 from impactdamper import Parameters, Tolerances, algorithm1, steady_state
 from impactdamper.baselines.ivp import simulate_ivp
-from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import state_scale
 from impactdamper.studies.claims import (CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b,
@@ -300,14 +300,16 @@ def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
 
 
 def run_steady(p: Parameters, solver: dict, **kw):
-    """:func:`impactdamper.steady_state` with the config's solver options."""
+    """:func:`impactdamper.steady_state` (the front door, its default backend: compiled) with the
+    config's solver options."""
     return steady_state(p, **solver_options(solver), **kw)
 
 
 def run_steady_compiled(p: Parameters, solver: dict):
-    """:func:`run_steady` by the compiled solver (its regime, k and z:
-    :func:`~impactdamper.core.compiled.steady_state_compiled`), for grids and bisections."""
-    return steady_state_compiled(p, **solver_options(solver))
+    """Deprecated: :func:`run_steady` (:func:`impactdamper.steady_state`, compiled by default)."""
+    warnings.warn("run_steady_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled') "
+                  "(run_steady does)", DeprecationWarning, stacklevel=2)
+    return steady_state(p, **solver_options(solver), backend="compiled")
 
 
 def run_alg1(p: Parameters, solver: dict):

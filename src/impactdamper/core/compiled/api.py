@@ -9,6 +9,7 @@ stop on an error, the reference runs instead, and the result says so.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -267,7 +268,12 @@ def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray |
     ------
     TypeError, ValueError, SearchLimitError
         As :func:`~impactdamper.core.steady.steady_state`.
+
+    .. deprecated:: use ``impactdamper.steady_state(p, backend="compiled")`` (a full
+       :class:`~impactdamper.core.steady.SteadyState` in about the same time).
     """
+    warnings.warn("steady_state_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled')",
+                  DeprecationWarning, stacklevel=2)
     p = require_parameters(p)
     tol = check_tolerances(tolerances)
     t0 = finite_argument("t0", t0)
