@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.optimize
 
 from impactdamper.analysis.orbits import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
@@ -464,6 +463,7 @@ def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: 
         return v
 
     try:
+        import scipy.optimize  # (loaded on first use: the package import stays light)
         s_star = scipy.optimize.brentq(g, 0.0, h, xtol=1e-13 * max(1.0, h), rtol=4 * np.finfo(float).eps,
                                        maxiter=100)
         if s_star not in cache:

@@ -25,9 +25,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
-import mpmath
 import numpy as np
-import scipy.optimize
 
 from impactdamper.core.model import STUCK
 from impactdamper.core.parameters import (Parameters, ScaleMap, finite_argument, integer_argument, real_argument,
@@ -199,6 +197,7 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
     if 0.0 <= t0 < p.T:
         return t0
     bits = max(math.frexp(p.omega)[1] + math.frexp(t0)[1], 0) + 96
+    import mpmath  # (only for a t0 outside the first period: loaded then)
     with mpmath.workprec(bits):
         cycles = mpmath.mpf(p.omega) * mpmath.mpf(t0) / (2 * mpmath.pi)
         fraction = float(cycles - mpmath.floor(cycles))
@@ -579,6 +578,7 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
     seg = traj.segments[k][1]
     seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
     lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
+    import scipy.optimize  # (loaded on first use: the package import stays light)
     res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
                                          method="bounded", options={"xatol": 1e-12 * p.T})
     best = max(float(x1[i]), -float(res.fun))
@@ -594,6 +594,7 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
         seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
         lo, hi = max(lo, seg.t0), min(hi, seg_end)
         if hi > lo:
+            import scipy.optimize  # (loaded on first use: the package import stays light)
             res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
                                                  method="bounded", options={"xatol": 1e-12 * p.T})
             best = max(best, -float(res.fun))
