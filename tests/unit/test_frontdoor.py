@@ -148,3 +148,15 @@ def test_old_names_warn_and_name_the_new_call():
     with pytest.warns(DeprecationWarning, match="use impactdamper.steady_state"):
         steady_state_compiled(p, max_periods=300)
     assert run_steady_compiled is not None
+
+
+def test_a_motion_beyond_the_work_bound_goes_to_the_reference():
+    """The kernels are not tried where the free motion is faster than the work bound allows
+    (they ran without end there); the reference raises its named error at once."""
+    from impactdamper.core.events import SearchLimitError
+
+    p = idp.Parameters(delta1=1e6, delta2=1e6)
+    with pytest.raises(SearchLimitError, match="^`delta1` = 1000000.0 is beyond what the solver resolves"):
+        idp.steady_state(p)
+    with pytest.raises(SearchLimitError, match="^`delta1`"):
+        idp.simulate(p, p.T)

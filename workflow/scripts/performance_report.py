@@ -93,7 +93,10 @@ def compiled_speed(cs: dict) -> dict:
                        "at_most": True}
     for v in out.values():
         v["met"] = met(v["value"], v["target"], v["at_most"])
-    out["map"] = {"grid": m["grid"], "workers": m["workers"], "rescue": m["rescue"], "cpu_s": json_float(m["cpu_total_min_s"])}
+    out["map"] = {"grid": m["grid"], "workers": m["workers"], "rescue": m["rescue"], "cpu_s": json_float(m["cpu_total_min_s"]),
+                  "nonperiodic_share": json_float(m["nonperiodic_share"]),
+                  "nonperiodic_share_rescued": json_float(m["nonperiodic_share_rescued"]),
+                  "rescue_cpu_s": json_float(m["rescue_run"]["cpu_s"])}
     out["first_speedup_packed_once"] = json_float(f10["speedup_vs_dop853_packed_once"])
     out["public_steady_python"] = json_float(fd["steady_state"]["python"]["wall_median_s"])
     out["batch_points"] = fd["batch"]["points"]
@@ -252,6 +255,9 @@ def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
     add("PerfCompiledMapCells", rf"{c['map']['grid'][0]}~$\times$~{c['map']['grid'][1]}")
     add("PerfCompiledMapWorkers", c["map"]["workers"])
     add("PerfCompiledMapCpu", tex_time(c["map"]["cpu_s"]))
+    add("PerfCompiledMapNonperiodic", f"{100 * c['map']['nonperiodic_share']:.1f}\\,\\%")
+    add("PerfCompiledMapNonperiodicRescued", f"{100 * c['map']['nonperiodic_share_rescued']:.1f}\\,\\%")
+    add("PerfCompiledMapRescueCpu", tex_time(c["map"]["rescue_cpu_s"]))
     add("PerfCompiledCompileTime", tex_time(c["compile_seconds"]))
     add("PerfCompiledCacheLoad", tex_time(c["cache_load_seconds"]))
     return lines

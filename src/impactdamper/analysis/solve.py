@@ -15,8 +15,8 @@ Each takes ``backend``:
   and the other side of the equivalence tests (``tests/unit/test_compiled.py``);
 * ``"compiled"`` -- the same algorithm in numba (:mod:`impactdamper.core.compiled`), 20-50 times
   faster; where the kernels do not apply (repeated roots of eq. (4), free scales outside the
-  native range) or stop on an error, the reference runs instead and the result's ``fallback``
-  says why;
+  native range, a free motion beyond the event search's work bound) or stop on an error, the
+  reference runs instead and the result's ``fallback`` says why;
 * ``"auto"`` (default) -- ``compiled`` where numba can be imported, else ``python`` (fallback
   ``numba_unavailable``).
 
@@ -30,22 +30,32 @@ rounding of the arithmetic, see the tests); the result names the backend (``back
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Sequence
 
 import numpy as np
 
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
-from impactdamper.core.simulate import Tolerances, Trajectory
+from impactdamper.core.linear import characteristic_roots
+from impactdamper.core.simulate import STEPS_PER_PERIOD, Tolerances, Trajectory
 from impactdamper.core.simulate import simulate as simulate_python
 from impactdamper.core.steady import SteadyState
 from impactdamper.core.steady import steady_state as steady_state_python
 
-__all__ = ["BACKENDS", "simulate", "steady_state", "steady_states", "resolve_backend", "deprecated_alias"]
+__all__ = ["BACKENDS", "simulate", "steady_state", "steady_states", "resolve_backend"]
 
 # The values of every front-door call's ``backend``.
 BACKENDS = ("auto", "compiled", "python")
 # Why ``auto`` ran the reference: numba (a dependency) could not be imported.
 NUMBA_UNAVAILABLE = "numba_unavailable"
+# A free motion faster than this many omega cannot be followed within the event search's work
+# bound: a certified step is at most of the order of the fastest time scale 1/|lambda|, so a
+# forcing period takes more than 2 pi |lambda|/omega steps, beyond STEPS_PER_PERIOD. There the
+# reference raises its named work-bound error at once, while the kernels ran without end (delta1
+# = delta2 = 1e6, theta = 1e-9: tests/unit/test_hardening.py); such parameters go to the reference.
+MAX_RATE = STEPS_PER_PERIOD / (2 * math.pi)
+# Why: the free motion is beyond the work bound (see MAX_RATE).
+BEYOND_WORK_BOUND = "work_bound"
 
 
 def resolve_backend(backend: object) -> tuple[str, str]:
@@ -67,6 +77,14 @@ def resolve_backend(backend: object) -> tuple[str, str]:
     except ImportError:
         return "python", NUMBA_UNAVAILABLE
     return "compiled", ""
+
+
+def _kernels_refuse(p: Parameters) -> str:
+    """Why the kernels are not tried at ``p`` ("" where they are): a free motion beyond the
+    work bound (:data:`MAX_RATE`)."""
+    with np.errstate(all="ignore"):
+        rate = float(np.max(np.abs(characteristic_roots(p)))) / p.omega
+    return BEYOND_WORK_BOUND if not rate <= MAX_RATE else ""
 
 
 def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
@@ -97,6 +115,10 @@ def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | N
         A bad argument or a work bound, named (as :func:`impactdamper.core.simulate.simulate`).
     """
     run, why = resolve_backend(backend)
+    if run == "compiled":
+        p = require_parameters(p)
+        why = _kernels_refuse(p)
+        run = "python" if why else run
     if run == "python":
         traj = simulate_python(p, t_end, t0, state, tolerances)
         traj.fallback = why
@@ -145,6 +167,10 @@ def steady_state(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = N
         raise ArgumentTypeError(f"`attractor` = {attractor!r} is not allowed: must be True or False")
     kwargs = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
                   max_period_multiple=max_period_multiple)
+    if run == "compiled":
+        p = require_parameters(p)
+        why = _kernels_refuse(p)
+        run = "python" if why else run
     if attractor:
         orbit = _algorithm1_attractor(p, tolerances)
         if orbit is not None:
@@ -221,16 +247,3 @@ def steady_states(base: Parameters, names: Sequence[str], values, *, settings=No
         res.fallback[:] = why
     return res
 
-
-def deprecated_alias(old: str, new: str, function):
-    """``function`` under its old public name ``old``: a thin alias that warns
-    (DeprecationWarning naming ``new``, the call to use) and then calls it."""
-    import functools
-    import warnings
-
-    @functools.wraps(function)
-    def alias(*args, **kwargs):
-        warnings.warn(f"{old} is deprecated: use {new}", DeprecationWarning, stacklevel=2)
-        return function(*args, **kwargs)
-    alias.__doc__ = f"Deprecated: use {new}.\n\n" + (function.__doc__ or "")
-    return alias
