@@ -82,11 +82,11 @@ def run(repeats: int, ivp_repeats: int, tail: int) -> dict:
         raise SystemExit("Algorithm No. 1's orbit is not admissible at the reference case: no tight reference")
     reference = alg1.impact_phase
 
-    exact_median, exact_times, exact_wall, steady = _timed(lambda: idp.steady_state(p), repeats)
+    exact_median, exact_times, exact_wall, steady = _timed(lambda: idp.steady_state(p, backend="python"), repeats)
     k = max(steady.period_multiple, 1)
     # steady_state runs n periods until settled and then one cycle plus one period more.
     t_span = (steady.periods + k + 1) * T
-    sim_median, sim_times, sim_wall, traj = _timed(lambda: idp.simulate(p, t_span), repeats)
+    sim_median, sim_times, sim_wall, traj = _timed(lambda: idp.simulate(p, t_span, backend="python"), repeats)
     t_tail = t_span - tail * T
 
     out = {
@@ -116,7 +116,7 @@ def run(repeats: int, ivp_repeats: int, tail: int) -> dict:
     # follow it for ORBIT_PERIODS periods; every impact should fall on the closed-form phase.
     t_imp, after = alg1.t_impact, alg1.state_after
     t_orbit = t_imp + (ORBIT_PERIODS + 0.5) * T
-    orbit = idp.simulate(p, t_orbit, t0=t_imp, state=after)
+    orbit = idp.simulate(p, t_orbit, t0=t_imp, state=after, backend="python")
     err, n = _tail_phase_error(orbit.impacts(), t_imp + 0.5 * T, T, reference)
     out["exact"]["orbit_max_phase_error"], out["exact"]["orbit_impacts"] = err, n
 

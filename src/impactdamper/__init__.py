@@ -10,19 +10,23 @@ Public API
 Parameters          the paper's relative parameters (defaults: the reference case of Fig. 2)
 algorithm1(p)       Algorithm No. 1, the closed-form one-impact orbit, eqs. (7)-(17)
 simulate(p, t_end)  Algorithm No. 2 with the exact flow, contact modes and grazing
-steady_state(p)     the settled motion: period, impacts, regime
-steady_state_auto(p) the same, Algorithm No. 1's orbit where it is an attractor (no transient)
+steady_state(p)     the settled motion: period, impacts, regime (attractor=True: Algorithm No. 1's
+                    orbit where it is an attractor, no transient)
+steady_states(base, names, values)  settled motions at many points: sweeps, grids, map rows,
+                    random starts
+                    (each with backend="auto" | "compiled" | "python"; see analysis/solve.py)
 solve_orbit(p)      a periodic cycle solved directly: admissibility, Floquet multipliers
 continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings, grazing
 """
 
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1
 from impactdamper.core.parameters import REFERENCE, Parameters
-from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state, simulate
-from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, steady_state
+from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state
+from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
 from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
 from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
 from impactdamper.analysis.settled import steady_state_auto
+from impactdamper.analysis.solve import BACKENDS, simulate, steady_state, steady_states
 
 __version__ = "0.1.0"
 
@@ -38,6 +42,8 @@ __all__ = [
     "Tolerances",
     "default_initial_state",
     "steady_state",
+    "steady_states",
+    "BACKENDS",
     "SteadyState",
     "CycleImpact",
     "REGIMES",

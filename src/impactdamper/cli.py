@@ -26,7 +26,7 @@ from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
-from impactdamper.core.steady import steady_state
+from impactdamper.analysis.solve import BACKENDS, steady_state
 from impactdamper.reporting.progress import progress_bar
 from impactdamper.reporting.records import clean
 
@@ -93,6 +93,9 @@ def build_parser() -> argparse.ArgumentParser:
     steady = sub.add_parser("steady", help="settled motion by Algorithm No. 2 (event-driven, exact flow)")
     add_parameters(steady)
     add_solver_flags(steady.add_argument_group("solver"))
+    steady.add_argument("--backend", choices=BACKENDS, default="auto",
+                        help="compiled (numba), python (the readable reference) or auto: compiled where numba "
+                             "imports (default); the JSON says which ran ('backend', 'fallback')")
 
     alg1 = sub.add_parser("alg1", help="Algorithm No. 1: closed-form one-impact orbit")
     add_parameters(alg1)
@@ -235,7 +238,8 @@ def main(argv: list[str] | None = None) -> int:
             if args.command == "orbit":
                 result = solve_orbit(p, args.seed, period_multiple=args.period_multiple, **solver).to_dict()
             else:
-                result = steady_state(p, **solver).to_dict()
+                s = steady_state(p, **solver, backend=args.backend)
+                result = {**s.to_dict(), "method": s.method, "backend": s.backend, "fallback": s.fallback}
     except OrbitError as err:  # Newton failed, or Algorithm No. 1 has no orbit: not a usage error
         print(f"{sub.prog}: {' '.join(str(err).split())}", file=sys.stderr)
         return 1

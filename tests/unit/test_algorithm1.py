@@ -125,7 +125,7 @@ def test_algorithms_1_and_2_agree_where_alg1_is_admissible(theta, gap_value):
     p = REF.replace(theta=theta, gap=gap_value)
     r = idp.algorithm1(p)
     assert r.admissible
-    s = idp.steady_state(p)  # from Algorithm No. 2's step 1
+    s = idp.steady_state(p, backend="python")  # from Algorithm No. 2's step 1
     assert (s.regime, s.period_multiple, s.impacts_per_cycle) == ("single_impact", 1, 1)
     (imp,) = s.impacts
     assert abs(phase_difference(imp.phase, r.impact_phase)) <= 1e-9
@@ -140,11 +140,11 @@ def test_admissible_but_unstable_orbit_is_not_the_settled_motion():
     p = REF.replace(theta=1.2, gap=2.0)
     r = idp.algorithm1(p)
     assert r.admissible
-    traj = idp.simulate(p, r.t_impact + 2.5 * p.T, t0=r.t_impact, state=r.state_after)
+    traj = idp.simulate(p, r.t_impact + 2.5 * p.T, t0=r.t_impact, state=r.state_after, backend="python")
     first = traj.impacts(r.t_impact + 0.5 * p.T)[:2]
     for k, e in enumerate(first, start=1):  # the orbit itself repeats to rounding at first
         assert e.t == pytest.approx(r.t_impact + k * p.T, abs=1e-9 * p.T)
-    s = idp.steady_state(p)
+    s = idp.steady_state(p, backend="python")
     assert (s.regime, s.period_multiple) == ("multi_impact", 2)
 
 
@@ -158,14 +158,14 @@ def test_onset_of_alg1_crossing_inside_and_outside():
     inside = REF.replace(gap=gc + 1e-6)
     r = idp.algorithm1(inside)
     assert r.admissible and 0 < r.min_gap < 1e-5
-    s = idp.steady_state(inside, t0=r.t_impact, state=r.state_after)
+    s = idp.steady_state(inside, t0=r.t_impact, state=r.state_after, backend="python")
     assert s.regime == "single_impact"
     assert abs(phase_difference(s.impacts[0].phase, r.impact_phase)) <= 1e-9
 
     outside = REF.replace(gap=gc - 1e-6)
     r = idp.algorithm1(outside)
     assert r.exists and not r.admissible and -1e-5 < r.min_gap < 0
-    traj = idp.simulate(outside, r.t_impact + 0.9 * outside.T, t0=r.t_impact, state=r.state_after)
+    traj = idp.simulate(outside, r.t_impact + 0.9 * outside.T, t0=r.t_impact, state=r.state_after, backend="python")
     (graze,) = traj.impacts()  # the orbit's minimum now dips below the stop: one extra impact
     t_graze = (graze.t - r.t_impact) / outside.T
     (a, b), = r.negative_gap_intervals
@@ -175,7 +175,7 @@ def test_onset_of_alg1_crossing_inside_and_outside():
     acc = free_rhs(outside)(r.t_impact + r.t_min_gap * outside.T, y)
     v_expected = math.sqrt(2 * abs(acc[2] - acc[3]) * abs(r.min_gap) * outside.x_st)
     assert graze.velocity == pytest.approx(v_expected, rel=1e-2)
-    s = idp.steady_state(outside, t0=r.t_impact, state=r.state_after)
+    s = idp.steady_state(outside, t0=r.t_impact, state=r.state_after, backend="python")
     assert s.regime != "single_impact"
 
 
@@ -198,6 +198,6 @@ def test_repeated_roots_use_the_matrix_form():
     assert not free_mode(p).modal
     r = idp.algorithm1(p)
     assert r.admissible
-    s = idp.steady_state(p)
+    s = idp.steady_state(p, backend="python")
     assert s.regime == "single_impact"
     assert abs(phase_difference(s.impacts[0].phase, r.impact_phase)) <= 1e-9

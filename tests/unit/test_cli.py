@@ -37,7 +37,9 @@ def test_steady_json_at_the_reference_gap():
     assert imp["velocity"] == pytest.approx(r.velocity, rel=1e-8)
     assert imp["impulse"] == pytest.approx(r.S, rel=1e-8)
     assert d["contact_fraction"] == 0.0 and d["x1_max"] == pytest.approx(5.5619, abs=1e-4)
-    assert d == json.loads(json.dumps(idp.steady_state(idp.Parameters()).to_dict()))  # same as the API
+    s = idp.steady_state(idp.Parameters())  # the same call as the API's, its default backend
+    assert (d["method"], d["backend"], d["fallback"]) == (s.method, s.backend, s.fallback) == ("simulation", "compiled", "")
+    assert d == json.loads(json.dumps({**s.to_dict(), "method": s.method, "backend": s.backend, "fallback": s.fallback}))
 
 
 def test_steady_json_multi_impact_and_parameters_echoed():

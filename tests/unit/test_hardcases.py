@@ -63,7 +63,7 @@ def test_repeated_roots_case_has_a_double_root():
 def test_grazing_starts_lie_on_their_orbits():
     p = CASES["grazing_no_contact"].parameters()
     t0, y0 = CASES["grazing_no_contact"].initial(p)
-    model = idp.simulate(p, p.T, t0=t0, state=y0).model
+    model = idp.simulate(p, p.T, t0=t0, state=y0, backend="python").model
     # on the forced response, the gap's minimum over a period is zero (the threshold)
     ts = np.linspace(0.0, p.T, 20001)
     gap = model.gap_of(model.free.forced(ts))
@@ -124,7 +124,7 @@ def test_references_are_the_independent_ones(results):
 
 # --- the checks catch violations --------------------------------------------------------------
 def _reference_trajectory():
-    return idp.simulate(REF, 2 * REF.T)
+    return idp.simulate(REF, 2 * REF.T, backend="python")
 
 
 def test_gap_check_catches_an_overlap():
@@ -177,8 +177,8 @@ def test_ivp_comparison_catches_a_different_motion():
     ok, info = hc.compare_with_ivp(REF, 0.0, None, 1.5 * REF.T)
     assert ok and info["event_time_diff"] < hc.IVP_TIME_TOL
     # a different restitution changes the motion: the comparison of the two must fail
-    exact = idp.simulate(REF, 1.5 * REF.T)
-    other = idp.simulate(REF.replace(R=0.69), 1.5 * REF.T)
+    exact = idp.simulate(REF, 1.5 * REF.T, backend="python")
+    other = idp.simulate(REF.replace(R=0.69), 1.5 * REF.T, backend="python")
     assert [e.kind for e in exact.events] != [e.kind for e in other.events] or max(
         abs(a.t - b.t) for a, b in zip(exact.events, other.events)) / REF.T > hc.IVP_TIME_TOL
 
@@ -195,7 +195,7 @@ def test_a_hang_becomes_a_failed_case(monkeypatch):
 
 
 def test_free_segments_only_are_gap_checked():
-    traj = idp.simulate(REF.replace(gap=-13.0), 2 * REF.T)  # chatter: stuck segments too
+    traj = idp.simulate(REF.replace(gap=-13.0), 2 * REF.T, backend="python")  # chatter: stuck segments too
     modes = {m for m, _ in traj.segments}
     assert modes == {FREE, "stuck"}
     assert hc.check_gap_nonnegative(traj, 2 * REF.T)[0]

@@ -196,7 +196,7 @@ def test_steady_state_classifies_or_names_the_problem(data):
 
     def call():
         rest = {k: v for k, v in kwargs.items() if k != "gap_tol"}
-        return idp.steady_state(p, tolerances=idp.Tolerances(gap_tol=kwargs["gap_tol"]), **rest)
+        return idp.steady_state(p, tolerances=idp.Tolerances(gap_tol=kwargs["gap_tol"]), **rest, backend="python")
 
     with small_work_bound():
         s, err = outcome(call)
@@ -247,7 +247,7 @@ _BASELINE: dict = {}
 
 def baseline(gap: float) -> idp.SteadyState:
     if gap not in _BASELINE:
-        _BASELINE[gap] = idp.steady_state(REF.replace(gap=gap))
+        _BASELINE[gap] = idp.steady_state(REF.replace(gap=gap), backend="python")
     return _BASELINE[gap]
 
 
@@ -261,7 +261,7 @@ def test_settled_motion_does_not_depend_on_scales_or_start_time(gap, x_st, m1, o
     except ValueError as err:  # the dimensional units themselves overflow: a named error
         assert_named_error(err)
         assume(False)
-    s, err = outcome(lambda: idp.steady_state(p, t0=t0))
+    s, err = outcome(lambda: idp.steady_state(p, t0=t0, backend="python"))
     assert err is None, err
     assert_same_motion(baseline(gap), s)
     assert s.p == p and s.trajectory.model.p == p
@@ -397,23 +397,23 @@ def test_output_to_a_closed_pipe_or_a_full_disk_is_one_line():
 @pytest.mark.parametrize("call, name, kind", [
     (lambda: idp.Parameters(gap=10**400), "gap", ValueError),
     (lambda: idp.algorithm1(None), "p", TypeError),
-    (lambda: idp.steady_state(None), "p", TypeError),
+    (lambda: idp.steady_state(None, backend="python"), "p", TypeError),
     (lambda: idp.solve_orbit(None), "p", TypeError),
-    (lambda: idp.simulate(None, 1.0), "p", TypeError),
-    (lambda: idp.steady_state(REF, tolerances="x"), "tolerances", TypeError),
-    (lambda: idp.steady_state(REF, t0="0"), "t0", TypeError),
-    (lambda: idp.steady_state(REF, max_period_multiple=True), "max_period_multiple", TypeError),
-    (lambda: idp.steady_state(REF, max_periods=True), "max_periods", TypeError),
-    (lambda: idp.steady_state(REF, settle_tol="1e-10"), "settle_tol", TypeError),
-    (lambda: idp.steady_state(REF, state="0 0 0 0"), "state", TypeError),
-    (lambda: idp.steady_state(REF, state=[1e300, 0, 0, 0]), "state", ValueError),
-    (lambda: idp.steady_state_auto(REF, max_period=3), "max_period", TypeError),
+    (lambda: idp.simulate(None, 1.0, backend="python"), "p", TypeError),
+    (lambda: idp.steady_state(REF, tolerances="x", backend="python"), "tolerances", TypeError),
+    (lambda: idp.steady_state(REF, t0="0", backend="python"), "t0", TypeError),
+    (lambda: idp.steady_state(REF, max_period_multiple=True, backend="python"), "max_period_multiple", TypeError),
+    (lambda: idp.steady_state(REF, max_periods=True, backend="python"), "max_periods", TypeError),
+    (lambda: idp.steady_state(REF, settle_tol="1e-10", backend="python"), "settle_tol", TypeError),
+    (lambda: idp.steady_state(REF, state="0 0 0 0", backend="python"), "state", TypeError),
+    (lambda: idp.steady_state(REF, state=[1e300, 0, 0, 0], backend="python"), "state", ValueError),
+    (lambda: idp.steady_state(REF, backend="numba"), "backend", ValueError),
     (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=math.nan), "gap_tol", ValueError),
     (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=10.0), "gap_tol", ValueError),
     (lambda: idp.algorithm1(REF, gap_tol="1e-12"), "gap_tol", TypeError),
-    (lambda: idp.simulate(REF, 1e9), "t_end", ValueError),
-    (lambda: idp.simulate(REF, 1.0, t0=math.nan), "t0", ValueError),
-    (lambda: idp.simulate(REF, 1e16, t0=1e16 - 1.0), "t0", ValueError),
+    (lambda: idp.simulate(REF, 1e9, backend="python"), "t_end", ValueError),
+    (lambda: idp.simulate(REF, 1.0, t0=math.nan, backend="python"), "t0", ValueError),
+    (lambda: idp.simulate(REF, 1e16, t0=1e16 - 1.0, backend="python"), "t0", ValueError),
     (lambda: idp.EventDrivenSolver(REF.replace(x_st=1e-200)), "x_st", ValueError),
     (lambda: idp.solve_orbit(REF, "alg1", state=[0.0, -5.8, 1.0, -1.0]), "state", ValueError),
     (lambda: idp.solve_orbit(REF, period_multiple=10**6), "period_multiple", ValueError),
@@ -428,7 +428,7 @@ def test_api_errors_name_the_argument(call, name, kind):
 def test_numpy_scalars_are_numbers_everywhere():
     p = idp.Parameters(theta=np.float32(1.0), mu=np.float64(0.08), gap=np.int64(-10))
     s = idp.steady_state(p, t0=np.float32(0.0), max_periods=np.int64(4000), max_period_multiple=np.int32(4),
-                         settle_tol=np.float64(1e-10), tolerances=idp.Tolerances(gap_tol=np.float32(1e-12)))
+                         settle_tol=np.float64(1e-10), tolerances=idp.Tolerances(gap_tol=np.float32(1e-12)), backend="python")
     assert (s.regime, s.period_multiple) == ("multi_impact", 2)
     assert idp.algorithm1(p, gap_tol=np.float64(1e-12)).exists
 
@@ -471,9 +471,9 @@ def test_continue_orbit_at_extreme_scales_is_the_reference_branch(reference_orbi
 
 def test_simulate_has_a_work_bound_and_rescales():
     with pytest.raises(ValueError, match=r"^`t_end` = 1000000000.0 is not allowed: .* max_periods = 1000000"):
-        idp.simulate(REF, 1e9)
-    a = idp.simulate(REF, 5 * REF.T)
-    b = idp.simulate(REF.replace(x_st=1e-200), 5 * REF.T)
+        idp.simulate(REF, 1e9, backend="python")
+    a = idp.simulate(REF, 5 * REF.T, backend="python")
+    b = idp.simulate(REF.replace(x_st=1e-200), 5 * REF.T, backend="python")
     assert [e.kind for e in a.events] == [e.kind for e in b.events]
     assert [e.t for e in b.events] == pytest.approx([e.t for e in a.events], abs=1e-13)
     assert b.sample(2.0)[0] == pytest.approx(a.sample(2.0)[0] * 1e-200, rel=1e-9)

@@ -20,7 +20,7 @@ from impactdamper.cli import main
 from impactdamper.core.model import Model
 from impactdamper.analysis.orbits import stable_algorithm1_orbit
 from impactdamper.analysis.shooting import Shooting
-from impactdamper.core.strobe import stroboscopic_jacobian, stroboscopic_map
+from impactdamper.analysis.strobe import stroboscopic_jacobian, stroboscopic_map
 
 REF = idp.Parameters()
 # Relative state scale (x_st, x_st, x_st omega, x_st omega).
@@ -45,7 +45,7 @@ def single():
 
 @pytest.fixture(scope="module")
 def steady10():
-    return idp.steady_state(REF.replace(gap=-10.0))
+    return idp.steady_state(REF.replace(gap=-10.0), backend="python")
 
 
 @pytest.fixture(scope="module")
@@ -89,7 +89,7 @@ def test_newton_confirms_algorithm1_at_the_reference_case(single):
 
 @pytest.mark.parametrize("gap", [-5.8, -10.0])
 def test_newton_orbit_agrees_with_the_settled_cycle(gap, single, steady10):
-    s = idp.steady_state(REF) if gap == -5.8 else steady10
+    s = idp.steady_state(REF, backend="python") if gap == -5.8 else steady10
     o = idp.solve_orbit(s.p, s)
     assert (o.regime, o.period_multiple, o.impacts_per_cycle) == (s.regime, s.period_multiple, s.impacts_per_cycle)
     for a, b in zip(o.impacts, s.impacts):
@@ -215,7 +215,7 @@ def test_stable_and_unstable_orbits_are_told_apart_and_simulation_agrees(single)
 def test_no_contact_and_stuck_cycles_in_closed_form():
     far = idp.solve_orbit(REF.replace(gap=15.0), "simulate")
     assert (far.regime, far.seed, far.admissible, far.stable) == ("no_contact", "closed_form", True, True)
-    s = idp.steady_state(REF.replace(gap=15.0))
+    s = idp.steady_state(REF.replace(gap=15.0), backend="python")
     assert far.x1_max == pytest.approx(s.x1_max, abs=1e-9)
     model = Model(far.p)
     assert np.sort_complex(far.multipliers) == pytest.approx(
@@ -268,7 +268,7 @@ def test_period_doubling_and_grazing_upward_match_closed_form_and_simulation():
     t, y = section(at)
     assert np.min(np.abs(np.linalg.eigvals(stroboscopic_jacobian(at.p, t, y, 1)) + 1.0)) <= 1e-5
     # Simulation on the stable side settles on the continued orbit.
-    below = idp.steady_state(REF.replace(gap=11.08))
+    below = idp.steady_state(REF.replace(gap=11.08), backend="python")
     on_branch = idp.solve_orbit(REF.replace(gap=11.08), "alg1")
     assert below.regime == "single_impact" and on_branch.stable
     assert below.impacts[0].phase == pytest.approx(on_branch.impacts[0].phase, abs=1e-8)
@@ -297,7 +297,7 @@ def test_fold_of_the_four_impact_cycle_matches_simulation_on_both_sides():
         t, y = section(at_fold)
         y = y.copy()
         y[1] += shift * p.x_st  # same gap as at the fold
-        s = idp.steady_state(p, t0=t, state=y)
+        s = idp.steady_state(p, t0=t, state=y, backend="python")
         assert (s.regime, s.period_multiple, s.impacts_per_cycle) == (regime, k, z)
 
 
@@ -319,8 +319,8 @@ def test_continuation_in_another_parameter_matches_direct_solves(single):
 
 # --- the cheap steady state -------------------------------------------------------------
 def test_steady_state_auto_uses_algorithm1_when_it_can(single):
-    s = idp.steady_state(REF)
-    a = idp.steady_state_auto(REF)
+    s = idp.steady_state(REF, backend="python")
+    a = idp.steady_state(REF, attractor=True, backend="python")
     assert isinstance(a, idp.PeriodicOrbit) and a.periods == 0 and a.seed == "alg1"
     assert not isinstance(s, idp.PeriodicOrbit)  # steady_state itself is unchanged
     assert a.impacts[0].phase == pytest.approx(s.impacts[0].phase, abs=1e-9)
@@ -329,7 +329,7 @@ def test_steady_state_auto_uses_algorithm1_when_it_can(single):
 
 
 def test_steady_state_auto_falls_back_when_algorithm1_is_not_admissible(steady10):
-    a = idp.steady_state_auto(REF.replace(gap=-10.0))
+    a = idp.steady_state(REF.replace(gap=-10.0), attractor=True, backend="python")
     assert not isinstance(a, idp.PeriodicOrbit)
     assert (a.regime, a.period_multiple, a.impacts_per_cycle) == ("multi_impact", 2, 3)
     assert a.impacts[0].phase == steady10.impacts[0].phase
@@ -393,6 +393,6 @@ def test_api_bad_input_names_the_argument(single):
     with pytest.raises(ValueError, match="`bounds`"):
         idp.continue_orbit(single, "gap", (-5.0, -4.0))
     with pytest.raises(ValueError, match="`orbit`"):
-        idp.continue_orbit(idp.steady_state(REF), "gap", (-6.0, -5.0))
+        idp.continue_orbit(idp.steady_state(REF, backend="python"), "gap", (-6.0, -5.0))
     with pytest.raises(idp.OrbitError, match="no orbit"):
         idp.solve_orbit(REF.replace(gap=-40.0), "alg1")

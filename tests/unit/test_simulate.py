@@ -30,7 +30,7 @@ def test_default_start_is_algorithm2_step1(m1, gap_value):
 def test_free_flight_without_contact_is_the_linear_flow():
     p = REF.replace(gap=50.0)
     y0 = np.array([0.5, 1.0, -2.0, 3.0])
-    traj = idp.simulate(p, 3 * p.T, state=y0)
+    traj = idp.simulate(p, 3 * p.T, state=y0, backend="python")
     assert traj.events == []
     t = np.linspace(0, 3 * p.T, 31)
     assert np.array_equal(traj.sample(t)[0], free_mode(p).state(t, 0.0, y0))
@@ -47,7 +47,7 @@ def test_grazing_forced_orbit_closed_form(rel):
     for sign in (+1, -1):
         p = REF.replace(gap=U1 * (1 + sign * rel) / REF.x_st)
         y0 = free_mode(p).forced(0.0)
-        traj = idp.simulate(p, 1.0 * p.T, state=y0)
+        traj = idp.simulate(p, 1.0 * p.T, state=y0, backend="python")
         if sign > 0:
             assert traj.events == []
             continue
@@ -96,7 +96,7 @@ def test_event_search_never_misses_a_grazing_impact(R):
         d_max, t_max = found
         for shift, expected in ((+1e-9, 0), (-1e-9, 1)):
             p = p0.replace(gap=(d_max + shift * p0.x_st) / p0.x_st)
-            traj = idp.simulate(p, t0 + 1.5 * p.T, t0=t0, state=y0)
+            traj = idp.simulate(p, t0 + 1.5 * p.T, t0=t0, state=y0, backend="python")
             assert len(traj.impacts()) == expected, (y0, t0, shift)
             if expected:
                 e = traj.impacts()[0]
@@ -115,7 +115,7 @@ LAW_CASES = [(R, g) for R in (0.0, 0.7, 1.0) for g in (-5.8, 2.0)] + [(0.7, -10.
 def test_every_event_obeys_the_impact_law_and_the_gap_stays_open(R, gap_value):
     p = REF.replace(R=R, gap=gap_value)
     t_end = 30 * p.T
-    traj = idp.simulate(p, t_end)
+    traj = idp.simulate(p, t_end, backend="python")
     n = check_impact_laws(p, traj.events)
     assert n > 0 or gap_value == -100.0
     check_no_penetration(p, traj, 0.0, t_end)
@@ -135,7 +135,7 @@ def test_every_event_obeys_the_impact_law_and_the_gap_stays_open(R, gap_value):
 @pytest.mark.parametrize("gap_value", [-13.0, -30.0])
 def test_chatter_sticks_and_lifts_off_where_the_force_vanishes(gap_value):
     p = REF.replace(gap=gap_value)
-    traj = idp.simulate(p, 20 * p.T)
+    traj = idp.simulate(p, 20 * p.T, backend="python")
     kinds = [e.kind for e in traj.events]
     assert "stick" in kinds and "liftoff" in kinds
     fscale = p.m2 * p.x_st * p.omega1**2
@@ -158,7 +158,7 @@ def test_chatter_sticks_and_lifts_off_where_the_force_vanishes(gap_value):
 
 def test_R0_impacts_stick_or_separate_by_the_contact_force():
     p = REF.replace(R=0.0, gap=-5.8)
-    traj = idp.simulate(p, 20 * p.T)
+    traj = idp.simulate(p, 20 * p.T, backend="python")
     ev = traj.events
     for i, e in enumerate(ev):
         if e.kind != "impact":
@@ -173,7 +173,7 @@ def test_R0_impacts_stick_or_separate_by_the_contact_force():
 
 def test_stuck_regime_never_separates():
     p = REF.replace(gap=-100.0)
-    traj = idp.simulate(p, 10 * p.T)
+    traj = idp.simulate(p, 10 * p.T, backend="python")
     kinds = [e.kind for e in traj.events]
     # the step-1 kick opens the gap, the bounces die out in a chatter, and contact holds
     assert kinds[-1] == "stick" and set(kinds[:-1]) == {"impact"} and len(kinds) > 10
@@ -188,7 +188,7 @@ def test_stuck_regime_never_separates():
 def test_start_on_the_stop_closing_is_an_impact_at_t0():
     p = REF.replace(gap=2.0)
     state = np.array([0.1, 0.1 + p.Delta0, -1.0, 4.0])
-    traj = idp.simulate(p, p.T, t0=0.3, state=state)
+    traj = idp.simulate(p, p.T, t0=0.3, state=state, backend="python")
     e = traj.events[0]
     assert (e.kind, e.t, e.velocity) == ("impact", 0.3, 5.0)
     check_impact_laws(p, traj.events)
@@ -197,14 +197,14 @@ def test_start_on_the_stop_closing_is_an_impact_at_t0():
 def test_start_inside_gap_tol_is_put_on_the_stop():
     p = REF.replace(gap=2.0)
     state = np.array([0.1, 0.1 + p.Delta0 + 5e-13, -1.0, 4.0])  # overlap below gap_tol
-    traj = idp.simulate(p, p.T, state=state)
+    traj = idp.simulate(p, p.T, state=state, backend="python")
     assert traj.events[0].kind == "impact" and gap(p, traj.events[0].before) == 0.0
 
 
 @pytest.mark.parametrize("gap_value", [-5.8, -13.0])
 def test_events_do_not_depend_on_m1(gap_value):
-    a = idp.simulate(REF.replace(gap=gap_value), 15 * REF.T)
-    b = idp.simulate(REF.replace(gap=gap_value, m1=37.5), 15 * REF.T)
+    a = idp.simulate(REF.replace(gap=gap_value), 15 * REF.T, backend="python")
+    b = idp.simulate(REF.replace(gap=gap_value, m1=37.5), 15 * REF.T, backend="python")
     assert [e.kind for e in a.events] == [e.kind for e in b.events]
     # Rounding differs with the scale; the geometric bounce sequences of a chatter amplify it
     # (each bounce's timing error feeds the next), hence 1e-8 on the last bounces' velocities.
@@ -223,7 +223,7 @@ def test_events_do_not_depend_on_m1(gap_value):
 ])
 def test_bad_arguments_raise_one_line(kwargs, name):
     with pytest.raises(ValueError) as info:
-        idp.simulate(REF, **kwargs)
+        idp.simulate(REF, **kwargs, backend="python")
     assert f"`{name}`" in str(info.value) and "\n" not in str(info.value)
 
 

@@ -18,7 +18,7 @@ from impactdamper.core.linear import forced_amplitudes, free_mode
 
 
 def test_reference_case_is_algorithm1s_orbit_with_its_excursion():
-    s = idp.steady_state(REF)
+    s = idp.steady_state(REF, backend="python")
     r = idp.algorithm1(REF)
     assert (s.regime, s.period_multiple, s.impacts_per_cycle) == ("single_impact", 1, 1)
     assert s.impacts[0].t_over_T == 0.0 and s.contact_fraction == 0.0 and s.contact_phases == ()
@@ -33,7 +33,7 @@ def test_reference_case_is_algorithm1s_orbit_with_its_excursion():
 
 def test_no_contact_regime_is_the_forced_response():
     p = REF.replace(gap=20.0)
-    s = idp.steady_state(p)
+    s = idp.steady_state(p, backend="python")
     assert (s.regime, s.period_multiple, s.impacts_per_cycle) == ("no_contact", 1, 0)
     x1p, _ = forced_amplitudes(p)
     assert s.x1_max == pytest.approx(abs(x1p) / p.x_st, rel=1e-9)
@@ -41,7 +41,7 @@ def test_no_contact_regime_is_the_forced_response():
 
 def test_stuck_regime_is_the_one_mass_forced_response():
     p = REF.replace(gap=-100.0)
-    s = idp.steady_state(p)
+    s = idp.steady_state(p, backend="python")
     assert (s.regime, s.impacts_per_cycle, s.contact_fraction) == ("stuck", 0, 1.0)
     m = p.m1 + p.m2
     amp = p.P0 / abs(p.c1 - m * p.omega**2 + 1j * p.omega * p.k1)
@@ -66,7 +66,7 @@ REGIME_CASES = {
 @pytest.mark.parametrize("name", REGIME_CASES)
 def test_regimes_are_classified(name):
     p, expected = REGIME_CASES[name]
-    s = idp.steady_state(p)
+    s = idp.steady_state(p, backend="python")
     regime, k, impacts = expected
     assert (s.regime, s.period_multiple) == (regime, k)
     if impacts is None:
@@ -107,7 +107,7 @@ def test_regimes_are_classified(name):
 def test_multi_impact_cycle_at_gap_minus_10():
     """The paper's Fig. 2b behaviour (T_c = 2T, three impacts t1, t2, t3, the next cycle at t4)
     appears at gap -10, not at the stated -5.8 (a finding; see the briefing)."""
-    s = idp.steady_state(REF.replace(gap=-10.0))
+    s = idp.steady_state(REF.replace(gap=-10.0), backend="python")
     assert (s.regime, s.period_multiple, s.impacts_per_cycle) == ("multi_impact", 2, 3)
     t4 = s.trajectory.impacts(s.cycle_start + 2 * REF.T - 1e-9)[0]
     assert (t4.t - s.cycle_start) / REF.T == pytest.approx(2.0, abs=1e-9)
@@ -116,8 +116,8 @@ def test_multi_impact_cycle_at_gap_minus_10():
 
 @pytest.mark.parametrize("gap_value", [-5.8, -10.0, -13.0, -30.0, 20.0])
 def test_steady_state_does_not_depend_on_m1(gap_value):
-    a = idp.steady_state(REF.replace(gap=gap_value)).to_dict()
-    b = idp.steady_state(REF.replace(gap=gap_value, m1=37.5)).to_dict()
+    a = idp.steady_state(REF.replace(gap=gap_value), backend="python").to_dict()
+    b = idp.steady_state(REF.replace(gap=gap_value, m1=37.5), backend="python").to_dict()
     for key in ("regime", "period_multiple", "impacts_per_cycle"):
         assert a[key] == b[key]
     assert b["x1_max"] == pytest.approx(a["x1_max"], rel=1e-9)
@@ -134,7 +134,7 @@ def test_steady_state_does_not_depend_on_m1(gap_value):
 
 
 def test_sample_gives_the_relative_coordinates():
-    s = idp.steady_state(REF)
+    s = idp.steady_state(REF, backend="python")
     t = s.cycle_start + np.linspace(0, REF.T, 5)
     x1b, x2b = s.sample(t)
     full, _ = s.trajectory.sample(t)
@@ -175,7 +175,7 @@ def test_hard_cases_end_with_a_classification(name):
     kwargs = dict(kwargs)
     if kwargs.pop("forced_start", False):
         kwargs["state"] = free_mode(p).forced(0.0)  # on the forced (no-contact) orbit
-    s = idp.steady_state(p, **kwargs)
+    s = idp.steady_state(p, **kwargs, backend="python")
     assert s.regime == expected
     assert s.periods <= kwargs.get("max_periods", 4000)
     traj = s.trajectory
@@ -184,13 +184,13 @@ def test_hard_cases_end_with_a_classification(name):
     if name == "grazing inside":
         # The first touch from the start (s.trajectory holds only the settled window):
         # closing velocity U1 omega sqrt(2e-9).
-        first = idp.simulate(p, 2.0 * p.T, state=kwargs["state"]).events[0]
+        first = idp.simulate(p, 2.0 * p.T, state=kwargs["state"], backend="python").events[0]
         assert first.kind == "impact"
         assert first.velocity == pytest.approx(U1 * p.x_st * p.omega * math.sqrt(2e-9), rel=1e-3)
 
 
 def test_repeated_roots_at_the_reference_gap():
-    s = idp.steady_state(REPEATED)
+    s = idp.steady_state(REPEATED, backend="python")
     assert (s.regime, s.period_multiple, s.impacts_per_cycle) == ("multi_impact", 1, 2)
     check_impact_laws(REPEATED, s.trajectory.events)
 
@@ -206,5 +206,5 @@ def test_repeated_roots_at_the_reference_gap():
 ])
 def test_bad_arguments_raise_one_line(kwargs, name):
     with pytest.raises(ValueError) as info:
-        idp.steady_state(REF, **kwargs)
+        idp.steady_state(REF, **kwargs, backend="python")
     assert str(info.value).startswith(f"`{name}` = ") and "\n" not in str(info.value)

@@ -1,4 +1,4 @@
-"""The stroboscopic map and Newton's method on it (impactdamper.core.strobe).
+"""The stroboscopic map and Newton's method on it (impactdamper.analysis.strobe).
 
 Closed forms first (the section coordinates and their inverse, the persistent-contact motion's
 fixed point and multipliers, both the forced response of one linear mode); then Algorithm
@@ -11,7 +11,7 @@ import pytest
 import impactdamper as idp
 from impactdamper.analysis.transitions import stuck_liftoff_gap
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.strobe import (STROBE_FD_STEP, STROBE_TOL, section_coordinates, section_state,
+from impactdamper.analysis.strobe import (STROBE_FD_STEP, STROBE_TOL, section_coordinates, section_state,
                                       state_scale, strobe_newton, stroboscopic_jacobian, stroboscopic_map,
                                       stroboscopic_step)
 

@@ -23,7 +23,7 @@ import pytest
 import yaml
 
 import impactdamper as idp
-from impactdamper.core.strobe import stroboscopic_jacobian
+from impactdamper.analysis.strobe import stroboscopic_jacobian
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "workflow" / "scripts"
@@ -80,13 +80,13 @@ def point(special, branch: str, kind: str) -> dict:
 def double10():
     """The 2T cycle with three impacts at Delta0/x_st = -10 (the seed of the double branch)."""
     p = REF.replace(gap=-10.0)
-    return idp.solve_orbit(p, idp.steady_state(p))
+    return idp.solve_orbit(p, idp.steady_state(p, backend="python"))
 
 
 def settle_from(orbit, gap: float):
     """Algorithm No. 2 at ``gap`` from the state of ``orbit`` (another gap) in its longest flight."""
     t = orbit.times[0] - 0.5 * (orbit.times[0] + orbit.cycle_duration - orbit.times[-1]) + orbit.cycle_duration
-    return idp.steady_state(REF.replace(gap=gap), t0=t, state=orbit.state(t))
+    return idp.steady_state(REF.replace(gap=gap), t0=t, state=orbit.state(t), backend="python")
 
 
 def _sides(rows, sp) -> tuple[dict, dict]:

@@ -125,7 +125,7 @@ rule performance_reference_speed:
 # other jobs (a compile is one process); performance_report adds it to the benchmark's record.
 rule performance_compile_time:
     input:
-        script="benchmarks/compiled_speed.py",
+        script="workflow/scripts/compiled_speed.py",
         library=library(BASELINES),
     output:
         "results/benchmarks/compile_time.json",
@@ -145,13 +145,15 @@ rule performance_compile_time:
 # takes both cores would otherwise wait until no one-core job is left).
 rule performance_compiled_speed:
     input:
-        script="benchmarks/compiled_speed.py",
+        script="workflow/scripts/compiled_speed.py",
         library=library(BASELINES),
     output:
         "figures/compiled_speed.json",
     params:
         repeats=config["performance"]["compiled_speed_repeats"],
         map_sizes=" ".join(str(n) for n in config["performance"]["compiled_speed_map_sizes"]),
+        targets=json.dumps(config["performance"]["compiled_speed_targets"], sort_keys=True),
+        batch_points=config["performance"]["compiled_speed_batch_points"],
         max_periods=config["maps"]["max_periods"],
         after_nonperiodic=config["maps"]["max_periods_after_nonperiodic"],
     threads: 2
@@ -163,7 +165,7 @@ rule performance_compiled_speed:
     shell:
         "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
         "python {input.script} {output} --repeats {params.repeats} --map-sizes {params.map_sizes} --workers 2 "
-        "--no-compile "
+        "--no-compile --targets '{params.targets}' --batch-points {params.batch_points} "
         "--max-periods {params.max_periods} --max-periods-after-nonperiodic {params.after_nonperiodic} "
         "> {log} 2>&1"
 

@@ -82,6 +82,9 @@ class BatchResult:
         ``simulation``, ``rescue`` or ``error`` (SweepPoint's method).
     elapsed : float
         Wall time of the call, s.
+    backend : str
+        ``compiled`` (the kernels, with the reference where ``fallback`` says) or ``python``
+        (every point by the pure-Python reference).
     """
 
     values: np.ndarray
@@ -101,6 +104,7 @@ class BatchResult:
     fallback: np.ndarray
     method: np.ndarray
     elapsed: float = field(default=0.0)
+    backend: str = "compiled"
 
     @property
     def regime(self) -> np.ndarray:
@@ -204,7 +208,7 @@ def _start_states(states, chain: bool, rows: np.ndarray, gap_tol: float) -> np.n
 
 
 def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: SweepSettings | None = None,
-                  chain: bool = True, states=None) -> BatchResult:
+                  chain: bool = True, states=None, backend: str = "compiled") -> BatchResult:
     """Settle many parameter points in one call.
 
     Parameters
@@ -225,6 +229,10 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     states : array_like, shape (P, 4), optional
         Start states (x1, x2, x1', x2') at t0 = 0, one per point, each with a non-negative gap
         (the reference's ``solve_point(p, state=...)``, random starts); only with ``chain=False``.
+    backend : str
+        ``compiled`` (the kernels) or ``python``: every point by the pure-Python reference
+        (:func:`~impactdamper.analysis.settled.solve_point` without accelerators, its
+        simulations in Python), the same motions point by point.
 
     Returns
     -------
@@ -268,6 +276,19 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
                       velocities=np.full((P, MAX_REPORTED_IMPACTS), np.nan), start_states=np.zeros((P, 4)),
                       sections=np.zeros((P, 4)), section_modes=np.zeros(P, np.int64),
                       fallback=np.full(P, "", dtype=object), method=np.full(P, "simulation", dtype=object))
+    if backend not in ("compiled", "python"):
+        raise ValueError(f"`backend` = {backend!r} is not allowed: must be 'compiled' or 'python'")
+    if backend == "python":
+        python_settings = dataclasses.replace(ref_settings, compiled=False)
+        previous = None
+        for i in range(P):
+            p = _parameters(rows[i])
+            pt = solve_point(p, float(values[i, 0]), previous if chain else None,
+                             state=given[i].copy() if len(given) else None, settings=python_settings)
+            _store_reference(res, i, pt, "")
+            previous = pt
+        res.backend, res.elapsed = "python", time.perf_counter() - t_begin
+        return res
     tail = np.full((2 * max(settings.max_period_multiple, RESCUE_MAX_K) + 1, 5), np.nan)
     i, have_prev = 0, False
     while i < P:
@@ -419,7 +440,7 @@ def warm_up() -> float:
     """
     t = time.perf_counter()
     p = Parameters()
-    cc.steady_state_compiled(p, max_periods=40)
+    cc.steady_state_full(p, max_periods=40)
     settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
     random_starts_batch(p, "gap", [-5.8], 1, 0)
     cc.simulate_compiled(p, 2 * p.T)

@@ -25,13 +25,12 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.optimize
 
 from impactdamper.analysis.orbits import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
 from impactdamper.core.parameters import Parameters, ScaleMap, finite_argument, integer_argument
 from impactdamper.core.simulate import Tolerances, check_tolerances
-from impactdamper.core.strobe import state_scale
+from impactdamper.core.parameters import state_scale
 
 __all__ = [
     "continue_orbit",
@@ -464,6 +463,7 @@ def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: 
         return v
 
     try:
+        import scipy.optimize  # (loaded on first use: the package import stays light)
         s_star = scipy.optimize.brentq(g, 0.0, h, xtol=1e-13 * max(1.0, h), rtol=4 * np.finfo(float).eps,
                                        maxiter=100)
         if s_star not in cache:

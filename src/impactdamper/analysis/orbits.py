@@ -24,7 +24,7 @@ Stability
 The Floquet multipliers are the eigenvalues of the monodromy matrix of exact flows and
 saltation matrices (:func:`impactdamper.analysis.shooting.monodromy_matrix`); the orbit is
 stable when every multiplier has modulus < 1.
-:func:`impactdamper.core.strobe.stroboscopic_jacobian` is the independent check: the
+:func:`impactdamper.analysis.strobe.stroboscopic_jacobian` is the independent check: the
 finite-difference Jacobian of the map y(t_s) -> y(t_s + k T) computed with the event-driven
 solver.
 
@@ -49,7 +49,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.optimize
 
 from impactdamper.analysis.shooting import OrbitError, Shooting, impact_matrix, monodromy_matrix
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1, rescale_algorithm1
@@ -269,6 +268,7 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
             while j + 1 < n and negative[j + 1]:
                 j += 1
             # (A run touching an impact starts or ends there: the gap is zero at impacts.)
+            import scipy.optimize  # (loaded on first use: the package import stays light)
             start = t_a if i == 1 else scipy.optimize.brentq(gap_at, ts[i - 1], ts[i], xtol=1e-14 * T)
             end = t_b if j + 1 == n else scipy.optimize.brentq(gap_at, ts[j], ts[j + 1], xtol=1e-14 * T)
             intervals.append((float((start - t_a) / T), float((end - t_a) / T)))
@@ -278,6 +278,7 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
     # Interior local minima: samples, refined on their brackets.
     minima = []
     for i in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1:
+        import scipy.optimize  # (loaded on first use: the package import stays light)
         res = scipy.optimize.minimize_scalar(gap_at, bounds=(ts[i - 1], ts[i + 1]), method="bounded",
                                              options={"xatol": 1e-14 * T})
         minima.append((float((res.x - t_a) / T), float(res.fun) / p.x_st))

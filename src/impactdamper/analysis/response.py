@@ -32,7 +32,6 @@ from dataclasses import dataclass, field
 from collections.abc import Callable, Sequence
 
 import numpy as np
-import scipy.optimize
 
 from impactdamper.analysis.settled import FAILED, SweepPoint, SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep, with_value
@@ -302,6 +301,7 @@ def _largest(traj: Trajectory, a: float, b: float, column: int) -> float:
         def f(t):
             return -abs(float(traj.model.full_state(name, seg.state(float(t)))[column]))
 
+        import scipy.optimize  # (loaded on first use: the package import stays light)
         res = scipy.optimize.minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * p.T})
         best = max(best, -float(res.fun))
     return best

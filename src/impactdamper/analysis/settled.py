@@ -36,9 +36,9 @@ Delta0/x_st = -8.845, 0.004 above the grazing of Algorithm No. 1's orbit at -8.8
    (saltation-matrix Floquet multipliers). Accepted if admissible and stable.
 3. **stroboscopic Newton** -- for cycles the shooting does not cover (``chatter``, with a
    phase of persistent contact) or where it failed: Newton on the map y(0) -> y(k T) of the
-   event-driven solver (:func:`impactdamper.core.strobe.strobe_newton`), with a
+   event-driven solver (:func:`impactdamper.analysis.strobe.strobe_newton`), with a
    finite-difference Jacobian (the neighbour's, Broyden-updated; fresh where the iteration
-   stalls or a multiplier exceeds :data:`~impactdamper.core.strobe.FRESH_JACOBIAN_ABOVE`; its
+   stalls or a multiplier exceeds :data:`~impactdamper.analysis.strobe.FRESH_JACOBIAN_ABOVE`; its
    eigenvalues are the multipliers). Accepted if stable and if one simulated cycle from the
    solution returns to it to ``settle_tol``; that cycle is described exactly as
    :func:`~impactdamper.core.steady.steady_state` describes a settled one.
@@ -74,6 +74,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -82,11 +83,10 @@ from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_c
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
-from impactdamper.core.compiled import steady_state_hybrid
+from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances, check_tolerances, default_initial_state
 from impactdamper.core.steady import SteadyState, describe_cycle, section_of, steady_state
-from impactdamper.core.strobe import state_scale, strobe_newton
+from impactdamper.analysis.strobe import strobe_newton
 
 __all__ = [
     "rescue_from_sections",
@@ -321,7 +321,11 @@ def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
     ------
     TypeError
         A keyword that :func:`steady_state` does not take, named.
+
+    .. deprecated:: use ``impactdamper.steady_state(p, attractor=True)``.
     """
+    warnings.warn("steady_state_auto is deprecated: use impactdamper.steady_state(p, attractor=True)",
+                  DeprecationWarning, stacklevel=2)
     p = require_parameters(p)
     unknown = sorted(set(kwargs) - set(STEADY_KEYWORDS))
     if unknown:
@@ -341,6 +345,24 @@ def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
 # ----------------------------------------------------------------------------------------
 # One sweep point
 # ----------------------------------------------------------------------------------------
+def _compiled_step(p: Parameters, settings: SweepSettings):
+    """The compiled stroboscopic map for strobe_newton's ``step`` with ``settings.compiled``, else
+    None (the pure-Python map). The compiled backend is imported here, on first use."""
+    if not settings.compiled:
+        return None
+    from impactdamper.core.compiled import map_step
+
+    return map_step(p, settings.tolerances)
+
+
+def _compiled_settle():
+    """steady_state_hybrid, the compiled backend imported on first use (``import impactdamper``
+    loads no numba)."""
+    from impactdamper.core.compiled import steady_state_hybrid
+
+    return steady_state_hybrid
+
+
 def carry_state(p: Parameters, state: np.ndarray, mode: str) -> tuple[np.ndarray, str]:
     """The neighbour's section state made valid for ``p``: projected onto the stop if its gap
     would be negative, kept on the stop if it was in persistent contact.
@@ -558,7 +580,7 @@ def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings
 def _strobe_rescue(p: Parameters, value: float, full: np.ndarray, mode: str, k: int, settings: SweepSettings, *,
                    start: str, start_state: np.ndarray, periods: int) -> SweepPoint | None:
     """Step 3 of the rescue: Newton on the stroboscopic map from section state ``full``."""
-    res = strobe_newton(p, full, mode, k, settings.tolerances, compiled=settings.compiled)
+    res = strobe_newton(p, full, mode, k, settings.tolerances, step=_compiled_step(p, settings))
     if res is None:
         return None
     sol, rho, used, J = res.state, res.spectral_radius, res.periods, res.jacobian
@@ -647,7 +669,7 @@ def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint 
             result = _continue_orbit(p, value, previous, start, full, settings.tolerances)
         if result is None and previous.regime in ("chatter", "single_impact", "multi_impact"):
             res = strobe_newton(p, full, previous.section_mode, previous.period_multiple, settings.tolerances,
-                                jacobian=previous.jacobian, compiled=settings.compiled)
+                                jacobian=previous.jacobian, step=_compiled_step(p, settings))
             if res is not None and res.spectral_radius < 1.0 - STABILITY_MARGIN:
                 result = _verify(p, value, res.state, previous.period_multiple, settings, method="newton",
                                  start=start, start_state=full, periods=res.periods, rho=res.spectral_radius,
@@ -657,7 +679,7 @@ def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint 
         if previous is not None and not previous.periodic:
             cap = settings.max_periods_after_nonperiodic
         try:
-            settle = steady_state_hybrid if settings.compiled else steady_state
+            settle = _compiled_settle() if settings.compiled else steady_state
             s = settle(p, state=full, tolerances=settings.tolerances, settle_tol=settings.settle_tol,
                              max_periods=cap, max_period_multiple=settings.max_period_multiple)
         except RuntimeError as err:  # the event solver's guards (SearchLimitError, degenerate contact)

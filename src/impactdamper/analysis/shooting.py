@@ -39,7 +39,7 @@ with the saltation matrix of each impact,
 
 which corrects the impact map's Jacobian for the perturbed impact time (Leine & Nijmeijer 2004;
 Di Bernardo et al. 2008, ch. 2). The orbit is stable when every multiplier has modulus < 1.
-:func:`impactdamper.core.strobe.stroboscopic_jacobian` is the independent check: the
+:func:`impactdamper.analysis.strobe.stroboscopic_jacobian` is the independent check: the
 finite-difference Jacobian of the map y(t_s) -> y(t_s + k T) computed with the event-driven
 solver.
 """
@@ -52,7 +52,7 @@ import numpy as np
 
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import Parameters
-from impactdamper.core.strobe import state_scale
+from impactdamper.core.parameters import state_scale
 
 __all__ = [
     "Shooting",

@@ -22,7 +22,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.optimize
 
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, first_root
 from impactdamper.core.linear import characteristic_roots, forced_amplitudes, mode_shape_ratios
@@ -353,6 +352,7 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
     g[0] = g[-1] = 0.0  # the impacts (rounding aside)
     minima = []
     for k in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1:
+        import scipy.optimize  # (loaded on first use: the package import stays light)
         res = scipy.optimize.minimize_scalar(lambda s: float(model.gap_of(seg.state(s))), bounds=(ts[k - 1], ts[k + 1]),
                                              method="bounded", options={"xatol": 1e-14 * T})
         minima.append((float(res.fun), float((res.x - t_imp) / T)))

@@ -21,7 +21,7 @@ import numbers
 from dataclasses import dataclass, field
 
 __all__ = ["Parameters", "REFERENCE", "ArgumentTypeError", "ParameterSpec", "PARAMETER_TABLE", "LINEAR_PARAMETERS",
-           "RELATIVE_PARAMETERS"]
+           "RELATIVE_PARAMETERS", "state_scale"]
 
 
 class ArgumentTypeError(TypeError, ValueError):
@@ -355,6 +355,19 @@ class Parameters:
 
 REFERENCE = Parameters()
 """The paper's reference case of Fig. 2."""
+
+
+def state_scale(p: Parameters):
+    """The units of a state (x1, x2, x1', x2'): (x_st, x_st, x_st omega, x_st omega), an ndarray
+    of shape (4,).
+
+    Sections, Newton unknowns and mismatches are compared in these relative units, in which the
+    paper's relative problem (Fig. 2: theta, mu, N, delta1, delta2, R, Delta0/x_st) is
+    independent of the free scales x_st, m1 and omega.
+    """
+    import numpy as np  # (parameters.py otherwise needs no numpy)
+
+    return np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
 
 
 @dataclass(frozen=True)

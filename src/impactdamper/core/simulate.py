@@ -32,11 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
 from impactdamper.core.linear import characteristic_roots
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import (NATIVE_SCALES, ArgumentTypeError, Parameters, ScaleMap, finite_argument, integer_argument,
-                         most_extreme, real_argument, require_parameters)
+                         most_extreme, real_argument, require_parameters, state_scale)
 from impactdamper.core.parameters import RELATIVE_PARAMETERS
 
 __all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
@@ -127,7 +128,7 @@ def check_state(state: object, p: Parameters) -> np.ndarray | None:
     # In the paper's relative coordinates: x1/x_st, (x2 - Delta0)/x_st and the velocities over
     # x_st omega (x2 itself is Delta0 at the stop, whatever the gap).
     relative = full - np.array([0.0, p.Delta0, 0.0, 0.0])
-    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    scale = state_scale(p)
     with np.errstate(over="ignore"):  # (an overflowing ratio is just too large)
         too_large = not np.all(np.abs(relative) / scale <= MAX_STATE)
     if too_large:
@@ -198,12 +199,17 @@ def default_initial_state(p: Parameters) -> np.ndarray:
 
 
 class Trajectory:
-    """The piecewise-exact motion: segments of one mode each, and the events between them."""
+    """The piecewise-exact motion: segments of one mode each, and the events between them.
 
-    def __init__(self, model: Model):
+    ``compiled`` says whether the compiled kernels computed it (else this pure-Python solver),
+    ``fallback`` why the Python solver ran where the kernels were asked ("" otherwise)."""
+
+    def __init__(self, model: Model, compiled: bool = False, fallback: str = ""):
         self.model = model
         self.segments: list[tuple[str, Segment]] = []
         self.events: list[Event] = []
+        self.compiled = compiled
+        self.fallback = fallback
 
     def segment_index(self, t: np.ndarray) -> np.ndarray:
         """Index into :attr:`segments` of the segment that holds each time of ``t`` (the last
@@ -299,7 +305,7 @@ class EventDrivenSolver:
 
     def _record(self, event: Event) -> None:
         events = self.trajectory.events
-        if events and event.t - events[-1].t <= 4 * math.ulp(max(abs(event.t), 1.0)):
+        if events and event.t - events[-1].t <= SAME_TIME_ULPS * math.ulp(max(abs(event.t), 1.0)):
             self._same_time_events += 1
             if self._same_time_events > MAX_EVENTS_AT_ONE_TIME:
                 raise SearchLimitError(work_limit_message(
@@ -386,11 +392,11 @@ class EventDrivenSolver:
         """Order and value of the gap's first non-zero derivative when leaving the stop."""
         scale = self.model.length_scale
         w = max(self.p.omega, self.p.omega1)
-        if rebound > 1e-14 * scale * w:
+        if rebound > REBOUND_FLOOR * scale * w:
             return 1, rebound
         derivs = self.model.gap_derivatives(t, full, orders=5)
         for order in (2, 3, 4):
-            threshold = 1e-12 * scale * w**order
+            threshold = DEPARTURE_FLOOR * scale * w**order
             # An event time is only known to ~ulp(t), and
             # one ulp of t moves g^(m) by g^(m+1) ulp(t). Below that, g^(m) is rounding noise,
             # not a departure: at t ~ 382 s (gap -19, step 608) a lift-off left g'' = 1.4e-10
@@ -398,7 +404,7 @@ class EventDrivenSolver:
             # search re-found the stop at once and 50 zero-velocity impacts raised
             # "degenerate contact". Order 3 decides there.
             if order < 4:
-                threshold = max(threshold, 8.0 * math.ulp(max(abs(t), 1.0)) * abs(float(derivs[order + 1])))
+                threshold = max(threshold, DEPARTURE_ULPS * math.ulp(max(abs(t), 1.0)) * abs(float(derivs[order + 1])))
             if derivs[order] > threshold:
                 return order, float(derivs[order])
             if derivs[order] < -threshold:
@@ -428,7 +434,7 @@ class EventDrivenSolver:
         if departure is None:
             # F touched zero without changing sign: contact goes on; step past the touch.
             F2 = float(self.model.contact_force.of_state(t, stuck, 2))
-            self.search_from, self.departure = t, (2, max(F2, 1e-300))
+            self.search_from, self.departure = t, (2, max(F2, CURVATURE_FLOOR))
             return
         if self._dip_unresolved(t, full):
             return

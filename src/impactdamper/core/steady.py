@@ -25,16 +25,13 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
-import mpmath
 import numpy as np
-import scipy.optimize
 
 from impactdamper.core.model import STUCK
 from impactdamper.core.parameters import (Parameters, ScaleMap, finite_argument, integer_argument, real_argument,
-                                         require_parameters)
+                                         require_parameters, state_scale)
 from impactdamper.core.simulate import (EventDrivenSolver, Tolerances, Trajectory, check_state, check_tolerances,
                                        rescale_trajectory)
-from impactdamper.core.strobe import state_scale
 
 __all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES", "describe_cycle", "max_excursion", "rescale_steady",
            "section_of", "start_in_first_period", "check_settle_options", "describe_run"]
@@ -104,6 +101,14 @@ class SteadyState:
         modulo T into [0, T)).
     sections : ndarray, shape (periods, 4)
         States (x1, x2, x1', x2') there (the transient's record).
+    method : str
+        How it was found: ``simulation`` (Algorithm No. 2 until the motion repeats) or
+        ``algorithm1`` (Algorithm No. 1's closed-form orbit, a stable attractor; no transient).
+    backend : str
+        What computed it: ``python`` (this reference) or ``compiled`` (the numba kernels).
+    fallback : str
+        "" unless another backend was asked for: then why the Python reference ran instead
+        (``matrix_exponential``, ``scales``, ``error``, ``numba_unavailable``).
     """
 
     p: Parameters = field(repr=False)
@@ -119,6 +124,9 @@ class SteadyState:
     trajectory: Trajectory = field(repr=False)
     section_times: np.ndarray = field(default=None, repr=False)
     sections: np.ndarray = field(default=None, repr=False)
+    method: str = "simulation"
+    backend: str = "python"
+    fallback: str = ""
 
     @property
     def impacts_per_cycle(self) -> int:
@@ -189,6 +197,7 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
     if 0.0 <= t0 < p.T:
         return t0
     bits = max(math.frexp(p.omega)[1] + math.frexp(t0)[1], 0) + 96
+    import mpmath  # (only for a t0 outside the first period: loaded then)
     with mpmath.workprec(bits):
         cycles = mpmath.mpf(p.omega) * mpmath.mpf(t0) / (2 * mpmath.pi)
         fraction = float(cycles - mpmath.floor(cycles))
@@ -569,6 +578,7 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
     seg = traj.segments[k][1]
     seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
     lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
+    import scipy.optimize  # (loaded on first use: the package import stays light)
     res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
                                          method="bounded", options={"xatol": 1e-12 * p.T})
     best = max(float(x1[i]), -float(res.fun))
@@ -584,6 +594,7 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
         seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
         lo, hi = max(lo, seg.t0), min(hi, seg_end)
         if hi > lo:
+            import scipy.optimize  # (loaded on first use: the package import stays light)
             res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
                                                  method="bounded", options={"xatol": 1e-12 * p.T})
             best = max(best, -float(res.fun))

@@ -25,8 +25,7 @@ from dataclasses import asdict, dataclass, field
 from collections.abc import Callable, Sequence
 
 from impactdamper.core.algorithm1 import algorithm1
-from impactdamper.core.compiled import steady_state_compiled
-from impactdamper.core.steady import steady_state
+from impactdamper.analysis.solve import steady_state
 
 __all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
            "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
@@ -296,10 +295,9 @@ def distance_to(intervals: Sequence[Interval], x: float) -> tuple[float, float |
 def claims_at(p, *, gap_tol: float, steady_kwargs: dict) -> dict:
     """Both claims at parameters ``p``: Algorithm No. 1 (closed form, ``gap_tol``) and
     Algorithm No. 2 from the paper's step 1 run until settled (the compiled
-    :func:`~impactdamper.core.compiled.steady_state_compiled`, which is
-    :func:`impactdamper.steady_state`'s motion, with ``steady_kwargs``)."""
+    :func:`impactdamper.steady_state` with its default backend, with ``steady_kwargs``)."""
     a = algorithm1(p, gap_tol=gap_tol)
-    s = steady_state_compiled(p, **steady_kwargs)
+    s = steady_state(p, **steady_kwargs)
     return {"claim_a": claim_a(a), "claim_b": claim_b(s), "alg1_exists": bool(a.exists),
             "alg1_min_gap": float(a.min_gap) if a.exists else None, "regime": s.regime,
             "period_multiple": int(s.period_multiple), "impacts_per_cycle": int(s.impacts_per_cycle),
@@ -429,7 +427,7 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
     rows: dict[float, dict] = {}
 
     def point_b(x: float) -> dict:
-        s = steady_state_compiled(p.replace(**{name: float(x)}), **steady_kwargs)
+        s = steady_state(p.replace(**{name: float(x)}), **steady_kwargs)
         row = {"value": float(x), "claim_b": claim_b(s), "regime": s.regime, "period_multiple": int(s.period_multiple),
                "impacts_per_cycle": int(s.impacts_per_cycle), "periods": int(s.periods)}
         rows[float(x)] = row
@@ -523,7 +521,7 @@ def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> 
     """
     mismatches = []
     for row in rows:
-        s = steady_state(p.replace(**{name: float(row["value"])}), **steady_kwargs)
+        s = steady_state(p.replace(**{name: float(row["value"])}), **steady_kwargs, backend="python")
         ref = {"regime": s.regime, "period_multiple": int(s.period_multiple),
                "impacts_per_cycle": int(s.impacts_per_cycle), "claim_b": claim_b(s)}
         mine = {key: row[key] for key in ref}

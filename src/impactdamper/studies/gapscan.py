@@ -58,7 +58,7 @@ def alg2_row(args) -> dict:
     base, solver, g = args
     p = parameters(dict(base, gap=float(g)))
     a = rep.run_alg1(p, solver)
-    s = rep.run_steady_compiled(p, solver)
+    s = rep.run_steady(p, solver)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
     row = {
         # Empty where the orbit does not exist or its gap has no interior minimum (it only
@@ -271,7 +271,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
         return rep.claim_a(rep.run_alg1(parameters(dict(base, gap=g)), solver))
 
     def alg2_pred(g: float) -> bool:
-        return rep.claim_b(rep.run_steady_compiled(parameters(dict(base, gap=g)), solver))
+        return rep.claim_b(rep.run_steady(parameters(dict(base, gap=g)), solver))
 
     # (a): fine grid, closed form.
     g1 = rep.grid(lo, hi, float(verdict["alg1_gap_step"]))

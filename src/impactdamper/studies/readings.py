@@ -191,7 +191,7 @@ def r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
         return rep.claim_a(rep.run_alg1(parameters(dict(base, R=float(R))), solver))
 
     def pb(R):  # compiled: the grid and its bisections are many settled runs
-        return rep.claim_b(rep.run_steady_compiled(parameters(dict(base, R=float(R))), solver))
+        return rep.claim_b(rep.run_steady(parameters(dict(base, R=float(R))), solver))
 
     out = {"R_step": float(verdict["R_step"]), "bisect_tol": R_BISECT_TOL}
     for name, pred in (("claim_a", pa), ("claim_b", pb)):

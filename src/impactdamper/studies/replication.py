@@ -15,6 +15,7 @@ The workflow's reference stage (``workflow/scripts/solve_case.py``, ``crosscheck
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,8 +24,8 @@ import scipy.optimize
 
 from impactdamper import Parameters, Tolerances, algorithm1, steady_state
 from impactdamper.baselines.ivp import simulate_ivp
-from impactdamper.core.compiled import steady_state_compiled
 from impactdamper.core.model import Model
+from impactdamper.core.parameters import state_scale
 from impactdamper.studies.claims import (CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b,
                                          compare_cycles, true_intervals)
 from impactdamper.studies.config import parameters, steady_options
@@ -153,7 +154,7 @@ def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10
     before = sol.y[:, -1]
     v = before[3] - before[2]
     end, _, _ = Model(p).impact(before)
-    scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    scale = state_scale(p)
     residual = float(np.max(np.abs(end - a.state_after) / scale))
 
     def gap(s):  # the gap s periods after the impact, m
@@ -182,7 +183,7 @@ def _sections(traj, p: Parameters, t0: float, n: int) -> np.ndarray:
         full = traj.samples
     else:
         full, _ = traj.sample(times)
-    return full / np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    return full / state_scale(p)
 
 
 def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rtol: float = 1e-10,
@@ -299,14 +300,16 @@ def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
 
 
 def run_steady(p: Parameters, solver: dict, **kw):
-    """:func:`impactdamper.steady_state` with the config's solver options."""
+    """:func:`impactdamper.steady_state` (the front door, its default backend: compiled) with the
+    config's solver options."""
     return steady_state(p, **solver_options(solver), **kw)
 
 
 def run_steady_compiled(p: Parameters, solver: dict):
-    """:func:`run_steady` by the compiled solver (its regime, k and z:
-    :func:`~impactdamper.core.compiled.steady_state_compiled`), for grids and bisections."""
-    return steady_state_compiled(p, **solver_options(solver))
+    """Deprecated: :func:`run_steady` (:func:`impactdamper.steady_state`, compiled by default)."""
+    warnings.warn("run_steady_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled') "
+                  "(run_steady does)", DeprecationWarning, stacklevel=2)
+    return steady_state(p, **solver_options(solver), backend="compiled")
 
 
 def run_alg1(p: Parameters, solver: dict):

@@ -41,7 +41,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from impactdamper.baselines import highprecision as hp
-from impactdamper.core.parameters import Parameters
+from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import default_initial_state, simulate
 from impactdamper.reporting.records import json_float
 from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected  # noqa: F401 (METHODS: the study's table)
@@ -88,8 +88,7 @@ class Reference:
 
     @property
     def scale(self) -> np.ndarray:
-        p = self.p
-        return np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+        return state_scale(self.p)
 
     def to_dict(self) -> dict:
         return {"case": self.case, "t0": self.t0, "t_end": self.t_end, "state": self.state.tolist(),

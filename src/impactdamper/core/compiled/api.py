@@ -8,6 +8,8 @@ stop on an error, the reference runs instead, and the result says so.
 
 from __future__ import annotations
 
+import dataclasses
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,13 +21,13 @@ from impactdamper.core.compiled.settle import steady_kernel
 from impactdamper.core.events import Segment
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
-from impactdamper.core.simulate import (DEFAULT_KICK, MAX_SIMULATE_PERIODS, Event, EventDrivenSolver, Tolerances,
+from impactdamper.core.simulate import (MAX_SIMULATE_PERIODS, default_initial_state, Event, EventDrivenSolver, Tolerances,
                                         Trajectory, check_start_time, check_state, check_tolerances, simulate)
-from impactdamper.core.steady import (REGIMES, SteadyState, check_settle_options, describe_run, section_of,
+from impactdamper.core.steady import (NONPERIODIC_WINDOW, PERIODS_BEFORE_CYCLE, REGIMES, CycleImpact, SteadyState, check_settle_options, describe_run, section_of,
                                       start_in_first_period, steady_state)
 
 __all__ = ["CompiledRun", "CompiledSteady", "run_compiled", "simulate_compiled", "steady_state_compiled",
-           "steady_state_hybrid", "strobe_step_compiled",
+           "steady_state_hybrid", "steady_state_full", "strobe_step_compiled", "map_step",
            "count_events_compiled", "INITIAL_CAPACITY"]
 
 # Events and segments held before the buffers grow (the run is repeated with 4 times as many):
@@ -37,18 +39,12 @@ INITIAL_CAPACITY = 256
 EVENTS_PER_PERIOD_GUESS = 4
 
 
-def _default_state(p: Parameters) -> np.ndarray:
-    """Algorithm No. 2's step 1 (the reference's default_initial_state)."""
-    S0 = DEFAULT_KICK * p.m1 * p.omega1 * p.x_st
-    return np.array([0.0, p.Delta0, S0 / p.m1, -S0 / p.m2])
-
-
 def _checked_state(p: Parameters, state, tol: Tolerances) -> np.ndarray:
     """The start state, validated as the reference's solver does (by constructing it when the
     state is unusual: the reference raises the named error)."""
     full = check_state(state, p)
     if full is None:
-        return _default_state(p)
+        return default_initial_state(p)
     gap = p.Delta0 - (full[1] - full[0])
     if gap < -tol.gap_tol * p.x_st:
         EventDrivenSolver(p, t0=0.0, state=full, tolerances=tol)  # raises the reference's message
@@ -104,7 +100,7 @@ def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray
         flag = pack.fallback
     if flag:
         return None
-    full = _default_state(p) if state is None else np.asarray(state, dtype=float)
+    full = default_initial_state(p) if state is None else np.asarray(state, dtype=float)
     capacity = max(INITIAL_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (float(t_end) - float(t0)) / p.T))
     while True:
         if pack is None:
@@ -157,14 +153,14 @@ def simulate_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.nd
     run = run_compiled(p, t_endf, t0f, full, tol)
     if run is None:
         traj = simulate(p, t_end, t0, state, tolerances)  # raises the reference's error, or runs where it must
-        traj.compiled = False
+        traj.fallback = _fallback_reason(p, tol)
         return traj
     return _trajectory(p, run.kinds, run.events, run.segment_modes, run.segments)
 
 
 def _trajectory(p: Parameters, ev_k, ev_f, seg_m, seg_f) -> Trajectory:
     model = Model(p)
-    traj = Trajectory(model)
+    traj = Trajectory(model, compiled=True)
     for m, row in zip(seg_m.tolist(), seg_f):
         name = FREE if m == MODE_FREE else STUCK
         n = 4 if m == MODE_FREE else 2
@@ -172,8 +168,14 @@ def _trajectory(p: Parameters, ev_k, ev_f, seg_m, seg_f) -> Trajectory:
     for k, row in zip(ev_k.tolist(), ev_f):
         traj.events.append(Event(float(row[0]), EVENT_KINDS[k], float(row[1]), float(row[2]), row[3:7].copy(),
                                  row[7:11].copy(), float(row[11])))
-    traj.compiled = True
     return traj
+
+
+def _fallback_reason(p: Parameters, tol: Tolerances) -> str:
+    """Why the kernels did not run ``p``: a :data:`FALLBACK_REASONS` entry, or "error" (they
+    stopped on an error)."""
+    flag = pack_parameters(p, tol).fallback
+    return FALLBACK_REASONS[flag] if flag else "error"
 
 
 def count_events_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
@@ -266,7 +268,12 @@ def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray |
     ------
     TypeError, ValueError, SearchLimitError
         As :func:`~impactdamper.core.steady.steady_state`.
+
+    .. deprecated:: use ``impactdamper.steady_state(p, backend="compiled")`` (a full
+       :class:`~impactdamper.core.steady.SteadyState` in about the same time).
     """
+    warnings.warn("steady_state_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled')",
+                  DeprecationWarning, stacklevel=2)
     p = require_parameters(p)
     tol = check_tolerances(tolerances)
     t0 = finite_argument("t0", t0)
@@ -361,7 +368,7 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
 def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: int,
                          tolerances: Tolerances | None = None, *, pack: Pack | None = None,
                          model: Model | None = None) -> tuple[np.ndarray, str] | None:
-    """:func:`impactdamper.core.strobe.stroboscopic_step` by the kernels: the state and mode at
+    """:func:`impactdamper.analysis.strobe.stroboscopic_step` by the kernels: the state and mode at
     t0 + periods T from ``state`` at t0 (the last segment flowed to there by the Python flow).
     ``pack`` and ``model`` (of ``p`` and ``tolerances``), if already made: a Newton iteration
     evaluates the map many times at one parameter set.
@@ -381,3 +388,108 @@ def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: i
     row = run.segments[-1]
     seg = Segment(model.mode(name), float(row[0]), row[1:1 + (4 if name == FREE else 2)].copy())
     return model.full_state(name, seg.state(np.array([t_end])))[0], name
+
+
+def map_step(p: Parameters, tolerances: Tolerances | None = None):
+    """The stroboscopic map of ``p`` by the kernels, for
+    :func:`impactdamper.analysis.strobe.strobe_newton`'s ``step``: ``step(state, k)`` -> the
+    state and mode at t = k T from ``state`` at t = 0 (:func:`strobe_step_compiled`, its
+    parameters packed once: a Newton iteration evaluates the map many times at one parameter
+    set), or None where the kernels do not apply (strobe_newton then runs the reference)."""
+    pack = pack_parameters(p, tolerances)
+    model = Model(p)
+
+    def step(state, k):
+        return strobe_step_compiled(p, 0.0, state, k, tolerances, pack=pack, model=model)
+    return step
+
+
+class _DeferredTrajectory(Trajectory):
+    """A :class:`Trajectory` run on first use: ``build()`` makes it when its model, segments or
+    events are first read (the settled motion's numbers come from the kernels; the stored motion
+    around the cycle costs as much again, and most callers never read it)."""
+
+    def __init__(self, build):  # (no Trajectory.__init__: its attributes come from build())
+        self._build = build
+
+    def _made(self) -> None:
+        build = self.__dict__.pop("_build", None)
+        if build is not None:
+            self.__dict__.update(build().__dict__)
+
+    def __getattr__(self, name: str):  # (only for attributes not yet there)
+        if "_build" not in self.__dict__:
+            raise AttributeError(name)
+        self._made()
+        return getattr(self, name)
+
+    def __getstate__(self):  # (pickled as the built trajectory, not as its recipe)
+        self._made()
+        return self.__dict__
+
+
+def steady_state_full(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
+                      tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
+                      max_period_multiple: int = 8) -> SteadyState:
+    """:func:`impactdamper.core.steady.steady_state`'s full result by the kernels: the period
+    loop and the cycle's description (impacts, regime, contact fraction, x1_max) compiled, the
+    stored trajectory around the cycle run (compiled) when first read. A cycle with persistent
+    contact has its contact phases described as :func:`steady_state_hybrid` does. Where the
+    kernels do not apply, or stop on an error, the reference runs the whole of it and
+    ``fallback`` says why (the reference raises its own errors).
+
+    The same motion as the reference (regime, k, z, impact phases; tests/unit/test_compiled.py);
+    x1_max is refined by golden-section search where the reference uses Brent's (both to
+    1e-12 T). Arguments and errors as :func:`~impactdamper.core.steady.steady_state`'s; the
+    result's ``backend`` is ``compiled`` or, with ``fallback`` set, ``python``.
+    """
+    p = require_parameters(p)
+    tol = check_tolerances(tolerances)
+    t0f = finite_argument("t0", t0)
+    settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
+    args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
+                max_period_multiple=max_period_multiple)
+    pack = pack_parameters(p, tol)
+    if pack.fallback:
+        return dataclasses.replace(steady_state(p, **args), fallback=FALLBACK_REASONS[pack.fallback])
+    start = start_in_first_period(p, t0f)
+    full = _checked_state(p, state, tol)
+    tail = np.full((max_periods, 5), np.nan)
+    out_imp = np.zeros((64 * max_period_multiple, 5))
+    section = np.zeros(5)
+    capacity = INITIAL_CAPACITY
+    while True:
+        (err, regime, k, z, cycle_start, frac, x1_max, n,
+         residual) = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, start, full, state is None,
+                                   settle_tol, max_periods, max_period_multiple, capacity, out_imp, section, tail)
+        if err == ERR_CAPACITY:
+            capacity *= 4
+            continue
+        if err == OK and z > out_imp.shape[0]:
+            out_imp = np.zeros((z, 5))
+            continue
+        break
+    if err:
+        return dataclasses.replace(steady_state(p, **args), fallback="error")  # the reference's own error, or its result
+    states = tail[max_periods - n:, :4]
+    if frac > 0.0:  # contact phases: described on the trajectory, as the hybrid does
+        start_state = full if state is not None else EventDrivenSolver(p, t0=start, tolerances=tol).state_at(start)
+        s = describe_run(p, start, states, int(k), float(residual), start_state, tol, simulate_from=simulate_compiled)
+        return dataclasses.replace(s, backend="compiled")
+    # The run describe_run would make (steady.describe_run): from a section one cycle (and 4
+    # periods) before the reported one to one cycle after it, on the clock of the run's start.
+    kk = int(k) if k else min(NONPERIODIC_WINDOW, n)
+    first = max(n - kk - max(kk, PERIODS_BEFORE_CYCLE), 0)
+    t_end = start + (n - first + kk + 1) * p.T
+    from_state = states[first - 1].copy() if first else full
+
+    def build() -> Trajectory:
+        return simulate_compiled(p, t_end, start, from_state, tol)
+
+    imp = out_imp[:z]
+    impacts = tuple(CycleImpact(float(r[0]), float(r[1]), float(r[2]), float(r[3]), float(r[4])) for r in imp)
+    return SteadyState(p=p, regime=REGIMES[regime], period_multiple=int(k), impacts=impacts,
+                       cycle_start=float(cycle_start), contact_fraction=float(frac), contact_phases=(),
+                       x1_max=float(x1_max), periods=int(n), residual=float(residual),
+                       trajectory=_DeferredTrajectory(build), section_times=start + p.T * np.arange(1, n + 1),
+                       sections=np.array(states, float), backend="compiled")

@@ -25,6 +25,7 @@ from impactdamper.core.compiled.layout import (ERR_CAPACITY, ERR_DEGENERATE, ERR
                                                S_STUCK_RES, S_T)
 from impactdamper.core.compiled.march import march
 from impactdamper.core.compiled.pack import pack_single
+from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
 from impactdamper.core.simulate import DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, STEPS_AT_START, STEPS_PER_PERIOD
 
 
@@ -44,7 +45,7 @@ def _no_room(si, k, rows):
 
 @njit(cache=True, inline="always")
 def _record_event(s, sf, si, ev_k, ev_f, t, kind, v, S, before, after, t_acc):
-    if si[SI_NEV] > 0 and t - sf[SF_LAST] <= 4 * np.spacing(max(abs(t), 1.0)):
+    if si[SI_NEV] > 0 and t - sf[SF_LAST] <= SAME_TIME_ULPS * np.spacing(max(abs(t), 1.0)):
         si[SI_SAME] += 1
         if si[SI_SAME] > MAX_EVENTS_AT_ONE_TIME:
             si[SI_ERR] = ERR_DEGENERATE
@@ -94,15 +95,15 @@ def _gap_departure(fc, s, t, full, rebound):
     """(order, value) of the gap's first non-zero derivative leaving the stop; order 0: none."""
     scale = s[S_LSCALE]
     w = max(s[S_OMEGA], s[S_OMEGA1])
-    if rebound > 1e-14 * scale * w:
+    if rebound > REBOUND_FLOOR * scale * w:
         return 1, rebound
     derivs = np.empty(5)
     for k in range(5):
         derivs[k] = of_state(fc, s, GAP, MODE_FREE, t, full, k)
     for order in range(2, 5):
-        threshold = 1e-12 * scale * w ** order
+        threshold = DEPARTURE_FLOOR * scale * w ** order
         if order < 4:
-            threshold = max(threshold, 8.0 * np.spacing(max(abs(t), 1.0)) * abs(derivs[order + 1]))
+            threshold = max(threshold, DEPARTURE_ULPS * np.spacing(max(abs(t), 1.0)) * abs(derivs[order + 1]))
         if derivs[order] > threshold:
             return order, derivs[order]
         if derivs[order] < -threshold:
@@ -222,7 +223,7 @@ def _liftoff(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f,
     if dm == 0:
         F2 = of_state(fc, s, FORCE, MODE_STUCK, t, stuck, 2)
         sf[SF_FROM] = t
-        si[SI_DEPM], sf[SF_DEPG] = 2, max(F2, 1e-300)
+        si[SI_DEPM], sf[SF_DEPG] = 2, max(F2, CURVATURE_FLOOR)
         return
     if _dip_unresolved(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, t, full) or si[SI_ERR]:
         return

@@ -10,7 +10,8 @@ modes), so it covers every motion, chatter included.
 
 This module holds
 
-* :func:`state_scale`, the units in which sections are compared (x_st, x_st omega);
+* :func:`~impactdamper.core.parameters.state_scale` (re-exported here), the units in which
+  sections are compared (x_st, x_st omega);
 * :func:`stroboscopic_step` and :func:`stroboscopic_map`, the k-th iterate;
 * :func:`stroboscopic_jacobian`, its central finite-difference Jacobian (the independent
   check of the saltation-matrix multipliers of :mod:`impactdamper.analysis.orbits`);
@@ -27,8 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactdamper.core.model import STUCK, Model
-from impactdamper.core.parameters import Parameters
+from impactdamper.core.model import STUCK
+from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 
 __all__ = [
@@ -63,18 +64,8 @@ STROBE_MAX_ITERATIONS = 8
 FRESH_JACOBIAN_ABOVE = 0.9
 
 
-def state_scale(p: Parameters) -> np.ndarray:
-    """The units of a state (x1, x2, x1', x2'): (x_st, x_st, x_st omega, x_st omega).
-
-    Sections, Newton unknowns and mismatches are compared in these relative units, in which
-    the paper's relative problem (Fig. 2: theta, mu, N, delta1, delta2, R, Delta0/x_st) is
-    independent of the free scales x_st, m1 and omega. Shape (4,).
-    """
-    return np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
-
-
 def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                      tolerances: Tolerances | None = None, compiled: bool = False) -> tuple[np.ndarray, str]:
+                      tolerances: Tolerances | None = None, step=None) -> tuple[np.ndarray, str]:
     """The state and contact mode at t0 + periods T from ``state`` at t0 (Algorithm No. 2).
 
     Parameters
@@ -88,10 +79,12 @@ def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
         k, the iterate of the map.
     tolerances : Tolerances, optional
         Event-solver tolerances.
-    compiled : bool
-        Run the k periods in the compiled kernels
-        (:func:`impactdamper.core.compiled.strobe_step_compiled`, the same motion); where they
-        do not apply, and with False, the pure-Python solver.
+    step : callable, optional
+        ``step(p, t0, state, periods, tolerances)`` -> (state, mode), or None where it does not
+        apply: another backend of the same motion, tried first (the compiled kernels'
+        :func:`impactdamper.core.compiled.strobe_step_compiled`; this module imports no
+        backend, the caller injects it). Where it returns None, and without it, the
+        pure-Python solver.
 
     Returns
     -------
@@ -100,10 +93,8 @@ def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
     mode : str
         ``free`` or ``stuck`` there.
     """
-    if compiled:
-        from impactdamper.core.compiled import strobe_step_compiled  # (compiled imports this package's steady)
-
-        result = strobe_step_compiled(p, t0, state, periods, tolerances)
+    if step is not None:
+        result = step(p, t0, state, periods, tolerances)
         if result is not None:
             return result
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
@@ -183,25 +174,18 @@ class StrobeSolution:
     jacobian: np.ndarray
 
 
-def _map_step(p: Parameters, tol: Tolerances, compiled: bool):
-    """(state, k) -> stroboscopic_step(p, 0, state, k, tol, compiled), with the compiled
-    solver's packed parameters and model made once (a Newton iteration evaluates the map many
-    times at one parameter set)."""
-    if not compiled:
-        return lambda state, k: stroboscopic_step(p, 0.0, state, k, tol)
-    from impactdamper.core.compiled import pack_parameters, strobe_step_compiled  # (see stroboscopic_step)
-
-    pack = pack_parameters(p, tol)
-    model = Model(p)
-
-    def step(state, k):
-        result = strobe_step_compiled(p, 0.0, state, k, tol, pack=pack, model=model)
+def _map_step(p: Parameters, tol: Tolerances, step):
+    """(state, k) -> the state and mode k periods on from ``state`` at t = 0: ``step(state, k)``
+    (another backend, made for ``p`` and ``tol`` by the caller) where it applies (not None),
+    else the pure-Python solver."""
+    def evaluate(state, k):
+        result = step(state, k) if step is not None else None
         return result if result is not None else stroboscopic_step(p, 0.0, state, k, tol)
-    return step
+    return evaluate
 
 
 def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tolerances,
-                  jacobian: np.ndarray | None = None, compiled: bool = False) -> StrobeSolution | None:
+                  jacobian: np.ndarray | None = None, step=None) -> StrobeSolution | None:
     """Newton on y(0) -> y(k T) from ``full0``.
 
     The Jacobian is ``jacobian`` (the neighbour's, if it has the right shape) or finite
@@ -223,8 +207,11 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
         Event-solver tolerances.
     jacobian : ndarray, optional
         Starting Jacobian in section coordinates.
-    compiled : bool
-        Each map evaluation by the compiled kernels (see :func:`stroboscopic_step`).
+    step : callable, optional
+        ``step(state, k)`` -> (state, mode) at t = k T from ``state`` at t = 0, or None where
+        it does not apply: each map evaluation by another backend made for ``p`` and ``tol``
+        (the compiled kernels' :func:`impactdamper.core.compiled.map_step`); where it returns
+        None, and without it, the pure-Python solver.
 
     Returns
     -------
@@ -236,12 +223,12 @@ def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tol
     u = section_coordinates(p, full0, stuck)
     n = len(u)
     periods = 0
-    step = _map_step(p, tol, compiled)
+    evaluate = _map_step(p, tol, step)
 
     def strobe(v):
         nonlocal periods
         periods += k
-        return section_coordinates(p, step(section_state(p, v, stuck), k)[0], stuck)
+        return section_coordinates(p, evaluate(section_state(p, v, stuck), k)[0], stuck)
 
     def fd(v, Pv):
         J = np.empty((n, n))
