@@ -495,7 +495,10 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
             i = position[id(e)]
             flights.append(e.t - (traj.events[i - 1].t if i else t_begin))
         start = impacts[int(np.argmax(flights))].t
-    cycle_events = [e for e in traj.events if start - 1e-9 * T <= e.t < start + Tc - 1e-9 * T]
+    if settled:
+        cycle_events = _cycle_events(traj, window_start, window_end, start)
+    else:  # no cycle: the window's stretch from its start
+        cycle_events = [e for e in traj.events if start <= e.t < start + Tc]
     cycle_impacts = tuple(
         CycleImpact(e.t, (e.t - start) / T, (e.t / T) % 1.0, e.velocity, e.impulse)
         for e in cycle_events if e.kind == "impact"
@@ -523,6 +526,25 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
         x1_max=max_excursion(p, traj, start, start + Tc), periods=periods, residual=residual,
         trajectory=traj,
     )
+
+
+def _cycle_events(traj: Trajectory, window_start: float, window_end: float, start: float) -> list:
+    """The events of one cycle starting at ``start`` (an event time, or the window's start).
+
+    Which events make a cycle is read between two sections, [window_start, window_start + T_c):
+    the settle test compared the states there, so a settled run has the same events between
+    them in successive cycles (an event crossing a section would change the section's state
+    by the jump of the impact law, far above any ``settle_tol``). The cycle from ``start`` is
+    then that many events counted from ``start``, not a time window: a motion settled to a
+    loose ``settle_tol`` still drifts by more than a fixed margin per period (2e-8 T per period
+    at settle_tol = 1e-5 in the reference case), and a window [start, start + T_c) minus a
+    fixed margin counted the same impact twice (once at each end).
+    """
+    count = sum(1 for e in traj.events if window_start <= e.t < window_end)
+    if not count:
+        return []
+    first = next(i for i, e in enumerate(traj.events) if e.t >= start)
+    return traj.events[first:first + count]
 
 
 def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, float]]:

@@ -198,21 +198,38 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
             if flight > best_flight:
                 best_flight = flight
                 start = ev_f[i, 0]
-    z = 0
-    contact_events = False
+    # The cycle's events: as many as lie between the window's two sections, counted from the
+    # start (the reference's _cycle_events: never a time window, which a loose settle_tol's
+    # drift per period made count one impact twice).
+    count = 0
+    first = ne
     for i in range(ne):
         t = ev_f[i, 0]
-        if start - 1e-9 * T <= t < start + Tc - 1e-9 * T:
-            if ev_k[i] == IMPACT:
-                if z < out_imp.shape[0]:
-                    out_imp[z, 0] = t
-                    out_imp[z, 1] = (t - start) / T
-                    out_imp[z, 2] = (t / T) % 1.0
-                    out_imp[z, 3] = ev_f[i, 1]
-                    out_imp[z, 4] = ev_f[i, 2]
-                z += 1
-            else:
-                contact_events = True
+        if window_start <= t < window_end:
+            count += 1
+        if first == ne and t >= start:
+            first = i
+    if count == 0:
+        first = ne
+    if not settled:  # no cycle: the window's stretch from its start
+        count = 0
+        for i in range(first, ne):
+            if ev_f[i, 0] < start + Tc:
+                count += 1
+    z = 0
+    contact_events = False
+    for i in range(first, min(first + count, ne)):
+        t = ev_f[i, 0]
+        if ev_k[i] == IMPACT:
+            if z < out_imp.shape[0]:
+                out_imp[z, 0] = t
+                out_imp[z, 1] = (t - start) / T
+                out_imp[z, 2] = (t / T) % 1.0
+                out_imp[z, 3] = ev_f[i, 1]
+                out_imp[z, 4] = ev_f[i, 2]
+            z += 1
+        else:
+            contact_events = True
     contact_time = 0.0
     a, b = start, start + Tc
     for i in range(ns):
