@@ -12,6 +12,7 @@ configfile: "config/config.yaml"
 include: "workflow/rules/common.smk"
 
 
+check_config_files(config_files())
 config.update(yaml_scalars(config))
 validate(check_config(config), "workflow/schemas/config.schema.yaml")
 

@@ -591,22 +591,27 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
 
 
 def _cycle_events(traj: Trajectory, window_start: float, window_end: float, start: float) -> list:
-    """The events of one cycle starting at ``start`` (an event time, or the window's start).
+    """The events of one cycle of period T_c = window_end - window_start from ``start``.
 
-    Which events make a cycle is read between two sections, [window_start, window_start + T_c):
-    the settle test compared the states there, so a settled run has the same events between
-    them in successive cycles (an event crossing a section would change the section's state
-    by the jump of the impact law, far above any ``settle_tol``). The cycle from ``start`` is
-    then that many events counted from ``start``, not a time window: a motion settled to a
-    loose ``settle_tol`` still drifts by more than a fixed margin per period (2e-8 T per period
-    at settle_tol = 1e-5 in the reference case), and a window [start, start + T_c) minus a
-    fixed margin counted the same impact twice (once at each end).
+    With impacts, ``start`` is the impact that ends the cycle's longest free flight, and the
+    cycle runs up to (not including) the impact matching it one cycle later: the impact nearest
+    to start + T_c. A settled motion's impacts drift by less per cycle than the intervals
+    between impacts (the one before the match is a longest flight away), so the match is
+    exact whatever ``settle_tol``, while a time window with a fixed margin is not: at
+    settle_tol = 1e-5 the reference case drifts by 2e-8 T per period, and a window
+    [start - 1e-9 T, start + T_c - 1e-9 T) counted the same impact twice. (Counting the events
+    between two sections instead fails in chatter: a section inside a sequence of bounces
+    splits it, and the count of its last, tiny bounces is not the same from cycle to cycle.)
+    Without impacts: the events between the window's two sections.
     """
-    count = sum(1 for e in traj.events if window_start <= e.t < window_end)
-    if not count:
-        return []
-    first = next(i for i, e in enumerate(traj.events) if e.t >= start)
-    return traj.events[first:first + count]
+    events = traj.events
+    if not any(e.kind == "impact" and window_start <= e.t < window_end for e in events):
+        return [e for e in events if window_start <= e.t < window_end]
+    later = [i for i, e in enumerate(events) if e.kind == "impact" and e.t >= start]
+    if len(later) < 2:  # (the trajectory holds the next cycle: not expected)
+        return [e for e in events if start <= e.t < start + window_end - window_start]
+    end = min(later[1:], key=lambda i: abs(events[i].t - (start + window_end - window_start)))
+    return events[later[0]:end]
 
 
 def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, float]]:

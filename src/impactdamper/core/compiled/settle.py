@@ -229,27 +229,37 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
             if flight > best_flight:
                 best_flight = flight
                 start = ev_f[i, 0]
-    # The cycle's events: as many as lie between the window's two sections, counted from the
-    # start (the reference's _cycle_events: never a time window, which a loose settle_tol's
-    # drift per period made count one impact twice).
-    count = 0
+    # The cycle's events (the reference's _cycle_events): from the start impact up to the
+    # impact nearest to start + T_c, its match one cycle later; without impacts, those between
+    # the window's two sections. Never a time window with a fixed margin, which a loose
+    # settle_tol's drift per period made count one impact twice.
     first = ne
-    for i in range(ne):
-        t = ev_f[i, 0]
-        if window_start <= t < window_end:
-            count += 1
-        if first == ne and t >= start:
-            first = i
-    if count == 0:
-        first = ne
-    if not settled:  # no cycle: the window's stretch from its start
-        count = 0
-        for i in range(first, ne):
-            if ev_f[i, 0] < start + Tc:
-                count += 1
+    end = ne
+    if best_flight == -math.inf:  # no impact in the window
+        for i in range(ne):
+            if window_start <= ev_f[i, 0] < window_end:
+                first = min(first, i)
+                end = i + 1
+        if first == ne:
+            end = ne
+    else:
+        nearest = math.inf
+        for i in range(ne):
+            if ev_k[i] != IMPACT or ev_f[i, 0] < start:
+                continue
+            if first == ne:
+                first = i
+                continue
+            if abs(ev_f[i, 0] - (start + Tc)) < nearest:
+                nearest = abs(ev_f[i, 0] - (start + Tc))
+                end = i
+        if not settled or end == ne:  # no cycle: the window's stretch from its start
+            end = first
+            while end < ne and ev_f[end, 0] < start + Tc:
+                end += 1
     z = 0
     contact_events = False
-    for i in range(first, min(first + count, ne)):
+    for i in range(first, end):
         t = ev_f[i, 0]
         if ev_k[i] == IMPACT:
             if z < out_imp.shape[0]:
