@@ -146,10 +146,10 @@ def yaml_scalars(node, schema=None, root=None):
             return yaml.safe_load(text)  # (named by check_config: must be finite)
         if not re.fullmatch(DECIMAL, text):
             return node  # not a decimal number (010, 0x10, 1:30 ...): check_config names the key
+        if re.fullmatch(r"[-+]?[\d_]+", text):
+            return int(text.replace("_", ""))
         value = float(text.replace("_", ""))
-        if "integer" in types and value.is_integer() and re.fullmatch(r"[-+]?[\d_]+", text):
-            value = int(text.replace("_", ""))
-        elif "integer" in types and value.is_integer():
+        if "integer" in types and value.is_integer():
             value = int(value)
         return value
     return node
