@@ -181,8 +181,10 @@ class SteadyState:
 NONPERIODIC_WINDOW = 8
 
 
-# Bound on max_periods (the run keeps every section: 2 arrays of max_periods x 4 floats).
-MAX_PERIODS_LIMIT = 1_000_000
+# Bound on max_periods: the work of one run (the pure-Python loop advances ~7000 forcing periods
+# a second, so a run that does not settle ends within ~15 s; the run keeps every section, 2
+# arrays of max_periods x 4 floats). The slowest settling case of the workflow takes ~4000.
+MAX_PERIODS_LIMIT = 100_000
 
 
 def start_in_first_period(p: Parameters, t0: float) -> float:
@@ -218,7 +220,12 @@ def check_settle_options(settle_tol, max_periods, max_period_multiple) -> tuple[
     if not (math.isfinite(settle_tol) and 0 < settle_tol < 1):
         raise ValueError(f"`settle_tol` = {settle_tol!r} is not allowed: must be in (0, 1)")
     max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
-    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, max_periods - 1)
+    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, MAX_PERIODS_LIMIT - 1)
+    if max_period_multiple >= max_periods:
+        # Named first: max_periods, the bound usually given (``steady --max-periods 2`` blamed
+        # --max-period-multiple, a flag never given, at its default 8); the CLI names the flag given.
+        raise ValueError(f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
+                         f"{max_period_multiple!r}: max_periods must exceed max_period_multiple")
     return settle_tol, max_periods, max_period_multiple
 
 
