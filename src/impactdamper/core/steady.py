@@ -563,10 +563,11 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
         for e in impacts:
             i = position[id(e)]
             flights.append(e.t - (traj.events[i - 1].t if i else t_begin))
-        start = impacts[int(np.argmax(flights))].t
-    if settled:
-        cycle_events = _cycle_events(traj, window_start, window_end, start)
-    else:  # no cycle: the window's stretch from its start
+        longest = int(np.argmax(flights))
+        start = impacts[longest].t
+    if settled and impacts:
+        cycle_events = _cycle_events(traj, start, Tc, flights[longest])
+    else:  # no impact (the events between the sections), or no cycle (the window's stretch)
         cycle_events = [e for e in traj.events if start <= e.t < start + Tc]
     cycle_impacts = tuple(
         CycleImpact(e.t, (e.t - start) / T, (e.t / T) % 1.0, e.velocity, e.impulse)
@@ -597,28 +598,20 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
     )
 
 
-def _cycle_events(traj: Trajectory, window_start: float, window_end: float, start: float) -> list:
-    """The events of one cycle of period T_c = window_end - window_start from ``start``.
+def _cycle_events(traj: Trajectory, start: float, Tc: float, flight: float) -> list:
+    """The events of one cycle of period T_c from ``start``, the impact that ends the cycle's
+    longest free flight (of duration ``flight``).
 
-    With impacts, ``start`` is the impact that ends the cycle's longest free flight, and the
-    cycle runs up to (not including) the impact matching it one cycle later: the impact nearest
-    to start + T_c. A settled motion's impacts drift by less per cycle than the intervals
-    between impacts (the one before the match is a longest flight away), so the match is
-    exact whatever ``settle_tol``, while a time window with a fixed margin is not: at
-    settle_tol = 1e-5 the reference case drifts by 2e-8 T per period, and a window
-    [start - 1e-9 T, start + T_c - 1e-9 T) counted the same impact twice. (Counting the events
-    between two sections instead fails in chatter: a section inside a sequence of bounces
-    splits it, and the count of its last, tiny bounces is not the same from cycle to cycle.)
-    Without impacts: the events between the window's two sections.
+    The cycle is [start, start + T_c - flight / 2): the same impact one cycle later comes at
+    start + T_c up to the motion's drift per cycle, and the cycle's last event at least a
+    longest flight before that, so half a flight separates the two whatever ``settle_tol``.
+    A window with a fixed margin does not: at settle_tol = 1e-5 the reference case drifts by
+    2e-8 T per period, and [start - 1e-9 T, start + T_c - 1e-9 T) counted the same impact
+    twice. (Counting the events between two sections instead fails in chatter: a section inside
+    a sequence of bounces splits it, and the count of its last, tiny bounces varies.)
     """
-    events = traj.events
-    if not any(e.kind == "impact" and window_start <= e.t < window_end for e in events):
-        return [e for e in events if window_start <= e.t < window_end]
-    later = [i for i, e in enumerate(events) if e.kind == "impact" and e.t >= start]
-    if len(later) < 2:  # (the trajectory holds the next cycle: not expected)
-        return [e for e in events if start <= e.t < start + window_end - window_start]
-    end = min(later[1:], key=lambda i: abs(events[i].t - (start + window_end - window_start)))
-    return events[later[0]:end]
+    end = start + Tc - 0.5 * flight
+    return [e for e in traj.events if start <= e.t < end]
 
 
 def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, float]]:

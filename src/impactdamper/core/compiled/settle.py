@@ -229,34 +229,23 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
             if flight > best_flight:
                 best_flight = flight
                 start = ev_f[i, 0]
-    # The cycle's events (the reference's _cycle_events): from the start impact up to the
-    # impact nearest to start + T_c, its match one cycle later; without impacts, those between
-    # the window's two sections. Never a time window with a fixed margin, which a loose
-    # settle_tol's drift per period made count one impact twice.
+    # The cycle's events (the reference's _cycle_events): [start, start + T_c - flight / 2)
+    # after the start impact's (longest) flight, never a window with a fixed margin, which a
+    # loose settle_tol's drift per period made count one impact twice; without impacts, or for
+    # no cycle, [start, start + T_c).
+    end_t = start + Tc
+    if settled and best_flight > -math.inf:
+        end_t = start + Tc - 0.5 * best_flight
     first = ne
     end = ne
-    if best_flight == -math.inf:  # no impact in the window
-        for i in range(ne):
-            if window_start <= ev_f[i, 0] < window_end:
-                first = min(first, i)
-                end = i + 1
-        if first == ne:
-            end = ne
-    else:
-        nearest = math.inf
-        for i in range(ne):
-            if ev_k[i] != IMPACT or ev_f[i, 0] < start:
-                continue
-            if first == ne:
-                first = i
-                continue
-            if abs(ev_f[i, 0] - (start + Tc)) < nearest:
-                nearest = abs(ev_f[i, 0] - (start + Tc))
-                end = i
-        if not settled or end == ne:  # no cycle: the window's stretch from its start
-            end = first
-            while end < ne and ev_f[end, 0] < start + Tc:
-                end += 1
+    for i in range(ne):
+        if first == ne and ev_f[i, 0] >= start:
+            first = i
+        if ev_f[i, 0] >= end_t:
+            end = i
+            break
+    if end < first:
+        end = first
     z = 0
     contact_events = False
     for i in range(first, end):
