@@ -20,7 +20,7 @@ import sys
 
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
-from impactdamper.analysis.response import frequency_response
+from impactdamper.analysis.response import MAX_POINTS, frequency_response
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
@@ -117,7 +117,8 @@ def build_parser() -> argparse.ArgumentParser:
     r = response.add_argument_group("frequency response (the band replaces --theta)")
     r.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
     r.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
-    r.add_argument("--points", type=int, default=21, help="theta values, equally spaced (default 21)")
+    r.add_argument("--points", type=int, default=21,
+                   help=f"theta values, equally spaced (default 21, at most {MAX_POINTS}: ~40 ms each)")
     r.add_argument("--settle-tol", type=float, default=SweepSettings.settle_tol,
                    help="relative section mismatch for a settled motion")
     r.add_argument("--max-periods", type=int, default=SweepSettings.max_periods,
