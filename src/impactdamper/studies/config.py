@@ -82,14 +82,11 @@ def _parameter_sets(config: dict):
             for end in (f"{axis}_start", f"{axis}_stop"):
                 yield ("claims_search", "map", end), {cmap[axis]: cmap[end]}
     design = config.get("design")
-    if design:
-        from impactdamper.studies.design import DESIGN_FIELDS
-
-        own = {name: design[name] for name in DESIGN_FIELDS if name in design}
+    if design:  # (the system is the reference case's: the schema holds no other parameter there)
         for end in ("theta_start", "theta_stop"):
-            yield ("design", end), {**own, "theta": design[end]}
+            yield ("design", end), {"theta": design[end]}
         for value in design.get("second_values", ()):
-            yield ("design", "second_values"), {**own, design["second"]: value}
+            yield ("design", "second_values"), {design["second"]: value}
     for name, m in config.get("maps", {}).items():
         if isinstance(m, dict):
             for end in ("start", "stop"):
