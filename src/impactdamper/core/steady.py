@@ -12,9 +12,9 @@ period to the next is far smaller than its distance to the cycle, and without th
 test stopped at theta = 50 with x1_max 430 settle_tol off the settled motion's. A settled
 motion's x1_max is within ``X1_MAX_FACTOR`` settle_tol (in x_st) of the exactly settled one's.
 
-The settled cycle's events are those between two sections one cycle apart, counted from the
-cycle's start (:func:`_cycle_events`): a loose settle_tol gives a less refined cycle, never a
-different one.
+The settled cycle's events are those from its start impact to half its longest flight before
+the same impact one cycle later (:func:`_cycle_events`), never a window with a fixed margin: a
+loose settle_tol gives a less refined cycle, never a different one.
 
 The regime of the settled cycle:
 
