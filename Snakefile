@@ -19,6 +19,7 @@ workdir: output_root(config)
 include: "workflow/rules/common.smk"
 
 
+check_config_files(config_files())
 config.update(yaml_scalars(config))
 validate(check_config(config), "workflow/schemas/config.schema.yaml")
 

@@ -22,12 +22,13 @@ import sys
 
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
-from impactdamper.analysis.response import frequency_response
+from impactdamper.analysis.response import MAX_POINTS, frequency_response
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.analysis.solve import BACKENDS, steady_state
 from impactdamper.reporting.progress import progress_bar
+from impactdamper.core.steady import MAX_PERIODS_LIMIT
 from impactdamper.reporting.records import clean
 
 __all__ = ["main", "run", "build_parser", "add_quiet_flag", "PROG"]
@@ -42,10 +43,16 @@ PARAMETER_HELP = {spec.name: spec.help for spec in PARAMETER_TABLE}
 class _Parser(argparse.ArgumentParser):
     def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
-        # A value such as -1e6 is a number, not an option (argparse knows only -1 and -1.5).
-        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$")
+        # A value such as -1e6 is a number, not an option (argparse knows only -1 and -1.5); so
+        # are -1_000, -Infinity and -nan (float() reads them): argparse's "expected one argument"
+        # named no cause, now the value reaches the flag's own check.
+        self._negative_number_matcher = re.compile(
+            r"^-(\d[\d_]*\.?[\d_]*|\.\d[\d_]*)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
 
     def error(self, message: str) -> None:  # one line, exit status 2
+        if message.endswith("expected one argument"):
+            # (A value starting with '-' that is not a number reads as an option.)
+            message += ": a value that starts with '-' and is not a number must be given as --flag=VALUE"
         self.exit(2, f"{self.prog}: error: {message}\n")
 
     def _print_message(self, message: str, file=None) -> None:
@@ -117,7 +124,8 @@ def build_parser() -> argparse.ArgumentParser:
     r = response.add_argument_group("frequency response (the band replaces --theta)")
     r.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
     r.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
-    r.add_argument("--points", type=int, default=21, help="theta values, equally spaced (default 21)")
+    r.add_argument("--points", type=int, default=21,
+                   help=f"theta values, equally spaced (default 21, at most {MAX_POINTS}: ~40 ms each)")
     r.add_argument("--settle-tol", type=float, default=SweepSettings.settle_tol,
                    help="relative section mismatch for a settled motion")
     r.add_argument("--max-periods", type=int, default=SweepSettings.max_periods,
@@ -195,6 +203,24 @@ def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | N
     parser.exit(2, f"{parser.prog}: error: {prefix}{message}\n")
 
 
+def _given(flag: str, given: list[str]) -> bool:
+    return any(a == flag or a.startswith(flag + "=") for a in given)
+
+
+def _check_period_flags(parser: argparse.ArgumentParser, args: argparse.Namespace, given: list[str]) -> None:
+    """--max-periods must exceed --max-period-multiple: name the flag the user gave (``steady
+    --max-periods 2`` blamed --max-period-multiple, never given, at its default 8)."""
+    periods, multiple = args.max_periods, args.max_period_multiple
+    if not (2 <= periods <= MAX_PERIODS_LIMIT and 1 <= multiple < MAX_PERIODS_LIMIT) or multiple < periods:
+        return  # (in order, or out of range: the library's own message names the flag)
+    if _given("--max-period-multiple", given) and not _given("--max-periods", given):
+        parser.exit(2, f"{parser.prog}: error: argument --max-period-multiple: `max_period_multiple` = {multiple} is "
+                       f"not allowed: must be an integer in [1, {periods - 1}] (below --max-periods = {periods})\n")
+    parser.exit(2, f"{parser.prog}: error: argument --max-periods: `max_periods` = {periods} is not allowed: must "
+                   f"exceed --max-period-multiple = {multiple}{'' if _given('--max-period-multiple', given) else ' (its default)'}"
+                   f", at most {MAX_PERIODS_LIMIT}\n")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run one command; returns the exit status (argparse and bad values exit through
     SystemExit with status 2)."""
@@ -210,9 +236,11 @@ def main(argv: list[str] | None = None) -> int:
             if value is not None:
                 sub.exit(2, f"{sub.prog}: error: argument {flag}: not allowed with --seed alg1 (Algorithm No. 1's "
                             "orbit is closed-form, it has no start); use --seed simulate to start from it\n")
+    given = sys.argv[1:] if argv is None else argv
+    if args.command in ("steady", "orbit"):
+        _check_period_flags(sub, args, given)
     if args.command == "response":
         # The band sets theta; a single --theta would be silently unused.
-        given = sys.argv[1:] if argv is None else argv
         if any(a == "--theta" or a.startswith("--theta=") for a in given):
             sub.exit(2, f"{sub.prog}: error: argument --theta: not allowed with response (the band "
                         "--theta-start .. --theta-stop sets theta)\n")
@@ -255,6 +283,8 @@ def main(argv: list[str] | None = None) -> int:
         with contextlib.redirect_stdout(buffer):
             printer(result)
         text = buffer.getvalue()
+    if sys.stdout is None:  # started with stdout closed (``>&-``): nowhere to write
+        return _output_failed(OSError(9, "standard output is closed"))
     try:
         sys.stdout.write(text)
         sys.stdout.flush()
@@ -324,11 +354,13 @@ def run(argv: list[str] | None = None) -> int:
     _one_blas_thread()
     try:
         status = main(argv)
-        sys.stdout.flush()
+        if sys.stdout is not None:
+            sys.stdout.flush()
     except SystemExit as exit_:  # argparse's usage errors and --help; bad values
         status = exit_.code
         try:
-            sys.stdout.flush()
+            if sys.stdout is not None:
+                sys.stdout.flush()
         except OSError as err:
             return _output_failed(err)
     except OSError as err:  # writing the help or the result (nothing else here writes files)

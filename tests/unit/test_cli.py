@@ -160,10 +160,12 @@ def test_work_bound_is_one_line_naming_the_parameter(monkeypatch, capsys):
     monkeypatch.setattr(sys.modules["impactdamper.core.simulate"], "STEPS_AT_START", 500)
     monkeypatch.setattr(sys.modules["impactdamper.core.simulate"], "STEPS_PER_PERIOD", 500)
     with pytest.raises(SystemExit) as info:
-        main(["steady", "--theta", "1e-3", "--json"])
+        # (1e-3 settles now, stuck, before the bound: its cycle is described on a settled stretch,
+        # no longer on the start's transient.)
+        main(["steady", "--theta", "1e-5", "--json"])
     assert info.value.code == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "argument --theta: `theta` = 0.001 is beyond what the solver resolves" in err
+    assert err.count("\n") == 1 and "argument --theta: `theta` = 1e-05 is beyond what the solver resolves" in err
     assert "work bound" in err
 
 
@@ -204,3 +206,57 @@ def test_free_scales_and_start_time_do_not_change_the_answer(args, capsys):
     assert (d["regime"], d["period_multiple"]) == (ref["regime"], ref["period_multiple"]) == ("single_impact", 1)
     assert d["impacts"][0]["velocity_rel"] == pytest.approx(ref["impacts"][0]["velocity_rel"], rel=1e-9)
     assert abs(d["impacts"][0]["phase"] - ref["impacts"][0]["phase"]) < 1e-9
+
+
+# --- messages name the cause --------------------------------------------------------------------
+@pytest.mark.parametrize(("argv", "words"), [
+    # blamed --max-period-multiple, a flag never given
+    (["steady", "--max-periods", "2"], "argument --max-periods: `max_periods` = 2 is not allowed: must exceed "
+                                       "--max-period-multiple = 8 (its default)"),
+    (["steady", "--max-periods", "3"], "argument --max-periods:"),
+    (["steady", "--max-period-multiple", "4000"], "argument --max-period-multiple: `max_period_multiple` = 4000"),
+    (["steady", "--max-periods", "5", "--max-period-multiple", "6"], "argument --max-periods: `max_periods` = 5"),
+    # argparse's "expected one argument" for values that float() reads
+    (["steady", "--gap", "-Infinity"], "argument --gap: `gap` = -inf is not allowed: must be a finite number"),
+    (["steady", "--gap", "-nan"], "argument --gap: `gap` = nan is not allowed: must be a finite number"),
+    (["steady", "--gap", "-1e-3x"], "argument --gap: expected one argument: a value that starts with '-'"),
+])
+def test_message_names_the_flag_given(argv, words, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err, err
+
+
+def test_negative_number_with_digit_groups_is_a_value(capsys):
+    """``--gap -1_000`` got argparse's "expected one argument"; float() reads it as -1000."""
+    assert main(["steady", "--gap", "-1_000", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["parameters"]["gap"] == -1000.0 and d["regime"] == "stuck"
+
+
+def test_work_bound_in_a_chatter_sequence_names_chatter_tol(capsys):
+    """``steady --chatter-tol 1e-300 --gap -28`` blamed --gap (the default chatter_tol settles
+    the case: chatter, 1 T); the same through the API."""
+    with pytest.raises(SearchLimitError, match=r"^`chatter_tol` = 1e-300 is beyond what the solver resolves"):
+        idp.steady_state(REF_GAP_28, tolerances=idp.Tolerances(chatter_tol=1e-300))
+    with pytest.raises(SystemExit) as info:
+        main(["steady", "--chatter-tol", "1e-300", "--gap", "-28"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1 and err.split(": error: ")[1].startswith(
+        "argument --chatter-tol: `chatter_tol` = 1e-300")
+    assert idp.steady_state(REF_GAP_28).regime == "chatter"
+
+
+REF_GAP_28 = idp.Parameters(gap=-28.0)
+SearchLimitError = sys.modules["impactdamper.core.events"].SearchLimitError
+
+
+def test_closed_stdout_is_one_line():
+    """``alg1 --json >&-`` ended in AttributeError: 'NoneType' object has no attribute 'write'."""
+    proc = subprocess.run([sys.executable, "-m", "impactdamper", "alg1", "--json"], stdout=subprocess.DEVNULL,
+                          stderr=subprocess.PIPE, text=True, timeout=120,
+                          preexec_fn=lambda: __import__("os").close(1))
+    assert proc.returncode == 1
+    assert proc.stderr == "python -m impactdamper: error: cannot write the output: standard output is closed\n"

@@ -222,7 +222,7 @@ def _config_helpers() -> dict:
     from types import SimpleNamespace
 
     wanted = {"yaml_scalars", "_config_schema", "_schema_node", "check_config", "_config_unknown_or_not_finite",
-              "_config_disordered", "CONFIG_ORDER"}
+              "_config_disordered", "CONFIG_ORDER", "_with_defaults", "_yaml11_only", "DECIMAL"}
     tree = ast.parse((ROOT / "workflow" / "rules" / "common.smk").read_text())
     nodes = [n for n in tree.body
              if (isinstance(n, ast.FunctionDef) and n.name in wanted)
@@ -327,3 +327,58 @@ def test_snakemake_reads_numbers_in_any_yaml_form(tmp_path):
     assert out.returncode == 0, out.stdout + out.stderr
     ok = snakemake("-n", "reference", "--config", "verdict={ivp_atol: 1e-10, ivp_rtol: 1e-10}")
     assert ok.returncode == 0, ok.stdout + ok.stderr
+
+
+# --- values read as written, limits refused at validation -----------------------------------
+@pytest.mark.parametrize(("config", "message"), [
+    # YAML 1.1 forms that --config's values were read in (gap 8, theta 90, gap 16, rescue True)
+    ("reference={gap: 010}", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
+    ("reference={theta: 1:30}", "['reference']['theta']: 1:30 is not allowed: YAML 1.1 reads it as 90"),
+    ("reference={gap: 0x10}", "['reference']['gap']: 0x10 is not allowed: YAML 1.1 reads it as 16"),
+    ("maps={rescue: on}", "['maps']['rescue']: on is not allowed: YAML 1.1 reads it as True"),
+    # documented limits that passed validation and failed only in the job
+    ("reference={mu: 1e-320}", "['reference']: `mu` = 1e-320 is not allowed with the other parameters"),
+    ("design={second: R, second_values: [0.5, 1.2]}", "['design']['second_values']: `R` = 1.2 is not allowed"),
+    ("claims_search={parameters: {R: {start: 0.5, stop: 1.5, points: 3, alg1_points: 3}}}",
+     "['claims_search']['parameters']['R']['stop']: `R` = 1.5 is not allowed"),
+    ("claims_search={parameters: {theta: {start: 0, stop: 2, points: 3, alg1_points: 3}}}",
+     "['claims_search']['parameters']['theta']['start']: `theta` = 0.0 is not allowed: must be > 0"),
+    ("claims_search={map: {x: R, x_stop: 1.2}}", "['claims_search']['map']['x_stop']: `R` = 1.2 is not allowed"),
+    # chunk counts: bounded, and never above the rows they split (a dry run spun on 100000)
+    ("maps={chunks: 100000}", "['maps']['chunks']: 100000 is greater than the maximum of 1000"),
+    ("maps={chunks: 500}", "['maps']['chunks']: 500 is not allowed: must be at most 400"),
+    ("claims_search={map: {y_points: 5, chunks: 6}}", "['claims_search']['map']['chunks']: 6 is not allowed: "
+                                                     "must be at most 5"),
+])
+def test_snakemake_stops_on_a_yaml11_number_or_a_limit_the_job_would_refuse(config, message):
+    out = snakemake("-n", "reference", "--config", config)
+    text = out.stdout + out.stderr
+    assert out.returncode != 0 and message in text, text
+    line = next(x for x in text.splitlines() if message in x)
+    assert line.startswith("Error validating config file") and len(text.splitlines()) < 10, text
+
+
+@pytest.mark.parametrize(("override", "message"), [
+    ("reference:\n  gap: -5.0\n  gap: -6.0\n", "['reference']['gap'] is given twice"),
+    ("reference:\n  gap: 010\n", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
+    ("maps:\n  rescue: yes\n", "['maps']['rescue']: yes is not allowed: YAML 1.1 reads it as True"),
+])
+def test_snakemake_stops_on_a_repeated_key_or_yaml11_value_in_a_config_file(tmp_path, override, message):
+    out = dry_run_with(tmp_path, override, "reference")
+    text = out.stdout + out.stderr
+    assert out.returncode != 0 and message in text, text
+    assert f"Error validating config file {tmp_path / 'override.yaml'}: " in text
+
+
+def test_decimal_numbers_and_yaml12_booleans_are_accepted(tmp_path):
+    """The forms that are read as written still pass: 0.5, -0.0, 1_000, 1e-12, true."""
+    override = "reference:\n  gap: -0.0\nsolver:\n  gap_tol: 1e-12\n  max_periods: 1_000\nmaps:\n  rescue: true\n"
+    out = dry_run_with(tmp_path, override, "reference")
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
+def test_config_problem_finds_nothing_in_the_shipped_configs():
+    from impactdamper.studies.config import config_problem
+
+    for name in ("config.yaml", "ci.yaml"):
+        assert config_problem(_shipped(name)) is None

@@ -143,19 +143,94 @@ def yaml_scalars(node, schema=None, root=None):
     if not isinstance(node, str) or "string" in types:
         return node
     if "boolean" in types:
-        value = yaml.safe_load(node)
-        return value if isinstance(value, bool) else node
+        # YAML 1.2's booleans only: YAML 1.1's yes/no/on/off are strings (the schema names the key).
+        text = node.strip()
+        return True if text in ("true", "True", "TRUE") else False if text in ("false", "False", "FALSE") else node
     if "number" in types or "integer" in types:
         text = node.strip()
-        value = yaml.safe_load(text) if text else text
-        if not isinstance(value, (int, float)) or isinstance(value, bool):
-            if not re.fullmatch(r"[-+]?(\d[\d_]*\.?\d*|\.\d+)([eE][-+]?\d+)?", text):
-                return node  # not a number: the schema names the key
-            value = float(text.replace("_", ""))
-        if "integer" in types and isinstance(value, float) and value.is_integer():
+        if re.fullmatch(r"[-+]?\.(inf|Inf|INF|nan|NaN|NAN)", text):
+            return yaml.safe_load(text)  # (named by check_config: must be finite)
+        if not re.fullmatch(DECIMAL, text):
+            return node  # not a decimal number (010, 0x10, 1:30 ...): check_config names the key
+        if re.fullmatch(r"[-+]?[\d_]+", text):
+            return int(text.replace("_", ""))
+        value = float(text.replace("_", ""))
+        if "integer" in types and value.is_integer():
             value = int(value)
         return value
     return node
+
+
+# A number as written in the config: decimal, with an optional fraction, exponent and digit
+# groups (1_000); no leading zero (YAML 1.1 reads 010 as octal 8, YAML 1.2 as 10), no 0x/0o/0b
+# prefix and no base-60 1:30 (YAML 1.1's 90). Anything else where a number is expected is
+# refused, naming the key, rather than read one way or the other.
+DECIMAL = r"[-+]?((0|[1-9][\d_]*)(\.[\d_]*)?|\.\d[\d_]*)([eE][-+]?\d+)?"
+
+
+def _yaml11_only(text):
+    """Why a plain scalar that YAML 1.1 reads as a number or a boolean is not one as written
+    (its YAML 1.1 value, which YAML 1.2 reads otherwise), or None."""
+    import re
+
+    value = yaml.safe_load(text)
+    if isinstance(value, bool):
+        ok = text in ("true", "True", "TRUE", "false", "False", "FALSE")
+        return None if ok else f"YAML 1.1 reads it as {value}, YAML 1.2 as a string; write true or false"
+    if isinstance(value, (int, float)):
+        if re.fullmatch(DECIMAL, text) or re.fullmatch(r"[-+]?\.(inf|Inf|INF|nan|NaN|NAN)", text):
+            return None
+        return f"YAML 1.1 reads it as {value!r}; write the number in decimal"
+    return None
+
+
+def config_files():
+    """The config files of this run: the workflow's own and those given with --configfile."""
+    paths = list(workflow.configfiles) + list(workflow.overwrite_configfiles or [])
+    return list(dict.fromkeys(str(p) for p in paths))
+
+
+def check_config_files(paths):
+    """Stop with one line naming the key if a config file repeats a key (YAML loaders keep the
+    last one silently) or holds a plain number or boolean that YAML 1.1, which Snakemake reads
+    files with, reads differently from what is written (010 as 8, 1:30 as 90, 0x10 as 16, on as
+    True). The files themselves are read here again, node by node."""
+    from snakemake.exceptions import WorkflowError
+
+    for path in paths:
+        try:
+            root = yaml.compose(Path(path).read_text(), Loader=yaml.SafeLoader)
+        except (OSError, yaml.YAMLError):
+            continue  # Snakemake reports a file it cannot read or parse
+        problem = _node_problem(root, ())
+        if problem is not None:
+            where, message = problem
+            raise WorkflowError(f"Error validating config file {path}: " + "".join(f"[{p!r}]" for p in where)
+                                + message)
+
+
+def _node_problem(node, path):
+    """(path, message) of the first repeated key or YAML 1.1-only scalar under a YAML node."""
+    if isinstance(node, yaml.MappingNode):
+        seen = set()
+        for key_node, value_node in node.value:
+            key = key_node.value
+            if key in seen:
+                return path + (key,), " is given twice: each key once (a YAML loader keeps the last one)"
+            seen.add(key)
+            found = _node_problem(value_node, path + (key,))
+            if found is not None:
+                return found
+    elif isinstance(node, yaml.SequenceNode):
+        for i, item in enumerate(node.value):
+            found = _node_problem(item, path + (i,))
+            if found is not None:
+                return found
+    elif isinstance(node, yaml.ScalarNode) and node.style is None:
+        why = _yaml11_only(node.value)
+        if why is not None:
+            return path, f": {node.value} is not allowed: {why}"
+    return None
 
 
 def _config_schema():
@@ -204,6 +279,12 @@ def check_config(config):
             problem = (tuple(error.absolute_path), ": " + (message if len(message) <= 200 else message[:200] + "..."))
     if problem is None:
         problem = _config_disordered(config, ())
+    if problem is None:
+        # What the jobs' library calls would refuse (the reference case and the parameter sets
+        # built from it, the settle options, the chunk counts), refused now with their message.
+        from impactdamper.studies.config import config_problem
+
+        problem = config_problem(_with_defaults(config, root))
     if problem is not None:
         path, message = problem
         # (Raised here, not deeper: Snakemake lists every workflow frame under the message.)
@@ -234,7 +315,37 @@ def _config_unknown_or_not_finite(node, schema, root, path):
                 return found
     elif isinstance(node, float) and not math.isfinite(node):
         return path, f": {node!r} is not allowed: must be a finite number"
+    elif isinstance(node, str) and node.strip():
+        types = schema.get("type", [])
+        types = [types] if isinstance(types, str) else types
+        if {"number", "integer", "boolean"} & set(types) and "string" not in types:
+            why = _yaml11_only(node.strip())
+            if why is not None:
+                return path, f": {node.strip()} is not allowed: {why}"
     return None
+
+
+def _with_defaults(config, schema):
+    """The config with the schema's defaults filled in where a key is missing (as Snakemake's
+    validate does afterwards), for the library's checks."""
+    import copy
+
+    import jsonschema
+
+    filled = copy.deepcopy(config)
+    validator = jsonschema.validators.validator_for(schema)
+
+    def set_defaults(validator_, properties, instance, schema_):
+        if isinstance(instance, dict):
+            for key, sub in properties.items():
+                if "default" in sub:
+                    instance.setdefault(key, copy.deepcopy(sub["default"]))
+        yield from validator.VALIDATORS["properties"](validator_, properties, instance, schema_)
+
+    extended = jsonschema.validators.extend(validator, {"properties": set_defaults})
+    for _ in extended(schema).iter_errors(filled):
+        pass
+    return filled
 
 
 def _config_disordered(node, path):

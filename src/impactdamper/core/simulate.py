@@ -58,6 +58,9 @@ DIP_SAMPLES = 33
 # SearchLimitError within seconds instead of running for minutes.
 STEPS_PER_PERIOD = 20_000
 STEPS_AT_START = 20_000
+# A run that reaches its work bound with this many impacts in a row (a chatter sequence) and a
+# chatter_tol below its default blames chatter_tol: the default ends such sequences sooner.
+CHATTER_BLAME_IMPACTS = 20
 # Largest |t| of the solver's clock, in forcing periods: one ulp of t is ~1e-10 T there, the
 # resolution event times need (at t0 = 1e16 s an ulp was 2 s, longer than T). The forcing is
 # T-periodic: a later start is the same motion from t0 modulo T (steady_state reduces it so).
@@ -66,8 +69,10 @@ MAX_CLOCK_PERIODS = 1e6
 # 1e12 times the static deflection is far outside the model, and squares of much larger ones
 # (energies, derivative bounds) overflow.
 MAX_STATE = 1e12
-# Default bound on a simulation's length in forcing periods (simulate's max_periods).
-MAX_SIMULATE_PERIODS = 1_000_000
+# Default bound on a simulation's length in forcing periods (simulate's max_periods): the
+# pure-Python solver advances ~6000 periods a second at the reference case, so a default call
+# ends within ~20 s (6e5 periods took 100 s); a longer run must ask for it with max_periods.
+MAX_SIMULATE_PERIODS = 100_000
 
 
 @dataclass(frozen=True)
@@ -290,9 +295,24 @@ class EventDrivenSolver:
     # --- bookkeeping ------------------------------------------------------------------
     def _budget_message(self, t: float) -> str:
         periods = (t - self._t_start) / self.p.T
-        return work_limit_message(self.p, f"the event search reached its work bound, {STEPS_AT_START} + "
-                                          f"{STEPS_PER_PERIOD} certified steps per forcing period ({self.budget.used} "
-                                          f"steps {periods:.3g} periods into the run)")
+        what = (f"the event search reached its work bound, {STEPS_AT_START} + {STEPS_PER_PERIOD} certified steps per "
+                f"forcing period ({self.budget.used} steps {periods:.3g} periods into the run)")
+        return self._chatter_message(what) or work_limit_message(self.p, what)
+
+    def _chatter_message(self, what: str) -> str | None:
+        """The work bound's message naming ``chatter_tol``, if the run was in a chatter sequence
+        (the last CHATTER_BLAME_IMPACTS events all impacts) with chatter_tol below its default:
+        the sequence's bounces are then followed far further than the default would (at gap -28
+        with chatter_tol 1e-300 the message named the gap, a case the default settles)."""
+        default = Tolerances.chatter_tol
+        events = self.trajectory.events
+        if self.tol.chatter_tol >= default or len(events) < CHATTER_BLAME_IMPACTS:
+            return None
+        if any(e.kind != "impact" for e in events[-CHATTER_BLAME_IMPACTS:]):
+            return None
+        return (f"`chatter_tol` = {self.tol.chatter_tol!r} is beyond what the solver resolves here: {what}, in a "
+                f"chatter sequence followed to rebounds below {self.tol.chatter_tol:.3g} x_st; allowed are values "
+                f"nearer the default {default!r}, which ends such a sequence in persistent contact sooner")
 
     def _start(self, mode: str, t: float, y: np.ndarray, departure: tuple[int, float] | None) -> None:
         if mode == STUCK and self.model.stuck_resonant:
@@ -308,8 +328,8 @@ class EventDrivenSolver:
         if events and event.t - events[-1].t <= SAME_TIME_ULPS * math.ulp(max(abs(event.t), 1.0)):
             self._same_time_events += 1
             if self._same_time_events > MAX_EVENTS_AT_ONE_TIME:
-                raise SearchLimitError(work_limit_message(
-                    self.p, f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {event.t!r}: degenerate contact"))
+                what = f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {event.t!r}: degenerate contact"
+                raise SearchLimitError(self._chatter_message(what) or work_limit_message(self.p, what))
         else:
             self._same_time_events = 0
         events.append(event)
@@ -350,7 +370,7 @@ class EventDrivenSolver:
             except SearchLimitError as err:
                 if str(err).startswith("`"):  # the budget's message names a parameter already
                     raise
-                raise SearchLimitError(work_limit_message(self.p, str(err))) from None
+                raise SearchLimitError(self._chatter_message(str(err)) or work_limit_message(self.p, str(err))) from None
             if root is None:
                 # Resume later from where the march got (it may have stepped past t_target),
                 # not from t_target: restarting there would repeat the march's first steps.

@@ -15,7 +15,13 @@ import numpy as np
 
 from impactdamper import Parameters, Tolerances
 
-__all__ = ["parameters", "tolerances", "steady_options", "sweep_settings", "located_gap", "chunk_indices"]
+__all__ = ["parameters", "tolerances", "steady_options", "sweep_settings", "located_gap", "chunk_indices",
+           "config_problem", "MAX_CHUNKS"]
+
+# Most Snakemake jobs one chunked computation may be split into: every chunk is a job of the DAG,
+# and building a DAG of 3000 map chunks took 27 s (100000 spun); the stages' largest useful
+# split is a few per core of a cluster's allocation.
+MAX_CHUNKS = 1000
 
 
 def parameters(d: dict) -> Parameters:
@@ -61,3 +67,87 @@ def chunk_indices(n: int, chunks: int, chunk: int) -> np.ndarray:
     if not (0 <= chunk < chunks):
         raise ValueError(f"`chunk` = {chunk!r} is not allowed: must be in [0, {chunks})")
     return np.array_split(np.arange(n), chunks)[chunk]
+
+
+def _parameter_sets(config: dict):
+    """(path, changes) of every parameter set the workflow's jobs build from the reference
+    case: each searched or swept range's ends, the design stage's values."""
+    claims = config.get("claims_search", {})
+    for name, rng in claims.get("parameters", {}).items():
+        for end in ("start", "stop"):
+            yield ("claims_search", "parameters", name, end), {name: rng[end]}
+    cmap = claims.get("map")
+    if cmap:
+        for axis in ("x", "y"):
+            for end in (f"{axis}_start", f"{axis}_stop"):
+                yield ("claims_search", "map", end), {cmap[axis]: cmap[end]}
+    design = config.get("design")
+    if design:  # (the system is the reference case's: the schema holds no other parameter there)
+        for end in ("theta_start", "theta_stop"):
+            yield ("design", end), {"theta": design[end]}
+        for value in design.get("second_values", ()):
+            yield ("design", "second_values"), {design["second"]: value}
+    for name, m in config.get("maps", {}).items():
+        if isinstance(m, dict):
+            for end in ("start", "stop"):
+                value = m[end]
+                yield ("maps", name, end), ({"theta": value} if m["parameter"] == "theta"
+                                            else {"delta1": value, "delta2": value})
+
+
+def config_problem(config: dict) -> tuple[tuple, str] | None:
+    """The first value of a config (already valid against its schema) that a job would refuse.
+
+    The schema bounds each key alone; the library's own checks bound what they make together:
+    the reference case and every parameter set built from it (a searched range's ends, the
+    design stage's values: R above 1, theta 0, mu 1e-320 that underflows m2), the solver's and
+    the sweeps' settle options, and the chunk counts (at most :data:`MAX_CHUNKS`, and at most the
+    rows they split). Each refused here, not in the job, with the library's message.
+
+    Returns
+    -------
+    (path, message), the key's path in the config and ": <why>", or None if every job would
+    accept its values.
+    """
+    from impactdamper.core.steady import check_settle_options
+
+    reference = config["reference"]
+    try:
+        parameters(reference)
+    except ValueError as err:
+        return ("reference",), ": " + str(err)
+    for path, changes in _parameter_sets(config):
+        try:
+            parameters({**reference, **changes})
+        except ValueError as err:
+            return path, ": " + str(err)
+    solver = config.get("solver")
+    if solver:
+        try:
+            check_settle_options(solver["settle_tol"], solver["max_periods"], solver["max_period_multiple"])
+        except ValueError as err:
+            return ("solver",), ": " + str(err)
+        for section in ("sweep", "maps"):
+            if section in config:
+                try:
+                    sweep_settings(config[section], solver)
+                except ValueError as err:
+                    return (section,), ": " + str(err)
+    chunked = []
+    maps = config.get("maps")
+    if maps:
+        rows = min((m["points"] for m in maps.values() if isinstance(m, dict)), default=MAX_CHUNKS)
+        chunked.append((("maps", "chunks"), maps["chunks"], rows, "rows of the smallest map (its points)"))
+    cmap = config.get("claims_search", {}).get("map")
+    if cmap:
+        chunked.append((("claims_search", "map", "chunks"), cmap["chunks"], cmap["y_points"], "rows (y_points)"))
+    sweep = config.get("sweep")
+    if sweep:
+        starts = -(-sweep["points"] // sweep["random_every"])
+        chunked.append((("sweep", "random_chunks"), sweep["random_chunks"], starts,
+                        "sweep points with random starts (points / random_every)"))
+    for path, chunks, rows, what in chunked:
+        if chunks > min(rows, MAX_CHUNKS):
+            return path, (f": {chunks!r} is not allowed: must be at most {min(rows, MAX_CHUNKS)} (the {what}, "
+                          f"and at most MAX_CHUNKS = {MAX_CHUNKS}): a chunk beyond that has no rows")
+    return None

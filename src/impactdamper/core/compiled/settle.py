@@ -20,9 +20,9 @@ from impactdamper.core.compiled.layout import (ERR_CAPACITY, IMPACT, MODE_STUCK,
                                                SI_REC, S_DELTA0, S_M1, S_M2, S_OMEGA, S_OMEGA1, S_T, S_XST)
 from impactdamper.core.compiled.loop import advance, init_solver, solver_buffers, solver_state
 from impactdamper.core.simulate import DEFAULT_KICK
-from impactdamper.core.steady import (DIVISOR_DECAY, DIVISOR_FLOOR_FACTOR, DIVISOR_SUSPECT,
-                                      EXCURSION_SAMPLES_PER_PERIOD, NONPERIODIC_WINDOW, PERIODS_BEFORE_CYCLE,
-                                      REBASE_PERIODS, STALL_WINDOW)
+from impactdamper.core.steady import (CONVERGENCE_NOISE, CONVERGENCE_WINDOW, DIVISOR_DECAY, DIVISOR_FLOOR_FACTOR,
+                                      DIVISOR_SUSPECT, EXCURSION_SAMPLES_PER_PERIOD, NONPERIODIC_WINDOW,
+                                      PERIODS_BEFORE_CYCLE, REBASE_PERIODS, ROUNDING_FLOOR, STALL_WINDOW)
 
 # Golden-section iterations of the x1_max refinement: 0.618^80 ~ 2e-17 of a bracket of 2/256 T,
 # below the reference's xatol of 1e-12 T.
@@ -80,6 +80,37 @@ def _least_period(sections, modes, n, k, settle_tol):
         if m < DIVISOR_FLOOR_FACTOR * settle_tol:
             return d, m
     return k, _mismatch(sections, modes, n, k)
+
+
+@njit(cache=True)
+def _converged(sections, n, k, settle_tol):
+    """The reference's _converged on the first n sections."""
+    w = -(-max(CONVERGENCE_WINDOW, 2 * k) // k) * k
+    if n < 2 * w + k:
+        return False
+    spread = 0.0
+    for i in range(w):
+        for c in range(4):
+            spread = max(spread, abs(sections[n - 1 - i, c] - sections[n - 1 - i % k, c]))
+    older = 0.0
+    recent = 0.0
+    for r in range(2 * w):
+        row = n - 2 * w + r
+        worst = 0.0
+        for c in range(4):
+            worst = max(worst, abs(sections[row, c] - sections[row - k, c]))
+        if r < w:
+            older = max(older, worst)
+        else:
+            recent = max(recent, worst)
+    if recent < max(CONVERGENCE_NOISE * settle_tol, ROUNDING_FLOOR):
+        tail = 0.0
+    elif recent < older:
+        g = (recent / older) ** (k / w)
+        tail = recent * g / (1.0 - g)
+    else:
+        tail = math.inf
+    return max(spread, tail) < settle_tol
 
 
 @njit(cache=True)
@@ -198,21 +229,37 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
             if flight > best_flight:
                 best_flight = flight
                 start = ev_f[i, 0]
+    # The cycle's events (the reference's _cycle_events): [start, start + T_c - flight / 2)
+    # after the start impact's (longest) flight, never a window with a fixed margin, which a
+    # loose settle_tol's drift per period made count one impact twice; without impacts, or for
+    # no cycle, [start, start + T_c).
+    end_t = start + Tc
+    if settled and best_flight > -math.inf:
+        end_t = start + Tc - 0.5 * best_flight
+    first = ne
+    end = ne
+    for i in range(ne):
+        if first == ne and ev_f[i, 0] >= start:
+            first = i
+        if ev_f[i, 0] >= end_t:
+            end = i
+            break
+    if end < first:
+        end = first
     z = 0
     contact_events = False
-    for i in range(ne):
+    for i in range(first, end):
         t = ev_f[i, 0]
-        if start - 1e-9 * T <= t < start + Tc - 1e-9 * T:
-            if ev_k[i] == IMPACT:
-                if z < out_imp.shape[0]:
-                    out_imp[z, 0] = t
-                    out_imp[z, 1] = (t - start) / T
-                    out_imp[z, 2] = (t / T) % 1.0
-                    out_imp[z, 3] = ev_f[i, 1]
-                    out_imp[z, 4] = ev_f[i, 2]
-                z += 1
-            else:
-                contact_events = True
+        if ev_k[i] == IMPACT:
+            if z < out_imp.shape[0]:
+                out_imp[z, 0] = t
+                out_imp[z, 1] = (t - start) / T
+                out_imp[z, 2] = (t / T) % 1.0
+                out_imp[z, 3] = ev_f[i, 1]
+                out_imp[z, 4] = ev_f[i, 2]
+            z += 1
+        else:
+            contact_events = True
     contact_time = 0.0
     a, b = start, start + Tc
     for i in range(ns):
@@ -295,6 +342,8 @@ def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, m
         found_k, residual = _period(sections, modes, n, kmax, settle_tol)
         if found_k:
             found_k, residual = _least_period(sections, modes, n, found_k, settle_tol)
+        if found_k and residual < settle_tol and not _converged(sections, n, found_k, settle_tol):
+            found_k = 0
         if found_k:
             break
     R = tail.shape[0]
