@@ -34,3 +34,73 @@ def test_report_builds_cleanly_and_deterministically(tmp_path):
     assert "Overfull" not in log, [line for line in log.splitlines() if "Overfull" in line][:5]
     pdf2, _ = build(tmp_path / "b")
     assert hashlib.sha256(pdf.read_bytes()).digest() == hashlib.sha256(pdf2.read_bytes()).digest()
+
+
+# --- The report's text: no project vocabulary, every reference cited -------------------------
+# These read the LaTeX sources (the sections, the report's frame and the generated files the
+# report inputs), so they run in the quick suite without building the PDF.
+
+PAPER = ROOT / "paper"
+# Words of the project's own bookkeeping that a paper does not use as judgements: an acceptance
+# criterion is stated once as the study's own, and its outcome is "satisfied" or "missed".
+PROJECT_WORDS = re.compile(r"\b(targets?|met)\b", re.I)
+# Code names the text must describe in words. Library functions and workflow rules: any
+# \texttt{} holding an underscore is one, unless it is a path (a slash or a dot) or a public
+# name of another package that the text cites (SciPy's solve_ivp).
+ALLOWED_CODE_NAMES = {"solve_ivp"}
+CODE_NAMES = ("regime_map_batch", "solve_point", "steady_state_hybrid", "compiled_warm_up",
+              "analytic_minus_located", "end_checks")
+
+
+def report_sources() -> list[Path]:
+    """The files whose text reaches the PDF: the frame, the sections, the generated inputs."""
+    return ([PAPER / "report.tex", PAPER / "references.tex"] + sorted((PAPER / "sections").glob("*.tex"))
+            + sorted((PAPER / "generated").glob("*.tex")))
+
+
+def running_text(tex: str) -> str:
+    """The text a reader sees, roughly: comments, macro names and the arguments of commands that
+    name files, labels or keys removed (a macro's name may say Target; its value may not)."""
+    tex = re.sub(r"(?<!\\)%.*", "", tex)
+    tex = re.sub(r"\\(label|ref|eqref|cite|input|includegraphics|bibitem|newcommand|renewcommand|"
+                 r"providecommand|usepackage|documentclass|begin|end)(\[[^\]]*\])?\{[^}]*\}", " ", tex)
+    return re.sub(r"\\[A-Za-z]+", " ", tex)
+
+
+def test_running_text_has_no_project_vocabulary():
+    hits = []
+    for path in report_sources():
+        raw = path.read_text()
+        text = running_text(raw)
+        for m in PROJECT_WORDS.finditer(text):
+            hits.append(f"{path.relative_to(ROOT)}: ...{text[max(0, m.start() - 40):m.end() + 20]!r}...")
+        for m in re.finditer(r"\\texttt\{([^}]*)\}", re.sub(r"(?<!\\)%.*", "", raw)):
+            name = m.group(1).replace(r"\_", "_")
+            if "_" in name and "/" not in name and "." not in name and name not in ALLOWED_CODE_NAMES:
+                hits.append(f"{path.relative_to(ROOT)}: code name \\texttt{{{m.group(1)}}}")
+        plain = text.replace(r"\_", "_")
+        hits += [f"{path.relative_to(ROOT)}: code name {n}" for n in CODE_NAMES if n in plain]
+    assert not hits, "\n".join(hits)
+
+
+def test_running_text_check_catches_the_words():
+    # The check above must be able to fail: each kind of offence, planted, is found.
+    assert PROJECT_WORDS.search(running_text(r"against a target of 60~s"))
+    assert PROJECT_WORDS.search(running_text(r"& \PerfCompiledMet{} & met \\"))
+    assert not PROJECT_WORDS.search(running_text(r"\PerfSpeedupTarget{} times, criterion satisfied % met"))
+    assert "regime_map_batch" in running_text(r"the driver \texttt{regime\_map\_batch}").replace(r"\_", "_")
+
+
+def cited_keys(tex: str) -> set[str]:
+    tex = re.sub(r"(?<!\\)%.*", "", tex)
+    return {k.strip() for group in re.findall(r"\\cite(?:\[[^\]]*\])?\{([^}]*)\}", tex) for k in group.split(",")}
+
+
+def test_every_reference_is_cited_and_every_citation_defined():
+    bib = (PAPER / "references.tex").read_text()
+    items = set(re.findall(r"\\bibitem(?:\[[^\]]*\])?\{([^}]*)\}", bib))
+    # A bibitem citing the paper ("Ref. [4] of \cite{timofeev2019}") does not count as a citation.
+    cited = set().union(*(cited_keys(p.read_text()) for p in report_sources() if p.name != "references.tex"))
+    assert items, "no \\bibitem in paper/references.tex"
+    assert not items - cited, f"references never cited: {sorted(items - cited)}"
+    assert not cited - items, f"citations with no reference: {sorted(cited - items)}"

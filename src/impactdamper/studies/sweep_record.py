@@ -195,7 +195,7 @@ def table(rows, trans, checks_doc, special) -> str:
                      "on that side ends or loses stability there.")
     if "mirror" in marks:
         notes.append("$^{s}$\\,The other sweep direction locates the same change (labels swapped) within "
-                     "1/\\SweepMatchSteps{} of the sweep step: the periodic motion's own end, met from both sides.")
+                     "1/\\SweepMatchSteps{} of the sweep step: the periodic motion's own end, reached from both sides.")
     if "budget" in marks:
         notes.append("$^\\ddagger$\\,Edge of the settling budget, not a transition: np (no period "
                      "$k\\le\\SweepMaxPeriodMultiple$ settled within the cap of \\SweepMaxPeriods{} periods, "

@@ -206,7 +206,9 @@ def _scan_macros(add, scan: dict, cc_s: dict, ref_l: dict) -> None:
         add("EndChecksOffImpacts", str(cmp["impacts"][0]))
         add("EndChecksOffTimeDiff", sci(cmp["max_time_difference_over_T"]))
         add("EndChecksOffVelocityDiff", sci(cmp["max_velocity_difference_rel"]))
-        add("EndChecksOffSameClaim", _yes(worst["exact"] == worst["independent"]))
+        # A phrase, not "yes"/"no": the text reads "... with z impacts (both give the same verdict ...)".
+        add("EndChecksOffSameClaim", "both give the same verdict on the claim"
+            if worst["exact"] == worst["independent"] else "yet they give different verdicts on the claim")
     orbit = scan["orbit_range"]
     if orbit.get("found"):
         add("OrbitRangeLo", fixed(orbit["lo"], 4))
