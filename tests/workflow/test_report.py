@@ -32,6 +32,7 @@ def test_report_builds_cleanly_and_deterministically(tmp_path):
     assert "undefined" not in log.lower().replace("undefined control", ""), \
         [line for line in log.splitlines() if "undefined" in line.lower()][:5]
     assert "Overfull" not in log, [line for line in log.splitlines() if "Overfull" in line][:5]
+    assert_floats_numbered_in_citation_order(pdf.parent / "report.aux")
     pdf2, _ = build(tmp_path / "b")
     assert hashlib.sha256(pdf.read_bytes()).digest() == hashlib.sha256(pdf2.read_bytes()).digest()
 
@@ -104,3 +105,17 @@ def test_every_reference_is_cited_and_every_citation_defined():
     assert items, "no \\bibitem in paper/references.tex"
     assert not items - cited, f"references never cited: {sorted(items - cited)}"
     assert not cited - items, f"citations with no reference: {sorted(cited - items)}"
+
+
+def assert_floats_numbered_in_citation_order(aux: Path) -> None:
+    """Figures and tables are numbered in the order the text first cites them."""
+    numbers = dict(re.findall(r"\\newlabel\{((?:fig|tab):[^}]*)\}\{\{([^}]*)\}", aux.read_text()))
+
+    def expand(path: Path) -> str:
+        tex = re.sub(r"(?<!\\)%.*", "", path.read_text())
+        return re.sub(r"\\input\{(sections/[^}]*)\}", lambda m: expand(PAPER / m.group(1)), tex)
+
+    first = list(dict.fromkeys(re.findall(r"\\ref\{((?:fig|tab):[^}]*)\}", expand(PAPER / "report.tex"))))
+    for kind in ("fig", "tab"):
+        order = [int(numbers[k]) for k in first if k.startswith(kind) and k in numbers]
+        assert order == sorted(order), f"{kind} numbered out of citation order: {order}"
