@@ -106,6 +106,9 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> MacroFile:
             _macro(f"Sweep{macro}DifferencePrecise", "\\text{--}" if diff is None else tex_sci(abs(diff), 3)),
             _macro(f"Sweep{macro}NumericDifference", "\\text{--}" if c.get("analytic_minus_numeric") is None
                    else tex_sci(abs(c["analytic_minus_numeric"]))),
+            # The check's outcome in words, judged here from the number and the tolerance it is held to.
+            _macro(f"Sweep{macro}Outcome", "not computed" if diff is None
+                   else "within the tolerance" if abs(diff) <= float(checks_doc["check_xtol"]) else "missed"),
         ]
     if checks.get("alg1_grazing", {}).get("continuation") is not None:
         m.append(_macro("SweepAlgOneGrazingContinuation", f"{checks['alg1_grazing']['continuation']:.10g}"))
