@@ -94,13 +94,13 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
             label="first contact, $\\Delta_0 = U_1$")
     ref = float(reference[REFERENCE_VALUE[name]])
     ax.plot([float(reference["gap"])], [ref], marker="*", ms=9, color="#f1c40f", mec="k", mew=0.6, ls="none",
-            label=f"stated case ($\\Delta_0/x_{{st}}$ = {float(reference['gap']):g})")
+            label=f"stated case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {float(reference['gap']):g})")
     loc = located_gap(located_json)
     ax.plot([loc], [ref], marker="D", ms=5, color="w", mec="k", mew=0.6, ls="none",
-            label=f"located case ($\\Delta_0/x_{{st}}$ = {loc:g})")
+            label=f"located case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {loc:g})")
     ax.set_xlim(gaps[0], gaps[-1])
     ax.set_ylim(slow[0], slow[-1])
-    ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     ax.set_ylabel(AXIS_LABEL[name])
     ax.grid(False)
     handles, _ = ax.get_legend_handles_labels()

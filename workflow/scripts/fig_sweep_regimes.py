@@ -116,7 +116,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     for i, (ax, window) in enumerate(zip(zooms, ZOOMS)):
         drawn.append((ax, _panel(ax, rows, rnd, window, False)))
         ax.set_title(f"zoom {'abc'[i]}", fontsize=8, loc="left")
-        ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+        ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
         if i:
             ax.set_yticklabels([])
         # The window, outlined and named in the top panel.
@@ -124,7 +124,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
                                 fill=False, ec="k", lw=0.8, zorder=5))
         top.annotate(f"zoom {'abc'[i]}", (0.5 * sum(window), 0.5), xytext=(0, 1), textcoords="offset points",
                      ha="center", va="bottom", fontsize=8)
-    top.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    top.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     present = {gs.regime_of_label(r["label"]) for r in rows + rnd}
     fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=REGIME_NAMES[k])
                         for k, c in REGIME_COLORS.items() if k in present],

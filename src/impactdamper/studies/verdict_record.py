@@ -185,6 +185,7 @@ def _scan_macros(add, scan: dict, cc_s: dict, ref_l: dict) -> None:
     add("ScanGapStep", fixed(w["alg2_gap_step"], 2))
     add("ScanAlgOneGapStep", fixed(w["alg1_gap_step"], 3))
     add("ScanBisectTol", sci(w["alg2_bisect_tol"], 0))
+    add("LocatedMargin", fixed(w["located_margin"], 2))  # the rule that picks the located case
     add("AlgOneExistenceLimit", fixed(scan["alg1_existence_limit"], 3))
     g_loc = ref_l["parameters"]["gap"]
     for name, key, digits in (("ClaimA", "claim_a_ranges", 3), ("ClaimB", "claim_b_ranges", 3), ("Both", "both_ranges", 3)):
