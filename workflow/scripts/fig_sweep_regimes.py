@@ -27,11 +27,11 @@ SHORT = {"stuck": "S", "np": "np"}
 LABEL_SIZE = 7.0
 # Least gap (points) between neighbouring labels of one row, and between a label and its band's edge.
 LABEL_PAD = 1.0
-# The zooms of the lower panels (Delta0/x_st): the periodic windows between chatter and the
-# long nonperiodic band, those around the located case up to the one-impact motion, and the
-# end of the one-impact motion near first contact (U1/x_st = 11.33 in the reference case);
-# their widths on the page.
-ZOOMS = ((-21.0, -12.6), (-10.4, -7.9), (9.9, 11.7))
+# The zooms of the lower panels (Delta0/x_st): the periodic windows inside the long
+# nonperiodic band (3/1, and 2/1 doubling to 4/2; narrow enough that their labels fit), those
+# around the located case up to the one-impact motion, and the end of the one-impact motion
+# near first contact (U1/x_st = 11.33 in the reference case); their widths on the page.
+ZOOMS = ((-18.0, -13.1), (-10.4, -7.9), (9.9, 11.7))
 ZOOM_WIDTHS = (2.4, 1.35, 1.0)
 # Height of a row's band, as a share of the row pitch.
 BAND_HEIGHT = 0.8
