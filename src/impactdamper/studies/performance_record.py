@@ -88,6 +88,7 @@ def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
             add(f"Perf{C}BestIvpCost{lev}", tex_time(L["best_ivp_cost"]))
             add(f"Perf{C}ExactCost{lev}", tex_time(L["exact_cost"]))
             add(f"Perf{C}SpeedupRkFour{lev}", _speedup(L["speedup_vs_rk4"]))
+            add(f"Perf{C}SpeedupVerdict{lev}", _criterion(L["speedup_met"]))
     g = s["cost_growth"]
     add("PerfCostPerImpact", tex_time(g["per_impact_median"]))
     add("PerfCostPerImpactMin", tex_time(g["per_impact_min"]))
