@@ -215,6 +215,11 @@ def table(rows, trans, checks_doc, special) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _within(seconds: float, criterion: float) -> str:
+    """A time against its acceptance criterion, in the report's words."""
+    return "satisfied" if seconds <= criterion else "missed"
+
+
 def timing(sweep_timing, map_timings) -> str:
     """The benchmark's macros (the sweep's and maps' timing JSON files): change from run to run."""
     sw = read_json(sweep_timing)
@@ -225,7 +230,9 @@ def timing(sweep_timing, map_timings) -> str:
          f"\\newcommand{{\\SweepBenchCpuUp}}{{{sw['cpu_s']['up']:.1f}}}",
          f"\\newcommand{{\\SweepBenchCpuDown}}{{{sw['cpu_s']['down']:.1f}}}",
          f"\\newcommand{{\\SweepBenchLoad}}{{{sw['machine_before']['load_average'][0]:.1f}}}",
-         f"\\newcommand{{\\SweepBenchTarget}}{{{sw['target_wall_s']:.0f}}}"]
+         f"\\newcommand{{\\SweepBenchTarget}}{{{sw['target_wall_s']:.0f}}}",
+         # The acceptance criterion's outcome in words (wall time at most the criterion).
+         f"\\newcommand{{\\SweepBenchVerdict}}{{{_within(sw['wall_s'], sw['target_wall_s'])}}}"]
     for path in map_timings:
         mt = read_json(path)
         name = MAP_MACRO[mt["map"]]
@@ -233,5 +240,6 @@ def timing(sweep_timing, map_timings) -> str:
               f"\\newcommand{{\\Map{name}Chunks}}{{{mt['chunks']}}}",
               f"\\newcommand{{\\Map{name}Wall}}{{{mt['wall_s']:.0f}}}",
               f"\\newcommand{{\\Map{name}Cpu}}{{{mt['cpu_s']:.0f}}}",
-              f"\\newcommand{{\\Map{name}Target}}{{{mt['target_wall_s']:.0f}}}"]
+              f"\\newcommand{{\\Map{name}Target}}{{{mt['target_wall_s']:.0f}}}",
+              f"\\newcommand{{\\Map{name}Verdict}}{{{_within(mt['wall_s'], mt['target_wall_s'])}}}"]
     return "\n".join(t) + "\n"
