@@ -44,7 +44,7 @@ def test_report_builds_cleanly_and_deterministically(tmp_path):
 PAPER = ROOT / "paper"
 # Words of the project's own bookkeeping that a paper does not use as judgements: an acceptance
 # criterion is stated once as the study's own, and its outcome is "satisfied" or "missed".
-PROJECT_WORDS = re.compile(r"\b(targets?|met)\b", re.I)
+PROJECT_WORDS = re.compile(r"\b(targets?|met)\b", re.IGNORECASE)
 # Code names the text must describe in words. Library functions and workflow rules: any
 # \texttt{} holding an underscore is one, unless it is a path (a slash or a dot) or a public
 # name of another package that the text cites (SciPy's solve_ivp).

@@ -118,7 +118,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                               xytext=(2, -3), textcoords="offset points", ha="left", va="top", rotation=90,
                               fontsize=7.5, color="0.2",
                               # on a white ground: the branches' lines pass behind the name, not through it
-                              bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.85), zorder=7)
+                              bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85}, zorder=7)
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
