@@ -150,6 +150,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--criterion", choices=("peak", "band_average"), default="peak",
                    help="what is minimised over the band (default peak)")
     design.add_argument("--json", action="store_true", help="print one JSON object")
+    design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     return parser
 
 
@@ -298,7 +299,8 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
     from impactdamper.studies.optimum import design_optima
 
     def progress(message: str) -> None:
-        print(f"{sub.prog}: {message}", file=sys.stderr, flush=True)
+        if not args.quiet:
+            print(f"{sub.prog}: {message}", file=sys.stderr, flush=True)
 
     try:
         result = design_optima((args.theta_start, args.theta_stop), args.mu, args.delta1, detuning=args.detuning,

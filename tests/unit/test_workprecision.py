@@ -203,8 +203,12 @@ def test_macros_and_table_from_a_study():
     assert r"\newcommand{\PerfFirstSpeedupHigh}{25.0}" in text
     assert r"\newcommand{\PerfSettledSpeedupHigh}{---}" in text
     assert "nan" not in text.lower().replace("\\ensuremath", "")
-    assert r"\newcommand{\PerfCompiledUsPerImpactMet}{not met}" in text
-    assert r"\newcommand{\PerfCompiledFirstSpeedupMet}{met}" in text
+    # The report's words for a criterion's outcome (the summary keeps "met"/"not met").
+    assert r"\newcommand{\PerfCompiledUsPerImpactMet}{missed}" in text
+    assert r"\newcommand{\PerfCompiledFirstSpeedupMet}{satisfied}" in text
+    assert r"\newcommand{\PerfRefSpeedupVerdict}{satisfied}" in text  # the benchmark's flags
+    assert r"\newcommand{\PerfRefTimeVerdict}{satisfied}" in text
+    assert r"\newcommand{\PerfFirstExactVerdict}{" in text and r"\newcommand{\PerfFirstRkFourVersusExact}{" in text
     tab = performance_report.table(study, perf)
     assert tab.count(r"\toprule") == 1 and tab.count(r"\bottomrule") == 1
     assert "not available" in tab  # Siconos missing is stated

@@ -31,7 +31,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     gap = data["parameters"]["gap"]
     fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
     label = CASE_LABELS[case]
-    title = f"Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{st}} = {gap:g}$"
+    title = f"The paper's Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$"
     if not a["exists"]:
         ax.text(0.5, 0.5, "Algorithm No. 1 has no orbit:\n" + a["reason"], ha="center", va="center",
                 transform=ax.transAxes)
@@ -49,7 +49,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
         ax.plot(t, x1, label="$\\bar x_1$ (object)")
         ax.plot(t, x2, ls="--", label="$\\bar x_2$ (suppressor)")
         axg.axhline(0.0, color="0.2", lw=0.6)
-        axg.plot(t, g, color="C2", label="$\\Delta/x_{st} = \\bar x_1 - \\bar x_2$")
+        axg.plot(t, g, color="C2", label="$\\Delta/x_{\\mathrm{st}} = \\bar x_1 - \\bar x_2$")
         note = "" if intervals else "gap $\\Delta \\geq 0$ over\nthe whole period:\nno interval $(t_1, t_2)$"
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), title=note or None, alignment="left")
         axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))

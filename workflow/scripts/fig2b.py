@@ -34,7 +34,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     label = CASE_LABELS[case]
     period = "T" if k == 1 else f"{k}T"
     cycle = f"$T_c = {period}$, {n} impact{'s' if n != 1 else ''} per cycle" if k else "no settled period"
-    title = f"Fig. 2b, {label}: Algorithm No. 2, $\\Delta_0/x_{{st}} = {gap:g}$: {cycle}"
+    title = f"The paper's Fig. 2b, {label}: Algorithm No. 2, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$: {cycle}"
     t, x1, x2, g = np.loadtxt(curve_csv, delimiter=",", skiprows=1, unpack=True)
     fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
     if k:
@@ -43,7 +43,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     ax.plot(t, x1, label="$\\bar x_1$ (object)")
     ax.plot(t, x2, ls="--", label="$\\bar x_2$ (suppressor)")
     axg.axhline(0.0, color="0.2", lw=0.6)
-    axg.plot(t, g, color="C2", label="$\\Delta/x_{st}$")
+    axg.plot(t, g, color="C2", label="$\\Delta/x_{\\mathrm{st}}$")
     for row in s["impact_table"]:
         x = row["t_over_T"]
         nxt = row["next_cycle"]
@@ -52,7 +52,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
         y = float(np.interp(x, t, x1))
         ax.plot([x], [y], "o", color="k", ms=3.5, zorder=5)
         name = row["label"].replace("t", "t_")
-        text = f"${name}$" + ("\n(next cycle)" if nxt else "")
+        text = f"${name}$" + (" (next cycle)" if nxt else "")  # one line: clear of the title above
         ax.annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2), textcoords="offset points",
                     ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
     ax.plot([], [], "o", color="k", ms=3.5, label="impacts")

@@ -22,7 +22,7 @@ from impactdamper.reporting.plotting import figure_size, finish_figure, use_styl
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
            ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
 LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
-         "R": "restitution $R$", "gap": "$\\Delta_0/x_{st}$"}
+         "R": "restitution $R$", "gap": "$\\Delta_0/x_{\\mathrm{st}}$"}
 
 
 def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
@@ -47,6 +47,9 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
         ax.plot([ref[m["x"]]], [located], "D", ms=6, mec="k", mfc="w", label="located case")
     ax.set_xlabel(LABEL[m["x"]])
     ax.set_ylabel(LABEL[m["y"]])
+    # The grid, as the caption promises: the steps in both parameters.
+    ax.set_title(f"steps {2 * dx:.3g} in {m['x']} and {2 * dy:.3g} in the gap" if m["y"] == "gap"
+                 else f"steps {2 * dx:.3g} x {2 * dy:.3g}")
     handles = [Patch(color=c, label=name) for name, c in CLASSES] + ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     finish_figure(fig, out_pdf, out_png)

@@ -24,7 +24,7 @@ from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
            ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
 LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
-         "R": "$R$", "gap": "$\\Delta_0/x_{st}$"}
+         "R": "$R$", "gap": "$\\Delta_0/x_{\\mathrm{st}}$"}
 
 
 def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:

@@ -28,7 +28,7 @@ def main(in_csv, out_stem) -> None:
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=figure_size(0.4 * TEXT_WIDTH), layout="constrained")
     for gap, marker in zip(gaps, MARKERS):
         rs = sorted((r for r in rows if r["gap"] == gap), key=lambda r: r["periods"])
-        label = rf"$\Delta_0/x_{{st}} = {gap:g}$"
+        label = rf"$\Delta_0/x_{{\mathrm{{st}}}} = {gap:g}$"
         ax1.plot([r["periods"] for r in rs], [r["cpu_seconds"] for r in rs], marker=marker, markersize=3.5,
                  linewidth=0.8, label=label)
         ax2.plot([r["impacts"] for r in rs], [r["per_impact"] * 1e6 for r in rs], marker=marker, markersize=3.5,

@@ -44,14 +44,14 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
         ax2.axvspan(r["lo"], r["hi"], color=RANGE_COLOR, lw=0)
     ax1.axhline(0.0, color="0.2", lw=0.6)
     ax1.plot(g, min_gap, ".", ms=3, label="Algorithm No. 1: smallest\ninterior gap (none: no marker)")
-    ax1.set_ylabel("min $\\Delta/x_{st}$")
+    ax1.set_ylabel("min $\\Delta/x_{\\mathrm{st}}$")
     ax2.plot(g, k, "o", ms=3, mfc="none", label="$T_c/T$ (0: not settled)")
     ax2.plot(g[n <= Y_MAX], n[n <= Y_MAX], ".", ms=3, label="impacts per cycle")
     off = n > Y_MAX
     if off.any():
         ax2.plot(g[off], np.full(off.sum(), Y_MAX + 0.2), "^", ms=3, color="C1", label=f"more than {Y_MAX} impacts")
     ax2.set_ylabel("Algorithm No. 2")
-    ax2.set_xlabel("$\\Delta_0/x_{st}$")
+    ax2.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
     orbit = scan.get("orbit_range", {})
     lo, hi = scan["window"]["gap_min"], scan["window"]["gap_max"]
     marks = [(gap, name) for gap, name in ((scan["stated_gap"], "stated"), (scan["located"]["gap"], "located"))

@@ -48,7 +48,7 @@ RADIUS_TICKS = (0.2, 0.5, 1.0, 2.0, 5.0)
 # labels where branches meet do not overlap; default above the marker.
 LABEL_OFFSET = {("single", "grazing_interior"): (-4, 6), ("double", "grazing_velocity"): (0, -11),
                 ("triple", "grazing_velocity"): (4, -11), ("triple", "period_doubling"): (0, 6),
-                ("triple", "fold"): (6, -3), ("double", "period_doubling"): (7, -6),
+                ("triple", "fold"): (0, -9), ("double", "period_doubling"): (7, -6),
                 ("double", "neimark_sacker"): (0, -12), ("triple", "grazing_interior"): (-5, 5),
                 ("double", "grazing_interior"): (0, 6), ("single", "fold"): (6, 0),
                 ("single", "grazing_velocity"): (0, -11)}
@@ -100,7 +100,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
         ax_r.yaxis.set_major_locator(FixedLocator(RADIUS_TICKS))
         ax_r.yaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax_r.yaxis.set_minor_locator(NullLocator())
-        ax_r.set_xlabel("$\\Delta_0/x_{st}$")
+        ax_r.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
         # The cases.
         for case in ("stated", "located"):
             c = summary["cases"][case]
@@ -116,7 +116,9 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once, along its vertical
                 ax_x.annotate(f"{case} case {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
                               xytext=(2, -3), textcoords="offset points", ha="left", va="top", rotation=90,
-                              fontsize=ANNOTATION_SIZE, color="0.2")
+                              fontsize=ANNOTATION_SIZE, color="0.2",
+                              # on a white ground: the branches' lines pass behind the name, not through it
+                              bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85}, zorder=7)
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
@@ -125,7 +127,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     axes[0, 0].set_xlim(min(gaps) - 0.8, max(gaps) + 0.8)
     for ax in axes[:, 0]:
         ax.axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
-    axes[0, 0].set_ylabel("max $|x_1|/x_{st}$")
+    axes[0, 0].set_ylabel("max $|x_1|/x_{\\mathrm{st}}$")
     axes[1, 0].set_ylabel("spectral radius $\\max|\\rho|$")
     axes[0, 0].set_title("full range", loc="left")
     axes[0, 1].set_title("zoom near the located case (grey window on the left)", loc="left")

@@ -7,7 +7,7 @@ regime class of the settled motion, with Peterka's z/k written on the larger reg
 period k <= 8 settled within the map's cap of periods per cell). Lines (closed form,
 ``map_curves``): the lift-off threshold of the persistent contact (dashed cyan), the first
 contact of the free forced response U1/x_st (dashed black) and the ends of the range where
-Algorithm No. 1's orbit is admissible, i.e. where it touches the stop (white, outlined).
+Algorithm No. 1's orbit is admissible: its gap touching the stop between impacts (left) and its impact grazing (right) (white, outlined).
 Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1, delta = 0.05); diamond:
 the located case of the replication verdict. Legend below the map, so that the figure is the
 report's text width and no text is under 7 pt in print.
@@ -87,20 +87,20 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
     for i, (g, y) in enumerate(grazing_curves(curves, float(gaps[1] - gaps[0]))):
         ax.plot(g, y, color="white", lw=1.2, path_effects=outline, zorder=3,
-                label="Alg. 1 orbit touches the stop" if i == 0 else None)
+                label="ends of Alg. 1 admissible range" if i == 0 else None)
     ax.plot([float(r["liftoff"]) for r in curves], s, color=LIFTOFF_COLOR, lw=1.2, ls="--", zorder=4,
             label="lift-off threshold")
     ax.plot([float(r["first_contact"]) for r in curves], s, color="k", lw=1.0, ls="--", zorder=4,
             label="first contact, $\\Delta_0 = U_1$")
     ref = float(reference[REFERENCE_VALUE[name]])
     ax.plot([float(reference["gap"])], [ref], marker="*", ms=9, color="#f1c40f", mec="k", mew=0.6, ls="none",
-            label=f"stated case ($\\Delta_0/x_{{st}}$ = {float(reference['gap']):g})")
+            label=f"stated case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {float(reference['gap']):g})")
     loc = located_gap(located_json)
     ax.plot([loc], [ref], marker="D", ms=5, color="w", mec="k", mew=0.6, ls="none",
-            label=f"located case ($\\Delta_0/x_{{st}}$ = {loc:g})")
+            label=f"located case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {loc:g})")
     ax.set_xlim(gaps[0], gaps[-1])
     ax.set_ylim(slow[0], slow[-1])
-    ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     ax.set_ylabel(AXIS_LABEL[name])
     ax.grid(False)
     handles, _ = ax.get_legend_handles_labels()

@@ -65,7 +65,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
                     ax.annotate(text, (checks[name]["analytic"], 1.0), xycoords=("data", "axes fraction"),
                                 xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=ANNOTATION_SIZE,
                                 bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8))
-        ax.set_ylabel("closing velocity $v/(x_{st}\\omega)$")
+        ax.set_ylabel("closing velocity $v/(x_{\\mathrm{st}}\\omega)$")
         ax.set_ylim(bottom=0.0)
     # The cases: named above the upper panel, each on the side away from the other.
     for x, text in ((stated_gap, "stated"), (located, "located")):
@@ -74,7 +74,7 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
                          textcoords="offset points", ha="left" if right else "right", va="bottom", fontsize=ANNOTATION_SIZE)
         for ax in axes:
             ax.axvline(x, color="C2", lw=0.7, ls="-.", label="stated and located cases" if text == "stated" else None)
-    axes[1].set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    axes[1].set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     h0, l0 = axes[0].get_legend_handles_labels()
     h1, l1 = axes[1].get_legend_handles_labels()
     order = ["random starts", "upward sweep", "downward sweep", "Alg. No. 1 orbit", "same, gap $<0$ between impacts",

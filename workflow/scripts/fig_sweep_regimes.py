@@ -27,11 +27,11 @@ SHORT = {"stuck": "S", "np": "np"}
 LABEL_SIZE = ANNOTATION_SIZE
 # Least gap (points) between neighbouring labels of one row, and between a label and its band's edge.
 LABEL_PAD = 1.0
-# The zooms of the lower panels (Delta0/x_st): the periodic windows between chatter and the
-# long nonperiodic band, those around the located case up to the one-impact motion, and the
-# end of the one-impact motion near first contact (U1/x_st = 11.33 in the reference case);
-# their widths on the page.
-ZOOMS = ((-21.0, -12.6), (-10.4, -7.9), (9.9, 11.7))
+# The zooms of the lower panels (Delta0/x_st): the periodic windows inside the long
+# nonperiodic band (3/1, and 2/1 doubling to 4/2; narrow enough that their labels fit), those
+# around the located case up to the one-impact motion, and the end of the one-impact motion
+# near first contact (U1/x_st = 11.33 in the reference case); their widths on the page.
+ZOOMS = ((-18.0, -13.1), (-10.4, -7.9), (9.9, 11.7))
 ZOOM_WIDTHS = (2.4, 1.35, 1.0)
 # Height of a row's band, as a share of the row pitch.
 BAND_HEIGHT = 0.8
@@ -116,7 +116,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     for i, (ax, window) in enumerate(zip(zooms, ZOOMS)):
         drawn.append((ax, _panel(ax, rows, rnd, window, False)))
         ax.set_title(f"zoom {'abc'[i]}", loc="left")
-        ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+        ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
         if i:
             ax.set_yticklabels([])
         # The window, outlined and named in the top panel.
@@ -124,7 +124,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
                                 fill=False, ec="k", lw=0.8, zorder=5))
         top.annotate(f"zoom {'abc'[i]}", (0.5 * sum(window), 0.5), xytext=(0, 1), textcoords="offset points",
                      ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
-    top.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    top.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     present = {gs.regime_of_label(r["label"]) for r in rows + rnd}
     fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=REGIME_NAMES[k])
                         for k, c in REGIME_COLORS.items() if k in present],

@@ -37,8 +37,8 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
             (abs(forced_amplitudes(p)[0]) / p.x_st, "suppressor never reaching the stop", "C2", (0, (5, 2))))
     for value, text, color, ls in refs:
         ax.axhline(value, color=color, ls=ls, lw=0.8, label=f"{text} ({value:.2f})")
-    ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
-    ax.set_ylabel("$\\max|x_1|/x_{st}$")
+    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    ax.set_ylabel("$\\max|x_1|/x_{\\mathrm{st}}$")
     ax.set_ylim(0.0, 1.12 * max(r[0] for r in refs))
     ax.legend(loc="lower left", fontsize="small", ncol=2, markerscale=4)
     finish_figure(fig, out_pdf, out_png)

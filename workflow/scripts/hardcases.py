@@ -38,8 +38,7 @@ CHECK_NAMES = {"terminated": "ends", "gap_nonnegative": "gap", "impact_law": "la
 
 
 def _did_tex(r: dict) -> str:
-    regime = r["regime"].replace("_", r"\_")
-    text = rf"\texttt{{{regime}}}"
+    text = r["regime"].replace("_", " ")  # the classification in words, not a code name
     if r["regime"] not in ("nonperiodic", "timeout"):
         text += rf", $k = {r['k']}$, $z = {r['z']}$"
     extras = r["did"].split("; ")[1:] if r["did"] else []  # captures, grazing touches

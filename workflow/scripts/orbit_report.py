@@ -107,7 +107,7 @@ def table(special: list[dict], branches: list[dict], summary: dict) -> str:
              "% negative between impacts there).",
              r"\begin{tabular}{llrcp{0.42\linewidth}}",
              r"\toprule",
-             r"Cycle & Point & $\Delta_0/x_{st}$ & On a motion & What happens \\",
+             r"Cycle & Point & $\Delta_0/x_{\mathrm{st}}$ & On a motion & What happens \\",
              r"\midrule"]
     prev = None
     for r in rows:

@@ -8,6 +8,7 @@ the same data give byte-identical files.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 STYLE_FILE = Path(__file__).with_name("paper.mplstyle")
@@ -89,13 +90,29 @@ def save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -
     return written
 
 
+# A hyphen-minus before a number, outside mathtext and not inside a word or a range ("1-2"):
+# the sign of a negative number, which the report's text typesets as a minus sign (U+2212), as
+# matplotlib's tick labels do (axes.unicode_minus).
+_SIGN = re.compile(r"(?<![\w)\]])-(?=\.?\d)")
+
+
+def typeset_minus(text: str) -> str:
+    """``text`` with the sign of every negative number outside ``$...$`` as a minus sign."""
+    parts = text.split("$")
+    return "$".join(_SIGN.sub("\u2212", part) if i % 2 == 0 else part for i, part in enumerate(parts))
+
+
 def finish_figure(fig, *paths: str | Path, log=None) -> list[Path]:
     """The end of every figure script: save ``fig`` to each of ``paths`` (as :func:`save_figure`:
     a path with a suffix in that format, one without as PDF and PNG), close it, and say what was
     written through ``log`` (a callable taking one line, e.g. ``logger.info``) if given.
     Returns the written paths."""
     import matplotlib.pyplot as plt
+    from matplotlib.text import Text
 
+    for text in fig.findobj(Text):  # titles, labels, legends, annotations: one rule for the signs
+        if text.get_text():
+            text.set_text(typeset_minus(text.get_text()))
     written = [out for path in paths for out in save_figure(fig, path)]
     plt.close(fig)
     if log is not None:

@@ -328,7 +328,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
         "paper": rep.PAPER,
         "window": {"gap_min": lo, "gap_max": hi, "alg1_gap_step": float(verdict["alg1_gap_step"]),
                    "alg2_gap_step": float(verdict["gap_step"]), "alg1_bisect_tol": ALG1_BISECT_TOL,
-                   "alg2_bisect_tol": float(verdict["bisect_tol"])},
+                   "alg2_bisect_tol": float(verdict["bisect_tol"]), "located_margin": margin},
         "stated_gap": stated_gap,
         "alg1_existence_limit": -existence_limit,
         "claim_a_ranges": ranges_a,

@@ -165,13 +165,13 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
     g_onset = alg1_onset_gap(base)
     repeated_delta2 = 0.8829865207640838  # eq. (4) has a double root at N = 0.9 (solved in mpmath)
     return [
-        HardCase("grazing_no_contact", rf"$\Delta_0/x_{{st}} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
+        HardCase("grazing_no_contact", rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
                  "zero-velocity grazing: the no-contact orbit touches the stop tangentially",
                  {"gap": g_touch}, start="forced_orbit"),
-        HardCase("grazing_alg1_onset", rf"$\Delta_0/x_{{st}} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
+        HardCase("grazing_alg1_onset", rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
                  "grazing inside the period: Algorithm No. 1's orbit touches the stop between impacts",
                  {"gap": g_onset}, start="alg1_orbit"),
-        HardCase("chatter", r"$\Delta_0/x_{st} = -13$", "impacts accumulating into persistent contact, and lift-off",
+        HardCase("chatter", r"$\Delta_0/x_{\mathrm{st}} = -13$", "impacts accumulating into persistent contact, and lift-off",
                  {"gap": -13.0}),
         HardCase("plastic", r"$R = 0$", "plastic impacts: capture or separation at every impact", {"R": 0.0}),
         HardCase("elastic", r"$R = 1$", "elastic impacts: no accumulation possible, energy kept at impacts",
@@ -193,9 +193,9 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
         HardCase("slow_forcing", r"$\theta = 0.1$", "forcing far below resonance", {"theta": 0.1}),
         HardCase("fast_forcing", r"$\theta = 10$", "forcing far above resonance", {"theta": 10.0}),
         HardCase("zero_gap", r"$\Delta_0 = 0$", "the stop exactly at the static position", {"gap": 0.0}),
-        HardCase("large_positive_gap", r"$\Delta_0/x_{st} = 10^3$", "a gap never closed again",
+        HardCase("large_positive_gap", r"$\Delta_0/x_{\mathrm{st}} = 10^3$", "a gap never closed again",
                  {"gap": 1e3}),
-        HardCase("large_negative_gap", r"$\Delta_0/x_{st} = -10^3$",
+        HardCase("large_negative_gap", r"$\Delta_0/x_{\mathrm{st}} = -10^3$",
                  "a huge preload: the bodies never separate", {"gap": -1e3}),
     ]
 

@@ -185,6 +185,7 @@ def _scan_macros(add, scan: dict, cc_s: dict, ref_l: dict) -> None:
     add("ScanGapStep", fixed(w["alg2_gap_step"], 2))
     add("ScanAlgOneGapStep", fixed(w["alg1_gap_step"], 3))
     add("ScanBisectTol", sci(w["alg2_bisect_tol"], 0))
+    add("LocatedMargin", fixed(w["located_margin"], 2))  # the rule that picks the located case
     add("AlgOneExistenceLimit", fixed(scan["alg1_existence_limit"], 3))
     g_loc = ref_l["parameters"]["gap"]
     for name, key, digits in (("ClaimA", "claim_a_ranges", 3), ("ClaimB", "claim_b_ranges", 3), ("Both", "both_ranges", 3)):
@@ -206,7 +207,9 @@ def _scan_macros(add, scan: dict, cc_s: dict, ref_l: dict) -> None:
         add("EndChecksOffImpacts", str(cmp["impacts"][0]))
         add("EndChecksOffTimeDiff", sci(cmp["max_time_difference_over_T"]))
         add("EndChecksOffVelocityDiff", sci(cmp["max_velocity_difference_rel"]))
-        add("EndChecksOffSameClaim", _yes(worst["exact"] == worst["independent"]))
+        # A phrase, not "yes"/"no": the text reads "... with z impacts (both give the same verdict ...)".
+        add("EndChecksOffSameClaim", "both give the same verdict on the claim"
+            if worst["exact"] == worst["independent"] else "yet they give different verdicts on the claim")
     orbit = scan["orbit_range"]
     if orbit.get("found"):
         add("OrbitRangeLo", fixed(orbit["lo"], 4))
