@@ -259,4 +259,4 @@ def test_closed_stdout_is_one_line():
                           stderr=subprocess.PIPE, text=True, timeout=120,
                           preexec_fn=lambda: __import__("os").close(1))
     assert proc.returncode == 1
-    assert proc.stderr == "python -m impactdamper: error: cannot write the output: standard output is closed\n"
+    assert proc.stderr == "impactdamper: error: cannot write the output: standard output is closed\n"

@@ -14,10 +14,12 @@ import pytest
 
 import impactdamper as idp
 from impactdamper.analysis.settled import SweepSettings
+from impactdamper.core.steady import CONVERGENCE_WINDOW
 
 CORE = Path(idp.__file__).resolve().parent / "core"
 # Impact phases (in T) and x1_max (in x_st) of the two backends' settled cycles agree to this
 # (both settle to settle_tol = 1e-10; tests/unit/test_compiled.py's PHASE_TOL).
+PERIODS_SLACK = 2 * CONVERGENCE_WINDOW
 PHASE_TOL = 1e-9
 # Both backends' stored trajectories over the cycle agree to this, relative to x_st and x_st omega.
 STATE_TOL = 1e-9
@@ -70,21 +72,27 @@ def test_steady_state_backends_agree(R, gap):
     b = idp.steady_state(p, backend="python")
     assert (a.backend, a.fallback, a.method) == ("compiled", "", "simulation")
     assert (b.backend, b.fallback, b.method) == ("python", "", "simulation")
-    assert (a.regime, a.period_multiple, a.impacts_per_cycle, a.periods) == (b.regime, b.period_multiple,
-                                                                             b.impacts_per_cycle, b.periods)
+    assert (a.regime, a.period_multiple, a.impacts_per_cycle) == (b.regime, b.period_multiple, b.impacts_per_cycle)
+    # The period at which the settle test first passes may differ by a few: it extrapolates the
+    # decay of section differences that the two backends compute to rounding, and at R = 1 the
+    # decay is slow (measured: 172 against 168 periods). The settled cycle is the same: its start
+    # differs by whole cycles.
+    assert abs(a.periods - b.periods) <= PERIODS_SLACK
+    cycle = max(a.period_multiple, 1) * p.T
     assert np.max(np.abs(np.array([i.phase for i in a.impacts]) - [i.phase for i in b.impacts]),
                   initial=0.0) <= PHASE_TOL
     assert abs(a.x1_max - b.x1_max) <= PHASE_TOL
     assert abs(a.contact_fraction - b.contact_fraction) <= PHASE_TOL
     assert len(a.contact_phases) == len(b.contact_phases)
-    assert abs(a.cycle_start - b.cycle_start) <= PHASE_TOL * p.T
+    shift = a.cycle_start - b.cycle_start
+    assert abs(shift - round(shift / cycle) * cycle) <= PHASE_TOL * p.T
     # The stored motion over the cycle (the compiled one is run when first read).
     # (inside the cycle: at cycle_start itself, an impact, the two sides may be sampled)
     t = a.cycle_start + np.linspace(0.013, 0.987, 17) * max(a.period_multiple, 1) * p.T
     scale = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
     assert np.max(np.abs((a.trajectory.sample(t)[0] - b.trajectory.sample(t)[0]) / scale)) <= STATE_TOL
-    assert a.sections.shape == b.sections.shape
-    assert np.max(np.abs((a.sections - b.sections) / scale)) <= STATE_TOL
+    n = min(len(a.sections), len(b.sections))  # the runs' common sections, from the same start
+    assert np.max(np.abs((a.sections[:n] - b.sections[:n]) / scale)) <= STATE_TOL
 
 
 @pytest.mark.parametrize("R", [0.0, 0.7, 1.0])

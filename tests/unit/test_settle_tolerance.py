@@ -15,13 +15,18 @@ from helpers import REF
 import impactdamper as idp
 from impactdamper.analysis.orbits import solve_orbit
 from impactdamper.analysis.settled import SweepSettings, solve_point
-from impactdamper.core.compiled import steady_state_compiled, steady_state_hybrid
+from impactdamper.core.compiled import steady_state_hybrid
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import Model
 from impactdamper.core.steady import X1_MAX_FACTOR, steady_state
 
 # The backends: the pure-Python reference, the compiled loop with its compiled description, and
 # the compiled loop with the reference's description.
+def steady_state_compiled(p, **kwargs):
+    """The public call on the kernels (the settled cycle described in them)."""
+    return idp.steady_state(p, **kwargs, backend="compiled")
+
+
 BACKENDS = {"reference": steady_state, "compiled": steady_state_compiled, "hybrid": steady_state_hybrid}
 
 

@@ -56,6 +56,12 @@ NUMBA_UNAVAILABLE = "numba_unavailable"
 MAX_RATE = STEPS_PER_PERIOD / (2 * math.pi)
 # Why: the free motion is beyond the work bound (see MAX_RATE).
 BEYOND_WORK_BOUND = "work_bound"
+# Why: a chatter tolerance below the default. The kernels follow a chatter sequence to rebounds
+# below chatter_tol as the reference does, but without its bound on the sequence's work: at
+# chatter_tol = 1e-300 (gap -28, where the default settles to chatter) they ran for minutes,
+# while the reference stops at once with a one-line error naming `chatter_tol`
+# (tests/unit/test_cli.py). Such settings go to the reference.
+CHATTER_BELOW_DEFAULT = "chatter_tol"
 
 
 def resolve_backend(backend: object) -> tuple[str, str]:
@@ -79,9 +85,12 @@ def resolve_backend(backend: object) -> tuple[str, str]:
     return "compiled", ""
 
 
-def _kernels_refuse(p: Parameters) -> str:
+def _kernels_refuse(p: Parameters, tolerances: Tolerances | None = None) -> str:
     """Why the kernels are not tried at ``p`` ("" where they are): a free motion beyond the
-    work bound (:data:`MAX_RATE`)."""
+    work bound (:data:`MAX_RATE`), or a chatter tolerance below the default
+    (:data:`CHATTER_BELOW_DEFAULT`)."""
+    if isinstance(tolerances, Tolerances) and tolerances.chatter_tol < Tolerances.chatter_tol:
+        return CHATTER_BELOW_DEFAULT
     with np.errstate(all="ignore"):
         rate = float(np.max(np.abs(characteristic_roots(p)))) / p.omega
     return BEYOND_WORK_BOUND if not rate <= MAX_RATE else ""
@@ -117,7 +126,7 @@ def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | N
     run, why = resolve_backend(backend)
     if run == "compiled":
         p = require_parameters(p)
-        why = _kernels_refuse(p)
+        why = _kernels_refuse(p, tolerances)
         run = "python" if why else run
     if run == "python":
         traj = simulate_python(p, t_end, t0, state, tolerances)
@@ -169,7 +178,7 @@ def steady_state(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = N
                   max_period_multiple=max_period_multiple)
     if run == "compiled":
         p = require_parameters(p)
-        why = _kernels_refuse(p)
+        why = _kernels_refuse(p, tolerances)
         run = "python" if why else run
     if attractor:
         orbit = _algorithm1_attractor(p, tolerances)

@@ -190,9 +190,9 @@ COMPILED_ROWS = (
     (r"\quad phase error, units of $T$", "PhaseError", r"$\le$ "),
     (r"first \PerfCompiledFirstImpacts{} impacts, speed-up over DOP853", "FirstSpeedup", r"$\ge$ "),
     (r"regime map \PerfCompiledMapCells{}, wall time on \PerfCompiledMapWorkers{} processes", "MapWall", r"$\le$ "),
-    (r"\texttt{impactdamper.steady\_state(Parameters())}, median wall", "PublicSteady", r"$\le$ "),
-    (r"\texttt{steady\_states}, \PerfCompiledBatchPoints{} points, time over the kernels'", "BatchRatio", r"$\le$ "),
-    (r"\texttt{python -m impactdamper steady --json}, wall (warm cache)", "CliWall", r"$\le$ "),
+    (r"settled motion through the public call, median wall", "PublicSteady", r"$\le$ "),
+    (r"batch of \PerfCompiledBatchPoints{} points, time over the kernels'", "BatchRatio", r"$\le$ "),
+    (r"command line, settled motion as JSON, wall (warm cache)", "CliWall", r"$\le$ "),
 )
 
 
