@@ -121,8 +121,9 @@ def run(repeats: int, ivp_repeats: int, tail: int) -> dict:
     out["exact"]["orbit_max_phase_error"], out["exact"]["orbit_impacts"] = err, n
 
     for method in ("DOP853", "RK45"):
-        median, times, wall, ivp = _timed(lambda: simulate_ivp(p, t_span, method=method, rtol=RTOL, atol=ATOL),
-                                          ivp_repeats)
+        median, times, wall, ivp = _timed(
+            lambda: simulate_ivp(p, t_span, method=method, rtol=RTOL, atol=ATOL), ivp_repeats
+        )
         err, n = _tail_phase_error(ivp.impacts(), t_tail, T, reference)
         last = ivp.impacts()[-1]
         orbit = simulate_ivp(p, t_orbit, t0=t_imp, state=after, method=method, rtol=RTOL, atol=ATOL)
@@ -154,9 +155,11 @@ def run(repeats: int, ivp_repeats: int, tail: int) -> dict:
         "speedup_vs_fastest_crosscheck": best["median_s"] / exact_median,
         "speedup_met": best["median_s"] / exact_median >= SPEEDUP_TARGET,
         "exact_time_met": exact_median < EXACT_TIME_TARGET,
-        "phase_accuracy_met": all(out["exact"]["tail_max_phase_error"] <= d["tail_max_phase_error"]
-                                  and out["exact"]["orbit_max_phase_error"] <= d["orbit_max_phase_error"]
-                                  for d in out["crosscheck"].values()),
+        "phase_accuracy_met": all(
+            out["exact"]["tail_max_phase_error"] <= d["tail_max_phase_error"]
+            and out["exact"]["orbit_max_phase_error"] <= d["orbit_max_phase_error"]
+            for d in out["crosscheck"].values()
+        ),
     }
     out["machine"] = {
         "python": platform.python_version(),
@@ -190,12 +193,14 @@ def summary(out: dict) -> str:
             f"{d['nfev']} f-evals, {d['legs']} legs); "
             f"{d['speedup_of_steady_state']:.1f}x the steady state, {d['speedup_of_simulate']:.1f}x bare simulate; "
             f"phase error: last {d['tail_impacts']} impacts max {d['tail_max_phase_error']:.2e}, "
-            f"on Alg. 1's orbit max {d['orbit_max_phase_error']:.2e}")
+            f"on Alg. 1's orbit max {d['orbit_max_phase_error']:.2e}"
+        )
     lines.append(
         f"  targets: speed-up {t['speedup_vs_fastest_crosscheck']:.1f}x >= {t['speedup_target']:.0f}x: "
         f"{'met' if t['speedup_met'] else 'NOT met'}; exact < {1e3 * t['exact_time_target_s']:.0f} ms: "
         f"{'met' if t['exact_time_met'] else 'NOT met'}; phases as accurate or better: "
-        f"{'met' if t['phase_accuracy_met'] else 'NOT met'}")
+        f"{'met' if t['phase_accuracy_met'] else 'NOT met'}"
+    )
     return "\n".join(lines)
 
 

@@ -59,10 +59,19 @@ for name, value in p.to_dict().items():
     print(f"  {name:>7s} = {value:g}")
 
 dimensional = {
-    "omega1 (rad/s)": p.omega1, "omega2 (rad/s)": p.omega2, "T (s)": p.T,
-    "m1 (kg)": p.m1, "m2 (kg)": p.m2, "c1 (N/m)": p.c1, "c2 (N/m)": p.c2,
-    "k1 (N s/m)": p.k1, "k2 (N s/m)": p.k2, "h1 (1/s)": p.h1, "h2 (1/s)": p.h2,
-    "P0 (N)": p.P0, "Delta0 (m)": p.Delta0,
+    "omega1 (rad/s)": p.omega1,
+    "omega2 (rad/s)": p.omega2,
+    "T (s)": p.T,
+    "m1 (kg)": p.m1,
+    "m2 (kg)": p.m2,
+    "c1 (N/m)": p.c1,
+    "c2 (N/m)": p.c2,
+    "k1 (N s/m)": p.k1,
+    "k2 (N s/m)": p.k2,
+    "h1 (1/s)": p.h1,
+    "h2 (1/s)": p.h2,
+    "P0 (N)": p.P0,
+    "Delta0 (m)": p.Delta0,
 }
 print("dimensional values derived from them:")
 for name, value in dimensional.items():
@@ -96,8 +105,10 @@ eig = eig[np.lexsort((eig.imag, eig.real))]
 residual = np.abs(np.polyval(d, lam)) / np.polyval(np.abs(d), np.abs(lam))
 print(f"\n{'lambda_j (1/s)':>26s} {'|lambda|/omega1':>15s} {'damping ratio':>14s} {'A_j':>26s}")
 for l, a in zip(lam, A):
-    print(f"{l.real:12.6f} {l.imag:+12.6f}j {abs(l) / p.omega1:15.6f} {-l.real / abs(l):14.6f}"
-          f" {a.real:12.6f} {a.imag:+12.6f}j")
+    print(
+        f"{l.real:12.6f} {l.imag:+12.6f}j {abs(l) / p.omega1:15.6f} {-l.real / abs(l):14.6f}"
+        f" {a.real:12.6f} {a.imag:+12.6f}j"
+    )
 print(f"\nlargest relative residual of eq. (4) at the roots: {residual.max():.1e}")
 print(f"largest |root - eigenvalue of the state matrix|:  {np.max(np.abs(lam - eig)):.1e} 1/s")
 
@@ -118,17 +129,25 @@ print(f"largest |root - eigenvalue of the state matrix|:  {np.max(np.abs(lam - e
 x1p, x2p = linear.forced_amplitudes(p)
 U1 = abs(x2p - x1p)
 for name, z in (("x1p", x1p), ("x2p", x2p), ("x2p - x1p", x2p - x1p)):
-    print(f"{name:>9s}: amplitude {abs(z) / p.x_st:8.4f} x_st, phase {math.degrees(math.atan2(z.imag, z.real)):8.2f} deg")
+    print(
+        f"{name:>9s}: amplitude {abs(z) / p.x_st:8.4f} x_st, phase {math.degrees(math.atan2(z.imag, z.real)):8.2f} deg"
+    )
 
 # Check against the exact flow's forced part: Y(t) = Im(Yhat e^{i omega t}) of the free mode.
 t = np.linspace(0.0, p.T, 201)
 Y = linear.free_mode(p).forced(t)
-eq11 = np.stack([abs(x1p) * np.sin(p.omega * t + np.angle(x1p)), abs(x2p) * np.sin(p.omega * t + np.angle(x2p))], axis=-1)
-print(f"largest difference between eq. (11) and the state-space forced response: {np.max(np.abs(Y[:, :2] - eq11)):.1e} m")
+eq11 = np.stack(
+    [abs(x1p) * np.sin(p.omega * t + np.angle(x1p)), abs(x2p) * np.sin(p.omega * t + np.angle(x2p))], axis=-1
+)
+print(
+    f"largest difference between eq. (11) and the state-space forced response: {np.max(np.abs(Y[:, :2] - eq11)):.1e} m"
+)
 
 one_dof = 1.0 / math.hypot(1.0 - p.theta**2, 2.0 * p.delta1 * p.theta)
-print(f"\nobject alone (1 DOF) would have amplitude {one_dof:.4f} x_st;"
-      f" with the suppressor on its spring and no stop, {abs(x1p) / p.x_st:.4f} x_st")
+print(
+    f"\nobject alone (1 DOF) would have amplitude {one_dof:.4f} x_st;"
+    f" with the suppressor on its spring and no stop, {abs(x1p) / p.x_st:.4f} x_st"
+)
 
 # %%
 fig, ax = plt.subplots(layout="constrained")
@@ -140,8 +159,7 @@ ax.axhspan(p.gap, ax.get_ylim()[1], color="C5", alpha=0.12, label=r"$x_{21} > \D
 ax.set_xlabel(r"$t/T$")
 ax.set_ylabel("displacement / $x_{st}$")
 ax.set_title("Forced response without impacts, eqs. (10)-(11)")
-ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0));
-
+ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
 # %% [markdown]
 # The gap is $\Delta = \Delta_0 - x_{21} \ge 0$, so the suppressor may only be where
 # $x_{21} \le \Delta_0$. With a negative $\Delta_0$ (a preload: at rest the stop already
@@ -182,6 +200,7 @@ print(f"admissible: {a1.admissible}")
 # at -5.8**: the orbit is admissible. The paper's Fig. 2a behaviour does appear at a
 # larger preload, e.g. $\Delta_0/x_{st} = -10$. Both side by side, the orbit over one
 # period after the impact (like Fig. 2a) and its gap:
+
 
 # %%
 def algorithm1_figure(results):
@@ -233,17 +252,32 @@ min_gap = np.array([r.min_gap if r.exists and r.t_min_gap > 0 else np.nan for r 
 fig, ax = plt.subplots(layout="constrained")
 ax.plot(gaps, min_gap, color="C0")
 ax.axhline(0.0, color="k", lw=0.8)
-ax.fill_between(gaps, 0, 1, where=exists & ~admissible, transform=ax.get_xaxis_transform(),
-                color="C1", alpha=0.2, label="orbit exists, gap < 0 somewhere")
-ax.fill_between(gaps, 0, 1, where=~exists, transform=ax.get_xaxis_transform(),
-                color="C5", alpha=0.2, label="no orbit (eq. 16 unsolvable or S < 0)")
+ax.fill_between(
+    gaps,
+    0,
+    1,
+    where=exists & ~admissible,
+    transform=ax.get_xaxis_transform(),
+    color="C1",
+    alpha=0.2,
+    label="orbit exists, gap < 0 somewhere",
+)
+ax.fill_between(
+    gaps,
+    0,
+    1,
+    where=~exists,
+    transform=ax.get_xaxis_transform(),
+    color="C5",
+    alpha=0.2,
+    label="no orbit (eq. 16 unsolvable or S < 0)",
+)
 for g in (p.gap, p10.gap):
     ax.axvline(g, color="C3", lw=0.8, ls=":")
 ax.set_xlabel(r"$\Delta_0/x_{st}$")
 ax.set_ylabel(r"smallest interior gap minimum / $x_{st}$")
 ax.set_title("Algorithm No. 1 over the gap setting (dotted: -10 and -5.8)")
 ax.legend(loc="lower right")
-
 
 
 def runs(mask):
@@ -270,8 +304,10 @@ for r in (a1, a1_10):
     traj = idp.simulate(r.p, r.t_impact + 1.5 * r.p.T, t0=r.t_impact, state=r.state_after)
     nxt = [e for e in traj.events if e.kind == "impact"][0]  # the first impact after the start
     scale = np.array([1, 1, p.omega, p.omega]) * r.p.x_st
-    print(f"gap {r.p.gap:g}: next impact at {(nxt.t - r.t_impact) / r.p.T:.10f} T after the start,"
-          f" state mismatch after it {np.max(np.abs(nxt.after - r.state_after) / scale):.1e}")
+    print(
+        f"gap {r.p.gap:g}: next impact at {(nxt.t - r.t_impact) / r.p.T:.10f} T after the start,"
+        f" state mismatch after it {np.max(np.abs(nxt.after - r.state_after) / scale):.1e}"
+    )
 
 # %% [markdown]
 # ## 5. Algorithm No. 2: settling from the paper's step 1
@@ -288,11 +324,15 @@ print("step 1 state (x1, x2, x1', x2'):", idp.default_initial_state(p))
 ss = idp.steady_state(p)
 ss10 = idp.steady_state(p10)
 for s in (ss, ss10):
-    print(f"gap {s.p.gap:g}: {s.regime}, T_c = {s.period_multiple} T, {s.impacts_per_cycle} impact(s) per cycle,"
-          f" settled after {s.periods} periods (section mismatch {s.residual:.1e})")
+    print(
+        f"gap {s.p.gap:g}: {s.regime}, T_c = {s.period_multiple} T, {s.impacts_per_cycle} impact(s) per cycle,"
+        f" settled after {s.periods} periods (section mismatch {s.residual:.1e})"
+    )
     for i in s.impacts:
-        print(f"    impact at t = {i.t_over_T:.6f} T into the cycle, forcing phase {i.phase:.8f},"
-              f" velocity {i.velocity / (s.p.x_st * s.p.omega):.6f} x_st omega")
+        print(
+            f"    impact at t = {i.t_over_T:.6f} T into the cycle, forcing phase {i.phase:.8f},"
+            f" velocity {i.velocity / (s.p.x_st * s.p.omega):.6f} x_st omega"
+        )
 
 
 # %% [markdown]
@@ -301,6 +341,7 @@ for s in (ss, ss10):
 # and $x_{st}\omega$), for $k = 1$ and $k = 2$. At -5.8 the $k = 1$ mismatch decays
 # geometrically to the settling tolerance; at -10 it stalls and only $k = 2$ decays: the
 # cycle lasts two forcing periods.
+
 
 # %%
 def transient_figure(s):
@@ -311,8 +352,7 @@ def transient_figure(s):
     n = np.arange(1, s.periods + 1)
     sections = s.sections / (p_.x_st * np.array([1.0, 1.0, p_.omega, p_.omega]))
     fig, (left, right) = plt.subplots(1, 2, figsize=(6.3, 2.8), layout="constrained")
-    left.plot(np.arange(1, len(impacts) + 1), [e.velocity / (p_.x_st * p_.omega) for e in impacts],
-              ".", ms=3)
+    left.plot(np.arange(1, len(impacts) + 1), [e.velocity / (p_.x_st * p_.omega) for e in impacts], ".", ms=3)
     left.set_xlabel("impact number")
     left.set_ylabel(r"closing velocity / $x_{st}\omega$")
     for k in (1, 2):
@@ -327,7 +367,7 @@ def transient_figure(s):
 
 
 transient_figure(ss)
-transient_figure(ss10);
+transient_figure(ss10)
 
 
 # %% [markdown]
@@ -336,13 +376,13 @@ transient_figure(ss10);
 # The established motion, one cycle $T_c$ and the next impact (like the paper's Fig. 2b),
 # with the impacts $t_1, t_2, \dots$ marked, and the gap underneath.
 
+
 # %%
 def cycle_figure(s, title=""):
     p_ = s.p
     t = s.cycle_start + np.linspace(0.0, s.cycle_duration + 0.05 * p_.T, 1201)
     x1b, x2b = s.sample(t)
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(6.3, 3.8), height_ratios=(2, 1),
-                                       layout="constrained")
+    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(6.3, 3.8), height_ratios=(2, 1), layout="constrained")
     tt = (t - s.cycle_start) / p_.T
     top.plot(tt, x1b, label=r"$\bar x_1$ (object)")
     top.plot(tt, x2b, label=r"$\bar x_2$ (suppressor)")
@@ -362,8 +402,7 @@ def cycle_figure(s, title=""):
 
 
 cycle_figure(ss)
-cycle_figure(ss10);
-
+cycle_figure(ss10)
 # %% [markdown]
 # At -5.8 the settled motion is the one-impact orbit of Algorithm No. 1; at -10 it is the
 # paper's Fig. 2b motion: $T_c = 2T$ with three impacts $t_1, t_2, t_3$, the next cycle
@@ -379,8 +418,10 @@ alg1 = a1.sample(t - i0.t)
 print(f"impact phase:     Algorithm 1 {a1.impact_phase:.11f}, Algorithm 2 {i0.phase:.11f}")
 print(f"closing velocity: Algorithm 1 {a1.velocity:.9f}, Algorithm 2 {i0.velocity:.9f} m/s")
 print(f"pulse S:          Algorithm 1 {a1.S:.9f}, Algorithm 2 {i0.impulse:.9f} N s")
-print(f"largest difference in x1_bar, x2_bar over the period: "
-      f"{max(np.max(np.abs(x1b - alg1[:, 0] / p.x_st)), np.max(np.abs(x2b - (alg1[:, 1] - p.Delta0) / p.x_st))):.1e}")
+print(
+    f"largest difference in x1_bar, x2_bar over the period: "
+    f"{max(np.max(np.abs(x1b - alg1[:, 0] / p.x_st)), np.max(np.abs(x2b - (alg1[:, 1] - p.Delta0) / p.x_st))):.1e}"
+)
 print(f"\nmax |x1|/x_st: {ss.x1_max:.4f} at -5.8, {ss10.x1_max:.4f} at -10 (object alone: {one_dof:.4f})")
 
 # %%

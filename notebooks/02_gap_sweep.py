@@ -81,6 +81,7 @@ runs = {"up": both["up"], "down": both["down"], "step 1": from_step1}
 # boundary is only known to within a grid step, and a narrow band may fall between two
 # points.
 
+
 # %%
 def bands(points):
     """[first value, last value, label, regime] of each run of equal labels."""
@@ -134,15 +135,22 @@ for name, value in thresholds.items():
 # absorber, eq. 10). Dashed verticals: the closed-form edges above; dotted: the paper's -5.8.
 
 # %%
-COLORS = {"stuck": "C5", "chatter": "C3", "multi_impact": "C4", "single_impact": "C0",
-          "no_contact": "C2", "nonperiodic": "C1"}
+COLORS = {
+    "stuck": "C5",
+    "chatter": "C3",
+    "multi_impact": "C4",
+    "single_impact": "C0",
+    "no_contact": "C2",
+    "nonperiodic": "C1",
+}
 p = reference
 alone = transitions.object_alone_amplitude(p)
 rigid = transitions.rigid_amplitude(p)
 absorber = abs(linear.forced_amplitudes(p)[0]) / p.x_st
 
-fig, axes = plt.subplots(6, 1, sharex=True, figsize=(6.3, 7.4), height_ratios=(0.22, 0.22, 0.22, 1.4, 1, 1),
-                         layout="constrained")
+fig, axes = plt.subplots(
+    6, 1, sharex=True, figsize=(6.3, 7.4), height_ratios=(0.22, 0.22, 0.22, 1.4, 1, 1), layout="constrained"
+)
 strips, (vel, phase, amp) = axes[:3], axes[3:]
 step = gaps[1] - gaps[0]
 for ax, (name, points) in zip(strips, runs.items()):
@@ -152,8 +160,14 @@ for ax, (name, points) in zip(strips, runs.items()):
     ax.set_yticklabels([name], fontsize=7)
     ax.grid(False)
 found = [r for r in idp.REGIMES if any(pt.regime == r for pts in runs.values() for pt in pts)]
-strips[0].legend([plt.Rectangle((0, 0), 1, 1, color=COLORS[r]) for r in found], found, ncol=3,
-                 loc="lower center", bbox_to_anchor=(0.5, 1.05), fontsize=7)
+strips[0].legend(
+    [plt.Rectangle((0, 0), 1, 1, color=COLORS[r]) for r in found],
+    found,
+    ncol=3,
+    loc="lower center",
+    bbox_to_anchor=(0.5, 1.05),
+    fontsize=7,
+)
 for name, marker in (("up", "o"), ("down", "o")):
     for pt in runs[name]:
         face = COLORS[pt.regime] if name == "up" else "none"
@@ -165,20 +179,27 @@ phase.set_ylabel(r"impact phase $t/T$ mod 1")
 phase.set_ylim(0, 1)
 amp.plot(gaps, [pt.x1_max for pt in runs["up"]], ".-", ms=3, color="k", lw=0.6, label="with the suppressor (up)")
 amp.plot(gaps, [pt.x1_max for pt in runs["down"]], "o", ms=3.6, mfc="none", mec="k", mew=0.5, label="(down)")
-for value, text, style in ((alone, "object alone", "--"), (rigid, "rigidly attached", ":"),
-                           (absorber, "absorber, no stop", "-.")):
+for value, text, style in (
+    (alone, "object alone", "--"),
+    (rigid, "rigidly attached", ":"),
+    (absorber, "absorber, no stop", "-."),
+):
     amp.axhline(value, ls=style, lw=0.9, color="C5", label=f"{text}: {value:.2f}")
 amp.set_ylabel(r"max $|x_1|/x_{st}$")
 amp.set_xlabel(r"$\Delta_0/x_{st}$")
 amp.legend(loc="lower left", fontsize=7, ncol=2)
-edges = [thresholds["stuck lift-off"], thresholds["no contact above (U1)"], thresholds["Alg. 1 admissible above"],
-         -thresholds["Alg. 1 exists within +-"], thresholds["Alg. 1 exists within +-"]]
+edges = [
+    thresholds["stuck lift-off"],
+    thresholds["no contact above (U1)"],
+    thresholds["Alg. 1 admissible above"],
+    -thresholds["Alg. 1 exists within +-"],
+    thresholds["Alg. 1 exists within +-"],
+]
 for ax in (vel, phase, amp):
     ax.axvline(-5.8, color="k", lw=0.5, ls=":")
     for e in edges:
         ax.axvline(e, color="C5", lw=0.5, ls="--")
-fig.suptitle(r"Reference case of Fig. 2, $\Delta_0/x_{st}$ varied", fontsize=9);
-
+fig.suptitle(r"Reference case of Fig. 2, $\Delta_0/x_{st}$ varied", fontsize=9)
 # %%
 # The reading below describes what was computed above; stop here if it no longer does.
 for points in runs.values():
@@ -210,6 +231,7 @@ assert thresholds["stuck lift-off"] < thresholds["Alg. 1 admissible above"] < th
 # last stretch of the motion: two cycles, at least four forcing periods; for a nonperiodic
 # motion its last eight periods. Dotted lines: impacts; shading: persistent contact.
 
+
 # %%
 def representative(points, regime):
     runs_ = [b for b in bands(points) if b[3] == regime]
@@ -224,8 +246,10 @@ for regime in idp.REGIMES:
         pt = representative(runs["up"], regime)
         s = idp.steady_state(pt.p, state=pt.start_state, max_periods=1500)
         again = settled.label_of(s.regime, s.period_multiple, s.impacts_per_cycle)
-        print(f"gap {pt.value:7.2f}: sweep {pt.label:>6s} ({pt.method}), steady_state {again:>6s}, max|x1|/x_st"
-              f" {pt.x1_max:.6f} vs {s.x1_max:.6f}")
+        print(
+            f"gap {pt.value:7.2f}: sweep {pt.label:>6s} ({pt.method}), steady_state {again:>6s}, max|x1|/x_st"
+            f" {pt.x1_max:.6f} vs {s.x1_max:.6f}"
+        )
         cases.append(s)
 
 fig, axes = plt.subplots(len(cases), 1, figsize=(6.3, 1.45 * len(cases) + 0.6), layout="constrained", squeeze=False)
@@ -246,8 +270,7 @@ for ax, s in zip(axes[:, 0], cases):
     ax.set_title(rf"{s.regime}{period}, $\Delta_0/x_{{st}} = {p_.gap:g}$", fontsize=8, loc="left", pad=2)
     ax.set_ylabel("rel. coord.")
 axes[0, 0].legend(loc="upper right", ncol=2, fontsize=7)
-axes[-1, 0].set_xlabel(r"$(t - t_{\rm end})/T$");
-
+axes[-1, 0].set_xlabel(r"$(t - t_{\rm end})/T$")
 # %% [markdown]
 # Algorithm No. 1 can only describe the one-impact band. Where it applies, its closed-form
 # impact phase should match the settled motion's. Where its orbit does not exist or crosses

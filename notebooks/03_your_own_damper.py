@@ -27,14 +27,14 @@
 
 # %% tags=["parameters"]
 # ---- your damper: change these, then run all cells -------------------------------------
-theta = 1.0    # forcing frequency over the object's natural frequency, omega/omega1
-mu = 0.08      # suppressor's mass over the object's, m2/m1
-N = 0.5        # suppressor's partial frequency over the object's, omega2/omega1
+theta = 1.0  # forcing frequency over the object's natural frequency, omega/omega1
+mu = 0.08  # suppressor's mass over the object's, m2/m1
+N = 0.5  # suppressor's partial frequency over the object's, omega2/omega1
 delta1 = 0.05  # object's relative damping, k1/(2 m1 omega1)
 delta2 = 0.05  # suppressor's relative damping, k2/(2 m2 omega1)
-R = 0.7        # coefficient of restitution: 0 plastic ... 1 elastic
-gap = 0.0      # initial gap Delta0/x_st (negative: the suppressor is preloaded against the stop)
-omega = 10.0   # forcing frequency in rad/s (only sets the time scale)
+R = 0.7  # coefficient of restitution: 0 plastic ... 1 elastic
+gap = 0.0  # initial gap Delta0/x_st (negative: the suppressor is preloaded against the stop)
+omega = 10.0  # forcing frequency in rad/s (only sets the time scale)
 FREQUENCY_RESPONSE = True  # also sweep theta from 0.6 to 1.4 (about 20 s)
 
 # %%
@@ -61,14 +61,18 @@ print(f"T = {p.T:.6g} s, omega1 = {p.omega1:.6g} rad/s, omega2 = {p.omega2:.6g} 
 ss = idp.steady_state(p)
 print(f"regime: {ss.regime}")
 if ss.settled:
-    print(f"period T_c = {ss.period_multiple} T, {ss.impacts_per_cycle} impact(s) per cycle,"
-          f" settled after {ss.periods} forcing periods")
+    print(
+        f"period T_c = {ss.period_multiple} T, {ss.impacts_per_cycle} impact(s) per cycle,"
+        f" settled after {ss.periods} forcing periods"
+    )
 else:
     print(f"no period up to 8T within {ss.periods} forcing periods; the last 8 periods are shown")
 print(f"share of the cycle in persistent contact: {ss.contact_fraction:.3f}")
 for k, i in enumerate(ss.impacts[:12], 1):
-    print(f"  impact {k}: t = {i.t_over_T:.4f} T into the cycle, closing velocity"
-          f" {i.velocity / (p.x_st * p.omega):.4f} x_st omega, pulse {i.impulse / (p.m1 * p.x_st * p.omega):.4f} m1 x_st omega")
+    print(
+        f"  impact {k}: t = {i.t_over_T:.4f} T into the cycle, closing velocity"
+        f" {i.velocity / (p.x_st * p.omega):.4f} x_st omega, pulse {i.impulse / (p.m1 * p.x_st * p.omega):.4f} m1 x_st omega"
+    )
 if len(ss.impacts) > 12:
     print(f"  ... {len(ss.impacts) - 12} more")
 
@@ -118,7 +122,7 @@ top.set_title(f"{ss.regime}, {period}")
 top.set_ylabel("relative coordinate")
 top.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
 bottom.set_ylabel(r"$\Delta/x_{st}$")
-bottom.set_xlabel(r"$(t - t_{\rm start})/T$");
+bottom.set_xlabel(r"$(t - t_{\rm start})/T$")
 
 # %% [markdown]
 # ## What it does for the object
@@ -131,6 +135,7 @@ bottom.set_xlabel(r"$(t - t_{\rm start})/T$");
 # * the suppressor on its spring without the stop (a linear dynamic absorber, eq. 10).
 #
 # The closed forms are checked against the library's linear modes.
+
 
 # %%
 def amplitude(mode):
@@ -149,16 +154,19 @@ def comparisons(p):
 alone, rigid, absorber = comparisons(p)
 rigid_mode = amplitude(linear.stuck_mode(p)) / p.x_st
 print(f"rigidly attached: closed form {rigid:.10f}, stuck mode {rigid_mode:.10f}")
-rows = [("with your suppressor", ss.x1_max), ("object alone", alone), ("rigidly attached mass", rigid),
-        ("absorber without the stop", absorber)]
+rows = [
+    ("with your suppressor", ss.x1_max),
+    ("object alone", alone),
+    ("rigidly attached mass", rigid),
+    ("absorber without the stop", absorber),
+]
 for name, value in rows:
     print(f"  {name:>26s}: max |x1|/x_st = {value:8.4f}  ({value / alone:6.1%} of the object alone)")
 
 fig, ax = plt.subplots(figsize=(6.3, 2.2), layout="constrained")
 ax.barh([r[0] for r in rows][::-1], [r[1] for r in rows][::-1], color=["C5", "C5", "C5", "C0"])
 ax.set_xlabel(r"max $|x_1|/x_{st}$")
-ax.set_title("The object's largest excursion");
-
+ax.set_title("The object's largest excursion")
 # %% [markdown]
 # ## Around your forcing frequency
 #
@@ -167,8 +175,14 @@ ax.set_title("The object's largest excursion");
 # coloured by regime).
 
 # %%
-COLORS = {"stuck": "C5", "chatter": "C3", "multi_impact": "C4", "single_impact": "C0",
-          "no_contact": "C2", "nonperiodic": "C1"}
+COLORS = {
+    "stuck": "C5",
+    "chatter": "C3",
+    "multi_impact": "C4",
+    "single_impact": "C0",
+    "no_contact": "C2",
+    "nonperiodic": "C1",
+}
 if FREQUENCY_RESPONSE:
     thetas = np.linspace(0.6, 1.4, 33)
     fine = np.linspace(0.6, 1.4, 401)

@@ -27,15 +27,15 @@
 
 # %% tags=["parameters"]
 # ---- your object and suppressor: change these, then run all cells -----------------------
-mu = 0.08      # suppressor's mass over the object's, m2/m1
+mu = 0.08  # suppressor's mass over the object's, m2/m1
 delta1 = 0.05  # object's relative damping, k1/(2 m1 omega1)
-band = (0.5, 1.5)   # forcing frequencies the object meets, theta = omega/omega1
-detuning = 0.1      # the object's natural frequency may be off by +- this fraction
+band = (0.5, 1.5)  # forcing frequencies the object meets, theta = omega/omega1
+detuning = 0.1  # the object's natural frequency may be off by +- this fraction
 # your own impact suppressor, for the frequency response:
-N = 0.5        # suppressor's partial frequency over the object's, omega2/omega1
+N = 0.5  # suppressor's partial frequency over the object's, omega2/omega1
 delta2 = 0.05  # suppressor's relative damping, k2/(2 m2 omega1)
-R = 0.7        # coefficient of restitution: 0 plastic ... 1 elastic
-gap = 2.0      # initial gap Delta0/x_st
+R = 0.7  # coefficient of restitution: 0 plastic ... 1 elastic
+gap = 2.0  # initial gap Delta0/x_st
 
 # %%
 import matplotlib.pyplot as plt
@@ -58,11 +58,15 @@ plt.style.use(plotting.STYLE_FILE)
 result = optimum.design_optima(band, mu, delta1, detuning=detuning, progress=print)
 for key in ("impact", "tmd", "tmd_equal_stroke"):
     d = result[key]
-    print(f"{key:17s} {d['parameters']}: peak {d['peak']:.3f} at theta {d['peak_theta']:.3f}, band average "
-          f"{d['band_average']:.3f}, worst case (+-{100 * detuning:g} %) {d['worst_case']:.3f}, stroke {d['stroke']:.2f}")
+    print(
+        f"{key:17s} {d['parameters']}: peak {d['peak']:.3f} at theta {d['peak_theta']:.3f}, band average "
+        f"{d['band_average']:.3f}, worst case (+-{100 * detuning:g} %) {d['worst_case']:.3f}, stroke {d['stroke']:.2f}"
+    )
 imp = result["impact"]
-print(f"impact loads: largest pulse {imp['impulse_per_impact']:.3f} P0/omega1, at most {imp['impacts_per_second']:.3f} "
-      f"impacts per 1/f1, mean impact force up to {imp['mean_force']:.3f} P0; clearance {imp['clearance']:.2f} P0/c1")
+print(
+    f"impact loads: largest pulse {imp['impulse_per_impact']:.3f} P0/omega1, at most {imp['impacts_per_second']:.3f} "
+    f"impacts per 1/f1, mean impact force up to {imp['mean_force']:.3f} P0; clearance {imp['clearance']:.2f} P0/c1"
+)
 print("impact over TMD:", {k: round(v, 3) for k, v in result["ratio"].items()})
 
 # %% [markdown]
@@ -85,11 +89,15 @@ ax.set_xlabel(r"$\theta = \omega/\omega_1$")
 ax.set_ylabel(r"$\max|x_1|/x_{st}$")
 ax.legend(fontsize=7)
 plt.show()
-print(f"your suppressor: located peak {mine.peak:.3f} at theta {mine.peak_theta:.4f} (grid: {mine.grid_peak():.3f}), "
-      f"band average {mine.band_average:.3f}")
+print(
+    f"your suppressor: located peak {mine.peak:.3f} at theta {mine.peak_theta:.4f} (grid: {mine.grid_peak():.3f}), "
+    f"band average {mine.band_average:.3f}"
+)
 for q in mine.peaks:
-    print(f"  local maximum {q.value:.4f} at theta {q.theta:.5f} ({q.direction}, "
-          f"{'periodic' if q.periodic else 'nonperiodic'}{', at a jump' if q.jump else ''})")
+    print(
+        f"  local maximum {q.value:.4f} at theta {q.theta:.5f} ({q.direction}, "
+        f"{'periodic' if q.periodic else 'nonperiodic'}{', at a jump' if q.jump else ''})"
+    )
 
 # %% [markdown]
 # ## When the object's frequency is off
@@ -101,9 +109,15 @@ for q in mine.peaks:
 # %%
 es = np.array(imp["worst_case_detunings"])
 t = result["tmd"]["parameters"]
-tmd_detuned = [optimum.worst_case_tmd(mu, delta1, t["N"], t["delta2"], band, 0.0) if e == 0 else
-               design.LinearDevice(mu, t["N"] / (1 + e), delta1 / (1 + e), t["delta2"] / (1 + e))
-               .peak((band[0] / (1 + e), band[1] / (1 + e)))[1] / (1 + e) ** 2 for e in es]
+tmd_detuned = [
+    optimum.worst_case_tmd(mu, delta1, t["N"], t["delta2"], band, 0.0)
+    if e == 0
+    else design.LinearDevice(mu, t["N"] / (1 + e), delta1 / (1 + e), t["delta2"] / (1 + e)).peak(
+        (band[0] / (1 + e), band[1] / (1 + e))
+    )[1]
+    / (1 + e) ** 2
+    for e in es
+]
 fig, ax = plt.subplots(figsize=(7, 3), layout="constrained")
 ax.plot(100 * es, imp["worst_case_peaks"], "o-", color="C2", label="optimal impact suppressor")
 ax.plot(100 * es, tmd_detuned, "s--", color="C3", label="optimal TMD")

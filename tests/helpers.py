@@ -99,8 +99,9 @@ def check_impact_laws(p: idp.Parameters, events, gap_tol: float = 1e-12) -> int:
     return n
 
 
-def check_no_penetration(p: idp.Parameters, traj, t0: float, t1: float, per_period: int = 400,
-                         gap_tol: float = 1e-12) -> float:
+def check_no_penetration(
+    p: idp.Parameters, traj, t0: float, t1: float, per_period: int = 400, gap_tol: float = 1e-12
+) -> float:
     """Dense samples of the trajectory (plus points next to every event): the gap never goes
     below -gap_tol x_st; in contact, the contact force is non-negative. Returns the min gap."""
     n = max(int(per_period * (t1 - t0) / p.T), 16)
@@ -127,8 +128,7 @@ def check_no_penetration(p: idp.Parameters, traj, t0: float, t1: float, per_peri
 # __main__.py, which the package does not import and no rule runs).
 _SRC = Path(__file__).resolve().parents[1] / "src" / "impactdamper"
 _ROOT = _SRC.parents[1]
-LIBRARY = sorted(str(p.relative_to(_ROOT)) for p in _SRC.rglob("*.py")
-                 if p.name not in ("cli.py", "__main__.py"))
+LIBRARY = sorted(str(p.relative_to(_ROOT)) for p in _SRC.rglob("*.py") if p.name not in ("cli.py", "__main__.py"))
 
 
 def _module_file(name: str):

@@ -47,7 +47,8 @@ class _Parser(argparse.ArgumentParser):
         # are -1_000, -Infinity and -nan (float() reads them): argparse's "expected one argument"
         # named no cause, now the value reaches the flag's own check.
         self._negative_number_matcher = re.compile(
-            r"^-(\d[\d_]*\.?[\d_]*|\.\d[\d_]*)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+            r"^-(\d[\d_]*\.?[\d_]*|\.\d[\d_]*)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE
+        )
 
     def error(self, message: str) -> None:  # one line, exit status 2
         if message.endswith("expected one argument"):
@@ -69,8 +70,9 @@ def _flag(name: str) -> str:
 def add_quiet_flag(parser: argparse.ArgumentParser) -> None:
     """``--quiet``, for a command that shows a progress bar on stderr when stderr is a terminal
     (:func:`impactdamper.reporting.progress.progress_bar`)."""
-    parser.add_argument("--quiet", action="store_true",
-                        help="no progress bar (one is shown on stderr only when stderr is a terminal)")
+    parser.add_argument(
+        "--quiet", action="store_true", help="no progress bar (one is shown on stderr only when stderr is a terminal)"
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -81,74 +83,136 @@ def build_parser() -> argparse.ArgumentParser:
     def add_parameters(p: argparse.ArgumentParser) -> None:
         g = p.add_argument_group("parameters (defaults: the paper's reference case)")
         for name in Parameters.names():
-            g.add_argument(_flag(name), dest=name, type=float, default=getattr(defaults, name),
-                           metavar="X", help=f"{PARAMETER_HELP[name]} (default {getattr(defaults, name)})")
+            g.add_argument(
+                _flag(name),
+                dest=name,
+                type=float,
+                default=getattr(defaults, name),
+                metavar="X",
+                help=f"{PARAMETER_HELP[name]} (default {getattr(defaults, name)})",
+            )
         p.add_argument("--json", action="store_true", help="print one JSON object")
 
     def add_solver_flags(s) -> None:
         """The event-driven solver's start and tolerances (``steady``, and ``orbit``'s seed)."""
-        s.add_argument("--state", type=float, nargs=4, metavar=("X1", "X2", "V1", "V2"),
-                       help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)")
+        s.add_argument(
+            "--state",
+            type=float,
+            nargs=4,
+            metavar=("X1", "X2", "V1", "V2"),
+            help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)",
+        )
         s.add_argument("--t0", type=float, default=None, help="start time, s (default 0)")
         s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
         s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
         s.add_argument("--max-period-multiple", type=int, default=8, help="largest k tried for T_c = k T")
         s.add_argument("--gap-tol", type=float, default=Tolerances.gap_tol, help="grazing resolution, relative to x_st")
-        s.add_argument("--chatter-tol", type=float, default=Tolerances.chatter_tol,
-                       help="rebound height (relative to x_st) below which chatter becomes contact")
+        s.add_argument(
+            "--chatter-tol",
+            type=float,
+            default=Tolerances.chatter_tol,
+            help="rebound height (relative to x_st) below which chatter becomes contact",
+        )
 
     steady = sub.add_parser("steady", help="settled motion by Algorithm No. 2 (event-driven, exact flow)")
     add_parameters(steady)
     add_solver_flags(steady.add_argument_group("solver"))
-    steady.add_argument("--backend", choices=BACKENDS, default="auto",
-                        help="compiled (numba), python (the readable reference) or auto: compiled where numba "
-                             "imports (default); the JSON says which ran ('backend', 'fallback')")
+    steady.add_argument(
+        "--backend",
+        choices=BACKENDS,
+        default="auto",
+        help="compiled (numba), python (the readable reference) or auto: compiled where numba "
+        "imports (default); the JSON says which ran ('backend', 'fallback')",
+    )
 
     alg1 = sub.add_parser("alg1", help="Algorithm No. 1: closed-form one-impact orbit")
     add_parameters(alg1)
 
-    orbit = sub.add_parser("orbit", help="periodic cycle solved directly (Newton shooting), "
-                                         "admissibility and Floquet multipliers")
+    orbit = sub.add_parser(
+        "orbit", help="periodic cycle solved directly (Newton shooting), admissibility and Floquet multipliers"
+    )
     add_parameters(orbit)
     o = orbit.add_argument_group("orbit")
-    o.add_argument("--seed", choices=SEEDS, default="auto",
-                   help="alg1: Algorithm No. 1's orbit (reported even if not admissible); simulate: the cycle "
-                        "steady settles on; auto: alg1 if admissible and stable, else simulate (default)")
-    o.add_argument("--period-multiple", type=int, default=None, metavar="K",
-                   help="solve the seed's cycle repeated to K T (a multiple of its own k)")
+    o.add_argument(
+        "--seed",
+        choices=SEEDS,
+        default="auto",
+        help="alg1: Algorithm No. 1's orbit (reported even if not admissible); simulate: the cycle "
+        "steady settles on; auto: alg1 if admissible and stable, else simulate (default)",
+    )
+    o.add_argument(
+        "--period-multiple",
+        type=int,
+        default=None,
+        metavar="K",
+        help="solve the seed's cycle repeated to K T (a multiple of its own k)",
+    )
     add_solver_flags(orbit.add_argument_group("solver (for --seed simulate)"))
 
-    response = sub.add_parser("response", help="frequency response: settled motion against theta by an upward and "
-                                               "a downward sweep, loads, energies, hysteresis, linear response")
+    response = sub.add_parser(
+        "response",
+        help="frequency response: settled motion against theta by an upward and "
+        "a downward sweep, loads, energies, hysteresis, linear response",
+    )
     add_parameters(response)
     r = response.add_argument_group("frequency response (the band replaces --theta)")
     r.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
     r.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
-    r.add_argument("--points", type=int, default=21,
-                   help=f"theta values, equally spaced (default 21, at most {MAX_POINTS}: ~40 ms each)")
-    r.add_argument("--settle-tol", type=float, default=SweepSettings.settle_tol,
-                   help="relative section mismatch for a settled motion")
-    r.add_argument("--max-periods", type=int, default=SweepSettings.max_periods,
-                   help="forcing periods a point may simulate before 'nonperiodic'")
+    r.add_argument(
+        "--points",
+        type=int,
+        default=21,
+        help=f"theta values, equally spaced (default 21, at most {MAX_POINTS}: ~40 ms each)",
+    )
+    r.add_argument(
+        "--settle-tol",
+        type=float,
+        default=SweepSettings.settle_tol,
+        help="relative section mismatch for a settled motion",
+    )
+    r.add_argument(
+        "--max-periods",
+        type=int,
+        default=SweepSettings.max_periods,
+        help="forcing periods a point may simulate before 'nonperiodic'",
+    )
     add_quiet_flag(response)
 
-    design = sub.add_parser("design", help="choose a suppressor: the impact suppressor (gap, N, delta2, R) and the "
-                                           "linear TMD (N, delta2) optimised for one object and band, with worst "
-                                           "cases, strokes and loads",
-                            description=DESIGN_DESCRIPTION, epilog=DESIGN_KEYS,
-                            formatter_class=argparse.RawDescriptionHelpFormatter)
+    design = sub.add_parser(
+        "design",
+        help="choose a suppressor: the impact suppressor (gap, N, delta2, R) and the "
+        "linear TMD (N, delta2) optimised for one object and band, with worst "
+        "cases, strokes and loads",
+        description=DESIGN_DESCRIPTION,
+        epilog=DESIGN_KEYS,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     d = design.add_argument_group("object and band")
     d.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
     d.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
     d.add_argument("--mu", type=float, default=defaults.mu, help=f"{PARAMETER_HELP['mu']} (default {defaults.mu})")
-    d.add_argument("--delta1", type=float, default=defaults.delta1,
-                   help=f"{PARAMETER_HELP['delta1']} (default {defaults.delta1})")
-    d.add_argument("--detuning", type=float, default=0.1,
-                   help="the object's natural frequency uncertain by +- this fraction, in [0, 0.5] (default 0.1)")
-    d.add_argument("--max-stroke", type=float, default=None, metavar="S",
-                   help="stroke limit max|x2 - x1|/x_st of the equal-stroke TMD (default: the impact suppressor's)")
-    d.add_argument("--criterion", choices=("peak", "band_average"), default="peak",
-                   help="what is minimised over the band (default peak)")
+    d.add_argument(
+        "--delta1", type=float, default=defaults.delta1, help=f"{PARAMETER_HELP['delta1']} (default {defaults.delta1})"
+    )
+    d.add_argument(
+        "--detuning",
+        type=float,
+        default=0.1,
+        help="the object's natural frequency uncertain by +- this fraction, in [0, 0.5] (default 0.1)",
+    )
+    d.add_argument(
+        "--max-stroke",
+        type=float,
+        default=None,
+        metavar="S",
+        help="stroke limit max|x2 - x1|/x_st of the equal-stroke TMD (default: the impact suppressor's)",
+    )
+    d.add_argument(
+        "--criterion",
+        choices=("peak", "band_average"),
+        default="peak",
+        help="what is minimised over the band (default peak)",
+    )
     design.add_argument("--json", action="store_true", help="print one JSON object")
     design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     return parser
@@ -197,8 +261,10 @@ def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | N
         # A numerical failure that names nothing: name the parameter farthest from the
         # reference case, the usual cause.
         name = most_extreme(p)
-        message = (f"`{name}` = {getattr(p, name)!r} (the parameter farthest from the reference case) is beyond what "
-                   f"the solver handles: {type(err).__name__}: {message}")
+        message = (
+            f"`{name}` = {getattr(p, name)!r} (the parameter farthest from the reference case) is beyond what "
+            f"the solver handles: {type(err).__name__}: {message}"
+        )
     flag = _flag(name) if name else ""
     prefix = f"argument {flag}: " if flag in parser._option_string_actions else ""
     parser.exit(2, f"{parser.prog}: error: {prefix}{message}\n")
@@ -215,11 +281,17 @@ def _check_period_flags(parser: argparse.ArgumentParser, args: argparse.Namespac
     if not (2 <= periods <= MAX_PERIODS_LIMIT and 1 <= multiple < MAX_PERIODS_LIMIT) or multiple < periods:
         return  # (in order, or out of range: the library's own message names the flag)
     if _given("--max-period-multiple", given) and not _given("--max-periods", given):
-        parser.exit(2, f"{parser.prog}: error: argument --max-period-multiple: `max_period_multiple` = {multiple} is "
-                       f"not allowed: must be an integer in [1, {periods - 1}] (below --max-periods = {periods})\n")
-    parser.exit(2, f"{parser.prog}: error: argument --max-periods: `max_periods` = {periods} is not allowed: must "
-                   f"exceed --max-period-multiple = {multiple}{'' if _given('--max-period-multiple', given) else ' (its default)'}"
-                   f", at most {MAX_PERIODS_LIMIT}\n")
+        parser.exit(
+            2,
+            f"{parser.prog}: error: argument --max-period-multiple: `max_period_multiple` = {multiple} is "
+            f"not allowed: must be an integer in [1, {periods - 1}] (below --max-periods = {periods})\n",
+        )
+    parser.exit(
+        2,
+        f"{parser.prog}: error: argument --max-periods: `max_periods` = {periods} is not allowed: must "
+        f"exceed --max-period-multiple = {multiple}{'' if _given('--max-period-multiple', given) else ' (its default)'}"
+        f", at most {MAX_PERIODS_LIMIT}\n",
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -235,35 +307,49 @@ def main(argv: list[str] | None = None) -> int:
         # Algorithm No. 1's orbit is found in closed form: there is no start to honour.
         for flag, value in (("--state", args.state), ("--t0", args.t0)):
             if value is not None:
-                sub.exit(2, f"{sub.prog}: error: argument {flag}: not allowed with --seed alg1 (Algorithm No. 1's "
-                            "orbit is closed-form, it has no start); use --seed simulate to start from it\n")
+                sub.exit(
+                    2,
+                    f"{sub.prog}: error: argument {flag}: not allowed with --seed alg1 (Algorithm No. 1's "
+                    "orbit is closed-form, it has no start); use --seed simulate to start from it\n",
+                )
     given = sys.argv[1:] if argv is None else argv
     if args.command in ("steady", "orbit"):
         _check_period_flags(sub, args, given)
     if args.command == "response":
         # The band sets theta; a single --theta would be silently unused.
         if any(a == "--theta" or a.startswith("--theta=") for a in given):
-            sub.exit(2, f"{sub.prog}: error: argument --theta: not allowed with response (the band "
-                        "--theta-start .. --theta-stop sets theta)\n")
-    printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady,
-               "response": _print_response}[args.command]
+            sub.exit(
+                2,
+                f"{sub.prog}: error: argument --theta: not allowed with response (the band "
+                "--theta-start .. --theta-stop sets theta)\n",
+            )
+    printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady, "response": _print_response}[
+        args.command
+    ]
     try:
         if args.command == "response":
-            settings = SweepSettings(settle_tol=args.settle_tol, max_periods=args.max_periods,
-                                     max_periods_after_nonperiodic=min(SweepSettings.max_periods_after_nonperiodic,
-                                                                       args.max_periods))
+            settings = SweepSettings(
+                settle_tol=args.settle_tol,
+                max_periods=args.max_periods,
+                max_periods_after_nonperiodic=min(SweepSettings.max_periods_after_nonperiodic, args.max_periods),
+            )
             # Two sweeps (up and down) of `points` settled motions each.
             total = 2 * args.points if args.points > 0 else None
             with progress_bar(total, "response", quiet=args.quiet) as bar:
-                result = frequency_response(p, args.theta_start, args.theta_stop, args.points, settings=settings,
-                                            on_point=bar.step).to_dict()
+                result = frequency_response(
+                    p, args.theta_start, args.theta_stop, args.points, settings=settings, on_point=bar.step
+                ).to_dict()
         elif args.command == "alg1":
             result = algorithm1(p).to_dict()
         else:
-            solver = dict(t0=0.0 if args.t0 is None else args.t0, state=args.state,
-                          tolerances=Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol),
-                          settle_tol=args.settle_tol, max_periods=args.max_periods,
-                          max_period_multiple=args.max_period_multiple)
+            solver = dict(
+                t0=0.0 if args.t0 is None else args.t0,
+                state=args.state,
+                tolerances=Tolerances(gap_tol=args.gap_tol, chatter_tol=args.chatter_tol),
+                settle_tol=args.settle_tol,
+                max_periods=args.max_periods,
+                max_period_multiple=args.max_period_multiple,
+            )
             if args.command == "orbit":
                 result = solve_orbit(p, args.seed, period_multiple=args.period_multiple, **solver).to_dict()
             else:
@@ -303,8 +389,15 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
             print(f"{sub.prog}: {message}", file=sys.stderr, flush=True)
 
     try:
-        result = design_optima((args.theta_start, args.theta_stop), args.mu, args.delta1, detuning=args.detuning,
-                               max_stroke=args.max_stroke, criterion=args.criterion, progress=progress)
+        result = design_optima(
+            (args.theta_start, args.theta_stop),
+            args.mu,
+            args.delta1,
+            detuning=args.detuning,
+            max_stroke=args.max_stroke,
+            criterion=args.criterion,
+            progress=progress,
+        )
     except (ValueError, RuntimeError, ArithmeticError) as err:
         _fail(sub, err)
     if args.json:
@@ -342,8 +435,12 @@ def _one_blas_thread() -> None:
         for path in sorted(paths):
             with contextlib.suppress(OSError):
                 lib = ctypes.CDLL(path)
-                for symbol in ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
-                               "openblas_set_num_threads64_", "openblas_set_num_threads"):
+                for symbol in (
+                    "scipy_openblas_set_num_threads64_",
+                    "scipy_openblas_set_num_threads",
+                    "openblas_set_num_threads64_",
+                    "openblas_set_num_threads",
+                ):
                     if hasattr(lib, symbol):
                         getattr(lib, symbol)(1)
                         break
@@ -395,8 +492,10 @@ def _print_alg1(r: dict) -> None:
     if not r["exists"]:
         print(f"Algorithm No. 1: no orbit ({r['reason']})")
         return
-    print(f"Algorithm No. 1: impact phase {r['impact_phase']:.12f} T, S = {r['S']:.10g} N s, "
-          f"closing velocity {r['velocity']:.10g} m/s")
+    print(
+        f"Algorithm No. 1: impact phase {r['impact_phase']:.12f} T, S = {r['S']:.10g} N s, "
+        f"closing velocity {r['velocity']:.10g} m/s"
+    )
     if r["negative_gap_intervals"]:
         ivs = ", ".join(f"({a:.6f}, {b:.6f})" for a, b in r["negative_gap_intervals"])
         print(f"  gap negative on {ivs} T after the impact (min {r['min_gap']:.6g} x_st): the orbit is not admissible")
@@ -405,12 +504,16 @@ def _print_alg1(r: dict) -> None:
 
 
 def _print_steady(r: dict) -> None:
-    print(f"regime {r['regime']}, T_c = {r['period_multiple']} T, {r['impacts_per_cycle']} impacts per cycle, "
-          f"contact {100 * r['contact_fraction']:.2f} % of the cycle, max |x1|/x_st = {r['x1_max']:.6f} "
-          f"({r['periods_simulated']} periods simulated)")
+    print(
+        f"regime {r['regime']}, T_c = {r['period_multiple']} T, {r['impacts_per_cycle']} impacts per cycle, "
+        f"contact {100 * r['contact_fraction']:.2f} % of the cycle, max |x1|/x_st = {r['x1_max']:.6f} "
+        f"({r['periods_simulated']} periods simulated)"
+    )
     for i, imp in enumerate(r["impacts"], 1):
-        print(f"  t{i} = {imp['t_over_T']:.9f} T (phase {imp['phase']:.9f}), v = {imp['velocity']:.9g} m/s, "
-              f"S = {imp['impulse']:.9g} N s")
+        print(
+            f"  t{i} = {imp['t_over_T']:.9f} T (phase {imp['phase']:.9f}), v = {imp['velocity']:.9g} m/s, "
+            f"S = {imp['impulse']:.9g} N s"
+        )
 
 
 def _print_orbit(r: dict) -> None:
@@ -418,38 +521,55 @@ def _print_orbit(r: dict) -> None:
     if not r["solved"]:
         print(f"  not solved directly: {r['reason']}")
         return
-    print(f"  solved directly (seed {r['seed']}, {r['newton_iterations']} Newton iterations, residual "
-          f"{r['residual']:.2g}); admissible: {'yes' if r['admissible'] else 'no, ' + r['reason']}; "
-          f"stable: {'yes' if r['stable'] else 'no'}")
+    print(
+        f"  solved directly (seed {r['seed']}, {r['newton_iterations']} Newton iterations, residual "
+        f"{r['residual']:.2g}); admissible: {'yes' if r['admissible'] else 'no, ' + r['reason']}; "
+        f"stable: {'yes' if r['stable'] else 'no'}"
+    )
     print("  Floquet multipliers |mu|: " + ", ".join(f"{m:.9f}" for m in r["multipliers"]))
 
 
 def _print_response(r: dict) -> None:
-    print(f"peak max|x1|/x_st over the band {r['peak_max_abs_x1']:.6f}, band average {r['band_average_max_abs_x1']:.6f}, "
-          f"largest pulse {r['peak_impulse']:.6g} m1 x_st omega, at most {r['impacts_per_period']:g} impacts per "
-          f"period, {r['hysteresis_points']} theta values with hysteresis")
+    print(
+        f"peak max|x1|/x_st over the band {r['peak_max_abs_x1']:.6f}, band average {r['band_average_max_abs_x1']:.6f}, "
+        f"largest pulse {r['peak_impulse']:.6g} m1 x_st omega, at most {r['impacts_per_period']:g} impacts per "
+        f"period, {r['hysteresis_points']} theta values with hysteresis"
+    )
     print("   theta   up     down   max|x1| up/down       max|x2| up   impacts/T  peak pulse  linear |x1|")
     for q in r["points"]:
         u, d = q["up"], q["down"]
-        print(f"  {q['theta']:.4f}  {u['label']:<6} {d['label']:<6} {u['max_abs_x1']:9.5f} {d['max_abs_x1']:9.5f}  "
-              f"{u['max_abs_x2']:9.5f}  {u['impacts_per_period']:9.4g}  {u['peak_impulse']:10.5g}  "
-              f"{q['linear_max_abs_x1']:9.5f}{'  hysteresis' if q['hysteresis'] else ''}")
+        print(
+            f"  {q['theta']:.4f}  {u['label']:<6} {d['label']:<6} {u['max_abs_x1']:9.5f} {d['max_abs_x1']:9.5f}  "
+            f"{u['max_abs_x2']:9.5f}  {u['impacts_per_period']:9.4g}  {u['peak_impulse']:10.5g}  "
+            f"{q['linear_max_abs_x1']:9.5f}{'  hysteresis' if q['hysteresis'] else ''}"
+        )
 
 
 def _print_design(r: dict) -> None:
-    print(f"object: mu = {r['mu']:g}, delta1 = {r['delta1']:g}; band theta {r['band'][0]:g} to {r['band'][1]:g}; "
-          f"criterion {r['criterion']}; worst case over +-{100 * r['detuning']:g} % of omega1")
-    for key, name in (("impact", "impact suppressor"), ("tmd", "linear TMD"),
-                      ("tmd_equal_stroke", "TMD, equal stroke")):
+    print(
+        f"object: mu = {r['mu']:g}, delta1 = {r['delta1']:g}; band theta {r['band'][0]:g} to {r['band'][1]:g}; "
+        f"criterion {r['criterion']}; worst case over +-{100 * r['detuning']:g} % of omega1"
+    )
+    for key, name in (
+        ("impact", "impact suppressor"),
+        ("tmd", "linear TMD"),
+        ("tmd_equal_stroke", "TMD, equal stroke"),
+    ):
         d = r[key]
         pars = ", ".join(f"{k} = {v:.4g}" for k, v in d["parameters"].items())
-        print(f"{name:18s} {pars}: peak {d['peak']:.4f} at theta {d['peak_theta']:.4f}, band average "
-              f"{d['band_average']:.4f}, worst case {d['worst_case']:.4f}, stroke {d['stroke']:.3f}"
-              + (f" (at_bound: {', '.join(d['at_bound'])})" if d["at_bound"] else ""))
+        print(
+            f"{name:18s} {pars}: peak {d['peak']:.4f} at theta {d['peak_theta']:.4f}, band average "
+            f"{d['band_average']:.4f}, worst case {d['worst_case']:.4f}, stroke {d['stroke']:.3f}"
+            + (f" (at_bound: {', '.join(d['at_bound'])})" if d["at_bound"] else "")
+        )
     d = r["impact"]
-    print(f"impact loads: largest pulse {d['impulse_per_impact']:.4g} P0/omega1, at most {d['impacts_per_second']:.4g} "
-          f"impacts per 1/f1, mean impact force up to {d['mean_force']:.4g} P0 (no contact force peak: the impact "
-          f"is instantaneous); clearance Delta0 = {d['clearance']:.4g} P0/c1")
+    print(
+        f"impact loads: largest pulse {d['impulse_per_impact']:.4g} P0/omega1, at most {d['impacts_per_second']:.4g} "
+        f"impacts per 1/f1, mean impact force up to {d['mean_force']:.4g} P0 (no contact force peak: the impact "
+        f"is instantaneous); clearance Delta0 = {d['clearance']:.4g} P0/c1"
+    )
     q = r["ratio"]
-    print(f"impact over TMD: peak {q['peak']:.4f}, band average {q['band_average']:.4f}, worst case "
-          f"{q['worst_case']:.4f} ({r['elapsed']:.1f} s)")
+    print(
+        f"impact over TMD: peak {q['peak']:.4f}, band average {q['band_average']:.4f}, worst case "
+        f"{q['worst_case']:.4f} ({r['elapsed']:.1f} s)"
+    )

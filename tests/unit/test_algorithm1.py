@@ -49,8 +49,16 @@ def test_unit_pulse_response_satisfies_the_periodicity_conditions_eq7(p):
     assert p.m2 * zT[3] == pytest.approx(p.m2 * z0[3] + 1.0, abs=1e-10 * p.m1 * s)
 
 
-@pytest.mark.parametrize("p", [REF, REF.replace(gap=-10.0), REF.replace(gap=2.0, R=1.0),
-                               REF.replace(gap=0.0, R=0.0), REF.replace(theta=0.8, gap=2.0)])
+@pytest.mark.parametrize(
+    "p",
+    [
+        REF,
+        REF.replace(gap=-10.0),
+        REF.replace(gap=2.0, R=1.0),
+        REF.replace(gap=0.0, R=0.0),
+        REF.replace(theta=0.8, gap=2.0),
+    ],
+)
 def test_the_orbit_is_periodic_through_the_impact_law(p):
     """Flowing the post-impact state for T returns to the stop with the same pre-impact
     velocity: the impact law maps it onto the post-impact state again."""
@@ -116,8 +124,14 @@ def test_no_solution_case_is_clean():
 
 # --- Algorithm No. 1 against Algorithm No. 2 ---------------------------------------------------
 
-AGREE = [(1.0, g) for g in (-5.8, -2.0, 0.0, 2.0)] + [(0.6, 0.0), (0.6, 2.0), (0.8, 0.0), (0.8, 2.0),
-                                                      (1.2, -2.0), (1.5, -2.0)]
+AGREE = [(1.0, g) for g in (-5.8, -2.0, 0.0, 2.0)] + [
+    (0.6, 0.0),
+    (0.6, 2.0),
+    (0.8, 0.0),
+    (0.8, 2.0),
+    (1.2, -2.0),
+    (1.5, -2.0),
+]
 
 
 @pytest.mark.parametrize("theta, gap_value", AGREE)
@@ -168,7 +182,7 @@ def test_onset_of_alg1_crossing_inside_and_outside():
     traj = idp.simulate(outside, r.t_impact + 0.9 * outside.T, t0=r.t_impact, state=r.state_after, backend="python")
     (graze,) = traj.impacts()  # the orbit's minimum now dips below the stop: one extra impact
     t_graze = (graze.t - r.t_impact) / outside.T
-    (a, b), = r.negative_gap_intervals
+    ((a, b),) = r.negative_gap_intervals
     assert a == pytest.approx(t_graze, abs=1e-9)
     # closing velocity of a shallow crossing: sqrt(2 |Delta''| depth)
     y = r.sample(r.t_min_gap * outside.T)

@@ -19,8 +19,14 @@ def test_vocabulary_names_every_kind_the_continuation_reports():
 
 
 def _row(i, gap, y, stable="1", admissible="1"):
-    return {"branch": "b", "index": str(i), "gap": f"{gap:g}", "x1_max": f"{y:g}", "stable": stable,
-            "admissible": admissible}
+    return {
+        "branch": "b",
+        "index": str(i),
+        "gap": f"{gap:g}",
+        "x1_max": f"{y:g}",
+        "stable": stable,
+        "admissible": admissible,
+    }
 
 
 def test_run_pieces_split_at_state_changes_through_special_points():
@@ -54,8 +60,13 @@ def test_multi_impact_window():
 
 def test_describe_special_reads_stability_from_the_neighbouring_rows():
     rows = [_row(0, -7.0, 1.0, stable="1"), _row(1, -6.0, 1.0, stable="0")]
-    pd = {"kind": "period_doubling", "label": "1/1", "index": "1", "gap": "-6.5",
-          "detail": "a multiplier passes through -1: a 2/2 (doubled) cycle branches off"}
+    pd = {
+        "kind": "period_doubling",
+        "label": "1/1",
+        "index": "1",
+        "gap": "-6.5",
+        "detail": "a multiplier passes through -1: a 2/2 (doubled) cycle branches off",
+    }
     assert br.describe_special(pd, rows) == "multiplier $-1$, a 2/2 cycle branches off; stable for smaller gaps"
     fold = dict(pd, kind="fold", detail="")
     assert br.describe_special(fold, rows).endswith("a stable and an unstable leg meet")

@@ -15,8 +15,17 @@ import math
 import pytest
 
 import impactdamper as idp
-from impactdamper.studies.claims import (Interval, check_rows, claim_intervals, compare_cycles, distance_to,
-                                         intersect, reference_check, search_parameter, true_intervals)
+from impactdamper.studies.claims import (
+    Interval,
+    check_rows,
+    claim_intervals,
+    compare_cycles,
+    distance_to,
+    intersect,
+    reference_check,
+    search_parameter,
+    true_intervals,
+)
 
 TOL = 1e-8
 
@@ -35,8 +44,16 @@ def cycle(s, shift_periods=0):
 
 def compare(s, other, k_other=None):
     p = s.p
-    return compare_cycles(s.impacts, s.period_multiple, other, s.period_multiple if k_other is None else k_other,
-                          p.T, p.x_st * p.omega, TOL, TOL)
+    return compare_cycles(
+        s.impacts,
+        s.period_multiple,
+        other,
+        s.period_multiple if k_other is None else k_other,
+        p.T,
+        p.x_st * p.omega,
+        TOL,
+        TOL,
+    )
 
 
 # --- closed-form cases first ---------------------------------------------------------------
@@ -165,8 +182,16 @@ def test_search_along_the_gap_finds_the_known_range():
     """Along Delta0/x_st alone the claims' common range contains the located case -9.6 and not
     the stated -5.8 (the gap scan's finding, by the same predicates on another grid)."""
     p = idp.Parameters()
-    r = search_parameter(p, "gap", [-10.0, -9.8, -9.6, -9.4, -9.2], [-10.0 + 0.05 * i for i in range(17)],
-                         gap_tol=1e-12, steady_kwargs={}, rel_tol=1e-3, floor=1.0)
+    r = search_parameter(
+        p,
+        "gap",
+        [-10.0, -9.8, -9.6, -9.4, -9.2],
+        [-10.0 + 0.05 * i for i in range(17)],
+        gap_tol=1e-12,
+        steady_kwargs={},
+        rel_tol=1e-3,
+        floor=1.0,
+    )
     both = r["intervals"]["both"]
     assert any(iv.lo < -9.6 < iv.hi for iv in both)
     assert not any(iv.lo <= -5.8 <= iv.hi for iv in both)
@@ -179,8 +204,7 @@ def test_reference_check_agrees_and_can_fail():
     as computed agree; a row whose period multiple is changed is reported as a mismatch."""
     p = idp.Parameters()
     kw = {"max_periods": 400}
-    r = search_parameter(p, "theta", [0.9, 1.0], [0.9, 1.0], gap_tol=1e-12, steady_kwargs=kw, rel_tol=1e-2,
-                         floor=1.0)
+    r = search_parameter(p, "theta", [0.9, 1.0], [0.9, 1.0], gap_tol=1e-12, steady_kwargs=kw, rel_tol=1e-2, floor=1.0)
     rows = r["grid_b"]
     check = reference_check(p, "theta", rows, kw)
     assert (check["points"], check["agree"], check["mismatches"]) == (2, 2, [])
@@ -191,9 +215,11 @@ def test_reference_check_agrees_and_can_fail():
 
 
 def test_check_rows_takes_every_nth_value_and_the_final_brackets():
-    r = {"grid_b": [{"value": float(v)} for v in range(10)],
-         "bisection_points": [{"value": 2.5}, {"value": 2.75}, {"value": 7.5}],
-         "intervals": {"b": [Interval(2.75, 9.0, False, True, (2.75, 2.5), None)]}}
+    r = {
+        "grid_b": [{"value": float(v)} for v in range(10)],
+        "bisection_points": [{"value": 2.5}, {"value": 2.75}, {"value": 7.5}],
+        "intervals": {"b": [Interval(2.75, 9.0, False, True, (2.75, 2.5), None)]},
+    }
     assert [row["value"] for row in check_rows(r, 4)] == [0.0, 2.5, 2.75, 4.0, 8.0]
 
 
@@ -202,8 +228,10 @@ def test_nearest_both_measures_from_the_stated_value():
     0.05 from the first (5 % of |stated|)."""
     from impactdamper.studies.claims import nearest_both
 
-    both = [{"lo": 0.9, "hi": 0.95, "lo_open": False, "hi_open": False},
-            {"lo": 1.2, "hi": 1.3, "lo_open": False, "hi_open": True}]
+    both = [
+        {"lo": 0.9, "hi": 0.95, "lo_open": False, "hi_open": False},
+        {"lo": 1.2, "hi": 1.3, "lo_open": False, "hi_open": True},
+    ]
     got = nearest_both({"stated": 1.0, "intervals": {"both": both}})
     assert got["nearest"] == 0.95 and got["intervals"] == 2
     assert got["distance"] == pytest.approx(0.05, abs=1e-15)
@@ -231,14 +259,16 @@ def test_refine_grid_finds_a_window_between_other_labels_down_to_the_floor():
 
     from impactdamper.studies.claims import refine_grid
 
-    rows, rounds = refine_grid([i / 100 for i in range(101)], rows_at, 0.01 / 2 ** 4)
+    rows, rounds = refine_grid([i / 100 for i in range(101)], rows_at, 0.01 / 2**4)
     b = [r["value"] for r in rows if r["label"] == "B"]
     assert b and all(0.4985 <= x < 0.5 for x in b)  # the window between A and C, not the one inside A
     assert rounds == len(calls) - 1 and max(r["level"] for r in rows) == rounds
     xs = [r["value"] for r in rows]
     assert xs == sorted(xs) and len(set(xs)) == len(xs)
     # Every pair of neighbours with different labels is the floor apart (within rounding).
-    assert all(b_["value"] - a["value"] < 1.01 * 0.01 / 2 ** 4 for a, b_ in zip(rows, rows[1:]) if a["label"] != b_["label"])
+    assert all(
+        b_["value"] - a["value"] < 1.01 * 0.01 / 2**4 for a, b_ in zip(rows, rows[1:]) if a["label"] != b_["label"]
+    )
     with pytest.raises(ValueError, match="`min_step`"):
         refine_grid([0.0, 1.0], rows_at, 0.0)
 
@@ -254,10 +284,16 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
     from impactdamper.studies.claims import batch_rows, refine_grid, true_runs
 
     p = idp.Parameters()
-    st = SweepSettings(settle_tol=1e-10, max_periods=4000, max_periods_after_nonperiodic=4000, max_period_multiple=8,
-                       continuation=False, rescue=True)
+    st = SweepSettings(
+        settle_tol=1e-10,
+        max_periods=4000,
+        max_periods_after_nonperiodic=4000,
+        max_period_multiple=8,
+        continuation=False,
+        rescue=True,
+    )
     step, levels = 0.01, 3
-    floor = step / 2 ** levels
+    floor = step / 2**levels
     coarse = [round(0.86 + step * i, 12) for i in range(9)]
     rows, _ = refine_grid(coarse, lambda xs: batch_rows(p, "theta", xs, st), floor)
     fine = batch_rows(p, "theta", [round(0.86 + floor * i, 12) for i in range(8 * 8 + 1)], st)
@@ -283,16 +319,43 @@ def test_end_checks_are_counted_by_what_they_rest_on():
     outside tolerance, one with different verdicts: the counts say so (not "6 of 6 agree")."""
     from impactdamper.studies.claims import count_end_checks
 
-    a_ok = {"claim": "a", "exact": True, "independent": True, "comparison": {"periodicity_residual": 1e-10, "agree": True}}
-    a_none = {"claim": "a", "exact": False, "independent": False,
-              "comparison": {"periodicity_residual": None, "agree": True}}
-    b_ok = {"claim": "b", "exact": True, "independent": True, "exact_period_multiple": 2,
-            "independent_period_multiple": 2, "details": {"agree": True}}
-    b_none = dict(b_ok, exact=False, independent=False, exact_period_multiple=0, independent_period_multiple=0,
-                  details={})
-    b_off = dict(b_ok, exact=False, independent=False, exact_period_multiple=4, independent_period_multiple=4,
-                 details={"agree": False})
+    a_ok = {
+        "claim": "a",
+        "exact": True,
+        "independent": True,
+        "comparison": {"periodicity_residual": 1e-10, "agree": True},
+    }
+    a_none = {
+        "claim": "a",
+        "exact": False,
+        "independent": False,
+        "comparison": {"periodicity_residual": None, "agree": True},
+    }
+    b_ok = {
+        "claim": "b",
+        "exact": True,
+        "independent": True,
+        "exact_period_multiple": 2,
+        "independent_period_multiple": 2,
+        "details": {"agree": True},
+    }
+    b_none = dict(
+        b_ok, exact=False, independent=False, exact_period_multiple=0, independent_period_multiple=0, details={}
+    )
+    b_off = dict(
+        b_ok,
+        exact=False,
+        independent=False,
+        exact_period_multiple=4,
+        independent_period_multiple=4,
+        details={"agree": False},
+    )
     b_diff = dict(b_ok, independent=False, independent_period_multiple=1, details={"agree": False})
     got = count_end_checks([a_ok, a_none, b_ok, b_none, b_off, b_diff])
-    assert got == {"checks": 6, "compared_within": 2, "nothing_to_compare": 2, "outside_tolerance": 2,
-                   "different_verdict": 1}
+    assert got == {
+        "checks": 6,
+        "compared_within": 2,
+        "nothing_to_compare": 2,
+        "outside_tolerance": 2,
+        "different_verdict": 1,
+    }

@@ -17,8 +17,7 @@ from impactdamper.cli import run as run_cli
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True,
-                          timeout=120)
+    return subprocess.run([sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True, timeout=120)
 
 
 def test_steady_json_at_the_reference_gap():
@@ -38,8 +37,14 @@ def test_steady_json_at_the_reference_gap():
     assert imp["impulse"] == pytest.approx(r.S, rel=1e-8)
     assert d["contact_fraction"] == 0.0 and d["x1_max"] == pytest.approx(5.5619, abs=1e-4)
     s = idp.steady_state(idp.Parameters())  # the same call as the API's, its default backend
-    assert (d["method"], d["backend"], d["fallback"]) == (s.method, s.backend, s.fallback) == ("simulation", "compiled", "")
-    assert d == json.loads(json.dumps({**s.to_dict(), "method": s.method, "backend": s.backend, "fallback": s.fallback}))
+    assert (
+        (d["method"], d["backend"], d["fallback"])
+        == (s.method, s.backend, s.fallback)
+        == ("simulation", "compiled", "")
+    )
+    assert d == json.loads(
+        json.dumps({**s.to_dict(), "method": s.method, "backend": s.backend, "fallback": s.fallback})
+    )
 
 
 def test_steady_json_multi_impact_and_parameters_echoed():
@@ -69,14 +74,17 @@ def test_alg1_json_no_solution_is_valid_json():
     assert d["exists"] is False and d["eps"] is None and d["S"] is None and "eq. (16)" in d["reason"]
 
 
-@pytest.mark.parametrize("args, flag", [
-    (("steady", "--gap", "abc"), "--gap"),  # type error (argparse)
-    (("alg1", "--R", "1.5"), "--R"),  # range error (Parameters)
-    (("steady", "--x-st", "-1"), "--x-st"),
-    (("steady", "--max-periods", "2.5"), "--max-periods"),
-    (("steady", "--settle-tol", "2"), "--settle-tol"),  # range error (steady_state)
-    (("steady", "--state", "0", "0", "0", "0"), "--state"),  # overlapping bodies
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (("steady", "--gap", "abc"), "--gap"),  # type error (argparse)
+        (("alg1", "--R", "1.5"), "--R"),  # range error (Parameters)
+        (("steady", "--x-st", "-1"), "--x-st"),
+        (("steady", "--max-periods", "2.5"), "--max-periods"),
+        (("steady", "--settle-tol", "2"), "--settle-tol"),  # range error (steady_state)
+        (("steady", "--state", "0", "0", "0", "0"), "--state"),  # overlapping bodies
+    ],
+)
 def test_bad_flag_exits_2_with_one_line(args, flag):
     proc = run(*args, "--json")
     assert proc.returncode == 2
@@ -106,15 +114,22 @@ def test_every_parameter_flag_is_checked(command, name, value, capsys):
     assert err.count("\n") == 1 and f"argument {flag}:" in err
 
 
-@pytest.mark.parametrize("flag, value", [("--gap-tol", "0"), ("--chatter-tol", "1"), ("--max-period-multiple", "0"),
-                                         ("--t0", "inf"), ("--max-periods", "1")])
+@pytest.mark.parametrize(
+    "flag, value",
+    [
+        ("--gap-tol", "0"),
+        ("--chatter-tol", "1"),
+        ("--max-period-multiple", "0"),
+        ("--t0", "inf"),
+        ("--max-periods", "1"),
+    ],
+)
 def test_solver_flags_are_checked(flag, value, capsys):
     with pytest.raises(SystemExit) as info:
         main(["steady", flag, value])
     assert info.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"argument {flag}:" in err
-
 
 
 @pytest.mark.parametrize("theta", [["--theta", "1.2"], ["--theta=1.2"]])
@@ -125,6 +140,7 @@ def test_response_refuses_a_single_theta(theta, capsys):
     assert info.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "argument --theta:" in err
+
 
 def test_human_readable_output(capsys):
     assert main(["alg1", "--gap", "-10"]) == 0
@@ -142,10 +158,13 @@ def test_negative_exponent_values_are_numbers(capsys):
     assert json.loads(capsys.readouterr().out)["parameters"]["gap"] == -10.0
 
 
-@pytest.mark.parametrize("argv, flag", [
-    (["orbit", "--seed", "alg1", "--state", "0", "-5.8", "1", "-1"], "--state"),
-    (["orbit", "--seed", "alg1", "--t0", "0.1"], "--t0"),
-])
+@pytest.mark.parametrize(
+    "argv, flag",
+    [
+        (["orbit", "--seed", "alg1", "--state", "0", "-5.8", "1", "-1"], "--state"),
+        (["orbit", "--seed", "alg1", "--t0", "0.1"], "--t0"),
+    ],
+)
 def test_a_start_with_algorithm1s_orbit_is_a_usage_error(argv, flag, capsys):
     # --state was ignored silently: Algorithm No. 1's orbit is closed-form.
     with pytest.raises(SystemExit) as info:
@@ -193,8 +212,16 @@ def test_output_that_cannot_be_written_is_one_line_and_status_1(argv, monkeypatc
     assert capsys.readouterr().err == "impactdamper: error: cannot write the output: Broken pipe\n"
 
 
-@pytest.mark.parametrize("args", [("steady", "--x-st", "1e-200"), ("steady", "--m1", "1e300"), ("steady", "--t0", "1e20"),
-                                  ("alg1", "--x-st", "1e200"), ("orbit", "--m1", "1e-300")])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("steady", "--x-st", "1e-200"),
+        ("steady", "--m1", "1e300"),
+        ("steady", "--t0", "1e20"),
+        ("alg1", "--x-st", "1e200"),
+        ("orbit", "--m1", "1e-300"),
+    ],
+)
 def test_free_scales_and_start_time_do_not_change_the_answer(args, capsys):
     assert main([*args, "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -209,18 +236,24 @@ def test_free_scales_and_start_time_do_not_change_the_answer(args, capsys):
 
 
 # --- messages name the cause --------------------------------------------------------------------
-@pytest.mark.parametrize(("argv", "words"), [
-    # blamed --max-period-multiple, a flag never given
-    (["steady", "--max-periods", "2"], "argument --max-periods: `max_periods` = 2 is not allowed: must exceed "
-                                       "--max-period-multiple = 8 (its default)"),
-    (["steady", "--max-periods", "3"], "argument --max-periods:"),
-    (["steady", "--max-period-multiple", "4000"], "argument --max-period-multiple: `max_period_multiple` = 4000"),
-    (["steady", "--max-periods", "5", "--max-period-multiple", "6"], "argument --max-periods: `max_periods` = 5"),
-    # argparse's "expected one argument" for values that float() reads
-    (["steady", "--gap", "-Infinity"], "argument --gap: `gap` = -inf is not allowed: must be a finite number"),
-    (["steady", "--gap", "-nan"], "argument --gap: `gap` = nan is not allowed: must be a finite number"),
-    (["steady", "--gap", "-1e-3x"], "argument --gap: expected one argument: a value that starts with '-'"),
-])
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        # blamed --max-period-multiple, a flag never given
+        (
+            ["steady", "--max-periods", "2"],
+            "argument --max-periods: `max_periods` = 2 is not allowed: must exceed "
+            "--max-period-multiple = 8 (its default)",
+        ),
+        (["steady", "--max-periods", "3"], "argument --max-periods:"),
+        (["steady", "--max-period-multiple", "4000"], "argument --max-period-multiple: `max_period_multiple` = 4000"),
+        (["steady", "--max-periods", "5", "--max-period-multiple", "6"], "argument --max-periods: `max_periods` = 5"),
+        # argparse's "expected one argument" for values that float() reads
+        (["steady", "--gap", "-Infinity"], "argument --gap: `gap` = -inf is not allowed: must be a finite number"),
+        (["steady", "--gap", "-nan"], "argument --gap: `gap` = nan is not allowed: must be a finite number"),
+        (["steady", "--gap", "-1e-3x"], "argument --gap: expected one argument: a value that starts with '-'"),
+    ],
+)
 def test_message_names_the_flag_given(argv, words, capsys):
     with pytest.raises(SystemExit) as info:
         main(argv)
@@ -244,8 +277,11 @@ def test_work_bound_in_a_chatter_sequence_names_chatter_tol(capsys):
     with pytest.raises(SystemExit) as info:
         main(["steady", "--chatter-tol", "1e-300", "--gap", "-28"])
     err = capsys.readouterr().err
-    assert info.value.code == 2 and err.count("\n") == 1 and err.split(": error: ")[1].startswith(
-        "argument --chatter-tol: `chatter_tol` = 1e-300")
+    assert (
+        info.value.code == 2
+        and err.count("\n") == 1
+        and err.split(": error: ")[1].startswith("argument --chatter-tol: `chatter_tol` = 1e-300")
+    )
     assert idp.steady_state(REF_GAP_28).regime == "chatter"
 
 
@@ -255,8 +291,13 @@ SearchLimitError = sys.modules["impactdamper.core.events"].SearchLimitError
 
 def test_closed_stdout_is_one_line():
     """``alg1 --json >&-`` ended in AttributeError: 'NoneType' object has no attribute 'write'."""
-    proc = subprocess.run([sys.executable, "-m", "impactdamper", "alg1", "--json"], stdout=subprocess.DEVNULL,
-                          stderr=subprocess.PIPE, text=True, timeout=120,
-                          preexec_fn=lambda: __import__("os").close(1))
+    proc = subprocess.run(
+        [sys.executable, "-m", "impactdamper", "alg1", "--json"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: __import__("os").close(1),
+    )
     assert proc.returncode == 1
     assert proc.stderr == "impactdamper: error: cannot write the output: standard output is closed\n"

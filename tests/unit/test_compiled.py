@@ -114,9 +114,15 @@ def test_hard_case_events(name):
 
 def random_parameters(seed):
     rng = np.random.default_rng(seed)
-    return Parameters(theta=rng.uniform(0.5, 2.0), mu=rng.uniform(0.02, 0.3), N=rng.uniform(0.3, 1.5),
-                      delta1=rng.uniform(0.0, 0.2), delta2=rng.uniform(0.0, 0.2), R=rng.uniform(0.0, 1.0),
-                      gap=rng.uniform(-20.0, 10.0))
+    return Parameters(
+        theta=rng.uniform(0.5, 2.0),
+        mu=rng.uniform(0.02, 0.3),
+        N=rng.uniform(0.3, 1.5),
+        delta1=rng.uniform(0.0, 0.2),
+        delta2=rng.uniform(0.0, 0.2),
+        R=rng.uniform(0.0, 1.0),
+        gap=rng.uniform(-20.0, 10.0),
+    )
 
 
 @pytest.mark.parametrize("seed", range(10))
@@ -132,11 +138,17 @@ def test_compiled_eig_is_numpys():
     """The packing's dgeev call gives numpy's eig bit for bit: complex pairs (damped), real roots
     (overdamped) and undamped roots, on random free-mode matrices."""
     from impactdamper.core.compiled.pack import _real_eig, _state_matrices, packing_values
+
     rng = np.random.default_rng(3)
     kinds = set()
     for i in range(300):
-        p = Parameters(theta=rng.uniform(0.2, 4.0), mu=rng.uniform(0.01, 2.0), N=rng.uniform(0.1, 4.0),
-                       delta1=rng.uniform(0.0, 3.0) * (i % 3 > 0), delta2=rng.uniform(0.0, 3.0) * (i % 5 > 0))
+        p = Parameters(
+            theta=rng.uniform(0.2, 4.0),
+            mu=rng.uniform(0.01, 2.0),
+            N=rng.uniform(0.1, 4.0),
+            delta1=rng.uniform(0.0, 3.0) * (i % 3 > 0),
+            delta2=rng.uniform(0.0, 3.0) * (i % 5 > 0),
+        )
         M = _state_matrices(packing_values(p)[0])[0]
         ok, lam, V = _real_eig(M)
         lam_np, V_np = np.linalg.eig(M)
@@ -242,8 +254,9 @@ def test_random_starts_batch_matches_the_reference():
     settings = SweepSettings(settle_tol=1e-9, max_periods=150, max_periods_after_nonperiodic=50, continuation=False)
     values = [-20.0, -10.0, -5.8, 5.0]
     batch = random_starts_batch(base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=settings)
-    ref = random_starts(base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6],
-                        settings=dataclasses.replace(settings, compiled=False))
+    ref = random_starts(
+        base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=dataclasses.replace(settings, compiled=False)
+    )
     for row_a, row_b in zip(batch, ref):
         for a, b in zip(row_a, row_b):
             assert np.array_equal(a.start_state, b.start_state)
@@ -264,13 +277,16 @@ def test_two_way_batch_matches_the_reference():
             _same_point(x, y)
 
 
-@pytest.mark.parametrize("kwargs", [
-    dict(chain=True, states=[[0.0, -5.8, 0.0, 0.0]]),
-    dict(chain=False, states=[[0.0, -5.8, 0.0]]),
-    dict(chain=False, states=[[0.0, -5.8, 0.0, 0.0], [0.0, -5.8, 0.0, 0.0]]),
-    dict(chain=False, states=[[0.0, -5.0, 0.0, 0.0]]),  # x2 - x1 > Delta0: the bodies overlap
-    dict(chain=False, states=[[0.0, math.inf, 0.0, 0.0]]),
-])
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(chain=True, states=[[0.0, -5.8, 0.0, 0.0]]),
+        dict(chain=False, states=[[0.0, -5.8, 0.0]]),
+        dict(chain=False, states=[[0.0, -5.8, 0.0, 0.0], [0.0, -5.8, 0.0, 0.0]]),
+        dict(chain=False, states=[[0.0, -5.0, 0.0, 0.0]]),  # x2 - x1 > Delta0: the bodies overlap
+        dict(chain=False, states=[[0.0, math.inf, 0.0, 0.0]]),
+    ],
+)
 def test_bad_start_states(kwargs):
     with pytest.raises(ValueError, match="`states`"):
         settled_batch(Parameters(), ("gap",), [[-5.8]], **kwargs)
@@ -278,8 +294,17 @@ def test_bad_start_states(kwargs):
 
 def test_rescue_from_sections_is_the_rescue_without_accelerators():
     with pytest.raises(ValueError, match="`settings`"):
-        rescue_from_sections(Parameters(), -10.0, np.zeros((17, 4)), np.zeros(4), "free", SweepSettings(),
-                             start="", start_state=np.zeros(4), periods=1)
+        rescue_from_sections(
+            Parameters(),
+            -10.0,
+            np.zeros((17, 4)),
+            np.zeros(4),
+            "free",
+            SweepSettings(),
+            start="",
+            start_state=np.zeros(4),
+            periods=1,
+        )
 
 
 @pytest.mark.parametrize("gap", [-5.8, -9.6, -13.0, -20.0, -33.0, 12.0])
@@ -341,26 +366,32 @@ def test_fallback_is_counted():
     assert (res.regime[0], res.periods[0]) == (ref.regime, ref.periods)
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(names=("nope",), values=[[1.0]]), "names"),
-    (dict(names="gap", values=[[1.0]]), "names"),
-    (dict(names=("gap",), values=[[math.nan]]), "values"),
-    (dict(names=("gap",), values=[[1.0]], chain=1), "chain"),
-    (dict(names=("theta",), values=[[-1.0]]), "theta"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(names=("nope",), values=[[1.0]]), "names"),
+        (dict(names="gap", values=[[1.0]]), "names"),
+        (dict(names=("gap",), values=[[math.nan]]), "values"),
+        (dict(names=("gap",), values=[[1.0]], chain=1), "chain"),
+        (dict(names=("theta",), values=[[-1.0]]), "theta"),
+    ],
+)
 def test_bad_batch_arguments(kwargs, name):
     with pytest.raises(ValueError, match=f"`{name}`"):
         settled_batch(Parameters(), **kwargs)
 
 
-@pytest.mark.parametrize("call, name", [
-    (lambda: cc.steady_state_full(Parameters(), max_periods=1), "max_periods"),
-    (lambda: cc.steady_state_full(Parameters(), settle_tol=2.0), "settle_tol"),
-    (lambda: cc.steady_state_full(Parameters(), t0=math.inf), "t0"),
-    (lambda: cc.steady_state_full("reference"), "p"),
-    (lambda: cc.simulate_compiled(Parameters(), -1.0), "t_end"),
-    (lambda: cc.simulate_compiled(Parameters(), 1.0, state=[0.0, 10.0, 0.0, 0.0]), "state"),
-])
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: cc.steady_state_full(Parameters(), max_periods=1), "max_periods"),
+        (lambda: cc.steady_state_full(Parameters(), settle_tol=2.0), "settle_tol"),
+        (lambda: cc.steady_state_full(Parameters(), t0=math.inf), "t0"),
+        (lambda: cc.steady_state_full("reference"), "p"),
+        (lambda: cc.simulate_compiled(Parameters(), -1.0), "t_end"),
+        (lambda: cc.simulate_compiled(Parameters(), 1.0, state=[0.0, 10.0, 0.0, 0.0]), "state"),
+    ],
+)
 def test_bad_compiled_arguments(call, name):
     """The compiled entry points name a bad argument as the reference does."""
     with pytest.raises(ValueError, match=f"`{name}`"):
@@ -372,6 +403,7 @@ def test_stale_kernel_cache_is_cleared(tmp_path):
     """A changed source (any of the package's, not only the kernel's own file, which is all that
     numba checks) removes the cached kernels; unchanged sources keep them."""
     from impactdamper.core.compiled.cache import STAMP_NAME, clear_if_stale
+
     src = tmp_path / "compiled"
     src.mkdir()
     (src / "flow.py").write_text("A = 1\n")
@@ -394,6 +426,7 @@ def test_kernel_cache_is_stamped_with_the_sources():
     from pathlib import Path
 
     from impactdamper.core.compiled import cache
+
     here = Path(cache.__file__).resolve().parent
     stamp = here / "__pycache__" / cache.STAMP_NAME
     sources = sorted(here.glob("*.py")) + sorted(here.parent.glob("*.py"))

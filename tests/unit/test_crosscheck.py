@@ -193,20 +193,35 @@ def test_agree_through_the_transient_from_step1():
 # --- arguments ---------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    ({"p": "reference"}, "p"),
-    ({"t_end": 0.0}, "t_end"), ({"t_end": math.inf}, "t_end"), ({"t_end": "1"}, "t_end"),
-    ({"t0": math.nan}, "t0"),
-    ({"method": "BDF"}, "method"), ({"method": "dop853"}, "method"),
-    ({"rtol": 0.0}, "rtol"), ({"rtol": 1e-20}, "rtol"), ({"rtol": 1.0}, "rtol"), ({"rtol": math.nan}, "rtol"),
-    ({"atol": 0.0}, "atol"), ({"atol": -1e-10}, "atol"), ({"atol": math.inf}, "atol"),
-    ({"tolerances": {"gap_tol": 1e-12}}, "tolerances"),
-    ({"max_events": 0}, "max_events"), ({"max_events": 2.5}, "max_events"),
-    ({"state": [0.0, 0.0]}, "state"), ({"state": [0.0, -5.8, math.nan, 0.0]}, "state"),
-    ({"state": ["a", 0, 0, 0]}, "state"), ({"state": [0.0, -5.0, 0.0, 0.0]}, "state"),
-    ({"sample_times": [0.5, 0.2]}, "sample_times"), ({"sample_times": [0.0, 2.0]}, "sample_times"),
-    ({"sample_times": [math.nan]}, "sample_times"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"p": "reference"}, "p"),
+        ({"t_end": 0.0}, "t_end"),
+        ({"t_end": math.inf}, "t_end"),
+        ({"t_end": "1"}, "t_end"),
+        ({"t0": math.nan}, "t0"),
+        ({"method": "BDF"}, "method"),
+        ({"method": "dop853"}, "method"),
+        ({"rtol": 0.0}, "rtol"),
+        ({"rtol": 1e-20}, "rtol"),
+        ({"rtol": 1.0}, "rtol"),
+        ({"rtol": math.nan}, "rtol"),
+        ({"atol": 0.0}, "atol"),
+        ({"atol": -1e-10}, "atol"),
+        ({"atol": math.inf}, "atol"),
+        ({"tolerances": {"gap_tol": 1e-12}}, "tolerances"),
+        ({"max_events": 0}, "max_events"),
+        ({"max_events": 2.5}, "max_events"),
+        ({"state": [0.0, 0.0]}, "state"),
+        ({"state": [0.0, -5.8, math.nan, 0.0]}, "state"),
+        ({"state": ["a", 0, 0, 0]}, "state"),
+        ({"state": [0.0, -5.0, 0.0, 0.0]}, "state"),
+        ({"sample_times": [0.5, 0.2]}, "sample_times"),
+        ({"sample_times": [0.0, 2.0]}, "sample_times"),
+        ({"sample_times": [math.nan]}, "sample_times"),
+    ],
+)
 def test_bad_arguments_raise_one_line(kwargs, name):
     args = {"p": REF, "t_end": 1.0}
     args.update(kwargs)
@@ -254,10 +269,15 @@ def test_sample_times_do_not_change_the_run():
 
 
 def _random_parameters(rng):
-    return idp.Parameters(theta=float(rng.uniform(0.5, 2.0)), mu=float(10 ** rng.uniform(-2, -0.5)),
-                          N=float(rng.uniform(0.3, 2.0)), delta1=float(rng.uniform(0, 0.2)),
-                          delta2=float(rng.uniform(0, 0.2)), R=float(rng.choice([0.0, 0.3, 0.7, 1.0])),
-                          gap=float(rng.uniform(-20, 5)))
+    return idp.Parameters(
+        theta=float(rng.uniform(0.5, 2.0)),
+        mu=float(10 ** rng.uniform(-2, -0.5)),
+        N=float(rng.uniform(0.3, 2.0)),
+        delta1=float(rng.uniform(0, 0.2)),
+        delta2=float(rng.uniform(0, 0.2)),
+        R=float(rng.choice([0.0, 0.3, 0.7, 1.0])),
+        gap=float(rng.uniform(-20, 5)),
+    )
 
 
 @pytest.mark.parametrize("seed", range(12))

@@ -17,7 +17,6 @@ design chart's bookkeeping.
   response's gaps (the best first, each once), the runs of a flag over theta.
 """
 
-
 import numpy as np
 import pytest
 
@@ -25,9 +24,21 @@ from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.transitions import object_alone_amplitude
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
-from impactdamper.studies.design import (band_peak, bare_object_amplitude, den_hartog, design_band, design_chart_2d,
-                                         design_gaps, design_parameters, gap_chart, good_band, optimal_tmd,
-                                         response_gaps, runs_where, two_mass_amplitude)
+from impactdamper.studies.design import (
+    band_peak,
+    bare_object_amplitude,
+    den_hartog,
+    design_band,
+    design_chart_2d,
+    design_gaps,
+    design_parameters,
+    gap_chart,
+    good_band,
+    optimal_tmd,
+    response_gaps,
+    runs_where,
+    two_mass_amplitude,
+)
 
 NO_CONTACT_GAP = 1.0e3
 # The settled cycle is the periodic one to the sweep's settle tolerance 1e-9 (in x_st): ten times.
@@ -35,9 +46,14 @@ FLOW_ATOL = 1e-8
 BAND = (0.5, 1.5)
 
 
-@pytest.mark.parametrize("mu, N, delta1, delta2, theta", [
-    (0.08, 0.5, 0.05, 0.05, 0.9), (0.2, 1.1, 0.0, 0.3, 1.05), (0.01, 0.95, 0.1, 0.02, 0.97),
-])
+@pytest.mark.parametrize(
+    "mu, N, delta1, delta2, theta",
+    [
+        (0.08, 0.5, 0.05, 0.05, 0.9),
+        (0.2, 1.1, 0.0, 0.3, 1.05),
+        (0.01, 0.95, 0.1, 0.02, 0.97),
+    ],
+)
 def test_relative_closed_form_is_eq_10(mu, N, delta1, delta2, theta):
     p = Parameters(mu=mu, N=N, delta1=delta1, delta2=delta2, theta=theta)
     x1, _ = forced_amplitudes(p)
@@ -50,7 +66,7 @@ def test_absorber_and_tmd_against_the_no_contact_flow():
     for N, delta2, closed in ((0.5, 0.05, None), (tmd.N, tmd.delta2, tmd)):
         p = Parameters(gap=NO_CONTACT_GAP, N=N, delta2=delta2)
         r = frequency_response(p, 0.7, 1.3, 7)
-        expected = (closed.amplitude(r.thetas) if closed else two_mass_amplitude(0.08, N, 0.05, delta2, r.thetas))
+        expected = closed.amplitude(r.thetas) if closed else two_mass_amplitude(0.08, N, 0.05, delta2, r.thetas)
         assert all(q.up.regime == "no_contact" for q in r.points)
         assert np.max(np.abs(r.worst_x1() - expected)) <= FLOW_ATOL
 
@@ -128,8 +144,17 @@ def test_gap_chart_picks_the_smallest_criterion():
 
 def test_design_config_overrides_the_reference_case():
     reference = Parameters(gap=-5.8, theta=1.1).to_dict()
-    design = {"mu": 0.1, "N": 0.6, "R": 0.5, "theta_start": 0.6, "theta_stop": 1.4, "gap_start": -8.0,
-              "gap_stop": 5.0, "gap_points": 53, "second_gap_points": 14}
+    design = {
+        "mu": 0.1,
+        "N": 0.6,
+        "R": 0.5,
+        "theta_start": 0.6,
+        "theta_stop": 1.4,
+        "gap_start": -8.0,
+        "gap_stop": 5.0,
+        "gap_points": 53,
+        "second_gap_points": 14,
+    }
     p = design_parameters(reference, design)
     assert (p.mu, p.N, p.R) == (0.1, 0.6, 0.5)
     assert (p.delta1, p.delta2, p.gap, p.theta) == (reference["delta1"], reference["delta2"], -5.8, 1.1)
@@ -151,14 +176,19 @@ def test_runs_where_a_flag_holds():
     assert runs_where(thetas, np.ones(6, dtype=bool)) == [(0.5, 1.0)]
 
 
-@pytest.mark.parametrize("call, name", [
-    (lambda: optimal_tmd(0.0, 0.05), "mu"), (lambda: optimal_tmd(0.08, -0.1), "delta1"),
-    (lambda: optimal_tmd(0.08, 0.05, (1.5, 0.5)), "theta_stop"), (lambda: optimal_tmd(0.08, 0.05, 3.0), "band"),
-    (lambda: optimal_tmd(0.08, 0.05, criterion="max"), "criterion"),
-    (lambda: design_chart_2d(Parameters(), "gap", [1.0], [0.0]), "name"),
-    (lambda: gap_chart(Parameters(), [], BAND, 3), "gaps"),
-    (lambda: gap_chart(Parameters(), [0.0], BAND, 0), "points"),
-])
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: optimal_tmd(0.0, 0.05), "mu"),
+        (lambda: optimal_tmd(0.08, -0.1), "delta1"),
+        (lambda: optimal_tmd(0.08, 0.05, (1.5, 0.5)), "theta_stop"),
+        (lambda: optimal_tmd(0.08, 0.05, 3.0), "band"),
+        (lambda: optimal_tmd(0.08, 0.05, criterion="max"), "criterion"),
+        (lambda: design_chart_2d(Parameters(), "gap", [1.0], [0.0]), "name"),
+        (lambda: gap_chart(Parameters(), [], BAND, 3), "gaps"),
+        (lambda: gap_chart(Parameters(), [0.0], BAND, 0), "points"),
+    ],
+)
 def test_bad_input_is_one_line_naming_the_argument(call, name):
     with pytest.raises(ValueError) as err:
         call()

@@ -26,18 +26,31 @@ import pytest
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies import design as dz
-from impactdamper.studies.design import (AMPLITUDE_RTOL, THETA_TOL, LinearDevice, band_grid, den_hartog,
-                                         impact_band_response, linear_maxima)
-from impactdamper.studies.optimum import (Budget, detuned, minimise, optimise_tmd, sensitivity, worst_case_tmd)
+from impactdamper.studies.design import (
+    AMPLITUDE_RTOL,
+    THETA_TOL,
+    LinearDevice,
+    band_grid,
+    den_hartog,
+    impact_band_response,
+    linear_maxima,
+)
+from impactdamper.studies.optimum import Budget, detuned, minimise, optimise_tmd, sensitivity, worst_case_tmd
 
 BAND = (0.5, 1.5)
 DENSE = 200001
 
 
-@pytest.mark.parametrize("mu, N, delta1, delta2", [
-    (0.0, 0.5, 0.05, 0.05), (0.08, 0.5, 0.05, 0.05), (0.08, 0.9059, 0.05, 0.158), (0.2, 0.83, 0.0, 0.21),
-    (0.01, 1.2, 0.1, 0.01),
-])
+@pytest.mark.parametrize(
+    "mu, N, delta1, delta2",
+    [
+        (0.0, 0.5, 0.05, 0.05),
+        (0.08, 0.5, 0.05, 0.05),
+        (0.08, 0.9059, 0.05, 0.158),
+        (0.2, 0.83, 0.0, 0.21),
+        (0.01, 1.2, 0.1, 0.01),
+    ],
+)
 def test_linear_peak_and_stroke_against_a_dense_grid(mu, N, delta1, delta2):
     d = LinearDevice(mu, N, delta1, delta2)
     th = np.linspace(*BAND, DENSE)
@@ -86,8 +99,10 @@ JUMP_CASES = [dict(gap=7.98, N=0.646, delta2=0.086, R=0.51), dict(gap=6.8, N=0.6
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kw, rank", [(dict(gap=2.0), 0), (dict(gap=2.0), 2), (dict(gap=-5.8), 0),
-                                      (JUMP_CASES[0], "jump"), (JUMP_CASES[1], "jump")])
+@pytest.mark.parametrize(
+    "kw, rank",
+    [(dict(gap=2.0), 0), (dict(gap=2.0), 2), (dict(gap=-5.8), 0), (JUMP_CASES[0], "jump"), (JUMP_CASES[1], "jump")],
+)
 def test_located_peak_against_a_dense_local_scan(kw, rank):
     """The located peak (rank 0: the largest; 2: the other resonance; "jump": a periodic branch's
     end) against a continuation through 400 points across its grid bracket. (No periodic branch
@@ -144,8 +159,9 @@ def test_optimiser_against_a_brute_force_grid_on_a_small_box():
     band = (0.6, 1.4)
     f = lambda x: LinearDevice(0.08, x["N"], 0.05, x["delta2"]).peak(band)[1]  # noqa: E731
     x, v, n = minimise(f, f, bounds, budget=Budget(starts=8, keep=2, local_evaluations=200))
-    grid = min(f({"N": a, "delta2": b}) for a in np.linspace(*bounds["N"], 81)
-               for b in np.linspace(*bounds["delta2"], 81))
+    grid = min(
+        f({"N": a, "delta2": b}) for a in np.linspace(*bounds["N"], 81) for b in np.linspace(*bounds["delta2"], 81)
+    )
     assert v <= grid * (1 + 1e-9)
     assert v >= grid * (1 - 1e-3)
     assert f(x) == v
@@ -167,13 +183,13 @@ def test_detuning_maps_the_relative_parameters():
     mu, N, d1, d2, e = 0.08, 0.9, 0.05, 0.15, 0.07
     p = Parameters(mu=mu, N=N, delta1=d1, delta2=d2, gap=3.0)
     q, band, scale = detuned(p, BAND, e)
-    assert (q.N, q.delta1, q.delta2, q.gap) == pytest.approx((N / 1.07, d1 / 1.07, d2 / 1.07, 3.0 * 1.07 ** 2))
+    assert (q.N, q.delta1, q.delta2, q.gap) == pytest.approx((N / 1.07, d1 / 1.07, d2 / 1.07, 3.0 * 1.07**2))
     # Directly: m1 x1'' + k1 x1' + c1 (1 + e)^2 x1 + absorber = P0 sin(omega t), in nominal units.
     th = np.linspace(*BAND, 2001)
     f2 = (1 + e) ** 2
-    obj = f2 - th ** 2 + 2j * d1 * th
-    b = N ** 2 + 2j * d2 * th
-    direct = np.abs((b - th ** 2) / (obj * (b - th ** 2) - mu * b * th ** 2))
+    obj = f2 - th**2 + 2j * d1 * th
+    b = N**2 + 2j * d2 * th
+    direct = np.abs((b - th**2) / (obj * (b - th**2) - mu * b * th**2))
     mapped = scale * LinearDevice(mu, q.N, q.delta1, q.delta2).amplitude(th / (1 + e))
     assert np.max(np.abs(direct - mapped) / direct) <= 1e-12
     assert worst_case_tmd(mu, d1, N, d2, BAND, 0.0) == pytest.approx(LinearDevice(mu, N, d1, d2).peak(BAND)[1])
@@ -182,16 +198,23 @@ def test_detuning_maps_the_relative_parameters():
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "impactdamper", "design", *args], capture_output=True, text=True,
-                          timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "impactdamper", "design", *args], capture_output=True, text=True, timeout=300
+    )
 
 
 @pytest.mark.slow  # a fresh interpreter each, ~3 s
-@pytest.mark.parametrize("args, flag", [
-    (["--mu", "0"], "--mu"), (["--delta1", "-0.1"], "--delta1"), (["--theta-start", "1.5", "--theta-stop", "1"],
-                                                                    "--theta-stop"),
-    (["--detuning", "0.9"], "--detuning"), (["--max-stroke", "0"], "--max-stroke"), (["--mu", "x"], "--mu"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (["--mu", "0"], "--mu"),
+        (["--delta1", "-0.1"], "--delta1"),
+        (["--theta-start", "1.5", "--theta-stop", "1"], "--theta-stop"),
+        (["--detuning", "0.9"], "--detuning"),
+        (["--max-stroke", "0"], "--max-stroke"),
+        (["--mu", "x"], "--mu"),
+    ],
+)
 def test_design_command_bad_input_is_one_line(args, flag):
     r = _run(*args)
     assert r.returncode == 2 and r.stdout == ""
@@ -201,12 +224,33 @@ def test_design_command_bad_input_is_one_line(args, flag):
 
 @pytest.mark.slow
 def test_design_command_json_keys():
-    r = _run("--theta-start", "0.8", "--theta-stop", "1.2", "--mu", "0.05", "--delta1", "0.05", "--detuning", "0.05",
-             "--json")
+    r = _run(
+        "--theta-start",
+        "0.8",
+        "--theta-stop",
+        "1.2",
+        "--mu",
+        "0.05",
+        "--delta1",
+        "0.05",
+        "--detuning",
+        "0.05",
+        "--json",
+    )
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
-    assert {"band", "mu", "delta1", "detuning", "criterion", "impact", "tmd", "tmd_equal_stroke", "ratio",
-            "elapsed"} <= set(out)
+    assert {
+        "band",
+        "mu",
+        "delta1",
+        "detuning",
+        "criterion",
+        "impact",
+        "tmd",
+        "tmd_equal_stroke",
+        "ratio",
+        "elapsed",
+    } <= set(out)
     for key in ("impact", "tmd", "tmd_equal_stroke"):
         assert {"parameters", "peak", "peak_theta", "band_average", "worst_case", "stroke", "at_bound"} <= set(out[key])
         assert out[key]["worst_case"] >= out[key]["peak"] * (1 - 1e-12)
@@ -218,24 +262,47 @@ def test_design_command_json_keys():
 
 
 def _record(imp_peak, tmd_peak, imp_worst, tmd_worst, imp_avg=2.3, tmd_avg=2.3):
-    row = lambda name, peak, worst, avg, stroke, **kw: {"device": name, "peak": peak, "band_average": avg,  # noqa: E731
-                                                         "worst_case": {"0.1": worst}, "stroke": stroke, **kw}
-    return {"detunings": [0.05, 0.1], "devices": [
-        row("impact, optimal peak", tmd_peak, 9.0, 3.0, 9.5, parameters={"gap": 12.0}, impacts_per_second=0.0),
-        row("impact, optimal peak, gap <= 8", imp_peak, 9.0, 3.0, 18.0, parameters={"gap": 4.77},
-            impacts_per_second=1.1),
-        row("TMD, optimal peak", tmd_peak, 9.0, 3.0, 9.5), row("impact, optimal band average", 9.0, 9.0, imp_avg, 1.0),
-        row("TMD, optimal band average", 9.0, 9.0, tmd_avg, 1.0),
-        row("impact, robust +-10 %", 9.0, imp_worst, 3.0, 1.0),
-        row("TMD, robust +-10 %", 9.0, tmd_worst, 3.0, 1.0)]}
+    def row(name, peak, worst, avg, stroke, **kw):
+        return {
+            "device": name,
+            "peak": peak,
+            "band_average": avg,
+            "worst_case": {"0.1": worst},
+            "stroke": stroke,
+            **kw,
+        }
+
+    return {
+        "detunings": [0.05, 0.1],
+        "devices": [
+            row("impact, optimal peak", tmd_peak, 9.0, 3.0, 9.5, parameters={"gap": 12.0}, impacts_per_second=0.0),
+            row(
+                "impact, optimal peak, gap <= 8",
+                imp_peak,
+                9.0,
+                3.0,
+                18.0,
+                parameters={"gap": 4.77},
+                impacts_per_second=1.1,
+            ),
+            row("TMD, optimal peak", tmd_peak, 9.0, 3.0, 9.5),
+            row("impact, optimal band average", 9.0, 9.0, imp_avg, 1.0),
+            row("TMD, optimal band average", 9.0, 9.0, tmd_avg, 1.0),
+            row("impact, robust +-10 %", 9.0, imp_worst, 3.0, 1.0),
+            row("TMD, robust +-10 %", 9.0, tmd_worst, 3.0, 1.0),
+        ],
+    }
 
 
-@pytest.mark.parametrize("values, first", [
-    ((3.7, 3.6, 5.0, 4.6), "Build the linear TMD"),  # the TMD wins both
-    ((3.7, 3.6, 4.0, 4.6), "Build the impact suppressor"),  # the robust impact suppressor wins the worst case
-    ((3.6, 3.7, 4.60, 4.65), "Build the impact suppressor"),  # worst cases tie: the nominal peak decides
-    ((3.60, 3.65, 4.60, 4.65), "Either device does"),  # ties within TIE on both
-])
+@pytest.mark.parametrize(
+    "values, first",
+    [
+        ((3.7, 3.6, 5.0, 4.6), "Build the linear TMD"),  # the TMD wins both
+        ((3.7, 3.6, 4.0, 4.6), "Build the impact suppressor"),  # the robust impact suppressor wins the worst case
+        ((3.6, 3.7, 4.60, 4.65), "Build the impact suppressor"),  # worst cases tie: the nominal peak decides
+        ((3.60, 3.65, 4.60, 4.65), "Either device does"),  # ties within TIE on both
+    ],
+)
 def test_recommendation_follows_the_record(values, first):
     from impactdamper.studies.optimum import recommendation
 

@@ -26,8 +26,10 @@ STATE_TOL = 1e-9
 
 
 def test_import_loads_no_numba():
-    code = ("import sys, impactdamper; "
-            "print(sorted(m for m in sys.modules if m == 'numba' or m.startswith('impactdamper.core.compiled')))")
+    code = (
+        "import sys, impactdamper; "
+        "print(sorted(m for m in sys.modules if m == 'numba' or m.startswith('impactdamper.core.compiled')))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
 
@@ -60,7 +62,9 @@ def test_strobe_imports_no_backend():
 def test_bad_backend_is_named(call, bad):
     p = idp.Parameters()
     args = {"simulate": (p, p.T), "steady_state": (p,), "steady_states": (p, ("gap",), [[-5.8]])}[call]
-    with pytest.raises(ValueError, match=r"^`backend` = .* is not allowed: must be one of 'auto', 'compiled', 'python'$"):
+    with pytest.raises(
+        ValueError, match=r"^`backend` = .* is not allowed: must be one of 'auto', 'compiled', 'python'$"
+    ):
         getattr(idp, call)(*args, backend=bad)
 
 
@@ -79,8 +83,9 @@ def test_steady_state_backends_agree(R, gap):
     # differs by whole cycles.
     assert abs(a.periods - b.periods) <= PERIODS_SLACK
     cycle = max(a.period_multiple, 1) * p.T
-    assert np.max(np.abs(np.array([i.phase for i in a.impacts]) - [i.phase for i in b.impacts]),
-                  initial=0.0) <= PHASE_TOL
+    assert (
+        np.max(np.abs(np.array([i.phase for i in a.impacts]) - [i.phase for i in b.impacts]), initial=0.0) <= PHASE_TOL
+    )
     assert abs(a.x1_max - b.x1_max) <= PHASE_TOL
     assert abs(a.contact_fraction - b.contact_fraction) <= PHASE_TOL
     assert len(a.contact_phases) == len(b.contact_phases)

@@ -33,8 +33,18 @@ def results():
 def test_the_suite_covers_the_issue():
     changes = [c.changes for c in CASES.values()]
     assert len(CASES) == len(changes) >= 15
-    for wanted in ({"R": 0.0}, {"R": 1.0}, {"delta1": 0.0, "delta2": 0.0}, {"mu": 1e-4}, {"N": 50.0},
-                   {"theta": 0.1}, {"theta": 10.0}, {"gap": 0.0}, {"gap": 1e3}, {"gap": -1e3}):
+    for wanted in (
+        {"R": 0.0},
+        {"R": 1.0},
+        {"delta1": 0.0, "delta2": 0.0},
+        {"mu": 1e-4},
+        {"N": 50.0},
+        {"theta": 0.1},
+        {"theta": 10.0},
+        {"gap": 0.0},
+        {"gap": 1e3},
+        {"gap": -1e3},
+    ):
         assert wanted in changes
     assert all(c.stresses and c.label for c in CASES.values())
 
@@ -96,10 +106,19 @@ def test_case_passes_every_check(results, name):
 
 @pytest.mark.slow
 def test_outcomes_are_the_expected_regimes(results):
-    expected = {"plastic": "chatter", "elastic": "single_impact", "chatter": "chatter",
-                "conservative": "nonperiodic", "large_positive_gap": "no_contact", "large_negative_gap": "stuck",
-                "stiff_suppressor": "stuck", "slow_forcing": "stuck", "fast_forcing": "stuck",
-                "zero_gap": "single_impact", "tiny_mass": "single_impact"}
+    expected = {
+        "plastic": "chatter",
+        "elastic": "single_impact",
+        "chatter": "chatter",
+        "conservative": "nonperiodic",
+        "large_positive_gap": "no_contact",
+        "large_negative_gap": "stuck",
+        "stiff_suppressor": "stuck",
+        "slow_forcing": "stuck",
+        "fast_forcing": "stuck",
+        "zero_gap": "single_impact",
+        "tiny_mass": "single_impact",
+    }
     for name, regime in expected.items():
         assert results[name].regime == regime, name
 
@@ -180,7 +199,8 @@ def test_ivp_comparison_catches_a_different_motion():
     exact = idp.simulate(REF, 1.5 * REF.T, backend="python")
     other = idp.simulate(REF.replace(R=0.69), 1.5 * REF.T, backend="python")
     assert [e.kind for e in exact.events] != [e.kind for e in other.events] or max(
-        abs(a.t - b.t) for a, b in zip(exact.events, other.events)) / REF.T > hc.IVP_TIME_TOL
+        abs(a.t - b.t) for a, b in zip(exact.events, other.events)
+    ) / REF.T > hc.IVP_TIME_TOL
 
 
 def test_a_hang_becomes_a_failed_case(monkeypatch):

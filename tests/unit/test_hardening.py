@@ -41,13 +41,39 @@ from impactdamper.core.events import SearchLimitError
 REF = idp.Parameters()
 SIMULATE = sys.modules["impactdamper.core.simulate"]  # (the package's `simulate` is the function)
 EXAMPLES = int(os.environ.get("IMPACTDAMPER_HARDENING_EXAMPLES", "0")) or None
-PROPERTY = settings(derandomize=True, database=None, deadline=None, max_examples=EXAMPLES or 50,
-                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+PROPERTY = settings(
+    derandomize=True,
+    database=None,
+    deadline=None,
+    max_examples=EXAMPLES or 50,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+)
 # Names an error may point at: the parameters and the functions' own arguments.
 ARGUMENTS = set(idp.Parameters.names()) | {
-    "p", "t0", "t_end", "t_target", "state", "tolerances", "gap_tol", "chatter_tol", "force_tol", "settle_tol",
-    "max_periods", "max_period_multiple", "period_multiple", "seed", "bounds", "max_points", "step", "min_step",
-    "max_step", "direction", "parameter", "orbit", "times", "states_after",
+    "p",
+    "t0",
+    "t_end",
+    "t_target",
+    "state",
+    "tolerances",
+    "gap_tol",
+    "chatter_tol",
+    "force_tol",
+    "settle_tol",
+    "max_periods",
+    "max_period_multiple",
+    "period_multiple",
+    "seed",
+    "bounds",
+    "max_points",
+    "step",
+    "min_step",
+    "max_step",
+    "direction",
+    "parameter",
+    "orbit",
+    "times",
+    "states_after",
 }
 
 
@@ -134,7 +160,9 @@ def parameters(draw):
 
 # --- properties ---------------------------------------------------------------------------------
 @PROPERTY
-@given(changes=parameter_changes, bad=st.one_of(st.none(), st.tuples(st.sampled_from(idp.Parameters.names()), bad_types)))
+@given(
+    changes=parameter_changes, bad=st.one_of(st.none(), st.tuples(st.sampled_from(idp.Parameters.names()), bad_types))
+)
 def test_parameters_construct_or_raise_one_named_line(changes, bad):
     if bad is not None:
         changes = {**changes, bad[0]: bad[1]}
@@ -146,8 +174,15 @@ def test_parameters_construct_or_raise_one_named_line(changes, bad):
 
 
 @PROPERTY
-@given(p=parameters(), gap_tol=st.one_of(st.just(1e-12), st.floats(-16, -0.01).map(lambda u: 10.0**u),
-                                          st.sampled_from([0.0, 1.0, 10.0, -1e-12, math.nan, math.inf]), bad_types))
+@given(
+    p=parameters(),
+    gap_tol=st.one_of(
+        st.just(1e-12),
+        st.floats(-16, -0.01).map(lambda u: 10.0**u),
+        st.sampled_from([0.0, 1.0, 10.0, -1e-12, math.nan, math.inf]),
+        bad_types,
+    ),
+)
 def test_algorithm1_answers_or_names_the_problem(p, gap_tol):
     r, err = outcome(lambda: idp.algorithm1(p, gap_tol=gap_tol))
     if r is not None:
@@ -161,9 +196,12 @@ def test_algorithm1_answers_or_names_the_problem(p, gap_tol):
 
 # Solver arguments: valid ones from wide ranges, and now and then one bad value among them.
 BAD_SOLVER_ARGUMENTS = {
-    "t0": [math.nan, math.inf, "0", None], "gap_tol": [0.0, 1.0, 10.0, math.nan, -1e-12, "1e-12"],
-    "settle_tol": [0.0, 2.0, math.nan, True], "max_periods": [1, -2, True, 2.5, 10**7, np.int64(0)],
-    "max_period_multiple": [0, True, 2.0, 10**6], "state": [[0.0] * 3, [math.nan] * 4, [1e300, 0, 0, 0], "0 0 0 0"],
+    "t0": [math.nan, math.inf, "0", None],
+    "gap_tol": [0.0, 1.0, 10.0, math.nan, -1e-12, "1e-12"],
+    "settle_tol": [0.0, 2.0, math.nan, True],
+    "max_periods": [1, -2, True, 2.5, 10**7, np.int64(0)],
+    "max_period_multiple": [0, True, 2.0, 10**6],
+    "state": [[0.0] * 3, [math.nan] * 4, [1e300, 0, 0, 0], "0 0 0 0"],
 }
 
 
@@ -209,8 +247,11 @@ def test_steady_state_classifies_or_names_the_problem(data):
 
 
 @PROPERTY
-@given(p=parameters(), seed=st.sampled_from(["auto", "auto", "alg1", "simulate", "simulate", "nonsense", None]),
-       period_multiple=st.one_of(st.none(), st.sampled_from([1, 2, 3, 0, -1, True, 10**6, 1.5])))
+@given(
+    p=parameters(),
+    seed=st.sampled_from(["auto", "auto", "alg1", "simulate", "simulate", "nonsense", None]),
+    period_multiple=st.one_of(st.none(), st.sampled_from([1, 2, 3, 0, -1, True, 10**6, 1.5])),
+)
 def test_solve_orbit_solves_or_names_the_problem(p, seed, period_multiple):
     def call():
         return idp.solve_orbit(p, seed, period_multiple=period_multiple, max_periods=60)
@@ -230,7 +271,10 @@ ROBUST_GAPS = [-5.8, -10.0, -13.0, 20.0, -35.0]
 def assert_same_motion(a: idp.SteadyState, b: idp.SteadyState) -> None:
     da, db = a.to_dict(), b.to_dict()
     assert (da["regime"], da["period_multiple"], da["impacts_per_cycle"]) == (
-        db["regime"], db["period_multiple"], db["impacts_per_cycle"])
+        db["regime"],
+        db["period_multiple"],
+        db["impacts_per_cycle"],
+    )
     assert db["x1_max"] == pytest.approx(da["x1_max"], rel=1e-7)
     assert db["contact_fraction"] == pytest.approx(da["contact_fraction"], abs=1e-7)
     for ia, ib in zip(da["impacts"], db["impacts"]):
@@ -252,9 +296,13 @@ def baseline(gap: float) -> idp.SteadyState:
 
 
 @settings(PROPERTY, max_examples=EXAMPLES or 20)
-@given(gap=st.sampled_from(ROBUST_GAPS), x_st=st.floats(-250, 250).map(lambda u: 10.0**u),
-       m1=st.floats(-250, 250).map(lambda u: 10.0**u), omega=st.floats(-5, 5).map(lambda u: 10.0**u),
-       t0=st.one_of(st.floats(-1e4, 1e4), st.sampled_from([1e5, 1e15, 1e16, 1e20, 1e300, -1e300])))
+@given(
+    gap=st.sampled_from(ROBUST_GAPS),
+    x_st=st.floats(-250, 250).map(lambda u: 10.0**u),
+    m1=st.floats(-250, 250).map(lambda u: 10.0**u),
+    omega=st.floats(-5, 5).map(lambda u: 10.0**u),
+    t0=st.one_of(st.floats(-1e4, 1e4), st.sampled_from([1e5, 1e15, 1e16, 1e20, 1e300, -1e300])),
+)
 def test_settled_motion_does_not_depend_on_scales_or_start_time(gap, x_st, m1, omega, t0):
     try:
         p = REF.replace(gap=gap, x_st=x_st, m1=m1, omega=omega)
@@ -271,8 +319,11 @@ def test_settled_motion_does_not_depend_on_scales_or_start_time(gap, x_st, m1, o
 
 
 @settings(PROPERTY, max_examples=EXAMPLES or 40)
-@given(gap=st.floats(-14.0, 14.0), x_st=st.floats(-300, 300).map(lambda u: 10.0**u),
-       m1=st.floats(-300, 300).map(lambda u: 10.0**u))
+@given(
+    gap=st.floats(-14.0, 14.0),
+    x_st=st.floats(-300, 300).map(lambda u: 10.0**u),
+    m1=st.floats(-300, 300).map(lambda u: 10.0**u),
+)
 def test_algorithm1_does_not_depend_on_scales(gap, x_st, m1):
     try:
         p = REF.replace(gap=gap, x_st=x_st, m1=m1)
@@ -288,16 +339,47 @@ def test_algorithm1_does_not_depend_on_scales(gap, x_st, m1):
 
 
 FLAGS = ["--" + n.replace("_", "-") for n in idp.Parameters.names()] + [
-    "--t0", "--settle-tol", "--max-periods", "--max-period-multiple", "--gap-tol", "--chatter-tol"]
+    "--t0",
+    "--settle-tol",
+    "--max-periods",
+    "--max-period-multiple",
+    "--gap-tol",
+    "--chatter-tol",
+]
 FLAG_VALUES = st.one_of(
-    st.sampled_from(["nan", "inf", "-inf", "1e400", "-1e400", "abc", "", "0", "-0", "1e-320", "1e-300", "1e300",
-                     "True", "0x10", "1_000", "2.5", "-1", "1e16", "1e20"]),
-    st.floats(-1e3, 1e3).map(repr), st.integers(-5, 5000).map(str))
+    st.sampled_from(
+        [
+            "nan",
+            "inf",
+            "-inf",
+            "1e400",
+            "-1e400",
+            "abc",
+            "",
+            "0",
+            "-0",
+            "1e-320",
+            "1e-300",
+            "1e300",
+            "True",
+            "0x10",
+            "1_000",
+            "2.5",
+            "-1",
+            "1e16",
+            "1e20",
+        ]
+    ),
+    st.floats(-1e3, 1e3).map(repr),
+    st.integers(-5, 5000).map(str),
+)
 
 
 @PROPERTY
-@given(command=st.sampled_from(["steady", "alg1", "orbit"]),
-       flags=st.lists(st.tuples(st.sampled_from(FLAGS), FLAG_VALUES), max_size=3))
+@given(
+    command=st.sampled_from(["steady", "alg1", "orbit"]),
+    flags=st.lists(st.tuples(st.sampled_from(FLAGS), FLAG_VALUES), max_size=3),
+)
 def test_command_line_prints_json_or_one_error_line(command, flags):
     argv = [command, "--json"]
     for flag, value in flags:
@@ -322,8 +404,9 @@ def test_command_line_prints_json_or_one_error_line(command, flags):
 
 # --- regressions: the inputs a probe of extremes found ---------------------------------------------
 def run(*args: str, timeout: float = 60) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True,
-                          timeout=timeout)
+    return subprocess.run(
+        [sys.executable, "-m", "impactdamper", *args], capture_output=True, text=True, timeout=timeout
+    )
 
 
 def steady_json(*args: str) -> dict:
@@ -335,10 +418,21 @@ def steady_json(*args: str) -> dict:
 REFERENCE_PHASE = idp.algorithm1(REF).impact_phase
 
 
-@pytest.mark.parametrize("args", [
-    ("--t0", "1e5"), ("--omega", "1000", "--t0", "1000"), ("--t0", "1e15"), ("--t0", "1e16"), ("--t0", "1e20"),
-    ("--t0", "-7.5"), ("--x-st", "1e-200"), ("--x-st", "1e200"), ("--m1", "1e-300"), ("--m1", "1e300"),
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("--t0", "1e5"),
+        ("--omega", "1000", "--t0", "1000"),
+        ("--t0", "1e15"),
+        ("--t0", "1e16"),
+        ("--t0", "1e20"),
+        ("--t0", "-7.5"),
+        ("--x-st", "1e-200"),
+        ("--x-st", "1e200"),
+        ("--m1", "1e-300"),
+        ("--m1", "1e300"),
+    ],
+)
 def test_reference_answer_whatever_the_start_time_and_scales(args):
     # Were nonperiodic (t0 1e5, omega 1000 t0 1000), no_contact (t0 1e20, x_st 1e-200), a
     # traceback (t0 1e16), hangs (t0 1e15, x_st 1e200) and nonperiodic with S = 0 (m1 1e-300).
@@ -349,27 +443,35 @@ def test_reference_answer_whatever_the_start_time_and_scales(args):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("command, args, flag, words", [
-    ("alg1", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),
-    ("steady", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),
-    ("orbit", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),
-    ("steady", ("--theta", "1.0131335798012997", "--delta1", "1e-12", "--delta2", "1e-12"), "--theta", "resonance"),
-    ("alg1", ("--theta", "0.5065667899006499", "--delta1", "0", "--delta2", "0"), "--theta", "eq. 8"),
-    ("steady", ("--theta", "1e-9"), "--theta", "work bound"),
-    ("steady", ("--theta", "1e-6"), "--theta", "work bound"),
-    ("orbit", ("--theta", "1e-9"), "--theta", "work bound"),
-    ("steady", ("--delta1", "1e6", "--delta2", "1e6"), "--delta1", "work bound"),
-    ("steady", ("--state", "1e300", "0", "0", "0"), "--state", "must be within 1e+12 x_st"),
-    ("orbit", ("--state", "1e300", "0", "0", "0"), "--state", "must be within 1e+12 x_st"),
-    ("steady", ("--mu", "1e-300"), "--mu", "beyond what the solver resolves"),
-    ("steady", ("--mu", "1e300"), "--mu", "floating-point range"),
-    ("steady", ("--theta", "1e-300"), "--theta", "c1"),
-    ("steady", ("--max-periods", "10000000"), "--max-periods", "[2, 100000]"),
-    ("steady", ("--max-period-multiple", "4000"), "--max-period-multiple", "[1, 3999]"),
-    ("orbit", ("--seed", "alg1", "--state", "0", "-5.8", "1", "-1"), "--state", "not allowed with --seed alg1"),
-    ("orbit", ("--seed", "alg1", "--t0", "1"), "--t0", "not allowed with --seed alg1"),
-    ("orbit", ("--period-multiple", "100000"), "--period-multiple", "[1, 64]"),
-])
+@pytest.mark.parametrize(
+    "command, args, flag, words",
+    [
+        ("alg1", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),
+        (
+            "steady",
+            ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"),
+            "--theta",
+            "undamped resonance",
+        ),
+        ("orbit", ("--theta", "1.0131335798012997", "--delta1", "0", "--delta2", "0"), "--theta", "undamped resonance"),
+        ("steady", ("--theta", "1.0131335798012997", "--delta1", "1e-12", "--delta2", "1e-12"), "--theta", "resonance"),
+        ("alg1", ("--theta", "0.5065667899006499", "--delta1", "0", "--delta2", "0"), "--theta", "eq. 8"),
+        ("steady", ("--theta", "1e-9"), "--theta", "work bound"),
+        ("steady", ("--theta", "1e-6"), "--theta", "work bound"),
+        ("orbit", ("--theta", "1e-9"), "--theta", "work bound"),
+        ("steady", ("--delta1", "1e6", "--delta2", "1e6"), "--delta1", "work bound"),
+        ("steady", ("--state", "1e300", "0", "0", "0"), "--state", "must be within 1e+12 x_st"),
+        ("orbit", ("--state", "1e300", "0", "0", "0"), "--state", "must be within 1e+12 x_st"),
+        ("steady", ("--mu", "1e-300"), "--mu", "beyond what the solver resolves"),
+        ("steady", ("--mu", "1e300"), "--mu", "floating-point range"),
+        ("steady", ("--theta", "1e-300"), "--theta", "c1"),
+        ("steady", ("--max-periods", "10000000"), "--max-periods", "[2, 100000]"),
+        ("steady", ("--max-period-multiple", "4000"), "--max-period-multiple", "[1, 3999]"),
+        ("orbit", ("--seed", "alg1", "--state", "0", "-5.8", "1", "-1"), "--state", "not allowed with --seed alg1"),
+        ("orbit", ("--seed", "alg1", "--t0", "1"), "--t0", "not allowed with --seed alg1"),
+        ("orbit", ("--period-multiple", "100000"), "--period-multiple", "[1, 64]"),
+    ],
+)
 def test_limits_are_one_named_line(command, args, flag, words):
     proc = run(command, *args, "--json")
     assert proc.returncode == 2 and proc.stdout == ""
@@ -378,8 +480,12 @@ def test_limits_are_one_named_line(command, args, flag, words):
 
 
 def test_output_to_a_closed_pipe_or_a_full_disk_is_one_line():
-    with subprocess.Popen([sys.executable, "-m", "impactdamper", "steady", "--gap", "-10"], stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True) as proc:
+    with subprocess.Popen(
+        [sys.executable, "-m", "impactdamper", "steady", "--gap", "-10"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    ) as proc:
         proc.stdout.close()  # closed before anything is written
         err = proc.stderr.read()
         assert proc.wait(timeout=60) == 1
@@ -387,37 +493,44 @@ def test_output_to_a_closed_pipe_or_a_full_disk_is_one_line():
     if os.path.exists("/dev/full"):
         for args in (("alg1", "--json"), ("steady", "-h")):
             with open("/dev/full", "w") as full:
-                done = subprocess.run([sys.executable, "-m", "impactdamper", *args], stdout=full,
-                                      stderr=subprocess.PIPE, text=True, timeout=60)
+                done = subprocess.run(
+                    [sys.executable, "-m", "impactdamper", *args],
+                    stdout=full,
+                    stderr=subprocess.PIPE,
+                    text=True,
+                    timeout=60,
+                )
             assert done.returncode == 1
-            assert done.stderr.splitlines() == ["impactdamper: error: cannot write the output: "
-                                                "No space left on device"]
+            assert done.stderr.splitlines() == ["impactdamper: error: cannot write the output: No space left on device"]
 
 
-@pytest.mark.parametrize("call, name, kind", [
-    (lambda: idp.Parameters(gap=10**400), "gap", ValueError),
-    (lambda: idp.algorithm1(None), "p", TypeError),
-    (lambda: idp.steady_state(None, backend="python"), "p", TypeError),
-    (lambda: idp.solve_orbit(None), "p", TypeError),
-    (lambda: idp.simulate(None, 1.0, backend="python"), "p", TypeError),
-    (lambda: idp.steady_state(REF, tolerances="x", backend="python"), "tolerances", TypeError),
-    (lambda: idp.steady_state(REF, t0="0", backend="python"), "t0", TypeError),
-    (lambda: idp.steady_state(REF, max_period_multiple=True, backend="python"), "max_period_multiple", TypeError),
-    (lambda: idp.steady_state(REF, max_periods=True, backend="python"), "max_periods", TypeError),
-    (lambda: idp.steady_state(REF, settle_tol="1e-10", backend="python"), "settle_tol", TypeError),
-    (lambda: idp.steady_state(REF, state="0 0 0 0", backend="python"), "state", TypeError),
-    (lambda: idp.steady_state(REF, state=[1e300, 0, 0, 0], backend="python"), "state", ValueError),
-    (lambda: idp.steady_state(REF, backend="numba"), "backend", ValueError),
-    (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=math.nan), "gap_tol", ValueError),
-    (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=10.0), "gap_tol", ValueError),
-    (lambda: idp.algorithm1(REF, gap_tol="1e-12"), "gap_tol", TypeError),
-    (lambda: idp.simulate(REF, 1e9, backend="python"), "t_end", ValueError),
-    (lambda: idp.simulate(REF, 1.0, t0=math.nan, backend="python"), "t0", ValueError),
-    (lambda: idp.simulate(REF, 1e16, t0=1e16 - 1.0, backend="python"), "t0", ValueError),
-    (lambda: idp.EventDrivenSolver(REF.replace(x_st=1e-200)), "x_st", ValueError),
-    (lambda: idp.solve_orbit(REF, "alg1", state=[0.0, -5.8, 1.0, -1.0]), "state", ValueError),
-    (lambda: idp.solve_orbit(REF, period_multiple=10**6), "period_multiple", ValueError),
-])
+@pytest.mark.parametrize(
+    "call, name, kind",
+    [
+        (lambda: idp.Parameters(gap=10**400), "gap", ValueError),
+        (lambda: idp.algorithm1(None), "p", TypeError),
+        (lambda: idp.steady_state(None, backend="python"), "p", TypeError),
+        (lambda: idp.solve_orbit(None), "p", TypeError),
+        (lambda: idp.simulate(None, 1.0, backend="python"), "p", TypeError),
+        (lambda: idp.steady_state(REF, tolerances="x", backend="python"), "tolerances", TypeError),
+        (lambda: idp.steady_state(REF, t0="0", backend="python"), "t0", TypeError),
+        (lambda: idp.steady_state(REF, max_period_multiple=True, backend="python"), "max_period_multiple", TypeError),
+        (lambda: idp.steady_state(REF, max_periods=True, backend="python"), "max_periods", TypeError),
+        (lambda: idp.steady_state(REF, settle_tol="1e-10", backend="python"), "settle_tol", TypeError),
+        (lambda: idp.steady_state(REF, state="0 0 0 0", backend="python"), "state", TypeError),
+        (lambda: idp.steady_state(REF, state=[1e300, 0, 0, 0], backend="python"), "state", ValueError),
+        (lambda: idp.steady_state(REF, backend="numba"), "backend", ValueError),
+        (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=math.nan), "gap_tol", ValueError),
+        (lambda: idp.algorithm1(REF.replace(gap=-9.6), gap_tol=10.0), "gap_tol", ValueError),
+        (lambda: idp.algorithm1(REF, gap_tol="1e-12"), "gap_tol", TypeError),
+        (lambda: idp.simulate(REF, 1e9, backend="python"), "t_end", ValueError),
+        (lambda: idp.simulate(REF, 1.0, t0=math.nan, backend="python"), "t0", ValueError),
+        (lambda: idp.simulate(REF, 1e16, t0=1e16 - 1.0, backend="python"), "t0", ValueError),
+        (lambda: idp.EventDrivenSolver(REF.replace(x_st=1e-200)), "x_st", ValueError),
+        (lambda: idp.solve_orbit(REF, "alg1", state=[0.0, -5.8, 1.0, -1.0]), "state", ValueError),
+        (lambda: idp.solve_orbit(REF, period_multiple=10**6), "period_multiple", ValueError),
+    ],
+)
 def test_api_errors_name_the_argument(call, name, kind):
     with pytest.raises(kind) as info:
         call()
@@ -427,8 +540,15 @@ def test_api_errors_name_the_argument(call, name, kind):
 
 def test_numpy_scalars_are_numbers_everywhere():
     p = idp.Parameters(theta=np.float32(1.0), mu=np.float64(0.08), gap=np.int64(-10))
-    s = idp.steady_state(p, t0=np.float32(0.0), max_periods=np.int64(4000), max_period_multiple=np.int32(4),
-                         settle_tol=np.float64(1e-10), tolerances=idp.Tolerances(gap_tol=np.float32(1e-12)), backend="python")
+    s = idp.steady_state(
+        p,
+        t0=np.float32(0.0),
+        max_periods=np.int64(4000),
+        max_period_multiple=np.int32(4),
+        settle_tol=np.float64(1e-10),
+        tolerances=idp.Tolerances(gap_tol=np.float32(1e-12)),
+        backend="python",
+    )
     assert (s.regime, s.period_multiple) == ("multi_impact", 2)
     assert idp.algorithm1(p, gap_tol=np.float64(1e-12)).exists
 
@@ -438,20 +558,23 @@ def reference_orbit() -> idp.PeriodicOrbit:
     return idp.solve_orbit(REF, "alg1")
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    ({"bounds": (-12.0, 11.5), "max_points": 0}, "max_points"),
-    ({"bounds": (-12.0, 11.5), "max_points": -1}, "max_points"),
-    ({"bounds": (-12.0, 11.5), "max_points": 1.5}, "max_points"),
-    ({"bounds": (-12.0, 11.5), "max_points": True}, "max_points"),
-    ({"parameter": "R", "bounds": (0.5, 1.5)}, "bounds"),
-    ({"parameter": "theta", "bounds": (-1.0, 2.0)}, "bounds"),
-    ({"parameter": "delta1", "bounds": (-0.1, 0.1)}, "bounds"),
-    ({"bounds": (-12.0, math.inf)}, "bounds"),
-    ({"bounds": (-12.0, math.nan)}, "bounds"),
-    ({"bounds": "x"}, "bounds"),
-    ({"bounds": (-12.0, 11.5), "direction": True}, "direction"),
-    ({"bounds": (-12.0, 11.5), "step": math.nan}, "step"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"bounds": (-12.0, 11.5), "max_points": 0}, "max_points"),
+        ({"bounds": (-12.0, 11.5), "max_points": -1}, "max_points"),
+        ({"bounds": (-12.0, 11.5), "max_points": 1.5}, "max_points"),
+        ({"bounds": (-12.0, 11.5), "max_points": True}, "max_points"),
+        ({"parameter": "R", "bounds": (0.5, 1.5)}, "bounds"),
+        ({"parameter": "theta", "bounds": (-1.0, 2.0)}, "bounds"),
+        ({"parameter": "delta1", "bounds": (-0.1, 0.1)}, "bounds"),
+        ({"bounds": (-12.0, math.inf)}, "bounds"),
+        ({"bounds": (-12.0, math.nan)}, "bounds"),
+        ({"bounds": "x"}, "bounds"),
+        ({"bounds": (-12.0, 11.5), "direction": True}, "direction"),
+        ({"bounds": (-12.0, 11.5), "step": math.nan}, "step"),
+    ],
+)
 def test_continue_orbit_checks_its_arguments(reference_orbit, kwargs, name):
     with pytest.raises(ValueError) as info:
         idp.continue_orbit(reference_orbit, **kwargs)

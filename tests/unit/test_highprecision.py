@@ -39,8 +39,9 @@ def test_mp_eigenvalues_are_roots_of_eq4():
     with mp.workdps(m.dps):
         for lam in m.roots:
             assert min(abs(lam - r) for r in a1.roots) < mp.mpf(10) ** (-30)
-    np.testing.assert_allclose(np.sort_complex(np.array([complex(r) for r in m.roots])),
-                               np.sort_complex(characteristic_roots(P)), rtol=1e-13)
+    np.testing.assert_allclose(
+        np.sort_complex(np.array([complex(r) for r in m.roots])), np.sort_complex(characteristic_roots(P)), rtol=1e-13
+    )
 
 
 @pytest.mark.parametrize("p", [P, REPEATED], ids=["reference", "repeated_roots"])
@@ -165,7 +166,9 @@ def test_algorithm1_double_vs_mp(gap):
     assert abs(a.impact_phase - float(b.impact_phase)) < PHASE_TOL
     assert math.isclose(a.S, float(b.S), rel_tol=1e-11)
     for (e1, s1), (e2, s2) in zip(a.candidates, b.candidates):
-        assert abs(e1 - float(e2)) < 2 * math.pi * PHASE_TOL and math.isclose(s1, float(s2), rel_tol=1e-10, abs_tol=1e-12)
+        assert abs(e1 - float(e2)) < 2 * math.pi * PHASE_TOL and math.isclose(
+            s1, float(s2), rel_tol=1e-10, abs_tol=1e-12
+        )
     scale = np.array([1.0, 1.0, p.omega, p.omega]) * p.x_st
     assert np.max(np.abs(a.state_after - H.to_float(b.state_after)) / scale) < 1e-11
 

@@ -16,12 +16,25 @@ import pytest
 import impactdamper as idp
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.studies.claims import claim_a, claim_b
-from impactdamper.studies.nearest import (NEAREST_NAMES, ClaimsEvaluator, ball_offsets, norm, ray_search,
-                                          round_candidates, tuning_condition)
+from impactdamper.studies.nearest import (
+    NEAREST_NAMES,
+    ClaimsEvaluator,
+    ball_offsets,
+    norm,
+    ray_search,
+    round_candidates,
+    tuning_condition,
+)
 
 RECORD = Path(__file__).resolve().parents[2] / "figures" / "claims_nearest.json"
-SETTINGS = SweepSettings(settle_tol=1e-10, max_periods=4000, max_periods_after_nonperiodic=4000, max_period_multiple=8,
-                         continuation=False, rescue=False)
+SETTINGS = SweepSettings(
+    settle_tol=1e-10,
+    max_periods=4000,
+    max_periods_after_nonperiodic=4000,
+    max_period_multiple=8,
+    continuation=False,
+    rescue=False,
+)
 
 
 def test_norms_and_ball_offsets():

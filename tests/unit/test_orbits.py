@@ -69,8 +69,9 @@ def test_periodicity_conditions_hold_to_1e12(which, request):
         v = before[3] - before[2]
         assert v == pytest.approx(imp.velocity, rel=1e-14)
         assert after[3] - after[2] == pytest.approx(-o.p.R * v, rel=1e-12)  # eq. (22)
-        assert o.p.m1 * after[2] + o.p.m2 * after[3] == pytest.approx(o.p.m1 * before[2] + o.p.m2 * before[3],
-                                                                      rel=1e-13)
+        assert o.p.m1 * after[2] + o.p.m2 * after[3] == pytest.approx(
+            o.p.m1 * before[2] + o.p.m2 * before[3], rel=1e-13
+        )
     # Independently: the event-driven solver, from a state on the cycle, returns to it after k T.
     t, y = section(o)
     back = stroboscopic_map(o.p, t, y, k)
@@ -129,7 +130,7 @@ def test_alg1_orbit_crossing_the_stop_is_rejected_with_the_reason():
     a1 = idp.algorithm1(REF.replace(gap=-10.0))
     assert not o.admissible
     assert "gap negative on (0.2467, 0.6319) T after impact 1" in o.reason
-    (a, b), = a1.negative_gap_intervals  # the same crossing by Algorithm No. 1's own scan
+    ((a, b),) = a1.negative_gap_intervals  # the same crossing by Algorithm No. 1's own scan
     assert (a, b) == pytest.approx((0.2467, 0.6319), abs=1e-4)
     assert o.min_gap == pytest.approx(a1.min_gap, abs=1e-9)
     assert o.to_dict()["admissible"] is False
@@ -170,8 +171,9 @@ def test_multipliers_match_finite_differences_of_the_simulated_map(which, reques
         assert np.min(np.abs(fd - m)) <= 1e-6
     # The multipliers do not depend on the section.
     t2, _ = section(o, 0.9)
-    assert np.sort_complex(np.linalg.eigvals(o.monodromy(t2))) == pytest.approx(np.sort_complex(o.multipliers),
-                                                                                 abs=1e-10)
+    assert np.sort_complex(np.linalg.eigvals(o.monodromy(t2))) == pytest.approx(
+        np.sort_complex(o.multipliers), abs=1e-10
+    )
 
 
 def test_reference_multipliers(single, double):
@@ -219,7 +221,8 @@ def test_no_contact_and_stuck_cycles_in_closed_form():
     assert far.x1_max == pytest.approx(s.x1_max, abs=1e-9)
     model = Model(far.p)
     assert np.sort_complex(far.multipliers) == pytest.approx(
-        np.sort_complex(np.linalg.eigvals(model.free.propagator(far.p.T))), abs=1e-12)
+        np.sort_complex(np.linalg.eigvals(model.free.propagator(far.p.T))), abs=1e-12
+    )
     # The gap's least value on the forced response: Delta0 - U1 (eq. 12's amplitude).
     assert far.min_gap == pytest.approx(15.0 - idp.algorithm1(far.p).U1 / far.p.x_st, abs=1e-12)
     stuck = idp.solve_orbit(REF.replace(gap=-40.0), "simulate")
@@ -240,6 +243,7 @@ def test_single_impact_branch_grazes_the_stop_where_algorithm1_starts_to_cross_i
     interior touch of the stop; its location matches the root of Algorithm No. 1's own gap
     minimum (an independent closed-form route)."""
     import scipy.optimize
+
     branch = idp.continue_orbit(single, "gap", (-12.0, -5.8), direction=-1)
     assert branch.end_reason == "grazing_interior"
     assert all(q.stable and q.admissible for q in branch.points)
@@ -307,8 +311,9 @@ def test_continuation_in_another_parameter_matches_direct_solves(single):
     assert branch.points[-1].value == 0.8
     direct = idp.solve_orbit(REF.replace(R=0.8), "alg1")
     assert branch.points[-1].phases[0] == pytest.approx(direct.impacts[0].phase, abs=1e-11)
-    assert branch.points[-1].velocities[0] == pytest.approx(direct.impacts[0].velocity / (REF.x_st * REF.omega),
-                                                            rel=1e-11)
+    assert branch.points[-1].velocities[0] == pytest.approx(
+        direct.impacts[0].velocity / (REF.x_st * REF.omega), rel=1e-11
+    )
     mid = branch.points[len(branch.points) // 2]
     a1 = idp.algorithm1(REF.replace(R=mid.value))
     assert mid.phases[0] == pytest.approx(a1.impact_phase, abs=1e-11)
@@ -369,12 +374,15 @@ def test_cli_orbit_json_has_the_steady_keys_plus_the_checks(double, steady10, ca
     assert alg["admissible"] is False and "gap negative" in alg["reason"] and alg["periods_simulated"] == 0
 
 
-@pytest.mark.parametrize("args, flag", [
-    (("--seed", "foo"), "--seed"),
-    (("--period-multiple", "0"), "--period-multiple"),
-    (("--gap", "-10", "--seed", "simulate", "--period-multiple", "3"), "--period-multiple"),
-    (("--R", "1.5"), "--R"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (("--seed", "foo"), "--seed"),
+        (("--period-multiple", "0"), "--period-multiple"),
+        (("--gap", "-10", "--seed", "simulate", "--period-multiple", "3"), "--period-multiple"),
+        (("--R", "1.5"), "--R"),
+    ],
+)
 def test_cli_orbit_bad_input_is_one_line_exit_2(args, flag, capsys):
     with pytest.raises(SystemExit) as exit_info:
         main(["orbit", *args])

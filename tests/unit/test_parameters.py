@@ -17,8 +17,18 @@ def test_defaults_are_the_reference_case():
     # "theta = 1; mu = 0.08; N = 0.5; delta1 = delta2 = 0.05; x_st = 1; R = 0.7;
     #  Delta0/x_st = -5.8; omega = 10 rad/s" (section "The results of the calculations").
     p = Parameters()
-    assert p.to_dict() == {"theta": 1.0, "mu": 0.08, "N": 0.5, "delta1": 0.05, "delta2": 0.05, "R": 0.7,
-                           "gap": -5.8, "omega": 10.0, "x_st": 1.0, "m1": 1.0}
+    assert p.to_dict() == {
+        "theta": 1.0,
+        "mu": 0.08,
+        "N": 0.5,
+        "delta1": 0.05,
+        "delta2": 0.05,
+        "R": 0.7,
+        "gap": -5.8,
+        "omega": 10.0,
+        "x_st": 1.0,
+        "m1": 1.0,
+    }
     assert p == REFERENCE == idp.REFERENCE
     # Effective tuning 2 sqrt(c2/m2) = sqrt(c1/m1) = omega.
     assert math.isclose(2 * math.sqrt(p.c2 / p.m2), math.sqrt(p.c1 / p.m1), rel_tol=1e-15)
@@ -28,8 +38,10 @@ def test_defaults_are_the_reference_case():
 
 
 @pytest.mark.parametrize("m1", [1.0, 37.5, 1e-3])
-@pytest.mark.parametrize("kw", [{}, {"theta": 0.3, "mu": 1e-4, "N": 50.0, "delta1": 0.0, "delta2": 2.0,
-                                    "gap": 3.0, "omega": 123.0, "x_st": 0.01}])
+@pytest.mark.parametrize(
+    "kw",
+    [{}, {"theta": 0.3, "mu": 1e-4, "N": 50.0, "delta1": 0.0, "delta2": 2.0, "gap": 3.0, "omega": 123.0, "x_st": 0.01}],
+)
 def test_dimensional_values_give_back_the_relative_ones(m1, kw):
     p = Parameters(m1=m1, **kw)
     omega1 = math.sqrt(p.c1 / p.m1)
@@ -102,11 +114,17 @@ def test_replace_rejects_unknown_and_derived_names():
             Parameters().replace(**{name: 1.0})
 
 
-@pytest.mark.parametrize("kw, name, derived", [
-    ({"theta": 1e-300}, "theta", "c1"), ({"theta": 1e-10, "omega": 1e300}, "omega", "omega1"),
-    ({"theta": 1e300}, "theta", "c1"), ({"m1": 1e-300, "mu": 1e-30}, "m1", "m2"),
-    ({"x_st": 1e-200, "omega": 1e-200}, "omega", "c1"), ({"delta1": 1e-300, "m1": 1e-30}, "delta1", "k1"),
-])
+@pytest.mark.parametrize(
+    "kw, name, derived",
+    [
+        ({"theta": 1e-300}, "theta", "c1"),
+        ({"theta": 1e-10, "omega": 1e300}, "omega", "omega1"),
+        ({"theta": 1e300}, "theta", "c1"),
+        ({"m1": 1e-300, "mu": 1e-30}, "m1", "m2"),
+        ({"x_st": 1e-200, "omega": 1e-200}, "omega", "c1"),
+        ({"delta1": 1e-300, "m1": 1e-30}, "delta1", "k1"),
+    ],
+)
 def test_overflowing_relative_parameters_raise_one_line(kw, name, derived):
     # Regression: theta = 1e-300 used to escape as OverflowError from omega1**2, then named c1
     # (not a parameter a user sets): the message names the most extreme input.
@@ -180,13 +198,23 @@ def test_packed_columns_are_read_by_name():
     from impactdamper.core.compiled import pack
 
     assert pack.PARAMETER_COLUMNS == Parameters.names()
-    for const, name in ((pack.C_THETA, "theta"), (pack.C_MU, "mu"), (pack.C_N, "N"), (pack.C_DELTA1, "delta1"),
-                        (pack.C_DELTA2, "delta2"), (pack.C_R, "R"), (pack.C_GAP, "gap"), (pack.C_OMEGA, "omega"),
-                        (pack.C_XST, "x_st"), (pack.C_M1, "m1")):
+    for const, name in (
+        (pack.C_THETA, "theta"),
+        (pack.C_MU, "mu"),
+        (pack.C_N, "N"),
+        (pack.C_DELTA1, "delta1"),
+        (pack.C_DELTA2, "delta2"),
+        (pack.C_R, "R"),
+        (pack.C_GAP, "gap"),
+        (pack.C_OMEGA, "omega"),
+        (pack.C_XST, "x_st"),
+        (pack.C_M1, "m1"),
+    ):
         assert pack.PARAMETER_COLUMNS[const] == name
     # Every value lands in its own name's column (all values distinct).
-    p = Parameters(theta=1.1, mu=0.09, N=0.55, delta1=0.051, delta2=0.052, R=0.71, gap=-5.9, omega=11.0, x_st=1.2,
-                   m1=1.3)
+    p = Parameters(
+        theta=1.1, mu=0.09, N=0.55, delta1=0.051, delta2=0.052, R=0.71, gap=-5.9, omega=11.0, x_st=1.2, m1=1.3
+    )
     v, _, _ = pack.packing_values(p)
     assert {name: v[pack.PARAMETER_COLUMNS.index(name)] for name in Parameters.names()} == p.to_dict()
 

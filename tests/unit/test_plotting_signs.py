@@ -8,15 +8,18 @@ from impactdamper.reporting.plotting import typeset_minus
 MINUS = "\u2212"
 
 
-@pytest.mark.parametrize("text, expected", [
-    ("located case -9.6", f"located case {MINUS}9.6"),
-    ("(-9.529, -9.430)", f"({MINUS}9.529, {MINUS}9.430)"),
-    ("x = -.5", f"x = {MINUS}.5"),
-    ("one-impact motion", "one-impact motion"),        # a hyphen in a word
-    ("theta 0.5-1.5", "theta 0.5-1.5"),                # a range
-    ("4/2 (-> np)", "4/2 (-> np)"),                    # an arrow
-    ("$\\Delta_0 = -5.8$, stated -5.8", f"$\\Delta_0 = -5.8$, stated {MINUS}5.8"),  # mathtext makes its own
-])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("located case -9.6", f"located case {MINUS}9.6"),
+        ("(-9.529, -9.430)", f"({MINUS}9.529, {MINUS}9.430)"),
+        ("x = -.5", f"x = {MINUS}.5"),
+        ("one-impact motion", "one-impact motion"),  # a hyphen in a word
+        ("theta 0.5-1.5", "theta 0.5-1.5"),  # a range
+        ("4/2 (-> np)", "4/2 (-> np)"),  # an arrow
+        ("$\\Delta_0 = -5.8$, stated -5.8", f"$\\Delta_0 = -5.8$, stated {MINUS}5.8"),  # mathtext makes its own
+    ],
+)
 def test_negative_numbers_get_a_minus_sign(text, expected):
     assert typeset_minus(text) == expected
 

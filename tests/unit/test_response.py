@@ -20,8 +20,14 @@ import sys
 
 import pytest
 
-from impactdamper.analysis.response import (HYSTERESIS_TOL, cycle_metrics, energy_balance, frequency_response,
-                                            linear_response, theta_grid)
+from impactdamper.analysis.response import (
+    HYSTERESIS_TOL,
+    cycle_metrics,
+    energy_balance,
+    frequency_response,
+    linear_response,
+    theta_grid,
+)
 from impactdamper.analysis.settled import SweepSettings, solve_point
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.linear import forced_amplitudes
@@ -140,11 +146,19 @@ def test_deterministic():
     assert json.dumps(a) == json.dumps(b)
 
 
-@pytest.mark.parametrize("args, name", [
-    ((0.0, 1.0, 3), "theta_start"), ((1.0, 0.5, 3), "theta_stop"), ((0.5, 1.5, 0), "points"),
-    ((0.5, 1.5, 2.5), "points"), ((0.5, float("nan"), 3), "theta_stop"), (("a", 1.5, 3), "theta_start"),
-    ((0.5, 1.5, True), "points"), ((0.5, 0.6, 1), "theta_stop"),
-])
+@pytest.mark.parametrize(
+    "args, name",
+    [
+        ((0.0, 1.0, 3), "theta_start"),
+        ((1.0, 0.5, 3), "theta_stop"),
+        ((0.5, 1.5, 0), "points"),
+        ((0.5, 1.5, 2.5), "points"),
+        ((0.5, float("nan"), 3), "theta_stop"),
+        (("a", 1.5, 3), "theta_start"),
+        ((0.5, 1.5, True), "points"),
+        ((0.5, 0.6, 1), "theta_stop"),
+    ],
+)
 def test_bad_grid_is_one_line_naming_the_argument(args, name):
     with pytest.raises(ValueError) as err:
         theta_grid(*args)
@@ -164,8 +178,9 @@ def test_bad_arguments_of_frequency_response():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "impactdamper", "response", *args], capture_output=True, text=True,
-                          timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "impactdamper", "response", *args], capture_output=True, text=True, timeout=120
+    )
 
 
 @pytest.mark.slow
@@ -176,18 +191,33 @@ def test_cli_response_json_keys_and_values():
     api = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 3)
     assert d["peak_max_abs_x1"] == pytest.approx(api.peak(), rel=1e-12)
     assert [q["theta"] for q in d["points"]] == pytest.approx([0.9, 1.0, 1.1])
-    for key in ("max_abs_x1", "max_abs_x2", "impacts_per_period", "mean_impulse", "peak_impulse", "energy_impacts",
-                "energy_dampers", "energy_input", "regime"):
+    for key in (
+        "max_abs_x1",
+        "max_abs_x2",
+        "impacts_per_period",
+        "mean_impulse",
+        "peak_impulse",
+        "energy_impacts",
+        "energy_dampers",
+        "energy_input",
+        "regime",
+    ):
         assert key in d["points"][0]["up"] and key in d["points"][0]["down"]
     assert "hysteresis" in d["points"][0] and "linear_max_abs_x1" in d["points"][0]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("args, flag", [
-    (("--points", "0"), "--points"), (("--theta-start", "-1"), "--theta-start"),
-    (("--theta-start", "1.2", "--theta-stop", "1.1"), "--theta-stop"), (("--points", "x"), "--points"),
-    (("--settle-tol", "2"), "--settle-tol"), (("--gap", "nan"), "--gap"),
-])
+@pytest.mark.parametrize(
+    "args, flag",
+    [
+        (("--points", "0"), "--points"),
+        (("--theta-start", "-1"), "--theta-start"),
+        (("--theta-start", "1.2", "--theta-stop", "1.1"), "--theta-stop"),
+        (("--points", "x"), "--points"),
+        (("--settle-tol", "2"), "--settle-tol"),
+        (("--gap", "nan"), "--gap"),
+    ],
+)
 def test_cli_bad_input_exits_2_with_one_line(args, flag):
     proc = _cli(*args)
     assert proc.returncode == 2

@@ -20,6 +20,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import Model
 from impactdamper.core.steady import X1_MAX_FACTOR, steady_state
 
+
 # The backends: the pure-Python reference, the compiled loop with its compiled description, and
 # the compiled loop with the reference's description.
 def steady_state_compiled(p, **kwargs):
@@ -53,9 +54,11 @@ def free_amplitude(p: idp.Parameters) -> float:
 # At theta = 50 the slow mode turns by 0.12 rad per period and decays by 0.6 % per period: the
 # period test alone stopped at a turning point of its section differences (stuck: x1_max
 # 3.7e-8 x_st = 430 settle_tol off; without contact 2.6e-9).
-LARGE_THETA = [("stuck", REF.replace(theta=50.0), stuck_amplitude),
-               ("no_contact", REF.replace(theta=50.0, gap=5.8), free_amplitude),
-               ("stuck", REF.replace(theta=20.0), stuck_amplitude)]
+LARGE_THETA = [
+    ("stuck", REF.replace(theta=50.0), stuck_amplitude),
+    ("no_contact", REF.replace(theta=50.0, gap=5.8), free_amplitude),
+    ("stuck", REF.replace(theta=20.0), stuck_amplitude),
+]
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -69,12 +72,17 @@ def test_settle_test_cannot_stop_on_a_turning_point(backend, regime, p, amplitud
 
 # --- regressions --------------------------------------------------------------------------------
 @pytest.mark.parametrize("backend", BACKENDS)
-@pytest.mark.parametrize("gap, settle_tol, expected", [
-    (-5.8, 1e-5, ("single_impact", 1, 1)), (-5.8, 1e-4, ("single_impact", 1, 1)),
-    (-5.8, 1e-3, ("single_impact", 1, 1)),
-    (-10.0, 1e-5, ("multi_impact", 2, 3)), (-10.0, 1e-6, ("multi_impact", 2, 3)),
-    (-10.0, 1e-7, ("multi_impact", 2, 3)),
-])
+@pytest.mark.parametrize(
+    "gap, settle_tol, expected",
+    [
+        (-5.8, 1e-5, ("single_impact", 1, 1)),
+        (-5.8, 1e-4, ("single_impact", 1, 1)),
+        (-5.8, 1e-3, ("single_impact", 1, 1)),
+        (-10.0, 1e-5, ("multi_impact", 2, 3)),
+        (-10.0, 1e-6, ("multi_impact", 2, 3)),
+        (-10.0, 1e-7, ("multi_impact", 2, 3)),
+    ],
+)
 def test_loose_settle_tol_does_not_count_an_impact_twice(backend, gap, settle_tol, expected):
     """The cycle's events were taken from [start - 1e-9 T, start + T_c - 1e-9 T), while a cycle
     settled to a loose settle_tol drifts by more than 1e-9 T per period: at the reference case
@@ -107,16 +115,22 @@ def test_orbit_seeded_by_a_loosely_settled_simulation_is_the_one_impact_orbit():
 
 
 # --- property: regime, k and z do not depend on settle_tol --------------------------------------
-PROPERTY = settings(derandomize=True, database=None, deadline=None, max_examples=60,
-                    suppress_health_check=[HealthCheck.too_slow])
+PROPERTY = settings(
+    derandomize=True, database=None, deadline=None, max_examples=60, suppress_health_check=[HealthCheck.too_slow]
+)
 
 
 @st.composite
 def cases(draw):
     p = REF.replace(
-        theta=draw(st.floats(0.5, 2.0)), mu=draw(st.floats(0.04, 0.3)), N=draw(st.floats(0.3, 1.5)),
-        delta1=draw(st.floats(0.02, 0.1)), delta2=draw(st.floats(0.02, 0.1)), R=draw(st.floats(0.3, 0.9)),
-        gap=draw(st.floats(-12.0, 2.0)))
+        theta=draw(st.floats(0.5, 2.0)),
+        mu=draw(st.floats(0.04, 0.3)),
+        N=draw(st.floats(0.3, 1.5)),
+        delta1=draw(st.floats(0.02, 0.1)),
+        delta2=draw(st.floats(0.02, 0.1)),
+        R=draw(st.floats(0.3, 0.9)),
+        gap=draw(st.floats(-12.0, 2.0)),
+    )
     settle_tol = draw(st.floats(1.0, 9.9)) * 10.0 ** draw(st.integers(-12, -4))
     return p, settle_tol
 

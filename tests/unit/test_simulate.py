@@ -73,9 +73,12 @@ def _max_relative_displacement(p, y0, t0, t1):
     far = np.abs(ts - ts[i]) > 0.05 * p.T
     if d[far].max() > d[i] - 1e-3 * p.x_st:
         return None
-    res = scipy.optimize.minimize_scalar(lambda t: -np.diff(mode.state(t, t0, y0)[:2])[0],
-                                         bounds=(ts[i - 1], ts[i + 1]), method="bounded",
-                                         options={"xatol": 1e-13 * p.T})
+    res = scipy.optimize.minimize_scalar(
+        lambda t: -np.diff(mode.state(t, t0, y0)[:2])[0],
+        bounds=(ts[i - 1], ts[i + 1]),
+        method="bounded",
+        options={"xatol": 1e-13 * p.T},
+    )
     return -float(res.fun), float(res.x)
 
 
@@ -107,8 +110,13 @@ def test_event_search_never_misses_a_grazing_impact(R):
 
 # --- the impact law at every impact, no penetration between events --------------------------
 
-LAW_CASES = [(R, g) for R in (0.0, 0.7, 1.0) for g in (-5.8, 2.0)] + [(0.7, -10.0), (0.7, -13.0), (0.7, -30.0),
-                                                                       (0.7, -100.0), (0.0, -30.0)]
+LAW_CASES = [(R, g) for R in (0.0, 0.7, 1.0) for g in (-5.8, 2.0)] + [
+    (0.7, -10.0),
+    (0.7, -13.0),
+    (0.7, -30.0),
+    (0.7, -100.0),
+    (0.0, -30.0),
+]
 
 
 @pytest.mark.parametrize("R, gap_value", LAW_CASES)
@@ -216,11 +224,17 @@ def test_events_do_not_depend_on_m1(gap_value):
 # --- validation ---------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    ({"t_end": 0.0}, "t_end"), ({"t_end": math.nan}, "t_end"),
-    ({"t_end": 1.0, "state": [0, 0, 0]}, "state"), ({"t_end": 1.0, "state": [0, 0, math.nan, 0]}, "state"),
-    ({"t_end": 1.0, "state": [0.0, -5.0, 0, 0]}, "state"), ({"t_end": 1.0, "t0": math.inf}, "t_end"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"t_end": 0.0}, "t_end"),
+        ({"t_end": math.nan}, "t_end"),
+        ({"t_end": 1.0, "state": [0, 0, 0]}, "state"),
+        ({"t_end": 1.0, "state": [0, 0, math.nan, 0]}, "state"),
+        ({"t_end": 1.0, "state": [0.0, -5.0, 0, 0]}, "state"),
+        ({"t_end": 1.0, "t0": math.inf}, "t_end"),
+    ],
+)
 def test_bad_arguments_raise_one_line(kwargs, name):
     with pytest.raises(ValueError) as info:
         idp.simulate(REF, **kwargs, backend="python")

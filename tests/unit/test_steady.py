@@ -198,14 +198,20 @@ def test_repeated_roots_at_the_reference_gap():
 # --- validation ----------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    ({"settle_tol": 0.0}, "settle_tol"), ({"settle_tol": 1.0}, "settle_tol"),
-    ({"max_periods": 1}, "max_periods"), ({"max_periods": 10.5}, "max_periods"),
-    ({"max_period_multiple": 0}, "max_period_multiple"),
-    # (max_periods named first, with max_period_multiple in the same line: steady_state(p,
-    # max_periods=2) blamed max_period_multiple, never given, at its default 8)
-    ({"max_periods": 5, "max_period_multiple": 5}, "max_periods"), ({"max_periods": 2}, "max_periods"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"settle_tol": 0.0}, "settle_tol"),
+        ({"settle_tol": 1.0}, "settle_tol"),
+        ({"max_periods": 1}, "max_periods"),
+        ({"max_periods": 10.5}, "max_periods"),
+        ({"max_period_multiple": 0}, "max_period_multiple"),
+        # (max_periods named first, with max_period_multiple in the same line: steady_state(p,
+        # max_periods=2) blamed max_period_multiple, never given, at its default 8)
+        ({"max_periods": 5, "max_period_multiple": 5}, "max_periods"),
+        ({"max_periods": 2}, "max_periods"),
+    ],
+)
 def test_bad_arguments_raise_one_line(kwargs, name):
     with pytest.raises(ValueError) as info:
         idp.steady_state(REF, **kwargs, backend="python")

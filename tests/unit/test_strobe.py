@@ -11,9 +11,17 @@ import pytest
 import impactdamper as idp
 from impactdamper.analysis.transitions import stuck_liftoff_gap
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.analysis.strobe import (STROBE_FD_STEP, STROBE_TOL, section_coordinates, section_state,
-                                      state_scale, strobe_newton, stroboscopic_jacobian, stroboscopic_map,
-                                      stroboscopic_step)
+from impactdamper.analysis.strobe import (
+    STROBE_FD_STEP,
+    STROBE_TOL,
+    section_coordinates,
+    section_state,
+    state_scale,
+    strobe_newton,
+    stroboscopic_jacobian,
+    stroboscopic_map,
+    stroboscopic_step,
+)
 
 REF = idp.REFERENCE
 TOL = idp.Tolerances()
@@ -46,8 +54,11 @@ def test_state_scale_is_x_st_and_x_st_omega():
 def test_section_coordinates_round_trip(stuck):
     p = REF
     x1, v1 = -3.0 * p.x_st, 2.0 * p.x_st * p.omega
-    full = (np.array([x1, x1 + p.Delta0, v1, v1]) if stuck
-            else np.array([x1, x1 + p.Delta0 - 0.4 * p.x_st, v1, v1 + 0.3 * p.x_st * p.omega]))
+    full = (
+        np.array([x1, x1 + p.Delta0, v1, v1])
+        if stuck
+        else np.array([x1, x1 + p.Delta0 - 0.4 * p.x_st, v1, v1 + 0.3 * p.x_st * p.omega])
+    )
     u = section_coordinates(p, full, stuck)
     assert u.shape == ((2,) if stuck else (4,))
     if not stuck:

@@ -53,13 +53,18 @@ def test_np_only_labels():
 
 def test_special_and_mirror_matches():
     t = {"direction": "up", "value": "-4.0", "before": "3/2", "after": "np"}
-    special = [{"label": "3/2", "kind": "period_doubling", "gap": "-4.01"},
-               {"label": "3/2", "kind": "grazing_interior", "gap": "-4.002"},
-               {"label": "1/1", "kind": "fold", "gap": "-4.0"}]
+    special = [
+        {"label": "3/2", "kind": "period_doubling", "gap": "-4.01"},
+        {"label": "3/2", "kind": "grazing_interior", "gap": "-4.002"},
+        {"label": "1/1", "kind": "fold", "gap": "-4.0"},
+    ]
     assert sr.special_match(t, special, 0.05) == ("grazing of 3/2", -4.002)
     assert sr.special_match(t, special, 0.001) is None
-    trans = [t, {"direction": "down", "value": "-4.03", "before": "np", "after": "3/2"},
-             {"direction": "down", "value": "-4.001", "before": "3/2", "after": "np"}]
+    trans = [
+        t,
+        {"direction": "down", "value": "-4.03", "before": "np", "after": "3/2"},
+        {"direction": "down", "value": "-4.001", "before": "3/2", "after": "np"},
+    ]
     assert sr.mirror_match(t, trans, 0.05) is trans[1]
     assert sr.mirror_match(t, trans, 0.01) is None
 
@@ -87,8 +92,11 @@ def test_read_map_and_bistable_rows(tmp_path):
 
 
 def test_grazing_curves_join_near_points_only():
-    curves = [{"slow": "0", "alg1_grazing": "1.0;5.0"}, {"slow": "1", "alg1_scanned": "0", "alg1_grazing": ""},
-              {"slow": "2", "alg1_grazing": "1.2;9.0"}]
+    curves = [
+        {"slow": "0", "alg1_grazing": "1.0;5.0"},
+        {"slow": "1", "alg1_scanned": "0", "alg1_grazing": ""},
+        {"slow": "2", "alg1_grazing": "1.2;9.0"},
+    ]
     lines = sr.grazing_curves(curves, step=0.1, join_cells=3)
     # 1.2 is 2 cells from 1.0: joined; 9.0 starts a new curve; 5.0 ends at its row.
     assert lines == [([1.0, 1.2], [0.0, 2.0]), ([5.0], [0.0]), ([9.0], [2.0])]

@@ -23,8 +23,13 @@ from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import solve_orbit
 from impactdamper.analysis.settled import SweepSettings, carry_state, label_of, solve_point
 from impactdamper.analysis.sweeps import locate_transition, random_starts, sweep, with_value
-from impactdamper.analysis.transitions import (algorithm1_grazing_gap, no_contact_gap, object_alone_amplitude,
-                                               rigid_amplitude, stuck_liftoff_gap)
+from impactdamper.analysis.transitions import (
+    algorithm1_grazing_gap,
+    no_contact_gap,
+    object_alone_amplitude,
+    rigid_amplitude,
+    stuck_liftoff_gap,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 REF = Parameters()
@@ -89,9 +94,17 @@ def test_algorithm1_grazing_three_ways():
 
 
 def test_labels():
-    assert [label_of(*a) for a in (("stuck", 1, 0), ("no_contact", 1, 0), ("single_impact", 1, 1),
-                                   ("multi_impact", 2, 3), ("chatter", 3, 33), ("nonperiodic", 0, 12))] == \
-        ["stuck", "0/1", "1/1", "3/2", "c/3", "np"]
+    assert [
+        label_of(*a)
+        for a in (
+            ("stuck", 1, 0),
+            ("no_contact", 1, 0),
+            ("single_impact", 1, 1),
+            ("multi_impact", 2, 3),
+            ("chatter", 3, 33),
+            ("nonperiodic", 0, 12),
+        )
+    ] == ["stuck", "0/1", "1/1", "3/2", "c/3", "np"]
 
 
 # --- transitions located by simulation --------------------------------------------------------
@@ -132,8 +145,15 @@ def test_one_impact_motion_ends_where_algorithm1_grazes():
 
 
 # --- the accelerators agree with plain simulation ---------------------------------------------
-@pytest.mark.parametrize("gaps,method", [((-5.75, -5.8), "continuation"), ((-25.05, -25.0), "newton"),
-                                         ((-33.0, -32.9), "closed_form"), ((12.5, 12.4), "closed_form")])
+@pytest.mark.parametrize(
+    "gaps,method",
+    [
+        ((-5.75, -5.8), "continuation"),
+        ((-25.05, -25.0), "newton"),
+        ((-33.0, -32.9), "closed_form"),
+        ((12.5, 12.4), "closed_form"),
+    ],
+)
 def test_accelerated_point_equals_simulated_point(gaps, method):
     prev = solve_point(REF.replace(gap=gaps[0]))
     fast = solve_point(REF.replace(gap=gaps[1]), previous=prev)
@@ -169,8 +189,9 @@ def test_small_sweep_is_deterministic():
 def test_random_starts_do_not_depend_on_chunking():
     values = [12.5, 13.0]
     together = random_starts(REF, "gap", values, 2, seed=7, indices=[3, 4])
-    apart = random_starts(REF, "gap", values[:1], 2, seed=7, indices=[3]) + \
-        random_starts(REF, "gap", values[1:], 2, seed=7, indices=[4])
+    apart = random_starts(REF, "gap", values[:1], 2, seed=7, indices=[3]) + random_starts(
+        REF, "gap", values[1:], 2, seed=7, indices=[4]
+    )
     assert [[p.row() for p in r] for r in together] == [[p.row() for p in r] for r in apart]
     for row in together:
         for p in row:
@@ -182,8 +203,14 @@ def test_delta_sets_both_dampings():
     assert (p.delta1, p.delta2) == (0.1, 0.1)
 
 
-@pytest.mark.parametrize("kwargs,name", [({"max_periods": 10}, "max_periods"), ({"settle_tol": 2.0}, "settle_tol"),
-                                         ({"max_periods_after_nonperiodic": 500}, "max_periods_after_nonperiodic")])
+@pytest.mark.parametrize(
+    "kwargs,name",
+    [
+        ({"max_periods": 10}, "max_periods"),
+        ({"settle_tol": 2.0}, "settle_tol"),
+        ({"max_periods_after_nonperiodic": 500}, "max_periods_after_nonperiodic"),
+    ],
+)
 def test_bad_settings_name_the_parameter(kwargs, name):
     with pytest.raises(ValueError, match=f"`{name}`"):
         SweepSettings(**kwargs)
@@ -208,11 +235,14 @@ RECORD_MAP_NONPERIODIC_SHARE = 0.05
 
 
 def _settings(section: dict, solver: dict, **changes) -> SweepSettings:
-    return SweepSettings(settle_tol=float(section["settle_tol"]), max_periods=int(section["max_periods"]),
-                         max_periods_after_nonperiodic=int(section["max_periods_after_nonperiodic"]),
-                         max_period_multiple=int(section["max_period_multiple"]),
-                         tolerances=Tolerances(gap_tol=float(solver["gap_tol"]),
-                                               chatter_tol=float(solver["chatter_tol"])), **changes)
+    return SweepSettings(
+        settle_tol=float(section["settle_tol"]),
+        max_periods=int(section["max_periods"]),
+        max_periods_after_nonperiodic=int(section["max_periods_after_nonperiodic"]),
+        max_period_multiple=int(section["max_period_multiple"]),
+        tolerances=Tolerances(gap_tol=float(solver["gap_tol"]), chatter_tol=float(solver["chatter_tol"])),
+        **changes,
+    )
 
 
 def _read(path: Path):
@@ -237,7 +267,9 @@ def test_committed_sweep_reproduces_on_a_subset():
         state = np.array([float(r[c]) for c in ("x1_0", "x2_0", "v1_0", "v2_0")])
         # Stored to 12 digits: a state on the stop may come back ~1e-11 x_st inside it.
         state, _ = carry_state(p, state, "free")
-        pt = solve_point(p, float(r["value"]), state=state, settings=replace(settings, max_periods=4 * settings.max_periods))
+        pt = solve_point(
+            p, float(r["value"]), state=state, settings=replace(settings, max_periods=4 * settings.max_periods)
+        )
         assert pt.label == r["label"], f"{r['direction']} row {r['index']} ({r['value']})"
         assert pt.x1_max == pytest.approx(float(r["x1_max"]), rel=1e-6)
         checked += 1
@@ -249,18 +281,27 @@ def test_committed_sweep_reproduces_on_a_subset():
 def test_committed_map_reproduces_on_a_subset(name):
     cfg = json.loads((ROOT / "figures" / f"map_{name}_settings.json").read_text())
     base = Parameters(**{k: float(cfg["reference"][k]) for k in Parameters.names()})
-    assert cfg.get("method") == "regime_map_batch", \
+    assert cfg.get("method") == "regime_map_batch", (
         f"figures/map_{name}.csv was made by {cfg.get('method', 'regime_map')}: rerun the maps (snakemake --cores 2 sweeps)"
+    )
     settings = _settings(cfg["maps"], cfg["solver"], continuation=False, rescue=bool(cfg["maps"]["rescue"]))
     lines = [ln.split(",") for ln in (ROOT / "figures" / f"map_{name}.csv").read_text().splitlines()]
     gaps = [float(x) for x in lines[0][1:]]
     for i in RECORD_MAP_ROWS[name]:
         row = lines[1:][i]
-        computed = regime_map_batch(base, "gap", gaps, cfg["maps"][name]["parameter"], [float(row[0])],
-                                    direction=cfg["maps"]["direction"], settings=settings)[0]
+        computed = regime_map_batch(
+            base,
+            "gap",
+            gaps,
+            cfg["maps"][name]["parameter"],
+            [float(row[0])],
+            direction=cfg["maps"]["direction"],
+            settings=settings,
+        )[0]
         labels = list(computed.label)
         differ = [j for j, (a, b) in enumerate(zip(labels, row[1:])) if a != b]
         loose = {"np", "err"}
-        assert all(labels[j] in loose or row[1 + j] in loose for j in differ), \
+        assert all(labels[j] in loose or row[1 + j] in loose for j in differ), (
             f"map {name} row {i}: cells {[(gaps[j], labels[j], row[1 + j]) for j in differ][:5]}"
+        )
         assert len(differ) <= RECORD_MAP_NONPERIODIC_SHARE * len(gaps)

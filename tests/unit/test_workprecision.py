@@ -116,7 +116,6 @@ def test_siconos_moreau_jean_when_present(refs):
     assert 3 < errors[0] / errors[1] < 30  # O(h)
 
 
-
 def test_every_method_is_measured_through_the_table(refs):
     """One run per method of the table on the settled cycle, as the study measures it: finite
     errors for the coarse settings below, each beside its own family's error scale."""
@@ -135,9 +134,20 @@ def test_every_method_is_measured_through_the_table(refs):
 
 # --- the summary -------------------------------------------------------------------------------
 def _run(family, error, cpu, case="first_impacts"):
-    return {"case": case, "family": family, "setting": "x", "value": 0.0, "cpu_seconds": cpu, "error": error,
-            "phase_error": error, "state_error": math.nan, "impacts_found": 1, "impacts_expected": 1, "nfev": 0,
-            "note": ""}
+    return {
+        "case": case,
+        "family": family,
+        "setting": "x",
+        "value": 0.0,
+        "cpu_seconds": cpu,
+        "error": error,
+        "phase_error": error,
+        "state_error": math.nan,
+        "impacts_found": 1,
+        "impacts_expected": 1,
+        "nfev": 0,
+        "note": "",
+    }
 
 
 def test_cost_to_reach_is_the_cheapest_run_below_the_target():
@@ -148,8 +158,13 @@ def test_cost_to_reach_is_the_cheapest_run_below_the_target():
 
 
 def test_speedup_is_against_the_best_ivp_method_at_equal_error():
-    runs = [_run("exact", 1e-14, 0.5), _run("RK45", 1e-7, 4.0), _run("DOP853", 1e-7, 2.0),
-            _run("DOP853", 1e-11, 5.0), _run("RK4", 1e-7, 0.1)]
+    runs = [
+        _run("exact", 1e-14, 0.5),
+        _run("RK45", 1e-7, 4.0),
+        _run("DOP853", 1e-7, 2.0),
+        _run("DOP853", 1e-11, 5.0),
+        _run("RK4", 1e-7, 0.1),
+    ]
     s = wp.summarize({"runs": runs}, (1e-6, 1e-10))["first_impacts"]
     assert s["speedup_vs_best_ivp"]["1e-06"]["best_ivp_method"] == "DOP853"
     assert s["speedup_vs_best_ivp"]["1e-06"]["speedup"] == pytest.approx(4.0)
@@ -174,19 +189,45 @@ def test_latex_numbers():
 
 
 def test_macros_and_table_from_a_study():
-    perf = {"targets": [1e-6, 1e-10], "digits": 40, "n_impacts": 10, "settled_periods": 10,
-            "speedup_target": 20, "phase_target": 1e-12}
-    runs = [_run("exact", 1e-14, 0.002), _run("DOP853", 1e-11, 0.05), _run("RK4", 1e-9, 0.01),
-            _run("exact", 2e-13, 0.003, "settled_cycle"), _run("alg1", 4e-14, 0.001, "settled_cycle"),
-            _run("DOP853", 1e-7, 0.02, "settled_cycle")]
+    perf = {
+        "targets": [1e-6, 1e-10],
+        "digits": 40,
+        "n_impacts": 10,
+        "settled_periods": 10,
+        "speedup_target": 20,
+        "phase_target": 1e-12,
+    }
+    runs = [
+        _run("exact", 1e-14, 0.002),
+        _run("DOP853", 1e-11, 0.05),
+        _run("RK4", 1e-9, 0.01),
+        _run("exact", 2e-13, 0.003, "settled_cycle"),
+        _run("alg1", 4e-14, 0.001, "settled_cycle"),
+        _run("DOP853", 1e-7, 0.02, "settled_cycle"),
+    ]
     study = {"runs": runs, "siconos": {"available": False, "detail": "/usr/bin/python3 not found"}}
     study["summary"] = wp.summarize(study, (1e-6, 1e-10))
-    growth = {"summary": {"per_impact_median": 1.3e-4, "per_impact_min": 1e-4, "per_impact_max": 1.6e-4,
-                          "per_impact_spread": 1.6, "exponent_cost_vs_impacts": 0.98}}
-    hard = {"passed": 2, "total": 2, "cases": [{"case": "a_b", "cpu_seconds": 0.1, "passed": True},
-                                                {"case": "c", "cpu_seconds": 0.3, "passed": True}]}
-    ref = {"exact": {"steady_state_median_s": 0.01, "phase_error": 4e-14},
-           "targets": {"speedup_vs_fastest_crosscheck": 21.8, "speedup_met": True, "exact_time_met": True}}
+    growth = {
+        "summary": {
+            "per_impact_median": 1.3e-4,
+            "per_impact_min": 1e-4,
+            "per_impact_max": 1.6e-4,
+            "per_impact_spread": 1.6,
+            "exponent_cost_vs_impacts": 0.98,
+        }
+    }
+    hard = {
+        "passed": 2,
+        "total": 2,
+        "cases": [
+            {"case": "a_b", "cpu_seconds": 0.1, "passed": True},
+            {"case": "c", "cpu_seconds": 0.3, "passed": True},
+        ],
+    }
+    ref = {
+        "exact": {"steady_state_median_s": 0.01, "phase_error": 4e-14},
+        "targets": {"speedup_vs_fastest_crosscheck": 21.8, "speedup_met": True, "exact_time_met": True},
+    }
     # The compiled solver's benchmark record as committed, with two numbers moved across their
     # targets: the words must follow the numbers.
     cs = json.loads((ROOT / "figures" / "compiled_speed.json").read_text())

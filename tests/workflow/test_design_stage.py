@@ -30,10 +30,24 @@ ROOT = Path(__file__).resolve().parents[2]
 FIGURES = ROOT / "figures"
 GENERATED = ROOT / "paper" / "generated"
 CONFIG = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-RECORDS = ["design_baselines.csv", "design_baselines.json", "design_chart.csv", "design_chart.json",
-           "design_chart_2d.csv", "design_chart_2d.json", "design_response.csv", "design_response.json",
-           "design_response.pdf", "design_response.png", "design_chart.pdf", "design_chart.png",
-           "design_chart_2d.pdf", "design_chart_2d.png", "design_optimum.json", "design_optimum.csv"]
+RECORDS = [
+    "design_baselines.csv",
+    "design_baselines.json",
+    "design_chart.csv",
+    "design_chart.json",
+    "design_chart_2d.csv",
+    "design_chart_2d.json",
+    "design_response.csv",
+    "design_response.json",
+    "design_response.pdf",
+    "design_response.png",
+    "design_chart.pdf",
+    "design_chart.png",
+    "design_chart_2d.pdf",
+    "design_chart_2d.png",
+    "design_optimum.json",
+    "design_optimum.csv",
+]
 # The settled cycles are periodic to the sweep's settle tolerance (1e-9 x_st): ten times that.
 LINEAR_ATOL = 1e-8
 # The quadrature closes the balance to rounding (~1e-13): 1e-10 leaves margin.
@@ -57,8 +71,9 @@ def test_best_gap_and_good_band_follow_from_the_chart():
         i = int(np.argmin(values))
         assert best[c]["gap"] == pytest.approx(gaps[i], abs=1e-12)
         assert best[c]["value"] == pytest.approx(values[i], rel=1e-10)
-        assert (best[c]["good_from"], best[c]["good_to"]) == pytest.approx(good_band(gaps, values,
-                                                                                     CONFIG["design"]["tolerance"]))
+        assert (best[c]["good_from"], best[c]["good_to"]) == pytest.approx(
+            good_band(gaps, values, CONFIG["design"]["tolerance"])
+        )
         assert best[c]["peak_impulse"] == pytest.approx(float(rows[i]["peak_impulse"]), rel=1e-10)
 
 
@@ -97,11 +112,15 @@ def test_frequency_response_records_are_consistent():
         up, down = pair["up"], pair["down"]
         assert up["hysteresis"] == down["hysteresis"]
         differ = up["label"] != down["label"] or not math.isclose(
-            cell_float(up["max_abs_x1"]), cell_float(down["max_abs_x1"]), rel_tol=1e-4)
+            cell_float(up["max_abs_x1"]), cell_float(down["max_abs_x1"]), rel_tol=1e-4
+        )
         assert (up["hysteresis"] == "1") == differ
     for s in summary:
-        worst = [max(cell_float(p["up"]["max_abs_x1"]), cell_float(p["down"]["max_abs_x1"]))
-                 for (g, _), p in pairs.items() if float(g) == s["gap"]]
+        worst = [
+            max(cell_float(p["up"]["max_abs_x1"]), cell_float(p["down"]["max_abs_x1"]))
+            for (g, _), p in pairs.items()
+            if float(g) == s["gap"]
+        ]
         assert s["peak"] == pytest.approx(max(worst), rel=1e-10)
 
 
@@ -120,10 +139,18 @@ def test_macros_quote_the_records(tmp_path):
     one = read_json(FIGURES / "design_chart.json")["at_reference_theta"]
     assert one["gap"] != best["gap"]
     # And the report step regenerates them exactly from the records.
-    design_report.main(FIGURES / "design_baselines.json", FIGURES / "design_chart.json",
-                       FIGURES / "design_chart_2d.json", FIGURES / "design_response.json",
-                       FIGURES / "design_response.csv", FIGURES / "design_optimum.json", tmp_path / "r.json",
-                       tmp_path / "m.tex", tmp_path / "t.tex", tmp_path / "d.tex")
+    design_report.main(
+        FIGURES / "design_baselines.json",
+        FIGURES / "design_chart.json",
+        FIGURES / "design_chart_2d.json",
+        FIGURES / "design_response.json",
+        FIGURES / "design_response.csv",
+        FIGURES / "design_optimum.json",
+        tmp_path / "r.json",
+        tmp_path / "m.tex",
+        tmp_path / "t.tex",
+        tmp_path / "d.tex",
+    )
     assert (tmp_path / "m.tex").read_text() == text
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "design_second_table.tex").read_text()
     assert (tmp_path / "d.tex").read_text() == (GENERATED / "design_table.tex").read_text()
@@ -138,8 +165,13 @@ def test_a_chart_row_regenerates():
     design = CONFIG["design"]
     best = read_json(FIGURES / "design_chart.json")["best"]["peak"]
     row = next(r for r in read_csv(FIGURES / "design_chart.csv") if float(r["gap"]) == best["gap"])
-    chart = gap_chart(design_parameters(CONFIG["reference"], design), [best["gap"]], design_band(design),
-                      int(design["theta_points"]), settings=sweep_settings(CONFIG["sweep"], CONFIG["solver"]))
+    chart = gap_chart(
+        design_parameters(CONFIG["reference"], design),
+        [best["gap"]],
+        design_band(design),
+        int(design["theta_points"]),
+        settings=sweep_settings(CONFIG["sweep"], CONFIG["solver"]),
+    )
     new = chart.rows()[0]
     for key in ("peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period"):
         assert new[key] == pytest.approx(float(row[key]), rel=1e-8, abs=1e-8), key
@@ -149,8 +181,13 @@ def test_figures_regenerate_deterministically(tmp_path):
     import fig_design_chart
 
     for run in ("a", "b"):
-        fig_design_chart.main(FIGURES / "design_chart.csv", FIGURES / "design_chart.json",
-                              FIGURES / "design_baselines.json", tmp_path / f"{run}.pdf", tmp_path / f"{run}.png")
+        fig_design_chart.main(
+            FIGURES / "design_chart.csv",
+            FIGURES / "design_chart.json",
+            FIGURES / "design_baselines.json",
+            tmp_path / f"{run}.pdf",
+            tmp_path / f"{run}.png",
+        )
     assert (tmp_path / "a.pdf").read_bytes() == (tmp_path / "b.pdf").read_bytes()
     assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
     from matplotlib.testing.compare import compare_images
@@ -171,7 +208,9 @@ def test_chart_grid_must_hold_the_reference_theta(config, tmp_path):
     assert np.any(np.abs(band - cfg["reference"]["theta"]) < 1e-9)
     design = {**cfg["design"], "theta_points": 6}  # 0.5, 0.7, ..., 1.5: theta = 1 is not a grid point
     with pytest.raises(ValueError, match=r"^`design.theta_points` = 6 is not allowed: .* reference theta = 1$"):
-        design_chart.main(cfg["reference"], cfg["solver"], cfg["sweep"], design, tmp_path / "c.csv", tmp_path / "c.json")
+        design_chart.main(
+            cfg["reference"], cfg["solver"], cfg["sweep"], design, tmp_path / "c.csv", tmp_path / "c.json"
+        )
     assert not (tmp_path / "c.csv").exists()
 
 
@@ -184,8 +223,9 @@ def test_design_table_linear_rows_recompute_in_closed_form():
         if d["kind"] != "linear":
             continue
         bare = not d["parameters"]
-        dev = LinearDevice(0.0 if bare else rec["mu"], d["parameters"].get("N", 1.0), rec["delta1"],
-                           d["parameters"].get("delta2", 0.0))
+        dev = LinearDevice(
+            0.0 if bare else rec["mu"], d["parameters"].get("N", 1.0), rec["delta1"], d["parameters"].get("delta2", 0.0)
+        )
         assert dev.peak(band)[1] == pytest.approx(d["peak"], rel=1e-12), d["device"]
         assert dev.band_average(band, rec["step"]) == pytest.approx(d["band_average"], rel=1e-12)
         assert (0.0 if bare else dev.stroke_peak(band)[1]) == pytest.approx(d["stroke"], rel=1e-12)

@@ -106,42 +106,106 @@ def regenerated(tmp_path_factory) -> Path:
     fig, gen = out / "figures", out / "paper" / "generated"
     cfg = _config()
     located = json.loads((FIGURES / "located_case.json").read_text())["located"]
-    cases = {"stated": (cfg["reference"], "the paper's stated reference case (config: reference)"),
-             "located": (located["parameters"], located["rule"])}
+    cases = {
+        "stated": (cfg["reference"], "the paper's stated reference case (config: reference)"),
+        "located": (located["parameters"], located["rule"]),
+    }
     for case, (params, origin) in cases.items():
-        solve_case.main(case, params, cfg["solver"], fig / f"reference_{case}.json", fig / f"fig2a_{case}.csv",
-                        fig / f"fig2b_{case}.csv", origin)
-        crosscheck_case.main(fig / f"reference_{case}.json", cfg["solver"], cfg["verdict"], fig / f"crosscheck_{case}.json")
-        fig2a.main(case, fig / f"fig2a_{case}.csv", fig / f"reference_{case}.json", fig / f"fig2a_{case}.pdf",
-                   fig / f"fig2a_{case}.png")
-        fig2b.main(case, fig / f"fig2b_{case}.csv", fig / f"reference_{case}.json", fig / f"fig2b_{case}.pdf",
-                   fig / f"fig2b_{case}.png")
-        impact_table.main(case, fig / f"reference_{case}.json", fig / f"impacts_{case}.csv", gen / f"impacts_{case}.tex")
-    fig_located_range.main(FIGURES / "gap_scan.csv", FIGURES / "located_case.json", fig / "located_range.pdf",
-                           fig / "located_range.png")
-    verdict.main(fig / "reference_stated.json", fig / "reference_located.json", fig / "crosscheck_stated.json",
-                 fig / "crosscheck_located.json", FIGURES / "located_case.json", FIGURES / "other_readings.json",
-                 FIGURES / "claims_by_parameter_settings.json", FIGURES / "claims_map.csv",
-                 fig / "verdict.json", fig / "verdict.csv", out / "verdict_record.json", gen / "verdict_macros.tex")
+        solve_case.main(
+            case,
+            params,
+            cfg["solver"],
+            fig / f"reference_{case}.json",
+            fig / f"fig2a_{case}.csv",
+            fig / f"fig2b_{case}.csv",
+            origin,
+        )
+        crosscheck_case.main(
+            fig / f"reference_{case}.json", cfg["solver"], cfg["verdict"], fig / f"crosscheck_{case}.json"
+        )
+        fig2a.main(
+            case,
+            fig / f"fig2a_{case}.csv",
+            fig / f"reference_{case}.json",
+            fig / f"fig2a_{case}.pdf",
+            fig / f"fig2a_{case}.png",
+        )
+        fig2b.main(
+            case,
+            fig / f"fig2b_{case}.csv",
+            fig / f"reference_{case}.json",
+            fig / f"fig2b_{case}.pdf",
+            fig / f"fig2b_{case}.png",
+        )
+        impact_table.main(
+            case, fig / f"reference_{case}.json", fig / f"impacts_{case}.csv", gen / f"impacts_{case}.tex"
+        )
+    fig_located_range.main(
+        FIGURES / "gap_scan.csv", FIGURES / "located_case.json", fig / "located_range.pdf", fig / "located_range.png"
+    )
+    verdict.main(
+        fig / "reference_stated.json",
+        fig / "reference_located.json",
+        fig / "crosscheck_stated.json",
+        fig / "crosscheck_located.json",
+        FIGURES / "located_case.json",
+        FIGURES / "other_readings.json",
+        FIGURES / "claims_by_parameter_settings.json",
+        FIGURES / "claims_map.csv",
+        fig / "verdict.json",
+        fig / "verdict.csv",
+        out / "verdict_record.json",
+        gen / "verdict_macros.tex",
+    )
     return out
 
 
 RECORD = (
-    [f"figures/{kind}_{case}.{ext}" for case in CASES for kind, ext in
-     (("reference", "json"), ("fig2a", "csv"), ("fig2b", "csv"), ("impacts", "csv"), ("crosscheck", "json"),
-      ("fig2a", "pdf"), ("fig2a", "png"), ("fig2b", "pdf"), ("fig2b", "png"))]
+    [
+        f"figures/{kind}_{case}.{ext}"
+        for case in CASES
+        for kind, ext in (
+            ("reference", "json"),
+            ("fig2a", "csv"),
+            ("fig2b", "csv"),
+            ("impacts", "csv"),
+            ("crosscheck", "json"),
+            ("fig2a", "pdf"),
+            ("fig2a", "png"),
+            ("fig2b", "pdf"),
+            ("fig2b", "png"),
+        )
+    ]
     + [f"paper/generated/impacts_{case}.tex" for case in CASES]
-    + ["figures/gap_scan.csv", "figures/located_case.json", "figures/located_range.pdf",
-       "figures/located_range.png", "figures/other_readings.csv",
-       "figures/other_readings.json", "figures/verdict.json", "figures/verdict.csv",
-       "paper/generated/verdict_macros.tex", "figures/claims_by_parameter.csv",
-       "figures/claims_by_parameter_settings.json", "figures/claims_by_parameter_grid.csv",
-       "figures/claims_by_parameter.pdf", "figures/claims_by_parameter.png", "figures/claims_map.csv",
-       "figures/claims_map_settings.json", "figures/claims_map.pdf", "figures/claims_map.png",
-       "figures/claims_nearest.json", "figures/claims_maps.pdf", "figures/claims_maps.png",
-       "paper/generated/claims_macros.tex"]
-    + [f"figures/claims_map_{name}{ext}" for name in ("theta_N", "theta_gap", "N_gap")
-       for ext in (".csv", "_settings.json")]
+    + [
+        "figures/gap_scan.csv",
+        "figures/located_case.json",
+        "figures/located_range.pdf",
+        "figures/located_range.png",
+        "figures/other_readings.csv",
+        "figures/other_readings.json",
+        "figures/verdict.json",
+        "figures/verdict.csv",
+        "paper/generated/verdict_macros.tex",
+        "figures/claims_by_parameter.csv",
+        "figures/claims_by_parameter_settings.json",
+        "figures/claims_by_parameter_grid.csv",
+        "figures/claims_by_parameter.pdf",
+        "figures/claims_by_parameter.png",
+        "figures/claims_map.csv",
+        "figures/claims_map_settings.json",
+        "figures/claims_map.pdf",
+        "figures/claims_map.png",
+        "figures/claims_nearest.json",
+        "figures/claims_maps.pdf",
+        "figures/claims_maps.png",
+        "paper/generated/claims_macros.tex",
+    ]
+    + [
+        f"figures/claims_map_{name}{ext}"
+        for name in ("theta_N", "theta_gap", "N_gap")
+        for ext in (".csv", "_settings.json")
+    ]
 )
 
 
@@ -184,7 +248,9 @@ def test_images_match_record(regenerated, name):
 def test_figures_are_deterministic(regenerated, tmp_path):
     """Rendering again gives byte-identical PDF and PNG (no timestamps), equal to the record."""
     src = regenerated / "figures"
-    fig2b.main("located", src / "fig2b_located.csv", src / "reference_located.json", tmp_path / "a.pdf", tmp_path / "a.png")
+    fig2b.main(
+        "located", src / "fig2b_located.csv", src / "reference_located.json", tmp_path / "a.pdf", tmp_path / "a.png"
+    )
     assert sha256(tmp_path / "a.pdf") == sha256(src / "fig2b_located.pdf")
     assert sha256(tmp_path / "a.png") == sha256(src / "fig2b_located.png")
     assert b"CreationDate" not in (tmp_path / "a.pdf").read_bytes()
@@ -246,8 +312,9 @@ def test_gap_scan_matches_record():
     for r in sample:
         new = gapscan.alg2_row((base, cfg["solver"], float(r["gap"])))
         committed = {k: _cell(v) if v not in ("true", "false") else v == "true" for k, v in r.items()}
-        fresh = {k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
-                 for k, v in new.items()}
+        fresh = {
+            k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v) for k, v in new.items()
+        }
         fresh = {k: ("" if v is None else v) for k, v in fresh.items()}
         assert _same(committed, fresh, f"row {r['gap']}") == []
     # The bisected ends of the located range: the claim holds at the inner bracket, not at the outer.
@@ -261,8 +328,12 @@ def test_gap_scan_matches_record():
         assert pred(run(rep.parameters(dict(base, gap=g_in)), cfg["solver"]))
         assert not pred(run(rep.parameters(dict(base, gap=g_out)), cfg["solver"]))
     # The directly solved orbit's stability range.
-    orbit = gapscan.orbit_range(rep.parameters(dict(base, gap=scan["orbit_range"]["seed_gap"])), cfg["solver"],
-                                 scan["window"]["gap_min"], scan["window"]["gap_max"])
+    orbit = gapscan.orbit_range(
+        rep.parameters(dict(base, gap=scan["orbit_range"]["seed_gap"])),
+        cfg["solver"],
+        scan["window"]["gap_min"],
+        scan["window"]["gap_max"],
+    )
     assert _same(scan["orbit_range"], orbit, "orbit_range") == []
 
 
@@ -281,10 +352,15 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
     settings = json.loads((FIGURES / "claims_by_parameter_settings.json").read_text())
     rel_tol, floor = settings["rel_tol"], settings["floor"]
     opts = rep.solver_options(cfg["solver"])
-    batch = SweepSettings(settle_tol=opts["settle_tol"], max_periods=opts["max_periods"],
-                          max_periods_after_nonperiodic=opts["max_periods"],
-                          max_period_multiple=opts["max_period_multiple"], continuation=False, rescue=True,
-                          tolerances=opts["tolerances"])
+    batch = SweepSettings(
+        settle_tol=opts["settle_tol"],
+        max_periods=opts["max_periods"],
+        max_periods_after_nonperiodic=opts["max_periods"],
+        max_period_multiple=opts["max_period_multiple"],
+        continuation=False,
+        rescue=True,
+        tolerances=opts["tolerances"],
+    )
     checked = 0
     for name, d in settings["parameters"].items():
         for claim in ("a", "b"):
@@ -297,8 +373,11 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
                     assert abs(x_in - x_out) <= rel_tol * max(abs(0.5 * (x_in + x_out)), floor) * (1 + 1e-12)
                     for x, expected in ((x_in, True), (x_out, False)):
                         p = base.replace(**{name: x})
-                        got = (claim_a(rep.run_alg1(p, cfg["solver"])) if claim == "a"
-                               else batch_rows(base, name, [x], batch)[0]["claim_b"])
+                        got = (
+                            claim_a(rep.run_alg1(p, cfg["solver"]))
+                            if claim == "a"
+                            else batch_rows(base, name, [x], batch)[0]["claim_b"]
+                        )
                         assert got == expected, (name, claim, side, x)
                     checked += 1
     assert checked >= 6

@@ -40,10 +40,17 @@ def test_notebooks_are_the_listed_ones_in_percent_format():
 
 
 def test_only_the_public_api_is_imported():
-    allowed = {"impactdamper", "impactdamper.core.linear", "impactdamper.reporting.plotting",
-               "impactdamper.analysis.sweeps", "impactdamper.analysis.settled",
-               "impactdamper.analysis.transitions", "impactdamper.analysis.response",
-               "impactdamper.studies.design", "impactdamper.studies.optimum"}
+    allowed = {
+        "impactdamper",
+        "impactdamper.core.linear",
+        "impactdamper.reporting.plotting",
+        "impactdamper.analysis.sweeps",
+        "impactdamper.analysis.settled",
+        "impactdamper.analysis.transitions",
+        "impactdamper.analysis.response",
+        "impactdamper.studies.design",
+        "impactdamper.studies.optimum",
+    }
     for name in NOTEBOOKS:
         for line in (NOTEBOOK_DIR / f"{name}.py").read_text().splitlines():
             words = line.split()
@@ -52,8 +59,9 @@ def test_only_the_public_api_is_imported():
             if words[:1] == ["from"] and words[1].startswith("impactdamper"):
                 # "from impactdamper import X" takes public names; "from impactdamper.core
                 # import linear" takes an allowed module.
-                assert words[1] == "impactdamper" or all(
-                    f"{words[1]}.{m.strip(',')}" in allowed for m in words[3:]), line
+                assert words[1] == "impactdamper" or all(f"{words[1]}.{m.strip(',')}" in allowed for m in words[3:]), (
+                    line
+                )
 
 
 def _outputs(nb: dict, kind: str) -> list[dict]:
@@ -70,7 +78,10 @@ def test_notebook_executes_without_errors_or_warnings(name, tmp_path):
     jupytext.write(nb, src)
     res = subprocess.run(
         [sys.executable, "-m", "jupytext", "--to", "ipynb", "--execute", str(src), "--output", str(out)],
-        cwd=NOTEBOOK_DIR, capture_output=True, text=True, timeout=TIMEOUT,
+        cwd=NOTEBOOK_DIR,
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT,
     )
     assert res.returncode == 0, res.stderr[-4000:]
     executed = json.loads(out.read_text())

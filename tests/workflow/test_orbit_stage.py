@@ -142,8 +142,10 @@ def test_neimark_sacker_point_of_the_double_cycle_matches_simulation_on_both_sid
 def test_single_impact_grazings_and_fold_match_algorithm1(special):
     a1 = idp.algorithm1(REF)
     # The impact vanishes where the forced relative motion just reaches the stop: Delta0 = U1.
-    high = max((r for r in special if r["branch"] == "single" and r["kind"] == "grazing_velocity"),
-               key=lambda r: cell_float(r["gap"]))
+    high = max(
+        (r for r in special if r["branch"] == "single" and r["kind"] == "grazing_velocity"),
+        key=lambda r: cell_float(r["gap"]),
+    )
     assert cell_float(high["gap"]) == pytest.approx(a1.U1 / REF.x_st, abs=1e-9)
     assert high["admissible"] == "1"
     # The fold is where Algorithm No. 1's orbit ceases to exist.
@@ -164,8 +166,12 @@ def test_single_impact_grazings_and_fold_match_algorithm1(special):
 def test_case_multipliers_match_finite_differences_of_the_simulated_map(case, summary):
     c = summary["cases"][case]
     o = idp.solve_orbit(REF.replace(gap=c["gap"]), "auto")
-    assert (o.period_multiple, o.impacts_per_cycle, o.stable, o.admissible) == (c["k"], c["z"], c["stable"],
-                                                                                c["admissible"])
+    assert (o.period_multiple, o.impacts_per_cycle, o.stable, o.admissible) == (
+        c["k"],
+        c["z"],
+        c["stable"],
+        c["admissible"],
+    )
     flight = o.times[0] + o.cycle_duration - o.times[-1]
     t = o.times[0] - 0.5 * flight + o.cycle_duration
     J = stroboscopic_jacobian(o.p, t, o.state(t), o.period_multiple)
@@ -210,13 +216,23 @@ def test_branch_rows_next_to_the_seed_regenerate(name, config, rows, special, su
     if name != "single":
         assert found  # the 2T cycle's Neimark-Sacker point, the 3T cycle's grazing
     for r in found:
-        assert any(c["branch"] == name and c["kind"] == r["kind"]
-                   and math.isclose(cell_float(c["gap"]), r["gap"], abs_tol=1e-9) for c in special), r
+        assert any(
+            c["branch"] == name
+            and c["kind"] == r["kind"]
+            and math.isclose(cell_float(c["gap"]), r["gap"], abs_tol=1e-9)
+            for c in special
+        ), r
 
 
 def test_macros_and_table_regenerate_exactly(tmp_path):
-    orbit_report.main(FIGURES / "orbit_branches.csv", FIGURES / "orbit_special_points.csv",
-                      FIGURES / "orbit_summary.json", tmp_path / "record.json", tmp_path / "m.tex", tmp_path / "t.tex")
+    orbit_report.main(
+        FIGURES / "orbit_branches.csv",
+        FIGURES / "orbit_special_points.csv",
+        FIGURES / "orbit_summary.json",
+        tmp_path / "record.json",
+        tmp_path / "m.tex",
+        tmp_path / "t.tex",
+    )
     assert (tmp_path / "m.tex").read_text() == (GENERATED / "orbit_macros.tex").read_text()
     assert (tmp_path / "t.tex").read_text() == (GENERATED / "orbit_special_points_table.tex").read_text()
 
@@ -229,7 +245,8 @@ def test_macros_quote_the_special_points_and_stable_interval(special):
     assert float(macros["OrbitNSDouble"]) == pytest.approx(ns, abs=5e-7)
     assert float(macros["OrbitPDDouble"]) == pytest.approx(pd, abs=5e-7)
     assert (float(macros["OrbitStableDoubleLow"]), float(macros["OrbitStableDoubleHigh"])) == pytest.approx(
-        (ns, pd), abs=5e-7)
+        (ns, pd), abs=5e-7
+    )
     assert macros["OrbitStatedMultA"] == "0.711289" and macros["OrbitStatedMultC"] == "0.511990"
     assert macros["OrbitExampleMultA"] == "0.925912"
 
@@ -238,8 +255,13 @@ def test_macros_quote_the_special_points_and_stable_interval(special):
 def test_figure_regenerates(tmp_path):
     from matplotlib.testing.compare import compare_images
 
-    fig_orbit_branches.main(FIGURES / "orbit_branches.csv", FIGURES / "orbit_special_points.csv",
-                            FIGURES / "orbit_summary.json", tmp_path / "f.pdf", tmp_path / "f.png")
+    fig_orbit_branches.main(
+        FIGURES / "orbit_branches.csv",
+        FIGURES / "orbit_special_points.csv",
+        FIGURES / "orbit_summary.json",
+        tmp_path / "f.pdf",
+        tmp_path / "f.png",
+    )
     assert compare_images(str(FIGURES / "orbit_branches.png"), str(tmp_path / "f.png"), tol=IMAGE_TOL) is None
 
 

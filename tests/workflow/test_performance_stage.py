@@ -11,20 +11,55 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 from helpers import LIBRARY, library_imports, library_parts  # noqa: E402 (the library's modules, what a script imports)
-RULES = ("performance_work_precision", "fig_work_precision", "performance_cost_growth", "fig_cost_growth",
-         "performance_hardcases", "performance_reference_speed", "performance_compile_time", "performance_compiled_speed",
-         "performance_report")
-TARGETS = ("figures/work_precision.pdf", "figures/work_precision.png", "figures/work_precision.csv",
-           "figures/cost_growth.pdf", "figures/cost_growth.csv", "figures/hardcases.csv",
-           "paper/generated/hardcases_table.tex", "paper/generated/performance_macros.tex",
-           "paper/generated/workprecision_table.tex", "paper/generated/compiled_speed_table.tex",
-           "results/benchmarks/reference_speed.json", "figures/compiled_speed.json")
+
+RULES = (
+    "performance_work_precision",
+    "fig_work_precision",
+    "performance_cost_growth",
+    "fig_cost_growth",
+    "performance_hardcases",
+    "performance_reference_speed",
+    "performance_compile_time",
+    "performance_compiled_speed",
+    "performance_report",
+)
+TARGETS = (
+    "figures/work_precision.pdf",
+    "figures/work_precision.png",
+    "figures/work_precision.csv",
+    "figures/cost_growth.pdf",
+    "figures/cost_growth.csv",
+    "figures/hardcases.csv",
+    "paper/generated/hardcases_table.tex",
+    "paper/generated/performance_macros.tex",
+    "paper/generated/workprecision_table.tex",
+    "paper/generated/compiled_speed_table.tex",
+    "results/benchmarks/reference_speed.json",
+    "figures/compiled_speed.json",
+)
 
 
 @pytest.fixture(scope="module")
 def jobs() -> dict:
-    out = subprocess.run([sys.executable, "-m", "snakemake", "--nolock", "-n", "--cores", "2", "--forceall", "-p", "--configfile",
-                          "config/ci.yaml"], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "snakemake",
+            "--nolock",
+            "-n",
+            "--cores",
+            "2",
+            "--forceall",
+            "-p",
+            "--configfile",
+            "config/ci.yaml",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert out.returncode == 0, out.stdout + out.stderr
     found = {}
     for block in re.split(r"\n(?=(?:local)?rule \w+:)", out.stdout):
@@ -58,8 +93,12 @@ def test_every_rule_lists_library_script_and_log(jobs):
 def test_timed_rules_take_one_core_but_the_map_benchmark_both_and_one_blas_thread(jobs):
     """The timed rules share the machine (CPU time, with the load recorded); the compiled
     benchmark's map is timed in wall time on two processes, so that rule takes both cores."""
-    for rule in ("performance_work_precision", "performance_cost_growth", "performance_hardcases",
-                 "performance_reference_speed"):
+    for rule in (
+        "performance_work_precision",
+        "performance_cost_growth",
+        "performance_hardcases",
+        "performance_reference_speed",
+    ):
         fields, block = jobs[rule]
         assert fields.get("threads") is None, rule
     assert jobs["performance_compiled_speed"][0].get("threads") == "2"
@@ -68,8 +107,9 @@ def test_timed_rules_take_one_core_but_the_map_benchmark_both_and_one_blas_threa
         assert "OPENBLAS_NUM_THREADS=1" in block, rule
     for script in ("work_precision", "cost_growth", "hardcases"):
         text = (ROOT / "workflow" / "scripts" / f"{script}.py").read_text()
-        assert text.index('os.environ[_var] = "1"') < text.index("import numpy" if "import numpy" in text else
-                                                                     "from impactdamper")
+        assert text.index('os.environ[_var] = "1"') < text.index(
+            "import numpy" if "import numpy" in text else "from impactdamper"
+        )
 
 
 def test_figure_rules_list_the_style(jobs):
@@ -106,6 +146,9 @@ def test_compiled_speed_words_agree_with_the_benchmark(tmp_path):
     assert c["first_speedup"]["met"] == word[cs["first_10_impacts"]["met"]]
     first_map = cs["maps"].get("200x200") or next(iter(cs["maps"].values()))
     assert c["map_wall"]["met"] == ({True: "met", False: "not met", None: "---"}[first_map["met"]])
-    body = [re.sub(r"\\[A-Za-z]+|DOP853", "", ln) for ln in compiled_table(c).splitlines()
-            if "&" in ln and not ln.startswith("Measure")]
+    body = [
+        re.sub(r"\\[A-Za-z]+|DOP853", "", ln)
+        for ln in compiled_table(c).splitlines()
+        if "&" in ln and not ln.startswith("Measure")
+    ]
     assert body and not any(ch.isdigit() for ln in body for ch in ln), body  # numbers only through macros

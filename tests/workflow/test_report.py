@@ -21,8 +21,14 @@ def build(tmp: Path) -> tuple[Path, str]:
     shutil.copytree(ROOT / "paper", tmp / "paper", ignore=shutil.ignore_patterns("build", "report.pdf"))
     shutil.copytree(ROOT / "figures", tmp / "figures")
     env = dict(os.environ, SOURCE_DATE_EPOCH="0", FORCE_SOURCE_DATE="1")
-    run = subprocess.run(["latexmk", "-r", "latexmkrc", "-outdir=build", "report.tex"], cwd=tmp / "paper",
-                         env=env, capture_output=True, text=True, timeout=600)
+    run = subprocess.run(
+        ["latexmk", "-r", "latexmkrc", "-outdir=build", "report.tex"],
+        cwd=tmp / "paper",
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     log = (tmp / "paper" / "build" / "report.log").read_text(errors="replace")
     assert run.returncode == 0, run.stdout[-3000:] + log[-3000:]
     return tmp / "paper" / "build" / "report.pdf", log
@@ -32,8 +38,9 @@ def build(tmp: Path) -> tuple[Path, str]:
 def test_report_builds_cleanly_and_deterministically(tmp_path):
     pdf, log = build(tmp_path / "a")
     assert not re.search(r"^! ", log, flags=re.M), "LaTeX error"
-    assert "undefined" not in log.lower().replace("undefined control", ""), \
-        [line for line in log.splitlines() if "undefined" in line.lower()][:5]
+    assert "undefined" not in log.lower().replace("undefined control", ""), [
+        line for line in log.splitlines() if "undefined" in line.lower()
+    ][:5]
     assert "Overfull" not in log, [line for line in log.splitlines() if "Overfull" in line][:5]
     assert_floats_numbered_in_citation_order(pdf.parent / "report.aux")
     pdf2, _ = build(tmp_path / "b")
@@ -52,22 +59,35 @@ PROJECT_WORDS = re.compile(r"\b(targets?|met)\b", re.IGNORECASE)
 # \texttt{} holding an underscore is one, unless it is a path (a slash or a dot) or a public
 # name of another package that the text cites (SciPy's solve_ivp).
 ALLOWED_CODE_NAMES = {"solve_ivp"}
-CODE_NAMES = ("regime_map_batch", "solve_point", "steady_state_hybrid", "compiled_warm_up",
-              "analytic_minus_located", "end_checks")
+CODE_NAMES = (
+    "regime_map_batch",
+    "solve_point",
+    "steady_state_hybrid",
+    "compiled_warm_up",
+    "analytic_minus_located",
+    "end_checks",
+)
 
 
 def report_sources() -> list[Path]:
     """The files whose text reaches the PDF: the frame, the sections, the generated inputs."""
-    return ([PAPER / "report.tex", PAPER / "references.tex"] + sorted((PAPER / "sections").glob("*.tex"))
-            + sorted((PAPER / "generated").glob("*.tex")))
+    return (
+        [PAPER / "report.tex", PAPER / "references.tex"]
+        + sorted((PAPER / "sections").glob("*.tex"))
+        + sorted((PAPER / "generated").glob("*.tex"))
+    )
 
 
 def running_text(tex: str) -> str:
     """The text a reader sees, roughly: comments, macro names and the arguments of commands that
     name files, labels or keys removed (a macro's name may say Target; its value may not)."""
     tex = re.sub(r"(?<!\\)%.*", "", tex)
-    tex = re.sub(r"\\(label|ref|eqref|cite|input|includegraphics|bibitem|newcommand|renewcommand|"
-                 r"providecommand|usepackage|documentclass|begin|end)(\[[^\]]*\])?\{[^}]*\}", " ", tex)
+    tex = re.sub(
+        r"\\(label|ref|eqref|cite|input|includegraphics|bibitem|newcommand|renewcommand|"
+        r"providecommand|usepackage|documentclass|begin|end)(\[[^\]]*\])?\{[^}]*\}",
+        " ",
+        tex,
+    )
     return re.sub(r"\\[A-Za-z]+", " ", tex)
 
 
@@ -91,7 +111,7 @@ def test_running_text_has_no_project_vocabulary():
         raw = path.read_text()
         text = running_text(raw)
         for m in PROJECT_WORDS.finditer(text):
-            hits.append(f"{path.relative_to(ROOT)}: ...{text[max(0, m.start() - 40):m.end() + 20]!r}...")
+            hits.append(f"{path.relative_to(ROOT)}: ...{text[max(0, m.start() - 40) : m.end() + 20]!r}...")
         hits += [f"{path.relative_to(ROOT)}: code name {n}" for n in code_names(raw)]
     assert not hits, "\n".join(hits)
 
@@ -102,7 +122,9 @@ def test_running_text_check_catches_the_words():
     assert PROJECT_WORDS.search(running_text(r"& \PerfCompiledMet{} & met \\"))
     assert not PROJECT_WORDS.search(running_text(r"\PerfSpeedupTarget{} times, criterion satisfied % met"))
     assert code_names(r"the driver \texttt{regime\_map\_batch} and the rule compiled\_warm\_up") == [
-        "regime_map_batch", "compiled_warm_up"]
+        "regime_map_batch",
+        "compiled_warm_up",
+    ]
     assert code_names(r"(\texttt{impactdamper.studies.optimum})") == ["impactdamper.studies.optimum"]
     assert code_names(r"\texttt{solve\_ivp} made \texttt{figures/sweep\_checks.json} % \texttt{end\_checks}") == []
 

@@ -77,9 +77,11 @@ def test_macro_file_renders_tex_and_text_from_one_record(tmp_path):
     m.add("Delta", latex.tex_time(2.5e-4))
     records.write_json(tmp_path / "r.json", m.record("test"), sort_keys=False)
     record = records.read_json(tmp_path / "r.json")
-    assert latex.render_macros(record) == ("% a comment\n\\newcommand{\\Alpha}{7.2 \\times 10^{-12}}\n"
-                                           "\\newcommand{\\Beta}{\\mbox{--}}\n\\newcommand{\\Gamma}{S $\\to$ c/1}\n"
-                                           "\\newcommand{\\Delta}{250\\,\\textmu s}\n")
+    assert latex.render_macros(record) == (
+        "% a comment\n\\newcommand{\\Alpha}{7.2 \\times 10^{-12}}\n"
+        "\\newcommand{\\Beta}{\\mbox{--}}\n\\newcommand{\\Gamma}{S $\\to$ c/1}\n"
+        "\\newcommand{\\Delta}{250\\,\\textmu s}\n"
+    )
     assert m.tex() == latex.render_macros(record)
     assert latex.macro_texts(record) == {"Alpha": "7.2e-12", "Beta": "–", "Gamma": "S -> c/1", "Delta": "250 µs"}
 
@@ -131,7 +133,14 @@ def test_sweep_points_round_trip_through_npz(tmp_path):
 
 def test_regime_of_label():
     assert [gapsweep.regime_of_label(x) for x in ("stuck", "0/1", "np", "err", "1/1", "c/2", "3/2")] == [
-        "stuck", "no_contact", "nonperiodic", "failed", "single_impact", "chatter", "multi_impact"]
+        "stuck",
+        "no_contact",
+        "nonperiodic",
+        "failed",
+        "single_impact",
+        "chatter",
+        "multi_impact",
+    ]
     assert gapsweep.runs([1, 2, 3, 4], ["a", "a", "b", "a"]) == [("a", 1, 2, 2), ("b", 3, 3, 1), ("a", 4, 4, 1)]
 
 
@@ -140,8 +149,10 @@ def test_config_errors_name_the_argument():
 
     with pytest.raises(ValueError, match=r"`chunk` = 3 is not allowed: must be in \[0, 3\)"):
         chunk_indices(10, 3, 3)
-    assert json.dumps([list(chunk_indices(10, 3, i)) for i in range(3)], default=int) == \
-        "[[0, 1, 2, 3], [4, 5, 6], [7, 8, 9]]"
+    assert (
+        json.dumps([list(chunk_indices(10, 3, i)) for i in range(3)], default=int)
+        == "[[0, 1, 2, 3], [4, 5, 6], [7, 8, 9]]"
+    )
 
 
 # --- the transitions' second, numeric values against the closed form -------------------------------

@@ -19,8 +19,19 @@ ROOT = Path(__file__).resolve().parents[2]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 from helpers import LIBRARY, library_imports, library_parts, shipped_config  # noqa: E402 (the library's modules, what a script imports)
-REFERENCE_RULES = ("reference_case_stated", "reference_case_located", "gap_scan", "fig2a", "fig2b", "impact_table",
-                   "crosscheck_case", "other_readings", "fig_located_range", "verdict")
+
+REFERENCE_RULES = (
+    "reference_case_stated",
+    "reference_case_located",
+    "gap_scan",
+    "fig2a",
+    "fig2b",
+    "impact_table",
+    "crosscheck_case",
+    "other_readings",
+    "fig_located_range",
+    "verdict",
+)
 REFERENCE_TARGETS = (
     [f"figures/fig2{panel}_{case}.{ext}" for panel in "ab" for case in ("stated", "located") for ext in ("pdf", "png")]
     + [f"figures/impacts_{case}.csv" for case in ("stated", "located")]
@@ -163,8 +174,15 @@ def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_ru
         assert library_parts(listed) == library_parts(needed), (rule, library_parts(listed) - library_parts(needed))
         checked.add(rule)
     # Every stage's scripts were seen (the dry run covers the whole DAG).
-    assert {"verdict", "sweep_transitions", "orbit_report", "performance_hardcases", "readme_summary",
-            "notebook_gap_sweep", "fig_regime_map"} <= checked
+    assert {
+        "verdict",
+        "sweep_transitions",
+        "orbit_report",
+        "performance_hardcases",
+        "readme_summary",
+        "notebook_gap_sweep",
+        "fig_regime_map",
+    } <= checked
 
 
 @pytest.mark.slow
@@ -206,7 +224,9 @@ def test_scan_window_must_be_ordered(tmp_path):
 def test_config_override_on_the_command_line_is_typed():
     """Regression: Snakemake hands a nested --config dict's values over as strings, and the
     schema rejected the README's own example ("'1.1' is not of type 'number'")."""
-    case = "{theta: 1.1, mu: 0.08, N: 0.5, delta1: 0.05, delta2: 0.05, R: 0.7, gap: -7.0, omega: 10.0, x_st: 1.0, m1: 1.0}"
+    case = (
+        "{theta: 1.1, mu: 0.08, N: 0.5, delta1: 0.05, delta2: 0.05, R: 0.7, gap: -7.0, omega: 10.0, x_st: 1.0, m1: 1.0}"
+    )
     ok = snakemake("-n", "--config", f"reference={case}")
     assert ok.returncode == 0, ok.stdout + ok.stderr
     bad = snakemake("-n", "--config", "reference=" + case.replace("theta: 1.1", "theta: -1"))
@@ -221,12 +241,25 @@ def _config_helpers() -> dict:
     import ast
     from types import SimpleNamespace
 
-    wanted = {"yaml_scalars", "_config_schema", "_schema_node", "check_config", "_config_unknown_or_not_finite",
-              "_config_disordered", "CONFIG_ORDER", "_with_defaults", "_yaml11_only", "DECIMAL"}
+    wanted = {
+        "yaml_scalars",
+        "_config_schema",
+        "_schema_node",
+        "check_config",
+        "_config_unknown_or_not_finite",
+        "_config_disordered",
+        "CONFIG_ORDER",
+        "_with_defaults",
+        "_yaml11_only",
+        "DECIMAL",
+    }
     tree = ast.parse((ROOT / "workflow" / "rules" / "common.smk").read_text())
-    nodes = [n for n in tree.body
-             if (isinstance(n, ast.FunctionDef) and n.name in wanted)
-             or (isinstance(n, ast.Assign) and any(getattr(t, "id", None) in wanted for t in n.targets))]
+    nodes = [
+        n
+        for n in tree.body
+        if (isinstance(n, ast.FunctionDef) and n.name in wanted)
+        or (isinstance(n, ast.Assign) and any(getattr(t, "id", None) in wanted for t in n.targets))
+    ]
     namespace = {"yaml": yaml, "Path": Path, "workflow": SimpleNamespace(basedir=str(ROOT))}
     exec(compile(ast.Module(body=nodes, type_ignores=[]), "workflow/rules/common.smk", "exec"), namespace)
     return namespace
@@ -253,26 +286,51 @@ def test_check_config_accepts_the_shipped_configs(name):
     assert CONFIG["check_config"](config) is config
 
 
-@pytest.mark.parametrize(("path", "value", "message"), [
-    (("refrence",), {"theta": 5}, "['refrence'] is not a config key: did you mean 'reference'?"),
-    (("verdict", "gap_stepp"), 0.1, "['verdict']['gap_stepp'] is not a config key: did you mean 'gap_step'?"),
-    (("maps", "theta", "gap_strat"), 1.0, "['maps']['theta']['gap_strat'] is not a config key: did you mean 'gap_start'?"),
-    (("orbits", "branches", 0, "gap_mx"), 1.0,
-     "['orbits']['branches'][0]['gap_mx'] is not a config key: did you mean 'gap_max'?"),
-    (("zzz",), 1, "['zzz'] is not a config key: allowed are reference, solver"),
-    (("reference", "gap"), math.nan, "['reference']['gap']: nan is not allowed: must be a finite number"),
-    (("reference", "theta"), math.inf, "['reference']['theta']: inf is not allowed: must be a finite number"),
-    (("performance", "growth_gaps"), [-5.8, -math.inf], "['performance']['growth_gaps'][1]: -inf is not allowed"),
-    (("reference", "R"), 1.5, "['reference']['R']: 1.5 is greater than the maximum of 1"),
-    (("solver", "max_periods"), "many", "['solver']['max_periods']: 'many' is not of type 'integer'"),
-    (("verdict", "gap_min"), 50.0, "['verdict']: gap_min = 50.0 is not allowed: must be < gap_max = "),
-    (("sweep", "start"), 20.0, "['sweep']: start = 20.0 is not allowed: must be < stop = 14.0"),
-    (("maps", "damping", "gap_start"), 40.0, "['maps']['damping']: gap_start = 40.0 is not allowed: must be < gap_stop"),
-    (("orbits", "continuation", "min_step"), 1.0,
-     "['orbits']['continuation']: min_step = 1.0 is not allowed: must be <= step"),
-    (("orbits", "branches", 0, "gap"), 50.0, "['orbits']['branches'][0]: gap = 50.0 is not allowed: must be <= gap_max"),
-    (("sweep", "max_periods_after_nonperiodic"), 10**6, "['sweep']: max_periods_after_nonperiodic = 1000000 is not allowed"),
-])
+@pytest.mark.parametrize(
+    ("path", "value", "message"),
+    [
+        (("refrence",), {"theta": 5}, "['refrence'] is not a config key: did you mean 'reference'?"),
+        (("verdict", "gap_stepp"), 0.1, "['verdict']['gap_stepp'] is not a config key: did you mean 'gap_step'?"),
+        (
+            ("maps", "theta", "gap_strat"),
+            1.0,
+            "['maps']['theta']['gap_strat'] is not a config key: did you mean 'gap_start'?",
+        ),
+        (
+            ("orbits", "branches", 0, "gap_mx"),
+            1.0,
+            "['orbits']['branches'][0]['gap_mx'] is not a config key: did you mean 'gap_max'?",
+        ),
+        (("zzz",), 1, "['zzz'] is not a config key: allowed are reference, solver"),
+        (("reference", "gap"), math.nan, "['reference']['gap']: nan is not allowed: must be a finite number"),
+        (("reference", "theta"), math.inf, "['reference']['theta']: inf is not allowed: must be a finite number"),
+        (("performance", "growth_gaps"), [-5.8, -math.inf], "['performance']['growth_gaps'][1]: -inf is not allowed"),
+        (("reference", "R"), 1.5, "['reference']['R']: 1.5 is greater than the maximum of 1"),
+        (("solver", "max_periods"), "many", "['solver']['max_periods']: 'many' is not of type 'integer'"),
+        (("verdict", "gap_min"), 50.0, "['verdict']: gap_min = 50.0 is not allowed: must be < gap_max = "),
+        (("sweep", "start"), 20.0, "['sweep']: start = 20.0 is not allowed: must be < stop = 14.0"),
+        (
+            ("maps", "damping", "gap_start"),
+            40.0,
+            "['maps']['damping']: gap_start = 40.0 is not allowed: must be < gap_stop",
+        ),
+        (
+            ("orbits", "continuation", "min_step"),
+            1.0,
+            "['orbits']['continuation']: min_step = 1.0 is not allowed: must be <= step",
+        ),
+        (
+            ("orbits", "branches", 0, "gap"),
+            50.0,
+            "['orbits']['branches'][0]: gap = 50.0 is not allowed: must be <= gap_max",
+        ),
+        (
+            ("sweep", "max_periods_after_nonperiodic"),
+            10**6,
+            "['sweep']: max_periods_after_nonperiodic = 1000000 is not allowed",
+        ),
+    ],
+)
 def test_check_config_names_the_key_in_one_short_line(path, value, message):
     from snakemake.exceptions import WorkflowError
 
@@ -283,13 +341,20 @@ def test_check_config_names_the_key_in_one_short_line(path, value, message):
     assert "\n" not in text and len(text) < 300
 
 
-@pytest.mark.parametrize(("text", "path", "value"), [
-    ("1e-12", ("solver", "gap_tol"), 1e-12), ("1E12", ("verdict", "ivp_atol"), 1e12),
-    ("-1e-9", ("reference", "gap"), -1e-9), ("4e3", ("solver", "max_periods"), 4000),
-    ("1_000", ("solver", "max_periods"), 1000),
-    ("'yes'", ("orbits", "cases", 0, "name"), "yes"), ("yes", ("orbits", "cases", 0, "name"), "yes"),
-    (".5", ("reference", "R"), 0.5), ("true", ("verdict", "ivp_method"), "true"),
-])
+@pytest.mark.parametrize(
+    ("text", "path", "value"),
+    [
+        ("1e-12", ("solver", "gap_tol"), 1e-12),
+        ("1E12", ("verdict", "ivp_atol"), 1e12),
+        ("-1e-9", ("reference", "gap"), -1e-9),
+        ("4e3", ("solver", "max_periods"), 4000),
+        ("1_000", ("solver", "max_periods"), 1000),
+        ("'yes'", ("orbits", "cases", 0, "name"), "yes"),
+        ("yes", ("orbits", "cases", 0, "name"), "yes"),
+        (".5", ("reference", "R"), 0.5),
+        ("true", ("verdict", "ivp_method"), "true"),
+    ],
+)
 def test_numbers_in_any_yaml_form_and_strings_stay_strings(text, path, value):
     """A value as the YAML file or Snakemake's --config hands it over (a string for a float
     without a dot, and for every nested --config value) is read as the schema's type."""
@@ -303,13 +368,18 @@ def test_numbers_in_any_yaml_form_and_strings_stay_strings(text, path, value):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(("args", "message"), [
-    (("--config", "refrence={theta: 5}"), "['refrence'] is not a config key: did you mean 'reference'?"),
-    (("--config", "reference={gap: .nan}"), "['reference']['gap']: nan is not allowed: must be a finite number"),
-    (("--config", "sweep={start: 14, stop: -34}"), "['sweep']: start = 14 is not allowed: must be < stop = -34"),
-    (("--config", "design={theta_start: 2.0}"),
-     "['design']: theta_start = 2.0 is not allowed: must be < theta_stop = 1.5"),
-])
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("--config", "refrence={theta: 5}"), "['refrence'] is not a config key: did you mean 'reference'?"),
+        (("--config", "reference={gap: .nan}"), "['reference']['gap']: nan is not allowed: must be a finite number"),
+        (("--config", "sweep={start: 14, stop: -34}"), "['sweep']: start = 14 is not allowed: must be < stop = -34"),
+        (
+            ("--config", "design={theta_start: 2.0}"),
+            "['design']: theta_start = 2.0 is not allowed: must be < theta_stop = 1.5",
+        ),
+    ],
+)
 def test_snakemake_stops_on_a_typo_nan_or_reversed_range_in_a_short_message(args, message):
     out = snakemake("-n", *args)
     text = out.stdout + out.stderr
@@ -321,8 +391,10 @@ def test_snakemake_stops_on_a_typo_nan_or_reversed_range_in_a_short_message(args
 def test_snakemake_reads_numbers_in_any_yaml_form(tmp_path):
     """1e-12 without a dot (YAML 1.1 reads it as a string) in a config file and in --config, and
     a quoted 'yes' where a string is expected, are accepted (were "not of type 'number'"/True)."""
-    override = ("solver:\n  gap_tol: 1e-12\n  chatter_tol: 1e-9\n  max_periods: 4e3\n"
-                "orbits:\n  cases:\n    - {name: 'yes', gap: -1e1}\n")
+    override = (
+        "solver:\n  gap_tol: 1e-12\n  chatter_tol: 1e-9\n  max_periods: 4e3\n"
+        "orbits:\n  cases:\n    - {name: 'yes', gap: -1e1}\n"
+    )
     out = dry_run_with(tmp_path, override, "reference")
     assert out.returncode == 0, out.stdout + out.stderr
     ok = snakemake("-n", "reference", "--config", "verdict={ivp_atol: 1e-10, ivp_rtol: 1e-10}")
@@ -330,26 +402,35 @@ def test_snakemake_reads_numbers_in_any_yaml_form(tmp_path):
 
 
 # --- values read as written, limits refused at validation -----------------------------------
-@pytest.mark.parametrize(("config", "message"), [
-    # YAML 1.1 forms that --config's values were read in (gap 8, theta 90, gap 16, rescue True)
-    ("reference={gap: 010}", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
-    ("reference={theta: 1:30}", "['reference']['theta']: 1:30 is not allowed: YAML 1.1 reads it as 90"),
-    ("reference={gap: 0x10}", "['reference']['gap']: 0x10 is not allowed: YAML 1.1 reads it as 16"),
-    ("maps={rescue: on}", "['maps']['rescue']: on is not allowed: YAML 1.1 reads it as True"),
-    # documented limits that passed validation and failed only in the job
-    ("reference={mu: 1e-320}", "['reference']: `mu` = 1e-320 is not allowed with the other parameters"),
-    ("design={second: R, second_values: [0.5, 1.2]}", "['design']['second_values']: `R` = 1.2 is not allowed"),
-    ("claims_search={parameters: {R: {start: 0.5, stop: 1.5, points: 3, alg1_points: 3}}}",
-     "['claims_search']['parameters']['R']['stop']: `R` = 1.5 is not allowed"),
-    ("claims_search={parameters: {theta: {start: 0, stop: 2, points: 3, alg1_points: 3}}}",
-     "['claims_search']['parameters']['theta']['start']: `theta` = 0.0 is not allowed: must be > 0"),
-    ("claims_search={map: {x: R, x_stop: 1.2}}", "['claims_search']['map']['x_stop']: `R` = 1.2 is not allowed"),
-    # chunk counts: bounded, and never above the rows they split (a dry run spun on 100000)
-    ("maps={chunks: 100000}", "['maps']['chunks']: 100000 is greater than the maximum of 1000"),
-    ("maps={chunks: 500}", "['maps']['chunks']: 500 is not allowed: must be at most 400"),
-    ("claims_search={map: {y_points: 5, chunks: 6}}", "['claims_search']['map']['chunks']: 6 is not allowed: "
-                                                     "must be at most 5"),
-])
+@pytest.mark.parametrize(
+    ("config", "message"),
+    [
+        # YAML 1.1 forms that --config's values were read in (gap 8, theta 90, gap 16, rescue True)
+        ("reference={gap: 010}", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
+        ("reference={theta: 1:30}", "['reference']['theta']: 1:30 is not allowed: YAML 1.1 reads it as 90"),
+        ("reference={gap: 0x10}", "['reference']['gap']: 0x10 is not allowed: YAML 1.1 reads it as 16"),
+        ("maps={rescue: on}", "['maps']['rescue']: on is not allowed: YAML 1.1 reads it as True"),
+        # documented limits that passed validation and failed only in the job
+        ("reference={mu: 1e-320}", "['reference']: `mu` = 1e-320 is not allowed with the other parameters"),
+        ("design={second: R, second_values: [0.5, 1.2]}", "['design']['second_values']: `R` = 1.2 is not allowed"),
+        (
+            "claims_search={parameters: {R: {start: 0.5, stop: 1.5, points: 3, alg1_points: 3}}}",
+            "['claims_search']['parameters']['R']['stop']: `R` = 1.5 is not allowed",
+        ),
+        (
+            "claims_search={parameters: {theta: {start: 0, stop: 2, points: 3, alg1_points: 3}}}",
+            "['claims_search']['parameters']['theta']['start']: `theta` = 0.0 is not allowed: must be > 0",
+        ),
+        ("claims_search={map: {x: R, x_stop: 1.2}}", "['claims_search']['map']['x_stop']: `R` = 1.2 is not allowed"),
+        # chunk counts: bounded, and never above the rows they split (a dry run spun on 100000)
+        ("maps={chunks: 100000}", "['maps']['chunks']: 100000 is greater than the maximum of 1000"),
+        ("maps={chunks: 500}", "['maps']['chunks']: 500 is not allowed: must be at most 400"),
+        (
+            "claims_search={map: {y_points: 5, chunks: 6}}",
+            "['claims_search']['map']['chunks']: 6 is not allowed: must be at most 5",
+        ),
+    ],
+)
 def test_snakemake_stops_on_a_yaml11_number_or_a_limit_the_job_would_refuse(config, message):
     out = snakemake("-n", "reference", "--config", config)
     text = out.stdout + out.stderr
@@ -358,11 +439,14 @@ def test_snakemake_stops_on_a_yaml11_number_or_a_limit_the_job_would_refuse(conf
     assert line.startswith("Error validating config file") and len(text.splitlines()) < 10, text
 
 
-@pytest.mark.parametrize(("override", "message"), [
-    ("reference:\n  gap: -5.0\n  gap: -6.0\n", "['reference']['gap'] is given twice"),
-    ("reference:\n  gap: 010\n", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
-    ("maps:\n  rescue: yes\n", "['maps']['rescue']: yes is not allowed: YAML 1.1 reads it as True"),
-])
+@pytest.mark.parametrize(
+    ("override", "message"),
+    [
+        ("reference:\n  gap: -5.0\n  gap: -6.0\n", "['reference']['gap'] is given twice"),
+        ("reference:\n  gap: 010\n", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
+        ("maps:\n  rescue: yes\n", "['maps']['rescue']: yes is not allowed: YAML 1.1 reads it as True"),
+    ],
+)
 def test_snakemake_stops_on_a_repeated_key_or_yaml11_value_in_a_config_file(tmp_path, override, message):
     out = dry_run_with(tmp_path, override, "reference")
     text = out.stdout + out.stderr

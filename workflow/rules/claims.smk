@@ -14,16 +14,16 @@ rule claims_parameter:
         library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
     output:
         json="results/claims/{parameter}.json",
+    log:
+        "logs/claims/{parameter}.log",
     wildcard_constraints:
         parameter="|".join(CLAIMS_PARAMETERS),
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         search=parameters_json("claims_search"),
-    log:
-        "logs/claims/{parameter}.log",
-    conda:
-        ENV
     script:
         "../scripts/claims_parameter.py"
 
@@ -38,14 +38,14 @@ rule claims_by_parameter:
         json="figures/claims_by_parameter_settings.json",
         grid="figures/claims_by_parameter_grid.csv",
         tex="paper/generated/claims_table.tex",
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        search=parameters_json("claims_search"),
     log:
         "logs/claims/claims_by_parameter.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        search=parameters_json("claims_search"),
     script:
         "../scripts/claims_gather.py"
 
@@ -56,16 +56,16 @@ rule claims_map_chunk:
         library=library(study("claims", "config"), REPORTING),
     output:
         csv="results/claims/map_{chunk}.csv",
+    log:
+        "logs/claims/map_{chunk}.log",
     wildcard_constraints:
         chunk=r"\d+",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         search=parameters_json("claims_search"),
-    log:
-        "logs/claims/map_{chunk}.log",
-    conda:
-        ENV
     script:
         "../scripts/claims_map_chunk.py"
 
@@ -78,14 +78,14 @@ rule claims_map:
     output:
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        search=parameters_json("claims_search"),
     log:
         "logs/claims/claims_map.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        search=parameters_json("claims_search"),
     script:
         "../scripts/claims_map_gather.py"
 
@@ -99,17 +99,17 @@ rule claims_pair_map_chunk:
         library=library(study("claims", "config"), REPORTING),
     output:
         csv="results/claims/map_{name}_{chunk}.csv",
+    log:
+        "logs/claims/map_{name}_{chunk}.log",
     wildcard_constraints:
         name="|".join(CLAIMS_PAIR_MAPS),
         chunk=r"\d+",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         search=parameters_json("claims_search"),
-    log:
-        "logs/claims/map_{name}_{chunk}.log",
-    conda:
-        ENV
     script:
         "../scripts/claims_map_chunk.py"
 
@@ -122,16 +122,16 @@ rule claims_pair_map:
     output:
         csv="figures/claims_map_{name}.csv",
         json="figures/claims_map_{name}_settings.json",
+    log:
+        "logs/claims/claims_map_{name}.log",
     wildcard_constraints:
         name="|".join(CLAIMS_PAIR_MAPS),
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         search=parameters_json("claims_search"),
-    log:
-        "logs/claims/claims_map_{name}.log",
-    conda:
-        ENV
     script:
         "../scripts/claims_map_gather.py"
 
@@ -142,7 +142,8 @@ rule fig_claims_maps:
         library=library(REPORTING),
         style=STYLE,
         csv=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
-        json=["figures/claims_map_settings.json"] + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
+        json=["figures/claims_map_settings.json"]
+        + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
     output:
         pdf="figures/claims_maps.pdf",
         png="figures/claims_maps.png",
@@ -211,15 +212,15 @@ rule claims_nearest:
     output:
         json="figures/claims_nearest.json",
         timing="results/benchmarks/claims_nearest_timing.json",
+    log:
+        "logs/claims/claims_nearest.log",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         verdict=parameters_json("verdict"),
         search=parameters_json("claims_search"),
-    log:
-        "logs/claims/claims_nearest.log",
-    conda:
-        ENV
     script:
         "../scripts/claims_nearest.py"
 
@@ -238,12 +239,12 @@ rule claims_macros:
     output:
         record="results/report/claims.json",
         tex="paper/generated/claims_macros.tex",
-    params:
-        pair_maps=CLAIMS_PAIR_MAPS,
     log:
         "logs/claims/claims_macros.log",
     conda:
         ENV
+    params:
+        pair_maps=CLAIMS_PAIR_MAPS,
     script:
         "../scripts/claims_macros.py"
 

@@ -12,6 +12,7 @@ import yaml
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
+
 # Jobs run in the environment that runs Snakemake (tools/setup.sh's .venv/): its bin/ goes first
 # on PATH for shell commands (jupytext, python), and its Jupyter kernels first on JUPYTER_PATH,
 # so that `.venv/bin/snakemake` works without activating the venv.
@@ -20,8 +21,12 @@ def prepend_to_search_path(name, directory):
     os.environ[name] = os.pathsep.join(p for p in [str(directory), os.environ.get(name, "")] if p)
 
 
-for _name, _directory in (("PATH", Path(sys.executable).parent), ("JUPYTER_PATH", Path(sys.prefix) / "share" / "jupyter")):
+for _name, _directory in (
+    ("PATH", Path(sys.executable).parent),
+    ("JUPYTER_PATH", Path(sys.prefix) / "share" / "jupyter"),
+):
     prepend_to_search_path(_name, _directory)
+
 
 # The library's source, part by part: every rule lists as inputs the parts its script imports
 # (tests/helpers.py's library_imports follows the imports and tests/workflow checks every rule),
@@ -205,8 +210,7 @@ def check_config_files(paths):
         problem = _node_problem(root, ())
         if problem is not None:
             where, message = problem
-            raise WorkflowError(f"Error validating config file {path}: " + "".join(f"[{p!r}]" for p in where)
-                                + message)
+            raise WorkflowError(f"Error validating config file {path}: " + "".join(f"[{p!r}]" for p in where) + message)
 
 
 def _node_problem(node, path):
@@ -252,9 +256,16 @@ def _schema_node(schema, root):
 # a range (a reversed sweep or scan window used to fail only at run time), the continuation's
 # steps, and a branch's seed within its bounds.
 CONFIG_ORDER = [
-    ("start", "stop", True), ("theta_start", "theta_stop", True), ("gap_start", "gap_stop", True), ("x_start", "x_stop", True),
-    ("y_start", "y_stop", True), ("gap_min", "gap_max", True), ("gap_min", "gap", False),
-    ("gap", "gap_max", False), ("min_step", "step", False), ("step", "max_step", False),
+    ("start", "stop", True),
+    ("theta_start", "theta_stop", True),
+    ("gap_start", "gap_stop", True),
+    ("x_start", "x_stop", True),
+    ("y_start", "y_stop", True),
+    ("gap_min", "gap_max", True),
+    ("gap_min", "gap", False),
+    ("gap", "gap_max", False),
+    ("min_step", "step", False),
+    ("step", "max_step", False),
     ("max_periods_after_nonperiodic", "max_periods", False),
 ]
 

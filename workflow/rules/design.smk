@@ -13,13 +13,13 @@ rule design_baselines:
     output:
         csv="figures/design_baselines.csv",
         json="figures/design_baselines.json",
-    params:
-        reference=parameters_json("reference"),
-        design=parameters_json("design"),
     log:
         "logs/design/baselines.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        design=parameters_json("design"),
     script:
         "../scripts/design_baselines.py"
 
@@ -31,15 +31,15 @@ rule design_chart:
     output:
         csv="figures/design_chart.csv",
         json="figures/design_chart.json",
+    log:
+        "logs/design/chart.log",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
         design=parameters_json("design"),
-    log:
-        "logs/design/chart.log",
-    conda:
-        ENV
     script:
         "../scripts/design_chart.py"
 
@@ -51,15 +51,15 @@ rule design_chart_2d:
     output:
         csv="figures/design_chart_2d.csv",
         json="figures/design_chart_2d.json",
+    log:
+        "logs/design/chart_2d.log",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
         design=parameters_json("design"),
-    log:
-        "logs/design/chart_2d.log",
-    conda:
-        ENV
     script:
         "../scripts/design_chart_2d.py"
 
@@ -72,15 +72,15 @@ rule design_response:
     output:
         csv="figures/design_response.csv",
         json="figures/design_response.json",
+    log:
+        "logs/design/response.log",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
         design=parameters_json("design"),
-    log:
-        "logs/design/response.log",
-    conda:
-        ENV
     script:
         "../scripts/design_response.py"
 
@@ -93,15 +93,15 @@ rule design_optimum:
     output:
         json="figures/design_optimum.json",
         csv="figures/design_optimum.csv",
+    log:
+        "logs/design/optimum.log",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
         design=parameters_json("design"),
-    log:
-        "logs/design/optimum.log",
-    conda:
-        ENV
     script:
         "../scripts/design_optimum.py"
 

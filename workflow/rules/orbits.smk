@@ -15,14 +15,14 @@ rule orbit_branches:
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        orbits=parameters_json("orbits"),
     log:
         "logs/orbits/orbit_branches.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        orbits=parameters_json("orbits"),
     script:
         "../scripts/orbit_branches.py"
 
@@ -79,6 +79,6 @@ ALL_TARGETS.extend(ORBIT_TARGETS)
 
 # This stage alone: `snakemake --cores 1 orbits`.
 rule orbits:
-    localrule: True
     input:
         ORBIT_TARGETS,
+    localrule: True

@@ -18,13 +18,13 @@ rule performance_work_precision:
     output:
         json="results/benchmarks/work_precision.json",
         csv="figures/work_precision.csv",
-    params:
-        reference=parameters_json("reference"),
-        performance=parameters_json("performance"),
     log:
         "logs/performance/work_precision.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        performance=parameters_json("performance"),
     script:
         "../scripts/work_precision.py"
 
@@ -39,12 +39,12 @@ rule fig_work_precision:
     output:
         pdf="figures/work_precision.pdf",
         png="figures/work_precision.png",
-    params:
-        performance=parameters_json("performance"),
     log:
         "logs/performance/fig_work_precision.log",
     conda:
         ENV
+    params:
+        performance=parameters_json("performance"),
     script:
         "../scripts/fig_work_precision.py"
 
@@ -56,13 +56,13 @@ rule performance_cost_growth:
     output:
         json="results/benchmarks/cost_growth.json",
         csv="figures/cost_growth.csv",
-    params:
-        reference=parameters_json("reference"),
-        performance=parameters_json("performance"),
     log:
         "logs/performance/cost_growth.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        performance=parameters_json("performance"),
     script:
         "../scripts/cost_growth.py"
 
@@ -92,12 +92,12 @@ rule performance_hardcases:
         csv="figures/hardcases.csv",
         json="results/benchmarks/hardcases.json",
         tex="paper/generated/hardcases_table.tex",
-    params:
-        reference=parameters_json("reference"),
     log:
         "logs/performance/hardcases.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
     script:
         "../scripts/hardcases.py"
 
@@ -108,13 +108,13 @@ rule performance_reference_speed:
         library=library(BASELINES),
     output:
         "results/benchmarks/reference_speed.json",
-    params:
-        repeats=config["performance"]["reference_speed_repeats"],
-        ivp_repeats=config["performance"]["reference_speed_ivp_repeats"],
     log:
         "logs/performance/reference_speed.log",
     conda:
         ENV
+    params:
+        repeats=config["performance"]["reference_speed_repeats"],
+        ivp_repeats=config["performance"]["reference_speed_ivp_repeats"],
     shell:
         "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
         "python {input.script} {output} --repeats {params.repeats} --ivp-repeats {params.ivp_repeats} > {log} 2>&1"
@@ -149,6 +149,12 @@ rule performance_compiled_speed:
         library=library(BASELINES),
     output:
         "figures/compiled_speed.json",
+    log:
+        "logs/performance/compiled_speed.log",
+    priority: 1000
+    conda:
+        ENV
+    threads: 2
     params:
         repeats=config["performance"]["compiled_speed_repeats"],
         map_sizes=" ".join(str(n) for n in config["performance"]["compiled_speed_map_sizes"]),
@@ -156,12 +162,6 @@ rule performance_compiled_speed:
         batch_points=config["performance"]["compiled_speed_batch_points"],
         max_periods=config["maps"]["max_periods"],
         after_nonperiodic=config["maps"]["max_periods_after_nonperiodic"],
-    threads: 2
-    priority: 1000
-    log:
-        "logs/performance/compiled_speed.log",
-    conda:
-        ENV
     shell:
         "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
         "python {input.script} {output} --repeats {params.repeats} --map-sizes {params.map_sizes} --workers 2 "
@@ -186,12 +186,12 @@ rule performance_report:
         table="paper/generated/workprecision_table.tex",
         compiled_table="paper/generated/compiled_speed_table.tex",
         summary="results/benchmarks/performance_summary.json",
-    params:
-        performance=parameters_json("performance"),
     log:
         "logs/performance/performance_report.log",
     conda:
         ENV
+    params:
+        performance=parameters_json("performance"),
     script:
         "../scripts/performance_report.py"
 

@@ -16,14 +16,14 @@ rule reference_case_stated:
         json="figures/reference_stated.json",
         fig2a="figures/fig2a_stated.csv",
         fig2b="figures/fig2b_stated.csv",
-    params:
-        case="stated",
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
     log:
         "logs/reference/case_stated.log",
     conda:
         ENV
+    params:
+        case="stated",
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
     script:
         "../scripts/solve_case.py"
 
@@ -35,15 +35,15 @@ rule gap_scan:
     output:
         csv="figures/gap_scan.csv",
         json="figures/located_case.json",
+    log:
+        "logs/reference/gap_scan.log",
+    priority: 50
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         verdict=parameters_json("verdict"),
-    priority: 50
-    log:
-        "logs/reference/gap_scan.log",
-    conda:
-        ENV
     script:
         "../scripts/gap_scan.py"
 
@@ -57,14 +57,14 @@ rule reference_case_located:
         json="figures/reference_located.json",
         fig2a="figures/fig2a_located.csv",
         fig2b="figures/fig2b_located.csv",
-    params:
-        case="located",
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
     log:
         "logs/reference/case_located.log",
     conda:
         ENV
+    params:
+        case="located",
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
     script:
         "../scripts/solve_case.py"
 
@@ -79,10 +79,10 @@ rule fig2a:
     output:
         pdf="figures/fig2a_{case}.pdf",
         png="figures/fig2a_{case}.png",
-    wildcard_constraints:
-        case="stated|located",
     log:
         "logs/reference/fig2a_{case}.log",
+    wildcard_constraints:
+        case="stated|located",
     conda:
         ENV
     script:
@@ -99,10 +99,10 @@ rule fig2b:
     output:
         pdf="figures/fig2b_{case}.pdf",
         png="figures/fig2b_{case}.png",
-    wildcard_constraints:
-        case="stated|located",
     log:
         "logs/reference/fig2b_{case}.log",
+    wildcard_constraints:
+        case="stated|located",
     conda:
         ENV
     script:
@@ -117,10 +117,10 @@ rule impact_table:
     output:
         csv="figures/impacts_{case}.csv",
         tex="paper/generated/impacts_{case}.tex",
-    wildcard_constraints:
-        case="stated|located",
     log:
         "logs/reference/impact_table_{case}.log",
+    wildcard_constraints:
+        case="stated|located",
     conda:
         ENV
     script:
@@ -134,15 +134,15 @@ rule crosscheck_case:
         json="figures/reference_{case}.json",
     output:
         json="figures/crosscheck_{case}.json",
+    log:
+        "logs/reference/crosscheck_{case}.log",
     wildcard_constraints:
         case="stated|located",
+    conda:
+        ENV
     params:
         solver=parameters_json("solver"),
         verdict=parameters_json("verdict"),
-    log:
-        "logs/reference/crosscheck_{case}.log",
-    conda:
-        ENV
     script:
         "../scripts/crosscheck_case.py"
 
@@ -154,14 +154,14 @@ rule other_readings:
     output:
         csv="figures/other_readings.csv",
         json="figures/other_readings.json",
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        verdict=parameters_json("verdict"),
     log:
         "logs/reference/other_readings.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        verdict=parameters_json("verdict"),
     script:
         "../scripts/other_readings.py"
 
@@ -221,6 +221,6 @@ ALL_TARGETS.extend(REFERENCE_TARGETS)
 
 # This stage alone: `snakemake --cores 2 reference`.
 rule reference:
-    localrule: True
     input:
         REFERENCE_TARGETS,
+    localrule: True

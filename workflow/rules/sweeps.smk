@@ -37,16 +37,16 @@ rule sweep_gap:
         settings="figures/sweep_gap_settings.json",
         points="results/sweeps/sweep_points.npz",
         timing="results/benchmarks/sweep_timing.json",
+    log:
+        "logs/sweeps/sweep_gap.log",
+    priority: 50
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
         target_wall_s=config["performance"]["sweep_target_wall_s"],
-    priority: 50
-    log:
-        "logs/sweeps/sweep_gap.log",
-    conda:
-        ENV
     script:
         "../scripts/sweep_gap.py"
 
@@ -57,16 +57,16 @@ rule sweep_random_chunk:
         library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="results/sweeps/random_{chunk}.csv",
+    log:
+        "logs/sweeps/random_{chunk}.log",
     wildcard_constraints:
         chunk=r"\d+",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
-    log:
-        "logs/sweeps/random_{chunk}.log",
-    conda:
-        ENV
     script:
         "../scripts/sweep_random.py"
 
@@ -92,14 +92,14 @@ rule sweep_alg1:
         library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="figures/sweep_alg1.csv",
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        sweep=parameters_json("sweep"),
     log:
         "logs/sweeps/sweep_alg1.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
+        solver=parameters_json("solver"),
+        sweep=parameters_json("sweep"),
     script:
         "../scripts/sweep_alg1.py"
 
@@ -112,15 +112,15 @@ rule sweep_transitions:
     output:
         csv="figures/sweep_transitions.csv",
         json="figures/sweep_checks.json",
+    log:
+        "logs/sweeps/sweep_transitions.log",
+    priority: 50
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         sweep=parameters_json("sweep"),
-    priority: 50
-    log:
-        "logs/sweeps/sweep_transitions.log",
-    conda:
-        ENV
     script:
         "../scripts/sweep_transitions.py"
 
@@ -132,17 +132,17 @@ rule map_chunk:
     output:
         csv="results/maps/{map}/chunk_{chunk}.csv",
         json="results/maps/{map}/chunk_{chunk}.json",
+    log:
+        "logs/maps/{map}_chunk_{chunk}.log",
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
         chunk=r"\d+",
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         maps=parameters_json("maps"),
-    log:
-        "logs/maps/{map}_chunk_{chunk}.log",
-    conda:
-        ENV
     script:
         "../scripts/map_chunk.py"
 
@@ -157,16 +157,16 @@ rule map_gather:
         csv="figures/map_{map}.csv",
         settings="figures/map_{map}_settings.json",
         timing="results/benchmarks/map_{map}_timing.json",
-    wildcard_constraints:
-        map=SWEEP_MAP_PATTERN,
     log:
         "logs/maps/{map}_gather.log",
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         maps=parameters_json("maps"),
-    conda:
-        ENV
     script:
         "../scripts/map_gather.py"
 
@@ -177,15 +177,15 @@ rule map_curves:
         library=library(study("config", "gapsweep"), REPORTING),
     output:
         csv="figures/map_{map}_curves.csv",
+    log:
+        "logs/maps/{map}_curves.log",
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
+    conda:
+        ENV
     params:
         reference=parameters_json("reference"),
         maps=parameters_json("maps"),
-    log:
-        "logs/maps/{map}_curves.log",
-    conda:
-        ENV
     script:
         "../scripts/map_curves.py"
 
@@ -203,12 +203,12 @@ rule fig_sweep_bifurcation:
     output:
         pdf="figures/sweep_bifurcation.pdf",
         png="figures/sweep_bifurcation.png",
-    params:
-        stated_gap=config["reference"]["gap"],
     log:
         "logs/sweeps/fig_sweep_bifurcation.log",
     conda:
         ENV
+    params:
+        stated_gap=config["reference"]["gap"],
     script:
         "../scripts/fig_sweep_bifurcation.py"
 
@@ -241,12 +241,12 @@ rule fig_sweep_suppression:
     output:
         pdf="figures/sweep_suppression.pdf",
         png="figures/sweep_suppression.png",
-    params:
-        reference=parameters_json("reference"),
     log:
         "logs/sweeps/fig_sweep_suppression.log",
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
     script:
         "../scripts/fig_sweep_suppression.py"
 
@@ -262,14 +262,14 @@ rule fig_regime_map:
     output:
         pdf="figures/map_{map}.pdf",
         png="figures/map_{map}.png",
-    wildcard_constraints:
-        map=SWEEP_MAP_PATTERN,
-    params:
-        reference=parameters_json("reference"),
     log:
         "logs/maps/fig_map_{map}.log",
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
     conda:
         ENV
+    params:
+        reference=parameters_json("reference"),
     script:
         "../scripts/fig_regime_map.py"
 
@@ -314,9 +314,9 @@ SWEEP_TARGETS = (
 
 # This stage only: `snakemake --cores 2 sweeps`.
 rule sweeps:
-    localrule: True
     input:
         SWEEP_TARGETS,
+    localrule: True
 
 
 ALL_TARGETS.extend(SWEEP_TARGETS)

@@ -9,7 +9,6 @@ Snakemake job.
 Output: ``results/claims/map_{chunk}.csv`` or ``results/claims/map_{name}_{chunk}.csv``.
 """
 
-
 import numpy as np
 
 from impactdamper.reporting.records import start_stage, write_csv
@@ -20,26 +19,47 @@ COLUMNS = MAP_COLUMNS
 
 
 def axes(m: dict) -> tuple[np.ndarray, np.ndarray]:
-    return (np.linspace(float(m["x_start"]), float(m["x_stop"]), int(m["x_points"])),
-            np.linspace(float(m["y_start"]), float(m["y_stop"]), int(m["y_points"])))
+    return (
+        np.linspace(float(m["x_start"]), float(m["x_stop"]), int(m["x_points"])),
+        np.linspace(float(m["y_start"]), float(m["y_stop"]), int(m["y_points"])),
+    )
 
 
 def map_settings(m: dict, solver: dict):
     """The batch's settings of a map: the solver's, with the map's period cap."""
     cap = int(m["max_periods"])
-    return sweep_settings({"settle_tol": solver["settle_tol"], "max_periods": cap, "max_periods_after_nonperiodic": cap,
-                           "max_period_multiple": solver["max_period_multiple"]}, solver, continuation=False,
-                          rescue=False)
+    return sweep_settings(
+        {
+            "settle_tol": solver["settle_tol"],
+            "max_periods": cap,
+            "max_periods_after_nonperiodic": cap,
+            "max_period_multiple": solver["max_period_multiple"],
+        },
+        solver,
+        continuation=False,
+        rescue=False,
+    )
 
 
-def main(chunk: int, reference: dict, solver: dict, search: dict, out_csv, log=print, name: str | None = None) -> list[dict]:
+def main(
+    chunk: int, reference: dict, solver: dict, search: dict, out_csv, log=print, name: str | None = None
+) -> list[dict]:
     m = search["map"] if name is None else search["pair_maps"][name]
     xs, ys = axes(m)
     rows_y = np.array_split(np.arange(len(ys)), int(m["chunks"]))[chunk]
-    out = claims_map(parameters(reference), m["x"], xs, m["y"], ys[rows_y], gap_tol=float(solver["gap_tol"]),
-                     settings=map_settings(m, solver))
-    log(f"rows {rows_y[0] if len(rows_y) else '-'}..{rows_y[-1] if len(rows_y) else '-'} of {m['y']}: {len(out)} cells, "
-        f"both claims at {sum(r['both'] for r in out)}")
+    out = claims_map(
+        parameters(reference),
+        m["x"],
+        xs,
+        m["y"],
+        ys[rows_y],
+        gap_tol=float(solver["gap_tol"]),
+        settings=map_settings(m, solver),
+    )
+    log(
+        f"rows {rows_y[0] if len(rows_y) else '-'}..{rows_y[-1] if len(rows_y) else '-'} of {m['y']}: {len(out)} cells, "
+        f"both claims at {sum(r['both'] for r in out)}"
+    )
     write_csv(out_csv, COLUMNS, out)
     return out
 
@@ -49,5 +69,12 @@ if __name__ == "__main__":
     import sys
 
     cfg, _ = start_stage(sm)
-    main(int(sm.wildcards.chunk), cfg["reference"], cfg["solver"], cfg["search"], sm.output.csv,
-         log=lambda msg: print(msg, file=sys.stderr, flush=True), name=getattr(sm.wildcards, "name", None))
+    main(
+        int(sm.wildcards.chunk),
+        cfg["reference"],
+        cfg["solver"],
+        cfg["search"],
+        sm.output.csv,
+        log=lambda msg: print(msg, file=sys.stderr, flush=True),
+        name=getattr(sm.wildcards, "name", None),
+    )

@@ -22,17 +22,35 @@ def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, o
     base = parameters(reference)
     gap_tol = float(solver["gap_tol"])
     caps = {"settle_tol": solver["settle_tol"], "max_period_multiple": solver["max_period_multiple"]}
-    screen = sweep_settings({**caps, "max_periods": n["max_periods"], "max_periods_after_nonperiodic": n["max_periods"]},
-                            solver, continuation=False, rescue=False)
-    full = sweep_settings({**caps, "max_periods": solver["max_periods"],
-                           "max_periods_after_nonperiodic": solver["max_periods"]}, solver, continuation=False,
-                          rescue=False)
+    screen = sweep_settings(
+        {**caps, "max_periods": n["max_periods"], "max_periods_after_nonperiodic": n["max_periods"]},
+        solver,
+        continuation=False,
+        rescue=False,
+    )
+    full = sweep_settings(
+        {**caps, "max_periods": solver["max_periods"], "max_periods_after_nonperiodic": solver["max_periods"]},
+        solver,
+        continuation=False,
+        rescue=False,
+    )
     ev, check = ClaimsEvaluator(base, gap_tol, screen), ClaimsEvaluator(base, gap_tol, full)
     cpu = time.process_time()
-    joint = nearest_set(ev, check=check, rays=int(n["rays"]), seed=int(n["seed"]), ray_step=float(n["ray_step"]),
-                        ray_max=float(n["ray_max"]), ray_tol=float(n["ray_tol"]), margin=float(n["margin"]),
-                        starts=int(n["starts"]), compass_step=float(n["compass_step"]),
-                        compass_floor=float(n["compass_floor"]), ball_points=int(n["ball_points"]), log=log)
+    joint = nearest_set(
+        ev,
+        check=check,
+        rays=int(n["rays"]),
+        seed=int(n["seed"]),
+        ray_step=float(n["ray_step"]),
+        ray_max=float(n["ray_max"]),
+        ray_tol=float(n["ray_tol"]),
+        margin=float(n["margin"]),
+        starts=int(n["starts"]),
+        compass_step=float(n["compass_step"]),
+        compass_floor=float(n["compass_floor"]),
+        ball_points=int(n["ball_points"]),
+        log=log,
+    )
     search_cpu = time.process_time() - cpu
     ranges = {name: (float(r["start"]), float(r["stop"])) for name, r in search["parameters"].items()}
     ranges["gap"] = (float(verdict["gap_min"]), float(verdict["gap_max"]))
@@ -49,23 +67,30 @@ def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, o
     out = {
         "paper": rep.PAPER,
         "what": "the parameter set nearest to the stated one where both claims hold with a margin, searched in "
-                "all seven relative parameters at once; distance: relative changes u_i = x_i/x_i,stated - 1, "
-                "equally weighted (each a dimensionless ratio stated to one or two digits), in the max-norm and "
-                "the Euclidean norm; margin: both claims hold at the answer, its 14 axis points and random points "
-                "on the Euclidean ball of radius 'margin' around it (full solver settings)",
-        "names": list(NEAREST_NAMES), "stated": {k: float(getattr(base, k)) for k in NEAREST_NAMES},
+        "all seven relative parameters at once; distance: relative changes u_i = x_i/x_i,stated - 1, "
+        "equally weighted (each a dimensionless ratio stated to one or two digits), in the max-norm and "
+        "the Euclidean norm; margin: both claims hold at the answer, its 14 axis points and random points "
+        "on the Euclidean ball of radius 'margin' around it (full solver settings)",
+        "names": list(NEAREST_NAMES),
+        "stated": {k: float(getattr(base, k)) for k in NEAREST_NAMES},
         "settings": {**n, "solver_max_periods": int(solver["max_periods"])},
         "joint": joint,
-        "round_values": {"rule": "one significant digit of one parameter as the paper writes it replaced, or one "
-                                 "unit of its last digit up or down (1 -> 0.9); pairs only if no single change "
-                                 "reproduces; 'keeps_tuning_condition': theta = 1 and N = 0.5 unchanged, the "
-                                 "paper's 2 sqrt(c2/m2) = sqrt(c1/m1) = omega",
-                         **rounds},
+        "round_values": {
+            "rule": "one significant digit of one parameter as the paper writes it replaced, or one "
+            "unit of its last digit up or down (1 -> 0.9); pairs only if no single change "
+            "reproduces; 'keeps_tuning_condition': theta = 1 and N = 0.5 unchanged, the "
+            "paper's 2 sqrt(c2/m2) = sqrt(c1/m1) = omega",
+            **rounds,
+        },
     }
     write_json(out_json, out, sort_keys=False)
-    timing = {"what": "processor time of the nearest-set search and of its verifications, s",
-              "search": round(search_cpu, 1), "verification": round(verify_cpu, 1),
-              "points": joint.get("points"), "batch_points": joint.get("batch_points")}
+    timing = {
+        "what": "processor time of the nearest-set search and of its verifications, s",
+        "search": round(search_cpu, 1),
+        "verification": round(verify_cpu, 1),
+        "points": joint.get("points"),
+        "batch_points": joint.get("batch_points"),
+    }
     log(f"cpu: search {search_cpu:.1f} s, verification {verify_cpu:.1f} s")
     if out_timing is not None:
         write_json(out_timing, timing, sort_keys=False)
@@ -77,5 +102,12 @@ if __name__ == "__main__":
     import sys
 
     cfg, _ = start_stage(sm)
-    main(cfg["reference"], cfg["solver"], cfg["verdict"], cfg["search"], sm.output.json, sm.output.timing,
-         log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    main(
+        cfg["reference"],
+        cfg["solver"],
+        cfg["verdict"],
+        cfg["search"],
+        sm.output.json,
+        sm.output.timing,
+        log=lambda msg: print(msg, file=sys.stderr, flush=True),
+    )

@@ -38,17 +38,27 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
     alg1_values = np.linspace(lo, hi, int(rng["alg1_points"]))
     p = parameters(reference)
     t = time.perf_counter()
-    result = search_parameter(p, parameter, values, alg1_values, gap_tol=float(solver["gap_tol"]),
-                              steady_kwargs=rep.solver_options(solver), rel_tol=float(search["rel_tol"]),
-                              floor=float(search["floor"]), log=log,
-                              refine_floor=(hi - lo) / (int(rng["points"]) - 1) / 2 ** int(search["refine_levels"]),
-                              rescue=True)
+    result = search_parameter(
+        p,
+        parameter,
+        values,
+        alg1_values,
+        gap_tol=float(solver["gap_tol"]),
+        steady_kwargs=rep.solver_options(solver),
+        rel_tol=float(search["rel_tol"]),
+        floor=float(search["floor"]),
+        log=log,
+        refine_floor=(hi - lo) / (int(rng["points"]) - 1) / 2 ** int(search["refine_levels"]),
+        rescue=True,
+    )
     log(f"{parameter}: searched in {time.perf_counter() - t:.1f} s")
     t = time.perf_counter()
     every = int(search["reference_check_every"])
     check = reference_check(p, parameter, check_rows(result, every), rep.solver_options(solver))
-    log(f"{parameter}: the pure-Python solver agrees at {check['agree']} of {check['points']} values "
-        f"(every {every}th grid value and both ends of every final bracket), {time.perf_counter() - t:.1f} s")
+    log(
+        f"{parameter}: the pure-Python solver agrees at {check['agree']} of {check['points']} values "
+        f"(every {every}th grid value and both ends of every final bracket), {time.perf_counter() - t:.1f} s"
+    )
     result["reference_check"] = {"every": every, **check}
     result["intervals"] = {k: [iv.to_dict() for iv in v] for k, v in result["intervals"].items()}
     result["range"] = {"start": lo, "stop": hi, "points": int(rng["points"]), "alg1_points": int(rng["alg1_points"])}
@@ -61,5 +71,11 @@ if __name__ == "__main__":
     import sys
 
     cfg, _ = start_stage(sm)
-    main(sm.wildcards.parameter, cfg["reference"], cfg["solver"],
-         cfg["search"], sm.output.json, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    main(
+        sm.wildcards.parameter,
+        cfg["reference"],
+        cfg["solver"],
+        cfg["search"],
+        sm.output.json,
+        log=lambda msg: print(msg, file=sys.stderr, flush=True),
+    )

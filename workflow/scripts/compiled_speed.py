@@ -90,8 +90,15 @@ def timed(fn, repeats: int) -> dict:
         result = fn()
         cpu.append(time.process_time() - c)
         wall.append(time.perf_counter() - w)
-    return {"cpu_min_s": min(cpu), "cpu_median_s": statistics.median(cpu), "wall_min_s": min(wall),
-            "wall_median_s": statistics.median(wall), "repeats": repeats, "load_1min": load(), "result": result}
+    return {
+        "cpu_min_s": min(cpu),
+        "cpu_median_s": statistics.median(cpu),
+        "wall_min_s": min(wall),
+        "wall_median_s": statistics.median(wall),
+        "repeats": repeats,
+        "load_1min": load(),
+        "result": result,
+    }
 
 
 def strip(d: dict) -> dict:
@@ -104,8 +111,10 @@ def phase_error(phase: float, reference: float) -> float:
 
 def compile_times() -> dict:
     """Kernels compiled into an empty cache, then loaded from it, each in a fresh process."""
-    code = "import time; t = time.perf_counter(); from impactdamper.analysis.batch import warm_up; warm_up(); " \
-           "print(time.perf_counter() - t)"
+    code = (
+        "import time; t = time.perf_counter(); from impactdamper.analysis.batch import warm_up; warm_up(); "
+        "print(time.perf_counter() - t)"
+    )
     out = {}
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
@@ -126,13 +135,26 @@ def per_impact(p, long_periods: int, ivp_periods: int, repeats: int) -> dict:
     python = timed(lambda: idp.simulate(p, ivp_periods * p.T, backend="python"), max(1, repeats // 3))
     dop = timed(lambda: simulate_ivp(p, ivp_periods * p.T, method="DOP853", rtol=RTOL, atol=ATOL), 1)
     out = {
-        "compiled": {**strip(compiled), "periods": long_periods, "events": n_events, "impacts": impacts,
-                     "us_per_impact_min": 1e6 * compiled["cpu_min_s"] / impacts,
-                     "us_per_impact_median": 1e6 * compiled["cpu_median_s"] / impacts},
-        "python": {**strip(python), "periods": ivp_periods, "impacts": short_impacts,
-                   "us_per_impact_min": 1e6 * python["cpu_min_s"] / short_impacts},
-        "dop853": {**strip(dop), "periods": ivp_periods, "impacts": len(dop["result"].impacts()),
-                   "us_per_impact_min": 1e6 * dop["cpu_min_s"] / max(len(dop["result"].impacts()), 1)},
+        "compiled": {
+            **strip(compiled),
+            "periods": long_periods,
+            "events": n_events,
+            "impacts": impacts,
+            "us_per_impact_min": 1e6 * compiled["cpu_min_s"] / impacts,
+            "us_per_impact_median": 1e6 * compiled["cpu_median_s"] / impacts,
+        },
+        "python": {
+            **strip(python),
+            "periods": ivp_periods,
+            "impacts": short_impacts,
+            "us_per_impact_min": 1e6 * python["cpu_min_s"] / short_impacts,
+        },
+        "dop853": {
+            **strip(dop),
+            "periods": ivp_periods,
+            "impacts": len(dop["result"].impacts()),
+            "us_per_impact_min": 1e6 * dop["cpu_min_s"] / max(len(dop["result"].impacts()), 1),
+        },
     }
     out["target_us"] = TARGETS["us_per_impact"]
     out["met"] = out["compiled"]["us_per_impact_min"] <= TARGETS["us_per_impact"]
@@ -154,16 +176,31 @@ def steady(p, repeats: int) -> dict:
     pack = timed(lambda: cc.pack_parameters(p), repeats)
     err_alg1 = phase_error(s.impacts[0].phase, reference)
     err_python = phase_error(s.impacts[0].phase, sp.impacts[0].phase)
-    out = {"regime": s.regime, "periods": s.periods, "phase": s.impacts[0].phase,
-           "phase_alg1": reference, "phase_error_vs_alg1": err_alg1, "phase_error_vs_python": err_python,
-           "x1_max": s.x1_max, "x1_max_python": sp.x1_max, "simulated_periods": t_span / p.T,
-           "compiled": strip(compiled), "packing_only": strip(pack), "python": strip(python), "dop853": strip(dop)}
+    out = {
+        "regime": s.regime,
+        "periods": s.periods,
+        "phase": s.impacts[0].phase,
+        "phase_alg1": reference,
+        "phase_error_vs_alg1": err_alg1,
+        "phase_error_vs_python": err_python,
+        "x1_max": s.x1_max,
+        "x1_max_python": sp.x1_max,
+        "simulated_periods": t_span / p.T,
+        "compiled": strip(compiled),
+        "packing_only": strip(pack),
+        "python": strip(python),
+        "dop853": strip(dop),
+    }
     out["speedup_vs_dop853"] = dop["cpu_min_s"] / compiled["cpu_min_s"]
     out["speedup_vs_python"] = python["cpu_min_s"] / compiled["cpu_min_s"]
-    out["targets"] = {"time_s": TARGETS["steady_s"], "time_met": compiled["cpu_min_s"] <= TARGETS["steady_s"],
-                      "speedup": TARGETS["steady_speedup"],
-                      "speedup_met": out["speedup_vs_dop853"] >= TARGETS["steady_speedup"],
-                      "phase": TARGETS["phase"], "phase_met": max(err_alg1, err_python) <= TARGETS["phase"]}
+    out["targets"] = {
+        "time_s": TARGETS["steady_s"],
+        "time_met": compiled["cpu_min_s"] <= TARGETS["steady_s"],
+        "speedup": TARGETS["steady_speedup"],
+        "speedup_met": out["speedup_vs_dop853"] >= TARGETS["steady_speedup"],
+        "phase": TARGETS["phase"],
+        "phase_met": max(err_alg1, err_python) <= TARGETS["phase"],
+    }
     return out
 
 
@@ -173,11 +210,18 @@ def front_door(p, repeats: int, batch_points: int) -> dict:
     public = timed(lambda: idp.steady_state(p), repeats)
     python = timed(lambda: idp.steady_state(p, backend="python"), max(1, repeats // 10))
     s = public["result"]
-    out = {"steady_state": {"auto": strip(public), "python": strip(python), "backend": s.backend,
-                            "method": s.method, "fallback": s.fallback,
-                            "speedup_vs_python": python["wall_median_s"] / public["wall_median_s"],
-                            "target_s": TARGETS["public_steady_s"],
-                            "met": public["wall_median_s"] <= TARGETS["public_steady_s"]}}
+    out = {
+        "steady_state": {
+            "auto": strip(public),
+            "python": strip(python),
+            "backend": s.backend,
+            "method": s.method,
+            "fallback": s.fallback,
+            "speedup_vs_python": python["wall_median_s"] / public["wall_median_s"],
+            "target_s": TARGETS["public_steady_s"],
+            "met": public["wall_median_s"] <= TARGETS["public_steady_s"],
+        }
+    }
     # The batch: an n x n grid of (gap, theta), each point from Algorithm No. 2's step 1.
     n = max(2, int(round(math.sqrt(batch_points))))
     gg, tt = np.meshgrid(np.linspace(*BATCH_GAPS, n), np.linspace(*BATCH_THETAS, n))
@@ -193,30 +237,69 @@ def front_door(p, repeats: int, batch_points: int) -> dict:
     out_imp, section, tail = np.zeros((64 * settings.max_period_multiple, 5)), np.zeros(5), np.zeros((0, 5))
     c, w = time.process_time(), time.perf_counter()
     for pk, full in packed:
-        steady_kernel(pk.cm, pk.fm, pk.fc, pk.fk, pk.fg, pk.s, 0.0, full, True, settings.settle_tol,
-                      settings.max_periods, settings.max_period_multiple, cc.INITIAL_CAPACITY, out_imp, section, tail)
+        steady_kernel(
+            pk.cm,
+            pk.fm,
+            pk.fc,
+            pk.fk,
+            pk.fg,
+            pk.s,
+            0.0,
+            full,
+            True,
+            settings.settle_tol,
+            settings.max_periods,
+            settings.max_period_multiple,
+            cc.INITIAL_CAPACITY,
+            out_imp,
+            section,
+            tail,
+        )
     kernel_cpu, kernel_wall = time.process_time() - c, time.perf_counter() - w
-    out["batch"] = {"points": len(values), "grid": [n, n], "gaps": list(BATCH_GAPS), "thetas": list(BATCH_THETAS),
-                    "public_cpu_s": batch_cpu, "public_wall_s": batch_wall, "kernel_cpu_s": kernel_cpu,
-                    "kernel_wall_s": kernel_wall, "us_per_point_public": 1e6 * batch_cpu / len(values),
-                    "us_per_point_kernel": 1e6 * kernel_cpu / len(values), "ratio": batch_cpu / kernel_cpu,
-                    "kernel_points": len(packed), "fallbacks": res.fallbacks, "nonperiodic": int(np.sum(res.regime == "nonperiodic")),
-                    "target_ratio": TARGETS["batch_ratio"], "met": batch_cpu / kernel_cpu <= TARGETS["batch_ratio"],
-                    "load_1min": load()}
+    out["batch"] = {
+        "points": len(values),
+        "grid": [n, n],
+        "gaps": list(BATCH_GAPS),
+        "thetas": list(BATCH_THETAS),
+        "public_cpu_s": batch_cpu,
+        "public_wall_s": batch_wall,
+        "kernel_cpu_s": kernel_cpu,
+        "kernel_wall_s": kernel_wall,
+        "us_per_point_public": 1e6 * batch_cpu / len(values),
+        "us_per_point_kernel": 1e6 * kernel_cpu / len(values),
+        "ratio": batch_cpu / kernel_cpu,
+        "kernel_points": len(packed),
+        "fallbacks": res.fallbacks,
+        "nonperiodic": int(np.sum(res.regime == "nonperiodic")),
+        "target_ratio": TARGETS["batch_ratio"],
+        "met": batch_cpu / kernel_cpu <= TARGETS["batch_ratio"],
+        "load_1min": load(),
+    }
     # The command line, a fresh process each (the kernels from numba's warm cache).
     walls = []
     for _ in range(CLI_RUNS):
         w = time.perf_counter()
         subprocess.run([sys.executable, "-m", "impactdamper", "steady", "--json"], check=True, capture_output=True)
         walls.append(time.perf_counter() - w)
-    probe = ("import sys, time; t = time.perf_counter(); import impactdamper; "
-             "print(time.perf_counter() - t, 'numba' in sys.modules)")
-    imports = [subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True).stdout.split()
-               for _ in range(CLI_RUNS)]
-    out["cli"] = {"command": "python -m impactdamper steady --json", "runs": CLI_RUNS, "wall_min_s": min(walls),
-                  "wall_median_s": statistics.median(walls), "import_median_s": statistics.median(float(i[0]) for i in imports),
-                  "import_loads_numba": any(i[1] == "True" for i in imports), "target_s": TARGETS["cli_wall_s"],
-                  "met": statistics.median(walls) <= TARGETS["cli_wall_s"], "load_1min": load()}
+    probe = (
+        "import sys, time; t = time.perf_counter(); import impactdamper; "
+        "print(time.perf_counter() - t, 'numba' in sys.modules)"
+    )
+    imports = [
+        subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True).stdout.split()
+        for _ in range(CLI_RUNS)
+    ]
+    out["cli"] = {
+        "command": "python -m impactdamper steady --json",
+        "runs": CLI_RUNS,
+        "wall_min_s": min(walls),
+        "wall_median_s": statistics.median(walls),
+        "import_median_s": statistics.median(float(i[0]) for i in imports),
+        "import_loads_numba": any(i[1] == "True" for i in imports),
+        "target_s": TARGETS["cli_wall_s"],
+        "met": statistics.median(walls) <= TARGETS["cli_wall_s"],
+        "load_1min": load(),
+    }
     return out
 
 
@@ -232,12 +315,18 @@ def first_impacts(p, repeats: int, count: int = 10) -> dict:
     run, b = compiled["result"], python["result"]
     times = run.times[run.kinds == 0]
     dt = float(np.max(np.abs(times - np.array([e.t for e in b.impacts()])))) / p.T
-    out = {"impacts": count, "t_end_periods": t_end / p.T, "max_time_difference_vs_python_T": dt,
-           "compiled": strip(compiled), "compiled_packed_once": strip(solver),
-           "compiled_with_trajectory_objects": strip(objects), "python": strip(python),
-           "dop853": strip(dop),
-           "speedup_vs_dop853": dop["cpu_min_s"] / compiled["cpu_min_s"],
-           "speedup_vs_python": python["cpu_min_s"] / compiled["cpu_min_s"]}
+    out = {
+        "impacts": count,
+        "t_end_periods": t_end / p.T,
+        "max_time_difference_vs_python_T": dt,
+        "compiled": strip(compiled),
+        "compiled_packed_once": strip(solver),
+        "compiled_with_trajectory_objects": strip(objects),
+        "python": strip(python),
+        "dop853": strip(dop),
+        "speedup_vs_dop853": dop["cpu_min_s"] / compiled["cpu_min_s"],
+        "speedup_vs_python": python["cpu_min_s"] / compiled["cpu_min_s"],
+    }
     out["speedup_vs_dop853_packed_once"] = dop["cpu_min_s"] / solver["cpu_min_s"]
     out["target_speedup"] = TARGETS["first10_speedup"]
     out["met"] = out["speedup_vs_dop853"] >= TARGETS["first10_speedup"]
@@ -251,8 +340,16 @@ def _map_rows(args) -> tuple[list, float, float, int]:
     settings = SweepSettings(**MAP_SETTINGS, rescue=rescue)
     rows = regime_map_batch(idp.Parameters(), "gap", gaps, "theta", thetas, settings=settings)
     cpu, wall = time.process_time() - c, time.perf_counter() - w
-    out = [{"regime": r.regime_code.tolist(), "k": r.period_multiple.tolist(), "z": r.impacts_per_cycle.tolist(),
-            "periods": r.periods.tolist(), "fallback": sum(r.fallbacks.values())} for r in rows]
+    out = [
+        {
+            "regime": r.regime_code.tolist(),
+            "k": r.period_multiple.tolist(),
+            "z": r.impacts_per_cycle.tolist(),
+            "periods": r.periods.tolist(),
+            "fallback": sum(r.fallbacks.values()),
+        }
+        for r in rows
+    ]
     return out, cpu, wall, sum(o["fallback"] for o in out)
 
 
@@ -276,11 +373,27 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
     codes = np.array([row["regime"] for row in rows])
     periods = np.array([row["periods"] for row in rows])
     regimes = {name: int(np.sum(codes == i)) for i, name in enumerate(cc.REGIMES)}
-    return {"points": n * n, "grid": [n, n], "workers": workers, "rescue": rescue, "wall_min_s": min(walls),
-            "wall_median_s": statistics.median(walls), "cpu_total_min_s": min(cpus), "load_1min": load(),
-            "fallback_points": int(sum(r[3] for r in result)), "regimes": regimes,
-            "worker_cpu_s": worker_cpu, "worker_wall_s": worker_wall,
-            "simulated_periods": int(periods.sum()), "us_per_point": 1e6 * min(cpus) / (n * n)}, periods, gaps, thetas
+    return (
+        {
+            "points": n * n,
+            "grid": [n, n],
+            "workers": workers,
+            "rescue": rescue,
+            "wall_min_s": min(walls),
+            "wall_median_s": statistics.median(walls),
+            "cpu_total_min_s": min(cpus),
+            "load_1min": load(),
+            "fallback_points": int(sum(r[3] for r in result)),
+            "regimes": regimes,
+            "worker_cpu_s": worker_cpu,
+            "worker_wall_s": worker_wall,
+            "simulated_periods": int(periods.sum()),
+            "us_per_point": 1e6 * min(cpus) / (n * n),
+        },
+        periods,
+        gaps,
+        thetas,
+    )
 
 
 def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> dict:
@@ -304,14 +417,19 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> 
     row = n // 2
     settings = SweepSettings(**MAP_SETTINGS, continuation=True)
     c = time.process_time()
-    regime_map(idp.Parameters(), "gap", gaps, "theta", thetas[row:row + 1], settings=settings)
+    regime_map(idp.Parameters(), "gap", gaps, "theta", thetas[row : row + 1], settings=settings)
     py_row = time.process_time() - c
-    return {"dop853_sample_points": IVP_MAP_SAMPLE, "dop853_s_per_period": per_period,
-            "dop853_map_estimate_s": per_period * float(periods.sum()),
-            "python_row_cpu_s": py_row, "python_map_estimate_s": py_row * n, "load_1min": load(),
-            "note": "estimates: DOP853 per simulated period on a random sample of map points times the map's "
-                    "simulated periods; the pure-Python regime_map (with its accelerators) on the middle row times "
-                    "the number of rows"}
+    return {
+        "dop853_sample_points": IVP_MAP_SAMPLE,
+        "dop853_s_per_period": per_period,
+        "dop853_map_estimate_s": per_period * float(periods.sum()),
+        "python_row_cpu_s": py_row,
+        "python_map_estimate_s": py_row * n,
+        "load_1min": load(),
+        "note": "estimates: DOP853 per simulated period on a random sample of map points times the map's "
+        "simulated periods; the pure-Python regime_map (with its accelerators) on the middle row times "
+        "the number of rows",
+    }
 
 
 def run(args) -> dict:
@@ -331,8 +449,12 @@ def run(args) -> dict:
         # The same map with the batch's Newton rescue of the cells not settled within the cap
         # (impactdamper.steady_states' default): how many of them were slow transients.
         r, _, _, _ = regime_map_timing(n, args.workers, 1, rescue=True)
-        m["rescue_run"] = {"wall_s": r["wall_min_s"], "cpu_s": r["cpu_total_min_s"], "regimes": r["regimes"],
-                           "load_1min": r["load_1min"]}
+        m["rescue_run"] = {
+            "wall_s": r["wall_min_s"],
+            "cpu_s": r["cpu_total_min_s"],
+            "regimes": r["regimes"],
+            "load_1min": r["load_1min"],
+        }
         m["nonperiodic_share"] = m["regimes"].get("nonperiodic", 0) / m["points"]
         m["nonperiodic_share_rescued"] = r["regimes"].get("nonperiodic", 0) / m["points"]
         m["target_s"] = TARGETS["map_s"] if n == 200 else None
@@ -350,9 +472,14 @@ def run(args) -> dict:
         "(the free mode's eigen-decomposition by LAPACK's dgeev, numpy's eig bit for bit); 'compiled_packed_once' "
         "reuses the packed arrays, as a search over one parameter set would",
     ]
-    out["machine"] = {"python": platform.python_version(), "numpy": np.__version__,
-                      "numba": __import__("numba").__version__, "platform": platform.platform(),
-                      "cpu_count": os.cpu_count(), "load_1min_end": load()}
+    out["machine"] = {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": __import__("numba").__version__,
+        "platform": platform.platform(),
+        "cpu_count": os.cpu_count(),
+        "load_1min_end": load(),
+    }
     return out
 
 
@@ -390,21 +517,26 @@ def summary(out: dict) -> str:
         f"{fd['batch']['us_per_point_public']:.0f} us per point vs the kernels' {fd['batch']['us_per_point_kernel']:.0f} "
         f"us ({fd['batch']['ratio']:.2f}x; target <= {fd['batch']['target_ratio']}x: {yes[fd['batch']['met']]}); "
         f"CLI steady --json wall {fd['cli']['wall_median_s']:.2f} s median (import {fd['cli']['import_median_s']:.2f} s, "
-        f"numba on import: {fd['cli']['import_loads_numba']}; target <= {fd['cli']['target_s']} s: {yes[fd['cli']['met']]})")
+        f"numba on import: {fd['cli']['import_loads_numba']}; target <= {fd['cli']['target_s']} s: {yes[fd['cli']['met']]})"
+    )
     for name, m in out["maps"].items():
-        line = (f"map {name} ({m['workers']} processes, rescue off, load {m['load_1min']:.1f}): wall "
-                f"{m['wall_min_s']:.1f} s (median {m['wall_median_s']:.1f}), cpu {m['cpu_total_min_s']:.1f} s (per "
-                f"worker {', '.join(f'{c:.1f}' for c in m['worker_cpu_s'])} s cpu, "
-                f"{', '.join(f'{w:.1f}' for w in m['worker_wall_s'])} s wall), "
-                f"{m['us_per_point']:.0f} us per point, {m['simulated_periods']} periods simulated; "
-                f"nonperiodic {m['regimes'].get('nonperiodic', 0)} points ({100 * m['nonperiodic_share']:.1f} %; with the "
-                f"rescue {100 * m['nonperiodic_share_rescued']:.1f} %, cpu {m['rescue_run']['cpu_s']:.1f} s)")
+        line = (
+            f"map {name} ({m['workers']} processes, rescue off, load {m['load_1min']:.1f}): wall "
+            f"{m['wall_min_s']:.1f} s (median {m['wall_median_s']:.1f}), cpu {m['cpu_total_min_s']:.1f} s (per "
+            f"worker {', '.join(f'{c:.1f}' for c in m['worker_cpu_s'])} s cpu, "
+            f"{', '.join(f'{w:.1f}' for w in m['worker_wall_s'])} s wall), "
+            f"{m['us_per_point']:.0f} us per point, {m['simulated_periods']} periods simulated; "
+            f"nonperiodic {m['regimes'].get('nonperiodic', 0)} points ({100 * m['nonperiodic_share']:.1f} %; with the "
+            f"rescue {100 * m['nonperiodic_share_rescued']:.1f} %, cpu {m['rescue_run']['cpu_s']:.1f} s)"
+        )
         if m.get("target_s"):
             line += f"; target <= {m['target_s']:.0f} s: {yes[m['met']]}"
         if "baselines" in m:
             b = m["baselines"]
-            line += (f"; DOP853 estimate {b['dop853_map_estimate_s']:.0f} s ({m['speedup_vs_dop853_estimate']:.0f}x), "
-                     f"python regime_map estimate {b['python_map_estimate_s']:.0f} s")
+            line += (
+                f"; DOP853 estimate {b['dop853_map_estimate_s']:.0f} s ({m['speedup_vs_dop853_estimate']:.0f}x), "
+                f"python regime_map estimate {b['python_map_estimate_s']:.0f} s"
+            )
         lines.append(line)
     return "\n".join(lines)
 
@@ -418,19 +550,36 @@ def main(argv=None) -> int:
     ap.add_argument("--ivp-periods", type=int, default=200)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--map-sizes", type=int, nargs="+", default=[200])
-    ap.add_argument("--max-periods", type=int, default=MAP_SETTINGS["max_periods"],
-                    help="the map's period cap per point (the config's maps.max_periods)")
-    ap.add_argument("--max-periods-after-nonperiodic", type=int, default=MAP_SETTINGS["max_periods_after_nonperiodic"],
-                    help="the cap after a nonperiodic neighbour (maps.max_periods_after_nonperiodic)")
-    ap.add_argument("--targets", default=None,
-                    help="the targets as JSON (default: performance.compiled_speed_targets of config/config.yaml)")
+    ap.add_argument(
+        "--max-periods",
+        type=int,
+        default=MAP_SETTINGS["max_periods"],
+        help="the map's period cap per point (the config's maps.max_periods)",
+    )
+    ap.add_argument(
+        "--max-periods-after-nonperiodic",
+        type=int,
+        default=MAP_SETTINGS["max_periods_after_nonperiodic"],
+        help="the cap after a nonperiodic neighbour (maps.max_periods_after_nonperiodic)",
+    )
+    ap.add_argument(
+        "--targets",
+        default=None,
+        help="the targets as JSON (default: performance.compiled_speed_targets of config/config.yaml)",
+    )
     ap.add_argument("--batch-points", type=int, default=10_000, help="points of the front door's batch")
     ap.add_argument("--quick", action="store_true", help="a small run (maps 40 x 40, fewer periods) to try it out")
-    ap.add_argument("--compile-only", action="store_true",
-                    help="measure only the JIT compile and cache-load times, write {'compile': ...} and stop")
-    ap.add_argument("--no-compile", action="store_true",
-                    help="do not measure the compile and cache-load times (a --compile-only run does; the record's "
-                         "'compile' is then null)")
+    ap.add_argument(
+        "--compile-only",
+        action="store_true",
+        help="measure only the JIT compile and cache-load times, write {'compile': ...} and stop",
+    )
+    ap.add_argument(
+        "--no-compile",
+        action="store_true",
+        help="do not measure the compile and cache-load times (a --compile-only run does; the record's "
+        "'compile' is then null)",
+    )
     args = ap.parse_args(argv)
     if args.targets is None:
         import yaml
@@ -440,14 +589,18 @@ def main(argv=None) -> int:
         try:
             TARGETS.update(json.loads(args.targets))
         except json.JSONDecodeError:
-            ap.error(f"`--targets` = {args.targets!r} is not allowed: must be a JSON object of the config's "
-                     "performance.compiled_speed_targets")
+            ap.error(
+                f"`--targets` = {args.targets!r} is not allowed: must be a JSON object of the config's "
+                "performance.compiled_speed_targets"
+            )
     if args.compile_only:
         record = {"compile": compile_times()}
         args.output.parent.mkdir(parents=True, exist_ok=True)
         args.output.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
-        print(f"JIT compile from scratch: {record['compile']['cold_compile_s']:.1f} s; "
-              f"load from the cache: {record['compile']['cached_load_s']:.2f} s")
+        print(
+            f"JIT compile from scratch: {record['compile']['cold_compile_s']:.1f} s; "
+            f"load from the cache: {record['compile']['cached_load_s']:.2f} s"
+        )
         return 0
     for name in ("repeats", "map_repeats", "long_periods", "ivp_periods", "workers"):
         if getattr(args, name) < 1:

@@ -40,8 +40,13 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
     base = parameters(reference)
     rows = []
     for gap in performance["growth_gaps"]:
-        rows += wp.cost_growth(base.replace(gap=float(gap)), performance["growth_periods"],
-                               repeats=performance["repeats"], min_time=performance["min_time"], log=log)
+        rows += wp.cost_growth(
+            base.replace(gap=float(gap)),
+            performance["growth_periods"],
+            repeats=performance["repeats"],
+            min_time=performance["min_time"],
+            log=log,
+        )
     per_impact = [r["per_impact"] for r in rows if r["impacts"] > 0]
     summary = {
         "exponent_cost_vs_impacts": fit_exponent(rows),
@@ -49,15 +54,21 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
         "per_impact_min": float(np.min(per_impact)),
         "per_impact_max": float(np.max(per_impact)),
         "per_impact_spread": float(np.max(per_impact) / np.min(per_impact)),
-        "per_gap": {str(g): {"exponent_cost_vs_impacts": fit_exponent([r for r in rows if r["gap"] == g]),
-                             "per_impact_median": float(np.median([r["per_impact"] for r in rows if r["gap"] == g]))}
-                    for g in sorted({r["gap"] for r in rows})},
+        "per_gap": {
+            str(g): {
+                "exponent_cost_vs_impacts": fit_exponent([r for r in rows if r["gap"] == g]),
+                "per_impact_median": float(np.median([r["per_impact"] for r in rows if r["gap"] == g])),
+            }
+            for g in sorted({r["gap"] for r in rows})
+        },
         "note": "CPU time (time.process_time), medians; not deterministic",
     }
     write_json(out_json, {"rows": rows, "summary": summary, "parameters": base.to_dict()})
     write_csv(out_csv, CSV_COLUMNS, rows, booleans="python", float_format=None)
-    log(f"per-impact cost {summary['per_impact_min'] * 1e6:.0f}-{summary['per_impact_max'] * 1e6:.0f} us, "
-        f"exponent {summary['exponent_cost_vs_impacts']:.3f}")
+    log(
+        f"per-impact cost {summary['per_impact_min'] * 1e6:.0f}-{summary['per_impact_max'] * 1e6:.0f} us, "
+        f"exponent {summary['exponent_cost_vs_impacts']:.3f}"
+    )
     return summary
 
 

@@ -19,7 +19,6 @@ residual and the negative-gap interval ends within tolerance, ``agree_b`` the al
 Output: ``figures/crosscheck_{case}.json``.
 """
 
-
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import read_json, start_stage, write_json
@@ -34,9 +33,17 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
     kmax = int(solver["max_period_multiple"])
     alg1 = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
     time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
-    alg2 = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]), exact=s,
-                        tolerances=rep.solver_options(solver)["tolerances"], time_tol=time_tol,
-                        velocity_tol=velocity_tol, **kw)
+    alg2 = rep.alg2_ivp(
+        p,
+        s.periods + kmax,
+        kmax,
+        section_tol=float(verdict["ivp_section_tol"]),
+        exact=s,
+        tolerances=rep.solver_options(solver)["tolerances"],
+        time_tol=time_tol,
+        velocity_tol=velocity_tol,
+        **kw,
+    )
     alg1_cmp = rep.compare_alg1(a, alg1, time_tol, float(verdict["crosscheck_residual_tol"]))
     out = {
         "paper": rep.PAPER,
@@ -59,7 +66,9 @@ if __name__ == "__main__":
     cfg, _ = start_stage(sm)
     out = main(sm.input.json, cfg["solver"], cfg["verdict"], sm.output.json)
     c1, c2 = out["algorithm1_comparison"], out["algorithm2"]["cycle_comparison"]
-    print(f"agree (a) {out['agree_a']}: interval ends {c1['max_interval_end_difference_over_T']} T, residual "
-          f"{c1['periodicity_residual']}; agree (b) {out['agree_b']}: times {c2['max_time_difference_over_T']:.1e} T "
-          f"(tol {c2['time_tol']:.0e}), velocities {c2['max_velocity_difference_rel']:.1e} (tol {c2['velocity_tol']:.0e})",
-          file=sys.stderr)
+    print(
+        f"agree (a) {out['agree_a']}: interval ends {c1['max_interval_end_difference_over_T']} T, residual "
+        f"{c1['periodicity_residual']}; agree (b) {out['agree_b']}: times {c2['max_time_difference_over_T']:.1e} T "
+        f"(tol {c2['time_tol']:.0e}), velocities {c2['max_velocity_difference_rel']:.1e} (tol {c2['velocity_tol']:.0e})",
+        file=sys.stderr,
+    )

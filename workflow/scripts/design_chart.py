@@ -17,8 +17,15 @@ from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
 from impactdamper.analysis.response import theta_grid
 
-COLUMNS = ["gap", "peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period",
-           "hysteresis_points", "max_abs_x1_at_theta"]
+COLUMNS = [
+    "gap",
+    "peak_max_abs_x1",
+    "band_average_max_abs_x1",
+    "peak_impulse",
+    "impacts_per_period",
+    "hysteresis_points",
+    "max_abs_x1_at_theta",
+]
 
 
 def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log=None) -> None:
@@ -29,13 +36,22 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
     # here, before the sweeps, so that a config without it fails at once and not minutes later.
     thetas = theta_grid(band[0], band[1], int(design["theta_points"]))
     if not np.any(np.abs(thetas - float(reference["theta"])) <= 1e-9 * max(abs(float(reference["theta"])), 1.0)):
-        raise ValueError(f"`design.theta_points` = {int(design['theta_points'])} is not allowed: the grid from "
-                         f"{band[0]:g} to {band[1]:g} must contain the reference theta = {float(reference['theta']):g}")
-    log.info("design chart: %d gaps from %g to %g, theta band %s with %d points", len(gaps), gaps[0], gaps[-1],
-             band, int(design["theta_points"]))
+        raise ValueError(
+            f"`design.theta_points` = {int(design['theta_points'])} is not allowed: the grid from "
+            f"{band[0]:g} to {band[1]:g} must contain the reference theta = {float(reference['theta']):g}"
+        )
+    log.info(
+        "design chart: %d gaps from %g to %g, theta band %s with %d points",
+        len(gaps),
+        gaps[0],
+        gaps[-1],
+        band,
+        int(design["theta_points"]),
+    )
     with Timer() as t:
-        chart = gap_chart(p, gaps, band, int(design["theta_points"]), settings=sweep_settings(sweep, solver),
-                          progress=log.info)
+        chart = gap_chart(
+            p, gaps, band, int(design["theta_points"]), settings=sweep_settings(sweep, solver), progress=log.info
+        )
     # The gap sweep (sweeps stage) reads the gap at the reference case's forcing frequency alone.
     theta = float(reference["theta"])
     write_csv(out_csv, COLUMNS, chart.rows(theta))
@@ -45,10 +61,17 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
     for c, b in best.items():
         log.info("best gap (%s): %g, %.4g; good from %g to %g", c, b["gap"], b["value"], b["good_from"], b["good_to"])
     log.info("at theta = %g alone: best gap %g, max|x1|/x_st %.4g", theta, chart.gaps[i], at[i])
-    write_json(out_json, {"at_reference_theta": {"theta": theta, "gap": float(chart.gaps[i]), "value": float(at[i])},
-                          "best": best, "parameters": p.to_dict(), "band": list(band),
-                          "theta_points": int(design["theta_points"]), "gap_step": float(gaps[1] - gaps[0])
-                          if len(gaps) > 1 else 0.0})
+    write_json(
+        out_json,
+        {
+            "at_reference_theta": {"theta": theta, "gap": float(chart.gaps[i]), "value": float(at[i])},
+            "best": best,
+            "parameters": p.to_dict(),
+            "band": list(band),
+            "theta_points": int(design["theta_points"]),
+            "gap_step": float(gaps[1] - gaps[0]) if len(gaps) > 1 else 0.0,
+        },
+    )
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
 
 

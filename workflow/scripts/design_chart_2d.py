@@ -12,17 +12,31 @@ from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
 
-COLUMNS = ["value", "gap", "peak_max_abs_x1", "band_average_max_abs_x1", "peak_impulse", "impacts_per_period",
-           "hysteresis_points"]
+COLUMNS = [
+    "value",
+    "gap",
+    "peak_max_abs_x1",
+    "band_average_max_abs_x1",
+    "peak_impulse",
+    "impacts_per_period",
+    "hysteresis_points",
+]
 
 
 def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log=None) -> None:
     log = log if log is not None else logging.getLogger("design_chart_2d")
     p = design_parameters(reference, design)
     name = design["second"]
-    charts = design_chart_2d(p, name, [float(v) for v in design["second_values"]], design_gaps(design, second=True),
-                             design_band(design), int(design["theta_points"]), settings=sweep_settings(sweep, solver),
-                             progress=log.info)
+    charts = design_chart_2d(
+        p,
+        name,
+        [float(v) for v in design["second_values"]],
+        design_gaps(design, second=True),
+        design_band(design),
+        int(design["theta_points"]),
+        settings=sweep_settings(sweep, solver),
+        progress=log.info,
+    )
     rows, best = [], []
     for value, chart in charts.items():
         rows.extend({"value": value, **r} for r in chart.rows())

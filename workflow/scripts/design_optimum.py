@@ -17,8 +17,22 @@ from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design import design_band, design_parameters
 from impactdamper.studies.optimum import Budget, design_study
 
-COLUMNS = ["device", "gap", "N", "delta2", "R", "peak", "peak_theta", "band_average", "worst_case_5", "worst_case_10",
-           "stroke", "impulse_per_impact", "impacts_per_second", "mean_force"]
+COLUMNS = [
+    "device",
+    "gap",
+    "N",
+    "delta2",
+    "R",
+    "peak",
+    "peak_theta",
+    "band_average",
+    "worst_case_5",
+    "worst_case_10",
+    "stroke",
+    "impulse_per_impact",
+    "impacts_per_second",
+    "mean_force",
+]
 
 
 def table_rows(record: dict) -> list[dict]:
@@ -27,10 +41,19 @@ def table_rows(record: dict) -> list[dict]:
     for d in record["devices"]:
         w = d["worst_case"]
         keys = sorted(w, key=float)
-        out.append({"device": d["device"], **{k: d["parameters"].get(k, "") for k in ("gap", "N", "delta2", "R")},
-                    "peak": d["peak"], "peak_theta": d["peak_theta"], "band_average": d["band_average"],
-                    "worst_case_5": w[keys[0]], "worst_case_10": w[keys[-1]], "stroke": d["stroke"],
-                    **{k: d.get(k, "") for k in ("impulse_per_impact", "impacts_per_second", "mean_force")}})
+        out.append(
+            {
+                "device": d["device"],
+                **{k: d["parameters"].get(k, "") for k in ("gap", "N", "delta2", "R")},
+                "peak": d["peak"],
+                "peak_theta": d["peak_theta"],
+                "band_average": d["band_average"],
+                "worst_case_5": w[keys[0]],
+                "worst_case_10": w[keys[-1]],
+                "stroke": d["stroke"],
+                **{k: d.get(k, "") for k in ("impulse_per_impact", "impacts_per_second", "mean_force")},
+            }
+        )
     return out
 
 
@@ -38,14 +61,26 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
     log = log if log is not None else logging.getLogger("design_optimum")
     p = design_parameters(reference, design)
     paper = p.replace(gap=float(read_json(chart_json)["best"]["peak"]["gap"]))
-    budget = Budget(starts=int(design["optimum_starts"]), keep=int(design["optimum_keep"]),
-                    local_evaluations=int(design["optimum_evaluations"]),
-                    polish_evaluations=int(design["polish_evaluations"]))
+    budget = Budget(
+        starts=int(design["optimum_starts"]),
+        keep=int(design["optimum_keep"]),
+        local_evaluations=int(design["optimum_evaluations"]),
+        polish_evaluations=int(design["polish_evaluations"]),
+    )
     with Timer() as t:
-        record = design_study(design_band(design), p.mu, p.delta1, paper, [float(d) for d in design["detunings"]],
-                              budget=budget, step=float(design["band_step"]), coarse_step=float(design["coarse_step"]),
-                              robust_evaluations=int(design["robust_evaluations"]),
-                              settings=sweep_settings(sweep, solver), progress=log.info)
+        record = design_study(
+            design_band(design),
+            p.mu,
+            p.delta1,
+            paper,
+            [float(d) for d in design["detunings"]],
+            budget=budget,
+            step=float(design["band_step"]),
+            coarse_step=float(design["coarse_step"]),
+            robust_evaluations=int(design["robust_evaluations"]),
+            settings=sweep_settings(sweep, solver),
+            progress=log.info,
+        )
     write_json(out_json, record)
     write_csv(out_csv, COLUMNS, table_rows(record))
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
@@ -54,5 +89,13 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "design_optimum", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.input.chart, sm.output.json, sm.output.csv,
-         log=log)
+    main(
+        cfg["reference"],
+        cfg["solver"],
+        cfg["sweep"],
+        cfg["design"],
+        sm.input.chart,
+        sm.output.json,
+        sm.output.csv,
+        log=log,
+    )

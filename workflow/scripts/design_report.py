@@ -40,8 +40,10 @@ def _sensitivity_text(sens: dict, names: dict) -> str:
     parts = []
     for n in [k for k in names if k in sens]:
         sides = sens[n]
-        text = "/".join(("$>$bound" if v is None else f"{sign}{fixed(v, 3)}") for sign, v in
-                        (("$-$", sides["down"]), ("$+$", sides["up"])))
+        text = "/".join(
+            ("$>$bound" if v is None else f"{sign}{fixed(v, 3)}")
+            for sign, v in (("$-$", sides["down"]), ("$+$", sides["up"]))
+        )
         parts.append(f"${names[n]}$ {text}")
     return ", ".join(parts)
 
@@ -51,8 +53,14 @@ SYMBOLS = {"gap": "\\Delta_0/x_{st}", "N": "N", "delta2": "\\delta_2", "R": "R"}
 
 def tex_device(name: str) -> str:
     """A device's name of the record as TeX."""
-    for plain, tex in (("<=", "$\\le$"), ("+-", "$\\pm$"), (" %", "\\,\\%"), ("delta2", "$\\delta_2$"),
-                       ("paper's N", "paper's $N$"), (", R", ", $R$")):
+    for plain, tex in (
+        ("<=", "$\\le$"),
+        ("+-", "$\\pm$"),
+        (" %", "\\,\\%"),
+        ("delta2", "$\\delta_2$"),
+        ("paper's N", "paper's $N$"),
+        (", R", ", $R$"),
+    ):
         name = name.replace(plain, tex)
     return name
 
@@ -61,19 +69,34 @@ def design_table(optimum: dict) -> str:
     """The design table (booktabs): device; parameters; located peak; band average; worst case
     at each detuning; stroke; loads (impact suppressors)."""
     ds = [f"{100 * d:g}" for d in optimum["detunings"]]
-    head = ("device & parameters & peak & band avg. & "
-            + " & ".join(f"worst $\\pm{d}\\,\\%$" for d in ds) + " & stroke & pulse, impacts, force \\\\")
-    lines = ["% Written by workflow/scripts/design_report.py; do not edit.",
-             "\\begin{tabular}{ll" + "r" * (4 + len(ds)) + "}", "\\toprule", head, "\\midrule"]
+    head = (
+        "device & parameters & peak & band avg. & "
+        + " & ".join(f"worst $\\pm{d}\\,\\%$" for d in ds)
+        + " & stroke & pulse, impacts, force \\\\"
+    )
+    lines = [
+        "% Written by workflow/scripts/design_report.py; do not edit.",
+        "\\begin{tabular}{ll" + "r" * (4 + len(ds)) + "}",
+        "\\toprule",
+        head,
+        "\\midrule",
+    ]
     for d in optimum["devices"]:
         digits = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
-        pars = ", ".join(f"${SYMBOLS[k]}={fixed(d['parameters'][k], digits[k])}$" for k in SYMBOLS
-                         if k in d["parameters"]) or "---"
+        pars = (
+            ", ".join(f"${SYMBOLS[k]}={fixed(d['parameters'][k], digits[k])}$" for k in SYMBOLS if k in d["parameters"])
+            or "---"
+        )
         worst = " & ".join(fixed(d["worst_case"][f"{x:g}"], 2) for x in optimum["detunings"])
-        loads = (f"{fixed(d['impulse_per_impact'], 2)}, {fixed(d['impacts_per_second'], 2)}, "
-                 f"{fixed(d['mean_force'], 3)}" if d["kind"] == "impact" else "---")
-        lines.append(f"{tex_device(d['device'])} & {pars} & {fixed(d['peak'], 3)} & {fixed(d['band_average'], 3)} & "
-                     f"{worst} & {fixed(d['stroke'], 1)} & {loads} \\\\")
+        loads = (
+            f"{fixed(d['impulse_per_impact'], 2)}, {fixed(d['impacts_per_second'], 2)}, {fixed(d['mean_force'], 3)}"
+            if d["kind"] == "impact"
+            else "---"
+        )
+        lines.append(
+            f"{tex_device(d['device'])} & {pars} & {fixed(d['peak'], 3)} & {fixed(d['band_average'], 3)} & "
+            f"{worst} & {fixed(d['stroke'], 1)} & {loads} \\\\"
+        )
     lines += ["\\bottomrule", "\\end{tabular}"]
     return "\n".join(lines) + "\n"
 
@@ -99,10 +122,19 @@ def optimum_macros(add, optimum: dict) -> None:
     for key, d in (("TmdOpt", tmd), ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t)):
         add(f"Design{key}N", fixed(d["parameters"]["N"], 3))
         add(f"Design{key}DeltaTwo", fixed(d["parameters"]["delta2"], 3))
-    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near),
-                   ("TmdOpt", tmd),
-                   ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t), ("BareDev", bare),
-                   ("AbsorberDev", absorber)):
+    for key, d in (
+        ("Opt", imp),
+        ("OptAvgCrit", impa),
+        ("Chart", paper),
+        ("RobImp", rob_i),
+        ("Near", near),
+        ("TmdOpt", tmd),
+        ("TmdOptAvgCrit", tmda),
+        ("Eq", eq),
+        ("RobTmd", rob_t),
+        ("BareDev", bare),
+        ("AbsorberDev", absorber),
+    ):
         add(f"Design{key}LocPeak", fixed(d["peak"], 3))
         add(f"Design{key}LocTheta", fixed(d["peak_theta"], 3))
         add(f"Design{key}Avg", fixed(d["band_average"], 3))
@@ -122,15 +154,24 @@ def optimum_macros(add, optimum: dict) -> None:
     add("DesignNearImpactsPerSecond", fixed(near["impacts_per_second"], 2))
     add("DesignNearMeanForce", fixed(near["mean_force"], 3))
     hit = impacting(optimum["devices"])
-    add("DesignOptStopText", (f"its gap lies beyond its own travel (stroke {fixed(imp['stroke'], 1)}), so that the "
-                              "stop is never reached: allowed that, the optimiser makes the impact suppressor a TMD"
-                              if imp["impacts_per_second"] == 0 else
-                              f"its stop is reached, up to {fixed(imp['impacts_per_second'], 2)} impacts per "
-                              "natural period"))
+    add(
+        "DesignOptStopText",
+        (
+            f"its gap lies beyond its own travel (stroke {fixed(imp['stroke'], 1)}), so that the "
+            "stop is never reached: allowed that, the optimiser makes the impact suppressor a TMD"
+            if imp["impacts_per_second"] == 0
+            else f"its stop is reached, up to {fixed(imp['impacts_per_second'], 2)} impacts per natural period"
+        ),
+    )
     for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
         add(f"DesignHit{name}", fixed(hit["parameters"][k], digits))
-    for k, digits, name in (("peak", 3, "LocPeak"), ("stroke", 1, "Stroke"), ("impulse_per_impact", 2, "Impulse"),
-                            ("impacts_per_second", 2, "ImpactsPerSecond"), ("mean_force", 3, "MeanForce")):
+    for k, digits, name in (
+        ("peak", 3, "LocPeak"),
+        ("stroke", 1, "Stroke"),
+        ("impulse_per_impact", 2, "Impulse"),
+        ("impacts_per_second", 2, "ImpactsPerSecond"),
+        ("mean_force", 3, "MeanForce"),
+    ):
         add(f"DesignHit{name}", fixed(hit[k], digits))
     add("DesignHitWorstLarge", fixed(hit["worst_case"][dmax], 2))
     hita = impacting(optimum["devices"], "band_average")
@@ -157,8 +198,18 @@ def optimum_macros(add, optimum: dict) -> None:
     add("DesignRecommendationPlain", recommendation(optimum, pct=" per cent"))
 
 
-def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, optimum_json, out_record, out_macros,
-         out_table, out_design_table) -> None:
+def main(
+    baselines_json,
+    chart_json,
+    chart2d_json,
+    response_json,
+    response_csv,
+    optimum_json,
+    out_record,
+    out_macros,
+    out_table,
+    out_design_table,
+) -> None:
     """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), the
     second-parameter table (``out_table``) and the design table (``out_design_table``)."""
     base, chart, chart2, resp = (read_json(x) for x in (baselines_json, chart_json, chart2d_json, response_json))
@@ -210,8 +261,10 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     add("DesignRatioTmd", fixed(bp["value"] / tmd["peak"], 2))
     add("DesignRatioTmdAvg", fixed(best_resp["band_average"] / tmd["band_average"], 2))
     add("DesignImpactBetterPct", fixed(100 * share, 0))
-    add("DesignImpactBetterRuns", ", ".join(f"${fixed(a, 2)}$--${fixed(b, 2)}$" if b > a else f"${fixed(a, 2)}$"
-                                            for a, b in runs) or "none")
+    add(
+        "DesignImpactBetterRuns",
+        ", ".join(f"${fixed(a, 2)}$--${fixed(b, 2)}$" if b > a else f"${fixed(a, 2)}$" for a, b in runs) or "none",
+    )
     add("DesignPaperGap", fixed(paper_gap, 1))
     add("DesignPaperPeak", fixed(paper[paper_gap]["peak"], 2))
     add("DesignPaperImpulse", fixed(paper[paper_gap]["peak_impulse"], 2))
@@ -235,16 +288,21 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))
     sym = {"N": "$N$", "R": "$R$"}.get(chart2["parameter"], chart2["parameter"])
-    lines = ["% Written by workflow/scripts/design_report.py; do not edit.", "\\begin{tabular}{rrrrrr}", "\\toprule",
-             f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & "
-             "impacts/$T$ \\\\",
-             "\\midrule"]
+    lines = [
+        "% Written by workflow/scripts/design_report.py; do not edit.",
+        "\\begin{tabular}{rrrrrr}",
+        "\\toprule",
+        f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & impacts/$T$ \\\\",
+        "\\midrule",
+    ]
     for b in chart2["best"]:
         if b["criterion"] != "peak":
             continue
-        lines.append(f"{fixed(b['second'], 2)} & {fixed(b['gap'], 2)} & {fixed(b['value'], 2)} & "
-                     f"{fixed(b['good_from'], 2)} to {fixed(b['good_to'], 2)} & {fixed(b['peak_impulse'], 2)} & "
-                     f"{fixed(b['impacts_per_period'], 0)} \\\\")
+        lines.append(
+            f"{fixed(b['second'], 2)} & {fixed(b['gap'], 2)} & {fixed(b['value'], 2)} & "
+            f"{fixed(b['good_from'], 2)} to {fixed(b['good_to'], 2)} & {fixed(b['peak_impulse'], 2)} & "
+            f"{fixed(b['impacts_per_period'], 0)} \\\\"
+        )
     lines += ["\\bottomrule", "\\end{tabular}"]
     Path(out_table).write_text("\n".join(lines) + "\n")
     Path(out_design_table).write_text(design_table(optimum))
@@ -253,5 +311,15 @@ def main(baselines_json, chart_json, chart2d_json, response_json, response_csv, 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
-    main(sm.input.baselines, sm.input.chart, sm.input.chart2d, sm.input.response, sm.input.response_csv,
-         sm.input.optimum, sm.output.record, sm.output.macros, sm.output.table, sm.output.design_table)
+    main(
+        sm.input.baselines,
+        sm.input.chart,
+        sm.input.chart2d,
+        sm.input.response,
+        sm.input.response_csv,
+        sm.input.optimum,
+        sm.output.record,
+        sm.output.macros,
+        sm.output.table,
+        sm.output.design_table,
+    )

@@ -18,9 +18,27 @@ from impactdamper.reporting.records import read_json, start_stage, write_csv, wr
 from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design import design_band, design_parameters, response_gaps
 
-COLUMNS = ["gap", "theta", "direction", "regime", "label", "period_multiple", "max_abs_x1", "max_abs_x2",
-           "impacts_per_period", "mean_impulse", "peak_impulse", "energy_input", "energy_impacts", "energy_dampers",
-           "balance", "drift", "hysteresis", "linear_max_abs_x1", "linear_max_abs_x2"]
+COLUMNS = [
+    "gap",
+    "theta",
+    "direction",
+    "regime",
+    "label",
+    "period_multiple",
+    "max_abs_x1",
+    "max_abs_x2",
+    "impacts_per_period",
+    "mean_impulse",
+    "peak_impulse",
+    "energy_input",
+    "energy_impacts",
+    "energy_dampers",
+    "balance",
+    "drift",
+    "hysteresis",
+    "linear_max_abs_x1",
+    "linear_max_abs_x2",
+]
 
 
 def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, out_csv, out_json, log=None) -> None:
@@ -32,23 +50,44 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
     rows, summary = [], []
     for role, g in zip(["best"] + ["config"] * (len(gaps) - 1), gaps):
         log.info("frequency response at Delta0/x_st = %g (%s)", g, role)
-        r = frequency_response(with_value(p, "gap", g), *band, int(design["response_points"]),
-                               settings=sweep_settings(sweep, solver), progress=log.info)
+        r = frequency_response(
+            with_value(p, "gap", g),
+            *band,
+            int(design["response_points"]),
+            settings=sweep_settings(sweep, solver),
+            progress=log.info,
+        )
         rows.extend({"gap": g, **row} for row in r.rows())
         ms = [m for q in r.points for m in (q.up, q.down)]
-        summary.append({"gap": g, "role": role, "peak": r.peak(), "band_average": r.band_average(), **r.loads(),
-                        "hysteresis_points": int(sum(q.hysteresis for q in r.points)),
-                        "hysteresis_thetas": [q.theta for q in r.points if q.hysteresis],
-                        "largest_balance": float(np.nanmax([m.balance for m in ms])),
-                        "largest_drift_settled": float(np.nanmax([abs(m.drift) for m in ms
-                                                                  if m.regime not in ("nonperiodic", "failed")]))})
+        summary.append(
+            {
+                "gap": g,
+                "role": role,
+                "peak": r.peak(),
+                "band_average": r.band_average(),
+                **r.loads(),
+                "hysteresis_points": int(sum(q.hysteresis for q in r.points)),
+                "hysteresis_thetas": [q.theta for q in r.points if q.hysteresis],
+                "largest_balance": float(np.nanmax([m.balance for m in ms])),
+                "largest_drift_settled": float(
+                    np.nanmax([abs(m.drift) for m in ms if m.regime not in ("nonperiodic", "failed")])
+                ),
+            }
+        )
     write_csv(out_csv, COLUMNS, rows, booleans="digits")
-    write_json(out_json, {"responses": summary, "band": list(band),
-                          "points": int(design["response_points"])})
+    write_json(out_json, {"responses": summary, "band": list(band), "points": int(design["response_points"])})
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "design_response", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.input.chart, sm.output.csv, sm.output.json,
-         log=log)
+    main(
+        cfg["reference"],
+        cfg["solver"],
+        cfg["sweep"],
+        cfg["design"],
+        sm.input.chart,
+        sm.output.csv,
+        sm.output.json,
+        log=log,
+    )

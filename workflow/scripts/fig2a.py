@@ -33,19 +33,30 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     label = CASE_LABELS[case]
     title = f"The paper's Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$"
     if not a["exists"]:
-        ax.text(0.5, 0.5, "Algorithm No. 1 has no orbit:\n" + a["reason"], ha="center", va="center",
-                transform=ax.transAxes)
+        ax.text(
+            0.5, 0.5, "Algorithm No. 1 has no orbit:\n" + a["reason"], ha="center", va="center", transform=ax.transAxes
+        )
     else:
         t, x1, x2, g = np.loadtxt(curve_csv, delimiter=",", skiprows=1, unpack=True)
         intervals = a["negative_gap_intervals"]
         for k, (t1, t2) in enumerate(intervals):
             for axis in (ax, axg):
-                axis.axvspan(t1, t2, color=NEGATIVE_GAP_COLOR, lw=0, label="gap $\\Delta < 0$" if k == 0 and axis is ax else None)
+                axis.axvspan(
+                    t1, t2, color=NEGATIVE_GAP_COLOR, lw=0, label="gap $\\Delta < 0$" if k == 0 and axis is ax else None
+                )
             for name, x in ((2 * k + 1, t1), (2 * k + 2, t2)):
                 for axis in (ax, axg):
                     axis.axvline(x, color="0.35", lw=0.7, ls=":")
-                ax.annotate(f"$t_{{{name}}} = {x:.4f}\\,T$", (x, 1.0), xycoords=("data", "axes fraction"),
-                            xytext=(0, 2), textcoords="offset points", ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
+                ax.annotate(
+                    f"$t_{{{name}}} = {x:.4f}\\,T$",
+                    (x, 1.0),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(0, 2),
+                    textcoords="offset points",
+                    ha="center",
+                    va="bottom",
+                    fontsize=ANNOTATION_SIZE,
+                )
         ax.plot(t, x1, label="$\\bar x_1$ (object)")
         ax.plot(t, x2, ls="--", label="$\\bar x_2$ (suppressor)")
         axg.axhline(0.0, color="0.2", lw=0.6)

@@ -53,8 +53,16 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
         ax.plot([x], [y], "o", color="k", ms=3.5, zorder=5)
         name = row["label"].replace("t", "t_")
         text = f"${name}$" + (" (next cycle)" if nxt else "")  # one line: clear of the title above
-        ax.annotate(text, (x, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2), textcoords="offset points",
-                    ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
+        ax.annotate(
+            text,
+            (x, 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(0, 2),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=ANNOTATION_SIZE,
+        )
     ax.plot([], [], "o", color="k", ms=3.5, label="impacts")
     ax.set_xlim(t[0], t[-1])
     ax.set_ylabel("relative coordinate")

@@ -14,17 +14,23 @@ refinement reached down to. Data: ``figures/claims_by_parameter.csv`` and its se
 Deviation: a search the paper does not have.
 """
 
-
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 
 PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
-LABEL = {"theta": "$\\theta = \\omega/\\omega_1$", "mu": "$\\mu = m_2/m_1$", "N": "$N = \\omega_2/\\omega_1$",
-         "delta1": "$\\delta_1$ (object's damping)", "delta2": "$\\delta_2$ (suppressor's damping)",
-         "R": "restitution $R$"}
-LANES = (("a", "claim (a): gap negative (Alg. No. 1)", "#e67e22"),
-         ("b", "claim (b): $T_c = 2T$, 3 impacts (Alg. No. 2)", "#1f4e79"),
-         ("both", "both", "#c0392b"))
+LABEL = {
+    "theta": "$\\theta = \\omega/\\omega_1$",
+    "mu": "$\\mu = m_2/m_1$",
+    "N": "$N = \\omega_2/\\omega_1$",
+    "delta1": "$\\delta_1$ (object's damping)",
+    "delta2": "$\\delta_2$ (suppressor's damping)",
+    "R": "restitution $R$",
+}
+LANES = (
+    ("a", "claim (a): gap negative (Alg. No. 1)", "#e67e22"),
+    ("b", "claim (b): $T_c = 2T$, 3 impacts (Alg. No. 2)", "#1f4e79"),
+    ("both", "both", "#c0392b"),
+)
 
 
 def main(csv_path, settings_json, out_pdf, out_png) -> None:
@@ -36,16 +42,26 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
         d = settings["parameters"][name]
         lo, hi = d["range"]["start"], d["range"]["stop"]
         for lane, (claim, label, color) in enumerate(LANES):
-            spans = [(float(r["lo"]), float(r["hi"]) - float(r["lo"])) for r in rows
-                     if r["parameter"] == name and r["claim"] == claim]
+            spans = [
+                (float(r["lo"]), float(r["hi"]) - float(r["lo"]))
+                for r in rows
+                if r["parameter"] == name and r["claim"] == claim
+            ]
             # A very narrow interval is still drawn at least 0.4 % of the axis wide.
             spans = [(x, max(w, 0.004 * (hi - lo))) for x, w in spans]
             ax.broken_barh(spans, (2 - lane - 0.35, 0.7), color=color, label=label if name == PARAMETERS[0] else None)
         near = d["nearest_both"]
         ax.axvline(near["stated"], color="0.2", lw=0.8, ls=":")
         if near["nearest"] is not None:
-            ax.plot([near["nearest"]], [0], "D", ms=4, color="k", zorder=5,
-                    label="nearest value where both hold" if name == PARAMETERS[0] else None)
+            ax.plot(
+                [near["nearest"]],
+                [0],
+                "D",
+                ms=4,
+                color="k",
+                zorder=5,
+                label="nearest value where both hold" if name == PARAMETERS[0] else None,
+            )
         ax.set_xlim(lo, hi)
         ax.set_ylim(-0.6, 2.6)
         ax.set_yticks([2, 1, 0], ["(a)", "(b)", "both"])

@@ -11,7 +11,6 @@ Deviation: a map the paper does not have; each cell is Algorithm No. 2 from the 
 1 (no continuation from a neighbour), as in the verdict.
 """
 
-
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
@@ -19,10 +18,21 @@ from matplotlib.patches import Patch
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 
-CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
-           ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
-LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
-         "R": "restitution $R$", "gap": "$\\Delta_0/x_{\\mathrm{st}}$"}
+CLASSES = (
+    ("neither claim", "#eeeeee"),
+    ("(a) only: gap negative", "#f5c28b"),
+    ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"),
+    ("both claims", "#c0392b"),
+)
+LABEL = {
+    "theta": "$\\theta$",
+    "mu": "$\\mu$",
+    "N": "$N$",
+    "delta1": "$\\delta_1$",
+    "delta2": "$\\delta_2$",
+    "R": "restitution $R$",
+    "gap": "$\\Delta_0/x_{\\mathrm{st}}$",
+}
 
 
 def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
@@ -38,8 +48,16 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
         z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(a) + 2 * int(b)
     fig, ax = plt.subplots(figsize=figure_size(3.6))
     dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
-    ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest", vmin=-0.5, vmax=3.5,
-              cmap=ListedColormap([c for _, c in CLASSES]), extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy))
+    ax.imshow(
+        z,
+        origin="lower",
+        aspect="auto",
+        interpolation="nearest",
+        vmin=-0.5,
+        vmax=3.5,
+        cmap=ListedColormap([c for _, c in CLASSES]),
+        extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy),
+    )
     ax.grid(False)
     ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=11, mec="k", mfc="w", label="stated point")
     located = read_json(located_json)["located"]["gap"]
@@ -48,8 +66,11 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
     ax.set_xlabel(LABEL[m["x"]])
     ax.set_ylabel(LABEL[m["y"]])
     # The grid, as the caption promises: the steps in both parameters.
-    ax.set_title(f"steps {2 * dx:.3g} in {m['x']} and {2 * dy:.3g} in the gap" if m["y"] == "gap"
-                 else f"steps {2 * dx:.3g} x {2 * dy:.3g}")
+    ax.set_title(
+        f"steps {2 * dx:.3g} in {m['x']} and {2 * dy:.3g} in the gap"
+        if m["y"] == "gap"
+        else f"steps {2 * dx:.3g} x {2 * dy:.3g}"
+    )
     handles = [Patch(color=c, label=name) for name, c in CLASSES] + ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     finish_figure(fig, out_pdf, out_png)

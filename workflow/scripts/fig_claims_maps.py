@@ -13,7 +13,6 @@ nonperiodic. Data: ``figures/claims_map.csv`` and ``figures/claims_map_{name}.cs
 settings JSON.
 """
 
-
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
@@ -21,10 +20,21 @@ from matplotlib.patches import Patch
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
 
-CLASSES = (("neither claim", "#eeeeee"), ("(a) only: gap negative", "#f5c28b"),
-           ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"), ("both claims", "#c0392b"))
-LABEL = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
-         "R": "$R$", "gap": "$\\Delta_0/x_{\\mathrm{st}}$"}
+CLASSES = (
+    ("neither claim", "#eeeeee"),
+    ("(a) only: gap negative", "#f5c28b"),
+    ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"),
+    ("both claims", "#c0392b"),
+)
+LABEL = {
+    "theta": "$\\theta$",
+    "mu": "$\\mu$",
+    "N": "$N$",
+    "delta1": "$\\delta_1$",
+    "delta2": "$\\delta_2$",
+    "R": "$R$",
+    "gap": "$\\Delta_0/x_{\\mathrm{st}}$",
+}
 
 
 def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
@@ -32,7 +42,9 @@ def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
     ys = sorted({float(r["y"]) for r in rows})
     z = np.zeros((len(ys), len(xs)), dtype=int)
     for r in rows:
-        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(r["claim_a"] == "true") + 2 * int(r["claim_b"] == "true")
+        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(r["claim_a"] == "true") + 2 * int(
+            r["claim_b"] == "true"
+        )
     return xs, ys, z
 
 
@@ -45,15 +57,21 @@ def main(csvs, jsons, out_pdf, out_png) -> None:
         m, ref = settings["map"], settings["reference"]
         xs, ys, z = grid(rows)
         dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
-        ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest", vmin=-0.5, vmax=3.5,
-                  cmap=ListedColormap([c for _, c in CLASSES]),
-                  extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy))
+        ax.imshow(
+            z,
+            origin="lower",
+            aspect="auto",
+            interpolation="nearest",
+            vmin=-0.5,
+            vmax=3.5,
+            cmap=ListedColormap([c for _, c in CLASSES]),
+            extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy),
+        )
         ax.grid(False)
         ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=9, mec="k", mfc="w")
         ax.set_xlabel(LABEL[m["x"]], labelpad=1)
         ax.set_ylabel(LABEL[m["y"]], labelpad=1)
-        ax.set_title(f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both",
-                     fontsize=7.5)
+        ax.set_title(f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both", fontsize=7.5)
     handles = [Patch(color=c, label=name) for name, c in CLASSES]
     handles.append(plt.Line2D([], [], ls="", marker="*", ms=9, mec="k", mfc="w", label="stated point"))
     fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7.5, bbox_to_anchor=(0.5, 0.0))

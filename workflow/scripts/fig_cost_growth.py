@@ -10,7 +10,6 @@ Thin: reads figures/cost_growth.csv (made by cost_growth.py), plots with the sha
 Timings are CPU time on the machine that ran the workflow: not pixel-stable across runs.
 """
 
-
 from impactdamper.reporting.plotting import TEXT_WIDTH, figure_size, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, start_stage
 
@@ -29,10 +28,22 @@ def main(in_csv, out_stem) -> None:
     for gap, marker in zip(gaps, MARKERS):
         rs = sorted((r for r in rows if r["gap"] == gap), key=lambda r: r["periods"])
         label = rf"$\Delta_0/x_{{\mathrm{{st}}}} = {gap:g}$"
-        ax1.plot([r["periods"] for r in rs], [r["cpu_seconds"] for r in rs], marker=marker, markersize=3.5,
-                 linewidth=0.8, label=label)
-        ax2.plot([r["impacts"] for r in rs], [r["per_impact"] * 1e6 for r in rs], marker=marker, markersize=3.5,
-                 linewidth=0.8, label=label)
+        ax1.plot(
+            [r["periods"] for r in rs],
+            [r["cpu_seconds"] for r in rs],
+            marker=marker,
+            markersize=3.5,
+            linewidth=0.8,
+            label=label,
+        )
+        ax2.plot(
+            [r["impacts"] for r in rs],
+            [r["per_impact"] * 1e6 for r in rs],
+            marker=marker,
+            markersize=3.5,
+            linewidth=0.8,
+            label=label,
+        )
     ax1.set_xscale("log")
     ax1.set_yscale("log")
     ax1.set_xlabel("simulated span (periods $T$)")

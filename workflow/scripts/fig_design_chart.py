@@ -22,31 +22,53 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     best = read_json(chart_json)["best"]
     base = read_json(baselines_json)
     g = [float(r["gap"]) for r in rows]
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, layout="constrained",
-                                  gridspec_kw={"height_ratios": [2, 1]})
-    for key, crit, ls, text in (("peak_max_abs_x1", "peak", "-", "peak over the band"),
-                                ("band_average_max_abs_x1", "band_average", "--", "band average")):
+    fig, (ax, ax2) = plt.subplots(
+        2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [2, 1]}
+    )
+    for key, crit, ls, text in (
+        ("peak_max_abs_x1", "peak", "-", "peak over the band"),
+        ("band_average_max_abs_x1", "band_average", "--", "band average"),
+    ):
         ax.plot(g, [cell_float(r[key]) for r in rows], color="C0", ls=ls, lw=1.1, label=f"impact: {text}")
         b = best[crit]
         ax.plot([b["gap"]], [b["value"]], "o", color="C0", ms=4)
         ax.axvspan(b["good_from"], b["good_to"], color="C0", alpha=0.12 if crit == "peak" else 0.06, lw=0)
     one = read_json(chart_json)["at_reference_theta"]
-    ax.plot(g, [cell_float(r["max_abs_x1_at_theta"]) for r in rows], color="C4", ls=":", lw=1.0,
-            label=f"impact: at $\\theta = {one['theta']:g}$ alone")
+    ax.plot(
+        g,
+        [cell_float(r["max_abs_x1_at_theta"]) for r in rows],
+        color="C4",
+        ls=":",
+        lw=1.0,
+        label=f"impact: at $\\theta = {one['theta']:g}$ alone",
+    )
     refs = base["references"]
-    for (value, text, color, ls) in ((refs["bare"]["peak"], "object alone, peak", "0.3", ":"),
-                                     (refs["absorber"]["peak"], "absorber no stop, peak", "C2", "-."),
-                                     (base["tmd"]["peak"]["peak"], "optimal TMD, peak", "C3", "-"),
-                                     (base["tmd"]["peak"]["band_average"], "optimal TMD, band average", "C3", "--")):
+    for value, text, color, ls in (
+        (refs["bare"]["peak"], "object alone, peak", "0.3", ":"),
+        (refs["absorber"]["peak"], "absorber no stop, peak", "C2", "-."),
+        (base["tmd"]["peak"]["peak"], "optimal TMD, peak", "C3", "-"),
+        (base["tmd"]["peak"]["band_average"], "optimal TMD, band average", "C3", "--"),
+    ):
         ax.axhline(value, color=color, ls=ls, lw=0.8, label=f"{text} ({value:.2f})")
     ax.set_ylabel("$\\max|x_1|/x_{st}$ over the band")
     ax.set_ylim(0.0, None)
     ax.legend(fontsize=6.5, ncol=3, loc="lower center", bbox_to_anchor=(0.5, 1.01))
-    ax2.plot(g, [cell_float(r["peak_impulse"]) for r in rows], color="C0", lw=0.9,
-             label="largest pulse $S/(m_1 x_{st}\\omega)$")
+    ax2.plot(
+        g,
+        [cell_float(r["peak_impulse"]) for r in rows],
+        color="C0",
+        lw=0.9,
+        label="largest pulse $S/(m_1 x_{st}\\omega)$",
+    )
     ax3 = ax2.twinx()
-    ax3.plot(g, [cell_float(r["impacts_per_period"]) for r in rows], color="C1", lw=0.8, ls="--",
-             label="most impacts per period")
+    ax3.plot(
+        g,
+        [cell_float(r["impacts_per_period"]) for r in rows],
+        color="C1",
+        lw=0.8,
+        ls="--",
+        label="most impacts per period",
+    )
     ax2.set_ylim(0.0, None)
     ax3.set_ylim(0.0, None)
     ax2.set_ylabel("pulse")

@@ -21,8 +21,13 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     values = sorted({float(r["value"]) for r in rows})
     for i, v in enumerate(values):
         rs = [r for r in rows if float(r["value"]) == v]
-        ax.plot([float(r["gap"]) for r in rs], [cell_float(r["peak_max_abs_x1"]) for r in rs], color=f"C{i}", lw=1.0,
-                label=f"${symbol} = {v:g}$")
+        ax.plot(
+            [float(r["gap"]) for r in rs],
+            [cell_float(r["peak_max_abs_x1"]) for r in rs],
+            color=f"C{i}",
+            lw=1.0,
+            label=f"${symbol} = {v:g}$",
+        )
         b = next(b for b in info["best"] if b["second"] == v and b["criterion"] == "peak")
         ax.plot([b["gap"]], [b["value"]], "o", color=f"C{i}", ms=4)
     tmd = base["tmd"]["peak"]["peak"]

@@ -21,11 +21,15 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
     rows = read_csv(response_csv)
     base = read_csv(baselines_csv)
     summary = read_json(response_json)["responses"]
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(TEXT_WIDTH, 4.6), sharex=True, layout="constrained",
-                                  gridspec_kw={"height_ratios": [2.2, 1]})
+    fig, (ax, ax2) = plt.subplots(
+        2, 1, figsize=(TEXT_WIDTH, 4.6), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [2.2, 1]}
+    )
     th = [float(r["theta"]) for r in base]
-    for key, text, color, ls in (("bare", "object alone", "0.3", ":"), ("absorber", "absorber, no stop", "C2", "-."),
-                                 ("tmd_peak", "optimal linear TMD", "C3", "-")):
+    for key, text, color, ls in (
+        ("bare", "object alone", "0.3", ":"),
+        ("absorber", "absorber, no stop", "C2", "-."),
+        ("tmd_peak", "optimal linear TMD", "C3", "-"),
+    ):
         ax.plot(th, [float(r[key]) for r in base], color=color, ls=ls, lw=0.9, label=text)
     colors = ["C0", "C1", "C4", "C5"]
     for s, color in zip(summary, colors):
@@ -33,14 +37,29 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
         rs = [r for r in rows if float(r["gap"]) == g]
         for direction, ls in (("up", "-"), ("down", "--")):
             d = [r for r in rs if r["direction"] == direction]
-            label = (f"impact, $\\Delta_0/x_{{st}} = {g:.2f}$" + (" (best)" if s["role"] == "best" else "")
-                     if direction == "up" else None)
-            ax.plot([float(r["theta"]) for r in d], [cell_float(r["max_abs_x1"]) for r in d], color=color, ls=ls,
-                    lw=1.1 if direction == "up" else 0.9, label=label)
+            label = (
+                f"impact, $\\Delta_0/x_{{st}} = {g:.2f}$" + (" (best)" if s["role"] == "best" else "")
+                if direction == "up"
+                else None
+            )
+            ax.plot(
+                [float(r["theta"]) for r in d],
+                [cell_float(r["max_abs_x1"]) for r in d],
+                color=color,
+                ls=ls,
+                lw=1.1 if direction == "up" else 0.9,
+                label=label,
+            )
         hyst = [r for r in rs if r["direction"] == "up" and r["hysteresis"] == "1"]
         if hyst:
-            ax.plot([float(r["theta"]) for r in hyst], [cell_float(r["max_abs_x1"]) for r in hyst], "x", color=color,
-                    ms=3, mew=0.7)
+            ax.plot(
+                [float(r["theta"]) for r in hyst],
+                [cell_float(r["max_abs_x1"]) for r in hyst],
+                "x",
+                color=color,
+                ms=3,
+                mew=0.7,
+            )
     ax.set_ylabel("$\\max|x_1|/x_{st}$")
     ax.set_ylim(0.0, None)
     ax.legend(fontsize=7, loc="upper left")
@@ -48,15 +67,27 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
     rs = [r for r in rows if float(r["gap"]) == best["gap"]]
     for direction, ls in (("up", "-"), ("down", "--")):
         d = [r for r in rs if r["direction"] == direction]
-        ax2.plot([float(r["theta"]) for r in d], [cell_float(r["peak_impulse"]) for r in d], color="C0", ls=ls, lw=0.9,
-                 label="peak pulse $S/(m_1 x_{st}\\omega)$" if direction == "up" else None)
+        ax2.plot(
+            [float(r["theta"]) for r in d],
+            [cell_float(r["peak_impulse"]) for r in d],
+            color="C0",
+            ls=ls,
+            lw=0.9,
+            label="peak pulse $S/(m_1 x_{st}\\omega)$" if direction == "up" else None,
+        )
     ax2.set_ylim(0.0, None)
     ax2.set_ylabel("pulse per impact")
     ax2.set_xlabel("forcing frequency $\\theta = \\omega/\\omega_1$")
     ax3 = ax2.twinx()
     d = [r for r in rs if r["direction"] == "up"]
-    ax3.step([float(r["theta"]) for r in d], [cell_float(r["impacts_per_period"]) for r in d], where="mid",
-             color="C1", lw=0.8, label="impacts per period (upward)")
+    ax3.step(
+        [float(r["theta"]) for r in d],
+        [cell_float(r["impacts_per_period"]) for r in d],
+        where="mid",
+        color="C1",
+        lw=0.8,
+        label="impacts per period (upward)",
+    )
     ax3.set_ylabel("impacts per period")
     ax3.set_ylim(0.0, max(2.0, 1.15 * np.nanmax([cell_float(r["impacts_per_period"]) for r in d])))
     h1, l1 = ax2.get_legend_handles_labels()

@@ -18,7 +18,6 @@ Deviations: a scan the paper does not have; the grid and the window come from th
 ``verdict`` section.
 """
 
-
 import numpy as np
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
@@ -54,8 +53,11 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     ax2.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
     orbit = scan.get("orbit_range", {})
     lo, hi = scan["window"]["gap_min"], scan["window"]["gap_max"]
-    marks = [(gap, name) for gap, name in ((scan["stated_gap"], "stated"), (scan["located"]["gap"], "located"))
-             if lo <= gap <= hi]  # a case outside the scanned window is not drawn
+    marks = [
+        (gap, name)
+        for gap, name in ((scan["stated_gap"], "stated"), (scan["located"]["gap"], "located"))
+        if lo <= gap <= hi
+    ]  # a case outside the scanned window is not drawn
     for axis in (ax1, ax2):
         for key in ("lo", "hi"):
             if orbit.get("found") and not orbit.get(key + "_open", True):
@@ -63,8 +65,16 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
         for gap, _name in marks:
             axis.axvline(gap, color="0.3", lw=0.7, ls=":")
     for gap, name in marks:
-        ax1.annotate(f"{name}\n{gap:g}", (gap, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2),
-                     textcoords="offset points", ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
+        ax1.annotate(
+            f"{name}\n{gap:g}",
+            (gap, 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(0, 2),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=ANNOTATION_SIZE,
+        )
     ax1.plot([], [], color=RANGE_COLOR, lw=6, label="claim (a): gap negative")
     ax2.plot([], [], color=RANGE_COLOR, lw=6, label="claim (b): $T_c = 2T$, 3 impacts")
     if orbit.get("found"):

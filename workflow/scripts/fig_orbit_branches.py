@@ -46,12 +46,19 @@ RADIUS_LIMITS = (0.2, 5.0)
 RADIUS_TICKS = (0.2, 0.5, 1.0, 2.0, 5.0)
 # Label offsets (points) of the special points in the zoom window, by (branch, kind), so that
 # labels where branches meet do not overlap; default above the marker.
-LABEL_OFFSET = {("single", "grazing_interior"): (-4, 6), ("double", "grazing_velocity"): (0, -11),
-                ("triple", "grazing_velocity"): (4, -11), ("triple", "period_doubling"): (0, 6),
-                ("triple", "fold"): (0, -9), ("double", "period_doubling"): (7, -6),
-                ("double", "neimark_sacker"): (0, -12), ("triple", "grazing_interior"): (-5, 5),
-                ("double", "grazing_interior"): (0, 6), ("single", "fold"): (6, 0),
-                ("single", "grazing_velocity"): (0, -11)}
+LABEL_OFFSET = {
+    ("single", "grazing_interior"): (-4, 6),
+    ("double", "grazing_velocity"): (0, -11),
+    ("triple", "grazing_velocity"): (4, -11),
+    ("triple", "period_doubling"): (0, 6),
+    ("triple", "fold"): (0, -9),
+    ("double", "period_doubling"): (7, -6),
+    ("double", "neimark_sacker"): (0, -12),
+    ("triple", "grazing_interior"): (-5, 5),
+    ("double", "grazing_interior"): (0, 6),
+    ("single", "fold"): (6, 0),
+    ("single", "grazing_velocity"): (0, -11),
+}
 
 
 def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
@@ -63,21 +70,38 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     sp = {n: [s for s in special if s["branch"] == n] for n in names}
     zoom = multi_impact_window(rows, special, summary, ZOOM_MARGIN)
 
-    fig, axes = plt.subplots(2, 2, figsize=figure_size(5.3), sharex="col", layout="constrained",
-                             gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0]})
+    fig, axes = plt.subplots(
+        2,
+        2,
+        figsize=figure_size(5.3),
+        sharex="col",
+        layout="constrained",
+        gridspec_kw={"width_ratios": [1.0, 1.55], "height_ratios": [1.5, 1.0]},
+    )
     labelled = (set(), set())
     for col, (ax_x, ax_r) in enumerate(zip(axes[0], axes[1])):
         for n in names:
             for key, ax in (("x1_max", ax_x), ("spectral_radius", ax_r)):
                 for state, g, y in run_pieces(by[n], sp[n], key):
-                    ax.plot(g, np.clip(y, *RADIUS_LIMITS) if key == "spectral_radius" else y, STYLE[state],
-                            color=color[n], lw=1.1 if state == "stable" else 0.9)
+                    ax.plot(
+                        g,
+                        np.clip(y, *RADIUS_LIMITS) if key == "spectral_radius" else y,
+                        STYLE[state],
+                        color=color[n],
+                        lw=1.1 if state == "stable" else 0.9,
+                    )
             for s in sp[n]:
                 on = s["admissible"] == "1"
                 g = cell_float(s["gap"])
-                mk = dict(marker=MARKER[s["kind"]], ms=4.5 if col else 3.5, ls="none", zorder=5,
-                          mfc=(color[n] if on else "white") if s["kind"] != "grazing_interior" else "white",
-                          mec=color[n] if on else INADMISSIBLE_MARK, mew=0.9)
+                mk = dict(
+                    marker=MARKER[s["kind"]],
+                    ms=4.5 if col else 3.5,
+                    ls="none",
+                    zorder=5,
+                    mfc=(color[n] if on else "white") if s["kind"] != "grazing_interior" else "white",
+                    mec=color[n] if on else INADMISSIBLE_MARK,
+                    mew=0.9,
+                )
                 ax_x.plot([g], [cell_float(s["x1_max"])], **mk)
                 r = cell_float(s["spectral_radius"])
                 if not math.isnan(r):
@@ -91,9 +115,16 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                     dx, dy = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
                     ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
                     va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
-                    ax_x.annotate(KIND_MARK[s["kind"]], (g, cell_float(s["x1_max"])), xytext=(dx, dy),
-                                  textcoords="offset points", ha=ha, va=va, fontsize=ANNOTATION_SIZE,
-                                  color="0.1" if on else INADMISSIBLE_MARK)
+                    ax_x.annotate(
+                        KIND_MARK[s["kind"]],
+                        (g, cell_float(s["x1_max"])),
+                        xytext=(dx, dy),
+                        textcoords="offset points",
+                        ha=ha,
+                        va=va,
+                        fontsize=ANNOTATION_SIZE,
+                        color="0.1" if on else INADMISSIBLE_MARK,
+                    )
         ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
         ax_r.set_yscale("log")
         ax_r.set_ylim(*RADIUS_LIMITS)
@@ -111,14 +142,23 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             for ax in (ax_x, ax_r):
                 ax.axvline(g, color="0.35", lw=0.6, ls=(0, (1, 2)), zorder=0)
             ax_x.plot([g], [c["x1_max"]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none", zorder=6)
-            ax_r.plot([g], [c["multipliers"][0]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none",
-                      zorder=6)
+            ax_r.plot([g], [c["multipliers"][0]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none", zorder=6)
             if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once, along its vertical
-                ax_x.annotate(f"{case} case {g:g}", (g, 1.0), xycoords=("data", "axes fraction"),
-                              xytext=(2, -3), textcoords="offset points", ha="left", va="top", rotation=90,
-                              fontsize=ANNOTATION_SIZE, color="0.2",
-                              # on a white ground: the branches' lines pass behind the name, not through it
-                              bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85}, zorder=7)
+                ax_x.annotate(
+                    f"{case} case {g:g}",
+                    (g, 1.0),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(2, -3),
+                    textcoords="offset points",
+                    ha="left",
+                    va="top",
+                    rotation=90,
+                    fontsize=ANNOTATION_SIZE,
+                    color="0.2",
+                    # on a white ground: the branches' lines pass behind the name, not through it
+                    bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85},
+                    zorder=7,
+                )
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
@@ -134,15 +174,29 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     # Legend in rows (branches and line styles; special points and the case; the shading and
     # the unit line), written row by row although matplotlib fills a legend column by column.
     line = lambda **kw: plt.Line2D([], [], **kw)  # noqa: E731
-    rows = [[line(color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
-            + [line(color="0.2", ls=STYLE[s], lw=1.0, label=s) for s in ("stable", "unstable", "inadmissible")],
-            [line(color="0.2", marker=MARKER[k], mfc="0.2" if k != "grazing_interior" else "white", ls="none", ms=4,
-                  label=lab) for k, lab in KIND_LEGEND.items()]
-            + [line(marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case")],
-            [Patch(facecolor=ZOOM_SHADE, edgecolor="0.6", lw=0.5, label="zoom window"),
-             line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$")]]
-    legend_in_rows(fig, rows, loc="outside lower center", handlelength=1.8, columnspacing=0.9, handletextpad=0.4,
-                   fontsize="small")
+    rows = [
+        [line(color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
+        + [line(color="0.2", ls=STYLE[s], lw=1.0, label=s) for s in ("stable", "unstable", "inadmissible")],
+        [
+            line(
+                color="0.2",
+                marker=MARKER[k],
+                mfc="0.2" if k != "grazing_interior" else "white",
+                ls="none",
+                ms=4,
+                label=lab,
+            )
+            for k, lab in KIND_LEGEND.items()
+        ]
+        + [line(marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case")],
+        [
+            Patch(facecolor=ZOOM_SHADE, edgecolor="0.6", lw=0.5, label="zoom window"),
+            line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$"),
+        ],
+    ]
+    legend_in_rows(
+        fig, rows, loc="outside lower center", handlelength=1.8, columnspacing=0.9, handletextpad=0.4, fontsize="small"
+    )
     finish_figure(fig, out_pdf, out_png)
 
 

@@ -15,7 +15,6 @@ report's text width and no text is under 7 pt in print.
 Deviation: the paper shows no map; its introduction describes the sequence along the gap.
 """
 
-
 import numpy as np
 from matplotlib import patheffects
 from matplotlib.colors import ListedColormap
@@ -29,8 +28,10 @@ from impactdamper.reporting.records import read_csv, start_stage
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
 
 CLASSES = list(REGIME_COLORS)
-AXIS_LABEL = {"theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
-              "damping": "damping ratios $\\delta_1 = \\delta_2 = \\delta$"}
+AXIS_LABEL = {
+    "theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
+    "damping": "damping ratios $\\delta_1 = \\delta_2 = \\delta$",
+}
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 # The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.
 LIFTOFF_COLOR = "#33bbee"
@@ -68,10 +69,17 @@ def _label_regions(ax, slow, gaps, labels):
             continue
         placed.append((x, y))
         regime = gs.regime_of_label(lab)
-        ax.text(gaps[j], slow[i], "S" if lab == "stuck" else lab,
-                ha="center", va="center", fontsize=LABEL_SIZE, zorder=6,
-                color=REGIME_TEXT.get(regime, "black"),
-                bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"))
+        ax.text(
+            gaps[j],
+            slow[i],
+            "S" if lab == "stuck" else lab,
+            ha="center",
+            va="center",
+            fontsize=LABEL_SIZE,
+            zorder=6,
+            color=REGIME_TEXT.get(regime, "black"),
+            bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"),
+        )
 
 
 def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
@@ -79,25 +87,72 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     slow, gaps, labels = read_map(map_csv)
     codes = np.vectorize(lambda s: CLASSES.index(gs.regime_of_label(s)))(labels)
     fig, ax = plt.subplots(figsize=figure_size(4.7), layout="constrained")
-    ax.pcolormesh(gaps, slow, codes, cmap=ListedColormap([REGIME_COLORS[c] for c in CLASSES]), vmin=-0.5,
-                  vmax=len(CLASSES) - 0.5, shading="nearest", rasterized=True)
+    ax.pcolormesh(
+        gaps,
+        slow,
+        codes,
+        cmap=ListedColormap([REGIME_COLORS[c] for c in CLASSES]),
+        vmin=-0.5,
+        vmax=len(CLASSES) - 0.5,
+        shading="nearest",
+        rasterized=True,
+    )
     _label_regions(ax, slow, gaps, labels)
     curves = read_csv(curves_csv)
     s = np.array([float(r["slow"]) for r in curves])
     outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
     for i, (g, y) in enumerate(grazing_curves(curves, float(gaps[1] - gaps[0]))):
-        ax.plot(g, y, color="white", lw=1.2, path_effects=outline, zorder=3,
-                label="ends of Alg. 1 admissible range" if i == 0 else None)
-    ax.plot([float(r["liftoff"]) for r in curves], s, color=LIFTOFF_COLOR, lw=1.2, ls="--", zorder=4,
-            label="lift-off threshold")
-    ax.plot([float(r["first_contact"]) for r in curves], s, color="k", lw=1.0, ls="--", zorder=4,
-            label="first contact, $\\Delta_0 = U_1$")
+        ax.plot(
+            g,
+            y,
+            color="white",
+            lw=1.2,
+            path_effects=outline,
+            zorder=3,
+            label="ends of Alg. 1 admissible range" if i == 0 else None,
+        )
+    ax.plot(
+        [float(r["liftoff"]) for r in curves],
+        s,
+        color=LIFTOFF_COLOR,
+        lw=1.2,
+        ls="--",
+        zorder=4,
+        label="lift-off threshold",
+    )
+    ax.plot(
+        [float(r["first_contact"]) for r in curves],
+        s,
+        color="k",
+        lw=1.0,
+        ls="--",
+        zorder=4,
+        label="first contact, $\\Delta_0 = U_1$",
+    )
     ref = float(reference[REFERENCE_VALUE[name]])
-    ax.plot([float(reference["gap"])], [ref], marker="*", ms=9, color="#f1c40f", mec="k", mew=0.6, ls="none",
-            label=f"stated case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {float(reference['gap']):g})")
+    ax.plot(
+        [float(reference["gap"])],
+        [ref],
+        marker="*",
+        ms=9,
+        color="#f1c40f",
+        mec="k",
+        mew=0.6,
+        ls="none",
+        label=f"stated case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {float(reference['gap']):g})",
+    )
     loc = located_gap(located_json)
-    ax.plot([loc], [ref], marker="D", ms=5, color="w", mec="k", mew=0.6, ls="none",
-            label=f"located case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {loc:g})")
+    ax.plot(
+        [loc],
+        [ref],
+        marker="D",
+        ms=5,
+        color="w",
+        mec="k",
+        mew=0.6,
+        ls="none",
+        label=f"located case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {loc:g})",
+    )
     ax.set_xlim(gaps[0], gaps[-1])
     ax.set_ylim(slow[0], slow[-1])
     ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
@@ -105,16 +160,32 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     ax.grid(False)
     handles, _ = ax.get_legend_handles_labels()
     present = {CLASSES[c] for c in np.unique(codes)}
-    patches = [Patch(facecolor=REGIME_COLORS[c], edgecolor="0.4", lw=0.5, label=REGIME_NAMES[c])
-               for c in CLASSES if c in present]
+    patches = [
+        Patch(facecolor=REGIME_COLORS[c], edgecolor="0.4", lw=0.5, label=REGIME_NAMES[c])
+        for c in CLASSES
+        if c in present
+    ]
     # Under the map: the regime colours, then the lines and markers, filled column by column.
-    fig.legend(handles=patches + handles, loc="outside lower center", ncol=3, fontsize="small", handlelength=2.4,
-               columnspacing=1.0)
+    fig.legend(
+        handles=patches + handles,
+        loc="outside lower center",
+        ncol=3,
+        fontsize="small",
+        handlelength=2.4,
+        columnspacing=1.0,
+    )
     finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, _ = start_stage(sm)
-    main(sm.wildcards.map, cfg["reference"], sm.input.map, sm.input.curves, sm.input.located,
-         sm.output.pdf, sm.output.png)
+    main(
+        sm.wildcards.map,
+        cfg["reference"],
+        sm.input.map,
+        sm.input.curves,
+        sm.input.located,
+        sm.output.pdf,
+        sm.output.png,
+    )

@@ -17,7 +17,6 @@ Deviations: velocities are the closing relative velocities x2' - x1' before each
 x_st omega; for nonperiodic points they are the impacts of the last 8 periods simulated.
 """
 
-
 import numpy as np
 
 from impactdamper.studies.config import located_gap
@@ -53,40 +52,91 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     for ax, direction, color in ((axes[0], "up", "C0"), (axes[1], "down", "C1")):
         ax.scatter(xr, yr, s=DOT, color="0.75", lw=0, rasterized=True, label="random starts")
         x, y = _scatter([r for r in rows if r["direction"] == direction])
-        ax.scatter(x, y, s=DOT, color=color, lw=0, rasterized=True,
-                   label=f"{'upward' if direction == 'up' else 'downward'} sweep")
+        ax.scatter(
+            x,
+            y,
+            s=DOT,
+            color=color,
+            lw=0,
+            rasterized=True,
+            label=f"{'upward' if direction == 'up' else 'downward'} sweep",
+        )
         ax.plot(g, np.where(good, v, np.nan), color="k", lw=0.8, label="Alg. No. 1 orbit")
         ax.plot(g, np.where(~good, v, np.nan), color="k", lw=0.8, ls=":", label="same, gap $<0$ between impacts")
         for name, text in ANALYTIC:
             if checks.get(name) and checks[name]["analytic"] is not None:
-                ax.axvline(checks[name]["analytic"], color="0.3", lw=0.7, ls="--",
-                           label="analytic transitions" if name == ANALYTIC[0][0] else None)
+                ax.axvline(
+                    checks[name]["analytic"],
+                    color="0.3",
+                    lw=0.7,
+                    ls="--",
+                    label="analytic transitions" if name == ANALYTIC[0][0] else None,
+                )
                 if direction == "up":
-                    ax.annotate(text, (checks[name]["analytic"], 1.0), xycoords=("data", "axes fraction"),
-                                xytext=(2, -2), textcoords="offset points", ha="left", va="top", fontsize=ANNOTATION_SIZE,
-                                bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8))
+                    ax.annotate(
+                        text,
+                        (checks[name]["analytic"], 1.0),
+                        xycoords=("data", "axes fraction"),
+                        xytext=(2, -2),
+                        textcoords="offset points",
+                        ha="left",
+                        va="top",
+                        fontsize=ANNOTATION_SIZE,
+                        bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8),
+                    )
         ax.set_ylabel("closing velocity $v/(x_{\\mathrm{st}}\\omega)$")
         ax.set_ylim(bottom=0.0)
     # The cases: named above the upper panel, each on the side away from the other.
     for x, text in ((stated_gap, "stated"), (located, "located")):
         right = x >= min(stated_gap, located) + 0.5 * abs(stated_gap - located)
-        axes[0].annotate(f"{text} {x:g}", (x, 1.0), xycoords=("data", "axes fraction"), xytext=(2 if right else -2, 2),
-                         textcoords="offset points", ha="left" if right else "right", va="bottom", fontsize=ANNOTATION_SIZE)
+        axes[0].annotate(
+            f"{text} {x:g}",
+            (x, 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(2 if right else -2, 2),
+            textcoords="offset points",
+            ha="left" if right else "right",
+            va="bottom",
+            fontsize=ANNOTATION_SIZE,
+        )
         for ax in axes:
             ax.axvline(x, color="C2", lw=0.7, ls="-.", label="stated and located cases" if text == "stated" else None)
     axes[1].set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     h0, l0 = axes[0].get_legend_handles_labels()
     h1, l1 = axes[1].get_legend_handles_labels()
-    order = ["random starts", "upward sweep", "downward sweep", "Alg. No. 1 orbit", "same, gap $<0$ between impacts",
-             "analytic transitions", "stated and located cases"]
+    order = [
+        "random starts",
+        "upward sweep",
+        "downward sweep",
+        "Alg. No. 1 orbit",
+        "same, gap $<0$ between impacts",
+        "analytic transitions",
+        "stated and located cases",
+    ]
     found = dict(zip(l0 + l1, h0 + h1))
-    fig.legend([found[k] for k in order], order, loc="outside upper center", ncol=4, markerscale=4, fontsize="small",
-               handlelength=2.0, columnspacing=0.8)
+    fig.legend(
+        [found[k] for k in order],
+        order,
+        loc="outside upper center",
+        ncol=4,
+        markerscale=4,
+        fontsize="small",
+        handlelength=2.0,
+        columnspacing=0.8,
+    )
     finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
-    main(sm.input.sweep, sm.input.random, sm.input.alg1, sm.input.checks, sm.input.located,
-         float(sm.params.stated_gap), sm.output.pdf, sm.output.png)
+    main(
+        sm.input.sweep,
+        sm.input.random,
+        sm.input.alg1,
+        sm.input.checks,
+        sm.input.located,
+        float(sm.params.stated_gap),
+        sm.output.pdf,
+        sm.output.png,
+    )

@@ -66,11 +66,19 @@ def _label_bands(ax, y, bands, renderer):
         x_mid = ax.transData.inverted().transform((mid, 0))[0]
         regime = gs.regime_of_label(lab)
         for rotation in (0, 90):  # upright only where the band is too narrow
-            t = ax.text(x_mid, y, SHORT.get(lab, lab), ha="center", va="center", fontsize=LABEL_SIZE,
-                        rotation=rotation, color=REGIME_TEXT.get(regime, "black"), clip_on=True)
+            t = ax.text(
+                x_mid,
+                y,
+                SHORT.get(lab, lab),
+                ha="center",
+                va="center",
+                fontsize=LABEL_SIZE,
+                rotation=rotation,
+                color=REGIME_TEXT.get(regime, "black"),
+                clip_on=True,
+            )
             bb = t.get_window_extent(renderer)
-            fits = (bb.x0 - pad >= left_edge and bb.x1 + pad <= right_edge
-                    and bb.y0 >= bottom_edge and bb.y1 <= top_edge)
+            fits = bb.x0 - pad >= left_edge and bb.x1 + pad <= right_edge and bb.y0 >= bottom_edge and bb.y1 <= top_edge
             free = all(bb.x1 + pad <= l or bb.x0 - pad >= r for l, r in placed)
             if fits and free:
                 placed.append((bb.x0, bb.x1))
@@ -120,15 +128,37 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
         if i:
             ax.set_yticklabels([])
         # The window, outlined and named in the top panel.
-        top.add_patch(Rectangle((window[0], -1.5 - n_random + 0.02), window[1] - window[0], 2 + n_random - 0.04,
-                                fill=False, ec="k", lw=0.8, zorder=5))
-        top.annotate(f"zoom {'abc'[i]}", (0.5 * sum(window), 0.5), xytext=(0, 1), textcoords="offset points",
-                     ha="center", va="bottom", fontsize=ANNOTATION_SIZE)
+        top.add_patch(
+            Rectangle(
+                (window[0], -1.5 - n_random + 0.02),
+                window[1] - window[0],
+                2 + n_random - 0.04,
+                fill=False,
+                ec="k",
+                lw=0.8,
+                zorder=5,
+            )
+        )
+        top.annotate(
+            f"zoom {'abc'[i]}",
+            (0.5 * sum(window), 0.5),
+            xytext=(0, 1),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=ANNOTATION_SIZE,
+        )
     top.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     present = {gs.regime_of_label(r["label"]) for r in rows + rnd}
-    fig.legend(handles=[Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=REGIME_NAMES[k])
-                        for k, c in REGIME_COLORS.items() if k in present],
-               loc="outside lower center", ncol=3)
+    fig.legend(
+        handles=[
+            Patch(facecolor=c, edgecolor="0.4", lw=0.5, label=REGIME_NAMES[k])
+            for k, c in REGIME_COLORS.items()
+            if k in present
+        ],
+        loc="outside lower center",
+        ncol=3,
+    )
     # Labels are fitted to their bands once the layout is final.
     fig.canvas.draw()
     fig.set_layout_engine("none")

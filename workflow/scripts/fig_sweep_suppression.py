@@ -12,7 +12,6 @@ reference is a horizontal line, named with its value in the legend.
 Deviations: none (the paper has no such figure).
 """
 
-
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import cell_float, read_csv, start_stage
 from impactdamper.core.linear import forced_amplitudes
@@ -26,15 +25,30 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     rows = read_csv(sweep_csv)
     rnd = read_csv(random_csv)
     fig, ax = plt.subplots(figsize=figure_size(3.0), layout="constrained")
-    ax.scatter([float(r["value"]) for r in rnd], [cell_float(r["x1_max"]) for r in rnd], s=1.5, color="0.7", lw=0,
-               rasterized=True, label="random initial states")
+    ax.scatter(
+        [float(r["value"]) for r in rnd],
+        [cell_float(r["x1_max"]) for r in rnd],
+        s=1.5,
+        color="0.7",
+        lw=0,
+        rasterized=True,
+        label="random initial states",
+    )
     for direction, color, ls in (("up", "C0", "-"), ("down", "C1", "--")):
         rs = [r for r in rows if r["direction"] == direction]
-        ax.plot([float(r["value"]) for r in rs], [cell_float(r["x1_max"]) for r in rs], color=color, ls=ls, lw=0.9,
-                label=f"{'upward' if direction == 'up' else 'downward'} sweep")
-    refs = ((object_alone_amplitude(p), "object alone", "0.2", ":"),
-            (rigid_amplitude(p), "suppressor rigidly attached", "C4", "-."),
-            (abs(forced_amplitudes(p)[0]) / p.x_st, "suppressor never reaching the stop", "C2", (0, (5, 2))))
+        ax.plot(
+            [float(r["value"]) for r in rs],
+            [cell_float(r["x1_max"]) for r in rs],
+            color=color,
+            ls=ls,
+            lw=0.9,
+            label=f"{'upward' if direction == 'up' else 'downward'} sweep",
+        )
+    refs = (
+        (object_alone_amplitude(p), "object alone", "0.2", ":"),
+        (rigid_amplitude(p), "suppressor rigidly attached", "C4", "-."),
+        (abs(forced_amplitudes(p)[0]) / p.x_st, "suppressor never reaching the stop", "C2", (0, (5, 2))),
+    )
     for value, text, color, ls in refs:
         ax.axhline(value, color=color, ls=ls, lw=0.8, label=f"{text} ({value:.2f})")
     ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")

@@ -62,14 +62,27 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
         for fam, method in METHODS.items():
             label, (color, marker, ls) = method.plot_label, STYLE.get(fam, DEFAULT_STYLE)
             # In the order of the method's own setting, from coarse to fine.
-            pts = sorted((_fineness(r), r["error"], r["cpu_seconds"]) for r in rows
-                         if r["case"] == case and r["family"] == fam
-                         and math.isfinite(r["error"]) and math.isfinite(r["cpu_seconds"]))
+            pts = sorted(
+                (_fineness(r), r["error"], r["cpu_seconds"])
+                for r in rows
+                if r["case"] == case
+                and r["family"] == fam
+                and math.isfinite(r["error"])
+                and math.isfinite(r["cpu_seconds"])
+            )
             if not pts:
                 continue
             _, xs, ys = zip(*pts)
-            ax.plot([max(x, ERROR_LIMITS[1]) for x in xs], ys, color=color, marker=marker, linestyle=ls,
-                    label=label, markersize=3.5, linewidth=0.8)
+            ax.plot(
+                [max(x, ERROR_LIMITS[1]) for x in xs],
+                ys,
+                color=color,
+                marker=marker,
+                linestyle=ls,
+                label=label,
+                markersize=3.5,
+                linewidth=0.8,
+            )
         for t in targets:
             ax.axvline(t, color="0.7", linewidth=0.6, zorder=0)
         ax.set_xscale("log")
@@ -84,8 +97,9 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
             labels.setdefault(lab, h)
     order = [m.plot_label for m in METHODS.values() if m.plot_label in labels]
     if siconos_available is False:
-        axes[1].text(0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize=ANNOTATION_SIZE,
-                     ha="right")
+        axes[1].text(
+            0.98, 0.02, "Siconos not available", transform=axes[1].transAxes, fontsize=ANNOTATION_SIZE, ha="right"
+        )
     fig.legend([labels[k] for k in order], order, loc="outside lower center", ncols=4, fontsize="small")
     finish_figure(fig, out_stem)
 
@@ -94,5 +108,9 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, _ = start_stage(sm)
     study = read_json(sm.input.json)
-    main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"), tuple(cfg["performance"]["targets"]),
-         bool(study["siconos"]["available"]))
+    main(
+        sm.input.csv,
+        str(sm.output.pdf).removesuffix(".pdf"),
+        tuple(cfg["performance"]["targets"]),
+        bool(study["siconos"]["available"]),
+    )

@@ -14,8 +14,20 @@ located case, the directly solved orbit's range and the cross-checks).
 from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import gapscan
 
-SCAN_COLUMNS = ["gap", "alg1_exists", "alg1_min_gap", "alg1_t1", "alg1_t2", "claim_a", "alg2_regime",
-                "alg2_period_multiple", "alg2_impacts_per_cycle", "alg2_periods", "claim_b", "both"]
+SCAN_COLUMNS = [
+    "gap",
+    "alg1_exists",
+    "alg1_min_gap",
+    "alg1_t1",
+    "alg1_t2",
+    "claim_a",
+    "alg2_regime",
+    "alg2_period_multiple",
+    "alg2_impacts_per_cycle",
+    "alg2_periods",
+    "claim_b",
+    "both",
+]
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, workers: int = 1) -> dict:

@@ -29,11 +29,36 @@ from impactdamper.reporting.latex import tex_escape, tex_time
 from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import hardcases as hc
 
-CSV_COLUMNS = ["case", "label", "stresses", "regime", "k", "z", "periods", "events", "touches", "did",
-               "cpu_seconds", "terminated", "gap_nonnegative", "impact_law", "reference", "passed", "reference_kind",
-               # the measured numbers behind the flags, each with its tolerance
-               "min_gap_relative", "gap_tol", "max_law_residual", "law_tol", "ivp_event_time_diff", "ivp_time_tol",
-               "ivp_state_diff", "ivp_state_tol", "mp_diff", "mp_tol"]
+CSV_COLUMNS = [
+    "case",
+    "label",
+    "stresses",
+    "regime",
+    "k",
+    "z",
+    "periods",
+    "events",
+    "touches",
+    "did",
+    "cpu_seconds",
+    "terminated",
+    "gap_nonnegative",
+    "impact_law",
+    "reference",
+    "passed",
+    "reference_kind",
+    # the measured numbers behind the flags, each with its tolerance
+    "min_gap_relative",
+    "gap_tol",
+    "max_law_residual",
+    "law_tol",
+    "ivp_event_time_diff",
+    "ivp_time_tol",
+    "ivp_state_diff",
+    "ivp_state_tol",
+    "mp_diff",
+    "mp_tol",
+]
 CHECK_NAMES = {"terminated": "ends", "gap_nonnegative": "gap", "impact_law": "law", "reference": "ref."}
 
 
@@ -60,8 +85,10 @@ def table(rows: list[dict]) -> str:
     for r in rows:
         failed = [CHECK_NAMES[c] for c in hc.CHECKS if not r[c]]
         checks = "all 4 passed" if not failed else "failed: " + ", ".join(failed)
-        lines.append(f"{tex_escape(r['label'])} & {tex_escape(r['stresses'])} & {_did_tex(r)} & "
-                     f"{tex_time(r['cpu_seconds'])} & {checks} \\\\")
+        lines.append(
+            f"{tex_escape(r['label'])} & {tex_escape(r['stresses'])} & {_did_tex(r)} & "
+            f"{tex_time(r['cpu_seconds'])} & {checks} \\\\"
+        )
     lines += [r"\bottomrule", r"\end{tabular}", ""]
     return "\n".join(lines)
 
@@ -71,9 +98,15 @@ def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
     results = hc.run_suite(base, log=log)
     rows = [r.row() for r in results]
     write_csv(out_csv, CSV_COLUMNS, rows, booleans="python", float_format=None)
-    write_json(out_json, {"cases": [dict(r.row(), details=r.details, checks=r.checks) for r in results],
-                             "passed": sum(r.passed for r in results), "total": len(results),
-                             "note": "cpu_seconds: CPU time of the steady-state run; not deterministic"})
+    write_json(
+        out_json,
+        {
+            "cases": [dict(r.row(), details=r.details, checks=r.checks) for r in results],
+            "passed": sum(r.passed for r in results),
+            "total": len(results),
+            "note": "cpu_seconds: CPU time of the steady-state run; not deterministic",
+        },
+    )
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
     Path(out_tex).write_text(table(rows))
     return rows

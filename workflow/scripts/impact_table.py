@@ -27,9 +27,20 @@ def main(case: str, case_json, out_csv, out_tex) -> list[dict]:
     table = data["algorithm2"]["impact_table"]
     p = data["parameters"]
     vscale, sscale = p["x_st"] * p["omega"], p["m1"] * p["x_st"] * p["omega"]
-    rows = [{"impact": r["label"], "t_s": r["t_s"], "t_over_T": r["t_over_T"], "phase": r["phase"],
-             "velocity": r["velocity"], "impulse": r["impulse"], "velocity_rel": r["velocity"] / vscale,
-             "impulse_rel": r["impulse"] / sscale, "next_cycle": r["next_cycle"]} for r in table]
+    rows = [
+        {
+            "impact": r["label"],
+            "t_s": r["t_s"],
+            "t_over_T": r["t_over_T"],
+            "phase": r["phase"],
+            "velocity": r["velocity"],
+            "impulse": r["impulse"],
+            "velocity_rel": r["velocity"] / vscale,
+            "impulse_rel": r["impulse"] / sscale,
+            "next_cycle": r["next_cycle"],
+        }
+        for r in table
+    ]
     write_csv(out_csv, COLUMNS, rows)
     lines = [
         f"% Impact times of the settled cycle, {case} case (Delta0/x_st = {data['parameters']['gap']:g}).",
@@ -45,8 +56,10 @@ def main(case: str, case_json, out_csv, out_tex) -> list[dict]:
             lines.append("\\midrule")
         name = r["impact"].replace("t", "t_")
         label = f"${name}$" + (" (next cycle)" if r["next_cycle"] else "")
-        lines.append(f"{label} & ${fixed(r['t_over_T'], 4)}$ & ${fixed(r['phase'], 4)}$ & "
-                     f"${fixed(r['velocity_rel'], 3)}$ & ${fixed(r['impulse_rel'], 4)}$ \\\\")
+        lines.append(
+            f"{label} & ${fixed(r['t_over_T'], 4)}$ & ${fixed(r['phase'], 4)}$ & "
+            f"${fixed(r['velocity_rel'], 3)}$ & ${fixed(r['impulse_rel'], 4)}$ \\\\"
+        )
     if not rows:
         lines.append("\\multicolumn{5}{c}{no impact in the settled motion} \\\\")
     lines += ["\\bottomrule", "\\end{tabular}"]

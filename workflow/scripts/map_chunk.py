@@ -17,7 +17,6 @@ Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
 time, with start and end times so that the gather can compute the whole map's wall time).
 """
 
-
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
 from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
@@ -34,32 +33,89 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
     out, fallbacks = [], {}
     with Timer() as timer:
         for n, i in enumerate(rows_idx):
-            row = regime_map_batch(base, "gap", gaps, slow, [slow_values[i]], direction=maps["direction"],
-                                   settings=settings)[0]
+            row = regime_map_batch(
+                base, "gap", gaps, slow, [slow_values[i]], direction=maps["direction"], settings=settings
+            )[0]
             for reason, count in row.fallbacks.items():
                 fallbacks[reason] = fallbacks.get(reason, 0) + count
-            for j, (value, label, regime, k, z, x1_max, method, periods, fallback) in enumerate(zip(
-                    row.values[:, 0], row.label, row.regime, row.period_multiple, row.impacts_per_cycle, row.x1_max,
-                    row.method, row.periods, row.fallback)):
-                out.append({"i": int(i), "j": j, "slow": float(slow_values[i]), "gap": float(value), "label": label,
-                            "regime": regime, "k": int(k), "z": int(z), "x1_max": float(x1_max), "method": method,
-                            "periods": int(periods), "fallback": fallback})
+            for j, (value, label, regime, k, z, x1_max, method, periods, fallback) in enumerate(
+                zip(
+                    row.values[:, 0],
+                    row.label,
+                    row.regime,
+                    row.period_multiple,
+                    row.impacts_per_cycle,
+                    row.x1_max,
+                    row.method,
+                    row.periods,
+                    row.fallback,
+                )
+            ):
+                out.append(
+                    {
+                        "i": int(i),
+                        "j": j,
+                        "slow": float(slow_values[i]),
+                        "gap": float(value),
+                        "label": label,
+                        "regime": regime,
+                        "k": int(k),
+                        "z": int(z),
+                        "x1_max": float(x1_max),
+                        "method": method,
+                        "periods": int(periods),
+                        "fallback": fallback,
+                    }
+                )
             if log is not None:
-                log.info("map %s chunk %d: row %d/%d (%s = %.6g) done in %.2f s", name, chunk, n + 1, len(rows_idx),
-                         slow, slow_values[i], row.elapsed)
+                log.info(
+                    "map %s chunk %d: row %d/%d (%s = %.6g) done in %.2f s",
+                    name,
+                    chunk,
+                    n + 1,
+                    len(rows_idx),
+                    slow,
+                    slow_values[i],
+                    row.elapsed,
+                )
     write_csv(out_csv, COLUMNS, out, booleans="digits")
-    timing = {"map": name, "chunk": chunk, "rows": len(rows_idx), "cells": len(out), "rescue": settings.rescue,
-              "fallbacks": dict(sorted(fallbacks.items())), "wall_s": timer.wall,
-              "cpu_s": timer.cpu, "start_epoch": timer.epoch0, "end_epoch": timer.epoch1, "machine": machine()}
+    timing = {
+        "map": name,
+        "chunk": chunk,
+        "rows": len(rows_idx),
+        "cells": len(out),
+        "rescue": settings.rescue,
+        "fallbacks": dict(sorted(fallbacks.items())),
+        "wall_s": timer.wall,
+        "cpu_s": timer.cpu,
+        "start_epoch": timer.epoch0,
+        "end_epoch": timer.epoch1,
+        "machine": machine(),
+    }
     write_json(out_json, timing, indent=2)
     if log is not None:
-        log.info("map %s chunk %d: %d cells, fallbacks %s, wall %.1f s, cpu %.1f s", name, chunk, len(out),
-                 timing["fallbacks"], timer.wall, timer.cpu)
+        log.info(
+            "map %s chunk %d: %d cells, fallbacks %s, wall %.1f s, cpu %.1f s",
+            name,
+            chunk,
+            len(out),
+            timing["fallbacks"],
+            timer.wall,
+            timer.cpu,
+        )
     return timing
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "map_chunk", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["maps"],
-         sm.wildcards.map, int(sm.wildcards.chunk), sm.output.csv, sm.output.json, log=log)
+    main(
+        cfg["reference"],
+        cfg["solver"],
+        cfg["maps"],
+        sm.wildcards.map,
+        int(sm.wildcards.chunk),
+        sm.output.csv,
+        sm.output.json,
+        log=log,
+    )

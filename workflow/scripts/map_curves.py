@@ -14,7 +14,6 @@ Output: ``figures/map_{map}_curves.csv`` (slow, liftoff, first_contact, alg1_sca
 the grazing scan ran), alg1_grazing with ';'-joined values).
 """
 
-
 import numpy as np
 
 from impactdamper.studies import gapsweep as gs

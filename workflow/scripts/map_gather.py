@@ -30,7 +30,9 @@ def fallback_counts(timings: list[dict]) -> dict:
     return dict(sorted(out.items()))
 
 
-def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None) -> dict:
+def main(
+    chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=None, config: dict | None = None
+) -> dict:
     cells = [r for path in chunk_csvs for r in read_csv(path)]
     slow_of = {int(r["i"]): r["slow"] for r in cells}
     gaps = {int(r["j"]): r["gap"] for r in cells}
@@ -51,7 +53,10 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
     for r in cells:
         methods[r["method"]] = methods.get(r["method"], 0) + 1
     out = {
-        "map": name, "cells": ni * nj, "shape": [ni, nj], "chunks": len(timings),
+        "map": name,
+        "cells": ni * nj,
+        "shape": [ni, nj],
+        "chunks": len(timings),
         "cpu_s": sum(t["cpu_s"] for t in timings),
         "sum_wall_s": sum(t["wall_s"] for t in timings),
         "wall_s": max(t["end_epoch"] for t in timings) - min(t["start_epoch"] for t in timings),
@@ -60,7 +65,8 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
         "load_average": [t["machine"]["load_average"] for t in timings],
         "methods": dict(sorted(methods.items())),
         "periods_simulated": sum(int(r["periods"]) for r in cells),
-        "method": METHOD, "fallbacks": fallbacks,
+        "method": METHOD,
+        "fallbacks": fallbacks,
     }
     write_json(out_timing, out, indent=2)
     return out
@@ -69,7 +75,13 @@ def main(chunk_csvs, chunk_jsons, name: str, out_csv, out_timing, out_settings=N
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, _ = start_stage(sm)
-    config = {"reference": cfg["reference"], "solver": cfg["solver"],
-              "maps": cfg["maps"]}
-    main(list(sm.input.csvs), list(sm.input.jsons), sm.wildcards.map, sm.output.csv, sm.output.timing,
-         sm.output.settings, config)
+    config = {"reference": cfg["reference"], "solver": cfg["solver"], "maps": cfg["maps"]}
+    main(
+        list(sm.input.csvs),
+        list(sm.input.jsons),
+        sm.wildcards.map,
+        sm.output.csv,
+        sm.output.timing,
+        sm.output.settings,
+        config,
+    )

@@ -26,7 +26,6 @@ Deviations: none from the paper (it has no such computation); ranges and steps c
 config's ``orbits`` section.
 """
 
-
 from impactdamper.studies import branches as br
 from impactdamper.studies.config import located_gap, parameters, steady_options
 from impactdamper.reporting.records import start_stage, write_csv, write_json
@@ -38,13 +37,22 @@ def case_summary(p, solver: dict) -> dict:
     else the settled cycle's: :func:`impactdamper.solve_orbit` with ``seed="auto"``)."""
     opts = steady_options(solver)
     o = solve_orbit(p, "auto", **opts)
-    return {"gap": p.gap, "regime": o.regime, "label": br.label(o.period_multiple, o.impacts_per_cycle),
-            "k": o.period_multiple, "z": o.impacts_per_cycle, "solved": o.solved, "seed": o.seed,
-            "stable": o.stable, "admissible": o.admissible, "x1_max": o.x1_max,
-            "multipliers": [abs(m) for m in o.multipliers],
-            "multipliers_complex": [[m.real, m.imag] for m in o.multipliers],
-            "phases": [i.phase for i in o.impacts],
-            "velocities": [i.velocity / (p.x_st * p.omega) for i in o.impacts]}
+    return {
+        "gap": p.gap,
+        "regime": o.regime,
+        "label": br.label(o.period_multiple, o.impacts_per_cycle),
+        "k": o.period_multiple,
+        "z": o.impacts_per_cycle,
+        "solved": o.solved,
+        "seed": o.seed,
+        "stable": o.stable,
+        "admissible": o.admissible,
+        "x1_max": o.x1_max,
+        "multipliers": [abs(m) for m in o.multipliers],
+        "multipliers_complex": [[m.real, m.imag] for m in o.multipliers],
+        "phases": [i.phase for i in o.impacts],
+        "velocities": [i.velocity / (p.x_st * p.omega) for i in o.impacts],
+    }
 
 
 def compute(reference: dict, solver: dict, orbits: dict, located: float, log=None) -> dict:
@@ -52,17 +60,29 @@ def compute(reference: dict, solver: dict, orbits: dict, located: float, log=Non
     p = parameters(reference)
     cont = orbits["continuation"]
     branch_rows, special_rows = [], []
-    summary = {"paper": br.PAPER, "parameter": br.PARAMETER, "order": [b["name"] for b in orbits["branches"]],
-               "branches": {}}
+    summary = {
+        "paper": br.PAPER,
+        "parameter": br.PARAMETER,
+        "order": [b["name"] for b in orbits["branches"]],
+        "branches": {},
+    }
     for spec in orbits["branches"]:
         b = br.follow(p, spec, cont, solver, log)
         branch_rows += br.branch_rows(b)
         special_rows += br.special_rows(b)
         summary["branches"][b["name"]] = {
-            "label": b["label"], "k": b["k"], "z": b["z"], "seed": spec["seed"], "seed_gap": float(spec["gap"]),
-            "bounds": [float(spec["gap_min"]), float(spec["gap_max"])], "points": len(b["points"]),
+            "label": b["label"],
+            "k": b["k"],
+            "z": b["z"],
+            "seed": spec["seed"],
+            "seed_gap": float(spec["gap"]),
+            "bounds": [float(spec["gap_min"]), float(spec["gap_max"])],
+            "points": len(b["points"]),
             "seed_index": b["seed_index"],
-            "ends": b["ends"], "stable": br.stretches(b, "stable"), "admissible": br.stretches(b, "admissible")}
+            "ends": b["ends"],
+            "stable": br.stretches(b, "stable"),
+            "admissible": br.stretches(b, "admissible"),
+        }
     summary["cases"] = {"stated": case_summary(p, solver), "located": case_summary(p.replace(gap=located), solver)}
     for case in orbits.get("cases", []):
         summary["cases"][case["name"]] = case_summary(p.replace(gap=float(case["gap"])), solver)
@@ -70,8 +90,9 @@ def compute(reference: dict, solver: dict, orbits: dict, located: float, log=Non
     return {"branches": branch_rows, "special": special_rows, "summary": summary}
 
 
-def main(reference: dict, solver: dict, orbits: dict, located_json, out_branches, out_special, out_summary,
-         log=None) -> dict:
+def main(
+    reference: dict, solver: dict, orbits: dict, located_json, out_branches, out_special, out_summary, log=None
+) -> dict:
     res = compute(reference, solver, orbits, located_gap(located_json), log)
     write_csv(out_branches, br.BRANCH_COLUMNS, res["branches"], booleans="digits")
     write_csv(out_special, br.SPECIAL_COLUMNS, res["special"], booleans="digits")
@@ -82,5 +103,13 @@ def main(reference: dict, solver: dict, orbits: dict, located_json, out_branches
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "orbit_branches")
-    main(cfg["reference"], cfg["solver"], cfg["orbits"],
-         sm.input.located, sm.output.branches, sm.output.special, sm.output.summary, log=log)
+    main(
+        cfg["reference"],
+        cfg["solver"],
+        cfg["orbits"],
+        sm.input.located,
+        sm.output.branches,
+        sm.output.special,
+        sm.output.summary,
+        log=log,
+    )

@@ -12,10 +12,30 @@ Outputs: ``figures/other_readings.csv`` (one row per reading) and
 from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import readings as rd
 
-COLUMNS = ["id", "reading", "gap", "R", "delta1", "delta2", "mu", "alg1_exists", "alg1_t1", "alg1_t2",
-           "alg1_min_gap", "claim_a", "alg2_regime", "alg2_period_multiple", "alg2_impacts_per_cycle",
-           "claim_b", "ivp_claim_a", "ivp_claim_b", "ivp_cycle_time_diff", "ivp_cycle_velocity_diff", "ivp_cycle_agree",
-           "reproduces"]
+COLUMNS = [
+    "id",
+    "reading",
+    "gap",
+    "R",
+    "delta1",
+    "delta2",
+    "mu",
+    "alg1_exists",
+    "alg1_t1",
+    "alg1_t2",
+    "alg1_min_gap",
+    "claim_a",
+    "alg2_regime",
+    "alg2_period_multiple",
+    "alg2_impacts_per_cycle",
+    "claim_b",
+    "ivp_claim_a",
+    "ivp_claim_b",
+    "ivp_cycle_time_diff",
+    "ivp_cycle_velocity_diff",
+    "ivp_cycle_agree",
+    "reproduces",
+]
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json) -> dict:

@@ -43,35 +43,64 @@ def compiled_speed(cs: dict) -> dict:
     tg = st["targets"]
     phase = max(json_float(st["phase_error_vs_alg1"]), json_float(st["phase_error_vs_python"]))
     out = {
-        "us_per_impact": {"value": json_float(pi["compiled"]["us_per_impact_min"]), "target": json_float(pi["target_us"]),
-                          "at_most": True},
-        "steady_seconds": {"value": json_float(st["compiled"]["cpu_min_s"]), "target": json_float(tg["time_s"]),
-                           "at_most": True},
-        "steady_speedup": {"value": json_float(st["speedup_vs_dop853"]), "target": json_float(tg["speedup"]),
-                           "at_most": False},
+        "us_per_impact": {
+            "value": json_float(pi["compiled"]["us_per_impact_min"]),
+            "target": json_float(pi["target_us"]),
+            "at_most": True,
+        },
+        "steady_seconds": {
+            "value": json_float(st["compiled"]["cpu_min_s"]),
+            "target": json_float(tg["time_s"]),
+            "at_most": True,
+        },
+        "steady_speedup": {
+            "value": json_float(st["speedup_vs_dop853"]),
+            "target": json_float(tg["speedup"]),
+            "at_most": False,
+        },
         "steady_phase_error": {"value": phase, "target": json_float(tg["phase"]), "at_most": True},
-        "first_speedup": {"value": json_float(f10["speedup_vs_dop853"]), "target": json_float(f10["target_speedup"]),
-                          "at_most": False},
+        "first_speedup": {
+            "value": json_float(f10["speedup_vs_dop853"]),
+            "target": json_float(f10["target_speedup"]),
+            "at_most": False,
+        },
     }
     name = COMPILED_MAP_TARGET_SIZE if COMPILED_MAP_TARGET_SIZE in cs["maps"] else next(iter(cs["maps"]))
     m = cs["maps"][name]
     target = m.get("target_s")
-    out["map_wall"] = {"value": json_float(m["wall_min_s"]), "target": json_float(target) if target else math.inf,
-                       "at_most": True}
+    out["map_wall"] = {
+        "value": json_float(m["wall_min_s"]),
+        "target": json_float(target) if target else math.inf,
+        "at_most": True,
+    }
     # Where users are: the public calls (impactdamper.steady_state, steady_states) and the CLI.
     fd = cs["front_door"]
-    out["public_steady"] = {"value": json_float(fd["steady_state"]["auto"]["wall_median_s"]),
-                            "target": json_float(fd["steady_state"]["target_s"]), "at_most": True}
-    out["batch_ratio"] = {"value": json_float(fd["batch"]["ratio"]), "target": json_float(fd["batch"]["target_ratio"]),
-                          "at_most": True}
-    out["cli_wall"] = {"value": json_float(fd["cli"]["wall_median_s"]), "target": json_float(fd["cli"]["target_s"]),
-                       "at_most": True}
+    out["public_steady"] = {
+        "value": json_float(fd["steady_state"]["auto"]["wall_median_s"]),
+        "target": json_float(fd["steady_state"]["target_s"]),
+        "at_most": True,
+    }
+    out["batch_ratio"] = {
+        "value": json_float(fd["batch"]["ratio"]),
+        "target": json_float(fd["batch"]["target_ratio"]),
+        "at_most": True,
+    }
+    out["cli_wall"] = {
+        "value": json_float(fd["cli"]["wall_median_s"]),
+        "target": json_float(fd["cli"]["target_s"]),
+        "at_most": True,
+    }
     for v in out.values():
         v["met"] = met(v["value"], v["target"], v["at_most"])
-    out["map"] = {"grid": m["grid"], "workers": m["workers"], "rescue": m["rescue"], "cpu_s": json_float(m["cpu_total_min_s"]),
-                  "nonperiodic_share": json_float(m["nonperiodic_share"]),
-                  "nonperiodic_share_rescued": json_float(m["nonperiodic_share_rescued"]),
-                  "rescue_cpu_s": json_float(m["rescue_run"]["cpu_s"])}
+    out["map"] = {
+        "grid": m["grid"],
+        "workers": m["workers"],
+        "rescue": m["rescue"],
+        "cpu_s": json_float(m["cpu_total_min_s"]),
+        "nonperiodic_share": json_float(m["nonperiodic_share"]),
+        "nonperiodic_share_rescued": json_float(m["nonperiodic_share_rescued"]),
+        "rescue_cpu_s": json_float(m["rescue_run"]["cpu_s"]),
+    }
     out["first_speedup_packed_once"] = json_float(f10["speedup_vs_dop853_packed_once"])
     out["public_steady_python"] = json_float(fd["steady_state"]["python"]["wall_median_s"])
     out["batch_points"] = fd["batch"]["points"]
@@ -96,8 +125,20 @@ def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict, cs: dic
     return {**report_summary(wp, growth, hard, ref, perf), "compiled_speed": compiled_speed(cs)}
 
 
-def main(performance: dict, in_wp, in_growth, in_hard, in_ref, in_compiled, out_record, out_macros, out_table,
-         out_compiled_table, out_summary, in_compile_time=None) -> dict:
+def main(
+    performance: dict,
+    in_wp,
+    in_growth,
+    in_hard,
+    in_ref,
+    in_compiled,
+    out_record,
+    out_macros,
+    out_table,
+    out_compiled_table,
+    out_summary,
+    in_compile_time=None,
+) -> dict:
     """Write the summary, the stage's record (``out_record``, JSON) and from it the macros
     (``out_macros``), the work-precision table and the compiled solver's table. The JIT compile
     times come from ``in_compile_time`` (a ``--compile-only`` run of the benchmark) where the
@@ -122,6 +163,17 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "performance_report")
     log.info("writing %s", sm.output.macros)
-    main(cfg["performance"], sm.input.work_precision, sm.input.cost_growth, sm.input.hardcases,
-         sm.input.reference_speed, sm.input.compiled_speed, sm.output.record, sm.output.macros, sm.output.table,
-         sm.output.compiled_table, sm.output.summary, in_compile_time=sm.input.compile_time)
+    main(
+        cfg["performance"],
+        sm.input.work_precision,
+        sm.input.cost_growth,
+        sm.input.hardcases,
+        sm.input.reference_speed,
+        sm.input.compiled_speed,
+        sm.output.record,
+        sm.output.macros,
+        sm.output.table,
+        sm.output.compiled_table,
+        sm.output.summary,
+        in_compile_time=sm.input.compile_time,
+    )

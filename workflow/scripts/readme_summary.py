@@ -25,12 +25,16 @@ def read_records(paths: list[str]) -> dict[str, str]:
 
 def impact_table(path: str) -> list[str]:
     rows = list(csv.DictReader(open(path, newline="")))
-    lines = ["| impact | (t - t1)/T | forcing phase t/T mod 1 | closing velocity v/(x_st omega) | impulse S/(m1 x_st omega) |",
-             "|---|---:|---:|---:|---:|"]
+    lines = [
+        "| impact | (t - t1)/T | forcing phase t/T mod 1 | closing velocity v/(x_st omega) | impulse S/(m1 x_st omega) |",
+        "|---|---:|---:|---:|---:|",
+    ]
     for r in rows:
         name = r["impact"] + (" (next cycle)" if r["next_cycle"] == "true" else "")
-        lines.append(f"| {name} | {float(r['t_over_T']):.4f} | {float(r['phase']):.4f} | "
-                     f"{float(r['velocity_rel']):.3f} | {float(r['impulse_rel']):.4f} |")
+        lines.append(
+            f"| {name} | {float(r['t_over_T']):.4f} | {float(r['phase']):.4f} | "
+            f"{float(r['velocity_rel']):.3f} | {float(r['impulse_rel']):.4f} |"
+        )
     return lines
 
 
@@ -43,8 +47,10 @@ def beyond(m: dict[str, str], key: str, name: str) -> str:
     if m[tag + "NearestBoth"] == "–":
         return f"{name}: nowhere in the searched range (stated {m[tag + 'Stated']})"
     edge = ", reaching the end of the searched range" if m[tag + "BothOpen"] == "yes" else ""
-    return (f"{name} in [{m[tag + 'BothLo']}, {m[tag + 'BothHi']}] (width {m[tag + 'BothWidth']}{edge}; stated "
-            f"{m[tag + 'Stated']}, {m[tag + 'RelDistance']} % away)")
+    return (
+        f"{name} in [{m[tag + 'BothLo']}, {m[tag + 'BothHi']}] (width {m[tag + 'BothWidth']}{edge}; stated "
+        f"{m[tag + 'Stated']}, {m[tag + 'RelDistance']} % away)"
+    )
 
 
 def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
@@ -80,7 +86,8 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"where the settled motion changes, down to step/2^{m['ClaimsRefineLevels']}; ends to {m['ClaimsRelTol']} "
         f"relative, {m['ClaimsSolverDependentCount']} of them solver-dependent), both claims hold on "
         f"{m['ClaimsBothIntervals']} intervals within the searched ranges, nearest the stated value for "
-        + "; ".join(beyond(m, key, name) for key, name in BEYOND) + ". Of these single changes "
+        + "; ".join(beyond(m, key, name) for key, name in BEYOND)
+        + ". Of these single changes "
         f"the smallest is in {m['ClaimsNearestParameterName']}. Searched in all seven relative parameters at once "
         f"(equally weighted relative changes; {m['NearestRays']} rays from the stated point and a local refinement: a "
         f"near set, not a proven nearest one), the nearest set found where both claims hold with a "
@@ -104,8 +111,11 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"simulation alone are checked against closed forms, each held to {m['SweepCheckTolerance']}: the lift-off "
         f"of the persistent contact at {m['SweepLiftOffLocated']} (analytic {m['SweepLiftOffAnalytic']}, difference "
         f"{m['SweepLiftOffDifference']}: {m['SweepLiftOffOutcome']}"
-        + ("; the report explains the miss by the model's contact resolution" if m["SweepLiftOffOutcome"] == "missed"
-           else "")
+        + (
+            "; the report explains the miss by the model's contact resolution"
+            if m["SweepLiftOffOutcome"] == "missed"
+            else ""
+        )
         + f"), first contact at {m['SweepFirstContactLocated']} (U1/x_st = "
         f"{m['SweepFirstContactAnalytic']}: {m['SweepFirstContactOutcome']}), Algorithm No. 1's orbit touching the "
         f"stop between impacts at {m['SweepAlgOneGrazingLocated']} (analytic {m['SweepAlgOneGrazingAnalytic']}: "

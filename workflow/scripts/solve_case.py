@@ -13,7 +13,6 @@ Outputs (``case`` is ``stated`` or ``located``):
   plus the next impact (and a margin of ``FIG2B_MARGIN`` T).
 """
 
-
 import numpy as np
 
 from impactdamper.studies import replication as rep
@@ -33,8 +32,10 @@ def _alg1_curve(a) -> list[dict]:
     tau = np.unique(np.concatenate([tau, np.asarray(marks, dtype=float)]))
     full = a.sample(tau * p.T)
     x1b, x2b = full[:, 0] / p.x_st, (full[:, 1] - p.Delta0) / p.x_st
-    return [{"t_over_T": float(t), "x1_bar": float(u), "x2_bar": float(v), "gap": float(u - v)}
-            for t, u, v in zip(tau, x1b, x2b)]
+    return [
+        {"t_over_T": float(t), "x1_bar": float(u), "x2_bar": float(v), "gap": float(u - v)}
+        for t, u, v in zip(tau, x1b, x2b)
+    ]
 
 
 def _alg2_curve(s, table: list[dict]) -> list[dict]:
@@ -44,8 +45,10 @@ def _alg2_curve(s, table: list[dict]) -> list[dict]:
     tau = np.linspace(-FIG2B_LEAD, span_end, n + 1)
     tau = np.unique(np.concatenate([tau, [row["t_over_T"] for row in table]]))
     x1b, x2b = s.sample(s.cycle_start + tau * p.T)
-    return [{"t_over_T": float(t), "x1_bar": float(u), "x2_bar": float(v), "gap": float(u - v)}
-            for t, u, v in zip(tau, x1b, x2b)]
+    return [
+        {"t_over_T": float(t), "x1_bar": float(u), "x2_bar": float(v), "gap": float(u - v)}
+        for t, u, v in zip(tau, x1b, x2b)
+    ]
 
 
 def main(case: str, parameters: dict, solver: dict, out_json, out_fig2a, out_fig2b, origin: str = "") -> dict:
@@ -83,6 +86,9 @@ if __name__ == "__main__":
         located = read_json(sm.input.located)["located"]
         params, origin = located["parameters"], located["rule"]
     out = main(case, params, cfg["solver"], sm.output.json, sm.output.fig2a, sm.output.fig2b, origin)
-    print(f"{case}: gap {out['parameters']['gap']}, claim (a) {out['algorithm1']['claim_a']}, "
-          f"regime {out['algorithm2']['regime']}, T_c = {out['algorithm2']['T_c_over_T']} T, "
-          f"claim (b) {out['algorithm2']['claim_b']}", file=sys.stderr)
+    print(
+        f"{case}: gap {out['parameters']['gap']}, claim (a) {out['algorithm1']['claim_a']}, "
+        f"regime {out['algorithm2']['regime']}, T_c = {out['algorithm2']['T_c_over_T']} T, "
+        f"claim (b) {out['algorithm2']['claim_b']}",
+        file=sys.stderr,
+    )

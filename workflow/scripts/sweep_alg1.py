@@ -11,7 +11,6 @@ Output: ``figures/sweep_alg1.csv`` (value, exists, admissible, stable, largest m
 modulus, closing velocity over x_st omega, impact phase, smallest interior gap over x_st).
 """
 
-
 import numpy as np
 
 from impactdamper import algorithm1
@@ -27,8 +26,16 @@ COLUMNS = ["value", "exists", "admissible", "stable", "multiplier", "velocity", 
 def row(base, parameter: str, value: float, gap_tol: float) -> dict:
     p = with_value(base, parameter, value)
     a = algorithm1(p, gap_tol=gap_tol)
-    out = {"value": float(value), "exists": int(a.exists), "admissible": int(a.admissible), "stable": "",
-           "multiplier": float("nan"), "velocity": float("nan"), "phase": float("nan"), "min_gap": float("nan")}
+    out = {
+        "value": float(value),
+        "exists": int(a.exists),
+        "admissible": int(a.admissible),
+        "stable": "",
+        "multiplier": float("nan"),
+        "velocity": float("nan"),
+        "phase": float("nan"),
+        "min_gap": float("nan"),
+    }
     if not a.exists:
         return out
     out.update(velocity=a.velocity / (p.x_st * p.omega), phase=a.impact_phase, min_gap=a.min_gap)
@@ -47,13 +54,16 @@ def main(reference: dict, solver: dict, sweep: dict, out_csv, log=None) -> list[
     rows = [row(base, gs.SWEEP_PARAMETER, v, float(solver["gap_tol"])) for v in values]
     write_csv(out_csv, COLUMNS, rows, booleans="digits")
     if log is not None:
-        log.info("%d values, orbit exists at %d, admissible at %d", len(rows), sum(r["exists"] for r in rows),
-                 sum(r["admissible"] for r in rows))
+        log.info(
+            "%d values, orbit exists at %d, admissible at %d",
+            len(rows),
+            sum(r["exists"] for r in rows),
+            sum(r["admissible"] for r in rows),
+        )
     return rows
 
 
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "sweep_alg1", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"],
-         sm.output.csv, log=log)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"], sm.output.csv, log=log)

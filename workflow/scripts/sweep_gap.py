@@ -18,28 +18,47 @@ transition bisection) and
 inside this job, beside the config's target ``performance.sweep_target_wall_s``).
 """
 
-
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.analysis.sweeps import two_way_sweep
 
 
-def main(reference: dict, solver: dict, sweep: dict, out_csv, out_settings, out_points, out_timing,
-         processes: int = 1, log=None, *, target_wall_s: float) -> dict:
+def main(
+    reference: dict,
+    solver: dict,
+    sweep: dict,
+    out_csv,
+    out_settings,
+    out_points,
+    out_timing,
+    processes: int = 1,
+    log=None,
+    *,
+    target_wall_s: float,
+) -> dict:
     base = parameters(reference)
     settings = sweep_settings(sweep, solver)
     values = gs.grid(sweep["start"], sweep["stop"], sweep["points"])
     if log is not None:
-        log.info("two-way sweep of %s over [%g, %g], %d points, %d process(es)", gs.SWEEP_PARAMETER,
-                 values[0], values[-1], len(values), processes)
+        log.info(
+            "two-way sweep of %s over [%g, %g], %d points, %d process(es)",
+            gs.SWEEP_PARAMETER,
+            values[0],
+            values[-1],
+            len(values),
+            processes,
+        )
     before = machine()
     with Timer() as timer:
         res = two_way_sweep(base, gs.SWEEP_PARAMETER, values, settings=settings, processes=processes)
     rows = [gs.point_row(d, i, pt) for d in ("up", "down") for i, pt in enumerate(res[d])]
     write_csv(out_csv, gs.POINT_COLUMNS, rows, booleans="digits")
-    write_json(out_settings, {"reference": reference, "solver": solver, "sweep": sweep,
-                                 "parameter": gs.SWEEP_PARAMETER}, indent=2)
+    write_json(
+        out_settings,
+        {"reference": reference, "solver": solver, "sweep": sweep, "parameter": gs.SWEEP_PARAMETER},
+        indent=2,
+    )
     gs.write_points(out_points, {"up": res["up"], "down": res["down"]})
     timing = {
         "what": f"two-way sweep of {gs.SWEEP_PARAMETER}, {len(values)} points each way",
@@ -71,6 +90,15 @@ def _count(points, attr: str) -> dict:
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "sweep_gap", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"],
-         sm.output.csv, sm.output.settings, sm.output.points, sm.output.timing, processes=min(int(sm.threads), 2), log=log,
-         target_wall_s=float(sm.params.target_wall_s))
+    main(
+        cfg["reference"],
+        cfg["solver"],
+        cfg["sweep"],
+        sm.output.csv,
+        sm.output.settings,
+        sm.output.points,
+        sm.output.timing,
+        processes=min(int(sm.threads), 2),
+        log=log,
+        target_wall_s=float(sm.params.target_wall_s),
+    )

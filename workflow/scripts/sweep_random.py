@@ -12,7 +12,6 @@ settle goes to the pure-Python reference, with its Newton rescue). Every ``rando
 Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
 """
 
-
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
 from impactdamper.reporting.records import Timer, joined, start_stage, write_csv
@@ -33,20 +32,40 @@ def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=No
     mine = chunk_indices(len(idx), int(sweep["random_chunks"]), chunk)
     indices = [idx[i] for i in mine]
     with Timer() as timer:
+
         def progress(i, n, pt):
             if log is not None and ((i + 1) % max(n // 10, 1) == 0 or i + 1 == n):
                 log.info("random starts: %d/%d values (%s = %.6g)", i + 1, n, gs.SWEEP_PARAMETER, pt.value)
 
-        res = random_starts_batch(base, gs.SWEEP_PARAMETER, values[mine], int(sweep["random_starts"]),
-                                  int(sweep["seed"]), indices=indices, settings=settings)
+        res = random_starts_batch(
+            base,
+            gs.SWEEP_PARAMETER,
+            values[mine],
+            int(sweep["random_starts"]),
+            int(sweep["seed"]),
+            indices=indices,
+            settings=settings,
+        )
         for i, starts in enumerate(res):
             progress(i, len(res), starts[-1])
     rows = []
     for i, starts in zip(indices, res):
         for j, pt in enumerate(starts):
-            rows.append({"index": i, "start_index": j, "value": pt.value, "label": pt.label, "regime": pt.regime,
-                         "k": pt.period_multiple, "z": pt.impacts_per_cycle, "x1_max": pt.x1_max,
-                         "method": pt.method, "periods": pt.periods, "velocities": joined(pt.velocities)})
+            rows.append(
+                {
+                    "index": i,
+                    "start_index": j,
+                    "value": pt.value,
+                    "label": pt.label,
+                    "regime": pt.regime,
+                    "k": pt.period_multiple,
+                    "z": pt.impacts_per_cycle,
+                    "x1_max": pt.x1_max,
+                    "method": pt.method,
+                    "periods": pt.periods,
+                    "velocities": joined(pt.velocities),
+                }
+            )
     write_csv(out_csv, gs.RANDOM_COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("chunk %d: %d runs, wall %.1f s, cpu %.1f s", chunk, len(rows), timer.wall, timer.cpu)
@@ -56,5 +75,4 @@ def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=No
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "sweep_random", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"],
-         int(sm.wildcards.chunk), sm.output.csv, log=log)
+    main(cfg["reference"], cfg["solver"], cfg["sweep"], int(sm.wildcards.chunk), sm.output.csv, log=log)

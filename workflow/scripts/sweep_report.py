@@ -27,8 +27,9 @@ from impactdamper.studies import sweep_record
 RECORD_WHAT = "the sweeps stage's numbers for the report (paper/generated/sweep_macros.tex) and the README"
 
 
-def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps: dict, out_record, out_macros,
-           out_table) -> None:
+def report(
+    sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps: dict, out_record, out_macros, out_table
+) -> None:
     """The deterministic outputs (the stage's record, JSON; from it the macros; the table), from
     the committed figures/ files. ``maps``: map name -> (map CSV, curves CSV, settings JSON)."""
     rows = read_csv(sweep_csv)
@@ -41,11 +42,25 @@ def report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, 
     Path(out_table).write_text(sweep_record.table(rows, trans, checks_doc, read_csv(special_csv)))
 
 
-def main(sweep_csv, transitions_csv, checks_json, sweep_timing, map_timings, out_record, out_macros, out_table,
-         out_timing, *, settings_json, special_csv, map_csvs, map_curves, map_settings) -> None:
+def main(
+    sweep_csv,
+    transitions_csv,
+    checks_json,
+    sweep_timing,
+    map_timings,
+    out_record,
+    out_macros,
+    out_table,
+    out_timing,
+    *,
+    settings_json,
+    special_csv,
+    map_csvs,
+    map_curves,
+    map_settings,
+) -> None:
     maps = {read_json(s)["map"]: (c, k, s) for c, k, s in zip(map_csvs, map_curves, map_settings)}
-    report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps, out_record, out_macros,
-           out_table)
+    report(sweep_csv, transitions_csv, checks_json, settings_json, special_csv, maps, out_record, out_macros, out_table)
     Path(out_timing).write_text(sweep_record.timing(sweep_timing, map_timings))
 
 
@@ -53,6 +68,19 @@ if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
     i, o = sm.input, sm.output
-    main(i.sweep, i.transitions, i.checks, i.sweep_timing, list(i.map_timings), o.record, o.macros, o.table,
-         o.timing, settings_json=i.settings, special_csv=i.special, map_csvs=list(i.maps),
-         map_curves=list(i.map_curves), map_settings=list(i.map_settings))
+    main(
+        i.sweep,
+        i.transitions,
+        i.checks,
+        i.sweep_timing,
+        list(i.map_timings),
+        o.record,
+        o.macros,
+        o.table,
+        o.timing,
+        settings_json=i.settings,
+        special_csv=i.special,
+        map_csvs=list(i.maps),
+        map_curves=list(i.map_curves),
+        map_settings=list(i.map_settings),
+    )

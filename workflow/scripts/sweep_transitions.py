@@ -21,12 +21,12 @@ from impactdamper.studies import gapsweep as gs
 from impactdamper.studies import transition_checks as tr
 from impactdamper.studies.config import parameters, sweep_settings
 
-TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped",
-                      "one_sided"]
+TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped", "one_sided"]
 
 
-def main(points_npz, reference: dict, solver: dict, sweep: dict, out_csv, out_json, processes: int = 1,
-         log=None) -> dict:
+def main(
+    points_npz, reference: dict, solver: dict, sweep: dict, out_csv, out_json, processes: int = 1, log=None
+) -> dict:
     """Bisect the sweep's transitions (the points of ``points_npz``, written by sweep_gap.py with
     the same ``reference``, ``solver`` and ``sweep`` config) and check the three analytic ones."""
     data = gs.read_points(points_npz)
@@ -43,9 +43,13 @@ def main(points_npz, reference: dict, solver: dict, sweep: dict, out_csv, out_js
     write_csv(out_csv, TRANSITION_COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("%d transitions bisected to %g in %.1f s", len(rows), xtol, timer.wall)
-    result = {"parameter": parameter, "base": base.to_dict(), "transition_xtol": xtol,
-              "check_xtol": float(sweep["check_xtol"]),
-              "checks": tr.checks(base, parameter, data["up"], data["down"], settings, float(sweep["check_xtol"]), log)}
+    result = {
+        "parameter": parameter,
+        "base": base.to_dict(),
+        "transition_xtol": xtol,
+        "check_xtol": float(sweep["check_xtol"]),
+        "checks": tr.checks(base, parameter, data["up"], data["down"], settings, float(sweep["check_xtol"]), log),
+    }
     write_json(out_json, clean(result), indent=2)
     return result
 
@@ -53,5 +57,13 @@ def main(points_npz, reference: dict, solver: dict, sweep: dict, out_csv, out_js
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     cfg, log = start_stage(sm, "sweep_transitions", timestamps=True, library=True)
-    main(sm.input.points, cfg["reference"], cfg["solver"], cfg["sweep"], sm.output.csv, sm.output.json,
-         processes=min(int(sm.threads), 2), log=log)
+    main(
+        sm.input.points,
+        cfg["reference"],
+        cfg["solver"],
+        cfg["sweep"],
+        sm.output.csv,
+        sm.output.json,
+        processes=min(int(sm.threads), 2),
+        log=log,
+    )

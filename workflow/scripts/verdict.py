@@ -27,17 +27,41 @@ from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_csv, write_json
 from impactdamper.studies.verdict_record import claims_macros, macros
 
-CSV_COLUMNS = ["claim", "paper", "stated_gap", "stated_result", "stated_ivp_result", "stated_ivp_difference",
-               "ivp_confirms", "reproduced", "located_gap", "located_result", "located_ivp_result",
-               "located_ivp_difference", "located_ivp_confirms"]
+CSV_COLUMNS = [
+    "claim",
+    "paper",
+    "stated_gap",
+    "stated_result",
+    "stated_ivp_result",
+    "stated_ivp_difference",
+    "ivp_confirms",
+    "reproduced",
+    "located_gap",
+    "located_result",
+    "located_ivp_result",
+    "located_ivp_difference",
+    "located_ivp_confirms",
+]
 
 
 # What the stage's record holds (results/report/verdict.json).
 RECORD_WHAT = "the verdict's numbers for the report (paper/generated/verdict_macros.tex) and the README"
 
 
-def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, readings_json, claims_json,
-         claims_map_csv, out_json, out_csv, out_record, out_tex) -> dict:
+def main(
+    stated_json,
+    located_json,
+    cc_stated_json,
+    cc_located_json,
+    scan_json,
+    readings_json,
+    claims_json,
+    claims_map_csv,
+    out_json,
+    out_csv,
+    out_record,
+    out_tex,
+) -> dict:
     ref_s, ref_l = read_json(stated_json), read_json(located_json)
     cc_s, cc_l = read_json(cc_stated_json), read_json(cc_located_json)
     scan, rd = read_json(scan_json), read_json(readings_json)
@@ -54,15 +78,25 @@ def main(stated_json, located_json, cc_stated_json, cc_located_json, scan_json, 
     return result
 
 
-
-
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     import sys
 
     start_stage(sm)
     i, o = sm.input, sm.output
-    out = main(i.stated, i.located, i.cc_stated, i.cc_located, i.scan, i.readings, i.claims, i.claims_map, o.json, o.csv,
-               o.record, o.tex)
+    out = main(
+        i.stated,
+        i.located,
+        i.cc_stated,
+        i.cc_located,
+        i.scan,
+        i.readings,
+        i.claims,
+        i.claims_map,
+        o.json,
+        o.csv,
+        o.record,
+        o.tex,
+    )
     for row in out["claims"]:
         print(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})", file=sys.stderr)

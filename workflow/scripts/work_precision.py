@@ -25,8 +25,20 @@ from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies import workprecision as wp
 
-CSV_COLUMNS = ["case", "family", "setting", "value", "cpu_seconds", "error", "phase_error", "state_error",
-               "impacts_found", "impacts_expected", "nfev", "note"]
+CSV_COLUMNS = [
+    "case",
+    "family",
+    "setting",
+    "value",
+    "cpu_seconds",
+    "error",
+    "phase_error",
+    "state_error",
+    "impacts_found",
+    "impacts_expected",
+    "nfev",
+    "note",
+]
 
 
 def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:

@@ -33,16 +33,32 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from impactdamper.analysis.settled import (FAILED, RESCUE_MAX_K, SweepPoint, SweepSettings, label_of,
-                                           rescue_from_sections, solve_point)
+from impactdamper.analysis.settled import (
+    FAILED,
+    RESCUE_MAX_K,
+    SweepPoint,
+    SweepSettings,
+    label_of,
+    rescue_from_sections,
+    solve_point,
+)
 from impactdamper.analysis.sweeps import random_initial_state, swept_names, with_value
 from impactdamper.core import compiled as cc
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.steady import REGIMES
 
-__all__ = ["BatchResult", "settled_batch", "sweep_points", "two_way_batch", "regime_map_batch", "random_starts_batch",
-           "warm_up", "BATCH_REGIMES", "MAX_REPORTED_IMPACTS"]
+__all__ = [
+    "BatchResult",
+    "settled_batch",
+    "sweep_points",
+    "two_way_batch",
+    "regime_map_batch",
+    "random_starts_batch",
+    "warm_up",
+    "BATCH_REGIMES",
+    "MAX_REPORTED_IMPACTS",
+]
 
 # Regime codes of BatchResult.regime_code: steady.REGIMES, then the failed point of solve_point.
 BATCH_REGIMES = REGIMES + (FAILED,)
@@ -114,8 +130,13 @@ class BatchResult:
     @property
     def label(self) -> np.ndarray:
         """Peterka's z/k labels (:func:`~impactdamper.analysis.settled.label_of`), shape (P,)."""
-        return np.array([label_of(BATCH_REGIMES[c], int(k), int(z)) for c, k, z in
-                         zip(self.regime_code, self.period_multiple, self.impacts_per_cycle)], dtype=object)
+        return np.array(
+            [
+                label_of(BATCH_REGIMES[c], int(k), int(z))
+                for c, k, z in zip(self.regime_code, self.period_multiple, self.impacts_per_cycle)
+            ],
+            dtype=object,
+        )
 
     @property
     def fallbacks(self) -> dict:
@@ -137,8 +158,9 @@ def _changed_columns(base: Parameters, name: str, value: float) -> tuple:
     raises its named error for a bad value. Cached: a map's rows repeat the same values of
     their fast parameter, and constructing Parameters was a third of a cheap row's time."""
     q = with_value(base, name, value)
-    return tuple((c, getattr(q, col)) for c, col in enumerate(cc.PARAMETER_COLUMNS)
-                 if getattr(q, col) != getattr(base, col))
+    return tuple(
+        (c, getattr(q, col)) for c, col in enumerate(cc.PARAMETER_COLUMNS) if getattr(q, col) != getattr(base, col)
+    )
 
 
 def _point_values(base: Parameters, names: tuple, values: np.ndarray) -> np.ndarray:
@@ -163,13 +185,26 @@ def _sweep_point(res: BatchResult, i: int, p: Parameters) -> SweepPoint:
     rg = BATCH_REGIMES[res.regime_code[i]]
     z = int(res.impacts_per_cycle[i])
     m = min(z, MAX_REPORTED_IMPACTS)
-    return SweepPoint(p=p, value=float(res.values[i, 0]), regime=rg, period_multiple=int(res.period_multiple[i]),
-                      impacts_per_cycle=z, label=label_of(rg, int(res.period_multiple[i]), z), stable=None,
-                      multiplier=math.nan, x1_max=float(res.x1_max[i]), velocities=tuple(res.velocities[i, :m]),
-                      phases=tuple(res.phases[i, :m]), contact_fraction=float(res.contact_fraction[i]),
-                      method=str(res.method[i]), periods=int(res.periods[i]), start="",
-                      start_state=res.start_states[i].copy(), section=res.sections[i].copy(),
-                      section_mode=STUCK if res.section_modes[i] == 1 else FREE)
+    return SweepPoint(
+        p=p,
+        value=float(res.values[i, 0]),
+        regime=rg,
+        period_multiple=int(res.period_multiple[i]),
+        impacts_per_cycle=z,
+        label=label_of(rg, int(res.period_multiple[i]), z),
+        stable=None,
+        multiplier=math.nan,
+        x1_max=float(res.x1_max[i]),
+        velocities=tuple(res.velocities[i, :m]),
+        phases=tuple(res.phases[i, :m]),
+        contact_fraction=float(res.contact_fraction[i]),
+        method=str(res.method[i]),
+        periods=int(res.periods[i]),
+        start="",
+        start_state=res.start_states[i].copy(),
+        section=res.sections[i].copy(),
+        section_mode=STUCK if res.section_modes[i] == 1 else FREE,
+    )
 
 
 def _store_reference(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> None:
@@ -202,13 +237,23 @@ def _start_states(states, chain: bool, rows: np.ndarray, gap_tol: float) -> np.n
     gap = delta0 - (given[:, 1] - given[:, 0])
     bad = np.flatnonzero(gap < -gap_tol * rows[:, cc.PARAMETER_COLUMNS.index("x_st")])
     if len(bad):
-        raise ValueError(f"`states` row {int(bad[0])} is not allowed: its gap Delta0 - (x2 - x1) = {gap[bad[0]]:.6g} m "
-                         "is negative (the bodies would overlap); allowed are states with x2 - x1 <= Delta0")
+        raise ValueError(
+            f"`states` row {int(bad[0])} is not allowed: its gap Delta0 - (x2 - x1) = {gap[bad[0]]:.6g} m "
+            "is negative (the bodies would overlap); allowed are states with x2 - x1 <= Delta0"
+        )
     return given
 
 
-def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: SweepSettings | None = None,
-                  chain: bool = True, states=None, backend: str = "compiled") -> BatchResult:
+def settled_batch(
+    base: Parameters,
+    names: Sequence[str],
+    values,
+    *,
+    settings: SweepSettings | None = None,
+    chain: bool = True,
+    states=None,
+    backend: str = "compiled",
+) -> BatchResult:
     """Settle many parameter points in one call.
 
     Parameters
@@ -269,13 +314,24 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     given = _start_states(states, chain, rows, settings.tolerances.gap_tol)
     pack, flags = cc.pack_many(rows, settings.tolerances)
     P = len(rows)
-    res = BatchResult(values=values, names=names, regime_code=np.zeros(P, np.int64),
-                      period_multiple=np.zeros(P, np.int64), impacts_per_cycle=np.zeros(P, np.int64),
-                      x1_max=np.full(P, np.nan), contact_fraction=np.full(P, np.nan), residual=np.full(P, np.nan),
-                      periods=np.zeros(P, np.int64), phases=np.full((P, MAX_REPORTED_IMPACTS), np.nan),
-                      velocities=np.full((P, MAX_REPORTED_IMPACTS), np.nan), start_states=np.zeros((P, 4)),
-                      sections=np.zeros((P, 4)), section_modes=np.zeros(P, np.int64),
-                      fallback=np.full(P, "", dtype=object), method=np.full(P, "simulation", dtype=object))
+    res = BatchResult(
+        values=values,
+        names=names,
+        regime_code=np.zeros(P, np.int64),
+        period_multiple=np.zeros(P, np.int64),
+        impacts_per_cycle=np.zeros(P, np.int64),
+        x1_max=np.full(P, np.nan),
+        contact_fraction=np.full(P, np.nan),
+        residual=np.full(P, np.nan),
+        periods=np.zeros(P, np.int64),
+        phases=np.full((P, MAX_REPORTED_IMPACTS), np.nan),
+        velocities=np.full((P, MAX_REPORTED_IMPACTS), np.nan),
+        start_states=np.zeros((P, 4)),
+        sections=np.zeros((P, 4)),
+        section_modes=np.zeros(P, np.int64),
+        fallback=np.full(P, "", dtype=object),
+        method=np.full(P, "simulation", dtype=object),
+    )
     if backend not in ("compiled", "python"):
         raise ValueError(f"`backend` = {backend!r} is not allowed: must be 'compiled' or 'python'")
     if backend == "python":
@@ -283,8 +339,13 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
         previous = None
         for i in range(P):
             p = _parameters(rows[i])
-            pt = solve_point(p, float(values[i, 0]), previous if chain else None,
-                             state=given[i].copy() if len(given) else None, settings=python_settings)
+            pt = solve_point(
+                p,
+                float(values[i, 0]),
+                previous if chain else None,
+                state=given[i].copy() if len(given) else None,
+                settings=python_settings,
+            )
             _store_reference(res, i, pt, "")
             previous = pt
         res.backend, res.elapsed = "python", time.perf_counter() - t_begin
@@ -294,13 +355,40 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
     while i < P:
         prev = i - 1
         code, stop = cc.row_kernel(
-            pack.s, pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, flags, i, have_prev,
-            res.sections[prev].copy() if have_prev else np.zeros(4), int(res.section_modes[prev]) if have_prev else 0,
-            bool(have_prev and res.regime_code[prev] < BATCH_REGIMES.index("nonperiodic")), chain,
-            settings.rescue, settings.settle_tol, settings.max_periods, settings.max_periods_after_nonperiodic,
-            settings.max_period_multiple, cc.INITIAL_CAPACITY, res.regime_code, res.period_multiple,
-            res.impacts_per_cycle, res.x1_max, res.contact_fraction, res.periods, res.residual, res.start_states,
-            res.sections, res.section_modes, res.phases, res.velocities, given, tail)
+            pack.s,
+            pack.cm,
+            pack.fm,
+            pack.fc,
+            pack.fk,
+            pack.fg,
+            flags,
+            i,
+            have_prev,
+            res.sections[prev].copy() if have_prev else np.zeros(4),
+            int(res.section_modes[prev]) if have_prev else 0,
+            bool(have_prev and res.regime_code[prev] < BATCH_REGIMES.index("nonperiodic")),
+            chain,
+            settings.rescue,
+            settings.settle_tol,
+            settings.max_periods,
+            settings.max_periods_after_nonperiodic,
+            settings.max_period_multiple,
+            cc.INITIAL_CAPACITY,
+            res.regime_code,
+            res.period_multiple,
+            res.impacts_per_cycle,
+            res.x1_max,
+            res.contact_fraction,
+            res.periods,
+            res.residual,
+            res.start_states,
+            res.sections,
+            res.section_modes,
+            res.phases,
+            res.velocities,
+            given,
+            tail,
+        )
         if code == cc.ROW_DONE:
             break
         if code == cc.ROW_RESCUE:
@@ -308,10 +396,17 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
             # from the run's last sections, as the reference's would; where it finds no stable
             # cycle, the kernels' nonperiodic point stands.
             p = _parameters(rows[stop])
-            pt = rescue_from_sections(p, float(values[stop, 0]), tail[:, :4], res.sections[stop],
-                                      STUCK if res.section_modes[stop] == 1 else FREE, ref_settings,
-                                      start="", start_state=res.start_states[stop].copy(),
-                                      periods=int(res.periods[stop]))
+            pt = rescue_from_sections(
+                p,
+                float(values[stop, 0]),
+                tail[:, :4],
+                res.sections[stop],
+                STUCK if res.section_modes[stop] == 1 else FREE,
+                ref_settings,
+                start="",
+                start_state=res.start_states[stop].copy(),
+                periods=int(res.periods[stop]),
+            )
             if pt is not None:
                 _store_reference(res, stop, pt, "rescue")
             i, have_prev = stop + 1, True
@@ -319,8 +414,10 @@ def settled_batch(base: Parameters, names: Sequence[str], values, *, settings: S
         # Point `stop` goes to the reference, from the same neighbour.
         p = _parameters(rows[stop])
         previous = _sweep_point(res, stop - 1, _parameters(rows[stop - 1])) if (chain and stop > 0) else None
-        reason = {cc.ROW_FLAGGED: cc.FALLBACK_REASONS[int(flags[stop])] if stop < P else "error",
-                  cc.ROW_ERROR: "error"}[int(code)]
+        reason = {
+            cc.ROW_FLAGGED: cc.FALLBACK_REASONS[int(flags[stop])] if stop < P else "error",
+            cc.ROW_ERROR: "error",
+        }[int(code)]
         state = given[stop].copy() if len(given) else None
         pt = solve_point(p, float(values[stop, 0]), previous, state=state, settings=ref_settings)
         _store_reference(res, stop, pt, reason)
@@ -342,8 +439,9 @@ def sweep_points(res: BatchResult, base: Parameters) -> list[SweepPoint]:
     return out
 
 
-def two_way_batch(base: Parameters, parameter: str, values: Sequence[float], *,
-                  settings: SweepSettings | None = None) -> dict:
+def two_way_batch(
+    base: Parameters, parameter: str, values: Sequence[float], *, settings: SweepSettings | None = None
+) -> dict:
     """:func:`impactdamper.analysis.sweeps.two_way_sweep` in two compiled batches (each point
     from its neighbour, no accelerators).
 
@@ -364,8 +462,16 @@ def two_way_batch(base: Parameters, parameter: str, values: Sequence[float], *,
     return out
 
 
-def regime_map_batch(base: Parameters, fast: str, fast_values: Sequence[float], slow: str, slow_values: Sequence[float],
-                     *, direction: str = "up", settings: SweepSettings | None = None) -> list[BatchResult]:
+def regime_map_batch(
+    base: Parameters,
+    fast: str,
+    fast_values: Sequence[float],
+    slow: str,
+    slow_values: Sequence[float],
+    *,
+    direction: str = "up",
+    settings: SweepSettings | None = None,
+) -> list[BatchResult]:
     """A regime map, one :func:`settled_batch` call per value of ``slow``: the row sweeps
     ``fast`` over its sorted values in ``direction``, each point from its neighbour (as
     :func:`~impactdamper.analysis.sweeps.regime_map` with ``continuation=False``).
@@ -393,9 +499,16 @@ def regime_map_batch(base: Parameters, fast: str, fast_values: Sequence[float], 
     return out
 
 
-def random_starts_batch(base: Parameters, parameter: str, values: Sequence[float], count: int, seed: int, *,
-                        indices: Sequence[int] | None = None,
-                        settings: SweepSettings | None = None) -> list[list[SweepPoint]]:
+def random_starts_batch(
+    base: Parameters,
+    parameter: str,
+    values: Sequence[float],
+    count: int,
+    seed: int,
+    *,
+    indices: Sequence[int] | None = None,
+    settings: SweepSettings | None = None,
+) -> list[list[SweepPoint]]:
     """:func:`impactdamper.analysis.sweeps.random_starts` in one compiled batch: the same random
     states (the generator of value ``indices[i]``, start j is ``numpy.random.default_rng([seed,
     indices[i], j])``), each settled from its state (no neighbour, no accelerators).

@@ -46,8 +46,9 @@ PARAMETER_FD_STEP = 1e-6
 MAX_BRANCH_POINTS = 1_000_000
 # Each parameter's domain for continuation bounds: (low, high, low included).
 PARAMETER_DOMAIN = {name: (0.0, math.inf, False) for name in ("theta", "mu", "N", "omega", "x_st", "m1")}
-PARAMETER_DOMAIN.update(delta1=(0.0, math.inf, True), delta2=(0.0, math.inf, True), R=(0.0, 1.0, True),
-                        gap=(-math.inf, math.inf, True))
+PARAMETER_DOMAIN.update(
+    delta1=(0.0, math.inf, True), delta2=(0.0, math.inf, True), R=(0.0, 1.0, True), gap=(-math.inf, math.inf, True)
+)
 # Kinds of special point a branch reports (see SpecialPoint).
 SPECIAL_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing_velocity", "grazing_interior")
 
@@ -94,13 +95,18 @@ class BranchPoint:
 
     def to_dict(self) -> dict:
         return {
-            "value": self.value, "phases": list(self.phases), "t_over_T": list(self.t_over_T),
+            "value": self.value,
+            "phases": list(self.phases),
+            "t_over_T": list(self.t_over_T),
             "velocities_rel": list(self.velocities),
             "multipliers": [abs(m) for m in self.multipliers],
             "multipliers_complex": [[m.real, m.imag] for m in self.multipliers],
-            "stable": self.stable, "admissible": self.admissible,
-            "min_gap": self.min_gap if math.isfinite(self.min_gap) else None, "x1_max": self.x1_max,
-            "times": list(self.times), "states_after": [list(y) for y in self.states_after],
+            "stable": self.stable,
+            "admissible": self.admissible,
+            "min_gap": self.min_gap if math.isfinite(self.min_gap) else None,
+            "x1_max": self.x1_max,
+            "times": list(self.times),
+            "states_after": [list(y) for y in self.states_after],
         }
 
 
@@ -132,8 +138,13 @@ class SpecialPoint:
     detail: str
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "value": self.value, "index": self.index, "detail": self.detail,
-                "point": self.point.to_dict()}
+        return {
+            "kind": self.kind,
+            "value": self.value,
+            "index": self.index,
+            "detail": self.detail,
+            "point": self.point.to_dict(),
+        }
 
 
 @dataclass(frozen=True)
@@ -171,8 +182,10 @@ class Branch:
 
     def to_dict(self) -> dict:
         return {
-            "parameter": self.parameter, "period_multiple": self.period_multiple,
-            "impacts_per_cycle": self.impacts_per_cycle, "end_reason": self.end_reason,
+            "parameter": self.parameter,
+            "period_multiple": self.period_multiple,
+            "impacts_per_cycle": self.impacts_per_cycle,
+            "end_reason": self.end_reason,
             "end_value": self.end_value,
             "special": [s.to_dict() for s in self.special],
             "points": [q.to_dict() for q in self.points],
@@ -265,16 +278,21 @@ class _Continuation:
         s = self.shooting(float(x[-1]))
         t, y = s.times_states(x[:-1])
         F, _ = s.residual(x[:-1], False)
-        return orbit_from_solution(s.p, s.model, self.k, t, y, "orbit", 0, float(np.max(np.abs(F))), 0,
-                                   self.gap_tol)
+        return orbit_from_solution(s.p, s.model, self.k, t, y, "orbit", 0, float(np.max(np.abs(F))), 0, self.gap_tol)
 
 
 def _point(value: float, o: PeriodicOrbit) -> BranchPoint:
     return BranchPoint(
-        value=float(value), phases=tuple(i.phase for i in o.impacts), t_over_T=tuple(i.t_over_T for i in o.impacts),
+        value=float(value),
+        phases=tuple(i.phase for i in o.impacts),
+        t_over_T=tuple(i.t_over_T for i in o.impacts),
         velocities=tuple(i.velocity / (o.p.x_st * o.p.omega) for i in o.impacts),
-        multipliers=tuple(complex(m) for m in o.multipliers), stable=bool(o.stable), admissible=bool(o.admissible),
-        min_gap=float(o.min_gap), x1_max=float(o.x1_max), times=tuple(float(t) for t in o.times),
+        multipliers=tuple(complex(m) for m in o.multipliers),
+        stable=bool(o.stable),
+        admissible=bool(o.admissible),
+        min_gap=float(o.min_gap),
+        x1_max=float(o.x1_max),
+        times=tuple(float(t) for t in o.times),
         states_after=tuple(tuple(float(v) for v in y) for y in o.states_after),
     )
 
@@ -294,10 +312,19 @@ def _tests(o: PeriodicOrbit, tangent_lam: float) -> dict:
     }
 
 
-def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[float, float] | None = None, *,
-                   direction: int = +1, step: float = 0.01, min_step: float = 1e-7, max_step: float = 0.25,
-                   max_points: int = 5000, stop_at_grazing: bool = True,
-                   tolerances: Tolerances | None = None) -> Branch:
+def continue_orbit(
+    orbit: PeriodicOrbit,
+    parameter: str = "gap",
+    bounds: tuple[float, float] | None = None,
+    *,
+    direction: int = +1,
+    step: float = 0.01,
+    min_step: float = 1e-7,
+    max_step: float = 0.25,
+    max_points: int = 5000,
+    stop_at_grazing: bool = True,
+    tolerances: Tolerances | None = None,
+) -> Branch:
     """Follow a solved impacting cycle as one parameter varies (pseudo-arclength continuation).
 
     Parameters
@@ -329,8 +356,9 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
         raise ValueError("`orbit` is not allowed: must be a solved PeriodicOrbit with impacts")
     if isinstance(direction, bool) or direction not in (1, -1):
         raise ValueError(f"`direction` = {direction!r} is not allowed: must be +1 or -1")
-    step, min_step, max_step = (finite_argument(name, value) for name, value in
-                                (("step", step), ("min_step", min_step), ("max_step", max_step)))
+    step, min_step, max_step = (
+        finite_argument(name, value) for name, value in (("step", step), ("min_step", min_step), ("max_step", max_step))
+    )
     if not (0 < min_step <= step <= max_step):
         raise ValueError(f"`step` = {step!r} is not allowed: need 0 < min_step <= step <= max_step")
     max_points = integer_argument("max_points", max_points, 1, MAX_BRANCH_POINTS)
@@ -346,15 +374,26 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
     dom_lo, dom_hi, closed = PARAMETER_DOMAIN[parameter]
     if not ((lo >= dom_lo if closed else lo > dom_lo) and hi <= dom_hi):
         allowed = {(0.0, math.inf, False): "> 0", (0.0, math.inf, True): ">= 0", (0.0, 1.0, True): "in [0, 1]"}
-        raise ValueError(f"`bounds` = {bounds!r} is not allowed: `{parameter}` must be "
-                         f"{allowed[(dom_lo, dom_hi, closed)]}, so must both bounds")
+        raise ValueError(
+            f"`bounds` = {bounds!r} is not allowed: `{parameter}` must be "
+            f"{allowed[(dom_lo, dom_hi, closed)]}, so must both bounds"
+        )
     tol = check_tolerances(tolerances)
     if not orbit.p.native_scales() and parameter not in ("x_st", "m1", "omega"):
         # The same relative problem in the reference case's units, converted back.
         q = orbit.p.canonical()
-        branch = continue_orbit(rescale_orbit(orbit, ScaleMap(orbit.p, q)), parameter, (lo, hi), direction=direction,
-                                step=step, min_step=min_step, max_step=max_step, max_points=max_points,
-                                stop_at_grazing=stop_at_grazing, tolerances=tol)
+        branch = continue_orbit(
+            rescale_orbit(orbit, ScaleMap(orbit.p, q)),
+            parameter,
+            (lo, hi),
+            direction=direction,
+            step=step,
+            min_step=min_step,
+            max_step=max_step,
+            max_points=max_points,
+            stop_at_grazing=stop_at_grazing,
+            tolerances=tol,
+        )
         return _rescale_branch(branch, ScaleMap(q, orbit.p))
     cont = _Continuation(orbit.p, parameter, orbit.period_multiple, orbit.impacts_per_cycle, tol.gap_tol)
     shoot = cont.shooting(lam0)
@@ -385,8 +424,19 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
                     o_new = cont.orbit(x_new)
                     t_new = cont.tangent(x_new, t)
                     tests_new = _tests(o_new, t_new[-1])
-                    stop = _detect(cont, x, t, h * frac, tests, tests_new, points, bool(o_new.stable),
-                                   special, seq, stop_at_grazing)
+                    stop = _detect(
+                        cont,
+                        x,
+                        t,
+                        h * frac,
+                        tests,
+                        tests_new,
+                        points,
+                        bool(o_new.stable),
+                        special,
+                        seq,
+                        stop_at_grazing,
+                    )
                     if stop is None:
                         points.append(_point(edge, o_new))
                         end_reason, end_value = "bound", edge
@@ -403,8 +453,7 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
         o_new = cont.orbit(x_new)
         t_new = cont.tangent(x_new, t)
         tests_new = _tests(o_new, t_new[-1])
-        stop = _detect(cont, x, t, h, tests, tests_new, points, bool(o_new.stable), special, seq,
-                       stop_at_grazing)
+        stop = _detect(cont, x, t, h, tests, tests_new, points, bool(o_new.stable), special, seq, stop_at_grazing)
         if stop is not None:
             end_reason, end_value = stop
             break
@@ -412,20 +461,32 @@ def continue_orbit(orbit: PeriodicOrbit, parameter: str = "gap", bounds: tuple[f
         x, t, tests = x_new, t_new, tests_new
         h = min(h * 1.5, max_step) if its <= 3 else (h * 0.7 if its >= 6 else h)
         h = max(h, min_step)
-    return Branch(parameter=parameter, period_multiple=orbit.period_multiple,
-                  impacts_per_cycle=orbit.impacts_per_cycle, points=tuple(points), special=tuple(special),
-                  end_reason=end_reason, end_value=float(end_value))
+    return Branch(
+        parameter=parameter,
+        period_multiple=orbit.period_multiple,
+        impacts_per_cycle=orbit.impacts_per_cycle,
+        points=tuple(points),
+        special=tuple(special),
+        end_reason=end_reason,
+        end_value=float(end_value),
+    )
 
 
 def _rescale_branch(branch: Branch, scales: ScaleMap) -> Branch:
     """A branch's impact times and states in ``scales.target``'s units (all else is relative)."""
-    def point(q: BranchPoint) -> BranchPoint:
-        return dataclasses.replace(q, times=tuple(scales.apply(t, "time") for t in q.times),
-                                   states_after=tuple(tuple(float(v) for v in scales.full(np.array(y)))
-                                                      for y in q.states_after))
 
-    return dataclasses.replace(branch, points=tuple(point(q) for q in branch.points),
-                               special=tuple(dataclasses.replace(sp, point=point(sp.point)) for sp in branch.special))
+    def point(q: BranchPoint) -> BranchPoint:
+        return dataclasses.replace(
+            q,
+            times=tuple(scales.apply(t, "time") for t in q.times),
+            states_after=tuple(tuple(float(v) for v in scales.full(np.array(y))) for y in q.states_after),
+        )
+
+    return dataclasses.replace(
+        branch,
+        points=tuple(point(q) for q in branch.points),
+        special=tuple(dataclasses.replace(sp, point=point(sp.point)) for sp in branch.special),
+    )
 
 
 def _sequence(k: int, z: int) -> str:
@@ -464,8 +525,8 @@ def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: 
 
     try:
         import scipy.optimize  # (loaded on first use: the package import stays light)
-        s_star = scipy.optimize.brentq(g, 0.0, h, xtol=1e-13 * max(1.0, h), rtol=4 * np.finfo(float).eps,
-                                       maxiter=100)
+
+        s_star = scipy.optimize.brentq(g, 0.0, h, xtol=1e-13 * max(1.0, h), rtol=4 * np.finfo(float).eps, maxiter=100)
         if s_star not in cache:
             g(s_star)
         x, o, _ = cache[s_star]
@@ -528,13 +589,17 @@ def _detect(cont, x, t, h, tests, tests_new, points, stable_after, special, seq,
         if key == "grazing_velocity":
             i = int(np.argmin([imp.velocity for imp in o.impacts]))
             kk, zz = _reduced(o, i)
-            detail = (f"impact {i + 1} of the {seq} cycle reaches zero closing velocity at phase "
-                      f"{o.impacts[i].phase:.6f}: the impact sequence changes, {seq} -> "
-                      f"{_sequence(kk, zz)} if the cycle persists")
+            detail = (
+                f"impact {i + 1} of the {seq} cycle reaches zero closing velocity at phase "
+                f"{o.impacts[i].phase:.6f}: the impact sequence changes, {seq} -> "
+                f"{_sequence(kk, zz)} if the cycle persists"
+            )
         elif key == "grazing_interior":
             j = min(range(z), key=lambda i: _flight_min(o, i))
-            detail = (f"the gap's interior minimum touches the stop in the flight after impact {j + 1}: "
-                      f"the impact sequence changes, {seq} -> {_sequence(k, z + 1)} if the cycle persists")
+            detail = (
+                f"the gap's interior minimum touches the stop in the flight after impact {j + 1}: "
+                f"the impact sequence changes, {seq} -> {_sequence(k, z + 1)} if the cycle persists"
+            )
         elif key == "period_doubling":
             detail = f"a multiplier passes through -1: a {_sequence(2 * k, 2 * z)} cycle branches off" + stability
         elif key == "neimark_sacker":

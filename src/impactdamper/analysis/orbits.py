@@ -54,12 +54,23 @@ from impactdamper.analysis.shooting import OrbitError, Shooting, impact_matrix, 
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1, rescale_algorithm1
 from impactdamper.core.events import SearchLimitError, Segment, first_root
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import (ArgumentTypeError, Parameters, ScaleMap, finite_argument, integer_argument,
-                                         require_parameters)
-from impactdamper.core.simulate import (Event, Tolerances, Trajectory, check_state, check_tolerances,
-                                       work_limit_message)
-from impactdamper.core.steady import (CycleImpact, SteadyState, max_excursion, rescale_steady, start_in_first_period,
-                                     steady_state)
+from impactdamper.core.parameters import (
+    ArgumentTypeError,
+    Parameters,
+    ScaleMap,
+    finite_argument,
+    integer_argument,
+    require_parameters,
+)
+from impactdamper.core.simulate import Event, Tolerances, Trajectory, check_state, check_tolerances, work_limit_message
+from impactdamper.core.steady import (
+    CycleImpact,
+    SteadyState,
+    max_excursion,
+    rescale_steady,
+    start_in_first_period,
+    steady_state,
+)
 
 __all__ = [
     "PeriodicOrbit",
@@ -269,6 +280,7 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
                 j += 1
             # (A run touching an impact starts or ends there: the gap is zero at impacts.)
             import scipy.optimize  # (loaded on first use: the package import stays light)
+
             start = t_a if i == 1 else scipy.optimize.brentq(gap_at, ts[i - 1], ts[i], xtol=1e-14 * T)
             end = t_b if j + 1 == n else scipy.optimize.brentq(gap_at, ts[j], ts[j + 1], xtol=1e-14 * T)
             intervals.append((float((start - t_a) / T), float((end - t_a) / T)))
@@ -279,8 +291,10 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
     minima = []
     for i in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1:
         import scipy.optimize  # (loaded on first use: the package import stays light)
-        res = scipy.optimize.minimize_scalar(gap_at, bounds=(ts[i - 1], ts[i + 1]), method="bounded",
-                                             options={"xatol": 1e-14 * T})
+
+        res = scipy.optimize.minimize_scalar(
+            gap_at, bounds=(ts[i - 1], ts[i + 1]), method="bounded", options={"xatol": 1e-14 * T}
+        )
         minima.append((float((res.x - t_a) / T), float(res.fun) / p.x_st))
     return contact, intervals, minima, opens
 
@@ -288,9 +302,18 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
 # ----------------------------------------------------------------------------------------
 # Building the result
 # ----------------------------------------------------------------------------------------
-def orbit_from_solution(p: Parameters, model: Model, k: int, times: np.ndarray, after: np.ndarray,
-                        seed: str, iterations: int, residual: float, periods: int,
-                        gap_tol: float) -> PeriodicOrbit:
+def orbit_from_solution(
+    p: Parameters,
+    model: Model,
+    k: int,
+    times: np.ndarray,
+    after: np.ndarray,
+    seed: str,
+    iterations: int,
+    residual: float,
+    periods: int,
+    gap_tol: float,
+) -> PeriodicOrbit:
     """The checked cycle of a solution of the shooting equations.
 
     Orders the impacts from the one ending the longest flight (as :func:`steady_state`),
@@ -344,8 +367,9 @@ def orbit_from_solution(p: Parameters, model: Model, k: int, times: np.ndarray, 
         reasons.append(f"impact {i + 1} has closing velocity {velocities[i] / (p.x_st * p.omega):.6g} x_st omega <= 0")
     min_gap = math.inf
     for i in range(z):
-        contact, intervals, minima, opens = flight_scan(model, times[i], after[i], t_next[i],
-                                                        float(velocities[(i + 1) % z]), gap_tol)
+        contact, intervals, minima, opens = flight_scan(
+            model, times[i], after[i], t_next[i], float(velocities[(i + 1) % z]), gap_tol
+        )
         if not opens:
             reasons.append(f"the gap does not open after impact {i + 1}")
         elif intervals:
@@ -368,25 +392,62 @@ def orbit_from_solution(p: Parameters, model: Model, k: int, times: np.ndarray, 
         for i in range(z):
             t_i = times[i] + c * Tc
             D = p.reduced_mass * (1.0 + p.R)
-            traj.events.append(Event(t_i, "impact", float(velocities[i]), float(D * velocities[i]),
-                                     before_of[i].copy(), (R_of @ before_of[i]).copy(), t_i))
+            traj.events.append(
+                Event(
+                    t_i,
+                    "impact",
+                    float(velocities[i]),
+                    float(D * velocities[i]),
+                    before_of[i].copy(),
+                    (R_of @ before_of[i]).copy(),
+                    t_i,
+                )
+            )
             traj.segments.append((FREE, Segment(model.free, t_i, after[i])))
-    impacts = tuple(CycleImpact(float(t), float((t - times[0]) / T), float((t / T) % 1.0), float(v),
-                                float(p.reduced_mass * (1.0 + p.R) * v)) for t, v in zip(times, velocities))
+    impacts = tuple(
+        CycleImpact(
+            float(t), float((t - times[0]) / T), float((t / T) % 1.0), float(v), float(p.reduced_mass * (1.0 + p.R) * v)
+        )
+        for t, v in zip(times, velocities)
+    )
     regime = "single_impact" if (k == 1 and z == 1) else "multi_impact"
     return PeriodicOrbit(
-        p=p, regime=regime, period_multiple=k, impacts=impacts, cycle_start=float(times[0]),
-        contact_fraction=0.0, contact_phases=(), x1_max=max_excursion(p, traj, times[0], times[0] + Tc),
-        periods=periods, residual=residual, trajectory=traj,
-        solved=True, admissible=admissible, stable=stable, multipliers=mult, reason="; ".join(reasons),
-        seed=seed, newton_iterations=iterations, min_gap=min_gap,
+        p=p,
+        regime=regime,
+        period_multiple=k,
+        impacts=impacts,
+        cycle_start=float(times[0]),
+        contact_fraction=0.0,
+        contact_phases=(),
+        x1_max=max_excursion(p, traj, times[0], times[0] + Tc),
+        periods=periods,
+        residual=residual,
+        trajectory=traj,
+        solved=True,
+        admissible=admissible,
+        stable=stable,
+        multipliers=mult,
+        reason="; ".join(reasons),
+        seed=seed,
+        newton_iterations=iterations,
+        min_gap=min_gap,
         min_velocity=float(np.min(velocities) / (p.x_st * p.omega)),
-        times=times, states_after=after.copy(), states_before=before_of.copy(),
+        times=times,
+        states_after=after.copy(),
+        states_before=before_of.copy(),
     )
 
 
-def orbit_from_cycle(p: Parameters, period_multiple: int, times, states_after, *, seed: str = "orbit",
-                     periods: int = 0, tolerances: Tolerances | None = None) -> PeriodicOrbit:
+def orbit_from_cycle(
+    p: Parameters,
+    period_multiple: int,
+    times,
+    states_after,
+    *,
+    seed: str = "orbit",
+    periods: int = 0,
+    tolerances: Tolerances | None = None,
+) -> PeriodicOrbit:
     """Solve the cycle of period ``period_multiple`` T seeded by impact times and states.
 
     Parameters
@@ -416,14 +477,17 @@ def orbit_from_cycle(p: Parameters, period_multiple: int, times, states_after, *
     if len(times) > MAX_ORBIT_IMPACTS:
         raise ValueError(f"`times` is not allowed: {len(times)} impacts, at most {MAX_ORBIT_IMPACTS} per cycle")
     if states.shape != (len(times), 4) or not np.all(np.isfinite(states)):
-        raise ValueError(f"`states_after` is not allowed: must be {len(times)} finite rows (x1, x2, x1', x2'), "
-                         f"got shape {states.shape}")
+        raise ValueError(
+            f"`states_after` is not allowed: must be {len(times)} finite rows (x1, x2, x1', x2'), "
+            f"got shape {states.shape}"
+        )
     tol = check_tolerances(tolerances)
     if not p.native_scales():
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        o = orbit_from_cycle(q, period_multiple, to_q.apply(times, "time"), to_q.full(states), seed=seed, periods=periods,
-                             tolerances=tol)
+        o = orbit_from_cycle(
+            q, period_multiple, to_q.apply(times, "time"), to_q.full(states), seed=seed, periods=periods, tolerances=tol
+        )
         return rescale_orbit(o, ScaleMap(q, p))
     # The forcing is T-periodic: shift the cycle so the first impact is in [0, T). Large
     # absolute times would cost digits in sin(omega t) (~1e-13 after 500 periods).
@@ -450,29 +514,50 @@ def _closed_form_orbit(p: Parameters, regime: str, periods: int = 0) -> Periodic
     # (Im(G e^{iwt}) = |G| sin(wt + arg G) is least where wt + arg G = -pi/2.)
     t_least = ((-0.5 * math.pi - math.atan2(fn.G.imag, fn.G.real)) / p.omega) % T
     admissible = least > 0.0
-    reason = "" if admissible else (
-        f"the {what} of the forced response reaches {least:.6g} (relative) at phase {t_least / T:.6f}: "
-        + ("the bodies would overlap" if regime == "no_contact" else "the stop would have to pull"))
+    reason = (
+        ""
+        if admissible
+        else (
+            f"the {what} of the forced response reaches {least:.6g} (relative) at phase {t_least / T:.6f}: "
+            + ("the bodies would overlap" if regime == "no_contact" else "the stop would have to pull")
+        )
+    )
     mult = np.linalg.eigvals(mode.propagator(T))
     mult = mult[np.argsort(-np.abs(mult), kind="stable")]
     traj = Trajectory(model)
     traj.segments.append((STUCK if regime == "stuck" else FREE, Segment(mode, 0.0, mode.forced(0.0))))
     min_gap = least if regime == "no_contact" else 0.0
     return PeriodicOrbit(
-        p=p, regime=regime, period_multiple=1, impacts=(), cycle_start=0.0,
+        p=p,
+        regime=regime,
+        period_multiple=1,
+        impacts=(),
+        cycle_start=0.0,
         contact_fraction=1.0 if regime == "stuck" else 0.0,
         contact_phases=((0.0, 1.0),) if regime == "stuck" else (),
-        x1_max=float(abs(mode.Yhat[0])) / p.x_st, periods=periods, residual=0.0, trajectory=traj,
-        solved=True, admissible=admissible, stable=bool(np.max(np.abs(mult)) < 1.0), multipliers=mult,
-        reason=reason, seed="closed_form", min_gap=min_gap,
+        x1_max=float(abs(mode.Yhat[0])) / p.x_st,
+        periods=periods,
+        residual=0.0,
+        trajectory=traj,
+        solved=True,
+        admissible=admissible,
+        stable=bool(np.max(np.abs(mult)) < 1.0),
+        multipliers=mult,
+        reason=reason,
+        seed="closed_form",
+        min_gap=min_gap,
     )
 
 
 def rescale_orbit(o: PeriodicOrbit, scales: ScaleMap) -> PeriodicOrbit:
     """The same orbit in ``scales.target``'s units (relative fields and multipliers unchanged)."""
     base = rescale_steady(o, scales)
-    return dataclasses.replace(base, times=scales.apply(o.times, "time"), states_after=scales.full(o.states_after),
-                               states_before=scales.full(o.states_before))
+    return dataclasses.replace(
+        base,
+        times=scales.apply(o.times, "time"),
+        states_after=scales.full(o.states_after),
+        states_before=scales.full(o.states_before),
+    )
 
 
 def _unsolved(steady: SteadyState, reason: str) -> PeriodicOrbit:
@@ -483,16 +568,23 @@ def _unsolved(steady: SteadyState, reason: str) -> PeriodicOrbit:
 def _from_steady(steady: SteadyState, period_multiple: int | None, tolerances: Tolerances | None) -> PeriodicOrbit:
     p = steady.p
     if steady.regime == "nonperiodic":
-        return _unsolved(steady, f"the simulated motion did not settle within {steady.periods} periods "
-                                 "(nonperiodic): no cycle to solve for")
+        return _unsolved(
+            steady,
+            f"the simulated motion did not settle within {steady.periods} periods (nonperiodic): no cycle to solve for",
+        )
     if steady.regime == "chatter":
-        return _unsolved(steady, "the cycle has a phase of persistent contact reached through an accumulation "
-                                 "of impacts (chatter): the direct solve does not apply; values are the simulated cycle's")
+        return _unsolved(
+            steady,
+            "the cycle has a phase of persistent contact reached through an accumulation "
+            "of impacts (chatter): the direct solve does not apply; values are the simulated cycle's",
+        )
     k = steady.period_multiple
     m = _repeat_factor(period_multiple, k)
     if steady.regime in ("no_contact", "stuck"):
         if m != 1:
-            raise ValueError(f"`period_multiple` = {period_multiple!r} is not allowed: the {steady.regime} motion has period T")
+            raise ValueError(
+                f"`period_multiple` = {period_multiple!r} is not allowed: the {steady.regime} motion has period T"
+            )
         return _closed_form_orbit(p, steady.regime, steady.periods)
     times, after = [], []
     for imp in steady.impacts:
@@ -507,8 +599,10 @@ def _repeat_factor(period_multiple: int | None, k: int) -> int:
     if period_multiple is None:
         return 1
     if not (isinstance(period_multiple, (int, np.integer)) and period_multiple >= 1 and period_multiple % k == 0):
-        raise ValueError(f"`period_multiple` = {period_multiple!r} is not allowed: must be a positive multiple of "
-                         f"the seed's period multiple {k}")
+        raise ValueError(
+            f"`period_multiple` = {period_multiple!r} is not allowed: must be a positive multiple of "
+            f"the seed's period multiple {k}"
+        )
     return period_multiple // k
 
 
@@ -517,10 +611,18 @@ def _repeat(times: np.ndarray, after: np.ndarray, k: int, m: int, T: float):
     return (np.concatenate([times + j * k * T for j in range(m)]), np.concatenate([after] * m))
 
 
-def solve_orbit(p: Parameters, seed: str | SteadyState | Algorithm1Result = "auto", *,
-                period_multiple: int | None = None, t0: float = 0.0, state: np.ndarray | None = None,
-                tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
-                max_period_multiple: int = 8) -> PeriodicOrbit:
+def solve_orbit(
+    p: Parameters,
+    seed: str | SteadyState | Algorithm1Result = "auto",
+    *,
+    period_multiple: int | None = None,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    settle_tol: float = 1e-10,
+    max_periods: int = 4000,
+    max_period_multiple: int = 8,
+) -> PeriodicOrbit:
     """Solve a periodic cycle directly (Newton shooting), check it and find its multipliers.
 
     Parameters
@@ -559,8 +661,10 @@ def solve_orbit(p: Parameters, seed: str | SteadyState | Algorithm1Result = "aut
     if isinstance(seed, str) and seed == "alg1":
         for name, given in (("state", state is not None), ("t0", t0 != 0.0)):
             if given:
-                raise ValueError(f"`{name}` is not allowed with seed = 'alg1': Algorithm No. 1's orbit is closed-form and "
-                                 "has no start (seed 'simulate' starts from it)")
+                raise ValueError(
+                    f"`{name}` is not allowed with seed = 'alg1': Algorithm No. 1's orbit is closed-form and "
+                    "has no start (seed 'simulate' starts from it)"
+                )
     if not p.native_scales():
         # The same relative problem in the reference case's units, converted back.
         q = p.canonical()
@@ -571,9 +675,17 @@ def solve_orbit(p: Parameters, seed: str | SteadyState | Algorithm1Result = "aut
             seed = rescale_orbit(seed, to_q)
         elif isinstance(seed, SteadyState):
             seed = rescale_steady(seed, to_q)
-        o = solve_orbit(q, seed, period_multiple=period_multiple, t0=to_q.apply(start_in_first_period(p, t0), "time"),
-                        state=None if state is None else to_q.full(state), tolerances=tolerances,
-                        settle_tol=settle_tol, max_periods=max_periods, max_period_multiple=max_period_multiple)
+        o = solve_orbit(
+            q,
+            seed,
+            period_multiple=period_multiple,
+            t0=to_q.apply(start_in_first_period(p, t0), "time"),
+            state=None if state is None else to_q.full(state),
+            tolerances=tolerances,
+            settle_tol=settle_tol,
+            max_periods=max_periods,
+            max_period_multiple=max_period_multiple,
+        )
         return rescale_orbit(o, ScaleMap(q, p))
     if isinstance(seed, str):
         if seed not in SEEDS:
@@ -592,20 +704,29 @@ def solve_orbit(p: Parameters, seed: str | SteadyState | Algorithm1Result = "aut
             orbit = stable_algorithm1_orbit(a1, period_multiple, tolerances)
             if orbit is not None:
                 return orbit
-        seed = steady_state(p, t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol,
-                            max_periods=max_periods, max_period_multiple=max_period_multiple)
+        seed = steady_state(
+            p,
+            t0=t0,
+            state=state,
+            tolerances=tolerances,
+            settle_tol=settle_tol,
+            max_periods=max_periods,
+            max_period_multiple=max_period_multiple,
+        )
     if isinstance(seed, Algorithm1Result):
         if not seed.exists:
             raise OrbitError(f"Algorithm No. 1 has no orbit: {seed.reason}")
         return orbit_from_algorithm1(seed, period_multiple, tolerances)
     if isinstance(seed, SteadyState):
         return _from_steady(seed, period_multiple, tolerances)
-    raise ValueError(f"`seed` = {seed!r} is not allowed: must be one of {', '.join(SEEDS)}, a SteadyState "
-                     "or an Algorithm1Result")
+    raise ValueError(
+        f"`seed` = {seed!r} is not allowed: must be one of {', '.join(SEEDS)}, a SteadyState or an Algorithm1Result"
+    )
 
 
-def orbit_from_algorithm1(a1: Algorithm1Result, period_multiple: int | None = None,
-                          tolerances: Tolerances | None = None) -> PeriodicOrbit:
+def orbit_from_algorithm1(
+    a1: Algorithm1Result, period_multiple: int | None = None, tolerances: Tolerances | None = None
+) -> PeriodicOrbit:
     """Algorithm No. 1's one-impact orbit (eqs. 7-17) confirmed by the Newton shooting.
 
     Parameters
@@ -627,8 +748,9 @@ def orbit_from_algorithm1(a1: Algorithm1Result, period_multiple: int | None = No
     return orbit_from_cycle(a1.p, m, times, after, seed="alg1", tolerances=tolerances)
 
 
-def stable_algorithm1_orbit(a1: Algorithm1Result | None, period_multiple: int | None = None,
-                            tolerances: Tolerances | None = None) -> PeriodicOrbit | None:
+def stable_algorithm1_orbit(
+    a1: Algorithm1Result | None, period_multiple: int | None = None, tolerances: Tolerances | None = None
+) -> PeriodicOrbit | None:
     """Algorithm No. 1's orbit if it exists, is admissible, and its Newton-confirmed cycle is
     admissible and stable (an attractor); else None.
 

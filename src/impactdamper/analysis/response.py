@@ -39,8 +39,18 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters, finite_argument, integer_argument, require_parameters
 from impactdamper.core.simulate import EventDrivenSolver, Trajectory
 
-__all__ = ["CycleMetrics", "ResponsePoint", "FrequencyResponse", "cycle_metrics", "frequency_response",
-           "linear_response", "theta_grid", "energy_balance", "HYSTERESIS_TOL", "MAX_POINTS"]
+__all__ = [
+    "CycleMetrics",
+    "ResponsePoint",
+    "FrequencyResponse",
+    "cycle_metrics",
+    "frequency_response",
+    "linear_response",
+    "theta_grid",
+    "energy_balance",
+    "HYSTERESIS_TOL",
+    "MAX_POINTS",
+]
 
 # Two directions count as different motions (hysteresis) when their max|x1|/x_st differ by more
 # than this, relative: the settled cycles agree to the settle tolerance (1e-9), and 1e-4 is well
@@ -132,17 +142,29 @@ class ResponsePoint:
         return float(np.nanmax([self.up.max_abs_x1, self.down.max_abs_x1]))
 
     def to_dict(self) -> dict:
-        return {"theta": self.theta, "up": self.up.to_dict(), "down": self.down.to_dict(),
-                "hysteresis": self.hysteresis, "linear_max_abs_x1": self.linear_x1,
-                "linear_max_abs_x2": self.linear_x2}
+        return {
+            "theta": self.theta,
+            "up": self.up.to_dict(),
+            "down": self.down.to_dict(),
+            "hysteresis": self.hysteresis,
+            "linear_max_abs_x1": self.linear_x1,
+            "linear_max_abs_x2": self.linear_x2,
+        }
 
     def rows(self) -> list[dict]:
         """Two flat CSV rows, one per direction."""
         out = []
         for direction, m in (("up", self.up), ("down", self.down)):
-            out.append({"theta": self.theta, "direction": direction, **m.to_dict(),
-                        "hysteresis": int(self.hysteresis), "linear_max_abs_x1": self.linear_x1,
-                        "linear_max_abs_x2": self.linear_x2})
+            out.append(
+                {
+                    "theta": self.theta,
+                    "direction": direction,
+                    **m.to_dict(),
+                    "hysteresis": int(self.hysteresis),
+                    "linear_max_abs_x1": self.linear_x1,
+                    "linear_max_abs_x2": self.linear_x2,
+                }
+            )
         return out
 
 
@@ -184,15 +206,21 @@ class FrequencyResponse:
     def loads(self) -> dict:
         """Largest peak pulse and impacts per period over the grid and both directions."""
         ms = [m for q in self.points for m in (q.up, q.down)]
-        return {"peak_impulse": float(np.nanmax([m.peak_impulse for m in ms])),
-                "impacts_per_period": float(np.nanmax([m.impacts_per_period for m in ms]))}
+        return {
+            "peak_impulse": float(np.nanmax([m.peak_impulse for m in ms])),
+            "impacts_per_period": float(np.nanmax([m.impacts_per_period for m in ms])),
+        }
 
     def to_dict(self) -> dict:
         """The JSON object of ``python -m impactdamper response --json``."""
-        return {"parameters": self.p.to_dict(), "peak_max_abs_x1": self.peak(),
-                "band_average_max_abs_x1": self.band_average(), **self.loads(),
-                "hysteresis_points": int(sum(q.hysteresis for q in self.points)),
-                "points": [q.to_dict() for q in self.points]}
+        return {
+            "parameters": self.p.to_dict(),
+            "peak_max_abs_x1": self.peak(),
+            "band_average_max_abs_x1": self.band_average(),
+            **self.loads(),
+            "hysteresis_points": int(sum(q.hysteresis for q in self.points)),
+            "points": [q.to_dict() for q in self.points],
+        }
 
     def rows(self) -> list[dict]:
         return [r for q in self.points for r in q.rows()]
@@ -275,15 +303,22 @@ def energy_balance(traj: Trajectory, a: float, b: float) -> dict:
     v1, v2 = full[:, 2].reshape(t.shape), full[:, 3].reshape(t.shape)
     w = 0.5 * (hi - lo) * weights[None, :]
     work = dissipated = 0.0
-    for piece_work, piece_dissipated in zip(np.sum(w * p.P0 * np.sin(p.omega * t) * v1, axis=1),
-                                            np.sum(w * (p.k1 * v1 * v1 + p.k2 * (v2 - v1) ** 2), axis=1)):
+    for piece_work, piece_dissipated in zip(
+        np.sum(w * p.P0 * np.sin(p.omega * t) * v1, axis=1),
+        np.sum(w * (p.k1 * v1 * v1 + p.k2 * (v2 - v1) ** 2), axis=1),
+    ):
         work += float(piece_work)
         dissipated += float(piece_dissipated)
     lost = float(sum(model.energy(e.before) - model.energy(e.after) for e in events))
     ends, _ = traj.sample(np.array([a, b]))
     drift = float(model.energy(ends[1]) - model.energy(ends[0]))
-    return {"input": work, "dampers": dissipated, "impacts": lost, "drift": drift,
-            "impulses": [e.impulse for e in events if e.kind == "impact"]}
+    return {
+        "input": work,
+        "dampers": dissipated,
+        "impacts": lost,
+        "drift": drift,
+        "impulses": [e.impulse for e in events if e.kind == "impact"],
+    }
 
 
 def _largest(traj: Trajectory, a: float, b: float, column: int) -> float:
@@ -300,10 +335,12 @@ def _largest(traj: Trajectory, a: float, b: float, column: int) -> float:
     seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
     lo, hi = max(lo, seg.t0), min(hi, seg_end)
     if hi > lo:
+
         def f(t):
             return -abs(float(traj.model.full_state(name, seg.state(float(t)))[column]))
 
         import scipy.optimize  # (loaded on first use: the package import stays light)
+
         res = scipy.optimize.minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * p.T})
         best = max(best, -float(res.fun))
     return best
@@ -311,8 +348,9 @@ def _largest(traj: Trajectory, a: float, b: float, column: int) -> float:
 
 def _nan_metrics(point: SweepPoint) -> CycleMetrics:
     nan = math.nan
-    return CycleMetrics(point.regime, point.label, point.period_multiple, nan, nan, nan, nan, nan, nan, nan, nan,
-                        nan, nan)
+    return CycleMetrics(
+        point.regime, point.label, point.period_multiple, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan
+    )
 
 
 def cycle_metrics(point: SweepPoint) -> CycleMetrics:
@@ -346,12 +384,19 @@ def cycle_metrics(point: SweepPoint) -> CycleMetrics:
     pulses = np.array(e["impulses"]) / unit_s
     residual = abs(e["input"] - e["impacts"] - e["dampers"] - e["drift"]) / max(abs(e["input"]), unit_e)
     return CycleMetrics(
-        regime=point.regime, label=point.label, period_multiple=point.period_multiple,
-        max_abs_x1=x1, max_abs_x2=x2, impacts_per_period=len(pulses) / k,
+        regime=point.regime,
+        label=point.label,
+        period_multiple=point.period_multiple,
+        max_abs_x1=x1,
+        max_abs_x2=x2,
+        impacts_per_period=len(pulses) / k,
         mean_impulse=float(pulses.mean()) if len(pulses) else 0.0,
         peak_impulse=float(pulses.max()) if len(pulses) else 0.0,
-        energy_input=e["input"] / unit_e / k, energy_impacts=e["impacts"] / unit_e / k,
-        energy_dampers=e["dampers"] / unit_e / k, balance=float(residual), drift=e["drift"] / unit_e,
+        energy_input=e["input"] / unit_e / k,
+        energy_impacts=e["impacts"] / unit_e / k,
+        energy_dampers=e["dampers"] / unit_e / k,
+        balance=float(residual),
+        drift=e["drift"] / unit_e,
     )
 
 
@@ -363,10 +408,17 @@ def _differ(a: CycleMetrics, b: CycleMetrics, tol: float) -> bool:
     return abs(a.max_abs_x1 - b.max_abs_x1) > tol * max(abs(a.max_abs_x1), abs(b.max_abs_x1), 1e-300)
 
 
-def frequency_response(p: Parameters, theta_start: float = 0.5, theta_stop: float = 1.5, points: int = 41, *,
-                       settings: SweepSettings | None = None, hysteresis_tol: float = HYSTERESIS_TOL,
-                       progress: Callable[[str], None] | None = None,
-                       on_point: Callable[[], None] | None = None) -> FrequencyResponse:
+def frequency_response(
+    p: Parameters,
+    theta_start: float = 0.5,
+    theta_stop: float = 1.5,
+    points: int = 41,
+    *,
+    settings: SweepSettings | None = None,
+    hysteresis_tol: float = HYSTERESIS_TOL,
+    progress: Callable[[str], None] | None = None,
+    on_point: Callable[[], None] | None = None,
+) -> FrequencyResponse:
     """Settled motion against theta, by an upward and a downward sweep, with its metrics.
 
     Parameters
@@ -406,8 +458,10 @@ def frequency_response(p: Parameters, theta_start: float = 0.5, theta_stop: floa
     with_value(p, "theta", thetas[0])  # an invalid combination fails here, named, before the sweep
     sweep = two_way_sweep(p, "theta", thetas, settings=settings, on_point=on_point)
     if progress is not None:
-        progress(f"theta sweeps done ({len(thetas)} points each): up {sweep['cpu']['up']:.2f} s, "
-                 f"down {sweep['cpu']['down']:.2f} s processor time")
+        progress(
+            f"theta sweeps done ({len(thetas)} points each): up {sweep['cpu']['up']:.2f} s, "
+            f"down {sweep['cpu']['down']:.2f} s processor time"
+        )
     lin1, lin2 = linear_response(p, thetas)
     out = []
     every = max(len(thetas) // 10, 1)
@@ -415,6 +469,8 @@ def frequency_response(p: Parameters, theta_start: float = 0.5, theta_stop: floa
         mu, md = cycle_metrics(up), cycle_metrics(down)
         out.append(ResponsePoint(float(theta), mu, md, _differ(mu, md, tol), float(lin1[i]), float(lin2[i])))
         if progress is not None and ((i + 1) % every == 0 or i + 1 == len(thetas)):
-            progress(f"metrics {i + 1}/{len(thetas)}: theta = {theta:.4g}, {up.label}/{down.label}, "
-                     f"max|x1|/x_st = {mu.max_abs_x1:.4g}/{md.max_abs_x1:.4g}")
+            progress(
+                f"metrics {i + 1}/{len(thetas)}: theta = {theta:.4g}, {up.label}/{down.label}, "
+                f"max|x1|/x_st = {mu.max_abs_x1:.4g}/{md.max_abs_x1:.4g}"
+            )
     return FrequencyResponse(p, tuple(out))

@@ -168,14 +168,22 @@ class SweepSettings:
         if not (math.isfinite(self.settle_tol) and 0 < self.settle_tol < 1):
             raise ValueError(f"`settle_tol` = {self.settle_tol!r} is not allowed: must be in (0, 1)")
         if not (isinstance(self.max_period_multiple, int) and self.max_period_multiple >= 1):
-            raise ValueError(f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be an integer >= 1")
+            raise ValueError(
+                f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be an integer >= 1"
+            )
         if not (isinstance(self.max_periods, int) and self.max_periods > 2 * self.max_period_multiple):
-            raise ValueError(f"`max_periods` = {self.max_periods!r} is not allowed: must be an integer > "
-                             f"2 max_period_multiple = {2 * self.max_period_multiple}")
-        if not (isinstance(self.max_periods_after_nonperiodic, int)
-                and 2 * self.max_period_multiple < self.max_periods_after_nonperiodic <= self.max_periods):
-            raise ValueError(f"`max_periods_after_nonperiodic` = {self.max_periods_after_nonperiodic!r} is not allowed: "
-                             f"must be an integer in (2 max_period_multiple, max_periods]")
+            raise ValueError(
+                f"`max_periods` = {self.max_periods!r} is not allowed: must be an integer > "
+                f"2 max_period_multiple = {2 * self.max_period_multiple}"
+            )
+        if not (
+            isinstance(self.max_periods_after_nonperiodic, int)
+            and 2 * self.max_period_multiple < self.max_periods_after_nonperiodic <= self.max_periods
+        ):
+            raise ValueError(
+                f"`max_periods_after_nonperiodic` = {self.max_periods_after_nonperiodic!r} is not allowed: "
+                f"must be an integer in (2 max_period_multiple, max_periods]"
+            )
 
 
 @dataclass(frozen=True)
@@ -324,13 +332,18 @@ def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
 
     .. deprecated:: use ``impactdamper.steady_state(p, attractor=True)``.
     """
-    warnings.warn("steady_state_auto is deprecated: use impactdamper.steady_state(p, attractor=True)",
-                  DeprecationWarning, stacklevel=2)
+    warnings.warn(
+        "steady_state_auto is deprecated: use impactdamper.steady_state(p, attractor=True)",
+        DeprecationWarning,
+        stacklevel=2,
+    )
     p = require_parameters(p)
     unknown = sorted(set(kwargs) - set(STEADY_KEYWORDS))
     if unknown:
-        raise ArgumentTypeError(f"`{unknown[0]}` is not allowed: steady_state_auto takes the keywords of steady_state, "
-                                f"{', '.join(STEADY_KEYWORDS)}")
+        raise ArgumentTypeError(
+            f"`{unknown[0]}` is not allowed: steady_state_auto takes the keywords of steady_state, "
+            f"{', '.join(STEADY_KEYWORDS)}"
+        )
     gap_tol = check_tolerances(kwargs.get("tolerances")).gap_tol
     try:
         a1 = algorithm1(p, gap_tol=gap_tol)
@@ -394,9 +407,18 @@ def _cycle_of(s: SteadyState) -> tuple:
     return np.array(times), np.array(after)
 
 
-def _point_from_steady(p: Parameters, value: float, s: SteadyState, *, method: str, start: str,
-                       start_state: np.ndarray, periods: int, multiplier: float = math.nan,
-                       stable: bool | None = None) -> SweepPoint:
+def _point_from_steady(
+    p: Parameters,
+    value: float,
+    s: SteadyState,
+    *,
+    method: str,
+    start: str,
+    start_state: np.ndarray,
+    periods: int,
+    multiplier: float = math.nan,
+    stable: bool | None = None,
+) -> SweepPoint:
     vs = p.x_st * p.omega
     if stable is None and s.regime != "nonperiodic":
         stable = True  # it attracted the simulation
@@ -405,13 +427,25 @@ def _point_from_steady(p: Parameters, value: float, s: SteadyState, *, method: s
     else:
         section, mode = section_of(s)
     return SweepPoint(
-        p=p, value=value, regime=s.regime, period_multiple=s.period_multiple,
-        impacts_per_cycle=s.impacts_per_cycle, label=label_of(s.regime, s.period_multiple, s.impacts_per_cycle),
-        stable=stable, multiplier=multiplier, x1_max=s.x1_max,
+        p=p,
+        value=value,
+        regime=s.regime,
+        period_multiple=s.period_multiple,
+        impacts_per_cycle=s.impacts_per_cycle,
+        label=label_of(s.regime, s.period_multiple, s.impacts_per_cycle),
+        stable=stable,
+        multiplier=multiplier,
+        x1_max=s.x1_max,
         velocities=tuple(float(i.velocity / vs) for i in s.impacts),
-        phases=tuple(float(i.phase) for i in s.impacts), contact_fraction=float(s.contact_fraction),
-        method=method, periods=periods, start=start, start_state=np.array(start_state, float),
-        section=section, section_mode=mode, cycle=_cycle_of(s) if s.regime in ("single_impact", "multi_impact") else (),
+        phases=tuple(float(i.phase) for i in s.impacts),
+        contact_fraction=float(s.contact_fraction),
+        method=method,
+        periods=periods,
+        start=start,
+        start_state=np.array(start_state, float),
+        section=section,
+        section_mode=mode,
+        cycle=_cycle_of(s) if s.regime in ("single_impact", "multi_impact") else (),
     )
 
 
@@ -436,11 +470,23 @@ def _closed_form(p: Parameters, value: float, regime: str, start: str, start_sta
     mult = float(np.max(np.abs(np.linalg.eigvals(mode.propagator(p.T)))))
     section = model.full_state(FREE if regime == "no_contact" else STUCK, mode.forced(0.0))
     return SweepPoint(
-        p=p, value=value, regime=regime, period_multiple=1, impacts_per_cycle=0,
-        label=label_of(regime, 1, 0), stable=mult < 1.0, multiplier=mult,
-        x1_max=float(abs(mode.Yhat[0])) / p.x_st, velocities=(), phases=(),
-        contact_fraction=1.0 if regime == "stuck" else 0.0, method="closed_form", periods=0, start=start,
-        start_state=np.array(start_state, float), section=section,
+        p=p,
+        value=value,
+        regime=regime,
+        period_multiple=1,
+        impacts_per_cycle=0,
+        label=label_of(regime, 1, 0),
+        stable=mult < 1.0,
+        multiplier=mult,
+        x1_max=float(abs(mode.Yhat[0])) / p.x_st,
+        velocities=(),
+        phases=(),
+        contact_fraction=1.0 if regime == "stuck" else 0.0,
+        method="closed_form",
+        periods=0,
+        start=start,
+        start_state=np.array(start_state, float),
+        section=section,
         section_mode=FREE if regime == "no_contact" else STUCK,
     )
 
@@ -475,8 +521,9 @@ def _least_period(o) -> int:
     return k
 
 
-def _continue_orbit(p: Parameters, value: float, prev: SweepPoint, start: str, start_state: np.ndarray,
-                    tol: Tolerances) -> SweepPoint | None:
+def _continue_orbit(
+    p: Parameters, value: float, prev: SweepPoint, start: str, start_state: np.ndarray, tol: Tolerances
+) -> SweepPoint | None:
     """Newton shooting of the neighbour's impacting cycle at p
     (:func:`~impactdamper.analysis.orbits.orbit_from_cycle`)."""
     if not prev.cycle:
@@ -487,13 +534,33 @@ def _continue_orbit(p: Parameters, value: float, prev: SweepPoint, start: str, s
     o = _shooting(p, prev.period_multiple, times, after, tol)
     if o is None or not (o.admissible and o.stable and o.spectral_radius < 1.0 - STABILITY_MARGIN):
         return None
-    return _point_from_steady(p, value, o, method="continuation", start=start, start_state=start_state,
-                              periods=0, multiplier=o.spectral_radius, stable=True)
+    return _point_from_steady(
+        p,
+        value,
+        o,
+        method="continuation",
+        start=start,
+        start_state=start_state,
+        periods=0,
+        multiplier=o.spectral_radius,
+        stable=True,
+    )
 
 
-def _verify(p: Parameters, value: float, full: np.ndarray, k: int, settings: SweepSettings, *,
-            method: str, start: str, start_state: np.ndarray, periods: int, rho: float,
-            jacobian: np.ndarray | None = None) -> SweepPoint | None:
+def _verify(
+    p: Parameters,
+    value: float,
+    full: np.ndarray,
+    k: int,
+    settings: SweepSettings,
+    *,
+    method: str,
+    start: str,
+    start_state: np.ndarray,
+    periods: int,
+    rho: float,
+    jacobian: np.ndarray | None = None,
+) -> SweepPoint | None:
     """Simulate one cycle from a Newton solution: it must return to itself (to ``settle_tol``)
     after its least period d | k; the cycle is then described as :func:`steady_state` would
     (its :func:`~impactdamper.core.steady.describe_cycle`, on two cycles of the exact motion)."""
@@ -516,8 +583,17 @@ def _verify(p: Parameters, value: float, full: np.ndarray, k: int, settings: Swe
         s = describe_cycle(p, solver.trajectory, 0.0, d, True, d, mismatch)
     except (RuntimeError, ValueError):
         return None
-    point = _point_from_steady(p, value, s, method=method, start=start, start_state=start_state,
-                               periods=periods + 2 * d, multiplier=rho, stable=True)
+    point = _point_from_steady(
+        p,
+        value,
+        s,
+        method=method,
+        start=start,
+        start_state=start_state,
+        periods=periods + 2 * d,
+        multiplier=rho,
+        stable=True,
+    )
     return replace(point, jacobian=jacobian)
 
 
@@ -529,7 +605,7 @@ def _closest_recurrence(s: SteadyState, kmax: int) -> tuple[int, float]:
     p = s.p
     sections = getattr(s, "sections", None)
     if sections is not None and len(sections):
-        sec = np.asarray(sections, float)[-(2 * kmax + 1):] / state_scale(p)
+        sec = np.asarray(sections, float)[-(2 * kmax + 1) :] / state_scale(p)
     else:
         T = p.T
         last = math.floor((s.cycle_start + s.cycle_duration) / T + 1e-9)
@@ -552,8 +628,16 @@ def _recurrence_of(sec: np.ndarray, kmax: int) -> tuple[int, float]:
     return best_k, best
 
 
-def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings, *, start: str,
-            start_state: np.ndarray, periods: int) -> SweepPoint | None:
+def _rescue(
+    p: Parameters,
+    value: float,
+    s: SteadyState,
+    settings: SweepSettings,
+    *,
+    start: str,
+    start_state: np.ndarray,
+    periods: int,
+) -> SweepPoint | None:
     k, mismatch = _closest_recurrence(s, min(settings.max_period_multiple, RESCUE_MAX_K))
     if not k or mismatch > RESCUE_MISMATCH:
         return None
@@ -571,14 +655,34 @@ def _rescue(p: Parameters, value: float, s: SteadyState, settings: SweepSettings
             if o is not None and o.admissible and o.stable and o.spectral_radius < 1.0 - STABILITY_MARGIN:
                 # Report the shortest period: verify by simulation from the orbit (settles at once).
                 section, mode = _orbit_section(o)
-                return _verify(p, value, section, o.period_multiple, settings, method="rescue", start=start,
-                               start_state=start_state, periods=periods, rho=o.spectral_radius)
+                return _verify(
+                    p,
+                    value,
+                    section,
+                    o.period_multiple,
+                    settings,
+                    method="rescue",
+                    start=start,
+                    start_state=start_state,
+                    periods=periods,
+                    rho=o.spectral_radius,
+                )
     full, mode = section_of(s)
     return _strobe_rescue(p, value, full, mode, k, settings, start=start, start_state=start_state, periods=periods)
 
 
-def _strobe_rescue(p: Parameters, value: float, full: np.ndarray, mode: str, k: int, settings: SweepSettings, *,
-                   start: str, start_state: np.ndarray, periods: int) -> SweepPoint | None:
+def _strobe_rescue(
+    p: Parameters,
+    value: float,
+    full: np.ndarray,
+    mode: str,
+    k: int,
+    settings: SweepSettings,
+    *,
+    start: str,
+    start_state: np.ndarray,
+    periods: int,
+) -> SweepPoint | None:
     """Step 3 of the rescue: Newton on the stroboscopic map from section state ``full``."""
     res = strobe_newton(p, full, mode, k, settings.tolerances, step=_compiled_step(p, settings))
     if res is None:
@@ -586,13 +690,33 @@ def _strobe_rescue(p: Parameters, value: float, full: np.ndarray, mode: str, k: 
     sol, rho, used, J = res.state, res.spectral_radius, res.periods, res.jacobian
     if rho >= 1.0 - STABILITY_MARGIN:
         return None
-    return _verify(p, value, sol, k, settings, method="rescue", start=start, start_state=start_state,
-                   periods=periods + used, rho=rho, jacobian=J)
+    return _verify(
+        p,
+        value,
+        sol,
+        k,
+        settings,
+        method="rescue",
+        start=start,
+        start_state=start_state,
+        periods=periods + used,
+        rho=rho,
+        jacobian=J,
+    )
 
 
-def rescue_from_sections(p: Parameters, value: float, sections: np.ndarray, section: np.ndarray, section_mode: str,
-                         settings: SweepSettings, *, start: str, start_state: np.ndarray,
-                         periods: int) -> SweepPoint | None:
+def rescue_from_sections(
+    p: Parameters,
+    value: float,
+    sections: np.ndarray,
+    section: np.ndarray,
+    section_mode: str,
+    settings: SweepSettings,
+    *,
+    start: str,
+    start_state: np.ndarray,
+    periods: int,
+) -> SweepPoint | None:
     """The Newton rescue of a point that did not settle, from its run's last sections instead
     of its :class:`~impactdamper.core.steady.SteadyState` (the compiled batch hands them over,
     so the run is not repeated in Python). Only the rescue without accelerators
@@ -613,21 +737,37 @@ def rescue_from_sections(p: Parameters, value: float, sections: np.ndarray, sect
     SweepPoint with method ``rescue``, or None where the rescue finds no stable cycle.
     """
     if settings.continuation:
-        raise ValueError("`settings` is not allowed: rescue_from_sections is the rescue without accelerators "
-                         "(continuation=False)")
+        raise ValueError(
+            "`settings` is not allowed: rescue_from_sections is the rescue without accelerators (continuation=False)"
+        )
     kmax = min(settings.max_period_multiple, RESCUE_MAX_K)
     sec = np.asarray(sections, float)
-    sec = sec[np.all(np.isfinite(sec), axis=1)][-(2 * kmax + 1):] / state_scale(p)
+    sec = sec[np.all(np.isfinite(sec), axis=1)][-(2 * kmax + 1) :] / state_scale(p)
     k, mismatch = _recurrence_of(sec, kmax)
     if not k or mismatch > RESCUE_MISMATCH:
         return None
-    return _strobe_rescue(p, value, np.asarray(section, float), section_mode, k, settings, start=start,
-                          start_state=start_state, periods=periods)
+    return _strobe_rescue(
+        p,
+        value,
+        np.asarray(section, float),
+        section_mode,
+        k,
+        settings,
+        start=start,
+        start_state=start_state,
+        periods=periods,
+    )
 
 
-def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint | None = None, *,
-                state: np.ndarray | None = None, settings: SweepSettings | None = None,
-                start: str | None = None) -> SweepPoint:
+def solve_point(
+    p: Parameters,
+    value: float | None = None,
+    previous: SweepPoint | None = None,
+    *,
+    state: np.ndarray | None = None,
+    settings: SweepSettings | None = None,
+    start: str | None = None,
+) -> SweepPoint:
     """The settled motion at ``p``, continuing ``previous`` (a neighbour's point) if given.
 
     Parameters
@@ -668,31 +808,71 @@ def solve_point(p: Parameters, value: float | None = None, previous: SweepPoint 
         elif previous.regime in ("single_impact", "multi_impact"):
             result = _continue_orbit(p, value, previous, start, full, settings.tolerances)
         if result is None and previous.regime in ("chatter", "single_impact", "multi_impact"):
-            res = strobe_newton(p, full, previous.section_mode, previous.period_multiple, settings.tolerances,
-                                jacobian=previous.jacobian, step=_compiled_step(p, settings))
+            res = strobe_newton(
+                p,
+                full,
+                previous.section_mode,
+                previous.period_multiple,
+                settings.tolerances,
+                jacobian=previous.jacobian,
+                step=_compiled_step(p, settings),
+            )
             if res is not None and res.spectral_radius < 1.0 - STABILITY_MARGIN:
-                result = _verify(p, value, res.state, previous.period_multiple, settings, method="newton",
-                                 start=start, start_state=full, periods=res.periods, rho=res.spectral_radius,
-                                 jacobian=res.jacobian)
+                result = _verify(
+                    p,
+                    value,
+                    res.state,
+                    previous.period_multiple,
+                    settings,
+                    method="newton",
+                    start=start,
+                    start_state=full,
+                    periods=res.periods,
+                    rho=res.spectral_radius,
+                    jacobian=res.jacobian,
+                )
     if result is None:
         cap = settings.max_periods
         if previous is not None and not previous.periodic:
             cap = settings.max_periods_after_nonperiodic
         try:
             settle = _compiled_settle() if settings.compiled else steady_state
-            s = settle(p, state=full, tolerances=settings.tolerances, settle_tol=settings.settle_tol,
-                             max_periods=cap, max_period_multiple=settings.max_period_multiple)
+            s = settle(
+                p,
+                state=full,
+                tolerances=settings.tolerances,
+                settle_tol=settings.settle_tol,
+                max_periods=cap,
+                max_period_multiple=settings.max_period_multiple,
+            )
         except RuntimeError as err:  # the event solver's guards (SearchLimitError, degenerate contact)
             log.warning("the simulation failed at value %r (%s): %s", value, p, err)
-            return SweepPoint(p=p, value=value, regime=FAILED, period_multiple=0, impacts_per_cycle=0,
-                              label=label_of(FAILED, 0, 0), stable=None, multiplier=math.nan, x1_max=math.nan,
-                              velocities=(), phases=(), contact_fraction=math.nan, method="error", periods=0,
-                              start=start, start_state=np.array(full, float), section=np.array(full, float),
-                              section_mode=FREE, elapsed=time.perf_counter() - t_begin)
+            return SweepPoint(
+                p=p,
+                value=value,
+                regime=FAILED,
+                period_multiple=0,
+                impacts_per_cycle=0,
+                label=label_of(FAILED, 0, 0),
+                stable=None,
+                multiplier=math.nan,
+                x1_max=math.nan,
+                velocities=(),
+                phases=(),
+                contact_fraction=math.nan,
+                method="error",
+                periods=0,
+                start=start,
+                start_state=np.array(full, float),
+                section=np.array(full, float),
+                section_mode=FREE,
+                elapsed=time.perf_counter() - t_begin,
+            )
         periods = s.periods + max(s.period_multiple, 1) + 1
         if not s.settled and settings.rescue:
             result = _rescue(p, value, s, settings, start=start, start_state=full, periods=periods)
         if result is None:
-            result = _point_from_steady(p, value, s, method="simulation", start=start, start_state=full,
-                                        periods=periods)
+            result = _point_from_steady(
+                p, value, s, method="simulation", start=start, start_state=full, periods=periods
+            )
     return replace(result, elapsed=time.perf_counter() - t_begin)

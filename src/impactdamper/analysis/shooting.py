@@ -161,8 +161,9 @@ class Shooting:
             np.add.at(J, (i, cols), d_before @ self.n / self.p.x_st)
             np.add.at(J, (rows_state, cols[:, None]), (d_before @ self.JR.T) / D)
         J[i[:, None], cols_state_i] += np.einsum("r,mrc->mc", self.n, d_state_i) / self.p.x_st
-        J[rows_state[:, :, None], cols_state_i[:, None, :]] += (np.einsum("ar,mrc->mac", self.JR, d_state_i)
-                                                                / D[None, :, None])
+        J[rows_state[:, :, None], cols_state_i[:, None, :]] += (
+            np.einsum("ar,mrc->mac", self.JR, d_state_i) / D[None, :, None]
+        )
         J[rows_state[:, :, None], cols_state_j[:, None, :]] -= np.eye(4)
         return F, J
 
@@ -232,8 +233,9 @@ def saltation_matrix(model: Model, t: float, before: np.ndarray) -> np.ndarray:
     return JR + np.outer(f_plus - JR @ f_minus, n) / (n @ f_minus)
 
 
-def monodromy_matrix(model: Model, times: np.ndarray, after: np.ndarray, before: np.ndarray, Tc: float,
-               t_section: float | None = None) -> np.ndarray:
+def monodromy_matrix(
+    model: Model, times: np.ndarray, after: np.ndarray, before: np.ndarray, Tc: float, t_section: float | None = None
+) -> np.ndarray:
     """Monodromy matrix M_c of a cycle: the product of exact flows and saltation matrices
     around it from the section ``t_section`` (default: just after the first impact).
 

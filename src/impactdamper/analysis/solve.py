@@ -74,8 +74,9 @@ def resolve_backend(backend: object) -> tuple[str, str]:
         ``backend`` not one of :data:`BACKENDS`, named.
     """
     if not isinstance(backend, str) or backend not in BACKENDS:
-        raise ValueError(f"`backend` = {backend!r} is not allowed: must be one of "
-                         f"{', '.join(repr(b) for b in BACKENDS)}")
+        raise ValueError(
+            f"`backend` = {backend!r} is not allowed: must be one of {', '.join(repr(b) for b in BACKENDS)}"
+        )
     if backend != "auto":
         return backend, ""
     try:
@@ -96,8 +97,15 @@ def _kernels_refuse(p: Parameters, tolerances: Tolerances | None = None) -> str:
     return BEYOND_WORK_BOUND if not rate <= MAX_RATE else ""
 
 
-def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-             tolerances: Tolerances | None = None, *, backend: str = "auto") -> Trajectory:
+def simulate(
+    p: Parameters,
+    t_end: float,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    *,
+    backend: str = "auto",
+) -> Trajectory:
     """Algorithm No. 2 with contact modes from ``t0`` to ``t_end``: the exact motion, eqs. (18)-(22).
 
     Parameters
@@ -137,9 +145,18 @@ def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | N
     return simulate_compiled(p, t_end, t0, state, tolerances)
 
 
-def steady_state(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
-                 tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
-                 max_period_multiple: int = 8, attractor: bool = False, backend: str = "auto") -> SteadyState:
+def steady_state(
+    p: Parameters,
+    *,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    settle_tol: float = 1e-10,
+    max_periods: int = 4000,
+    max_period_multiple: int = 8,
+    attractor: bool = False,
+    backend: str = "auto",
+) -> SteadyState:
     """The settled motion at ``p``: Algorithm No. 2 from its step 1 (or ``state`` at ``t0``)
     until the motion repeats, and the settled cycle described (period T_c = k T, impacts with
     their phases, velocities and pulses of eq. (21), regime, contact phases, x1_max).
@@ -174,8 +191,14 @@ def steady_state(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = N
     run, why = resolve_backend(backend)
     if not isinstance(attractor, bool):
         raise ArgumentTypeError(f"`attractor` = {attractor!r} is not allowed: must be True or False")
-    kwargs = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
-                  max_period_multiple=max_period_multiple)
+    kwargs = dict(
+        t0=t0,
+        state=state,
+        tolerances=tolerances,
+        settle_tol=settle_tol,
+        max_periods=max_periods,
+        max_period_multiple=max_period_multiple,
+    )
     if run == "compiled":
         p = require_parameters(p)
         why = _kernels_refuse(p, tolerances)
@@ -208,8 +231,16 @@ def _algorithm1_attractor(p: Parameters, tolerances: Tolerances | None):
     return stable_algorithm1_orbit(a1, None, tol)
 
 
-def steady_states(base: Parameters, names: Sequence[str], values, *, settings=None, chain: bool = True,
-                  states=None, backend: str = "auto"):
+def steady_states(
+    base: Parameters,
+    names: Sequence[str],
+    values,
+    *,
+    settings=None,
+    chain: bool = True,
+    states=None,
+    backend: str = "auto",
+):
     """Settled motions at many points in one call: a sweep, a grid or a map row, random starts.
 
     Parameters
@@ -255,4 +286,3 @@ def steady_states(base: Parameters, names: Sequence[str], values, *, settings=No
     if why:
         res.fallback[:] = why
     return res
-

@@ -64,8 +64,9 @@ STROBE_MAX_ITERATIONS = 8
 FRESH_JACOBIAN_ABOVE = 0.9
 
 
-def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                      tolerances: Tolerances | None = None, step=None) -> tuple[np.ndarray, str]:
+def stroboscopic_step(
+    p: Parameters, t0: float, state: np.ndarray, periods: int, tolerances: Tolerances | None = None, step=None
+) -> tuple[np.ndarray, str]:
     """The state and contact mode at t0 + periods T from ``state`` at t0 (Algorithm No. 2).
 
     Parameters
@@ -102,14 +103,21 @@ def stroboscopic_step(p: Parameters, t0: float, state: np.ndarray, periods: int,
     return solver.state_at(t0 + periods * p.T), solver.mode
 
 
-def stroboscopic_map(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                     tolerances: Tolerances | None = None) -> np.ndarray:
+def stroboscopic_map(
+    p: Parameters, t0: float, state: np.ndarray, periods: int, tolerances: Tolerances | None = None
+) -> np.ndarray:
     """State at t0 + periods T from ``state`` at t0, by the event-driven solver. Shape (4,)."""
     return stroboscopic_step(p, t0, state, periods, tolerances)[0]
 
 
-def stroboscopic_jacobian(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                          rel_step: float = CHECK_FD_STEP, tolerances: Tolerances | None = None) -> np.ndarray:
+def stroboscopic_jacobian(
+    p: Parameters,
+    t0: float,
+    state: np.ndarray,
+    periods: int,
+    rel_step: float = CHECK_FD_STEP,
+    tolerances: Tolerances | None = None,
+) -> np.ndarray:
     """Central finite-difference Jacobian of :func:`stroboscopic_map`, shape (4, 4).
 
     Steps are ``rel_step`` times x_st (positions) and x_st omega (velocities). The section t0
@@ -123,8 +131,9 @@ def stroboscopic_jacobian(p: Parameters, t0: float, state: np.ndarray, periods: 
         plus, minus = np.array(state, float), np.array(state, float)
         plus[j] += h
         minus[j] -= h
-        J[:, j] = (stroboscopic_map(p, t0, plus, periods, tolerances)
-                   - stroboscopic_map(p, t0, minus, periods, tolerances)) / (2 * h)
+        J[:, j] = (
+            stroboscopic_map(p, t0, plus, periods, tolerances) - stroboscopic_map(p, t0, minus, periods, tolerances)
+        ) / (2 * h)
     return J
 
 
@@ -178,14 +187,17 @@ def _map_step(p: Parameters, tol: Tolerances, step):
     """(state, k) -> the state and mode k periods on from ``state`` at t = 0: ``step(state, k)``
     (another backend, made for ``p`` and ``tol`` by the caller) where it applies (not None),
     else the pure-Python solver."""
+
     def evaluate(state, k):
         result = step(state, k) if step is not None else None
         return result if result is not None else stroboscopic_step(p, 0.0, state, k, tol)
+
     return evaluate
 
 
-def strobe_newton(p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tolerances,
-                  jacobian: np.ndarray | None = None, step=None) -> StrobeSolution | None:
+def strobe_newton(
+    p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tolerances, jacobian: np.ndarray | None = None, step=None
+) -> StrobeSolution | None:
     """Newton on y(0) -> y(k T) from ``full0``.
 
     The Jacobian is ``jacobian`` (the neighbour's, if it has the right shape) or finite

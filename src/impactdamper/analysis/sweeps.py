@@ -66,10 +66,15 @@ def with_value(base: Parameters, name: str, value: float) -> Parameters:
     return base.replace(**{name: float(value)})
 
 
-
-def sweep(base: Parameters, parameter: str, values: Sequence[float], *, settings: SweepSettings | None = None,
-          previous: SweepPoint | None = None,
-          progress: Callable[[int, int, SweepPoint], None] | None = None) -> list[SweepPoint]:
+def sweep(
+    base: Parameters,
+    parameter: str,
+    values: Sequence[float],
+    *,
+    settings: SweepSettings | None = None,
+    previous: SweepPoint | None = None,
+    progress: Callable[[int, int, SweepPoint], None] | None = None,
+) -> list[SweepPoint]:
     """Sweep ``parameter`` over ``values`` in the given order, each point from its neighbour.
 
     Parameters
@@ -115,17 +120,31 @@ def _sweep_job(args):
         if on_point is not None:
             on_point()
         if (i + 1) % every == 0 or i + 1 == n:
-            logger.info("%s sweep: %d/%d points (%s = %.6g: %s), %.1f s", tag, i + 1, n, parameter,
-                        point.value, point.label, time.perf_counter() - t0)
+            logger.info(
+                "%s sweep: %d/%d points (%s = %.6g: %s), %.1f s",
+                tag,
+                i + 1,
+                n,
+                parameter,
+                point.value,
+                point.label,
+                time.perf_counter() - t0,
+            )
 
     cpu = time.process_time()
     points = sweep(base, parameter, values, settings=settings, progress=progress)
     return points, time.process_time() - cpu, time.perf_counter() - t0
 
 
-def two_way_sweep(base: Parameters, parameter: str, values: Sequence[float], *,
-                  settings: SweepSettings | None = None, processes: int = 1,
-                  on_point: Callable[[], None] | None = None) -> dict[str, list[SweepPoint]]:
+def two_way_sweep(
+    base: Parameters,
+    parameter: str,
+    values: Sequence[float],
+    *,
+    settings: SweepSettings | None = None,
+    processes: int = 1,
+    on_point: Callable[[], None] | None = None,
+) -> dict[str, list[SweepPoint]]:
     """Upward and downward sweeps over the sorted ``values``.
 
     Parameters
@@ -152,8 +171,12 @@ def two_way_sweep(base: Parameters, parameter: str, values: Sequence[float], *,
             up, down = pool.map(_sweep_job, jobs)
     else:
         up, down = (_sweep_job(j) for j in jobs)
-    return {"up": up[0], "down": down[0][::-1], "cpu": {"up": up[1], "down": down[1]},
-            "wall": {"up": up[2], "down": down[2]}}
+    return {
+        "up": up[0],
+        "down": down[0][::-1],
+        "cpu": {"up": up[1], "down": down[1]},
+        "wall": {"up": up[2], "down": down[2]},
+    }
 
 
 def random_initial_state(p: Parameters, rng: np.random.Generator) -> np.ndarray:
@@ -173,9 +196,17 @@ def random_initial_state(p: Parameters, rng: np.random.Generator) -> np.ndarray:
     return np.array([x1, x2, v1, v1 + B * p.omega * u[3]])
 
 
-def random_starts(base: Parameters, parameter: str, values: Sequence[float], count: int, seed: int, *,
-                  indices: Sequence[int] | None = None, settings: SweepSettings | None = None,
-                  progress: Callable[[int, int, SweepPoint], None] | None = None) -> list[list[SweepPoint]]:
+def random_starts(
+    base: Parameters,
+    parameter: str,
+    values: Sequence[float],
+    count: int,
+    seed: int,
+    *,
+    indices: Sequence[int] | None = None,
+    settings: SweepSettings | None = None,
+    progress: Callable[[int, int, SweepPoint], None] | None = None,
+) -> list[list[SweepPoint]]:
     """``count`` random initial states per value (no neighbour), deterministic.
 
     The generator of value ``indices[i]``, start j is ``numpy.random.default_rng([seed,
@@ -250,13 +281,29 @@ class Transition:
     one_sided: bool = False
 
     def row(self) -> dict:
-        return {"direction": self.direction, "value": self.value, "lower": self.lower, "upper": self.upper,
-                "before": self.before, "after": self.after, "evaluations": self.evaluations,
-                "stopped": int(self.stopped), "one_sided": int(self.one_sided)}
+        return {
+            "direction": self.direction,
+            "value": self.value,
+            "lower": self.lower,
+            "upper": self.upper,
+            "before": self.before,
+            "after": self.after,
+            "evaluations": self.evaluations,
+            "stopped": int(self.stopped),
+            "one_sided": int(self.one_sided),
+        }
 
 
-def locate_transition(base: Parameters, parameter: str, first: SweepPoint, second: SweepPoint, direction: str, *,
-                      settings: SweepSettings | None = None, xtol: float = 1e-6) -> Transition:
+def locate_transition(
+    base: Parameters,
+    parameter: str,
+    first: SweepPoint,
+    second: SweepPoint,
+    direction: str,
+    *,
+    settings: SweepSettings | None = None,
+    xtol: float = 1e-6,
+) -> Transition:
     """Bisect the label change between ``first`` and ``second`` (neighbours, in sweep order).
 
     Each midpoint starts from ``first``'s motion, as a finer sweep would; the side of the
@@ -281,13 +328,21 @@ def locate_transition(base: Parameters, parameter: str, first: SweepPoint, secon
             b = point
             b_moves += 1
     lo, hi = sorted((a.value, b.value))
-    return Transition(direction, 0.5 * (lo + hi), lo, hi, a.label, b.label, n, stopped,
-                      one_sided=b_moves <= 1 and n >= 4)
+    return Transition(
+        direction, 0.5 * (lo + hi), lo, hi, a.label, b.label, n, stopped, one_sided=b_moves <= 1 and n >= 4
+    )
 
 
-def find_transitions(base: Parameters, parameter: str, points: Sequence[SweepPoint], direction: str, *,
-                     settings: SweepSettings | None = None, xtol: float = 1e-6,
-                     skip: Callable[[SweepPoint, SweepPoint], bool] | None = None) -> list[Transition]:
+def find_transitions(
+    base: Parameters,
+    parameter: str,
+    points: Sequence[SweepPoint],
+    direction: str,
+    *,
+    settings: SweepSettings | None = None,
+    xtol: float = 1e-6,
+    skip: Callable[[SweepPoint, SweepPoint], bool] | None = None,
+) -> list[Transition]:
     """Every label change along one sweep, bisected.
 
     Parameters
@@ -311,9 +366,17 @@ def find_transitions(base: Parameters, parameter: str, points: Sequence[SweepPoi
 # ----------------------------------------------------------------------------------------
 # Two-parameter maps
 # ----------------------------------------------------------------------------------------
-def regime_map(base: Parameters, fast: str, fast_values: Sequence[float], slow: str, slow_values: Iterable[float], *,
-               direction: str = "up", settings: SweepSettings | None = None,
-               progress: Callable[[int, int, list[SweepPoint]], None] | None = None) -> list[list[SweepPoint]]:
+def regime_map(
+    base: Parameters,
+    fast: str,
+    fast_values: Sequence[float],
+    slow: str,
+    slow_values: Iterable[float],
+    *,
+    direction: str = "up",
+    settings: SweepSettings | None = None,
+    progress: Callable[[int, int, list[SweepPoint]], None] | None = None,
+) -> list[list[SweepPoint]]:
     """A regime map: for each value of ``slow``, a one-way sweep of ``fast`` over its values.
 
     Parameters

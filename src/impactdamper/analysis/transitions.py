@@ -90,7 +90,9 @@ def algorithm1_grazing_gap(p: Parameters, bracket: tuple[float, float], xtol: fl
 
     fa, fb = ok(a), ok(b)
     if fa == fb:
-        raise ValueError(f"`bracket` = {bracket!r} is not allowed: Algorithm No. 1's admissibility is {fa} at both ends")
+        raise ValueError(
+            f"`bracket` = {bracket!r} is not allowed: Algorithm No. 1's admissibility is {fa} at both ends"
+        )
     while abs(b - a) > xtol:
         m = 0.5 * (a + b)
         if ok(m) == fa:
@@ -116,8 +118,11 @@ def algorithm1_grazing_gaps(p: Parameters, lo: float, hi: float, points: int, xt
     """
     scan = np.linspace(lo, hi, points)
     adm = [bool(algorithm1(p.replace(gap=float(g))).admissible) for g in scan]
-    return [algorithm1_grazing_gap(p, (scan[i], scan[i + 1]), xtol=xtol)
-            for i in range(len(scan) - 1) if adm[i] != adm[i + 1]]
+    return [
+        algorithm1_grazing_gap(p, (scan[i], scan[i + 1]), xtol=xtol)
+        for i in range(len(scan) - 1)
+        if adm[i] != adm[i + 1]
+    ]
 
 
 def object_alone_amplitude(p: Parameters) -> float:

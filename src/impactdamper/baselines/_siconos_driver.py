@@ -87,9 +87,17 @@ def main():
     except Exception:  # noqa: BLE001 - the version is informative only
         siconos_version = "unknown"
     impacts, state = result
-    json.dump({"impacts": impacts, "final_time": cfg["t_end"], "final_state": state,
-               "cpu_seconds": statistics.median(times), "steps": int(cfg["steps"]),
-               "siconos_version": siconos_version}, sys.stdout)
+    json.dump(
+        {
+            "impacts": impacts,
+            "final_time": cfg["t_end"],
+            "final_state": state,
+            "cpu_seconds": statistics.median(times),
+            "steps": int(cfg["steps"]),
+            "siconos_version": siconos_version,
+        },
+        sys.stdout,
+    )
 
 
 if __name__ == "__main__":

@@ -173,7 +173,7 @@ class MPSegment:
             self.t0 = mp.mpf(t0)
             self.y0 = mp.matrix([mp.mpf(v) for v in y0])
             self.z0 = self.y0 - m.forced(self.t0)
-            self.G = (m.Yhat[0] - m.Yhat[1])  # gap's forced amplitude: -(x2 - x1)
+            self.G = m.Yhat[0] - m.Yhat[1]  # gap's forced amplitude: -(x2 - x1)
             w = m.omega
             if m.modal:
                 alpha = m.Vinv * self.z0
@@ -246,7 +246,8 @@ class MPSegment:
             return (u, v, gu, gv)  # g monotone on [u, v]: one root
         if depth >= MAX_DEPTH:
             raise HighPrecisionError(
-                f"gap tangency near t = {mpmath.nstr(u, 20)} s: cannot certify a root or its absence (grazing)")
+                f"gap tangency near t = {mpmath.nstr(u, 20)} s: cannot certify a root or its absence (grazing)"
+            )
         mid = u + h / 2
         gm = self.gap(mid)
         if gu > 0:
@@ -360,8 +361,9 @@ def default_initial_state_mp(model: MPModel) -> mpmath.matrix:
         return mp.matrix([0, model.Delta0, S0 / model.m1, -S0 / model.m2])
 
 
-def first_impacts(p: Parameters, n: int, *, t0: float = 0.0, state=None, estimates=None,
-                  dps: int = DIGITS, min_velocity: float = 1e-6) -> list[MPImpact]:
+def first_impacts(
+    p: Parameters, n: int, *, t0: float = 0.0, state=None, estimates=None, dps: int = DIGITS, min_velocity: float = 1e-6
+) -> list[MPImpact]:
     """The first ``n`` impacts of Algorithm No. 2 from ``state`` at ``t0``, in mpmath.
 
     Parameters
@@ -460,7 +462,9 @@ def algorithm1_mp(p: Parameters, dps: int = DIGITS) -> MPAlgorithm1:
         for i in range(4):
             for j in range(i):
                 if abs(lam[i] - lam[j]) < mp.mpf(10) ** (-dps / 3) * max(abs(lam[i]), 1):
-                    raise HighPrecisionError("eq. (4) has (nearly) repeated roots: the modal form of Algorithm No. 1 breaks")
+                    raise HighPrecisionError(
+                        "eq. (4) has (nearly) repeated roots: the modal form of Algorithm No. 1 breaks"
+                    )
         A = [(2 * h2 * l + w2**2) / (l**2 + 2 * h2 * l + w2**2) for l in lam]
         T = m.T
         E = [mp.exp(l * T) - 1 for l in lam]
@@ -472,19 +476,25 @@ def algorithm1_mp(p: Parameters, dps: int = DIGITS) -> MPAlgorithm1:
             lhs[3, j] = m2 * lam[j] * A[j] * E[j]
         alpha = mp.lu_solve(lhs, mp.matrix([0, -1, 0, 1]))
         # Eq. (6) at t = 0+ (state just after the unit pulse pair).
-        z0 = mp.matrix([
-            mp.re(mp.fsum(alpha[j] for j in range(4))),
-            mp.re(mp.fsum(alpha[j] * A[j] for j in range(4))),
-            mp.re(mp.fsum(alpha[j] * lam[j] for j in range(4))),
-            mp.re(mp.fsum(alpha[j] * A[j] * lam[j] for j in range(4))),
-        ])
+        z0 = mp.matrix(
+            [
+                mp.re(mp.fsum(alpha[j] for j in range(4))),
+                mp.re(mp.fsum(alpha[j] * A[j] for j in range(4))),
+                mp.re(mp.fsum(alpha[j] * lam[j] for j in range(4))),
+                mp.re(mp.fsum(alpha[j] * A[j] * lam[j] for j in range(4))),
+            ]
+        )
         eT = [mp.exp(l * T) for l in lam]
         x21s_T = mp.re(mp.fsum(alpha[j] * (A[j] - 1) * eT[j] for j in range(4)))
         dx21s_T = mp.re(mp.fsum(alpha[j] * (A[j] - 1) * lam[j] * eT[j] for j in range(4)))
         # Eq. (10): the forced complex amplitudes.
         w = m.omega
-        Z = mp.matrix([[-m1 * w**2 + 1j * w * (m.k1 + m.k2) + (m.c1 + m.c2), -1j * w * m.k2 - m.c2],
-                       [-1j * w * m.k2 - m.c2, -m2 * w**2 + 1j * w * m.k2 + m.c2]])
+        Z = mp.matrix(
+            [
+                [-m1 * w**2 + 1j * w * (m.k1 + m.k2) + (m.c1 + m.c2), -1j * w * m.k2 - m.c2],
+                [-1j * w * m.k2 - m.c2, -m2 * w**2 + 1j * w * m.k2 + m.c2],
+            ]
+        )
         x1p, x2p = mp.lu_solve(Z, mp.matrix([m.P0, 0]))
         U1 = abs(x2p - x1p)
         eps21 = mp.atan2(mp.im(x2p - x1p), mp.re(x2p - x1p))
@@ -510,8 +520,16 @@ def algorithm1_mp(p: Parameters, dps: int = DIGITS) -> MPAlgorithm1:
         phase = eps / (2 * mp.pi)
         t_imp = phase * T
         after = m.forced(t_imp) + S * z0
-        return MPAlgorithm1(exists=True, eps=eps, S=S, candidates=tuple(candidates), t_impact=t_imp,
-                            impact_phase=phase, state_after=after, **common)
+        return MPAlgorithm1(
+            exists=True,
+            eps=eps,
+            S=S,
+            candidates=tuple(candidates),
+            t_impact=t_imp,
+            impact_phase=phase,
+            state_after=after,
+            **common,
+        )
 
 
 @dataclass(frozen=True)
@@ -589,22 +607,29 @@ def settled_cycle(p: Parameters, dps: int = DIGITS) -> MPCycle:
             start = mp.matrix([x1, x1 + m.Delta0, v1, v2])
             before = m.segment(t, start).state(t + T)
             after, _, _ = m.impact(before)
-            return [(after[0] - start[0]) / m.x_st, (after[1] - start[1]) / m.x_st,
-                    (after[2] - start[2]) / (m.x_st * m.omega), (after[3] - start[3]) / (m.x_st * m.omega)]
+            return [
+                (after[0] - start[0]) / m.x_st,
+                (after[1] - start[1]) / m.x_st,
+                (after[2] - start[2]) / (m.x_st * m.omega),
+                (after[3] - start[3]) / (m.x_st * m.omega),
+            ]
 
         guess = (a1.t_impact, a1.state_after[0], a1.state_after[2], a1.state_after[3])
         sol = mp.findroot(residual, guess, tol=mp.mpf(10) ** (-2 * dps + 10))
         t_imp, x1, v1, v2 = (sol[i] for i in range(4))
         res = max(abs(r) for r in residual(t_imp, x1, v1, v2))
         after = mp.matrix([x1, x1 + m.Delta0, v1, v2])
-        diff = max(abs(t_imp - a1.t_impact) / T,
-                   *(abs(after[i] - a1.state_after[i]) / m.x_st for i in (0, 1)),
-                   *(abs(after[i] - a1.state_after[i]) / (m.x_st * m.omega) for i in (2, 3)))
+        diff = max(
+            abs(t_imp - a1.t_impact) / T,
+            *(abs(after[i] - a1.state_after[i]) / m.x_st for i in (0, 1)),
+            *(abs(after[i] - a1.state_after[i]) / (m.x_st * m.omega) for i in (2, 3)),
+        )
         if diff > mp.mpf(10) ** (-(dps - 8)):
             raise HighPrecisionError(f"Algorithm No. 1 and the fixed point differ by {mpmath.nstr(diff, 5)}")
         seg = m.segment(t_imp, after)
-        root, _ = seg.certified_first_root(t_imp, t_imp + T * (1 - BRACKET_HALF_WIDTH),
-                                           departure_rate=after[2] - after[3])
+        root, _ = seg.certified_first_root(
+            t_imp, t_imp + T * (1 - BRACKET_HALF_WIDTH), departure_rate=after[2] - after[3]
+        )
         if root is not None:
             raise HighPrecisionError(f"the orbit meets the stop inside the period, at {mpmath.nstr(root / T, 12)} T")
         before = seg.state(t_imp + T)
@@ -638,12 +663,19 @@ def forced_amplitudes_mp(p: Parameters, dps: int = DIGITS) -> dict:
     m = MPModel(p, dps)
     with mp.workdps(dps):
         w = m.omega
-        Z = mp.matrix([[-m.m1 * w**2 + 1j * w * (m.k1 + m.k2) + (m.c1 + m.c2), -1j * w * m.k2 - m.c2],
-                       [-1j * w * m.k2 - m.c2, -m.m2 * w**2 + 1j * w * m.k2 + m.c2]])
+        Z = mp.matrix(
+            [
+                [-m.m1 * w**2 + 1j * w * (m.k1 + m.k2) + (m.c1 + m.c2), -1j * w * m.k2 - m.c2],
+                [-1j * w * m.k2 - m.c2, -m.m2 * w**2 + 1j * w * m.k2 + m.c2],
+            ]
+        )
         x1p, x2p = mp.lu_solve(Z, mp.matrix([m.P0, 0]))
         stuck = m.P0 / (m.c1 - (m.m1 + m.m2) * w**2 + 1j * w * m.k1)
-        return {"free_x1": float(abs(x1p) / m.x_st), "free_relative": float(abs(x2p - x1p) / m.x_st),
-                "stuck_x1": float(abs(stuck) / m.x_st)}
+        return {
+            "free_x1": float(abs(x1p) / m.x_st),
+            "free_relative": float(abs(x2p - x1p) / m.x_st),
+            "stuck_x1": float(abs(stuck) / m.x_st),
+        }
 
 
 def to_float(x) -> np.ndarray | float:

@@ -229,8 +229,18 @@ class IvpTrajectory:
             if leg.t1 > leg.t0:
                 # Same method and tolerances as the leg: the same steps (the last one clipped
                 # at the leg's end), now with their interpolants.
-                res = _solve(self._eq, leg.mode, leg.t0, leg.t1, leg.y0, self.method, self.rtol, self.atol,
-                             events=None, dense_output=True)
+                res = _solve(
+                    self._eq,
+                    leg.mode,
+                    leg.t0,
+                    leg.t1,
+                    leg.y0,
+                    self.method,
+                    self.rtol,
+                    self.atol,
+                    events=None,
+                    dense_output=True,
+                )
                 leg.sol = res.sol
             else:
                 y0 = leg.y0
@@ -257,14 +267,26 @@ class IvpTrajectory:
         return out.reshape(t.shape + (4,)), modes.reshape(t.shape)
 
 
-def _solve(eq: Equations, mode: str, t0: float, t1: float, y0: np.ndarray, method: str, rtol: float,
-           atol: float, events, dense_output: bool, t_eval: np.ndarray | None = None):
+def _solve(
+    eq: Equations,
+    mode: str,
+    t0: float,
+    t1: float,
+    y0: np.ndarray,
+    method: str,
+    rtol: float,
+    atol: float,
+    events,
+    dense_output: bool,
+    t_eval: np.ndarray | None = None,
+):
     fun, jac = (eq.free_rhs, eq.free_jac) if mode == FREE else (eq.stuck_rhs, eq.stuck_jac)
     options = {"jac": jac} if method in ("Radau", "LSODA") else {}
     if t_eval is not None:  # (read off each step's interpolant; the steps are the same without)
         options["t_eval"] = t_eval
-    res = scipy.integrate.solve_ivp(fun, (t0, t1), y0, method=method, rtol=rtol, atol=atol, events=events,
-                                    dense_output=dense_output, **options)
+    res = scipy.integrate.solve_ivp(
+        fun, (t0, t1), y0, method=method, rtol=rtol, atol=atol, events=events, dense_output=dense_output, **options
+    )
     if res.status < 0:
         raise RuntimeError(f"solve_ivp ({method}) failed on [{t0!r}, {t1!r}]: {res.message}")
     return res
@@ -359,8 +381,19 @@ class _Driver:
             guard, rate = self._guards(mode)
             times = self.traj.sample_times
             lo, hi = np.searchsorted(times, t0, side="left"), np.searchsorted(times, t_end, side="right")
-            res = _solve(self.eq, mode, t0, t_end, y0, self.method, self.rtol, self.atol,
-                         events=[guard, rate], dense_output=False, t_eval=times[lo:hi] if hi > lo else None)
+            res = _solve(
+                self.eq,
+                mode,
+                t0,
+                t_end,
+                y0,
+                self.method,
+                self.rtol,
+                self.atol,
+                events=[guard, rate],
+                dense_output=False,
+                t_eval=times[lo:hi] if hi > lo else None,
+            )
             # (the leg ends at its terminal event or at t_end; with t_eval, res.t holds the samples)
             t1 = float(res.t_events[0][0]) if res.status == 1 else t_end
             leg = IvpLeg(mode, t0, y0, t1, int(res.nfev))
@@ -403,8 +436,9 @@ class _Driver:
         g = np.array([guard(t, res.y[:, i]) for i, t in enumerate(ts)])
         k = int(np.flatnonzero(g < 0.0)[0])
         lo = ts[max(k - 1, 0)]
-        t_root = scipy.optimize.brentq(lambda t: guard(t, res.sol(t)), lo, ts[k], xtol=4 * np.finfo(float).eps,
-                                       rtol=4 * np.finfo(float).eps)
+        t_root = scipy.optimize.brentq(
+            lambda t: guard(t, res.sol(t)), lo, ts[k], xtol=4 * np.finfo(float).eps, rtol=4 * np.finfo(float).eps
+        )
         return float(t_root), res.sol(t_root), int(res.nfev)
 
 
@@ -488,9 +522,13 @@ def simulate_ivp(
             raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
     if sample_times is not None:
         sample_times = np.asarray(sample_times, dtype=float).reshape(-1)
-        if not (np.all(np.isfinite(sample_times)) and np.all(np.diff(sample_times) > 0.0)
-                and (sample_times.size == 0 or (sample_times[0] >= t0 and sample_times[-1] <= t_end))):
-            raise ValueError(f"`sample_times` is not allowed: must be increasing finite times in [t0, t_end] = "
-                             f"[{t0!r}, {t_end!r}]")
+        if not (
+            np.all(np.isfinite(sample_times))
+            and np.all(np.diff(sample_times) > 0.0)
+            and (sample_times.size == 0 or (sample_times[0] >= t0 and sample_times[-1] <= t_end))
+        ):
+            raise ValueError(
+                f"`sample_times` is not allowed: must be increasing finite times in [t0, t_end] = [{t0!r}, {t_end!r}]"
+            )
     driver = _Driver(p, t0, np.array(full, dtype=float), method, rtol, atol, tolerances, max_events, sample_times)
     return driver.run(float(t_end))

@@ -59,9 +59,15 @@ class Rk4Trajectory:
         return [e for e in self.events if e.kind == "impact" and t_from <= e.t < t_to]
 
 
-def simulate_rk4(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-                 steps_per_period: int = 1000, bisect_tol: float = BISECT_TOL,
-                 max_events: int = 100_000) -> Rk4Trajectory:
+def simulate_rk4(
+    p: Parameters,
+    t_end: float,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    steps_per_period: int = 1000,
+    bisect_tol: float = BISECT_TOL,
+    max_events: int = 100_000,
+) -> Rk4Trajectory:
     """Integrate the suppressor with fixed-step RK4 and bisection on the gap.
 
     Parameters
@@ -112,8 +118,12 @@ def simulate_rk4(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray
         c = f(t + hh, x1 + hh * b[0], x2 + hh * b[1], v1 + hh * b[2], v2 + hh * b[3])
         d = f(t + h, x1 + h * c[0], x2 + h * c[1], v1 + h * c[2], v2 + h * c[3])
         s = h / 6.0
-        return (x1 + s * (a[0] + 2 * b[0] + 2 * c[0] + d[0]), x2 + s * (a[1] + 2 * b[1] + 2 * c[1] + d[1]),
-                v1 + s * (a[2] + 2 * b[2] + 2 * c[2] + d[2]), v2 + s * (a[3] + 2 * b[3] + 2 * c[3] + d[3]))
+        return (
+            x1 + s * (a[0] + 2 * b[0] + 2 * c[0] + d[0]),
+            x2 + s * (a[1] + 2 * b[1] + 2 * c[1] + d[1]),
+            v1 + s * (a[2] + 2 * b[2] + 2 * c[2] + d[2]),
+            v2 + s * (a[3] + 2 * b[3] + 2 * c[3] + d[3]),
+        )
 
     def gap(y: tuple) -> float:
         return Delta0 - (y[1] - y[0])

@@ -64,8 +64,9 @@ def siconos_status(python: str = SICONOS_PYTHON) -> tuple[bool, str]:
     if not Path(python).exists():
         return False, f"{python} not found"
     try:
-        res = subprocess.run([python, "-c", "import numpy, siconos.kernel"], capture_output=True, text=True,
-                             timeout=120)
+        res = subprocess.run(
+            [python, "-c", "import numpy, siconos.kernel"], capture_output=True, text=True, timeout=120
+        )
     except (OSError, subprocess.TimeoutExpired) as exc:
         return False, f"{python} could not run: {exc}"
     if res.returncode != 0:
@@ -74,9 +75,16 @@ def siconos_status(python: str = SICONOS_PYTHON) -> tuple[bool, str]:
     return True, f"siconos.kernel imports in {python}"
 
 
-def simulate_siconos(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-                     steps_per_period: int = 1000, repeats: int = 1, theta: float = 0.5,
-                     python: str = SICONOS_PYTHON) -> SiconosResult:
+def simulate_siconos(
+    p: Parameters,
+    t_end: float,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    steps_per_period: int = 1000,
+    repeats: int = 1,
+    theta: float = 0.5,
+    python: str = SICONOS_PYTHON,
+) -> SiconosResult:
     """Integrate the suppressor with Siconos's Moreau-Jean scheme from t0 to t_end.
 
     Parameters
@@ -100,13 +108,25 @@ def simulate_siconos(p: Parameters, t_end: float, t0: float = 0.0, state: np.nda
     full = default_initial_state(p) if state is None else np.asarray(state, dtype=float)
     steps = max(int(round((t_end - t0) / p.T * steps_per_period)), 1)
     cfg = {name: float(getattr(p, name)) for name in ("m1", "m2", "c1", "c2", "k1", "k2", "P0", "omega", "Delta0", "R")}
-    cfg.update(t0=float(t0), t_end=float(t_end), state=[float(v) for v in full], steps=steps, theta=float(theta),
-               repeats=int(repeats))
-    res = subprocess.run([python, str(DRIVER)], input=json.dumps(cfg), capture_output=True, text=True,
-                         timeout=SUBPROCESS_TIMEOUT)
+    cfg.update(
+        t0=float(t0),
+        t_end=float(t_end),
+        state=[float(v) for v in full],
+        steps=steps,
+        theta=float(theta),
+        repeats=int(repeats),
+    )
+    res = subprocess.run(
+        [python, str(DRIVER)], input=json.dumps(cfg), capture_output=True, text=True, timeout=SUBPROCESS_TIMEOUT
+    )
     if res.returncode != 0:
         last = (res.stderr.strip().splitlines() or ["no message"])[-1]
         raise RuntimeError(f"Siconos driver failed: {last}")
     out = json.loads(res.stdout)
-    return SiconosResult(np.array(out["impacts"], dtype=float), np.array(out["final_state"], dtype=float),
-                         float(out["cpu_seconds"]), int(out["steps"]), str(out["siconos_version"]))
+    return SiconosResult(
+        np.array(out["impacts"], dtype=float),
+        np.array(out["final_state"], dtype=float),
+        float(out["cpu_seconds"]),
+        int(out["steps"]),
+        str(out["siconos_version"]),
+    )

@@ -202,9 +202,11 @@ def algorithm1(p: Parameters, gap_tol: float = 1e-12) -> Algorithm1Result:
             return _algorithm1(p, gap_tol)
     except (FloatingPointError, ZeroDivisionError, OverflowError, np.linalg.LinAlgError) as err:
         name = most_extreme(p, RELATIVE_PARAMETERS)
-        raise ValueError(f"`{name}` = {getattr(p, name)!r} is beyond what Algorithm No. 1's closed form resolves "
-                         f"({type(err).__name__}: {' '.join(str(err).split())}); allowed are parameters nearer the "
-                         "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)") from None
+        raise ValueError(
+            f"`{name}` = {getattr(p, name)!r} is beyond what Algorithm No. 1's closed form resolves "
+            f"({type(err).__name__}: {' '.join(str(err).split())}); allowed are parameters nearer the "
+            "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)"
+        ) from None
 
 
 def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
@@ -220,8 +222,10 @@ def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
     D = p.reduced_mass * (1.0 + p.R)
     denom = 1.0 - D * dx21s_T
     if not abs(denom) > 1.0 / FORCED_AMPLITUDE_LIMIT:
-        raise ValueError(f"`theta` = {p.theta!r} is not allowed with these parameters: Algorithm No. 1's closed form is "
-                         f"singular there (the denominator 1 - D x21s'(T) of eq. 15 is {denom:.3g}): move theta")
+        raise ValueError(
+            f"`theta` = {p.theta!r} is not allowed with these parameters: Algorithm No. 1's closed form is "
+            f"singular there (the denominator 1 - D x21s'(T) of eq. 15 is {denom:.3g}): move theta"
+        )
     U2 = float(D * x21s_T / denom * U1 * p.omega)
     common = dict(p=p, U1=U1, U2=U2, eps21=eps21)
     amplitude = math.hypot(U1, U2)
@@ -229,7 +233,9 @@ def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
     zeta = math.atan2(U2, U1)
     common["zeta"] = zeta
     if abs(rho) > 1.0:
-        return Algorithm1Result(exists=False, reason=f"|Delta0|/sqrt(U1^2+U2^2) = {abs(rho):.6g} > 1: eq. (16) has no solution", **common)
+        return Algorithm1Result(
+            exists=False, reason=f"|Delta0|/sqrt(U1^2+U2^2) = {abs(rho):.6g} > 1: eq. (16) has no solution", **common
+        )
     candidates = []
     for phi in (math.asin(rho) - zeta, math.pi - math.asin(rho) - zeta):
         eps = (phi - eps21) % (2.0 * math.pi)
@@ -237,7 +243,12 @@ def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
         candidates.append((eps, S))
     positive = [c for c in candidates if c[1] > 0.0]
     if not positive:
-        return Algorithm1Result(exists=False, reason="neither root of eq. (17) gives a positive pulse S", candidates=tuple(candidates), **common)
+        return Algorithm1Result(
+            exists=False,
+            reason="neither root of eq. (17) gives a positive pulse S",
+            candidates=tuple(candidates),
+            **common,
+        )
     candidates = [(float(e), float(s)) for e, s in candidates]
     eps, S = positive[0]
     eps, S = float(eps), float(S)
@@ -245,9 +256,16 @@ def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
     after = model.free.forced(t_imp) + S * z0
     intervals, (t_min, g_min) = _gap_scan(model, Segment(model.free, t_imp, after), t_imp, gap_tol)
     return Algorithm1Result(
-        exists=True, eps=eps, S=S, candidates=tuple(candidates), velocity=float(S / D),
-        min_gap=g_min / p.x_st, t_min_gap=t_min, negative_gap_intervals=tuple(intervals),
-        state_after=after, **common,
+        exists=True,
+        eps=eps,
+        S=S,
+        candidates=tuple(candidates),
+        velocity=float(S / D),
+        min_gap=g_min / p.x_st,
+        t_min_gap=t_min,
+        negative_gap_intervals=tuple(intervals),
+        state_after=after,
+        **common,
     )
 
 
@@ -263,7 +281,8 @@ def _check_pulse_resonance(p: Parameters, model: Model) -> None:
             f"`theta` = {p.theta!r} is not allowed with delta1 = {p.delta1!r}, delta2 = {p.delta2!r}: a (nearly) undamped "
             f"natural frequency of the free suppressor, {abs(lam[j].imag) / p.omega1:.9g} omega1, is {k:.6g} times the "
             "forcing frequency, where the T-periodic pulse response of Algorithm No. 1 (eq. 8) is unbounded and its "
-            "closed form singular (a resonance of the impacts); add damping (delta1, delta2 > 0) or move theta")
+            "closed form singular (a resonance of the impacts); add damping (delta1, delta2 > 0) or move theta"
+        )
 
 
 def rescale_algorithm1(r: Algorithm1Result, scales: ScaleMap) -> Algorithm1Result:
@@ -280,10 +299,15 @@ def rescale_algorithm1(r: Algorithm1Result, scales: ScaleMap) -> Algorithm1Resul
         From ``r.p``'s units to ``scales.target``'s.
     """
     return dataclasses.replace(
-        r, p=scales.target, S=scales.apply(r.S, "impulse"),
+        r,
+        p=scales.target,
+        S=scales.apply(r.S, "impulse"),
         candidates=tuple((e, scales.apply(s, "impulse")) for e, s in r.candidates),
-        U1=scales.apply(r.U1, "length"), U2=scales.apply(r.U2, "length"), velocity=scales.apply(r.velocity, "velocity"),
-        state_after=None if r.state_after is None else scales.full(r.state_after))
+        U1=scales.apply(r.U1, "length"),
+        U2=scales.apply(r.U2, "length"),
+        velocity=scales.apply(r.velocity, "velocity"),
+        state_after=None if r.state_after is None else scales.full(r.state_after),
+    )
 
 
 def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple[list, tuple]:
@@ -291,8 +315,12 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
     the gap's minimum (time over T, value in m)."""
     p = model.p
     T, tol = p.T, gap_tol * p.x_st
-    budget = StepBudget(MAX_SCAN_STEPS, lambda t: work_limit_message(
-        p, f"the negative-gap scan of Algorithm No. 1's orbit took more than {MAX_SCAN_STEPS} certified steps"))
+    budget = StepBudget(
+        MAX_SCAN_STEPS,
+        lambda t: work_limit_message(
+            p, f"the negative-gap scan of Algorithm No. 1's orbit took more than {MAX_SCAN_STEPS} certified steps"
+        ),
+    )
     roots = 0
     gap = model.gap
     neg = LinearFunctional(gap.mode, -gap.c, -gap.g0, -gap.d_s)
@@ -310,8 +338,11 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
             raise SearchLimitError(work_limit_message(p, str(err))) from None
         roots += 1
         if roots > MAX_SCAN_ROOTS:
-            raise SearchLimitError(work_limit_message(
-                p, f"the gap of Algorithm No. 1's orbit touches or crosses zero more than {MAX_SCAN_ROOTS} times"))
+            raise SearchLimitError(
+                work_limit_message(
+                    p, f"the gap of Algorithm No. 1's orbit touches or crosses zero more than {MAX_SCAN_ROOTS} times"
+                )
+            )
         if root is None:
             if sign < 0:
                 intervals.append(((t - t_imp) / T, 1.0))
@@ -353,8 +384,13 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
     minima = []
     for k in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1:
         import scipy.optimize  # (loaded on first use: the package import stays light)
-        res = scipy.optimize.minimize_scalar(lambda s: float(model.gap_of(seg.state(s))), bounds=(ts[k - 1], ts[k + 1]),
-                                             method="bounded", options={"xatol": 1e-14 * T})
+
+        res = scipy.optimize.minimize_scalar(
+            lambda s: float(model.gap_of(seg.state(s))),
+            bounds=(ts[k - 1], ts[k + 1]),
+            method="bounded",
+            options={"xatol": 1e-14 * T},
+        )
         minima.append((float(res.fun), float((res.x - t_imp) / T)))
     g_min, t_min = min(minima) if minima else (0.0, math.nan)
     return [(float(a), float(b)) for a, b in intervals], (t_min, g_min)

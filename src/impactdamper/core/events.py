@@ -168,8 +168,11 @@ class Segment:
             # M is real, so its complex roots come in conjugate pairs with conjugate
             # coefficients: each pair contributes 2 Re(beta e^{lambda tau}); keep one of each.
             beta, roots = fn.cV * self._alpha, self.mode.roots
-            terms = [(2.0 * b if lam.imag > 0.0 else b, lam)
-                     for b, lam in zip(beta.tolist(), roots.tolist()) if lam.imag >= 0.0]
+            terms = [
+                (2.0 * b if lam.imag > 0.0 else b, lam)
+                for b, lam in zip(beta.tolist(), roots.tolist())
+                if lam.imag >= 0.0
+            ]
 
             def evaluate(t: float) -> tuple[float, float]:
                 tau = t - t0
@@ -309,8 +312,10 @@ def march(
 
 def _require_finite(value: float, t_from: float) -> None:
     if not math.isfinite(value):
-        raise SearchLimitError(f"event search from t = {t_from!r}: the derivative bound or the function is "
-                               f"{value!r}: the motion is beyond the floating-point range")
+        raise SearchLimitError(
+            f"event search from t = {t_from!r}: the derivative bound or the function is "
+            f"{value!r}: the motion is beyond the floating-point range"
+        )
 
 
 def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: float) -> tuple[float, float]:

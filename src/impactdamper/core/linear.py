@@ -167,8 +167,9 @@ class LinearMode:
         object.__setattr__(self, "_bound_factors", {})
         # Whether the matrices the flow and the event search use are finite: extreme parameters
         # (delta1 = 1e300) overflow M^k, and the caller (Model) reports it by name.
-        object.__setattr__(self, "finite", bool(all(np.all(np.isfinite(P)) for P in powers)
-                                                and np.all(np.isfinite(self.L_inv_T))))
+        object.__setattr__(
+            self, "finite", bool(all(np.all(np.isfinite(P)) for P in powers) and np.all(np.isfinite(self.L_inv_T)))
+        )
 
     @property
     def n(self) -> int:
@@ -261,8 +262,7 @@ def free_mode(p: Parameters) -> LinearMode:
 
 
 @functools.lru_cache(maxsize=MODE_CACHE_SIZE)
-def _free_mode(m1: float, m2: float, c1: float, c2: float, k1: float, k2: float, P0: float,
-               omega: float) -> LinearMode:
+def _free_mode(m1: float, m2: float, c1: float, c2: float, k1: float, k2: float, P0: float, omega: float) -> LinearMode:
     mass = np.diag([m1, m2])
     K = np.array([[c1 + c2, -c2], [-c2, c2]])
     C = np.array([[k1 + k2, -k2], [-k2, k2]])

@@ -68,9 +68,11 @@ class Model:
             problem = str(err)
         if problem:
             name = most_extreme(p, LINEAR_PARAMETERS)
-            raise ValueError(f"`{name}` = {getattr(p, name)!r} is not allowed with the other parameters: the model's "
-                             f"matrices leave the floating-point range ({problem}); allowed are parameters nearer the "
-                             "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)")
+            raise ValueError(
+                f"`{name}` = {getattr(p, name)!r} is not allowed with the other parameters: the model's "
+                f"matrices leave the floating-point range ({problem}); allowed are parameters nearer the "
+                "reference case (theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05)"
+            )
         if not self.free.forced_amplitude <= FORCED_AMPLITUDE_LIMIT * p.x_st:
             raise ValueError(self.resonance_message(FREE))
         # The bodies in contact resonate only with delta1 = 0 at theta = 1/sqrt(1 + mu); that
@@ -103,12 +105,17 @@ class Model:
         damping = f"delta1 = {p.delta1!r}, delta2 = {p.delta2!r}" if mode == FREE else f"delta1 = {p.delta1!r}"
         fix = "delta1, delta2" if mode == FREE else "delta1"
         undamped = (p.delta1 == 0.0 and p.delta2 == 0.0) if mode == FREE else p.delta1 == 0.0
-        response = ("is unbounded (eqs. 10-11 have no periodic solution)" if undamped else
-                    f"is beyond what the closed form resolves (eqs. 10-11, {FORCED_AMPLITUDE_LIMIT:.0e} x_st)")
-        return (f"`theta` = {p.theta!r} is not allowed with {damping}: {'' if undamped else 'nearly '}undamped "
-                f"resonance, the forcing is at a natural frequency of {what}, {abs(lam.imag) / p.omega1:.9g} "
-                f"omega1, where the forced response (|x_p|/x_st = {lm.forced_amplitude / p.x_st:.3g}) {response}; "
-                f"add damping ({fix} > 0) or move theta")
+        response = (
+            "is unbounded (eqs. 10-11 have no periodic solution)"
+            if undamped
+            else f"is beyond what the closed form resolves (eqs. 10-11, {FORCED_AMPLITUDE_LIMIT:.0e} x_st)"
+        )
+        return (
+            f"`theta` = {p.theta!r} is not allowed with {damping}: {'' if undamped else 'nearly '}undamped "
+            f"resonance, the forcing is at a natural frequency of {what}, {abs(lam.imag) / p.omega1:.9g} "
+            f"omega1, where the forced response (|x_p|/x_st = {lm.forced_amplitude / p.x_st:.3g}) {response}; "
+            f"add damping ({fix} > 0) or move theta"
+        )
 
     # --- coordinates ---------------------------------------------------------------
     def full_state(self, mode: str, y: np.ndarray) -> np.ndarray:

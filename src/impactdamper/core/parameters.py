@@ -20,8 +20,16 @@ import math
 import numbers
 from dataclasses import dataclass, field
 
-__all__ = ["Parameters", "REFERENCE", "ArgumentTypeError", "ParameterSpec", "PARAMETER_TABLE", "LINEAR_PARAMETERS",
-           "RELATIVE_PARAMETERS", "state_scale"]
+__all__ = [
+    "Parameters",
+    "REFERENCE",
+    "ArgumentTypeError",
+    "ParameterSpec",
+    "PARAMETER_TABLE",
+    "LINEAR_PARAMETERS",
+    "RELATIVE_PARAMETERS",
+    "state_scale",
+]
 
 
 class ArgumentTypeError(TypeError, ValueError):
@@ -63,8 +71,9 @@ def real_argument(name: str, value: object) -> float:
     try:
         return float(value)
     except OverflowError:
-        raise ValueError(f"`{name}` = {_show(value)} is not allowed: must be a finite number "
-                         "(it overflows a float)") from None
+        raise ValueError(
+            f"`{name}` = {_show(value)} is not allowed: must be a finite number (it overflows a float)"
+        ) from None
 
 
 def finite_argument(name: str, value: object) -> float:
@@ -88,8 +97,9 @@ def integer_argument(name: str, value: object, low: int, high: int | None = None
 def require_parameters(p: object, name: str = "p") -> Parameters:
     """``p`` if it is a :class:`Parameters`, else an :class:`ArgumentTypeError` naming ``name``."""
     if not isinstance(p, Parameters):
-        raise ArgumentTypeError(f"`{name}` = {_show(p)} is not allowed: must be a Parameters "
-                                "(e.g. impactdamper.Parameters(gap=-9.6))")
+        raise ArgumentTypeError(
+            f"`{name}` = {_show(p)} is not allowed: must be a Parameters (e.g. impactdamper.Parameters(gap=-9.6))"
+        )
     return p
 
 
@@ -145,8 +155,12 @@ class ParameterSpec:
         return _IN_RANGE[self.allowed](value)
 
 
-_IN_RANGE = {"> 0": lambda v: v > 0, ">= 0": lambda v: v >= 0, "in [0, 1]": lambda v: 0.0 <= v <= 1.0,
-             "": lambda v: True}
+_IN_RANGE = {
+    "> 0": lambda v: v > 0,
+    ">= 0": lambda v: v >= 0,
+    "in [0, 1]": lambda v: 0.0 <= v <= 1.0,
+    "": lambda v: True,
+}
 # The one table of the parameters, in the paper's order: Parameters.names(), the ranges checked
 # on construction, the compiled kernels' packed columns (compiled/pack.py reads them by name),
 # the CSV columns, the command line's flags and their help, and the sets of parameters a
@@ -305,7 +319,8 @@ class Parameters:
                 raise ValueError(
                     f"`{culprit}` = {getattr(self, culprit)!r} is not allowed with the other parameters: the "
                     f"dimensional {name} = {formula} {what}; {', '.join(inputs)} must keep it within the "
-                    "floating-point range (about 1e-300 to 1e300)")
+                    "floating-point range (about 1e-300 to 1e300)"
+                )
 
     @property
     def h1(self) -> float:
@@ -416,8 +431,10 @@ class ScaleMap:
             # velocity 1e8 x_st omega with x_st = 1e300): a named error, not inf.
             t = self.target
             name = most_extreme(t, ("x_st", "m1", "omega"))
-            raise ValueError(f"`{name}` = {getattr(t, name)!r} is not allowed with the other parameters: the motion's "
-                             f"dimensional values overflow in these units (x_st = {t.x_st!r} m, m1 = {t.m1!r} kg, "
-                             f"omega = {t.omega!r} rad/s); results in relative units do not depend on x_st, m1 and "
-                             "omega, so units nearer 1 give the same answer")
+            raise ValueError(
+                f"`{name}` = {getattr(t, name)!r} is not allowed with the other parameters: the motion's "
+                f"dimensional values overflow in these units (x_st = {t.x_st!r} m, m1 = {t.m1!r} kg, "
+                f"omega = {t.omega!r} rad/s); results in relative units do not depend on x_st, m1 and "
+                "omega, so units nearer 1 give the same answer"
+            )
         return float(out) if out.ndim == 0 else out

@@ -36,8 +36,18 @@ from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPART
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
 from impactdamper.core.linear import characteristic_roots
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import (NATIVE_SCALES, ArgumentTypeError, Parameters, ScaleMap, finite_argument, integer_argument,
-                         most_extreme, real_argument, require_parameters, state_scale)
+from impactdamper.core.parameters import (
+    NATIVE_SCALES,
+    ArgumentTypeError,
+    Parameters,
+    ScaleMap,
+    finite_argument,
+    integer_argument,
+    most_extreme,
+    real_argument,
+    require_parameters,
+    state_scale,
+)
 from impactdamper.core.parameters import RELATIVE_PARAMETERS
 
 __all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
@@ -127,7 +137,9 @@ def check_state(state: object, p: Parameters) -> np.ndarray | None:
     try:
         full = np.array(state, dtype=float)
     except (TypeError, ValueError):
-        raise ArgumentTypeError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')") from None
+        raise ArgumentTypeError(
+            f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')"
+        ) from None
     if full.shape != (4,) or not np.all(np.isfinite(full)):
         raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
     # In the paper's relative coordinates: x1/x_st, (x2 - Delta0)/x_st and the velocities over
@@ -137,9 +149,11 @@ def check_state(state: object, p: Parameters) -> np.ndarray | None:
     with np.errstate(over="ignore"):  # (an overflowing ratio is just too large)
         too_large = not np.all(np.abs(relative) / scale <= MAX_STATE)
     if too_large:
-        raise ValueError(f"`state` = {state!r} is not allowed: x1 and x2 - Delta0 must be within {MAX_STATE:.0e} x_st "
-                         f"and the velocities within {MAX_STATE:.0e} x_st omega (x_st = {p.x_st!r} m, "
-                         f"omega = {p.omega!r} rad/s)")
+        raise ValueError(
+            f"`state` = {state!r} is not allowed: x1 and x2 - Delta0 must be within {MAX_STATE:.0e} x_st "
+            f"and the velocities within {MAX_STATE:.0e} x_st omega (x_st = {p.x_st!r} m, "
+            f"omega = {p.omega!r} rad/s)"
+        )
     return full
 
 
@@ -148,9 +162,11 @@ def check_start_time(t0: object, p: Parameters, name: str = "t0") -> float:
     t0 = finite_argument(name, t0)
     limit = MAX_CLOCK_PERIODS * p.T
     if abs(t0) > limit:
-        raise ValueError(f"`{name}` = {t0!r} is not allowed: must be within {MAX_CLOCK_PERIODS:.0e} forcing periods of 0 "
-                         f"(|{name}| <= {limit:.6g} s), where the clock resolves event times to ~1e-10 T; the forcing is "
-                         "T-periodic, so a start modulo T is the same motion (steady_state reduces it itself)")
+        raise ValueError(
+            f"`{name}` = {t0!r} is not allowed: must be within {MAX_CLOCK_PERIODS:.0e} forcing periods of 0 "
+            f"(|{name}| <= {limit:.6g} s), where the clock resolves event times to ~1e-10 T; the forcing is "
+            "T-periodic, so a start modulo T is the same motion (steady_state reduces it itself)"
+        )
     return t0
 
 
@@ -160,9 +176,11 @@ def work_limit_message(p: Parameters, what: str) -> str:
     with np.errstate(all="ignore"):  # (only for the message: an overflow just shows as inf)
         rate = float(np.max(np.abs(characteristic_roots(p)))) / p.omega
     name = most_extreme(p, RELATIVE_PARAMETERS)
-    return (f"`{name}` = {getattr(p, name)!r} is beyond what the solver resolves: {what} (the free motion's fastest "
-            f"rate is {rate:.3g} omega); allowed are parameters nearer the reference case (theta = 1, mu = 0.08, "
-            "N = 0.5, delta1 = delta2 = 0.05, R = 0.7, gap = -5.8)")
+    return (
+        f"`{name}` = {getattr(p, name)!r} is beyond what the solver resolves: {what} (the free motion's fastest "
+        f"rate is {rate:.3g} omega); allowed are parameters nearer the reference case (theta = 1, mu = 0.08, "
+        "N = 0.5, delta1 = delta2 = 0.05, R = 0.7, gap = -5.8)"
+    )
 
 
 @dataclass(frozen=True)
@@ -259,16 +277,19 @@ class EventDrivenSolver:
     tolerances : Tolerances, optional
     """
 
-    def __init__(self, p: Parameters, t0: float = 0.0, state: np.ndarray | None = None,
-                 tolerances: Tolerances | None = None):
+    def __init__(
+        self, p: Parameters, t0: float = 0.0, state: np.ndarray | None = None, tolerances: Tolerances | None = None
+    ):
         p = require_parameters(p)
         t0 = check_start_time(t0, p)
         if not p.native_scales():
             name = next(n for n, (lo, hi) in NATIVE_SCALES.items() if not lo <= getattr(p, n) <= hi)
             lo, hi = NATIVE_SCALES[name]
-            raise ValueError(f"`{name}` = {getattr(p, name)!r} is not allowed here: the event-driven solver works in the "
-                             f"given units, where {name} must be in [{lo:g}, {hi:g}]; simulate, steady_state and "
-                             "solve_orbit rescale such cases (relative results do not depend on x_st, m1, omega)")
+            raise ValueError(
+                f"`{name}` = {getattr(p, name)!r} is not allowed here: the event-driven solver works in the "
+                f"given units, where {name} must be in [{lo:g}, {hi:g}]; simulate, steady_state and "
+                "solve_orbit rescale such cases (relative results do not depend on x_st, m1, omega)"
+            )
         self.p = p
         self.tol = check_tolerances(tolerances)
         full = check_state(state, p)
@@ -295,8 +316,10 @@ class EventDrivenSolver:
     # --- bookkeeping ------------------------------------------------------------------
     def _budget_message(self, t: float) -> str:
         periods = (t - self._t_start) / self.p.T
-        what = (f"the event search reached its work bound, {STEPS_AT_START} + {STEPS_PER_PERIOD} certified steps per "
-                f"forcing period ({self.budget.used} steps {periods:.3g} periods into the run)")
+        what = (
+            f"the event search reached its work bound, {STEPS_AT_START} + {STEPS_PER_PERIOD} certified steps per "
+            f"forcing period ({self.budget.used} steps {periods:.3g} periods into the run)"
+        )
         return self._chatter_message(what) or work_limit_message(self.p, what)
 
     def _chatter_message(self, what: str) -> str | None:
@@ -310,9 +333,11 @@ class EventDrivenSolver:
             return None
         if any(e.kind != "impact" for e in events[-CHATTER_BLAME_IMPACTS:]):
             return None
-        return (f"`chatter_tol` = {self.tol.chatter_tol!r} is beyond what the solver resolves here: {what}, in a "
-                f"chatter sequence followed to rebounds below {self.tol.chatter_tol:.3g} x_st; allowed are values "
-                f"nearer the default {default!r}, which ends such a sequence in persistent contact sooner")
+        return (
+            f"`chatter_tol` = {self.tol.chatter_tol!r} is beyond what the solver resolves here: {what}, in a "
+            f"chatter sequence followed to rebounds below {self.tol.chatter_tol:.3g} x_st; allowed are values "
+            f"nearer the default {default!r}, which ends such a sequence in persistent contact sooner"
+        )
 
     def _start(self, mode: str, t: float, y: np.ndarray, departure: tuple[int, float] | None) -> None:
         if mode == STUCK and self.model.stuck_resonant:
@@ -370,7 +395,9 @@ class EventDrivenSolver:
             except SearchLimitError as err:
                 if str(err).startswith("`"):  # the budget's message names a parameter already
                     raise
-                raise SearchLimitError(self._chatter_message(str(err)) or work_limit_message(self.p, str(err))) from None
+                raise SearchLimitError(
+                    self._chatter_message(str(err)) or work_limit_message(self.p, str(err))
+                ) from None
             if root is None:
                 # Resume later from where the march got (it may have stepped past t_target),
                 # not from t_target: restarting there would repeat the march's first steps.
@@ -487,8 +514,15 @@ class EventDrivenSolver:
         return True
 
 
-def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-             tolerances: Tolerances | None = None, *, max_periods: int = MAX_SIMULATE_PERIODS) -> Trajectory:
+def simulate(
+    p: Parameters,
+    t_end: float,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    *,
+    max_periods: int = MAX_SIMULATE_PERIODS,
+) -> Trajectory:
     """Run Algorithm No. 2 (with contact modes) from ``t0`` to ``t_end``.
 
     Parameters
@@ -521,16 +555,24 @@ def simulate(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | N
     if not t_end > t0:
         raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be > t0 = {t0!r}")
     if (t_end - t0) / p.T > max_periods:
-        raise ValueError(f"`t_end` = {t_end!r} is not allowed: (t_end - t0)/T = {(t_end - t0) / p.T:.6g} forcing periods "
-                         f"is more than max_periods = {max_periods} (a bound on the work; pass a larger max_periods)")
+        raise ValueError(
+            f"`t_end` = {t_end!r} is not allowed: (t_end - t0)/T = {(t_end - t0) / p.T:.6g} forcing periods "
+            f"is more than max_periods = {max_periods} (a bound on the work; pass a larger max_periods)"
+        )
     check_start_time(t_end, p, "t_end")
     if not p.native_scales():
         # Solve the same relative problem in the reference case's units, and convert back.
         q = p.canonical()
         to_q, to_p = ScaleMap(p, q), ScaleMap(q, p)
         full = check_state(state, p)
-        traj = simulate(q, to_q.apply(t_end, "time"), to_q.apply(t0, "time"), None if full is None else to_q.full(full),
-                        tolerances, max_periods=max_periods)
+        traj = simulate(
+            q,
+            to_q.apply(t_end, "time"),
+            to_q.apply(t0, "time"),
+            None if full is None else to_q.full(full),
+            tolerances,
+            max_periods=max_periods,
+        )
         return rescale_trajectory(traj, to_p)
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     solver.advance(t_end)
@@ -546,7 +588,15 @@ def rescale_trajectory(traj: Trajectory, scales: ScaleMap) -> Trajectory:
         y = scales.full(seg.y0) if name == FREE else scales.stuck(seg.y0)
         out.segments.append((name, Segment(model.mode(name), scales.apply(seg.t0, "time"), y)))
     for e in traj.events:
-        out.events.append(Event(scales.apply(e.t, "time"), e.kind, scales.apply(e.velocity, "velocity"),
-                                scales.apply(e.impulse, "impulse"), scales.full(e.before), scales.full(e.after),
-                                scales.apply(e.t_accumulation, "time")))
+        out.events.append(
+            Event(
+                scales.apply(e.t, "time"),
+                e.kind,
+                scales.apply(e.velocity, "velocity"),
+                scales.apply(e.impulse, "impulse"),
+                scales.full(e.before),
+                scales.full(e.after),
+                scales.apply(e.t_accumulation, "time"),
+            )
+        )
     return out

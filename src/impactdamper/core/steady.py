@@ -36,13 +36,37 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactdamper.core.model import STUCK
-from impactdamper.core.parameters import (Parameters, ScaleMap, finite_argument, integer_argument, real_argument,
-                                         require_parameters, state_scale)
-from impactdamper.core.simulate import (EventDrivenSolver, Tolerances, Trajectory, check_state, check_tolerances,
-                                       rescale_trajectory)
+from impactdamper.core.parameters import (
+    Parameters,
+    ScaleMap,
+    finite_argument,
+    integer_argument,
+    real_argument,
+    require_parameters,
+    state_scale,
+)
+from impactdamper.core.simulate import (
+    EventDrivenSolver,
+    Tolerances,
+    Trajectory,
+    check_state,
+    check_tolerances,
+    rescale_trajectory,
+)
 
-__all__ = ["SteadyState", "CycleImpact", "steady_state", "REGIMES", "describe_cycle", "max_excursion", "rescale_steady",
-           "section_of", "start_in_first_period", "check_settle_options", "describe_run"]
+__all__ = [
+    "SteadyState",
+    "CycleImpact",
+    "steady_state",
+    "REGIMES",
+    "describe_cycle",
+    "max_excursion",
+    "rescale_steady",
+    "section_of",
+    "start_in_first_period",
+    "check_settle_options",
+    "describe_run",
+]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
 # Samples per forcing period when searching the object's largest excursion (then refined).
@@ -208,6 +232,7 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
         return t0
     bits = max(math.frexp(p.omega)[1] + math.frexp(t0)[1], 0) + 96
     import mpmath  # (only for a t0 outside the first period: loaded then)
+
     with mpmath.workprec(bits):
         cycles = mpmath.mpf(p.omega) * mpmath.mpf(t0) / (2 * mpmath.pi)
         fraction = float(cycles - mpmath.floor(cycles))
@@ -233,8 +258,10 @@ def check_settle_options(settle_tol, max_periods, max_period_multiple) -> tuple[
     if max_period_multiple >= max_periods:
         # Named first: max_periods, the bound usually given (``steady --max-periods 2`` blamed
         # --max-period-multiple, a flag never given, at its default 8); the CLI names the flag given.
-        raise ValueError(f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
-                         f"{max_period_multiple!r}: max_periods must exceed max_period_multiple")
+        raise ValueError(
+            f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
+            f"{max_period_multiple!r}: max_periods must exceed max_period_multiple"
+        )
     return settle_tol, max_periods, max_period_multiple
 
 
@@ -294,8 +321,15 @@ def steady_state(
     if not p.native_scales():
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        s = _steady_state(q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances,
-                          settle_tol, max_periods, max_period_multiple)
+        s = _steady_state(
+            q,
+            to_q.apply(start, "time"),
+            None if state is None else to_q.full(state),
+            tolerances,
+            settle_tol,
+            max_periods,
+            max_period_multiple,
+        )
         return rescale_steady(s, ScaleMap(q, p))
     return _steady_state(p, start, state, tolerances, settle_tol, max_periods, max_period_multiple)
 
@@ -303,10 +337,19 @@ def steady_state(
 def rescale_steady(s: SteadyState, scales: ScaleMap) -> SteadyState:
     """The same settled motion in ``scales.target``'s units (relative fields unchanged)."""
     return dataclasses.replace(
-        s, p=scales.target,
-        impacts=tuple(dataclasses.replace(i, t=scales.apply(i.t, "time"), velocity=scales.apply(i.velocity, "velocity"),
-                                          impulse=scales.apply(i.impulse, "impulse")) for i in s.impacts),
-        cycle_start=scales.apply(s.cycle_start, "time"), trajectory=rescale_trajectory(s.trajectory, scales),
+        s,
+        p=scales.target,
+        impacts=tuple(
+            dataclasses.replace(
+                i,
+                t=scales.apply(i.t, "time"),
+                velocity=scales.apply(i.velocity, "velocity"),
+                impulse=scales.apply(i.impulse, "impulse"),
+            )
+            for i in s.impacts
+        ),
+        cycle_start=scales.apply(s.cycle_start, "time"),
+        trajectory=rescale_trajectory(s.trajectory, scales),
         section_times=None if s.section_times is None else scales.apply(s.section_times, "time"),
         sections=None if s.sections is None else scales.full(s.sections),
     )
@@ -338,8 +381,15 @@ def section_of(s: SteadyState) -> tuple[np.ndarray, str]:
     return full[0], str(modes[0])
 
 
-def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances, settle_tol: float,
-                  max_periods: int, max_period_multiple: int) -> SteadyState:
+def _steady_state(
+    p: Parameters,
+    t0: float,
+    state: np.ndarray | None,
+    tolerances: Tolerances,
+    settle_tol: float,
+    max_periods: int,
+    max_period_multiple: int,
+) -> SteadyState:
     """steady_state on validated arguments, t0 in [0, T), in native scales."""
     T = p.T
     scale = state_scale(p)
@@ -363,7 +413,7 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
         lags = min(max_period_multiple, (n - 1) // 2)
         if lags == 0:
             continue
-        latest = np.abs(sections[n - 1 - lags:n - 1][::-1] - sections[n - 1]).max(axis=1)
+        latest = np.abs(sections[n - 1 - lags : n - 1][::-1] - sections[n - 1]).max(axis=1)
         residual = float(latest.min())
         if residual >= settle_tol:
             found_k = 0
@@ -378,8 +428,16 @@ def _steady_state(p: Parameters, t0: float, state: np.ndarray | None, tolerances
     return describe_run(p, t0, states[:n], found_k, residual, start_state, tolerances)
 
 
-def describe_run(p: Parameters, t0: float, states: np.ndarray, found_k: int, residual: float,
-                 start_state: np.ndarray, tolerances: Tolerances, simulate_from=None) -> SteadyState:
+def describe_run(
+    p: Parameters,
+    t0: float,
+    states: np.ndarray,
+    found_k: int,
+    residual: float,
+    start_state: np.ndarray,
+    tolerances: Tolerances,
+    simulate_from=None,
+) -> SteadyState:
     """The :class:`SteadyState` of a run of :func:`steady_state`'s period loop, from its section
     states (x1, x2, x1', x2') at t0 + T, ..., t0 + n T, the period it found (0: none) and its
     last residual; the cycle is described on a fresh run (below). The compiled loop
@@ -422,9 +480,9 @@ def _mismatch(sections: np.ndarray, modes: list, k: int) -> float:
     n = len(sections)
     if n < 2 * k + 1:
         return math.inf
-    if modes[n - k:] != modes[n - 2 * k:n - k]:
+    if modes[n - k :] != modes[n - 2 * k : n - k]:
         return math.inf
-    return float(np.abs(sections[n - k:] - sections[n - 2 * k:n - k]).max())
+    return float(np.abs(sections[n - k :] - sections[n - 2 * k : n - k]).max())
 
 
 def _period(sections: np.ndarray, modes: list, kmax: int, tol: float) -> tuple[int, float]:
@@ -496,7 +554,7 @@ def _converged(sections: np.ndarray, k: int, settle_tol: float) -> bool:
     spread = 0.0
     for i in range(w):
         spread = max(spread, float(np.abs(sections[n - 1 - i] - sections[n - 1 - i % k]).max()))
-    lag = np.abs(sections[n - 2 * w:] - sections[n - 2 * w - k:n - k]).max(axis=1)
+    lag = np.abs(sections[n - 2 * w :] - sections[n - 2 * w - k : n - k]).max(axis=1)
     older, recent = float(lag[:w].max()), float(lag[w:].max())
     if recent < max(CONVERGENCE_NOISE * settle_tol, ROUNDING_FLOOR):
         tail = 0.0
@@ -519,7 +577,7 @@ def _least_period(sections: np.ndarray, modes: list, k: int, settle_tol: float) 
             continue
         if n < 2 * window + d:
             return 0, m  # not enough history yet to tell
-        lagged = np.abs(sections[n - 2 * window:] - sections[n - 2 * window - d:n - d]).max(axis=1)
+        lagged = np.abs(sections[n - 2 * window :] - sections[n - 2 * window - d : n - d]).max(axis=1)
         if lagged[window:].max() < DIVISOR_DECAY * lagged[:window].max():
             return 0, m
         if m < DIVISOR_FLOOR_FACTOR * settle_tol:
@@ -527,8 +585,9 @@ def _least_period(sections: np.ndarray, modes: list, k: int, settle_tol: float) 
     return k, _mismatch(sections, modes, k)
 
 
-def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int, settled: bool,
-                   periods: int, residual: float) -> SteadyState:
+def describe_cycle(
+    p: Parameters, traj: Trajectory, window_start: float, k: int, settled: bool, periods: int, residual: float
+) -> SteadyState:
     """Describe the cycle of period k T that a trajectory repeats from ``window_start``.
 
     This is how :func:`steady_state` reads a settled motion, and how any other route to a
@@ -582,7 +641,8 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
         cycle_events = [e for e in traj.events if start <= e.t < start + Tc]
     cycle_impacts = tuple(
         CycleImpact(e.t, (e.t - start) / T, (e.t / T) % 1.0, e.velocity, e.impulse)
-        for e in cycle_events if e.kind == "impact"
+        for e in cycle_events
+        if e.kind == "impact"
     )
     contact = _contact_phases(traj, start, start + Tc)
     contact_time = sum(b - a for a, b in contact)
@@ -601,10 +661,16 @@ def describe_cycle(p: Parameters, traj: Trajectory, window_start: float, k: int,
     else:
         regime = "multi_impact"
     return SteadyState(
-        p=p, regime=regime, period_multiple=k if settled else 0, impacts=cycle_impacts,
-        cycle_start=start, contact_fraction=contact_fraction,
+        p=p,
+        regime=regime,
+        period_multiple=k if settled else 0,
+        impacts=cycle_impacts,
+        cycle_start=start,
+        contact_fraction=contact_fraction,
         contact_phases=tuple(((a - start) / T, (b - start) / T) for a, b in contact),
-        x1_max=max_excursion(p, traj, start, start + Tc), periods=periods, residual=residual,
+        x1_max=max_excursion(p, traj, start, start + Tc),
+        periods=periods,
+        residual=residual,
         trajectory=traj,
     )
 
@@ -670,8 +736,10 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
     seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
     lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
     import scipy.optimize  # (loaded on first use: the package import stays light)
-    res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
-                                         method="bounded", options={"xatol": 1e-12 * p.T})
+
+    res = scipy.optimize.minimize_scalar(
+        lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * p.T}
+    )
     best = max(float(x1[i]), -float(res.fun))
     if i in (0, n):
         # The motion repeats: a peak just before the window's start shows as the largest sample
@@ -686,7 +754,12 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
         lo, hi = max(lo, seg.t0), min(hi, seg_end)
         if hi > lo:
             import scipy.optimize  # (loaded on first use: the package import stays light)
-            res = scipy.optimize.minimize_scalar(lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi),
-                                                 method="bounded", options={"xatol": 1e-12 * p.T})
+
+            res = scipy.optimize.minimize_scalar(
+                lambda t: -abs(float(seg.state(float(t))[0])),
+                bounds=(lo, hi),
+                method="bounded",
+                options={"xatol": 1e-12 * p.T},
+            )
             best = max(best, -float(res.fun))
     return best / p.x_st

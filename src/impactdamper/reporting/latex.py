@@ -9,8 +9,20 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["MISSING", "macro", "camel", "fixed", "sci", "tex_sci", "tex_time", "tex_escape", "plain_text", "MacroFile",
-           "render_macros", "macro_texts"]
+__all__ = [
+    "MISSING",
+    "macro",
+    "camel",
+    "fixed",
+    "sci",
+    "tex_sci",
+    "tex_time",
+    "tex_escape",
+    "plain_text",
+    "MacroFile",
+    "render_macros",
+    "macro_texts",
+]
 
 # A value that does not exist, in a macro (works in math and text mode).
 MISSING = "\\mbox{--}"
@@ -102,8 +114,15 @@ def plain_text(tex: str) -> str:
     Applied once, when a stage records its macros (:class:`MacroFile`), never to a TeX file."""
     text = tex.replace(r"\ensuremath", "").replace(r"\,", " ").replace(r"\textmu ", "µ").replace(r"\textmu", "µ")
     text = re.sub(r"\s*\\times\s*10\^\{([-0-9]+)\}", r"e\1", text)
-    text = (text.replace(r"$\to$", "->").replace(r"$\times$", "x").replace(MISSING, "–").replace("--", "–")
-            .replace("{", "").replace("}", "").replace("\\", ""))
+    text = (
+        text.replace(r"$\to$", "->")
+        .replace(r"$\times$", "x")
+        .replace(MISSING, "–")
+        .replace("--", "–")
+        .replace("{", "")
+        .replace("}", "")
+        .replace("\\", "")
+    )
     return re.sub(r"\s+", " ", text).strip()
 
 

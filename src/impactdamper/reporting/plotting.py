@@ -20,8 +20,19 @@ TEXT_WIDTH = 6.3
 # style alone sets every text size. Titles, legends and ticks take the style's own sizes.
 ANNOTATION_SIZE = "small"
 
-__all__ = ["use_style", "save_figure", "finish_figure", "figure_size", "STYLE_FILE", "TEXT_WIDTH", "ANNOTATION_SIZE",
-           "CASE_LABELS", "REGIME_COLORS", "REGIME_TEXT", "REGIME_NAMES"]
+__all__ = [
+    "use_style",
+    "save_figure",
+    "finish_figure",
+    "figure_size",
+    "STYLE_FILE",
+    "TEXT_WIDTH",
+    "ANNOTATION_SIZE",
+    "CASE_LABELS",
+    "REGIME_COLORS",
+    "REGIME_TEXT",
+    "REGIME_NAMES",
+]
 
 # One colour per regime class in every sweep and map figure (labels z/k are written on them).
 # Chosen so that classes that border each other stay apart in print, in greyscale and for
@@ -29,13 +40,13 @@ __all__ = ["use_style", "save_figure", "finish_figure", "figure_size", "STYLE_FI
 # protanopia for every bordering pair): np, which only says "not settled within the cap", is a
 # pale cream, far from the orange of the z/k motions.
 REGIME_COLORS = {
-    "stuck": "#404040",         # persistent contact: dark grey
-    "chatter": "#c994c7",       # contact phases reached by chatter: light purple
+    "stuck": "#404040",  # persistent contact: dark grey
+    "chatter": "#c994c7",  # contact phases reached by chatter: light purple
     "multi_impact": "#f0a830",  # several impacts or k > 1: orange
-    "single_impact": "#1f4e79", # one impact per period: dark blue
-    "no_contact": "#a6cee3",    # no contact: light blue
-    "nonperiodic": "#fff2cc",   # not settled within the cap: pale cream
-    "failed": "#ffffff",        # the simulation raised (label err): white
+    "single_impact": "#1f4e79",  # one impact per period: dark blue
+    "no_contact": "#a6cee3",  # no contact: light blue
+    "nonperiodic": "#fff2cc",  # not settled within the cap: pale cream
+    "failed": "#ffffff",  # the simulation raised (label err): white
 }
 # How the figures name the reference stage's two cases (the paper's stated parameters; the
 # located gap where its Fig. 2 behaviour occurs).
@@ -43,8 +54,11 @@ CASE_LABELS = {"stated": "stated case", "located": "located case"}
 # Text written on a band or region of each class: white on the dark ones, black elsewhere.
 REGIME_TEXT = {"stuck": "white", "single_impact": "white"}
 REGIME_NAMES = {
-    "stuck": "persistent contact (S)", "chatter": "chatter, c/k", "multi_impact": "z/k impacts",
-    "single_impact": "1/1 (one impact)", "no_contact": "no contact (0/1)",
+    "stuck": "persistent contact (S)",
+    "chatter": "chatter, c/k",
+    "multi_impact": "z/k impacts",
+    "single_impact": "1/1 (one impact)",
+    "no_contact": "no contact (0/1)",
     "nonperiodic": "np: not settled within the cap",
     "failed": "solver failed (err)",
 }
@@ -82,9 +96,11 @@ def save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -
     for fmt in formats:
         out = stem.with_suffix("." + fmt)
         out.parent.mkdir(parents=True, exist_ok=True)
-        metadata = {"pdf": {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None},
-                    "png": {"Software": None},
-                    "svg": {"Date": None, "Creator": None}}.get(fmt, {})
+        metadata = {
+            "pdf": {"CreationDate": None, "ModDate": None, "Producer": None, "Creator": None},
+            "png": {"Software": None},
+            "svg": {"Date": None, "Creator": None},
+        }.get(fmt, {})
         fig.savefig(out, format=fmt, metadata=metadata)
         written.append(out)
     return written

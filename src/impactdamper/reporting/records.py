@@ -16,8 +16,24 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["CSV_FLOAT", "BOOLEAN_CELLS", "clean", "write_json", "read_json", "json_float", "csv_cell", "write_csv",
-           "read_csv", "cell_float", "split_floats", "joined", "stage_logger", "start_stage", "machine", "Timer"]
+__all__ = [
+    "CSV_FLOAT",
+    "BOOLEAN_CELLS",
+    "clean",
+    "write_json",
+    "read_json",
+    "json_float",
+    "csv_cell",
+    "write_csv",
+    "read_csv",
+    "cell_float",
+    "split_floats",
+    "joined",
+    "stage_logger",
+    "start_stage",
+    "machine",
+    "Timer",
+]
 
 # Significant digits of floats in CSV records: far below any tolerance the record is compared
 # with (rtol 1e-8), and it keeps the files small.
@@ -119,8 +135,9 @@ def stage_logger(log_path, name: str, *, timestamps: bool = False, library: bool
     the library's own ``impactdamper`` logger there (sweeps report their progress)."""
     Path(log_path).parent.mkdir(parents=True, exist_ok=True)
     handler = logging.FileHandler(log_path, mode="w")
-    handler.setFormatter(logging.Formatter("%(asctime)s %(message)s", "%H:%M:%S") if timestamps
-                         else logging.Formatter("%(message)s"))
+    handler.setFormatter(
+        logging.Formatter("%(asctime)s %(message)s", "%H:%M:%S") if timestamps else logging.Formatter("%(message)s")
+    )
     for n in (name, "impactdamper") if library else (name,):
         lg = logging.getLogger(n)
         lg.handlers[:] = [handler]

@@ -43,8 +43,19 @@ PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-20
 # The continuation parameter of the stage (the library follows any field of Parameters).
 PARAMETER = "gap"
 # Columns of figures/orbit_branches.csv. Rows are in order along each branch (``index``).
-BRANCH_COLUMNS = ["branch", "label", "index", "gap", "x1_max", "min_gap", "spectral_radius", "stable",
-                  "admissible", "velocities", "phases"]
+BRANCH_COLUMNS = [
+    "branch",
+    "label",
+    "index",
+    "gap",
+    "x1_max",
+    "min_gap",
+    "spectral_radius",
+    "stable",
+    "admissible",
+    "velocities",
+    "phases",
+]
 # Columns of figures/orbit_special_points.csv, rows in order of the branches then of the gap.
 # ``admissible``: the special point lies on, or bounds, a stretch of admissible orbits (a
 # motion of the suppressor); 0 for points found on the inadmissible continuation.
@@ -53,8 +64,18 @@ BRANCH_COLUMNS = ["branch", "label", "index", "gap", "x1_max", "min_gap", "spect
 # impact (the saltation matrix grows like 1/v there).
 # ``leg`` and ``detail``: the library's description is worded in the direction the point was
 # passed, "down" or "up" in the gap from the branch's seed (e.g. "loses stability").
-SPECIAL_COLUMNS = ["branch", "label", "kind", "gap", "index", "x1_max", "spectral_radius", "admissible", "leg",
-                   "detail"]
+SPECIAL_COLUMNS = [
+    "branch",
+    "label",
+    "kind",
+    "gap",
+    "index",
+    "x1_max",
+    "spectral_radius",
+    "admissible",
+    "leg",
+    "detail",
+]
 # Significant digits of the joined velocities and phases in the committed CSVs (the record
 # test compares at a relative 1e-8; the continuation converges to 1e-12).
 JOINED_FORMAT = "{:.12g}"
@@ -68,10 +89,20 @@ SPECIAL_POINT_NAMES = {
     "period_doubling": {"short": "PD", "mark": "PD", "text": "period doubling", "macro": "PD", "legend": "PD"},
     "neimark_sacker": {"short": "NS", "mark": "NS", "text": "Neimark--Sacker", "macro": "NS", "legend": "NS"},
     "fold": {"short": "fold", "mark": "fold", "text": "fold", "macro": "Fold", "legend": "fold"},
-    "grazing_interior": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingTouch",
-                         "legend": "G: new impact"},
-    "grazing_velocity": {"short": "grazing", "mark": "G", "text": "grazing", "macro": "GrazingVanish",
-                         "legend": "G: impact vanishes"},
+    "grazing_interior": {
+        "short": "grazing",
+        "mark": "G",
+        "text": "grazing",
+        "macro": "GrazingTouch",
+        "legend": "G: new impact",
+    },
+    "grazing_velocity": {
+        "short": "grazing",
+        "mark": "G",
+        "text": "grazing",
+        "macro": "GrazingVanish",
+        "legend": "G: impact vanishes",
+    },
 }
 KIND_SHORT = {k: v["short"] for k, v in SPECIAL_POINT_NAMES.items()}
 KIND_TEXT = {k: v["text"] for k, v in SPECIAL_POINT_NAMES.items()}
@@ -99,22 +130,32 @@ def seed_orbit(reference: Parameters, spec: dict, solver: dict):
         raise ValueError(
             f"`orbits.branches` entry {spec['name']!r}: the {spec['seed']} seed at gap {spec['gap']} gives "
             f"{label(o.period_multiple, o.impacts_per_cycle)} (admissible {o.admissible}), not the admissible "
-            f"{label(want[0], want[1])} cycle asked for")
+            f"{label(want[0], want[1])} cycle asked for"
+        )
     return o
 
 
 def _leg(orbit, direction: int, bounds: tuple, cont: dict, solver: dict) -> dict:
     """One way along a branch: points, special points (with their index into ``points``:
     between points index-1 and index) and why the leg ends."""
-    b = continue_orbit(orbit, PARAMETER, bounds, direction=direction, step=float(cont["step"]),
-                       min_step=float(cont["min_step"]), max_step=float(cont["max_step"]),
-                       max_points=int(cont["max_points"]), stop_at_grazing=False, tolerances=tolerances(solver))
+    b = continue_orbit(
+        orbit,
+        PARAMETER,
+        bounds,
+        direction=direction,
+        step=float(cont["step"]),
+        min_step=float(cont["min_step"]),
+        max_step=float(cont["max_step"]),
+        max_points=int(cont["max_points"]),
+        stop_at_grazing=False,
+        tolerances=tolerances(solver),
+    )
     points, special = list(b.points), []
     end = {"reason": b.end_reason, "value": float(b.end_value)}
     for s in b.special:
         special.append(s)
         if s.kind == "grazing_velocity":
-            points = points[:s.index]
+            points = points[: s.index]
             end = {"reason": "grazing_velocity", "value": float(s.value)}
             break
     return {"points": points, "special": special, "end": end}
@@ -137,8 +178,9 @@ def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None
     g0 = float(spec["gap"])
     lo, hi = float(spec["gap_min"]), float(spec["gap_max"])
     if not lo <= g0 <= hi:
-        raise ValueError(f"`orbits.branches` entry {spec['name']!r}: need gap_min <= gap <= gap_max, "
-                         f"got {lo} <= {g0} <= {hi}")
+        raise ValueError(
+            f"`orbits.branches` entry {spec['name']!r}: need gap_min <= gap <= gap_max, got {lo} <= {g0} <= {hi}"
+        )
     o = seed_orbit(reference, spec, solver)
     # Each leg ends at the seed's gap if it comes back there past a fold: the other leg covers
     # the far side. Beyond a vanishing impact the continuation goes on (only to be cut), so
@@ -148,9 +190,11 @@ def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None
     up = _leg(o, +1, (g0, hi), cont, solver)
     for name, leg in (("down", down), ("up", up)):
         if leg["end"]["reason"] == "bound" and leg["end"]["value"] == g0:
-            raise ValueError(f"`orbits.branches` entry {spec['name']!r}: the {name} leg turns at a fold and comes "
-                             f"back to the seed's gap {g0} before it ends: seed the branch outside the part "
-                             "that turns back")
+            raise ValueError(
+                f"`orbits.branches` entry {spec['name']!r}: the {name} leg turns at a fold and comes "
+                f"back to the seed's gap {g0} before it ends: seed the branch outside the part "
+                "that turns back"
+            )
     nd = len(down["points"])
     points = down["points"][::-1] + up["points"][1:]
     special = []
@@ -162,12 +206,27 @@ def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None
         b = nd - 1 + s.index
         special.append((s, nd - 2 + s.index, b if b < len(points) else None, "up"))
     special.sort(key=lambda e: (e[1] if e[1] is not None else -1, e[0].value))
-    log.info("branch %s (%s): %d points from %.6f (%s) to %.6f (%s), %d special points", spec["name"],
-             label(o.period_multiple, o.impacts_per_cycle), len(points), down["end"]["value"], down["end"]["reason"],
-             up["end"]["value"], up["end"]["reason"], len(special))
-    return {"name": spec["name"], "label": label(o.period_multiple, o.impacts_per_cycle), "k": o.period_multiple,
-            "z": o.impacts_per_cycle, "points": points, "special": special, "seed_index": nd - 1,
-            "ends": {"low": down["end"], "high": up["end"]}}
+    log.info(
+        "branch %s (%s): %d points from %.6f (%s) to %.6f (%s), %d special points",
+        spec["name"],
+        label(o.period_multiple, o.impacts_per_cycle),
+        len(points),
+        down["end"]["value"],
+        down["end"]["reason"],
+        up["end"]["value"],
+        up["end"]["reason"],
+        len(special),
+    )
+    return {
+        "name": spec["name"],
+        "label": label(o.period_multiple, o.impacts_per_cycle),
+        "k": o.period_multiple,
+        "z": o.impacts_per_cycle,
+        "points": points,
+        "special": special,
+        "seed_index": nd - 1,
+        "ends": {"low": down["end"], "high": up["end"]},
+    }
 
 
 def _on_motion(branch: dict, lo, hi) -> bool:
@@ -191,8 +250,7 @@ def stretches(branch: dict, which: str) -> list[dict]:
     for i, j in true_runs(ok):
         ends = []
         for edge, outside in ((i, i - 1), (j, j + 1)):
-            hit = [s for s, a, b, _ in branch["special"]
-                   if {a, b} == {edge, outside if 0 <= outside < n else None}]
+            hit = [s for s, a, b, _ in branch["special"] if {a, b} == {edge, outside if 0 <= outside < n else None}]
             if hit:
                 # Several at once (e.g. a velocity grazing and the touch it is): the first listed.
                 ends.append((float(hit[0].value), hit[0].kind))
@@ -201,9 +259,12 @@ def stretches(branch: dict, which: str) -> list[dict]:
                 ends.append((float(pts[edge].value), branch["ends"][side]["reason"] if side else "sampled"))
         # The run's extent in the gap: its ends, its points and any special point inside it
         # (a fold inside an admissible run is its extreme gap).
-        inside = [(float(s.value), s.kind) for s, a, b, _ in branch["special"]
-                  if a is not None and b is not None and i <= a and b <= j]
-        cand = ends + inside + [(float(q.value), "sampled") for q in pts[i:j + 1]]
+        inside = [
+            (float(s.value), s.kind)
+            for s, a, b, _ in branch["special"]
+            if a is not None and b is not None and i <= a and b <= j
+        ]
+        cand = ends + inside + [(float(q.value), "sampled") for q in pts[i : j + 1]]
         (va, ka), (vb, kb) = min(cand), max(cand)
         out.append({"lo": va, "hi": vb, "lo_kind": ka, "hi_kind": kb})
     return out
@@ -213,10 +274,21 @@ def stretches(branch: dict, which: str) -> list[dict]:
 def branch_rows(branch: dict) -> list[dict]:
     rows = []
     for i, q in enumerate(branch["points"]):
-        rows.append({"branch": branch["name"], "label": branch["label"], "index": i, "gap": q.value,
-                     "x1_max": q.x1_max, "min_gap": q.min_gap, "spectral_radius": abs(q.multipliers[0]),
-                     "stable": q.stable, "admissible": q.admissible, "velocities": joined(q.velocities, JOINED_FORMAT),
-                     "phases": joined(q.phases, JOINED_FORMAT)})
+        rows.append(
+            {
+                "branch": branch["name"],
+                "label": branch["label"],
+                "index": i,
+                "gap": q.value,
+                "x1_max": q.x1_max,
+                "min_gap": q.min_gap,
+                "spectral_radius": abs(q.multipliers[0]),
+                "stable": q.stable,
+                "admissible": q.admissible,
+                "velocities": joined(q.velocities, JOINED_FORMAT),
+                "phases": joined(q.phases, JOINED_FORMAT),
+            }
+        )
     return rows
 
 
@@ -224,9 +296,20 @@ def special_rows(branch: dict) -> list[dict]:
     rows = []
     for s, a, b, leg in branch["special"]:
         radius = math.nan if s.kind == "grazing_velocity" else abs(s.point.multipliers[0])
-        rows.append({"branch": branch["name"], "label": branch["label"], "kind": s.kind, "gap": s.value,
-                     "index": 0 if a is None else a + 1, "x1_max": s.point.x1_max, "spectral_radius": radius,
-                     "admissible": _on_motion(branch, a, b), "leg": leg, "detail": s.detail})
+        rows.append(
+            {
+                "branch": branch["name"],
+                "label": branch["label"],
+                "kind": s.kind,
+                "gap": s.value,
+                "index": 0 if a is None else a + 1,
+                "x1_max": s.point.x1_max,
+                "spectral_radius": radius,
+                "admissible": _on_motion(branch, a, b),
+                "leg": leg,
+                "detail": s.detail,
+            }
+        )
     return sorted(rows, key=lambda r: r["gap"])
 
 
@@ -251,8 +334,14 @@ def branch_sequence(rows: list[dict], special: list[dict], key: str) -> list[tup
         i = int(s["index"])
         ref = cell_float(rows[i - 1]["gap"]) if i > 0 else cell_float(rows[0]["gap"])
         # Between rows i-1 and i; two between the same rows in order of distance from row i-1.
-        items.append((i - 0.5 + 1e-3 * math.tanh(abs(cell_float(s["gap"]) - ref)), cell_float(s["gap"]), cell_float(s[key]),
-                      None))
+        items.append(
+            (
+                i - 0.5 + 1e-3 * math.tanh(abs(cell_float(s["gap"]) - ref)),
+                cell_float(s["gap"]),
+                cell_float(s[key]),
+                None,
+            )
+        )
     items.sort(key=lambda t: t[0])
     return [(g, y, state) for _, g, y, state in items]
 
@@ -276,13 +365,13 @@ def run_pieces(rows: list[dict], special: list[dict], key: str) -> list[tuple[st
     return [(s, np.array(g), np.array(y)) for s, g, y in out]
 
 
-
 def multi_impact_window(rows: list[dict], special: list[dict], summary: dict, margin: float) -> tuple[float, float]:
     """The gaps (Delta0/x_st) of the branches' rows and special points of the cycles other than
     the one-impact orbit (k > 1 or z > 1, ``summary["branches"]``), widened by ``margin``."""
     multi = {n for n, b in summary["branches"].items() if b["k"] > 1 or b["z"] > 1}
-    gaps = ([cell_float(r["gap"]) for n in multi for r in rows if r["branch"] == n]
-            + [cell_float(s["gap"]) for n in multi for s in special if s["branch"] == n])
+    gaps = [cell_float(r["gap"]) for n in multi for r in rows if r["branch"] == n] + [
+        cell_float(s["gap"]) for n in multi for s in special if s["branch"] == n
+    ]
     return min(gaps) - margin, max(gaps) + margin
 
 

@@ -27,10 +27,31 @@ from collections.abc import Callable, Sequence
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.solve import steady_state
 
-__all__ = ["CLAIM_B_PERIOD_MULTIPLE", "CLAIM_B_IMPACTS", "claim_a", "claim_b", "CycleComparison", "compare_cycles",
-           "Interval", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to",
-           "SEARCH_PARAMETERS", "SEARCH_SYMBOLS", "nearest_both", "reference_check", "check_rows",
-           "refine_grid", "batch_rows", "search_parameter", "MAP_COLUMNS", "claims_map", "count_end_checks"]
+__all__ = [
+    "CLAIM_B_PERIOD_MULTIPLE",
+    "CLAIM_B_IMPACTS",
+    "claim_a",
+    "claim_b",
+    "CycleComparison",
+    "compare_cycles",
+    "Interval",
+    "true_runs",
+    "true_intervals",
+    "intersect",
+    "claim_intervals",
+    "distance_to",
+    "SEARCH_PARAMETERS",
+    "SEARCH_SYMBOLS",
+    "nearest_both",
+    "reference_check",
+    "check_rows",
+    "refine_grid",
+    "batch_rows",
+    "search_parameter",
+    "MAP_COLUMNS",
+    "claims_map",
+    "count_end_checks",
+]
 
 # Claim (b): the paper's Fig. 2b motion, T_c = 2T with three impacts per cycle.
 CLAIM_B_PERIOD_MULTIPLE = 2
@@ -46,8 +67,11 @@ def claim_a(alg1) -> bool:
 def claim_b(steady) -> bool:
     """Claim (b) for a :class:`~impactdamper.SteadyState`: T_c = 2T, three impacts, no
     persistent contact in the cycle."""
-    return bool(steady.regime == "multi_impact" and steady.period_multiple == CLAIM_B_PERIOD_MULTIPLE
-                and steady.impacts_per_cycle == CLAIM_B_IMPACTS)
+    return bool(
+        steady.regime == "multi_impact"
+        and steady.period_multiple == CLAIM_B_PERIOD_MULTIPLE
+        and steady.impacts_per_cycle == CLAIM_B_IMPACTS
+    )
 
 
 # --- the aligned cross-check of two settled cycles ------------------------------------------
@@ -98,8 +122,9 @@ def _circular(d: float, k: int) -> float:
     return (d + 0.5 * k) % k - 0.5 * k
 
 
-def compare_cycles(a: Sequence, k_a: int, b: Sequence, k_b: int, T: float, velocity_scale: float,
-                   time_tol: float, velocity_tol: float) -> CycleComparison:
+def compare_cycles(
+    a: Sequence, k_a: int, b: Sequence, k_b: int, T: float, velocity_scale: float, time_tol: float, velocity_tol: float
+) -> CycleComparison:
     """Compare settled cycle ``a`` (impacts with ``.t`` in s and ``.velocity`` in m/s, or
     ``(t, velocity)`` pairs) with cycle ``b``.
 
@@ -124,8 +149,12 @@ def compare_cycles(a: Sequence, k_a: int, b: Sequence, k_b: int, T: float, veloc
     velocity_tol : float
         Largest velocity difference that agrees, relative to ``velocity_scale``.
     """
-    for name, v in (("T", T), ("velocity_scale", velocity_scale), ("time_tol", time_tol),
-                    ("velocity_tol", velocity_tol)):
+    for name, v in (
+        ("T", T),
+        ("velocity_scale", velocity_scale),
+        ("time_tol", time_tol),
+        ("velocity_tol", velocity_tol),
+    ):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise ValueError(f"`{name}` = {v!r} is not allowed: must be a positive finite number")
     ta = [(float(i[0]), float(i[1])) if isinstance(i, (tuple, list)) else (float(i.t), float(i.velocity)) for i in a]
@@ -168,10 +197,18 @@ def compare_cycles(a: Sequence, k_a: int, b: Sequence, k_b: int, T: float, veloc
     worst_t, j, pairs = best
     worst_v = max(p[1] for p in pairs)
     ok = worst_t <= time_tol and worst_v <= velocity_tol
-    reason = "" if ok else (f"time difference {worst_t:.1e} T > {time_tol:.0e}" if worst_t > time_tol
-                            else f"velocity difference {worst_v:.1e} > {velocity_tol:.0e}")
-    return CycleComparison(ks, counts, len(pairs), j, worst_t, worst_v, time_tol, velocity_tol, ok, reason,
-                           [list(p) for p in pairs])
+    reason = (
+        ""
+        if ok
+        else (
+            f"time difference {worst_t:.1e} T > {time_tol:.0e}"
+            if worst_t > time_tol
+            else f"velocity difference {worst_v:.1e} > {velocity_tol:.0e}"
+        )
+    )
+    return CycleComparison(
+        ks, counts, len(pairs), j, worst_t, worst_v, time_tol, velocity_tol, ok, reason, [list(p) for p in pairs]
+    )
 
 
 # --- where a claim holds along one parameter ------------------------------------------------
@@ -206,8 +243,9 @@ def _resolution(x: float, rel_tol: float, floor: float, abs_tol: float | None = 
     return abs_tol if abs_tol is not None else rel_tol * max(abs(x), floor)
 
 
-def bisect(pred: Callable[[float], bool], x_in: float, x_out: float, rel_tol: float, floor: float,
-           abs_tol: float | None = None) -> tuple:
+def bisect(
+    pred: Callable[[float], bool], x_in: float, x_out: float, rel_tol: float, floor: float, abs_tol: float | None = None
+) -> tuple:
     """Shrink [x_in, x_out] (pred True at x_in, False at x_out) until its width is within
     ``rel_tol`` of the end's value, or ``abs_tol`` (see :func:`_resolution`)."""
     while abs(x_out - x_in) > _resolution(0.5 * (x_in + x_out), rel_tol, floor, abs_tol):
@@ -234,8 +272,14 @@ def true_runs(flags: Sequence[bool]) -> list[tuple[int, int]]:
     return out
 
 
-def true_intervals(xs: Sequence[float], flags: Sequence[bool], pred: Callable[[float], bool], rel_tol: float,
-                   floor: float, abs_tol: float | None = None) -> list[Interval]:
+def true_intervals(
+    xs: Sequence[float],
+    flags: Sequence[bool],
+    pred: Callable[[float], bool],
+    rel_tol: float,
+    floor: float,
+    abs_tol: float | None = None,
+) -> list[Interval]:
     """Maximal runs of True on the grid ``xs`` (increasing), each inner end bisected with
     ``pred`` to ``rel_tol`` (or ``abs_tol``); a run reaching the grid's end is open there. A
     run narrower than the grid step between two False grid points is not seen: the grid sets
@@ -261,14 +305,21 @@ def intersect(ra: Sequence[Interval], rb: Sequence[Interval]) -> list[Interval]:
             lo_src = a if a.lo >= b.lo else b
             hi_src = a if a.hi <= b.hi else b
             if lo_src.lo < hi_src.hi:
-                out.append(Interval(lo_src.lo, hi_src.hi, lo_src.lo_open, hi_src.hi_open, lo_src.lo_bracket,
-                                    hi_src.hi_bracket))
+                out.append(
+                    Interval(lo_src.lo, hi_src.hi, lo_src.lo_open, hi_src.hi_open, lo_src.lo_bracket, hi_src.hi_bracket)
+                )
     return out
 
 
-def claim_intervals(xs: Sequence[float], claim_a_at: Callable[[float], bool], claim_b_at: Callable[[float], bool],
-                    rel_tol: float, floor: float, flags_a: Sequence[bool] | None = None,
-                    flags_b: Sequence[bool] | None = None) -> dict:
+def claim_intervals(
+    xs: Sequence[float],
+    claim_a_at: Callable[[float], bool],
+    claim_b_at: Callable[[float], bool],
+    rel_tol: float,
+    floor: float,
+    flags_a: Sequence[bool] | None = None,
+    flags_b: Sequence[bool] | None = None,
+) -> dict:
     """Intervals of ``xs`` (an increasing grid of one parameter) where claim (a), claim (b)
     and both hold; ``claim_*_at(x)`` evaluates a claim at one value (the grid's flags may be
     passed in when already computed). Returns ``{"a": [...], "b": [...], "both": [...]}``."""
@@ -298,14 +349,21 @@ def claims_at(p, *, gap_tol: float, steady_kwargs: dict) -> dict:
     :func:`impactdamper.steady_state` with its default backend, with ``steady_kwargs``)."""
     a = algorithm1(p, gap_tol=gap_tol)
     s = steady_state(p, **steady_kwargs)
-    return {"claim_a": claim_a(a), "claim_b": claim_b(s), "alg1_exists": bool(a.exists),
-            "alg1_min_gap": float(a.min_gap) if a.exists else None, "regime": s.regime,
-            "period_multiple": int(s.period_multiple), "impacts_per_cycle": int(s.impacts_per_cycle),
-            "periods": int(s.periods)}
+    return {
+        "claim_a": claim_a(a),
+        "claim_b": claim_b(s),
+        "alg1_exists": bool(a.exists),
+        "alg1_min_gap": float(a.min_gap) if a.exists else None,
+        "regime": s.regime,
+        "period_multiple": int(s.period_multiple),
+        "impacts_per_cycle": int(s.impacts_per_cycle),
+        "periods": int(s.periods),
+    }
 
 
-def refine_grid(xs: Sequence[float], rows_at: Callable[[list], list], min_step: float,
-                max_rounds: int = 64) -> tuple[list[dict], int]:
+def refine_grid(
+    xs: Sequence[float], rows_at: Callable[[list], list], min_step: float, max_rounds: int = 64
+) -> tuple[list[dict], int]:
     """Adaptive refinement of a labelled grid: wherever two neighbours have different labels, or
     either did not settle (``label`` "np"), the midpoint is added, until every such pair is
     ``min_step`` (the floor) apart or less, or ``max_rounds`` rounds were made (halving a
@@ -341,9 +399,12 @@ def refine_grid(xs: Sequence[float], rows_at: Callable[[list], list], min_step: 
         rows.sort(key=lambda r: r["value"])
         # Midpoints rounded to 12 decimals: the same value as a grid written lo + i h (the motion
         # next to a bifurcation changes with the last bit of a parameter).
-        new = [round(0.5 * (a["value"] + b["value"]), 12) for a, b in zip(rows, rows[1:])
-               if (a["label"] != b["label"] or "np" in (a["label"], b["label"]))
-               and b["value"] - a["value"] > 1.5 * min_step]  # (1.5: halving reaches min_step despite rounding)
+        new = [
+            round(0.5 * (a["value"] + b["value"]), 12)
+            for a, b in zip(rows, rows[1:])
+            if (a["label"] != b["label"] or "np" in (a["label"], b["label"]))
+            and b["value"] - a["value"] > 1.5 * min_step
+        ]  # (1.5: halving reaches min_step despite rounding)
         if not new:
             break
         rounds += 1
@@ -376,17 +437,28 @@ def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = No
 
     def run(values, st):
         r = settled_batch(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
-        return [{"value": float(v), "regime": str(rg), "period_multiple": int(k), "impacts_per_cycle": int(z),
-                 "periods": int(n), "label": str(lb), "method": str(m),
-                 "claim_b": bool(rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS)}
-                for v, rg, k, z, n, lb, m in zip(values, r.regime, r.period_multiple, r.impacts_per_cycle, r.periods,
-                                                 r.label, r.method)]
+        return [
+            {
+                "value": float(v),
+                "regime": str(rg),
+                "period_multiple": int(k),
+                "impacts_per_cycle": int(z),
+                "periods": int(n),
+                "label": str(lb),
+                "method": str(m),
+                "claim_b": bool(rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS),
+            }
+            for v, rg, k, z, n, lb, m in zip(
+                values, r.regime, r.period_multiple, r.impacts_per_cycle, r.periods, r.label, r.method
+            )
+        ]
 
     rows = run(list(xs), settings)
     again = [i for i, r in enumerate(rows) if r["period_multiple"] == 0 and r["regime"] == "nonperiodic"]
     if again and longer_periods:
-        st = dataclasses.replace(settings, max_periods=int(longer_periods),
-                                 max_periods_after_nonperiodic=int(longer_periods))
+        st = dataclasses.replace(
+            settings, max_periods=int(longer_periods), max_periods_after_nonperiodic=int(longer_periods)
+        )
         for i, r in zip(again, run([rows[i]["value"] for i in again], st)):
             if r["period_multiple"] > 0:
                 rows[i] = dict(r, method="longer")
@@ -395,10 +467,21 @@ def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = No
     return rows
 
 
-def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequence[float], *, gap_tol: float,
-                     steady_kwargs: dict, rel_tol: float, floor: float, log: Callable[[str], None] | None = None,
-                     refine_floor: float | None = None, rescue: bool = True,
-                     longer_periods: int | None = None) -> dict:
+def search_parameter(
+    p,
+    name: str,
+    values: Sequence[float],
+    alg1_values: Sequence[float],
+    *,
+    gap_tol: float,
+    steady_kwargs: dict,
+    rel_tol: float,
+    floor: float,
+    log: Callable[[str], None] | None = None,
+    refine_floor: float | None = None,
+    rescue: bool = True,
+    longer_periods: int | None = None,
+) -> dict:
     """Where the claims hold along parameter ``name`` (a field of
     :class:`~impactdamper.Parameters`), the others as in ``p``.
 
@@ -417,9 +500,20 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
         raise ValueError(f"`name` = {name!r} is not allowed: must be one of {', '.join(p.names())}")
     say = log or (lambda msg: None)
     if refine_floor is not None:
-        return _search_refined(p, name, values, alg1_values, gap_tol=gap_tol, steady_kwargs=steady_kwargs,
-                               rel_tol=rel_tol, floor=floor, say=say, refine_floor=refine_floor, rescue=rescue,
-                               longer_periods=longer_periods)
+        return _search_refined(
+            p,
+            name,
+            values,
+            alg1_values,
+            gap_tol=gap_tol,
+            steady_kwargs=steady_kwargs,
+            rel_tol=rel_tol,
+            floor=floor,
+            say=say,
+            refine_floor=refine_floor,
+            rescue=rescue,
+            longer_periods=longer_periods,
+        )
 
     def pred_a(x: float) -> bool:
         return claim_a(algorithm1(p.replace(**{name: float(x)}), gap_tol=gap_tol))
@@ -428,8 +522,14 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
 
     def point_b(x: float) -> dict:
         s = steady_state(p.replace(**{name: float(x)}), **steady_kwargs)
-        row = {"value": float(x), "claim_b": claim_b(s), "regime": s.regime, "period_multiple": int(s.period_multiple),
-               "impacts_per_cycle": int(s.impacts_per_cycle), "periods": int(s.periods)}
+        row = {
+            "value": float(x),
+            "claim_b": claim_b(s),
+            "regime": s.regime,
+            "period_multiple": int(s.period_multiple),
+            "impacts_per_cycle": int(s.impacts_per_cycle),
+            "periods": int(s.periods),
+        }
         rows[float(x)] = row
         return row
 
@@ -444,23 +544,35 @@ def search_parameter(p, name: str, values: Sequence[float], alg1_values: Sequenc
     ia = true_intervals(alg1_values, flags_a, pred_a, rel_tol, floor)
     ib = true_intervals(values, flags_b, pred_b, rel_tol, floor)
     say(f"{name}: {len(ia)} interval(s) of (a), {len(ib)} of (b) after bisection")
-    return {"parameter": name, "stated": float(getattr(p, name)), "alg1_values": [float(x) for x in alg1_values],
-            "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
-            "bisection_points": sorted((r for x, r in rows.items() if x not in set(map(float, values))),
-                                       key=lambda r: r["value"])}
+    return {
+        "parameter": name,
+        "stated": float(getattr(p, name)),
+        "alg1_values": [float(x) for x in alg1_values],
+        "claim_a_flags": flags_a,
+        "grid_b": grid_b,
+        "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
+        "bisection_points": sorted(
+            (r for x, r in rows.items() if x not in set(map(float, values))), key=lambda r: r["value"]
+        ),
+    }
 
 
-def _search_refined(p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel_tol, floor, say, refine_floor,
-                    rescue, longer_periods) -> dict:
+def _search_refined(
+    p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel_tol, floor, say, refine_floor, rescue, longer_periods
+) -> dict:
     """:func:`search_parameter` with claim (b)'s grid refined (see there)."""
     from impactdamper.analysis.settled import SweepSettings
 
     mp = int(steady_kwargs.get("max_periods", 4000))
-    settings = SweepSettings(settle_tol=float(steady_kwargs.get("settle_tol", 1e-10)), max_periods=mp,
-                             max_periods_after_nonperiodic=mp,
-                             max_period_multiple=int(steady_kwargs.get("max_period_multiple", 8)),
-                             continuation=False, rescue=bool(rescue),
-                             **({"tolerances": steady_kwargs["tolerances"]} if "tolerances" in steady_kwargs else {}))
+    settings = SweepSettings(
+        settle_tol=float(steady_kwargs.get("settle_tol", 1e-10)),
+        max_periods=mp,
+        max_periods_after_nonperiodic=mp,
+        max_period_multiple=int(steady_kwargs.get("max_period_multiple", 8)),
+        continuation=False,
+        rescue=bool(rescue),
+        **({"tolerances": steady_kwargs["tolerances"]} if "tolerances" in steady_kwargs else {}),
+    )
 
     def pred_a(x: float) -> bool:
         return claim_a(algorithm1(p.replace(**{name: float(x)}), gap_tol=gap_tol))
@@ -477,24 +589,39 @@ def _search_refined(p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel
     grid_b, rounds = refine_grid(values, lambda xs: batch_rows(p, name, xs, settings, longer_periods), refine_floor)
     xs = [r["value"] for r in grid_b]
     flags_b = [r["claim_b"] for r in grid_b]
-    say(f"{name}: claim (b) on {len(values)} values refined to {len(grid_b)} in {rounds} rounds "
+    say(
+        f"{name}: claim (b) on {len(values)} values refined to {len(grid_b)} in {rounds} rounds "
         f"(floor {refine_floor:g}), holds at {sum(flags_b)}; "
-        f"{sum(r['label'] == 'np' for r in grid_b)} still nonperiodic")
+        f"{sum(r['label'] == 'np' for r in grid_b)} still nonperiodic"
+    )
     ia = true_intervals(alg1_values, flags_a, pred_a, rel_tol, floor)
     ib = true_intervals(xs, flags_b, pred_b, rel_tol, floor)
     say(f"{name}: {len(ia)} interval(s) of (a), {len(ib)} of (b) after bisection")
     step = (float(values[-1]) - float(values[0])) / (len(values) - 1) if len(values) > 1 else 0.0
-    return {"parameter": name, "stated": float(getattr(p, name)), "alg1_values": [float(x) for x in alg1_values],
-            "claim_a_flags": flags_a, "grid_b": grid_b, "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
-            "bisection_points": sorted(bisected.values(), key=lambda r: r["value"]),
-            "refinement": {"step": step, "alg1_step": (float(alg1_values[-1]) - float(alg1_values[0]))
-                           / (len(alg1_values) - 1) if len(alg1_values) > 1 else 0.0,
-                           "floor": float(refine_floor), "rounds": rounds, "points": len(grid_b),
-                           "added": len(grid_b) - len(values), "rescue": bool(rescue),
-                           "longer_periods": int(longer_periods) if longer_periods else None,
-                           "rescued": sum(r["method"] == "rescue" for r in grid_b),
-                           "settled_longer": sum(r["method"] == "longer" for r in grid_b),
-                           "nonperiodic": sum(r["label"] == "np" for r in grid_b)}}
+    return {
+        "parameter": name,
+        "stated": float(getattr(p, name)),
+        "alg1_values": [float(x) for x in alg1_values],
+        "claim_a_flags": flags_a,
+        "grid_b": grid_b,
+        "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
+        "bisection_points": sorted(bisected.values(), key=lambda r: r["value"]),
+        "refinement": {
+            "step": step,
+            "alg1_step": (float(alg1_values[-1]) - float(alg1_values[0])) / (len(alg1_values) - 1)
+            if len(alg1_values) > 1
+            else 0.0,
+            "floor": float(refine_floor),
+            "rounds": rounds,
+            "points": len(grid_b),
+            "added": len(grid_b) - len(values),
+            "rescue": bool(rescue),
+            "longer_periods": int(longer_periods) if longer_periods else None,
+            "rescued": sum(r["method"] == "rescue" for r in grid_b),
+            "settled_longer": sum(r["method"] == "longer" for r in grid_b),
+            "nonperiodic": sum(r["label"] == "np" for r in grid_b),
+        },
+    }
 
 
 def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> dict:
@@ -522,8 +649,12 @@ def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> 
     mismatches = []
     for row in rows:
         s = steady_state(p.replace(**{name: float(row["value"])}), **steady_kwargs, backend="python")
-        ref = {"regime": s.regime, "period_multiple": int(s.period_multiple),
-               "impacts_per_cycle": int(s.impacts_per_cycle), "claim_b": claim_b(s)}
+        ref = {
+            "regime": s.regime,
+            "period_multiple": int(s.period_multiple),
+            "impacts_per_cycle": int(s.impacts_per_cycle),
+            "claim_b": claim_b(s),
+        }
         mine = {key: row[key] for key in ref}
         if ref["period_multiple"] == 0 and mine["period_multiple"] == 0:
             # A motion that does not settle is chaotic: rounding differences between the two
@@ -533,8 +664,13 @@ def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> 
         if ref != mine:
             mismatches.append({"value": float(row["value"]), "compiled": mine, "reference": ref})
     settling = sum(1 for m in mismatches if 0 in (m["compiled"]["period_multiple"], m["reference"]["period_multiple"]))
-    return {"points": len(rows), "agree": len(rows) - len(mismatches), "settling": settling,
-            "cycles": len(mismatches) - settling, "mismatches": mismatches}
+    return {
+        "points": len(rows),
+        "agree": len(rows) - len(mismatches),
+        "settling": settling,
+        "cycles": len(mismatches) - settling,
+        "mismatches": mismatches,
+    }
 
 
 def check_rows(result: dict, every: int) -> list[dict]:
@@ -556,8 +692,14 @@ def check_rows(result: dict, every: int) -> list[dict]:
 # The parameters the claims are searched along beyond the gap, each varied alone at the stated
 # Delta0/x_st (config claims_search), in the order of the report's table, and their symbols there.
 SEARCH_PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
-SEARCH_SYMBOLS = {"theta": "$\\theta$", "mu": "$\\mu$", "N": "$N$", "delta1": "$\\delta_1$", "delta2": "$\\delta_2$",
-                  "R": "$R$"}
+SEARCH_SYMBOLS = {
+    "theta": "$\\theta$",
+    "mu": "$\\mu$",
+    "N": "$N$",
+    "delta1": "$\\delta_1$",
+    "delta2": "$\\delta_2$",
+    "R": "$R$",
+}
 
 
 def nearest_both(result: dict) -> dict:
@@ -575,14 +717,29 @@ def nearest_both(result: dict) -> dict:
     stated = result["stated"]
     ivs = [Interval(**{**iv, "lo_bracket": None, "hi_bracket": None}) for iv in result["intervals"]["both"]]
     d, x = distance_to(ivs, stated)
-    return {"stated": stated, "nearest": x, "distance": d if math.isfinite(d) else None,
-            "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
-            "intervals": len(ivs)}
+    return {
+        "stated": stated,
+        "nearest": x,
+        "distance": d if math.isfinite(d) else None,
+        "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
+        "intervals": len(ivs),
+    }
 
 
 # --- both claims over two parameters ---------------------------------------------------------
-MAP_COLUMNS = ["x", "y", "claim_a", "claim_b", "both", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle",
-               "periods", "label"]
+MAP_COLUMNS = [
+    "x",
+    "y",
+    "claim_a",
+    "claim_b",
+    "both",
+    "alg1_exists",
+    "regime",
+    "period_multiple",
+    "impacts_per_cycle",
+    "periods",
+    "label",
+]
 
 
 def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings) -> list[dict]:
@@ -610,9 +767,21 @@ def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, g
         ca = claim_a(alg1)
         rg, k, z = str(res.regime[i]), int(res.period_multiple[i]), int(res.impacts_per_cycle[i])
         cb = rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS
-        out.append({"x": float(a), "y": float(b), "claim_a": ca, "claim_b": cb, "both": ca and cb,
-                    "alg1_exists": bool(alg1.exists), "regime": rg, "period_multiple": k, "impacts_per_cycle": z,
-                    "periods": int(res.periods[i]), "label": str(res.label[i])})
+        out.append(
+            {
+                "x": float(a),
+                "y": float(b),
+                "claim_a": ca,
+                "claim_b": cb,
+                "both": ca and cb,
+                "alg1_exists": bool(alg1.exists),
+                "regime": rg,
+                "period_multiple": k,
+                "impacts_per_cycle": z,
+                "periods": int(res.periods[i]),
+                "label": str(res.label[i]),
+            }
+        )
     return out
 
 
@@ -629,8 +798,13 @@ def count_end_checks(checks: Sequence[dict]) -> dict:
         ``outside_tolerance``: compared, a difference above its tolerance (whatever the
         verdicts); ``different_verdict``: the two methods give different verdicts on the claim.
     """
-    out = {"checks": len(checks), "compared_within": 0, "nothing_to_compare": 0, "outside_tolerance": 0,
-           "different_verdict": 0}
+    out = {
+        "checks": len(checks),
+        "compared_within": 0,
+        "nothing_to_compare": 0,
+        "outside_tolerance": 0,
+        "different_verdict": 0,
+    }
     for c in checks:
         if c["exact"] != c["independent"]:
             out["different_verdict"] += 1

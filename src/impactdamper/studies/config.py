@@ -15,8 +15,16 @@ import numpy as np
 
 from impactdamper import Parameters, Tolerances
 
-__all__ = ["parameters", "tolerances", "steady_options", "sweep_settings", "located_gap", "chunk_indices",
-           "config_problem", "MAX_CHUNKS"]
+__all__ = [
+    "parameters",
+    "tolerances",
+    "steady_options",
+    "sweep_settings",
+    "located_gap",
+    "chunk_indices",
+    "config_problem",
+    "MAX_CHUNKS",
+]
 
 # Most Snakemake jobs one chunked computation may be split into: every chunk is a job of the DAG,
 # and building a DAG of 3000 map chunks took 27 s (100000 spun); the stages' largest useful
@@ -37,8 +45,12 @@ def tolerances(solver: dict) -> Tolerances:
 
 def steady_options(solver: dict) -> dict:
     """Keyword arguments of :func:`impactdamper.steady_state` from the config's ``solver``."""
-    return {"tolerances": tolerances(solver), "settle_tol": float(solver["settle_tol"]),
-            "max_periods": int(solver["max_periods"]), "max_period_multiple": int(solver["max_period_multiple"])}
+    return {
+        "tolerances": tolerances(solver),
+        "settle_tol": float(solver["settle_tol"]),
+        "max_periods": int(solver["max_periods"]),
+        "max_period_multiple": int(solver["max_period_multiple"]),
+    }
 
 
 def sweep_settings(section: dict, solver: dict, **changes):
@@ -91,8 +103,10 @@ def _parameter_sets(config: dict):
         if isinstance(m, dict):
             for end in ("start", "stop"):
                 value = m[end]
-                yield ("maps", name, end), ({"theta": value} if m["parameter"] == "theta"
-                                            else {"delta1": value, "delta2": value})
+                yield (
+                    ("maps", name, end),
+                    ({"theta": value} if m["parameter"] == "theta" else {"delta1": value, "delta2": value}),
+                )
 
 
 def config_problem(config: dict) -> tuple[tuple, str] | None:
@@ -144,10 +158,18 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
     sweep = config.get("sweep")
     if sweep:
         starts = -(-sweep["points"] // sweep["random_every"])
-        chunked.append((("sweep", "random_chunks"), sweep["random_chunks"], starts,
-                        "sweep points with random starts (points / random_every)"))
+        chunked.append(
+            (
+                ("sweep", "random_chunks"),
+                sweep["random_chunks"],
+                starts,
+                "sweep points with random starts (points / random_every)",
+            )
+        )
     for path, chunks, rows, what in chunked:
         if chunks > min(rows, MAX_CHUNKS):
-            return path, (f": {chunks!r} is not allowed: must be at most {min(rows, MAX_CHUNKS)} (the {what}, "
-                          f"and at most MAX_CHUNKS = {MAX_CHUNKS}): a chunk beyond that has no rows")
+            return path, (
+                f": {chunks!r} is not allowed: must be at most {min(rows, MAX_CHUNKS)} (the {what}, "
+                f"and at most MAX_CHUNKS = {MAX_CHUNKS}): a chunk beyond that has no rows"
+            )
     return None

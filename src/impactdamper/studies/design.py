@@ -40,11 +40,38 @@ from impactdamper.analysis.settled import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
 
-__all__ = ["bare_object_amplitude", "two_mass_amplitude", "den_hartog", "TunedMassDamper", "optimal_tmd",
-           "band_peak", "band_mean", "GapChart", "gap_chart", "good_band", "design_chart_2d", "CRITERIA",
-           "GOOD_GAP_TOLERANCE", "LINEAR_GRID_POINTS", "DESIGN_FIELDS", "design_parameters", "design_band",
-           "design_gaps", "response_gaps", "runs_where", "BAND_STEP", "THETA_TOL", "AMPLITUDE_RTOL", "band_grid",
-           "LocatedPeak", "BandResponse", "impact_band_response", "LinearDevice", "linear_maxima", "linear_peak"]
+__all__ = [
+    "bare_object_amplitude",
+    "two_mass_amplitude",
+    "den_hartog",
+    "TunedMassDamper",
+    "optimal_tmd",
+    "band_peak",
+    "band_mean",
+    "GapChart",
+    "gap_chart",
+    "good_band",
+    "design_chart_2d",
+    "CRITERIA",
+    "GOOD_GAP_TOLERANCE",
+    "LINEAR_GRID_POINTS",
+    "DESIGN_FIELDS",
+    "design_parameters",
+    "design_band",
+    "design_gaps",
+    "response_gaps",
+    "runs_where",
+    "BAND_STEP",
+    "THETA_TOL",
+    "AMPLITUDE_RTOL",
+    "band_grid",
+    "LocatedPeak",
+    "BandResponse",
+    "impact_band_response",
+    "LinearDevice",
+    "linear_maxima",
+    "linear_peak",
+]
 
 CRITERIA = ("peak", "band_average")
 # A gap is "good" when its criterion is within this fraction of the best gap's: 10 % is about
@@ -150,21 +177,24 @@ def den_hartog(mu: float) -> dict:
     return {"N": N, "delta2": N * zeta2, "peak": math.sqrt(1.0 + 2.0 / mu)}
 
 
-def band_peak(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
-              points: int = LINEAR_GRID_POINTS) -> float:
+def band_peak(
+    amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float], points: int = LINEAR_GRID_POINTS
+) -> float:
     """Maximum of a smooth ``amplitude(theta)`` over ``band``: a grid, then a bounded search
     around the largest sample."""
     th = np.linspace(band[0], band[1], points)
     y = amplitude(th)
     i = int(np.argmax(y))
     lo, hi = th[max(i - 1, 0)], th[min(i + 1, points - 1)]
-    res = scipy.optimize.minimize_scalar(lambda t: -float(amplitude(np.array([t]))[0]), bounds=(lo, hi),
-                                         method="bounded", options={"xatol": 1e-12})
+    res = scipy.optimize.minimize_scalar(
+        lambda t: -float(amplitude(np.array([t]))[0]), bounds=(lo, hi), method="bounded", options={"xatol": 1e-12}
+    )
     return max(float(y[i]), -float(res.fun))
 
 
-def band_mean(amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float],
-              points: int = LINEAR_GRID_POINTS) -> float:
+def band_mean(
+    amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float], points: int = LINEAR_GRID_POINTS
+) -> float:
     """Trapezoidal mean of a smooth ``amplitude(theta)`` over ``band`` (``points`` samples)."""
     th = np.linspace(band[0], band[1], points)
     return float(np.trapezoid(amplitude(th), th) / (band[1] - band[0]))
@@ -217,8 +247,13 @@ def _check_band(band: object) -> tuple[float, float]:
     return float(a), float(b)
 
 
-def optimal_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5), criterion: str = "peak",
-                start: tuple[float, float] | None = None) -> TunedMassDamper:
+def optimal_tmd(
+    mu: float,
+    delta1: float,
+    band: tuple[float, float] = (0.5, 1.5),
+    criterion: str = "peak",
+    start: tuple[float, float] | None = None,
+) -> TunedMassDamper:
     """The TMD of mass ratio ``mu`` that minimises ``criterion`` of |x1|/x_st over ``band``.
 
     Nelder-Mead in (N, log delta2) from Den Hartog's optimum (or ``start``); the peak is a
@@ -260,12 +295,25 @@ def optimal_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5)
             return math.inf
         return measure(lambda th: two_mass_amplitude(mu, N, delta1, d2, th), band)
 
-    res = scipy.optimize.minimize(objective, np.array([x0[0], math.log(x0[1])]), method="Nelder-Mead",
-                                  options={"xatol": 1e-9, "fatol": OPTIMISER_FTOL, "maxiter": 4000})
+    res = scipy.optimize.minimize(
+        objective,
+        np.array([x0[0], math.log(x0[1])]),
+        method="Nelder-Mead",
+        options={"xatol": 1e-9, "fatol": OPTIMISER_FTOL, "maxiter": 4000},
+    )
     N, d2 = float(res.x[0]), math.exp(float(res.x[1]))
     amp = lambda th: two_mass_amplitude(mu, N, delta1, d2, th)  # noqa: E731
-    return TunedMassDamper(mu=mu, delta1=delta1, band=band, criterion=criterion, N=N, delta2=d2,
-                           peak=band_peak(amp, band), band_average=band_mean(amp, band), evaluations=int(res.nfev))
+    return TunedMassDamper(
+        mu=mu,
+        delta1=delta1,
+        band=band,
+        criterion=criterion,
+        N=N,
+        delta2=d2,
+        peak=band_peak(amp, band),
+        band_average=band_mean(amp, band),
+        evaluations=int(res.nfev),
+    )
 
 
 @dataclass(frozen=True)
@@ -299,8 +347,10 @@ class GapChart:
         thetas = self.responses[0].thetas
         i = int(np.argmin(np.abs(thetas - theta)))
         if abs(thetas[i] - theta) > 1e-9 * max(abs(theta), 1.0):
-            raise ValueError(f"`theta` = {theta!r} is not allowed: must be on the chart's theta grid "
-                             f"({thetas[0]:g} to {thetas[-1]:g} in {len(thetas)} points)")
+            raise ValueError(
+                f"`theta` = {theta!r} is not allowed: must be on the chart's theta grid "
+                f"({thetas[0]:g} to {thetas[-1]:g} in {len(thetas)} points)"
+            )
         return np.array([r.points[i].worst_x1 for r in self.responses])
 
     def loads(self) -> tuple[np.ndarray, np.ndarray]:
@@ -314,9 +364,17 @@ class GapChart:
         i = int(np.nanargmin(values))
         lo, hi = good_band(self.gaps, values, tolerance)
         impulse, impacts = self.loads()
-        return {"criterion": name, "gap": float(self.gaps[i]), "value": float(values[i]), "tolerance": tolerance,
-                "good_from": lo, "good_to": hi, "peak_impulse": float(impulse[i]),
-                "impacts_per_period": float(impacts[i]), "index": i}
+        return {
+            "criterion": name,
+            "gap": float(self.gaps[i]),
+            "value": float(values[i]),
+            "tolerance": tolerance,
+            "good_from": lo,
+            "good_to": hi,
+            "peak_impulse": float(impulse[i]),
+            "impacts_per_period": float(impacts[i]),
+            "index": i,
+        }
 
     def rows(self, theta: float | None = None) -> list[dict]:
         """One dict per gap; with ``theta``, also ``max_abs_x1_at_theta`` (see :meth:`at_theta`)."""
@@ -325,9 +383,14 @@ class GapChart:
         at = self.at_theta(theta) if theta is not None else [None] * len(self.gaps)
         out = []
         for g, a, b, s, z, r, x in zip(self.gaps, peak, mean, impulse, impacts, self.responses, at):
-            row = {"gap": float(g), "peak_max_abs_x1": float(a), "band_average_max_abs_x1": float(b),
-                   "peak_impulse": float(s), "impacts_per_period": float(z),
-                   "hysteresis_points": int(sum(q.hysteresis for q in r.points))}
+            row = {
+                "gap": float(g),
+                "peak_max_abs_x1": float(a),
+                "band_average_max_abs_x1": float(b),
+                "peak_impulse": float(s),
+                "impacts_per_period": float(z),
+                "hysteresis_points": int(sum(q.hysteresis for q in r.points)),
+            }
             if theta is not None:
                 row["max_abs_x1_at_theta"] = float(x)
             out.append(row)
@@ -353,8 +416,15 @@ def good_band(gaps: Sequence[float], values: Sequence[float], tolerance: float =
     return float(g[lo]), float(g[hi])
 
 
-def gap_chart(p: Parameters, gaps: Sequence[float], band: tuple[float, float] = (0.5, 1.5), points: int = 21, *,
-              settings: SweepSettings | None = None, progress: Callable[[str], None] | None = None) -> GapChart:
+def gap_chart(
+    p: Parameters,
+    gaps: Sequence[float],
+    band: tuple[float, float] = (0.5, 1.5),
+    points: int = 21,
+    *,
+    settings: SweepSettings | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> GapChart:
     """The two-way frequency response over ``band`` (``points`` thetas) at each gap.
 
     Parameters
@@ -380,15 +450,24 @@ def gap_chart(p: Parameters, gaps: Sequence[float], band: tuple[float, float] = 
         r = frequency_response(with_value(p, "gap", float(g)), band[0], band[1], points, settings=settings)
         out.append(r)
         if progress is not None:
-            progress(f"gap {j + 1}/{len(gaps)}: Delta0/x_st = {g:.4g}, peak max|x1|/x_st = {r.peak():.4g}, "
-                     f"band average {r.band_average():.4g}")
+            progress(
+                f"gap {j + 1}/{len(gaps)}: Delta0/x_st = {g:.4g}, peak max|x1|/x_st = {r.peak():.4g}, "
+                f"band average {r.band_average():.4g}"
+            )
     return GapChart(p, gaps, tuple(out))
 
 
-def design_chart_2d(p: Parameters, name: str, values: Sequence[float], gaps: Sequence[float],
-                    band: tuple[float, float] = (0.5, 1.5), points: int = 21, *,
-                    settings: SweepSettings | None = None,
-                    progress: Callable[[str], None] | None = None) -> dict[float, GapChart]:
+def design_chart_2d(
+    p: Parameters,
+    name: str,
+    values: Sequence[float],
+    gaps: Sequence[float],
+    band: tuple[float, float] = (0.5, 1.5),
+    points: int = 21,
+    *,
+    settings: SweepSettings | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> dict[float, GapChart]:
     """:func:`gap_chart` at each value of a second parameter ``name`` (``N`` or ``R``, or any
     field of Parameters but ``gap`` and ``theta``). Returns {value: GapChart}."""
     if name in ("gap", "theta") or name not in Parameters.names():
@@ -566,8 +645,7 @@ def _settle_from(p: Parameters, thetas: Sequence[float], start: np.ndarray, sett
     values, sections, ks = [], [], []
     state = np.asarray(start, float)
     for t in thetas:
-        r = settled_batch(p, ("theta",), np.array([[float(t)]]), settings=settings, chain=False,
-                          states=state[None, :])
+        r = settled_batch(p, ("theta",), np.array([[float(t)]]), settings=settings, chain=False, states=state[None, :])
         values.append(float(r.x1_max[0]))
         ks.append(int(r.period_multiple[0]))
         state = r.sections[0].copy()
@@ -575,8 +653,18 @@ def _settle_from(p: Parameters, thetas: Sequence[float], start: np.ndarray, sett
     return np.array(values), np.array(sections), np.array(ks)
 
 
-def _zoom(p: Parameters, a: float, b: float, y_a: float, s_a: np.ndarray, k_a: int, direction: str, settings,
-          theta_tol: float, rtol: float) -> LocatedPeak:
+def _zoom(
+    p: Parameters,
+    a: float,
+    b: float,
+    y_a: float,
+    s_a: np.ndarray,
+    k_a: int,
+    direction: str,
+    settings,
+    theta_tol: float,
+    rtol: float,
+) -> LocatedPeak:
     """The largest max|x1| on the branch continued from (a, y_a, s_a) towards b (b < a for the
     downward direction): zoom on the largest of ZOOM_POINTS continued points, from the point
     before it, until the bracket is theta_tol wide and the value changes by less than rtol."""
@@ -601,22 +689,40 @@ def _zoom(p: Parameters, a: float, b: float, y_a: float, s_a: np.ndarray, k_a: i
         b = float(all_t[min(j + 1, len(all_t) - 1)])
         if abs(b - a) <= theta_tol and change <= rtol:
             break
-    return LocatedPeak(theta=best_t, value=best_y, direction=direction, jump=bool(jump), periodic=best_k > 0,
-                       bracket=abs(b - a), change=float(change), evaluations=evaluations)
+    return LocatedPeak(
+        theta=best_t,
+        value=best_y,
+        direction=direction,
+        jump=bool(jump),
+        periodic=best_k > 0,
+        bracket=abs(b - a),
+        change=float(change),
+        evaluations=evaluations,
+    )
 
 
 def _local_maxima(y: np.ndarray) -> list[int]:
     """Indices of the local maxima of a sampled curve (ends included), largest first."""
     n = len(y)
-    out = [i for i in range(n) if np.isfinite(y[i]) and (i == 0 or not y[i - 1] > y[i])
-           and (i == n - 1 or not y[i + 1] > y[i])]
+    out = [
+        i
+        for i in range(n)
+        if np.isfinite(y[i]) and (i == 0 or not y[i - 1] > y[i]) and (i == n - 1 or not y[i + 1] > y[i])
+    ]
     return sorted(out, key=lambda i: -y[i])
 
 
-def impact_band_response(p: Parameters, band: tuple[float, float] = (0.5, 1.5), step: float = BAND_STEP, *,
-                         locate: bool = True, settings: SweepSettings | None = None,
-                         theta_tol: float = THETA_TOL, rtol: float = AMPLITUDE_RTOL,
-                         peaks: int = MAX_LOCAL_MAXIMA) -> BandResponse:
+def impact_band_response(
+    p: Parameters,
+    band: tuple[float, float] = (0.5, 1.5),
+    step: float = BAND_STEP,
+    *,
+    locate: bool = True,
+    settings: SweepSettings | None = None,
+    theta_tol: float = THETA_TOL,
+    rtol: float = AMPLITUDE_RTOL,
+    peaks: int = MAX_LOCAL_MAXIMA,
+) -> BandResponse:
     """max|x1|/x_st of an impact suppressor over a band, both sweep directions, peaks located.
 
     The band grid (:func:`band_grid`) is swept upward and downward by the compiled batch engine
@@ -660,28 +766,55 @@ def impact_band_response(p: Parameters, band: tuple[float, float] = (0.5, 1.5), 
     if locate:
         for direction, res, order in (("up", up, th), ("down", down, th[::-1])):
             y = np.asarray(res.x1_max, float)
-            for i in _local_maxima(y)[:int(peaks)]:
+            for i in _local_maxima(y)[: int(peaks)]:
                 f = max(i - 1, 0)
                 nxt = min(i + 1, len(order) - 1)
                 if i == len(order) - 1 and i > 0:
                     nxt = i
-                q = _zoom(p, float(order[f]), float(order[nxt]), float(y[f]), res.sections[f],
-                          int(res.period_multiple[f]), direction, settings, theta_tol, rtol)
+                q = _zoom(
+                    p,
+                    float(order[f]),
+                    float(order[nxt]),
+                    float(y[f]),
+                    res.sections[f],
+                    int(res.period_multiple[f]),
+                    direction,
+                    settings,
+                    theta_tol,
+                    rtol,
+                )
                 if y[i] > q.value:  # the grid's own sample is higher (the zoom never lowers it)
-                    q = LocatedPeak(float(order[i]), float(y[i]), direction, q.jump, bool(res.period_multiple[i] > 0),
-                                    q.bracket, q.change, q.evaluations)
+                    q = LocatedPeak(
+                        float(order[i]),
+                        float(y[i]),
+                        direction,
+                        q.jump,
+                        bool(res.period_multiple[i] > 0),
+                        q.bracket,
+                        q.change,
+                        q.evaluations,
+                    )
                 located.append(q)
                 evaluations += q.evaluations
     located.sort(key=lambda q: -q.value)
-    return BandResponse(p=p, thetas=th, up=np.asarray(up.x1_max, float), down=np.asarray(down.x1_max, float)[::-1],
-                        peaks=tuple(located), up_sections=up.sections.copy(), down_sections=down.sections[::-1].copy(),
-                        up_k=up.period_multiple.copy(), down_k=down.period_multiple[::-1].copy(),
-                        evaluations=evaluations)
+    return BandResponse(
+        p=p,
+        thetas=th,
+        up=np.asarray(up.x1_max, float),
+        down=np.asarray(down.x1_max, float)[::-1],
+        peaks=tuple(located),
+        up_sections=up.sections.copy(),
+        down_sections=down.sections[::-1].copy(),
+        up_k=up.period_multiple.copy(),
+        down_k=down.period_multiple[::-1].copy(),
+        evaluations=evaluations,
+    )
 
 
 # ---------------------------------------------------------------------------------------------
 # Linear devices in closed form.
 # ---------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class LinearDevice:
@@ -702,8 +835,8 @@ class LinearDevice:
         obj = np.array([1.0, 2j * self.delta1, -1.0])
         if self.mu == 0.0:
             return np.array([1.0 + 0j]), obj, np.array([0.0j])
-        b = np.array([self.N ** 2, 2j * self.delta2, -1.0])
-        den = P.polysub(P.polymul(obj, b), self.mu * np.array([0.0, 0.0, self.N ** 2, 2j * self.delta2]))
+        b = np.array([self.N**2, 2j * self.delta2, -1.0])
+        den = P.polysub(P.polymul(obj, b), self.mu * np.array([0.0, 0.0, self.N**2, 2j * self.delta2]))
         return b, den, np.array([0.0, 0.0, 1.0 + 0j])
 
     def amplitude(self, thetas: Sequence[float]) -> np.ndarray:

@@ -31,6 +31,7 @@ paper's step-1 initial state (other initial states may settle elsewhere where mo
 coexist), and an end of (b) is where the settled-motion test (``settle_tol`` within
 ``max_periods``) still recognises T_c = 2T.
 """
+
 from __future__ import annotations
 
 import math
@@ -39,8 +40,18 @@ from concurrent.futures import ProcessPoolExecutor
 from impactdamper.studies import replication as rep
 from impactdamper.studies.config import parameters
 
-__all__ = ["ALG1_BISECT_TOL", "ALG1_CHECK_OFFSET", "ORBIT_CHECK_OFFSET", "ORBIT_STEP", "ORBIT_BISECT_TOL", "alg2_row",
-           "orbit_range", "end_checks", "end_check", "locate"]
+__all__ = [
+    "ALG1_BISECT_TOL",
+    "ALG1_CHECK_OFFSET",
+    "ORBIT_CHECK_OFFSET",
+    "ORBIT_STEP",
+    "ORBIT_BISECT_TOL",
+    "alg2_row",
+    "orbit_range",
+    "end_checks",
+    "end_check",
+    "locate",
+]
 
 # Algorithm No. 1 costs milliseconds: its range ends are bisected to near rounding.
 ALG1_BISECT_TOL = 1e-9
@@ -53,6 +64,7 @@ ORBIT_CHECK_OFFSET = 1e-2
 ORBIT_STEP = 0.01
 ORBIT_BISECT_TOL = 1e-6
 
+
 def alg2_row(args) -> dict:
     """Both claims at one gap (for the process pool)."""
     base, solver, g = args
@@ -63,11 +75,17 @@ def alg2_row(args) -> dict:
     row = {
         # Empty where the orbit does not exist or its gap has no interior minimum (it only
         # rises from the impact and falls to the next one): not a gap that touches zero.
-        "gap": float(g), "alg1_exists": a.exists,
+        "gap": float(g),
+        "alg1_exists": a.exists,
         "alg1_min_gap": a.min_gap if a.exists and math.isfinite(a.t_min_gap) else None,
-        "alg1_t1": iv[0], "alg1_t2": iv[1], "claim_a": rep.claim_a(a),
-        "alg2_regime": s.regime, "alg2_period_multiple": s.period_multiple,
-        "alg2_impacts_per_cycle": s.impacts_per_cycle, "alg2_periods": s.periods, "claim_b": rep.claim_b(s),
+        "alg1_t1": iv[0],
+        "alg1_t2": iv[1],
+        "claim_a": rep.claim_a(a),
+        "alg2_regime": s.regime,
+        "alg2_period_multiple": s.period_multiple,
+        "alg2_impacts_per_cycle": s.impacts_per_cycle,
+        "alg2_periods": s.periods,
+        "claim_b": rep.claim_b(s),
     }
     row["both"] = row["claim_a"] and row["claim_b"]
     return row
@@ -75,8 +93,12 @@ def alg2_row(args) -> dict:
 
 def _orbit_ok(o) -> bool:
     """The 2T cycle with three impacts, admissible and stable (claim (b)'s motion)."""
-    return bool(o.admissible and o.stable and o.period_multiple == rep.CLAIM_B_PERIOD_MULTIPLE
-                and o.impacts_per_cycle == rep.CLAIM_B_IMPACTS)
+    return bool(
+        o.admissible
+        and o.stable
+        and o.period_multiple == rep.CLAIM_B_PERIOD_MULTIPLE
+        and o.impacts_per_cycle == rep.CLAIM_B_IMPACTS
+    )
 
 
 def _bifurcation(o) -> str:
@@ -89,8 +111,10 @@ def _bifurcation(o) -> str:
         return f"the orbit changes its impact count to {o.impacts_per_cycle}"
     mu = complex(o.multipliers[0])
     if abs(mu.imag) > 1e-9 * abs(mu):
-        return (f"Neimark-Sacker: a complex pair of Floquet multipliers leaves the unit circle "
-                f"(arg mu = {math.degrees(abs(math.atan2(mu.imag, mu.real))):.1f} deg)")
+        return (
+            f"Neimark-Sacker: a complex pair of Floquet multipliers leaves the unit circle "
+            f"(arg mu = {math.degrees(abs(math.atan2(mu.imag, mu.real))):.1f} deg)"
+        )
     if mu.real < 0:
         return "period doubling: a Floquet multiplier leaves the unit circle through -1"
     return "a real Floquet multiplier leaves the unit circle through +1"
@@ -112,13 +136,19 @@ def orbit_range(p, solver: dict, lo: float, hi: float) -> dict:
 
     def solve(g, prev):
         try:
-            return orbit_from_cycle(p.replace(gap=float(g)), rep.CLAIM_B_PERIOD_MULTIPLE, prev.times,
-                                    prev.states_after, tolerances=tol)
+            return orbit_from_cycle(
+                p.replace(gap=float(g)), rep.CLAIM_B_PERIOD_MULTIPLE, prev.times, prev.states_after, tolerances=tol
+            )
         except OrbitError:
             return None
 
-    out = {"found": True, "seed_gap": p.gap, "step": ORBIT_STEP, "bisect_tol": ORBIT_BISECT_TOL,
-           "seed_multipliers_abs": [abs(complex(m)) for m in seed.multipliers]}
+    out = {
+        "found": True,
+        "seed_gap": p.gap,
+        "step": ORBIT_STEP,
+        "bisect_tol": ORBIT_BISECT_TOL,
+        "seed_multipliers_abs": [abs(complex(m)) for m in seed.multipliers],
+    }
     branch = [(p.gap, seed.spectral_radius)]
     for side, direction, limit in (("lo", -1.0, lo), ("hi", 1.0, hi)):
         prev, g_prev = seed, p.gap
@@ -153,8 +183,9 @@ def orbit_range(p, solver: dict, lo: float, hi: float) -> dict:
     return out
 
 
-def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list, orbit: dict, g_loc: float,
-               workers: int = 1) -> list:
+def end_checks(
+    base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list, orbit: dict, g_loc: float, workers: int = 1
+) -> list:
     """The ends of the located range, checked by the independent integrators.
 
     * Claim (a)'s ends (Algorithm No. 1): ``solve_ivp`` re-integrates the orbit
@@ -177,8 +208,10 @@ def end_checks(base: dict, solver: dict, verdict: dict, iv: dict, ranges_a: list
     ra = next((r for r in ranges_a if r["lo"] <= g_loc <= r["hi"]), None)
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
         if ra is not None and not ra[side + "_open"]:
-            for role, g in (("inside", ra[side] + sign * ALG1_CHECK_OFFSET),
-                            ("outside", ra[side] - sign * ALG1_CHECK_OFFSET)):
+            for role, g in (
+                ("inside", ra[side] + sign * ALG1_CHECK_OFFSET),
+                ("outside", ra[side] - sign * ALG1_CHECK_OFFSET),
+            ):
                 jobs.append((base, solver, verdict, "a", side, role, g))
     rb = iv  # the located case's common range
     for side, sign in (("lo", 1.0), ("hi", -1.0)):
@@ -216,37 +249,70 @@ def end_check(args) -> dict:
         a = rep.run_alg1(parameters(dict(base, gap=g)), solver)
         ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
         cmp = rep.compare_alg1(a, ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
-        return {"claim": "a", "end": side, "role": role, "gap": g, "exact": rep.claim_a(a),
-                "independent": ivp["claim_a"], "details": ivp, "comparison": cmp, "basis": _alg1_basis(cmp)}
+        return {
+            "claim": "a",
+            "end": side,
+            "role": role,
+            "gap": g,
+            "exact": rep.claim_a(a),
+            "independent": ivp["claim_a"],
+            "details": ivp,
+            "comparison": cmp,
+            "basis": _alg1_basis(cmp),
+        }
     p = parameters(dict(base, gap=g))
     s = rep.run_steady(p, solver)
-    ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]),
-                       tolerances=rep.solver_options(solver)["tolerances"], exact=s, time_tol=time_tol,
-                       velocity_tol=velocity_tol, **kw)
-    return {"claim": "b", "end": side, "role": role, "gap": g, "exact": rep.claim_b(s),
-            "exact_regime": s.regime, "exact_period_multiple": s.period_multiple,
-            "exact_periods": s.periods, "exact_residual": s.residual, "independent": ivp["claim_b"],
-            "independent_period_multiple": ivp["period_multiple"], "details": ivp,
-            "basis": _alg2_basis(s, ivp)}
+    ivp = rep.alg2_ivp(
+        p,
+        s.periods + kmax,
+        kmax,
+        section_tol=float(verdict["ivp_section_tol"]),
+        tolerances=rep.solver_options(solver)["tolerances"],
+        exact=s,
+        time_tol=time_tol,
+        velocity_tol=velocity_tol,
+        **kw,
+    )
+    return {
+        "claim": "b",
+        "end": side,
+        "role": role,
+        "gap": g,
+        "exact": rep.claim_b(s),
+        "exact_regime": s.regime,
+        "exact_period_multiple": s.period_multiple,
+        "exact_periods": s.periods,
+        "exact_residual": s.residual,
+        "independent": ivp["claim_b"],
+        "independent_period_multiple": ivp["period_multiple"],
+        "details": ivp,
+        "basis": _alg2_basis(s, ivp),
+    }
 
 
 def _alg1_basis(cmp: dict) -> str:
     if cmp["periodicity_residual"] is None:
         return "no orbit by either method"
-    return (f"interval ends differ by {cmp['max_interval_end_difference_over_T']:.1e} T "
-            f"(tol {cmp['time_tol']:.0e}); periodicity residual {cmp['periodicity_residual']:.1e} "
-            f"(tol {cmp['residual_tol']:.0e})")
+    return (
+        f"interval ends differ by {cmp['max_interval_end_difference_over_T']:.1e} T "
+        f"(tol {cmp['time_tol']:.0e}); periodicity residual {cmp['periodicity_residual']:.1e} "
+        f"(tol {cmp['residual_tol']:.0e})"
+    )
 
 
 def _alg2_basis(s, ivp: dict) -> str:
     if s.period_multiple == 0 and ivp["period_multiple"] == 0:
-        return (f"neither settles: section mismatch {s.residual:.1e} (exact, after {s.periods} T) and "
-                f"{ivp['section_mismatch']:.1e} (solve_ivp), both above the settling tolerances")
+        return (
+            f"neither settles: section mismatch {s.residual:.1e} (exact, after {s.periods} T) and "
+            f"{ivp['section_mismatch']:.1e} (solve_ivp), both above the settling tolerances"
+        )
     c = ivp["cycle_comparison"]
     if not math.isfinite(c["max_time_difference_over_T"]):
         return "cycles differ: " + c["reason"]
-    return (f"aligned cycles differ by {c['max_time_difference_over_T']:.1e} T (tol {c['time_tol']:.0e}) and "
-            f"{c['max_velocity_difference_rel']:.1e} in velocity (tol {c['velocity_tol']:.0e})")
+    return (
+        f"aligned cycles differ by {c['max_time_difference_over_T']:.1e} T (tol {c['time_tol']:.0e}) and "
+        f"{c['max_velocity_difference_rel']:.1e} in velocity (tol {c['velocity_tol']:.0e})"
+    )
 
 
 def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tuple[list[dict], dict]:
@@ -312,30 +378,39 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
             if o_lo + margin <= g <= o_hi - margin:
                 candidates.append((abs(g - stated_gap), -g, g, k))
     if not candidates:
-        raise ValueError(f"no grid point of `verdict.gap_min`..`verdict.gap_max` = {lo}..{hi} shows both claims "
-                         f"at least `verdict.located_margin` = {margin} inside their range: widen the window "
-                         f"or refine `verdict.gap_step`")
+        raise ValueError(
+            f"no grid point of `verdict.gap_min`..`verdict.gap_max` = {lo}..{hi} shows both claims "
+            f"at least `verdict.located_margin` = {margin} inside their range: widen the window "
+            f"or refine `verdict.gap_step`"
+        )
     _, _, g_loc, k_loc = min(candidates)
     iv, orbit = both[k_loc], orbits[k_loc]
-    rule = (f"the grid point (step {verdict['gap_step']}) closest to the stated Delta0/x_st = {stated_gap:g} "
-            f"where both claims hold, at least {margin:g} inside the stable range of the directly solved "
-            f"T_c = 2T orbit")
+    rule = (
+        f"the grid point (step {verdict['gap_step']}) closest to the stated Delta0/x_st = {stated_gap:g} "
+        f"where both claims hold, at least {margin:g} inside the stable range of the directly solved "
+        f"T_c = 2T orbit"
+    )
 
     # Independent checks of the ends of the located case's range.
     checks = end_checks(base, solver, verdict, iv, ranges_a, orbit, g_loc, workers)
 
     result = {
         "paper": rep.PAPER,
-        "window": {"gap_min": lo, "gap_max": hi, "alg1_gap_step": float(verdict["alg1_gap_step"]),
-                   "alg2_gap_step": float(verdict["gap_step"]), "alg1_bisect_tol": ALG1_BISECT_TOL,
-                   "alg2_bisect_tol": float(verdict["bisect_tol"]), "located_margin": margin},
+        "window": {
+            "gap_min": lo,
+            "gap_max": hi,
+            "alg1_gap_step": float(verdict["alg1_gap_step"]),
+            "alg2_gap_step": float(verdict["gap_step"]),
+            "alg1_bisect_tol": ALG1_BISECT_TOL,
+            "alg2_bisect_tol": float(verdict["bisect_tol"]),
+            "located_margin": margin,
+        },
         "stated_gap": stated_gap,
         "alg1_existence_limit": -existence_limit,
         "claim_a_ranges": ranges_a,
         "claim_b_ranges": ranges_b,
         "both_ranges": both,
-        "located": {"gap": g_loc, "range": [iv["lo"], iv["hi"]], "rule": rule,
-                    "parameters": dict(base, gap=g_loc)},
+        "located": {"gap": g_loc, "range": [iv["lo"], iv["hi"]], "rule": rule, "parameters": dict(base, gap=g_loc)},
         "orbit_range": orbit,
         "end_checks": checks,
     }

@@ -12,24 +12,69 @@ import numpy as np
 
 from impactdamper.reporting.records import joined
 
-__all__ = ["SWEEP_PARAMETER", "POINT_COLUMNS", "RANDOM_COLUMNS", "VELOCITY_FORMAT", "REGIMES_OF_LABELS",
-           "regime_of_label", "runs", "grid", "map_axes", "point_row"]
+__all__ = [
+    "SWEEP_PARAMETER",
+    "POINT_COLUMNS",
+    "RANDOM_COLUMNS",
+    "VELOCITY_FORMAT",
+    "REGIMES_OF_LABELS",
+    "regime_of_label",
+    "runs",
+    "grid",
+    "map_axes",
+    "point_row",
+]
 
 # The stage sweeps the gap Delta0/x_st (the library sweeps any parameter).
 SWEEP_PARAMETER = "gap"
 # Columns of the committed sweep table (figures/sweep_gap.csv): the state each point started
 # from is kept at full precision so that any row can be recomputed on its own (tests).
-POINT_COLUMNS = ["direction", "index", "value", "label", "regime", "k", "z", "stable", "multiplier", "x1_max",
-                 "contact_fraction", "method", "periods", "start", "x1_0", "x2_0", "v1_0", "v2_0", "velocities"]
-RANDOM_COLUMNS = ["index", "start_index", "value", "label", "regime", "k", "z", "x1_max", "method", "periods",
-                  "velocities"]
+POINT_COLUMNS = [
+    "direction",
+    "index",
+    "value",
+    "label",
+    "regime",
+    "k",
+    "z",
+    "stable",
+    "multiplier",
+    "x1_max",
+    "contact_fraction",
+    "method",
+    "periods",
+    "start",
+    "x1_0",
+    "x2_0",
+    "v1_0",
+    "v2_0",
+    "velocities",
+]
+RANDOM_COLUMNS = [
+    "index",
+    "start_index",
+    "value",
+    "label",
+    "regime",
+    "k",
+    "z",
+    "x1_max",
+    "method",
+    "periods",
+    "velocities",
+]
 # Digits of the impact velocities in the committed tables (plots need ~3); every other float
 # has the records' 12 significant digits (a row recomputed from its start state agrees to
 # ~1e-9, and the committed files stay small).
 VELOCITY_FORMAT = "{:.4g}"
 # The labels that name a class of their own (every other z/k label is an impact motion).
-REGIMES_OF_LABELS = {"stuck": "stuck", "0/1": "no_contact", "np": "nonperiodic", "err": "failed",
-                     "1/1": "single_impact"}
+REGIMES_OF_LABELS = {
+    "stuck": "stuck",
+    "0/1": "no_contact",
+    "np": "nonperiodic",
+    "err": "failed",
+    "1/1": "single_impact",
+}
 
 
 def regime_of_label(label: str) -> str:
@@ -59,8 +104,11 @@ def map_axes(maps: dict, name: str) -> tuple:
     """(slow parameter, slow values, gap values) of regime map ``name`` of the config's
     ``maps`` section."""
     m = maps[name]
-    return (m["parameter"], grid(m["start"], m["stop"], m["points"]),
-            grid(m["gap_start"], m["gap_stop"], m["gap_points"]))
+    return (
+        m["parameter"],
+        grid(m["start"], m["stop"], m["points"]),
+        grid(m["gap_start"], m["gap_stop"], m["gap_points"]),
+    )
 
 
 def point_row(direction: str, index: int, pt) -> dict:
@@ -85,8 +133,9 @@ def _points_columns(points: list, prefix: str) -> dict:
 
     out = {f"{prefix}/count": np.array(len(points))}
     names = Parameters.names()
-    out[f"{prefix}/p"] = np.array([[float(getattr(pt.p, n)) for n in names] for pt in points]).reshape(len(points),
-                                                                                                    len(names))
+    out[f"{prefix}/p"] = np.array([[float(getattr(pt.p, n)) for n in names] for pt in points]).reshape(
+        len(points), len(names)
+    )
     for f in fields(points[0]) if points else ():
         if f.name == "p":
             continue
@@ -121,7 +170,7 @@ def _ragged(key: str, arrays: list) -> dict:
             shapes[i, 0] = _NONE_SHAPE
         else:
             shapes[i, 0] = a.ndim
-            shapes[i, 1:1 + a.ndim] = a.shape
+            shapes[i, 1 : 1 + a.ndim] = a.shape
     flat = [a.ravel() for a in arrays if a is not None]
     return {key + ".flat": np.concatenate(flat) if flat else np.zeros(0), key + ".shape": shapes}
 
@@ -133,9 +182,9 @@ def _unragged(data, key: str) -> list:
         if row[0] == _NONE_SHAPE:
             out.append(None)
             continue
-        shape = tuple(int(n) for n in row[1:1 + row[0]])
+        shape = tuple(int(n) for n in row[1 : 1 + row[0]])
         size = int(np.prod(shape)) if shape else 1
-        out.append(flat[at:at + size].reshape(shape))
+        out.append(flat[at : at + size].reshape(shape))
         at += size
     return out
 
@@ -184,8 +233,9 @@ def read_points(path) -> dict:
                     times, states = _unragged(data, key + ".times"), _unragged(data, key + ".states")
                     columns[f.name] = [() if t is None else (t, s) for t, s in zip(times, states)]
                 elif key + ".tuple.flat" in data:
-                    columns[f.name] = [None if v is None else tuple(float(x) for x in v)
-                                       for v in _unragged(data, key + ".tuple")]
+                    columns[f.name] = [
+                        None if v is None else tuple(float(x) for x in v) for v in _unragged(data, key + ".tuple")
+                    ]
                 elif key + ".array.flat" in data:
                     columns[f.name] = _unragged(data, key + ".array")
                 elif n:

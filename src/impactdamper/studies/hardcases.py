@@ -49,8 +49,18 @@ from impactdamper.core.parameters import REFERENCE, Parameters
 from impactdamper.core.simulate import simulate
 from impactdamper.core.steady import REGIMES, steady_state
 
-__all__ = ["HardCase", "CaseResult", "hard_cases", "run_case", "run_suite", "no_contact_threshold",
-           "alg1_onset_gap", "check_gap_nonnegative", "check_impact_law", "CHECKS"]
+__all__ = [
+    "HardCase",
+    "CaseResult",
+    "hard_cases",
+    "run_case",
+    "run_suite",
+    "no_contact_threshold",
+    "alg1_onset_gap",
+    "check_gap_nonnegative",
+    "check_impact_law",
+    "CHECKS",
+]
 
 CHECKS = ("terminated", "gap_nonnegative", "impact_law", "reference")
 # Gap overlap tolerated by the check, relative to x_st + |Delta0|: the solver's grazing
@@ -139,6 +149,7 @@ def alg1_onset_gap(p: Parameters = REFERENCE, start: float | None = None, step: 
     """Delta0/x_st where Algorithm No. 1's orbit starts to cross the stop between impacts
     (its interior gap minimum reaches zero), searched downward from ``start`` (default the
     base gap) and bisected (brentq) to 1e-14."""
+
     def min_gap(g: float) -> float:
         a = algorithm1(p.replace(gap=g))
         if not a.exists:
@@ -165,38 +176,66 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
     g_onset = alg1_onset_gap(base)
     repeated_delta2 = 0.8829865207640838  # eq. (4) has a double root at N = 0.9 (solved in mpmath)
     return [
-        HardCase("grazing_no_contact", rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
-                 "zero-velocity grazing: the no-contact orbit touches the stop tangentially",
-                 {"gap": g_touch}, start="forced_orbit"),
-        HardCase("grazing_alg1_onset", rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
-                 "grazing inside the period: Algorithm No. 1's orbit touches the stop between impacts",
-                 {"gap": g_onset}, start="alg1_orbit"),
-        HardCase("chatter", r"$\Delta_0/x_{\mathrm{st}} = -13$", "impacts accumulating into persistent contact, and lift-off",
-                 {"gap": -13.0}),
+        HardCase(
+            "grazing_no_contact",
+            rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
+            "zero-velocity grazing: the no-contact orbit touches the stop tangentially",
+            {"gap": g_touch},
+            start="forced_orbit",
+        ),
+        HardCase(
+            "grazing_alg1_onset",
+            rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
+            "grazing inside the period: Algorithm No. 1's orbit touches the stop between impacts",
+            {"gap": g_onset},
+            start="alg1_orbit",
+        ),
+        HardCase(
+            "chatter",
+            r"$\Delta_0/x_{\mathrm{st}} = -13$",
+            "impacts accumulating into persistent contact, and lift-off",
+            {"gap": -13.0},
+        ),
         HardCase("plastic", r"$R = 0$", "plastic impacts: capture or separation at every impact", {"R": 0.0}),
-        HardCase("elastic", r"$R = 1$", "elastic impacts: no accumulation possible, energy kept at impacts",
-                 {"R": 1.0}),
-        HardCase("zero_damping", r"$\delta_1 = \delta_2 = 0$", "purely imaginary roots (no decay of the free motion)",
-                 {"delta1": 0.0, "delta2": 0.0}),
-        HardCase("conservative", r"$\delta_1 = \delta_2 = 0$, $R = 1$",
-                 "no dissipation at all: the run can only end at its period limit",
-                 {"delta1": 0.0, "delta2": 0.0, "R": 1.0}),
-        HardCase("repeated_roots", rf"$N = 0.9$, $\delta_2 = {repeated_delta2:.6f}$",
-                 "a double root of eq. (4): the modal form breaks, the matrix exponential takes over",
-                 {"N": 0.9, "delta2": repeated_delta2}),
-        HardCase("light_damping", r"$\delta_1 = \delta_2 = 10^{-3}$", "very light damping: long transients",
-                 {"delta1": 1e-3, "delta2": 1e-3}),
-        HardCase("tiny_mass", r"$\mu = 10^{-4}$", "a suppressor $10^4$ times lighter than the object",
-                 {"mu": 1e-4}),
-        HardCase("stiff_suppressor", r"$N = 50$", "a suppressor frequency 50 times the object's (stiff)",
-                 {"N": 50.0}),
+        HardCase(
+            "elastic", r"$R = 1$", "elastic impacts: no accumulation possible, energy kept at impacts", {"R": 1.0}
+        ),
+        HardCase(
+            "zero_damping",
+            r"$\delta_1 = \delta_2 = 0$",
+            "purely imaginary roots (no decay of the free motion)",
+            {"delta1": 0.0, "delta2": 0.0},
+        ),
+        HardCase(
+            "conservative",
+            r"$\delta_1 = \delta_2 = 0$, $R = 1$",
+            "no dissipation at all: the run can only end at its period limit",
+            {"delta1": 0.0, "delta2": 0.0, "R": 1.0},
+        ),
+        HardCase(
+            "repeated_roots",
+            rf"$N = 0.9$, $\delta_2 = {repeated_delta2:.6f}$",
+            "a double root of eq. (4): the modal form breaks, the matrix exponential takes over",
+            {"N": 0.9, "delta2": repeated_delta2},
+        ),
+        HardCase(
+            "light_damping",
+            r"$\delta_1 = \delta_2 = 10^{-3}$",
+            "very light damping: long transients",
+            {"delta1": 1e-3, "delta2": 1e-3},
+        ),
+        HardCase("tiny_mass", r"$\mu = 10^{-4}$", "a suppressor $10^4$ times lighter than the object", {"mu": 1e-4}),
+        HardCase("stiff_suppressor", r"$N = 50$", "a suppressor frequency 50 times the object's (stiff)", {"N": 50.0}),
         HardCase("slow_forcing", r"$\theta = 0.1$", "forcing far below resonance", {"theta": 0.1}),
         HardCase("fast_forcing", r"$\theta = 10$", "forcing far above resonance", {"theta": 10.0}),
         HardCase("zero_gap", r"$\Delta_0 = 0$", "the stop exactly at the static position", {"gap": 0.0}),
-        HardCase("large_positive_gap", r"$\Delta_0/x_{\mathrm{st}} = 10^3$", "a gap never closed again",
-                 {"gap": 1e3}),
-        HardCase("large_negative_gap", r"$\Delta_0/x_{\mathrm{st}} = -10^3$",
-                 "a huge preload: the bodies never separate", {"gap": -1e3}),
+        HardCase("large_positive_gap", r"$\Delta_0/x_{\mathrm{st}} = 10^3$", "a gap never closed again", {"gap": 1e3}),
+        HardCase(
+            "large_negative_gap",
+            r"$\Delta_0/x_{\mathrm{st}} = -10^3$",
+            "a huge preload: the bodies never separate",
+            {"gap": -1e3},
+        ),
     ]
 
 
@@ -223,10 +262,19 @@ class CaseResult:
         return all(self.checks.get(c, False) for c in CHECKS)
 
     def row(self) -> dict:
-        out = {"case": self.name, "label": self.label, "stresses": self.stresses, "regime": self.regime,
-               "k": self.period_multiple, "z": self.impacts_per_cycle, "periods": self.periods,
-               "events": self.events, "touches": self.touches, "did": self.did,
-               "cpu_seconds": self.cpu_seconds}
+        out = {
+            "case": self.name,
+            "label": self.label,
+            "stresses": self.stresses,
+            "regime": self.regime,
+            "k": self.period_multiple,
+            "z": self.impacts_per_cycle,
+            "periods": self.periods,
+            "events": self.events,
+            "touches": self.touches,
+            "did": self.did,
+            "cpu_seconds": self.cpu_seconds,
+        }
         for c in CHECKS:
             out[c] = bool(self.checks.get(c, False))
         out["passed"] = self.passed
@@ -243,8 +291,9 @@ class CaseResult:
         out["ivp_state_diff"] = d.get("ivp_state_diff")
         out["ivp_state_tol"] = IVP_STATE_TOL
         out["mp_diff"] = d.get("settled_phase_diff", d.get("amplitude_diff"))
-        out["mp_tol"] = (MP_PHASE_TOL if "settled_phase_diff" in d else MP_AMPLITUDE_TOL if "amplitude_diff" in d
-                         else None)
+        out["mp_tol"] = (
+            MP_PHASE_TOL if "settled_phase_diff" in d else MP_AMPLITUDE_TOL if "amplitude_diff" in d else None
+        )
         return out
 
 
@@ -298,8 +347,10 @@ def check_gap_nonnegative(traj, t_end: float) -> tuple[bool, float]:
         ts = np.linspace(seg.t0, end, n + 1)
         ys = seg.state(ts)
         if mode == FREE:
+
             def value(t, seg=seg):
                 return float(model.gap_of(seg.state(t))) / length
+
             vals = model.gap_of(ys) / length
             rate = float(np.max(np.abs(ys[:, 2] - ys[:, 3]))) / length
         else:
@@ -307,13 +358,15 @@ def check_gap_nonnegative(traj, t_end: float) -> tuple[bool, float]:
 
             def value(t, seg=seg, fn=fn):
                 return float(fn.of_state(t, seg.state(t))) / model.force_scale
+
             vals = np.array([fn.of_state(t, y) for t, y in zip(ts, ys)]) / model.force_scale
             rate = float(np.max(np.abs([fn.of_state(t, y, 1) for t, y in zip(ts, ys)]))) / model.force_scale
         low = float(np.min(vals))
         inner = np.flatnonzero((vals[1:-1] <= vals[:-2]) & (vals[1:-1] <= vals[2:])) + 1
         for k in inner:
-            res = scipy.optimize.minimize_scalar(value, bounds=(ts[k - 1], ts[k + 1]), method="bounded",
-                                                 options={"xatol": 1e-13 * T})
+            res = scipy.optimize.minimize_scalar(
+                value, bounds=(ts[k - 1], ts[k + 1]), method="bounded", options={"xatol": 1e-13 * T}
+            )
             low = min(low, float(res.fun))
         worst = min(worst, low)
         ok &= low >= -(GAP_CHECK_TOL + TIME_ULPS * math.ulp(max(abs(end), abs(seg.t0))) * rate)
@@ -348,8 +401,12 @@ def check_impact_law(traj) -> tuple[bool, dict]:
         elif e.kind == "liftoff":
             F = model.force_in_contact(e.t, b)
             worst["liftoff_force"] = max(worst["liftoff_force"], abs(F) / model.force_scale)
-    ok = (worst["gap"] <= GAP_CHECK_TOL and all(worst[k] <= LAW_TOL for k in ("momentum", "restitution", "closing"))
-          and worst["energy_rise"] <= LAW_TOL and worst["liftoff_force"] <= 1e-8)
+    ok = (
+        worst["gap"] <= GAP_CHECK_TOL
+        and all(worst[k] <= LAW_TOL for k in ("momentum", "restitution", "closing"))
+        and worst["energy_rise"] <= LAW_TOL
+        and worst["liftoff_force"] <= 1e-8
+    )
     return ok, worst
 
 
@@ -461,8 +518,21 @@ def run_case(case: HardCase, base: Parameters = REFERENCE, wall_limit: int = CAS
     except TimeoutError:
         cpu = time.process_time() - start
         checks = {c: False for c in CHECKS}
-        return CaseResult(case.name, case.label, case.stresses, "timeout", 0, 0, 0, 0, 0, cpu, checks,
-                          {"error": f"no result within {wall_limit} s"}, "did not end")
+        return CaseResult(
+            case.name,
+            case.label,
+            case.stresses,
+            "timeout",
+            0,
+            0,
+            0,
+            0,
+            0,
+            cpu,
+            checks,
+            {"error": f"no result within {wall_limit} s"},
+            "did not end",
+        )
     cpu = time.process_time() - start
     traj = run
     checks["terminated"] = s.regime in REGIMES
@@ -480,8 +550,21 @@ def run_case(case: HardCase, base: Parameters = REFERENCE, wall_limit: int = CAS
     details.update(info)
     vscale = p.x_st * p.omega
     touches = sum(1 for e in traj.events if e.kind == "impact" and e.velocity < TOUCH_VELOCITY * vscale)
-    return CaseResult(case.name, case.label, case.stresses, s.regime, s.period_multiple, s.impacts_per_cycle,
-                      s.periods, len(traj.events), touches, cpu, checks, details, _did(s, traj, touches))
+    return CaseResult(
+        case.name,
+        case.label,
+        case.stresses,
+        s.regime,
+        s.period_multiple,
+        s.impacts_per_cycle,
+        s.periods,
+        len(traj.events),
+        touches,
+        cpu,
+        checks,
+        details,
+        _did(s, traj, touches),
+    )
 
 
 def run_suite(base: Parameters = REFERENCE, names=None, log=print) -> list[CaseResult]:
@@ -495,7 +578,9 @@ def run_suite(base: Parameters = REFERENCE, names=None, log=print) -> list[CaseR
     out = []
     for case in cases:
         r = run_case(case, base)
-        log(f"[hard case] {case.name}: {r.did}; {r.cpu_seconds:.3f} s; "
-            + ", ".join(f"{c}={'ok' if r.checks.get(c) else 'FAIL'}" for c in CHECKS))
+        log(
+            f"[hard case] {case.name}: {r.did}; {r.cpu_seconds:.3f} s; "
+            + ", ".join(f"{c}={'ok' if r.checks.get(c) else 'FAIL'}" for c in CHECKS)
+        )
         out.append(r)
     return out

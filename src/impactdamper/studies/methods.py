@@ -43,7 +43,16 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances, simulate
 
-__all__ = ["Solution", "Method", "METHODS", "IVP_METHODS", "FAMILY_OF", "methods_of_family", "selected", "reported_alone"]
+__all__ = [
+    "Solution",
+    "Method",
+    "METHODS",
+    "IVP_METHODS",
+    "FAMILY_OF",
+    "methods_of_family",
+    "selected",
+    "reported_alone",
+]
 
 # solve_ivp and RK4 stop after this many events: a run that chatters without end fails (error
 # inf) instead of running for ever; the reference windows hold tens of impacts.
@@ -87,8 +96,11 @@ class Solution:
 def _final_only(t_end: float, state: np.ndarray) -> Callable[[float], np.ndarray]:
     def state_of(t: float) -> np.ndarray:
         if t != t_end:
-            raise ValueError(f"`t` = {t!r} is not allowed: a time-stepping run knows its state at t_end = {t_end!r} only")
+            raise ValueError(
+                f"`t` = {t!r} is not allowed: a time-stepping run knows its state at t_end = {t_end!r} only"
+            )
         return state
+
     return state_of
 
 
@@ -102,8 +114,9 @@ def solve_exact(p: Parameters, t_end: float, t0: float, state: np.ndarray, value
     return Solution(_times(traj), lambda t: traj.sample(t)[0])
 
 
-def solve_alg1(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float = math.nan,
-               repeats: int = 1) -> Solution | None:
+def solve_alg1(
+    p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float = math.nan, repeats: int = 1
+) -> Solution | None:
     """Algorithm No. 1's orbit over (t0, t_end) (no transient: the start ``state`` is not
     used); None where it has no admissible orbit."""
     a1 = algorithm1(p)
@@ -117,9 +130,11 @@ def solve_alg1(p: Parameters, t_end: float, t0: float, state: np.ndarray, value:
 
 def _solve_ivp_with(method: str):
     def solve(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1) -> Solution:
-        traj = simulate_ivp(p, t_end, t0=t0, state=state, method=method, rtol=value, atol=value * p.x_st,
-                            max_events=IVP_MAX_EVENTS)
+        traj = simulate_ivp(
+            p, t_end, t0=t0, state=state, method=method, rtol=value, atol=value * p.x_st, max_events=IVP_MAX_EVENTS
+        )
         return Solution(_times(traj), lambda t: traj.sample(t)[0], traj.nfev)
+
     solve.__doc__ = f"``solve_ivp``'s {method} with ``rtol = value``, ``atol = value * x_st``."
     return solve
 
@@ -130,16 +145,24 @@ def solve_rk4(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: 
     return Solution(_times(traj), _final_only(t_end, traj.state), traj.nfev)
 
 
-def solve_moreau_jean(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float,
-                      repeats: int = 1) -> Solution:
+def solve_moreau_jean(
+    p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1
+) -> Solution:
     """Siconos's Moreau-Jean scheme with ``value`` steps per period, timed in its subprocess:
     the median of half the study's ``repeats`` runs (its runs take seconds), or of one above
     :data:`SICONOS_SLOW_STEPS` steps."""
     steps = value * (t_end - t0) / p.T
-    res = simulate_siconos(p, t_end, t0=t0, state=state, steps_per_period=int(value),
-                           repeats=max(1, repeats // 2) if steps <= SICONOS_SLOW_STEPS else 1)
-    return Solution(np.asarray(res.impacts, dtype=float), _final_only(t_end, res.final_state),
-                    cpu_seconds=res.cpu_seconds)
+    res = simulate_siconos(
+        p,
+        t_end,
+        t0=t0,
+        state=state,
+        steps_per_period=int(value),
+        repeats=max(1, repeats // 2) if steps <= SICONOS_SLOW_STEPS else 1,
+    )
+    return Solution(
+        np.asarray(res.impacts, dtype=float), _final_only(t_end, res.final_state), cpu_seconds=res.cpu_seconds
+    )
 
 
 def _always() -> tuple[bool, str]:
@@ -205,22 +228,72 @@ class Method:
 
 
 def _ivp_entry(method: str) -> Method:
-    return Method(method, "solve_ivp", rf"\texttt{{solve\_ivp}} {method}", method, "rtol", "ivp_rtols",
-                  _solve_ivp_with(method), catches=(RuntimeError,), macro="Ivp" + "".join(filter(str.isalpha, method)))
+    return Method(
+        method,
+        "solve_ivp",
+        rf"\texttt{{solve\_ivp}} {method}",
+        method,
+        "rtol",
+        "ivp_rtols",
+        _solve_ivp_with(method),
+        catches=(RuntimeError,),
+        macro="Ivp" + "".join(filter(str.isalpha, method)),
+    )
 
 
-METHODS: dict[str, Method] = {m.name: m for m in (
-    Method("exact", "exact", "exact, Alg.~2 (this work)", "exact (Alg. 2)", "gap_tol", "exact_gap_tols", solve_exact,
-           macro="Exact"),
-    Method("alg1", "closed form", "Alg.~1, closed form (this work)", "Alg. 1 (closed form)", "-", None, solve_alg1,
-           settled_only=True, no_solution="Algorithm No. 1 has no admissible orbit", macro="AlgOne"),
-    *(_ivp_entry(m) for m in IVP_METHODS),
-    Method("RK4", "fixed step", "RK4, fixed step + bisection", "RK4 + bisection", "steps_per_period",
-           "rk4_steps_per_period", solve_rk4, steps=True, catches=(RuntimeError,), macro="RkFour"),
-    Method("Moreau-Jean", "time stepping", "Moreau--Jean (Siconos)", "Moreau-Jean (Siconos)", "steps_per_period",
-           "siconos_steps_per_period", solve_moreau_jean, steps=True, status=siconos_status, times_itself=True,
-           macro="MoreauJean"),
-)}
+METHODS: dict[str, Method] = {
+    m.name: m
+    for m in (
+        Method(
+            "exact",
+            "exact",
+            "exact, Alg.~2 (this work)",
+            "exact (Alg. 2)",
+            "gap_tol",
+            "exact_gap_tols",
+            solve_exact,
+            macro="Exact",
+        ),
+        Method(
+            "alg1",
+            "closed form",
+            "Alg.~1, closed form (this work)",
+            "Alg. 1 (closed form)",
+            "-",
+            None,
+            solve_alg1,
+            settled_only=True,
+            no_solution="Algorithm No. 1 has no admissible orbit",
+            macro="AlgOne",
+        ),
+        *(_ivp_entry(m) for m in IVP_METHODS),
+        Method(
+            "RK4",
+            "fixed step",
+            "RK4, fixed step + bisection",
+            "RK4 + bisection",
+            "steps_per_period",
+            "rk4_steps_per_period",
+            solve_rk4,
+            steps=True,
+            catches=(RuntimeError,),
+            macro="RkFour",
+        ),
+        Method(
+            "Moreau-Jean",
+            "time stepping",
+            "Moreau--Jean (Siconos)",
+            "Moreau-Jean (Siconos)",
+            "steps_per_period",
+            "siconos_steps_per_period",
+            solve_moreau_jean,
+            steps=True,
+            status=siconos_status,
+            times_itself=True,
+            macro="MoreauJean",
+        ),
+    )
+}
 """The work-precision methods by name, in the order of the report's tables and the legend."""
 
 FAMILY_OF = {name: m.family for name, m in METHODS.items()}

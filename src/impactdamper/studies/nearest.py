@@ -54,9 +54,22 @@ from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a
 
-__all__ = ["NEAREST_NAMES", "NORMS", "ClaimsEvaluator", "norm", "ball_offsets", "ray_search", "robust_start",
-           "compass_search", "margin_check", "nearest_set", "round_candidates", "round_values", "verify_point",
-           "tuning_condition"]
+__all__ = [
+    "NEAREST_NAMES",
+    "NORMS",
+    "ClaimsEvaluator",
+    "norm",
+    "ball_offsets",
+    "ray_search",
+    "robust_start",
+    "compass_search",
+    "margin_check",
+    "nearest_set",
+    "round_candidates",
+    "round_values",
+    "verify_point",
+    "tuning_condition",
+]
 
 # The seven relative parameters searched, in this order (u's components).
 NEAREST_NAMES = ("theta", "mu", "N", "delta1", "delta2", "R", "gap")
@@ -131,8 +144,11 @@ class ClaimsEvaluator:
             idx = np.flatnonzero(fa)
             if len(idx):
                 res = settled_batch(self.base, NEAREST_NAMES, X[idx], settings=self.settings, chain=False)
-                fb[idx] = ((res.regime == "multi_impact") & (res.period_multiple == CLAIM_B_PERIOD_MULTIPLE)
-                           & (res.impacts_per_cycle == CLAIM_B_IMPACTS))
+                fb[idx] = (
+                    (res.regime == "multi_impact")
+                    & (res.period_multiple == CLAIM_B_PERIOD_MULTIPLE)
+                    & (res.impacts_per_cycle == CLAIM_B_IMPACTS)
+                )
             self.points += len(todo)
             self.batch_points += len(idx)
             for k, a, b in zip(todo, fa, fb):
@@ -181,8 +197,13 @@ def ray_directions(rays: int, seed: int) -> np.ndarray:
     d = len(NEAREST_NAMES)
     eye = np.eye(d)
     out = [s * e for e in eye for s in (1.0, -1.0)]
-    out += [(sa * eye[i] + sb * eye[j]) / math.sqrt(2.0) for i in range(d) for j in range(i + 1, d)
-            for sa in (1.0, -1.0) for sb in (1.0, -1.0)]
+    out += [
+        (sa * eye[i] + sb * eye[j]) / math.sqrt(2.0)
+        for i in range(d)
+        for j in range(i + 1, d)
+        for sa in (1.0, -1.0)
+        for sb in (1.0, -1.0)
+    ]
     v = np.random.default_rng(int(seed)).normal(size=(int(rays), d))
     out += list(v / np.linalg.norm(v, axis=1, keepdims=True))
     return np.array(out)
@@ -215,8 +236,10 @@ def ray_search(ev: ClaimsEvaluator, directions: np.ndarray, step: float, t_max: 
         flags = ev.both(mid[:, None] * D[rays])
         hi = np.where(flags, mid, hi)
         lo = np.where(flags, lo, mid)
-    return [{"ray": int(r), "t": float(h), "bracket": [float(a), float(h)], "u": (h * D[r]).tolist()}
-            for r, a, h in zip(rays, lo, hi)]
+    return [
+        {"ray": int(r), "t": float(h), "bracket": [float(a), float(h)], "u": (h * D[r]).tolist()}
+        for r, a, h in zip(rays, lo, hi)
+    ]
 
 
 def robust_start(ev: ClaimsEvaluator, u_hit: np.ndarray, margin: float, tries: int = 24) -> np.ndarray | None:
@@ -229,8 +252,9 @@ def robust_start(ev: ClaimsEvaluator, u_hit: np.ndarray, margin: float, tries: i
     return cands[int(np.argmax(ok))] if ok.any() else None
 
 
-def compass_search(ev: ClaimsEvaluator, u0: np.ndarray, which: str, margin: float, step: float, floor: float,
-                   max_iterations: int = 200) -> tuple[np.ndarray, int]:
+def compass_search(
+    ev: ClaimsEvaluator, u0: np.ndarray, which: str, margin: float, step: float, floor: float, max_iterations: int = 200
+) -> tuple[np.ndarray, int]:
     """Lower the ``which`` norm of a robust point while it stays robust (:func:`robust`):
     moves +-s e_i, +-s (e_i +- e_j)/sqrt 2 among the three largest changes, a radial shrink by s, and (max-norm) every change within s of the largest
     shrunk by s; the best robust move that lowers the objective (:func:`_key`) is taken, else
@@ -271,21 +295,39 @@ def compass_search(ev: ClaimsEvaluator, u0: np.ndarray, which: str, margin: floa
     return u, it
 
 
-def margin_check(ev: ClaimsEvaluator, u: np.ndarray, margin: float, which: str, random_points: int,
-                 seed: int) -> dict:
+def margin_check(ev: ClaimsEvaluator, u: np.ndarray, margin: float, which: str, random_points: int, seed: int) -> dict:
     """Both claims at ``u``'s centre, its 14 axis points and ``random_points`` random points on
     the ball (cube for the max-norm) of radius ``margin``: how many hold."""
     off = ball_offsets(margin, which, random_points, seed)
     flags = ev.both(np.asarray(u, float)[None, :] + off)
-    return {"radius": margin, "shape": "cube" if which == "max" else "Euclidean ball",
-            "points": int(len(off)), "axis_points": 2 * len(NEAREST_NAMES), "random_points": int(random_points),
-            "hold": int(flags.sum()), "held": bool(flags.all()),
-            "failed_offsets": [o.tolist() for o, f in zip(off, flags) if not f]}
+    return {
+        "radius": margin,
+        "shape": "cube" if which == "max" else "Euclidean ball",
+        "points": int(len(off)),
+        "axis_points": 2 * len(NEAREST_NAMES),
+        "random_points": int(random_points),
+        "hold": int(flags.sum()),
+        "held": bool(flags.all()),
+        "failed_offsets": [o.tolist() for o, f in zip(off, flags) if not f],
+    }
 
 
-def nearest_set(ev: ClaimsEvaluator, *, check: ClaimsEvaluator | None = None, rays: int, seed: int, ray_step: float, ray_max: float, ray_tol: float,
-                margin: float, starts: int, compass_step: float, compass_floor: float, ball_points: int,
-                log: Callable[[str], None] | None = None) -> dict:
+def nearest_set(
+    ev: ClaimsEvaluator,
+    *,
+    check: ClaimsEvaluator | None = None,
+    rays: int,
+    seed: int,
+    ray_step: float,
+    ray_max: float,
+    ray_tol: float,
+    margin: float,
+    starts: int,
+    compass_step: float,
+    compass_floor: float,
+    ball_points: int,
+    log: Callable[[str], None] | None = None,
+) -> dict:
     """The nearest robust reproducing set in each norm (the module docstring's method): the
     search on ``ev``, the final margin check on ``check`` (the full solver settings, where
     ``ev`` may cap the periods lower to screen; a run settled within the lower cap settles
@@ -302,24 +344,38 @@ def nearest_set(ev: ClaimsEvaluator, *, check: ClaimsEvaluator | None = None, ra
     D = ray_directions(rays, seed)
     hits = ray_search(ev, D, ray_step, ray_max, ray_tol)
     say(f"rays: {len(hits)} of {rays} reach both claims within {ray_max:g}; {ev.points} points")
-    out = {"rays": {"count": len(D), "random": int(rays), "hits": len(hits), "step": ray_step, "max": ray_max, "tol": ray_tol,
-                    "seed": int(seed)}, "answers": {}}
+    out = {
+        "rays": {
+            "count": len(D),
+            "random": int(rays),
+            "hits": len(hits),
+            "step": ray_step,
+            "max": ray_max,
+            "tol": ray_tol,
+            "seed": int(seed),
+        },
+        "answers": {},
+    }
     if not hits:
         return out
     for which in NORMS:
         ranked = sorted(hits, key=lambda h: _key(np.array(h["u"]), which))
         nearest_hit = ranked[0]
-        out["rays"]["nearest_hit_" + which] = {"u": nearest_hit["u"],
-                                               "distance": float(norm(np.array(nearest_hit["u"]), which))}
+        out["rays"]["nearest_hit_" + which] = {
+            "u": nearest_hit["u"],
+            "distance": float(norm(np.array(nearest_hit["u"]), which)),
+        }
         best, best_it = None, 0
-        for h in ranked[:int(starts)]:
+        for h in ranked[: int(starts)]:
             u0 = robust_start(ev, np.array(h["u"]), margin)
             if u0 is None:
                 say(f"{which}: ray {h['ray']} has no robust point just beyond its hit")
                 continue
             u, it = compass_search(ev, u0, which, margin, compass_step, compass_floor)
-            say(f"{which}: ray {h['ray']} hit at {norm(np.array(h['u']), which):.4f}, refined to "
-                f"{norm(u, which):.4f} in {it} iterations; {ev.points} points")
+            say(
+                f"{which}: ray {h['ray']} hit at {norm(np.array(h['u']), which):.4f}, refined to "
+                f"{norm(u, which):.4f} in {it} iterations; {ev.points} points"
+            )
             if best is None or _key(u, which) < _key(best, which):
                 best, best_it = u, it
         if best is None:
@@ -399,10 +455,16 @@ def round_values(ev: ClaimsEvaluator, ranges: dict, margin: float) -> dict:
         flags = ev.both(np.array([u for _, u in sets])) if sets else np.zeros(0, bool)
     rep = [(c, u) for (c, u), f in zip(sets, flags) if f]
     rob = robust(ev, np.array([u for _, u in rep]), margin) if rep else np.zeros(0, bool)
-    rows = [{"changes": c, "u": dict(zip(NEAREST_NAMES, map(float, u))),
-             "distance": {"max": float(norm(u, "max")), "euclidean": float(norm(u, "euclidean"))},
-             "robust": bool(r), "keeps_tuning_condition": tuning_condition(c)}
-            for (c, u), r in zip(rep, rob)]
+    rows = [
+        {
+            "changes": c,
+            "u": dict(zip(NEAREST_NAMES, map(float, u))),
+            "distance": {"max": float(norm(u, "max")), "euclidean": float(norm(u, "euclidean"))},
+            "robust": bool(r),
+            "keeps_tuning_condition": tuning_condition(c),
+        }
+        for (c, u), r in zip(rep, rob)
+    ]
     rows.sort(key=lambda r: (r["distance"]["max"], sorted(r["changes"])))
     return {"candidates": len(sets), "changed": changed if rows else None, "reproducing": rows}
 
@@ -434,31 +496,57 @@ def verify_point(p: Parameters, solver: dict, verdict: dict) -> dict:
     s = rep.run_steady(p, solver)
     c = steady_state_compiled(p, **rep.solver_options(solver))
     kmax = int(solver["max_period_multiple"])
-    b_ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]),
-                         tolerances=rep.solver_options(solver)["tolerances"], exact=s, time_tol=time_tol,
-                         velocity_tol=velocity_tol, **kw)
+    b_ivp = rep.alg2_ivp(
+        p,
+        s.periods + kmax,
+        kmax,
+        section_tol=float(verdict["ivp_section_tol"]),
+        tolerances=rep.solver_options(solver)["tolerances"],
+        exact=s,
+        time_tol=time_tol,
+        velocity_tol=velocity_tol,
+        **kw,
+    )
     cc = b_ivp.get("cycle_comparison", {})
     out = {
-        "claim_a": {"algorithm1": rep.claim_a(a), "solve_ivp": bool(a_ivp["claim_a"]),
-                    "negative_gap_interval_over_T": [list(iv) for iv in a.negative_gap_intervals],
-                    "min_gap": float(a.min_gap) if a.exists else None,
-                    "interval_end_difference_over_T": a_cmp["max_interval_end_difference_over_T"],
-                    "periodicity_residual": a_cmp["periodicity_residual"], "time_tol": time_tol,
-                    "residual_tol": a_cmp["residual_tol"], "agree": bool(a_cmp["agree"]), "reason": a_cmp["reason"]},
-        "claim_b": {"reference": rep.claim_b(s), "compiled": rep.claim_b(c), "solve_ivp": bool(b_ivp["claim_b"]),
-                    "reference_regime": s.regime, "reference_period_multiple": int(s.period_multiple),
-                    "reference_impacts_per_cycle": int(s.impacts_per_cycle), "reference_periods": int(s.periods),
-                    "compiled_same": (c.regime, c.period_multiple, c.impacts_per_cycle) ==
-                                     (s.regime, s.period_multiple, s.impacts_per_cycle),
-                    "solve_ivp_period_multiple": int(b_ivp["period_multiple"]),
-                    "solve_ivp_impacts_per_cycle": b_ivp["impacts_per_cycle"],
-                    "max_time_difference_over_T": cc.get("max_time_difference_over_T"),
-                    "max_velocity_difference_rel": cc.get("max_velocity_difference_rel"),
-                    "time_tol": time_tol, "velocity_tol": velocity_tol, "agree": bool(b_ivp.get("agree", False)),
-                    "reason": cc.get("reason", "")},
+        "claim_a": {
+            "algorithm1": rep.claim_a(a),
+            "solve_ivp": bool(a_ivp["claim_a"]),
+            "negative_gap_interval_over_T": [list(iv) for iv in a.negative_gap_intervals],
+            "min_gap": float(a.min_gap) if a.exists else None,
+            "interval_end_difference_over_T": a_cmp["max_interval_end_difference_over_T"],
+            "periodicity_residual": a_cmp["periodicity_residual"],
+            "time_tol": time_tol,
+            "residual_tol": a_cmp["residual_tol"],
+            "agree": bool(a_cmp["agree"]),
+            "reason": a_cmp["reason"],
+        },
+        "claim_b": {
+            "reference": rep.claim_b(s),
+            "compiled": rep.claim_b(c),
+            "solve_ivp": bool(b_ivp["claim_b"]),
+            "reference_regime": s.regime,
+            "reference_period_multiple": int(s.period_multiple),
+            "reference_impacts_per_cycle": int(s.impacts_per_cycle),
+            "reference_periods": int(s.periods),
+            "compiled_same": (c.regime, c.period_multiple, c.impacts_per_cycle)
+            == (s.regime, s.period_multiple, s.impacts_per_cycle),
+            "solve_ivp_period_multiple": int(b_ivp["period_multiple"]),
+            "solve_ivp_impacts_per_cycle": b_ivp["impacts_per_cycle"],
+            "max_time_difference_over_T": cc.get("max_time_difference_over_T"),
+            "max_velocity_difference_rel": cc.get("max_velocity_difference_rel"),
+            "time_tol": time_tol,
+            "velocity_tol": velocity_tol,
+            "agree": bool(b_ivp.get("agree", False)),
+            "reason": cc.get("reason", ""),
+        },
     }
-    out["both_hold_every_method"] = bool(out["claim_a"]["algorithm1"] and out["claim_a"]["solve_ivp"]
-                                         and out["claim_b"]["reference"] and out["claim_b"]["compiled"]
-                                         and out["claim_b"]["solve_ivp"])
+    out["both_hold_every_method"] = bool(
+        out["claim_a"]["algorithm1"]
+        and out["claim_a"]["solve_ivp"]
+        and out["claim_b"]["reference"]
+        and out["claim_b"]["compiled"]
+        and out["claim_b"]["solve_ivp"]
+    )
     out["agree"] = bool(out["claim_a"]["agree"] and out["claim_b"]["agree"])
     return out

@@ -44,14 +44,44 @@ import scipy.stats
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters, finite_argument
 from impactdamper.core.simulate import EventDrivenSolver
-from impactdamper.studies.design import (BAND_STEP, CRITERIA, BandResponse, LinearDevice, _check_band, den_hartog,
-                                         impact_band_response)
+from impactdamper.studies.design import (
+    BAND_STEP,
+    CRITERIA,
+    BandResponse,
+    LinearDevice,
+    _check_band,
+    den_hartog,
+    impact_band_response,
+)
 
-__all__ = ["TIE", "impacting", "design_study", "robust_impact", "worst_within", "device", "recommendation",
-           "IMPACT_BOUNDS", "TMD_BOUNDS", "COARSE_STEP", "DETUNING_POINTS", "SENSITIVITY_WORSE", "Optimum",
-           "minimise", "optimise_tmd", "optimise_impact", "detuned", "worst_case_tmd", "worst_case_impact",
-           "sensitivity", "impact_stroke_and_loads", "tmd_at_stroke", "design_optima", "Budget", "CLI_BUDGET",
-           "STAGE_BUDGET"]
+__all__ = [
+    "TIE",
+    "impacting",
+    "design_study",
+    "robust_impact",
+    "worst_within",
+    "device",
+    "recommendation",
+    "IMPACT_BOUNDS",
+    "TMD_BOUNDS",
+    "COARSE_STEP",
+    "DETUNING_POINTS",
+    "SENSITIVITY_WORSE",
+    "Optimum",
+    "minimise",
+    "optimise_tmd",
+    "optimise_impact",
+    "detuned",
+    "worst_case_tmd",
+    "worst_case_impact",
+    "sensitivity",
+    "impact_stroke_and_loads",
+    "tmd_at_stroke",
+    "design_optima",
+    "Budget",
+    "CLI_BUDGET",
+    "STAGE_BUDGET",
+]
 
 # The impact suppressor's box (relative units):
 # * gap Delta0/x_st in [-8, 16]: at -8 the stop is preloaded so far (spring force mu N^2 |gap| P0)
@@ -158,9 +188,16 @@ def _unit(bounds: dict) -> tuple[list, np.ndarray, np.ndarray]:
     return names, lo, hi
 
 
-def minimise(coarse: Callable[[dict], float], fine: Callable[[dict], float], bounds: dict, *,
-             budget: Budget = Budget(), seed: int = 0, guesses: Sequence[dict] = (),
-             progress: Callable[[str], None] | None = None) -> tuple[dict, float, int]:
+def minimise(
+    coarse: Callable[[dict], float],
+    fine: Callable[[dict], float],
+    bounds: dict,
+    *,
+    budget: Budget = Budget(),
+    seed: int = 0,
+    guesses: Sequence[dict] = (),
+    progress: Callable[[str], None] | None = None,
+) -> tuple[dict, float, int]:
     """Global minimum of ``fine`` over the box ``bounds`` ({name: (low, high)}).
 
     A scrambled Sobol sample (``budget.starts`` points, ``seed``) and ``guesses`` evaluated by
@@ -182,20 +219,26 @@ def minimise(coarse: Callable[[dict], float], fine: Callable[[dict], float], bou
     order = np.argsort(np.where(np.isfinite(values), values, np.inf), kind="stable")
     evaluations = len(points)
     best_u, best_v = None, math.inf
-    for rank, j in enumerate(order[:int(budget.keep)]):
+    for rank, j in enumerate(order[: int(budget.keep)]):
         u0 = points[j]
-        simplex = np.vstack([u0] + [np.clip(u0 + 0.1 * np.eye(d)[i] * (1 if u0[i] < 0.5 else -1), 0, 1)
-                                    for i in range(d)])
-        res = scipy.optimize.minimize(lambda u: fine(to_dict(u)), u0, method="Nelder-Mead",
-                                      bounds=[(0.0, 1.0)] * d,
-                                      options={"maxfev": int(budget.local_evaluations), "xatol": 1e-4,
-                                               "fatol": 1e-6, "initial_simplex": simplex})
+        simplex = np.vstack(
+            [u0] + [np.clip(u0 + 0.1 * np.eye(d)[i] * (1 if u0[i] < 0.5 else -1), 0, 1) for i in range(d)]
+        )
+        res = scipy.optimize.minimize(
+            lambda u: fine(to_dict(u)),
+            u0,
+            method="Nelder-Mead",
+            bounds=[(0.0, 1.0)] * d,
+            options={"maxfev": int(budget.local_evaluations), "xatol": 1e-4, "fatol": 1e-6, "initial_simplex": simplex},
+        )
         evaluations += int(res.nfev)
         if res.fun < best_v:
             best_u, best_v = np.clip(res.x, 0.0, 1.0), float(res.fun)
         if progress is not None:
-            progress(f"local stage {rank + 1}/{min(int(budget.keep), len(order))}: {float(res.fun):.5g} "
-                     f"({int(res.nfev)} evaluations)")
+            progress(
+                f"local stage {rank + 1}/{min(int(budget.keep), len(order))}: {float(res.fun):.5g} "
+                f"({int(res.nfev)} evaluations)"
+            )
     return to_dict(best_u), best_v, evaluations
 
 
@@ -221,19 +264,29 @@ def _tmd_criterion(mu, delta1, band, criterion, detuning: float = 0.0) -> Callab
             return worst_case_tmd(mu, delta1, x["N"], x["delta2"], band, detuning)
         d = LinearDevice(mu, x["N"], delta1, x["delta2"])
         return d.peak(band)[1] if criterion == "peak" else d.band_average(band)
+
     return f
 
 
 def _tmd_optimum(mu, delta1, band, criterion, x, evaluations, bounds) -> Optimum:
     d = LinearDevice(mu, x["N"], delta1, x["delta2"])
     t, v = d.peak(band)
-    return Optimum("tmd", criterion, dict(x), float(v), float(t), d.band_average(band), evaluations,
-                   _at_bound(x, bounds), float(v))
+    return Optimum(
+        "tmd", criterion, dict(x), float(v), float(t), d.band_average(band), evaluations, _at_bound(x, bounds), float(v)
+    )
 
 
-def optimise_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5), criterion: str = "peak", *,
-                 bounds: dict | None = None, budget: Budget = STAGE_BUDGET, detuning: float = 0.0,
-                 seed: int = 0) -> Optimum:
+def optimise_tmd(
+    mu: float,
+    delta1: float,
+    band: tuple[float, float] = (0.5, 1.5),
+    criterion: str = "peak",
+    *,
+    bounds: dict | None = None,
+    budget: Budget = STAGE_BUDGET,
+    detuning: float = 0.0,
+    seed: int = 0,
+) -> Optimum:
     """The linear TMD (N, delta2) minimising ``criterion`` over ``band``, by :func:`minimise`
     (the impact suppressor's optimiser) on the exact located peak (closed form). With
     ``detuning`` d > 0 the criterion is the worst-case peak over the object's frequency
@@ -242,8 +295,12 @@ def optimise_tmd(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5
     bounds = dict(TMD_BOUNDS if bounds is None else bounds)
     f = _tmd_criterion(mu, delta1, band, criterion, detuning)
     dh = den_hartog(mu)
-    guess = [{"N": min(max(dh["N"], bounds["N"][0]), bounds["N"][1]),
-              "delta2": min(max(dh["delta2"], bounds["delta2"][0]), bounds["delta2"][1])}]
+    guess = [
+        {
+            "N": min(max(dh["N"], bounds["N"][0]), bounds["N"][1]),
+            "delta2": min(max(dh["delta2"], bounds["delta2"][0]), bounds["delta2"][1]),
+        }
+    ]
     x, _, n = minimise(f, f, bounds, budget=budget, seed=seed, guesses=guess)
     return _tmd_optimum(mu, delta1, band, criterion, x, n, bounds)
 
@@ -261,14 +318,25 @@ def _impact_value(mu, delta1, band, criterion, step, settings, locate=False) -> 
         if criterion == "peak":
             return r.peak if locate else r.interpolated_peak()
         return r.band_average
+
     return f
 
 
-def optimise_impact(mu: float, delta1: float, band: tuple[float, float] = (0.5, 1.5), criterion: str = "peak", *,
-                    bounds: dict | None = None, budget: Budget = STAGE_BUDGET, settings: SweepSettings | None = None,
-                    seed: int = 0, guesses: Sequence[dict] = (), step: float = BAND_STEP,
-                    coarse_step: float = COARSE_STEP,
-                    progress: Callable[[str], None] | None = None) -> tuple[Optimum, BandResponse]:
+def optimise_impact(
+    mu: float,
+    delta1: float,
+    band: tuple[float, float] = (0.5, 1.5),
+    criterion: str = "peak",
+    *,
+    bounds: dict | None = None,
+    budget: Budget = STAGE_BUDGET,
+    settings: SweepSettings | None = None,
+    seed: int = 0,
+    guesses: Sequence[dict] = (),
+    step: float = BAND_STEP,
+    coarse_step: float = COARSE_STEP,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[Optimum, BandResponse]:
     """The impact suppressor (gap, N, delta2, R) minimising ``criterion`` over ``band`` at the
     given ``mu`` and ``delta1``, by :func:`minimise`: the coarse stage on the band grid of step
     ``coarse_step``, the local stage on the band grid of step ``step`` (peaks sampled there),
@@ -291,20 +359,31 @@ def optimise_impact(mu: float, delta1: float, band: tuple[float, float] = (0.5, 
         located = _impact_value(mu, delta1, band, criterion, step, settings, locate=True)
         names, lo, hi = _unit(bounds)
         u0 = np.array([(x[k] - lo[i]) / (hi[i] - lo[i]) for i, k in enumerate(names)])
-        simplex = np.vstack([u0] + [np.clip(u0 + 0.02 * np.eye(len(names))[i] * (1 if u0[i] < 0.5 else -1), 0, 1)
-                                    for i in range(len(names))])
+        simplex = np.vstack(
+            [u0]
+            + [np.clip(u0 + 0.02 * np.eye(len(names))[i] * (1 if u0[i] < 0.5 else -1), 0, 1) for i in range(len(names))]
+        )
         to_dict = lambda u: {k: float(v) for k, v in zip(names, lo + np.clip(u, 0.0, 1.0) * (hi - lo))}  # noqa: E731
-        res = scipy.optimize.minimize(lambda u: located(to_dict(u)), u0, method="Nelder-Mead",
-                                      bounds=[(0.0, 1.0)] * len(names),
-                                      options={"maxfev": int(budget.polish_evaluations), "xatol": 1e-4,
-                                               "fatol": 1e-6, "initial_simplex": simplex})
+        res = scipy.optimize.minimize(
+            lambda u: located(to_dict(u)),
+            u0,
+            method="Nelder-Mead",
+            bounds=[(0.0, 1.0)] * len(names),
+            options={
+                "maxfev": int(budget.polish_evaluations),
+                "xatol": 1e-4,
+                "fatol": 1e-6,
+                "initial_simplex": simplex,
+            },
+        )
         n += int(res.nfev)
         x = to_dict(res.x)
         if progress is not None:
             progress(f"polish on the located peak: {float(res.fun):.5g} ({int(res.nfev)} evaluations)")
     r = impact_band_response(_impact_parameters(mu, delta1, x), band, step, settings=settings)
-    return Optimum("impact", criterion, dict(x), r.peak, r.peak_theta, r.band_average, n, _at_bound(x, bounds),
-                   r.grid_peak()), r
+    return Optimum(
+        "impact", criterion, dict(x), r.peak, r.peak_theta, r.band_average, n, _at_bound(x, bounds), r.grid_peak()
+    ), r
 
 
 def detuned(p: Parameters, band: tuple[float, float], e: float) -> tuple[Parameters, tuple, float]:
@@ -338,8 +417,15 @@ def worst_case_tmd(mu: float, delta1: float, N: float, delta2: float, band, d: f
     return float(out)
 
 
-def worst_case_impact(p: Parameters, band, d: float, *, settings: SweepSettings | None = None,
-                      locate: bool = True, step: float = BAND_STEP) -> dict:
+def worst_case_impact(
+    p: Parameters,
+    band,
+    d: float,
+    *,
+    settings: SweepSettings | None = None,
+    locate: bool = True,
+    step: float = BAND_STEP,
+) -> dict:
     """The impact suppressor's located peak at each detuning e in [-d, d] (``DETUNING_POINTS``
     values), over the nominal x_st. Returns {"detunings": [...], "peaks": [...], "worst": max}."""
     peaks = []
@@ -399,9 +485,12 @@ def _cycle(p: Parameters, theta: float, section: np.ndarray, k: int) -> dict:
     impacts = sum(1 for e in events if e.kind == "impact")
     omega1 = q.omega / q.theta
     P0 = q.m1 * omega1 * omega1 * q.x_st
-    return {"stroke": stroke, "impacts_per_period": impacts / periods,
-            "impulse": float(pulses.max()) * omega1 / P0 if len(pulses) else 0.0,
-            "mean_force": float(pulses.sum()) / end / P0}
+    return {
+        "stroke": stroke,
+        "impacts_per_period": impacts / periods,
+        "impulse": float(pulses.max()) * omega1 / P0 if len(pulses) else 0.0,
+        "mean_force": float(pulses.sum()) / end / P0,
+    }
 
 
 def impact_stroke_and_loads(r: BandResponse) -> dict:
@@ -419,13 +508,21 @@ def impact_stroke_and_loads(r: BandResponse) -> dict:
         The stereomechanical impact (eqs. 21-22) is instantaneous: it gives pulses, no contact
         force peak (that needs the stop's stiffness, which the model does not have).
     """
-    best = {"stroke": (0.0, math.nan), "impulse_per_impact": (0.0, math.nan), "impacts_per_second": (0.0, math.nan),
-            "mean_force": (0.0, math.nan)}
+    best = {
+        "stroke": (0.0, math.nan),
+        "impulse_per_impact": (0.0, math.nan),
+        "impacts_per_second": (0.0, math.nan),
+        "mean_force": (0.0, math.nan),
+    }
     for sections, ks in ((r.up_sections, r.up_k), (r.down_sections, r.down_k)):
         for t, s, k in zip(r.thetas, sections, ks):
             c = _cycle(r.p, float(t), s, int(k))
-            for key, v in (("stroke", c["stroke"]), ("impulse_per_impact", c["impulse"]),
-                           ("impacts_per_second", c["impacts_per_period"] * float(t)), ("mean_force", c["mean_force"])):
+            for key, v in (
+                ("stroke", c["stroke"]),
+                ("impulse_per_impact", c["impulse"]),
+                ("impacts_per_second", c["impacts_per_period"] * float(t)),
+                ("mean_force", c["mean_force"]),
+            ):
                 if v > best[key][0]:
                     best[key] = (float(v), float(t))
     out = {k: v for k, (v, _) in best.items()}
@@ -433,8 +530,16 @@ def impact_stroke_and_loads(r: BandResponse) -> dict:
     return out
 
 
-def tmd_at_stroke(mu: float, delta1: float, band, max_stroke: float, criterion: str = "peak", *,
-                  budget: Budget = STAGE_BUDGET, seed: int = 0) -> Optimum:
+def tmd_at_stroke(
+    mu: float,
+    delta1: float,
+    band,
+    max_stroke: float,
+    criterion: str = "peak",
+    *,
+    budget: Budget = STAGE_BUDGET,
+    seed: int = 0,
+) -> Optimum:
     """The best TMD whose stroke max|x2 - x1|/x_st over the band does not exceed ``max_stroke``
     (closed form), by :func:`minimise` with the excess stroke as a penalty (a design over the
     limit scores 1e3 per unit of relative excess above any within it)."""
@@ -456,10 +561,19 @@ def _device_summary(opt: Optimum, worst: dict, stroke_loads: dict) -> dict:
     return {**opt.to_dict(), "worst_case": worst, **stroke_loads}
 
 
-def design_optima(band: tuple[float, float], mu: float, delta1: float, *, detuning: float = 0.1,
-                  max_stroke: float | None = None, criterion: str = "peak", budget: Budget = CLI_BUDGET,
-                  settings: SweepSettings | None = None, seed: int = 0,
-                  progress: Callable[[str], None] | None = None) -> dict:
+def design_optima(
+    band: tuple[float, float],
+    mu: float,
+    delta1: float,
+    *,
+    detuning: float = 0.1,
+    max_stroke: float | None = None,
+    criterion: str = "peak",
+    budget: Budget = CLI_BUDGET,
+    settings: SweepSettings | None = None,
+    seed: int = 0,
+    progress: Callable[[str], None] | None = None,
+) -> dict:
     """Both devices optimised for one object and band: what ``python -m impactdamper design``
     prints.
 
@@ -504,15 +618,28 @@ def design_optima(band: tuple[float, float], mu: float, delta1: float, *, detuni
     say = progress or (lambda s: None)
     say("optimising the TMD")
     tmd = optimise_tmd(mu, delta1, band, criterion, budget=budget, seed=seed)
-    say(f"TMD: N = {tmd.parameters['N']:.4f}, delta2 = {tmd.parameters['delta2']:.4f}, peak {tmd.peak:.4f}; "
-        "optimising the impact suppressor")
+    say(
+        f"TMD: N = {tmd.parameters['N']:.4f}, delta2 = {tmd.parameters['delta2']:.4f}, peak {tmd.peak:.4f}; "
+        "optimising the impact suppressor"
+    )
     # The stop within reach (gap <= STOP_GAP): with a gap past its travel the optimum is a TMD.
-    imp, resp = optimise_impact(mu, delta1, band, criterion, bounds=dict(IMPACT_BOUNDS, gap=(IMPACT_BOUNDS["gap"][0],
-                                                                                             STOP_GAP)),
-                                budget=budget, settings=settings, seed=seed, progress=say)
+    imp, resp = optimise_impact(
+        mu,
+        delta1,
+        band,
+        criterion,
+        bounds=dict(IMPACT_BOUNDS, gap=(IMPACT_BOUNDS["gap"][0], STOP_GAP)),
+        budget=budget,
+        settings=settings,
+        seed=seed,
+        progress=say,
+    )
     say(f"impact: {imp.parameters}, located peak {imp.peak:.4f}; worst cases over +-{detuning:g}")
-    imp_worst = worst_case_impact(resp.p, band, detuning, settings=settings) if detuning > 0 else \
-        {"detunings": [0.0], "peaks": [imp.peak], "worst": imp.peak}
+    imp_worst = (
+        worst_case_impact(resp.p, band, detuning, settings=settings)
+        if detuning > 0
+        else {"detunings": [0.0], "peaks": [imp.peak], "worst": imp.peak}
+    )
     tmd_worst = worst_case_tmd(mu, delta1, tmd.parameters["N"], tmd.parameters["delta2"], band, detuning)
     say("stroke and loads")
     loads = impact_stroke_and_loads(resp)
@@ -522,21 +649,43 @@ def design_optima(band: tuple[float, float], mu: float, delta1: float, *, detuni
     eq_stroke = LinearDevice(mu, eq.parameters["N"], delta1, eq.parameters["delta2"]).stroke_peak(band)[1]
     eq_worst = worst_case_tmd(mu, delta1, eq.parameters["N"], eq.parameters["delta2"], band, detuning)
     out = {
-        "band": list(band), "mu": mu, "delta1": delta1, "detuning": detuning, "criterion": criterion,
-        "impact": {**imp.to_dict(), "worst_case": imp_worst["worst"], "worst_case_detunings": imp_worst["detunings"],
-                   "worst_case_peaks": imp_worst["peaks"], **loads, "clearance": imp.parameters["gap"]},
+        "band": list(band),
+        "mu": mu,
+        "delta1": delta1,
+        "detuning": detuning,
+        "criterion": criterion,
+        "impact": {
+            **imp.to_dict(),
+            "worst_case": imp_worst["worst"],
+            "worst_case_detunings": imp_worst["detunings"],
+            "worst_case_peaks": imp_worst["peaks"],
+            **loads,
+            "clearance": imp.parameters["gap"],
+        },
         "tmd": {**tmd.to_dict(), "worst_case": tmd_worst, "stroke": tmd_stroke},
         "tmd_equal_stroke": {**eq.to_dict(), "worst_case": eq_worst, "stroke": eq_stroke, "max_stroke": limit},
     }
-    out["ratio"] = {"peak": imp.peak / tmd.peak, "band_average": imp.band_average / tmd.band_average,
-                    "worst_case": imp_worst["worst"] / tmd_worst}
+    out["ratio"] = {
+        "peak": imp.peak / tmd.peak,
+        "band_average": imp.band_average / tmd.band_average,
+        "worst_case": imp_worst["worst"] / tmd_worst,
+    }
     out["elapsed"] = time.perf_counter() - t0
     return out
 
 
-def robust_impact(mu: float, delta1: float, band, d: float, start: dict, *, evaluations: int = 40,
-                  settings: SweepSettings | None = None, step: float = COARSE_STEP,
-                  bounds: dict | None = None) -> dict:
+def robust_impact(
+    mu: float,
+    delta1: float,
+    band,
+    d: float,
+    start: dict,
+    *,
+    evaluations: int = 40,
+    settings: SweepSettings | None = None,
+    step: float = COARSE_STEP,
+    bounds: dict | None = None,
+) -> dict:
     """The impact suppressor's robust optimum near ``start``: Nelder-Mead (the optimiser's local
     stage, ``evaluations`` at most) on the worst grid peak (step ``step``) over the detunings
     -d, -d/2, 0, d/2, d, within ``bounds`` (default IMPACT_BOUNDS). Returns the parameters (a
@@ -558,10 +707,21 @@ def robust_impact(mu: float, delta1: float, band, d: float, start: dict, *, eval
     return x
 
 
-def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: Sequence[float] = (0.05, 0.1), *,
-                 budget: Budget = STAGE_BUDGET, step: float = BAND_STEP, coarse_step: float = COARSE_STEP,
-                 robust_evaluations: int = 40, settings: SweepSettings | None = None, seed: int = 0,
-                 progress: Callable[[str], None] | None = None) -> dict:
+def design_study(
+    band,
+    mu: float,
+    delta1: float,
+    paper: Parameters,
+    detunings: Sequence[float] = (0.05, 0.1),
+    *,
+    budget: Budget = STAGE_BUDGET,
+    step: float = BAND_STEP,
+    coarse_step: float = COARSE_STEP,
+    robust_evaluations: int = 40,
+    settings: SweepSettings | None = None,
+    seed: int = 0,
+    progress: Callable[[str], None] | None = None,
+) -> dict:
     """The design stage's record: every device of the design table, each with its parameters,
     located peak, band average, worst case at each detuning, stroke and (impact) loads.
 
@@ -590,22 +750,42 @@ def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: S
                 de = LinearDevice(0.0 if bare else mu, N / f, delta1 / f, delta2 / f)
                 w = max(w, de.peak((band[0] / f, band[1] / f))[1] / (f * f))
             worst[f"{d:g}"] = w
-        return {"device": name, "kind": "linear", "parameters": {} if bare else {"N": N, "delta2": delta2},
-                "peak": v, "peak_theta": t, "band_average": dev.band_average(band, step), "worst_case": worst,
-                "stroke": 0.0 if bare else dev.stroke_peak(band)[1], **(extra or {})}
+        return {
+            "device": name,
+            "kind": "linear",
+            "parameters": {} if bare else {"N": N, "delta2": delta2},
+            "peak": v,
+            "peak_theta": t,
+            "band_average": dev.band_average(band, step),
+            "worst_case": worst,
+            "stroke": 0.0 if bare else dev.stroke_peak(band)[1],
+            **(extra or {}),
+        }
 
     def impact_row(name: str, x: dict, extra: dict | None = None) -> dict:
         p = _impact_parameters(mu, delta1, x)
         r = impact_band_response(p, band, step, settings=settings)
         case = worst_case_impact(p, band, dmax, settings=settings, step=step)
         loads = impact_stroke_and_loads(r)
-        say(f"{name}: peak {r.peak:.4f} at theta {r.peak_theta:.4f}, band average {r.band_average:.4f}, "
-            f"worst case {case['worst']:.4f}, stroke {loads['stroke']:.3f}")
-        return {"device": name, "kind": "impact", "parameters": dict(x), "peak": r.peak, "peak_theta": r.peak_theta,
-                "grid_peak": r.grid_peak(), "band_average": r.band_average,
-                "worst_case": {f"{d:g}": worst_within(case, d) for d in detunings},
-                "detuned_peaks": {"detunings": case["detunings"], "peaks": case["peaks"]},
-                "located_peaks": [q.to_dict() for q in r.peaks], **loads, "clearance": x["gap"], **(extra or {})}
+        say(
+            f"{name}: peak {r.peak:.4f} at theta {r.peak_theta:.4f}, band average {r.band_average:.4f}, "
+            f"worst case {case['worst']:.4f}, stroke {loads['stroke']:.3f}"
+        )
+        return {
+            "device": name,
+            "kind": "impact",
+            "parameters": dict(x),
+            "peak": r.peak,
+            "peak_theta": r.peak_theta,
+            "grid_peak": r.grid_peak(),
+            "band_average": r.band_average,
+            "worst_case": {f"{d:g}": worst_within(case, d) for d in detunings},
+            "detuned_peaks": {"detunings": case["detunings"], "peaks": case["peaks"]},
+            "located_peaks": [q.to_dict() for q in r.peaks],
+            **loads,
+            "clearance": x["gap"],
+            **(extra or {}),
+        }
 
     say("linear references")
     rows.append(linear_row("bare object", 1.0, 0.0, bare=True))
@@ -621,42 +801,90 @@ def design_study(band, mu: float, delta1: float, paper: Parameters, detunings: S
         text = criterion.replace("_", " ")
         t = optimise_tmd(mu, delta1, band, criterion, budget=budget, seed=seed)
         say(f"TMD ({criterion}): {t.parameters}")
-        rows.append(linear_row(f"TMD, optimal {text}", t.parameters["N"],
-                               t.parameters["delta2"], extra={"evaluations": t.evaluations,
-                                                              "at_bound": list(t.at_bound)}))
+        rows.append(
+            linear_row(
+                f"TMD, optimal {text}",
+                t.parameters["N"],
+                t.parameters["delta2"],
+                extra={"evaluations": t.evaluations, "at_bound": list(t.at_bound)},
+            )
+        )
         for box, suffix in ((IMPACT_BOUNDS, ""), (near, f", gap <= {STOP_GAP:g}")):
-            o, _ = optimise_impact(mu, delta1, band, criterion, bounds=box, budget=budget, settings=settings,
-                                   seed=seed, guesses=[paper_x], step=step, coarse_step=coarse_step, progress=say)
+            o, _ = optimise_impact(
+                mu,
+                delta1,
+                band,
+                criterion,
+                bounds=box,
+                budget=budget,
+                settings=settings,
+                seed=seed,
+                guesses=[paper_x],
+                step=step,
+                coarse_step=coarse_step,
+                progress=say,
+            )
             say(f"impact ({criterion}{suffix}): {o.parameters}")
-            rows.append(impact_row(f"impact, optimal {text}{suffix}", o.parameters,
-                                   {"evaluations": o.evaluations, "at_bound": list(o.at_bound)}))
+            rows.append(
+                impact_row(
+                    f"impact, optimal {text}{suffix}",
+                    o.parameters,
+                    {"evaluations": o.evaluations, "at_bound": list(o.at_bound)},
+                )
+            )
             if not suffix:
                 optima[criterion] = (t, o)
     tmd, imp = optima["peak"]
     imp_row = impacting(rows)
     eq = tmd_at_stroke(mu, delta1, band, imp_row["stroke"], budget=budget, seed=seed)
-    rows.append(linear_row("TMD, impact's stroke", eq.parameters["N"], eq.parameters["delta2"],
-                           extra={"max_stroke": imp_row["stroke"]}))
+    rows.append(
+        linear_row(
+            "TMD, impact's stroke", eq.parameters["N"], eq.parameters["delta2"], extra={"max_stroke": imp_row["stroke"]}
+        )
+    )
     say(f"robust optima (+-{dmax:g})")
     rt = optimise_tmd(mu, delta1, band, "peak", budget=budget, seed=seed, detuning=dmax)
     rows.append(linear_row(f"TMD, robust +-{100 * dmax:g} %", rt.parameters["N"], rt.parameters["delta2"]))
     # From the impact suppressor that meets its stop, with the stop kept within reach (from the
     # full box's optimum, a TMD when its gap is past its travel, the search stays a TMD).
-    rx = robust_impact(mu, delta1, band, dmax, imp_row["parameters"], evaluations=robust_evaluations,
-                       settings=settings, step=coarse_step, bounds=near)
+    rx = robust_impact(
+        mu,
+        delta1,
+        band,
+        dmax,
+        imp_row["parameters"],
+        evaluations=robust_evaluations,
+        settings=settings,
+        step=coarse_step,
+        bounds=near,
+    )
     rows.append(impact_row(f"impact, robust +-{100 * dmax:g} %", rx))
     say("sensitivity")
     tmd_value = _tmd_criterion(mu, delta1, band, "peak")
     imp_value = _impact_value(mu, delta1, band, "peak", step, settings)
-    sens = {"tmd": sensitivity(tmd_value, tmd.parameters, TMD_BOUNDS),
-            "impact": sensitivity(imp_value, imp_row["parameters"], near)}
-    return {"band": list(band), "mu": mu, "delta1": delta1, "detunings": list(detunings), "step": step,
-            "coarse_step": coarse_step, "budget": {"starts": budget.starts, "keep": budget.keep,
-                                                   "local_evaluations": budget.local_evaluations,
-                                                   "polish_evaluations": budget.polish_evaluations,
-                                                   "robust_evaluations": robust_evaluations},
-            "bounds": {"impact": IMPACT_BOUNDS, "tmd": TMD_BOUNDS}, "devices": rows, "sensitivity": sens,
-            "sensitivity_worse": SENSITIVITY_WORSE}
+    sens = {
+        "tmd": sensitivity(tmd_value, tmd.parameters, TMD_BOUNDS),
+        "impact": sensitivity(imp_value, imp_row["parameters"], near),
+    }
+    return {
+        "band": list(band),
+        "mu": mu,
+        "delta1": delta1,
+        "detunings": list(detunings),
+        "step": step,
+        "coarse_step": coarse_step,
+        "budget": {
+            "starts": budget.starts,
+            "keep": budget.keep,
+            "local_evaluations": budget.local_evaluations,
+            "polish_evaluations": budget.polish_evaluations,
+            "robust_evaluations": robust_evaluations,
+        },
+        "bounds": {"impact": IMPACT_BOUNDS, "tmd": TMD_BOUNDS},
+        "devices": rows,
+        "sensitivity": sens,
+        "sensitivity_worse": SENSITIVITY_WORSE,
+    }
 
 
 def device(record: dict, name: str) -> dict:
@@ -664,8 +892,9 @@ def device(record: dict, name: str) -> dict:
     for d in record["devices"]:
         if d["device"] == name:
             return d
-    raise ValueError(f"`device` = {name!r} is not allowed: must be one of "
-                     f"{', '.join(repr(d['device']) for d in record['devices'])}")
+    raise ValueError(
+        f"`device` = {name!r} is not allowed: must be one of {', '.join(repr(d['device']) for d in record['devices'])}"
+    )
 
 
 # Two devices whose criteria differ by less than this (relative) are equal for a designer: the
@@ -705,16 +934,26 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
     rob_t = next(d for d in record["devices"] if d["device"].startswith("TMD, robust"))
     d = f"{100 * dmax:g}"
     peak = _compare(imp["peak"], tmd["peak"], "tuned to a known frequency, at the peak", xst, pct)
-    worst = _compare(rob_i["worst_case"][key], rob_t["worst_case"][key],
-                     f"designed for a frequency off by up to {pm}{d}{pct}, in the worst case", xst, pct)
+    worst = _compare(
+        rob_i["worst_case"][key],
+        rob_t["worst_case"][key],
+        f"designed for a frequency off by up to {pm}{d}{pct}, in the worst case",
+        xst,
+        pct,
+    )
     avg = _compare(impa["band_average"], tmda["band_average"], "optimised for the band average", xst, pct)
     choice = worst[0] if worst[0] != "tie" else peak[0]
-    first = {"TMD": "Build the linear TMD", "impact": "Build the impact suppressor",
-             "tie": "Either device does"}[choice]
-    stroke = (f"The TMD's stroke is {tmd['stroke']:.1f}{xst} against the impact suppressor's {imp['stroke']:.1f}: "
-              + ("the stop does not shorten the travel here" if tmd["stroke"] <= imp["stroke"] else
-                 "the stop shortens the travel"))
+    first = {"TMD": "Build the linear TMD", "impact": "Build the impact suppressor", "tie": "Either device does"}[
+        choice
+    ]
+    stroke = f"The TMD's stroke is {tmd['stroke']:.1f}{xst} against the impact suppressor's {imp['stroke']:.1f}: " + (
+        "the stop does not shorten the travel here"
+        if tmd["stroke"] <= imp["stroke"]
+        else "the stop shortens the travel"
+    )
     if "impact" not in (peak[0], worst[0], avg[0]):
         avg = (avg[0], avg[1] + f"; no criterion favours the impact suppressor by more than {100 * TIE:g}{pct}")
-    return (f"{first}: {peak[1]}; {worst[1]}; {avg[1]}. {stroke}, and the impact suppressor's gap, a clearance "
-            f"Delta0 = {imp['parameters']['gap']:.2f} P0/c1, is optimal only at the design force amplitude P0.")
+    return (
+        f"{first}: {peak[1]}; {worst[1]}; {avg[1]}. {stroke}, and the impact suppressor's gap, a clearance "
+        f"Delta0 = {imp['parameters']['gap']:.2f} P0/c1, is optimal only at the design force amplitude P0."
+    )

@@ -44,14 +44,25 @@ from impactdamper.core.events import Segment
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import Model
 
-__all__ = ["R_BISECT_TOL", "RANDOM_X", "RANDOM_GAP", "RANDOM_V", "alg1_eq13_as_printed", "readings", "evaluate",
-           "random_states", "r_ranges", "evaluate_readings"]
+__all__ = [
+    "R_BISECT_TOL",
+    "RANDOM_X",
+    "RANDOM_GAP",
+    "RANDOM_V",
+    "alg1_eq13_as_printed",
+    "readings",
+    "evaluate",
+    "random_states",
+    "r_ranges",
+    "evaluate_readings",
+]
 
 R_BISECT_TOL = 1e-4
 # Random initial states: object position within +-RANDOM_X x_st, gap in [0, RANDOM_GAP] x_st,
 # velocities within +-RANDOM_V x_st omega1, start time anywhere in one period (the stated
 # case's settled motion reaches |x1| ~ 5.6 x_st and closing velocities ~ 14 x_st omega1).
 RANDOM_X, RANDOM_GAP, RANDOM_V = 10.0, 10.0, 15.0
+
 
 def alg1_eq13_as_printed(p):
     """Algorithm No. 1 with eq. (13)'s x21s' = x1s' - x2s' (as printed): eqs. (15)-(17) with
@@ -98,22 +109,50 @@ def readings(base: dict) -> list[dict]:
     g = base["gap"]
     return [
         {"id": "stated", "reading": "the parameters as stated", "changes": {}},
-        {"id": "printed_velocities", "reading": "step 1's velocities as printed, x1b' = 1/m1, x2b' = 1/m2 (same direction)",
-         "changes": {}, "state": [0.0, p.Delta0, 1.0 / p.m1, 1.0 / p.m2]},
-        {"id": "delta2_per_omega2", "reading": "delta2 = k2/(2 m2 omega2)", "changes": {"delta2": base["delta2"] * base["N"]}},
-        {"id": "delta_without_half", "reading": "delta_i = k_i/(m_i omega1) (no factor 2)",
-         "changes": {"delta1": base["delta1"] / 2.0, "delta2": base["delta2"] / 2.0}},
+        {
+            "id": "printed_velocities",
+            "reading": "step 1's velocities as printed, x1b' = 1/m1, x2b' = 1/m2 (same direction)",
+            "changes": {},
+            "state": [0.0, p.Delta0, 1.0 / p.m1, 1.0 / p.m2],
+        },
+        {
+            "id": "delta2_per_omega2",
+            "reading": "delta2 = k2/(2 m2 omega2)",
+            "changes": {"delta2": base["delta2"] * base["N"]},
+        },
+        {
+            "id": "delta_without_half",
+            "reading": "delta_i = k_i/(m_i omega1) (no factor 2)",
+            "changes": {"delta1": base["delta1"] / 2.0, "delta2": base["delta2"] / 2.0},
+        },
         {"id": "gap_sign_flipped", "reading": "Delta0/x_st with the sign flipped", "changes": {"gap": -g}},
-        {"id": "gap_per_relative_amplitude", "reading": "Delta0 in units of |x2p - x1p| (eq. 16's U1)",
-         "changes": {"gap": g * abs(x2p - x1p) / p.x_st}},
-        {"id": "gap_per_object_amplitude", "reading": "Delta0 in units of |x1p| (the object's forced amplitude)",
-         "changes": {"gap": g * abs(x1p) / p.x_st}},
-        {"id": "x_st_with_c2", "reading": "x_st = P0/(c1 + c2)", "changes": {"gap": g / (1.0 + base["mu"] * base["N"] ** 2)}},
+        {
+            "id": "gap_per_relative_amplitude",
+            "reading": "Delta0 in units of |x2p - x1p| (eq. 16's U1)",
+            "changes": {"gap": g * abs(x2p - x1p) / p.x_st},
+        },
+        {
+            "id": "gap_per_object_amplitude",
+            "reading": "Delta0 in units of |x1p| (the object's forced amplitude)",
+            "changes": {"gap": g * abs(x1p) / p.x_st},
+        },
+        {
+            "id": "x_st_with_c2",
+            "reading": "x_st = P0/(c1 + c2)",
+            "changes": {"gap": g / (1.0 + base["mu"] * base["N"] ** 2)},
+        },
         {"id": "mu_of_total", "reading": "mu = m2/(m1 + m2)", "changes": {"mu": base["mu"] / (1.0 - base["mu"])}},
-        {"id": "R_as_loss", "reading": "R read as 1 - R (contradicts eq. 14's D = m_red (R + 1))",
-         "changes": {"R": 1.0 - base["R"]}},
-        {"id": "eq13_as_printed", "reading": "eq. (13) as printed, x21s' = x1s' - x2s' (Algorithm No. 1 only)",
-         "changes": {}, "eq13_printed": True},
+        {
+            "id": "R_as_loss",
+            "reading": "R read as 1 - R (contradicts eq. 14's D = m_red (R + 1))",
+            "changes": {"R": 1.0 - base["R"]},
+        },
+        {
+            "id": "eq13_as_printed",
+            "reading": "eq. (13) as printed, x21s' = x1s' - x2s' (Algorithm No. 1 only)",
+            "changes": {},
+            "eq13_printed": True,
+        },
     ]
 
 
@@ -128,19 +167,38 @@ def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, di
     state = np.array(r["state"]) if "state" in r else None
     s = rep.run_steady(p, solver, state=state)
     ivp_a = rep.alg1_ivp(a, **ivp_kw) if a.exists else {"claim_a": False}
-    ivp_b = rep.alg2_ivp(p, s.periods + kmax, kmax, section_tol=float(verdict["ivp_section_tol"]), exact=s,
-                         state=state, tolerances=rep.solver_options(solver)["tolerances"],
-                         time_tol=float(verdict["crosscheck_time_tol"]),
-                         velocity_tol=float(verdict["crosscheck_velocity_tol"]), **ivp_kw)
+    ivp_b = rep.alg2_ivp(
+        p,
+        s.periods + kmax,
+        kmax,
+        section_tol=float(verdict["ivp_section_tol"]),
+        exact=s,
+        state=state,
+        tolerances=rep.solver_options(solver)["tolerances"],
+        time_tol=float(verdict["crosscheck_time_tol"]),
+        velocity_tol=float(verdict["crosscheck_velocity_tol"]),
+        **ivp_kw,
+    )
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
-    row = {"id": r["id"], "reading": r["reading"], **{k: getattr(p, k) for k in ("gap", "R", "delta1", "delta2", "mu")},
-           "alg1_exists": a.exists, "alg1_t1": iv[0], "alg1_t2": iv[1],
-           "alg1_min_gap": a.min_gap if a.exists else None, "claim_a": rep.claim_a(a),
-           "alg2_regime": s.regime, "alg2_period_multiple": s.period_multiple,
-           "alg2_impacts_per_cycle": s.impacts_per_cycle, "claim_b": rep.claim_b(s),
-           "ivp_claim_a": ivp_a["claim_a"], "ivp_claim_b": ivp_b["claim_b"],
-           "ivp_cycle_time_diff": ivp_b["max_time_difference_over_T"],
-           "ivp_cycle_velocity_diff": ivp_b["max_velocity_difference_rel"], "ivp_cycle_agree": ivp_b["agree"]}
+    row = {
+        "id": r["id"],
+        "reading": r["reading"],
+        **{k: getattr(p, k) for k in ("gap", "R", "delta1", "delta2", "mu")},
+        "alg1_exists": a.exists,
+        "alg1_t1": iv[0],
+        "alg1_t2": iv[1],
+        "alg1_min_gap": a.min_gap if a.exists else None,
+        "claim_a": rep.claim_a(a),
+        "alg2_regime": s.regime,
+        "alg2_period_multiple": s.period_multiple,
+        "alg2_impacts_per_cycle": s.impacts_per_cycle,
+        "claim_b": rep.claim_b(s),
+        "ivp_claim_a": ivp_a["claim_a"],
+        "ivp_claim_b": ivp_b["claim_b"],
+        "ivp_cycle_time_diff": ivp_b["max_time_difference_over_T"],
+        "ivp_cycle_velocity_diff": ivp_b["max_velocity_difference_rel"],
+        "ivp_cycle_agree": ivp_b["agree"],
+    }
     row["reproduces"] = row["claim_a"] and row["claim_b"]
     details = {"alg1_ivp": ivp_a, "alg2_ivp": ivp_b}
     if r.get("eq13_printed") and a.exists:
@@ -162,11 +220,21 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
         t0 = float(rng.uniform(0.0, p.T))
         state = np.array([x1, x1 + p.Delta0 - gap, v1, v2])
         s = rep.run_steady(p, solver, t0=t0, state=state)
-        ivp = rep.alg2_ivp(p, s.periods + kmax, kmax, verdict["ivp_method"], float(verdict["ivp_rtol"]),
-                           float(verdict["ivp_atol"]), float(verdict["ivp_section_tol"]), exact=s, state=state, t0=t0,
-                           tolerances=rep.solver_options(solver)["tolerances"],
-                           time_tol=float(verdict["crosscheck_time_tol"]),
-                           velocity_tol=float(verdict["crosscheck_velocity_tol"]))
+        ivp = rep.alg2_ivp(
+            p,
+            s.periods + kmax,
+            kmax,
+            verdict["ivp_method"],
+            float(verdict["ivp_rtol"]),
+            float(verdict["ivp_atol"]),
+            float(verdict["ivp_section_tol"]),
+            exact=s,
+            state=state,
+            t0=t0,
+            tolerances=rep.solver_options(solver)["tolerances"],
+            time_tol=float(verdict["crosscheck_time_tol"]),
+            velocity_tol=float(verdict["crosscheck_velocity_tol"]),
+        )
         # Agreement is measured: the aligned cycles within tolerance (both settled), or both
         # unsettled within the cap.
         both_unsettled = ivp["period_multiple"] == 0 and s.period_multiple == 0
@@ -174,13 +242,25 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
         worst_time = max(worst_time, ivp["max_time_difference_over_T"] if not both_unsettled else 0.0)
         phase = round(s.impacts[0].phase, 6) if s.impacts else None
         motions[(s.regime, s.period_multiple, s.impacts_per_cycle, phase)] += 1
-    found = [{"regime": k[0], "period_multiple": k[1], "impacts_per_cycle": k[2], "first_impact_phase": k[3],
-              "count": c} for k, c in sorted(motions.items(), key=lambda kv: (-kv[1], str(kv[0])))]
-    return {"count": n, "seed": int(verdict["seed"]), "motions": found, "ivp_agree": agree,
-            "ivp_max_time_difference_over_T": worst_time, "ivp_time_tol": float(verdict["crosscheck_time_tol"]),
-            "claim_b_found": any(m["regime"] == "multi_impact" and m["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE
-                                 and m["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS for m in found),
-            "box": {"x1": RANDOM_X, "gap": RANDOM_GAP, "velocity_per_omega1": RANDOM_V}}
+    found = [
+        {"regime": k[0], "period_multiple": k[1], "impacts_per_cycle": k[2], "first_impact_phase": k[3], "count": c}
+        for k, c in sorted(motions.items(), key=lambda kv: (-kv[1], str(kv[0])))
+    ]
+    return {
+        "count": n,
+        "seed": int(verdict["seed"]),
+        "motions": found,
+        "ivp_agree": agree,
+        "ivp_max_time_difference_over_T": worst_time,
+        "ivp_time_tol": float(verdict["crosscheck_time_tol"]),
+        "claim_b_found": any(
+            m["regime"] == "multi_impact"
+            and m["period_multiple"] == rep.CLAIM_B_PERIOD_MULTIPLE
+            and m["impacts_per_cycle"] == rep.CLAIM_B_IMPACTS
+            for m in found
+        ),
+        "box": {"x1": RANDOM_X, "gap": RANDOM_GAP, "velocity_per_omega1": RANDOM_V},
+    }
 
 
 def r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
@@ -218,11 +298,23 @@ def evaluate_readings(reference: dict, solver: dict, verdict: dict) -> tuple[lis
         rows.append(row)
         details[r["id"]] = d
     rnd = random_states(base, solver, verdict)
-    rows.append({"id": "random_states", "reading": f"{rnd['count']} random initial states (seed {rnd['seed']})",
-                 **{k: base[k] for k in ("gap", "R", "delta1", "delta2", "mu")},
-                 "alg2_regime": "; ".join(f"{m['count']}x {m['regime']} k={m['period_multiple']}" for m in rnd["motions"]),
-                 "claim_a": rows[0]["claim_a"], "claim_b": rnd["claim_b_found"],
-                 "reproduces": rows[0]["claim_a"] and rnd["claim_b_found"]})
-    result = {"paper": rep.PAPER, "stated_gap": base["gap"], "readings": rows, "details": details,
-              "random_states": rnd, "R_ranges": r_ranges(base, solver, verdict)}
+    rows.append(
+        {
+            "id": "random_states",
+            "reading": f"{rnd['count']} random initial states (seed {rnd['seed']})",
+            **{k: base[k] for k in ("gap", "R", "delta1", "delta2", "mu")},
+            "alg2_regime": "; ".join(f"{m['count']}x {m['regime']} k={m['period_multiple']}" for m in rnd["motions"]),
+            "claim_a": rows[0]["claim_a"],
+            "claim_b": rnd["claim_b_found"],
+            "reproduces": rows[0]["claim_a"] and rnd["claim_b_found"],
+        }
+    )
+    result = {
+        "paper": rep.PAPER,
+        "stated_gap": base["gap"],
+        "readings": rows,
+        "details": details,
+        "random_states": rnd,
+        "R_ranges": r_ranges(base, solver, verdict),
+    }
     return rows, result

@@ -26,14 +26,43 @@ from impactdamper import Parameters, Tolerances, algorithm1, steady_state
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import state_scale
-from impactdamper.studies.claims import (CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b,
-                                         compare_cycles, true_intervals)
+from impactdamper.studies.claims import (
+    CLAIM_B_IMPACTS,
+    CLAIM_B_PERIOD_MULTIPLE,
+    claim_a,
+    claim_b,
+    compare_cycles,
+    true_intervals,
+)
 from impactdamper.studies.config import parameters, steady_options
 
-__all__ = ["PAPER", "CASES", "SAMPLES_PER_PERIOD", "IVP_GAP_SAMPLES", "CLAIM_B_IMPACTS", "CLAIM_B_PERIOD_MULTIPLE",
-           "claim_a", "claim_b", "parameters", "solver_options", "free_rhs", "GapScan", "gap_sign_scan",
-           "next_cycle_impact", "alg1_summary", "steady_summary", "alg1_ivp", "alg2_ivp", "compare_alg1", "grid",
-           "ranges", "overlap", "run_steady", "run_steady_compiled", "run_alg1"]
+__all__ = [
+    "PAPER",
+    "CASES",
+    "SAMPLES_PER_PERIOD",
+    "IVP_GAP_SAMPLES",
+    "CLAIM_B_IMPACTS",
+    "CLAIM_B_PERIOD_MULTIPLE",
+    "claim_a",
+    "claim_b",
+    "parameters",
+    "solver_options",
+    "free_rhs",
+    "GapScan",
+    "gap_sign_scan",
+    "next_cycle_impact",
+    "alg1_summary",
+    "steady_summary",
+    "alg1_ivp",
+    "alg2_ivp",
+    "compare_alg1",
+    "grid",
+    "ranges",
+    "overlap",
+    "run_steady",
+    "run_steady_compiled",
+    "run_alg1",
+]
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
 CASES = ("stated", "located")
@@ -92,11 +121,14 @@ def gap_sign_scan(gap_of, samples: int, xtol: float = GAP_ROOT_XTOL) -> GapScan:
     ``xtol``. The sign of the gap Delta = Delta0 - (x2 - x1) is the paper's Fig. 2a test."""
     tau = np.linspace(0.0, 1.0, int(samples) + 1)[1:-1]  # strictly inside the period
     g = np.array([float(gap_of(s)) for s in tau])
-    crossings = tuple(float(scipy.optimize.brentq(gap_of, tau[i], tau[i + 1], xtol=xtol))
-                      for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])))
+    crossings = tuple(
+        float(scipy.optimize.brentq(gap_of, tau[i], tau[i + 1], xtol=xtol))
+        for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1]))
+    )
     edges = ([0.0] if g[0] < 0 else []) + list(crossings) + ([1.0] if g[-1] < 0 else [])
-    return GapScan(samples=g, crossings=crossings,
-                   negative_intervals=tuple((lo, hi) for lo, hi in zip(edges[0::2], edges[1::2])))
+    return GapScan(
+        samples=g, crossings=crossings, negative_intervals=tuple((lo, hi) for lo, hi in zip(edges[0::2], edges[1::2]))
+    )
 
 
 # --- cases ----------------------------------------------------------------------------------
@@ -121,14 +153,31 @@ def steady_summary(s) -> dict:
     p = s.p
     d = s.to_dict()
     start = s.cycle_start
-    rows = [{"label": f"t{i + 1}", "t_s": imp.t - start, "t_over_T": (imp.t - start) / p.T, "phase": imp.phase,
-             "velocity": imp.velocity, "impulse": imp.impulse, "next_cycle": False}
-            for i, imp in enumerate(s.impacts)]
+    rows = [
+        {
+            "label": f"t{i + 1}",
+            "t_s": imp.t - start,
+            "t_over_T": (imp.t - start) / p.T,
+            "phase": imp.phase,
+            "velocity": imp.velocity,
+            "impulse": imp.impulse,
+            "next_cycle": False,
+        }
+        for i, imp in enumerate(s.impacts)
+    ]
     nxt = next_cycle_impact(s)
     if nxt is not None and s.settled and s.impacts:
-        rows.append({"label": f"t{len(rows) + 1}", "t_s": nxt.t - start, "t_over_T": (nxt.t - start) / p.T,
-                     "phase": (nxt.t / p.T) % 1.0, "velocity": nxt.velocity, "impulse": nxt.impulse,
-                     "next_cycle": True})
+        rows.append(
+            {
+                "label": f"t{len(rows) + 1}",
+                "t_s": nxt.t - start,
+                "t_over_T": (nxt.t - start) / p.T,
+                "phase": (nxt.t / p.T) % 1.0,
+                "velocity": nxt.velocity,
+                "impulse": nxt.impulse,
+                "next_cycle": True,
+            }
+        )
     d["impact_table"] = rows
     d["cycle_start"] = start
     d["T_c_over_T"] = s.period_multiple
@@ -149,8 +198,9 @@ def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10
     """
     p = a.p
     t0 = a.t_impact
-    sol = scipy.integrate.solve_ivp(free_rhs(p), (t0, t0 + p.T), a.state_after, method=method, rtol=rtol,
-                                    atol=atol, dense_output=True)
+    sol = scipy.integrate.solve_ivp(
+        free_rhs(p), (t0, t0 + p.T), a.state_after, method=method, rtol=rtol, atol=atol, dense_output=True
+    )
     before = sol.y[:, -1]
     v = before[3] - before[2]
     end, _, _ = Model(p).impact(before)
@@ -164,7 +214,9 @@ def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10
     scan = gap_sign_scan(gap, IVP_GAP_SAMPLES)
     minima = scan.interior_minima
     return {
-        "method": method, "rtol": rtol, "atol": atol,
+        "method": method,
+        "rtol": rtol,
+        "atol": atol,
         "periodicity_residual": residual,
         "closing_velocity": float(v),
         # As Algorithm1Result.min_gap: the smallest interior local minimum of the gap (0 when
@@ -186,9 +238,21 @@ def _sections(traj, p: Parameters, t0: float, n: int) -> np.ndarray:
     return full / state_scale(p)
 
 
-def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rtol: float = 1e-10,
-             atol: float = 1e-10, section_tol: float = 1e-6, exact=None, state=None, t0: float = 0.0,
-             tolerances: Tolerances | None = None, time_tol: float = 1e-8, velocity_tol: float = 1e-8) -> dict:
+def alg2_ivp(
+    p: Parameters,
+    periods: int,
+    kmax: int,
+    method: str = "DOP853",
+    rtol: float = 1e-10,
+    atol: float = 1e-10,
+    section_tol: float = 1e-6,
+    exact=None,
+    state=None,
+    t0: float = 0.0,
+    tolerances: Tolerances | None = None,
+    time_tol: float = 1e-8,
+    velocity_tol: float = 1e-8,
+) -> dict:
     """Run Algorithm No. 2 with the independent ``solve_ivp`` integrator
     (:func:`impactdamper.baselines.ivp.simulate_ivp`) for ``periods`` forcing periods from the
     paper's step 1 (or ``state`` at ``t0``) and read the settled motion off its own
@@ -203,14 +267,23 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
     ``velocity_tol`` (relative to x_st omega).
     """
     t_end = t0 + (periods + 1) * p.T
-    traj = simulate_ivp(p, t_end, t0=t0, state=state, method=method, rtol=rtol, atol=atol, tolerances=tolerances,
-                        sample_times=t0 + p.T * np.arange(periods + 1))
+    traj = simulate_ivp(
+        p,
+        t_end,
+        t0=t0,
+        state=state,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        tolerances=tolerances,
+        sample_times=t0 + p.T * np.arange(periods + 1),
+    )
     sec = _sections(traj, p, t0, periods)
     k_found, mismatch = 0, math.inf
     for k in range(1, kmax + 1):
         if len(sec) < 2 * k + 1:
             break
-        worst = float(np.max(np.abs(sec[-k:] - sec[-2 * k:-k])))
+        worst = float(np.max(np.abs(sec[-k:] - sec[-2 * k : -k])))
         mismatch = min(mismatch, worst)
         if worst < section_tol:
             k_found, mismatch = k, worst
@@ -219,7 +292,10 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
     impacts = traj.impacts(*window)
     contact = any(e.kind in ("stick", "liftoff") for e in traj.events if window[0] <= e.t < window[1])
     out = {
-        "method": method, "rtol": rtol, "atol": atol, "periods": periods,
+        "method": method,
+        "rtol": rtol,
+        "atol": atol,
+        "periods": periods,
         "period_multiple": k_found,
         "impacts_per_cycle": len(impacts) if k_found else None,
         "contact_in_cycle": contact,
@@ -228,8 +304,9 @@ def alg2_ivp(p: Parameters, periods: int, kmax: int, method: str = "DOP853", rto
         "nfev": traj.nfev,
     }
     if exact is not None:
-        cmp = compare_cycles(exact.impacts, exact.period_multiple, impacts, k_found, p.T, p.x_st * p.omega,
-                             time_tol, velocity_tol)
+        cmp = compare_cycles(
+            exact.impacts, exact.period_multiple, impacts, k_found, p.T, p.x_st * p.omega, time_tol, velocity_tol
+        )
         out["cycle_comparison"] = {key: value for key, value in cmp.to_dict().items() if key != "pairs"}
         out["cycle_comparison"]["pairs_time_over_T_velocity_rel"] = cmp.pairs
         out["max_time_difference_over_T"] = cmp.max_time_difference_over_T
@@ -244,9 +321,14 @@ def compare_alg1(a, ivp: dict, time_tol: float, residual_tol: float) -> dict:
     intervals within ``time_tol`` (units of T) of the exact one; a different number of
     intervals never agrees."""
     if not a.exists:
-        return {"agree": not ivp.get("claim_a", False), "reason": "no orbit: nothing to integrate",
-                "max_interval_end_difference_over_T": None, "periodicity_residual": None,
-                "time_tol": time_tol, "residual_tol": residual_tol}
+        return {
+            "agree": not ivp.get("claim_a", False),
+            "reason": "no orbit: nothing to integrate",
+            "max_interval_end_difference_over_T": None,
+            "periodicity_residual": None,
+            "time_tol": time_tol,
+            "residual_tol": residual_tol,
+        }
     ex, iv = a.negative_gap_intervals, ivp["negative_gap_intervals"]
     residual = ivp["periodicity_residual"]
     if len(ex) != len(iv):
@@ -256,8 +338,14 @@ def compare_alg1(a, ivp: dict, time_tol: float, residual_tol: float) -> dict:
         reason = "" if diff <= time_tol else f"interval ends differ by {diff:.1e} T > {time_tol:.0e}"
     if residual > residual_tol:
         reason = (reason + "; " if reason else "") + f"periodicity residual {residual:.1e} > {residual_tol:.0e}"
-    return {"agree": not reason, "reason": reason, "max_interval_end_difference_over_T": diff,
-            "periodicity_residual": residual, "time_tol": time_tol, "residual_tol": residual_tol}
+    return {
+        "agree": not reason,
+        "reason": reason,
+        "max_interval_end_difference_over_T": diff,
+        "periodicity_residual": residual,
+        "time_tol": time_tol,
+        "residual_tol": residual_tol,
+    }
 
 
 # --- scans: grids, ranges and their ends ------------------------------------------------
@@ -291,12 +379,19 @@ def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
             hi_src = a if a["hi"] <= b["hi"] else b
             lo, hi = lo_src["lo"], hi_src["hi"]
             if lo < hi:
-                out.append({"lo": lo, "hi": hi, "lo_claim": "a" if lo_src is a else "b",
-                            "hi_claim": "a" if hi_src is a else "b", "lo_bracket": lo_src["lo_bracket"],
-                            "hi_bracket": hi_src["hi_bracket"], "lo_open": lo_src["lo_open"],
-                            "hi_open": hi_src["hi_open"]})
+                out.append(
+                    {
+                        "lo": lo,
+                        "hi": hi,
+                        "lo_claim": "a" if lo_src is a else "b",
+                        "hi_claim": "a" if hi_src is a else "b",
+                        "lo_bracket": lo_src["lo_bracket"],
+                        "hi_bracket": hi_src["hi_bracket"],
+                        "lo_open": lo_src["lo_open"],
+                        "hi_open": hi_src["hi_open"],
+                    }
+                )
     return out
-
 
 
 def run_steady(p: Parameters, solver: dict, **kw):
@@ -307,8 +402,11 @@ def run_steady(p: Parameters, solver: dict, **kw):
 
 def run_steady_compiled(p: Parameters, solver: dict):
     """Deprecated: :func:`run_steady` (:func:`impactdamper.steady_state`, compiled by default)."""
-    warnings.warn("run_steady_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled') "
-                  "(run_steady does)", DeprecationWarning, stacklevel=2)
+    warnings.warn(
+        "run_steady_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled') (run_steady does)",
+        DeprecationWarning,
+        stacklevel=2,
+    )
     return steady_state(p, **solver_options(solver), backend="compiled")
 
 

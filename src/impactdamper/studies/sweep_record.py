@@ -24,8 +24,16 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.reporting import latex
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.records import read_json
-from impactdamper.studies.sweep_results import (MATCH_STEPS, MIN_RUN, bistable_rows, main_runs, mirror_match,
-                                                np_only_labels, overlaps, special_match)
+from impactdamper.studies.sweep_results import (
+    MATCH_STEPS,
+    MIN_RUN,
+    bistable_rows,
+    main_runs,
+    mirror_match,
+    np_only_labels,
+    overlaps,
+    special_match,
+)
 
 __all__ = ["macros", "table", "timing", "sequence", "overlap_text", "tex_sci"]
 
@@ -66,8 +74,9 @@ def _and(items: list[str]) -> str:
 
 def overlap_text(ovs: list[dict]) -> str:
     """The overlaps of the two directions (:func:`~impactdamper.studies.sweep_results.overlaps`) as prose."""
-    parts = [f"{_and(o['down'])} (downward) with {_and(o['up'])} (upward) on $({o['lo']:.3f}, {o['hi']:.3f})$"
-             for o in ovs]
+    parts = [
+        f"{_and(o['down'])} (downward) with {_and(o['up'])} (upward) on $({o['lo']:.3f}, {o['hi']:.3f})$" for o in ovs
+    ]
     return "none" if not parts else (parts[0] if len(parts) == 1 else "; ".join(parts[:-1]) + "; and " + parts[-1])
 
 
@@ -104,31 +113,44 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> MacroFile:
             # |analytic - located| of figures/sweep_checks.json, the check's own bisection.
             _macro(f"Sweep{macro}Difference", "\\text{--}" if diff is None else tex_sci(abs(diff))),
             _macro(f"Sweep{macro}DifferencePrecise", "\\text{--}" if diff is None else tex_sci(abs(diff), 3)),
-            _macro(f"Sweep{macro}NumericDifference", "\\text{--}" if c.get("analytic_minus_numeric") is None
-                   else tex_sci(abs(c["analytic_minus_numeric"]))),
+            _macro(
+                f"Sweep{macro}NumericDifference",
+                "\\text{--}" if c.get("analytic_minus_numeric") is None else tex_sci(abs(c["analytic_minus_numeric"])),
+            ),
             # The check's outcome in words, judged here from the number and the tolerance it is held to.
-            _macro(f"Sweep{macro}Outcome", "not computed" if diff is None
-                   else "within the tolerance" if abs(diff) <= float(checks_doc["check_xtol"]) else "missed"),
+            _macro(
+                f"Sweep{macro}Outcome",
+                "not computed"
+                if diff is None
+                else "within the tolerance"
+                if abs(diff) <= float(checks_doc["check_xtol"])
+                else "missed",
+            ),
         ]
     if checks.get("alg1_grazing", {}).get("continuation") is not None:
         m.append(_macro("SweepAlgOneGrazingContinuation", f"{checks['alg1_grazing']['continuation']:.10g}"))
     eps = liftoff_resolution_offset(Parameters(**checks_doc["base"]), float(solver["gap_tol"]))
     m.append(_macro("SweepLiftOffResolutionOffset", tex_sci(eps, 3)))
     ovs = overlaps(rows, trans)
-    m += [_macro("SweepOverlapCount", len(ovs)), _macro("SweepOverlaps", overlap_text(ovs)),
-          _macro("SweepNpOnlyLabels", _and(np_only_labels(rows)) if np_only_labels(rows) else "none"),
-          _macro("SweepMatchSteps", f"{1 / MATCH_STEPS:g}")]
+    m += [
+        _macro("SweepOverlapCount", len(ovs)),
+        _macro("SweepOverlaps", overlap_text(ovs)),
+        _macro("SweepNpOnlyLabels", _and(np_only_labels(rows)) if np_only_labels(rows) else "none"),
+        _macro("SweepMatchSteps", f"{1 / MATCH_STEPS:g}"),
+    ]
     for name, (map_csv, curves_csv, map_settings) in maps.items():
         M = MAP_MACRO[name]
         ms = read_json(map_settings)["maps"]
         b = bistable_rows(map_csv, curves_csv)
-        m += [_macro(f"Map{M}MaxPeriods", int(ms["max_periods"])),
-              _macro(f"Map{M}MaxPeriodsAfterNonperiodic", int(ms["max_periods_after_nonperiodic"])),
-              _macro(f"Map{M}BistableLabel", b["label"] if b else "--"),
-              _macro(f"Map{M}BistableLow", f"{b['lo']:.3f}" if b else "--"),
-              _macro(f"Map{M}BistableHigh", f"{b['hi']:.3f}" if b else "--"),
-              _macro(f"Map{M}BistableRowsOn", b["on"] if b else 0),
-              _macro(f"Map{M}BistableRowsOff", b["off"] if b else 0)]
+        m += [
+            _macro(f"Map{M}MaxPeriods", int(ms["max_periods"])),
+            _macro(f"Map{M}MaxPeriodsAfterNonperiodic", int(ms["max_periods_after_nonperiodic"])),
+            _macro(f"Map{M}BistableLabel", b["label"] if b else "--"),
+            _macro(f"Map{M}BistableLow", f"{b['lo']:.3f}" if b else "--"),
+            _macro(f"Map{M}BistableHigh", f"{b['hi']:.3f}" if b else "--"),
+            _macro(f"Map{M}BistableRowsOn", b["on"] if b else 0),
+            _macro(f"Map{M}BistableRowsOff", b["off"] if b else 0),
+        ]
     return MacroFile(m)
 
 
@@ -137,9 +159,13 @@ def table(rows, trans, checks_doc, special) -> str:
     checks = {c["name"]: c for c in checks_doc["checks"]}
     values = sorted({float(r["value"]) for r in rows})
     tol = MATCH_STEPS * (values[-1] - values[0]) / (len(values) - 1)
-    lines = ["% Generated by workflow/scripts/sweep_report.py: do not edit.",
-             "\\begin{tabular}{llrlrl}", "\\toprule",
-             "sweep & transition & $\\Delta_0/x_{\\mathrm{st}}$ & identified as & at & $|$difference$|$ \\\\", "\\midrule"]
+    lines = [
+        "% Generated by workflow/scripts/sweep_report.py: do not edit.",
+        "\\begin{tabular}{llrlrl}",
+        "\\toprule",
+        "sweep & transition & $\\Delta_0/x_{\\mathrm{st}}$ & identified as & at & $|$difference$|$ \\\\",
+        "\\midrule",
+    ]
     marks = set()
     for direction in ("up", "down"):
         runs = main_runs(rows, direction)
@@ -148,17 +174,28 @@ def table(rows, trans, checks_doc, special) -> str:
             if a[0] == b[0]:
                 continue
             lo, hi = sorted((a[2], b[1]) if direction == "up" else (a[1], b[2]))
-            cands = [t for t in trans if t["direction"] == direction and lo <= float(t["value"]) <= hi
-                     and t["before"] == a[0]]
+            cands = [
+                t
+                for t in trans
+                if t["direction"] == direction and lo <= float(t["value"]) <= hi and t["before"] == a[0]
+            ]
             if not cands:
                 continue
             t = cands[0] if direction == "up" else cands[-1]
             value = f"${float(t['value']):.6f}$"
             ident, at, diff = "", "", ""
-            check = next((name for name, (d, before) in CHECK_MATCH.items()
-                          if d == direction and before == a[0] and checks.get(name, {}).get("analytic") is not None
-                          and checks[name].get("located") is not None
-                          and abs(checks[name]["analytic"] - float(t["value"])) < 0.5), None)
+            check = next(
+                (
+                    name
+                    for name, (d, before) in CHECK_MATCH.items()
+                    if d == direction
+                    and before == a[0]
+                    and checks.get(name, {}).get("analytic") is not None
+                    and checks[name].get("located") is not None
+                    and abs(checks[name]["analytic"] - float(t["value"])) < 0.5
+                ),
+                None,
+            )
             if check is not None:
                 # The closed-form check's own numbers (the text's macros): its relocation to
                 # check_xtol by simulation, the analytic value, and the difference against the tolerance.
@@ -183,33 +220,44 @@ def table(rows, trans, checks_doc, special) -> str:
             if t["one_sided"] == "1":
                 value += "$^\\dagger$"
                 marks.add("one_sided")
-            lines.append(f"{'upward' if direction == 'up' else 'downward'} & {text} & {value} & {ident} & {at} & "
-                         f"{diff} \\\\")
+            lines.append(
+                f"{'upward' if direction == 'up' else 'downward'} & {text} & {value} & {ident} & {at} & {diff} \\\\"
+            )
     lines += ["\\bottomrule", "\\end{tabular}"]
     notes = []
     if "check" in marks:
-        notes.append("(a)--(c): the closed-form checks of the text, with their own numbers: "
-                     "$\\Delta_0/x_{\\mathrm{st}}$ relocated by simulation alone to $\\SweepCheckTolerance$, the analytic "
-                     "value, and $|$analytic$-$located$|$ beside the tolerance it is held to. Other rows: "
-                     "$\\Delta_0/x_{\\mathrm{st}}$ bisected to $\\SweepTransitionTol$.")
+        notes.append(
+            "(a)--(c): the closed-form checks of the text, with their own numbers: "
+            "$\\Delta_0/x_{\\mathrm{st}}$ relocated by simulation alone to $\\SweepCheckTolerance$, the analytic "
+            "value, and $|$analytic$-$located$|$ beside the tolerance it is held to. Other rows: "
+            "$\\Delta_0/x_{\\mathrm{st}}$ bisected to $\\SweepTransitionTol$."
+        )
     if "orbit" in marks:
-        notes.append("$^{o}$\\,A special point of the branch continued in Section~\\ref{sec:orbits} "
-                     "(Table~\\ref{tab:special}), within 1/\\SweepMatchSteps{} of the sweep step: the motion "
-                     "on that side ends or loses stability there.")
+        notes.append(
+            "$^{o}$\\,A special point of the branch continued in Section~\\ref{sec:orbits} "
+            "(Table~\\ref{tab:special}), within 1/\\SweepMatchSteps{} of the sweep step: the motion "
+            "on that side ends or loses stability there."
+        )
     if "mirror" in marks:
-        notes.append("$^{s}$\\,The other sweep direction locates the same change (labels swapped) within "
-                     "1/\\SweepMatchSteps{} of the sweep step: the periodic motion's own end, reached from both sides.")
+        notes.append(
+            "$^{s}$\\,The other sweep direction locates the same change (labels swapped) within "
+            "1/\\SweepMatchSteps{} of the sweep step: the periodic motion's own end, reached from both sides."
+        )
     if "budget" in marks:
-        notes.append("$^\\ddagger$\\,Edge of the settling budget, not a transition: np (no period "
-                     "$k\\le\\SweepMaxPeriodMultiple$ settled within the cap of \\SweepMaxPeriods{} periods, "
-                     "\\SweepMaxPeriodsAfterNonperiodic{} after a nonperiodic neighbour) on "
-                     "one side, and no closed form, special point or other direction puts a change there. "
-                     "The value is where the motion started from the neighbour stops, or starts, settling "
-                     "within the cap; a longer cap can move it.")
+        notes.append(
+            "$^\\ddagger$\\,Edge of the settling budget, not a transition: np (no period "
+            "$k\\le\\SweepMaxPeriodMultiple$ settled within the cap of \\SweepMaxPeriods{} periods, "
+            "\\SweepMaxPeriodsAfterNonperiodic{} after a nonperiodic neighbour) on "
+            "one side, and no closed form, special point or other direction puts a change there. "
+            "The value is where the motion started from the neighbour stops, or starts, settling "
+            "within the cap; a longer cap can move it."
+        )
     if "one_sided" in marks:
-        notes.append("$^\\dagger$\\,One-sided: the new motion was met at a single point (a sweep point or the "
-                     "first midpoint); every later midpoint, started from the first motion, kept it. Entering "
-                     "a window from a nonperiodic band depends on the start.")
+        notes.append(
+            "$^\\dagger$\\,One-sided: the new motion was met at a single point (a sweep point or the "
+            "first midpoint); every later midpoint, started from the first motion, kept it. Entering "
+            "a window from a nonperiodic band depends on the start."
+        )
     if notes:
         lines += ["", "\\smallskip", "\\parbox{\\linewidth}{\\footnotesize " + " ".join(notes) + "}"]
     return "\n".join(lines) + "\n"
@@ -223,23 +271,27 @@ def _within(seconds: float, criterion: float) -> str:
 def timing(sweep_timing, map_timings) -> str:
     """The benchmark's macros (the sweep's and maps' timing JSON files): change from run to run."""
     sw = read_json(sweep_timing)
-    t = ["% Generated by workflow/scripts/sweep_report.py: benchmark, changes from run to run.",
-         f"\\newcommand{{\\SweepBenchPoints}}{{{sw['points']}}}",
-         f"\\newcommand{{\\SweepBenchProcesses}}{{{sw['processes']} process{'' if sw['processes'] == 1 else 'es'}}}",
-         f"\\newcommand{{\\SweepBenchWall}}{{{sw['wall_s']:.1f}}}",
-         f"\\newcommand{{\\SweepBenchCpuUp}}{{{sw['cpu_s']['up']:.1f}}}",
-         f"\\newcommand{{\\SweepBenchCpuDown}}{{{sw['cpu_s']['down']:.1f}}}",
-         f"\\newcommand{{\\SweepBenchLoad}}{{{sw['machine_before']['load_average'][0]:.1f}}}",
-         f"\\newcommand{{\\SweepBenchTarget}}{{{sw['target_wall_s']:.0f}}}",
-         # The acceptance criterion's outcome in words (wall time at most the criterion).
-         f"\\newcommand{{\\SweepBenchVerdict}}{{{_within(sw['wall_s'], sw['target_wall_s'])}}}"]
+    t = [
+        "% Generated by workflow/scripts/sweep_report.py: benchmark, changes from run to run.",
+        f"\\newcommand{{\\SweepBenchPoints}}{{{sw['points']}}}",
+        f"\\newcommand{{\\SweepBenchProcesses}}{{{sw['processes']} process{'' if sw['processes'] == 1 else 'es'}}}",
+        f"\\newcommand{{\\SweepBenchWall}}{{{sw['wall_s']:.1f}}}",
+        f"\\newcommand{{\\SweepBenchCpuUp}}{{{sw['cpu_s']['up']:.1f}}}",
+        f"\\newcommand{{\\SweepBenchCpuDown}}{{{sw['cpu_s']['down']:.1f}}}",
+        f"\\newcommand{{\\SweepBenchLoad}}{{{sw['machine_before']['load_average'][0]:.1f}}}",
+        f"\\newcommand{{\\SweepBenchTarget}}{{{sw['target_wall_s']:.0f}}}",
+        # The acceptance criterion's outcome in words (wall time at most the criterion).
+        f"\\newcommand{{\\SweepBenchVerdict}}{{{_within(sw['wall_s'], sw['target_wall_s'])}}}",
+    ]
     for path in map_timings:
         mt = read_json(path)
         name = MAP_MACRO[mt["map"]]
-        t += [f"\\newcommand{{\\Map{name}Cells}}{{{mt['shape'][0]} $\\times$ {mt['shape'][1]}}}",
-              f"\\newcommand{{\\Map{name}Chunks}}{{{mt['chunks']}}}",
-              f"\\newcommand{{\\Map{name}Wall}}{{{mt['wall_s']:.0f}}}",
-              f"\\newcommand{{\\Map{name}Cpu}}{{{mt['cpu_s']:.0f}}}",
-              f"\\newcommand{{\\Map{name}Target}}{{{mt['target_wall_s']:.0f}}}",
-              f"\\newcommand{{\\Map{name}Verdict}}{{{_within(mt['wall_s'], mt['target_wall_s'])}}}"]
+        t += [
+            f"\\newcommand{{\\Map{name}Cells}}{{{mt['shape'][0]} $\\times$ {mt['shape'][1]}}}",
+            f"\\newcommand{{\\Map{name}Chunks}}{{{mt['chunks']}}}",
+            f"\\newcommand{{\\Map{name}Wall}}{{{mt['wall_s']:.0f}}}",
+            f"\\newcommand{{\\Map{name}Cpu}}{{{mt['cpu_s']:.0f}}}",
+            f"\\newcommand{{\\Map{name}Target}}{{{mt['target_wall_s']:.0f}}}",
+            f"\\newcommand{{\\Map{name}Verdict}}{{{_within(mt['wall_s'], mt['target_wall_s'])}}}",
+        ]
     return "\n".join(t) + "\n"

@@ -20,8 +20,22 @@ from impactdamper.reporting.records import cell_float, read_csv, split_floats
 from impactdamper.studies.branches import KIND_SHORT
 from impactdamper.studies.gapsweep import runs
 
-__all__ = ["MIN_RUN", "MATCH_STEPS", "BISTABLE_MIN_CELLS", "BISTABLE_STEADY_ROWS", "read_map", "main_runs",
-           "special_match", "mirror_match", "run_intervals", "overlaps", "np_only_labels", "bistable_rows", "grazing_curves", "JOIN_CELLS"]
+__all__ = [
+    "MIN_RUN",
+    "MATCH_STEPS",
+    "BISTABLE_MIN_CELLS",
+    "BISTABLE_STEADY_ROWS",
+    "read_map",
+    "main_runs",
+    "special_match",
+    "mirror_match",
+    "run_intervals",
+    "overlaps",
+    "np_only_labels",
+    "bistable_rows",
+    "grazing_curves",
+    "JOIN_CELLS",
+]
 
 # A run of one label shorter than this many sweep points is not a "main" regime (the chaotic
 # bands flicker between np and narrow periodic windows).
@@ -69,8 +83,7 @@ def special_match(t: dict, special: list[dict], tol: float) -> tuple[str, float]
     """The special point of a continued branch labelled like either side of transition ``t``,
     nearest to it and within ``tol``: (its short name "PD of 3/2", its gap), or None."""
     value = float(t["value"])
-    cands = [s for s in special if s["label"] in (t["before"], t["after"])
-             and abs(cell_float(s["gap"]) - value) <= tol]
+    cands = [s for s in special if s["label"] in (t["before"], t["after"]) and abs(cell_float(s["gap"]) - value) <= tol]
     if not cands:
         return None
     s = min(cands, key=lambda s: abs(cell_float(s["gap"]) - value))
@@ -81,8 +94,14 @@ def mirror_match(t: dict, trans: list[dict], tol: float) -> dict | None:
     """The same change located by the other sweep direction (labels swapped) within ``tol``."""
     value = float(t["value"])
     other = "down" if t["direction"] == "up" else "up"
-    cands = [u for u in trans if u["direction"] == other and u["before"] == t["after"] and u["after"] == t["before"]
-             and abs(float(u["value"]) - value) <= tol]
+    cands = [
+        u
+        for u in trans
+        if u["direction"] == other
+        and u["before"] == t["after"]
+        and u["after"] == t["before"]
+        and abs(float(u["value"]) - value) <= tol
+    ]
     if not cands:
         return None
     return min(cands, key=lambda u: abs(float(u["value"]) - value))
@@ -98,8 +117,11 @@ def run_intervals(rows: list[dict], trans: list[dict], direction: str) -> list[t
     for lab, a, b, _ in runs(values, [r["label"] for r in rs]):
         i, j = values.index(a), values.index(b)
         lo = values[0] if i == 0 else next((v for v in at if values[i - 1] < v <= a), 0.5 * (values[i - 1] + a))
-        hi = values[-1] if j == len(values) - 1 else next((v for v in at if b <= v < values[j + 1]),
-                                                          0.5 * (b + values[j + 1]))
+        hi = (
+            values[-1]
+            if j == len(values) - 1
+            else next((v for v in at if b <= v < values[j + 1]), 0.5 * (b + values[j + 1]))
+        )
         out.append((lab, lo, hi, a, b))
     return out
 
@@ -176,9 +198,14 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
             break
     if last_off is None:
         return None
-    stretch = on[first:last_off + 1]
-    return {"label": lab, "lo": float(slow[first]), "hi": float(slow[last_off]), "on": sum(stretch),
-            "off": len(stretch) - sum(stretch)}
+    stretch = on[first : last_off + 1]
+    return {
+        "label": lab,
+        "lo": float(slow[first]),
+        "hi": float(slow[last_off]),
+        "on": sum(stretch),
+        "off": len(stretch) - sum(stretch),
+    }
 
 
 def grazing_curves(curves: list[dict], step: float, join_cells: float = JOIN_CELLS) -> list[tuple[list, list]]:

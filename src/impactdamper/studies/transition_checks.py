@@ -44,8 +44,15 @@ from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact
 from impactdamper.core.linear import free_mode
 from impactdamper.core.model import Model
 
-__all__ = ["EXTREMUM_SAMPLES", "SIMULATION_OFFSET", "FINITE_STEP_NOTE", "find_both", "least_contact_force",
-           "largest_relative_displacement", "checks"]
+__all__ = [
+    "EXTREMUM_SAMPLES",
+    "SIMULATION_OFFSET",
+    "FINITE_STEP_NOTE",
+    "find_both",
+    "least_contact_force",
+    "largest_relative_displacement",
+    "checks",
+]
 
 # Samples per period before refining an extremum of a periodic function of time.
 EXTREMUM_SAMPLES = 2048
@@ -63,9 +70,12 @@ def _extremum(f, T: float, sign: float) -> float:
     ts = np.linspace(0.0, T, EXTREMUM_SAMPLES, endpoint=False)
     vals = np.array([sign * f(t) for t in ts])
     i = int(np.argmax(vals))
-    res = scipy.optimize.minimize_scalar(lambda t: -sign * f(t), bounds=(ts[i] - T / EXTREMUM_SAMPLES,
-                                                                         ts[i] + T / EXTREMUM_SAMPLES),
-                                         method="bounded", options={"xatol": 1e-14 * T})
+    res = scipy.optimize.minimize_scalar(
+        lambda t: -sign * f(t),
+        bounds=(ts[i] - T / EXTREMUM_SAMPLES, ts[i] + T / EXTREMUM_SAMPLES),
+        method="bounded",
+        options={"xatol": 1e-14 * T},
+    )
     return sign * max(vals[i], -float(res.fun))
 
 
@@ -84,9 +94,11 @@ def largest_relative_displacement(p) -> float:
 
 # Distance from the grazing at which the simulation check starts on Algorithm No. 1's orbit.
 SIMULATION_OFFSET = 1e-4
-FINITE_STEP_NOTE = ("with every point simulated from its neighbour's state, the downward sweep leaves 1/1 "
-                    "a little above the grazing (the one-impact orbit's basin shrinks as its gap minimum "
-                    "approaches zero)")
+FINITE_STEP_NOTE = (
+    "with every point simulated from its neighbour's state, the downward sweep leaves 1/1 "
+    "a little above the grazing (the one-impact orbit's basin shrinks as its gap minimum "
+    "approaches zero)"
+)
 
 
 def _settles_on_alg1(base, gap: float, settings) -> str:
@@ -111,8 +123,13 @@ def _run(points, label_ok, after: bool):
 def _check(name, description, analytic, numeric, located, bracket, method):
     """One check; ``located_bracket`` is [lower, upper, label before, label after, stopped early]."""
     return {
-        "name": name, "description": description, "analytic": analytic, "numeric": numeric,
-        "located": located, "located_bracket": bracket, "located_method": method,
+        "name": name,
+        "description": description,
+        "analytic": analytic,
+        "numeric": numeric,
+        "located": located,
+        "located_bracket": bracket,
+        "located_method": method,
         "analytic_minus_numeric": None if numeric is None else analytic - numeric,
         "analytic_minus_located": None if located is None else analytic - located,
     }
@@ -126,15 +143,29 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     out = []
     # (a) lift-off of the persistent contact (upward sweep leaves "stuck").
     analytic = stuck_liftoff_gap(base)
-    numeric = scipy.optimize.brentq(lambda g: least_contact_force(with_value(base, "gap", g)),
-                                    analytic - 1.0, analytic + 1.0, xtol=1e-14, rtol=1e-15)
+    numeric = scipy.optimize.brentq(
+        lambda g: least_contact_force(with_value(base, "gap", g)),
+        analytic - 1.0,
+        analytic + 1.0,
+        xtol=1e-14,
+        rtol=1e-15,
+    )
     i = _run(up, lambda p: p.label == "stuck", True)
     located = bracket = None
     if i is not None:
         tr = locate_transition(base, parameter, up[i], up[i + 1], "up", settings=sim, xtol=xtol)
         located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-    out.append(_check("liftoff", "persistent contact lifts off (upward sweep leaves stuck)", analytic, numeric,
-                      located, bracket, "simulation bisection from the stuck motion"))
+    out.append(
+        _check(
+            "liftoff",
+            "persistent contact lifts off (upward sweep leaves stuck)",
+            analytic,
+            numeric,
+            located,
+            bracket,
+            "simulation bisection from the stuck motion",
+        )
+    )
     if log is not None:
         log.info("(a) analytic %.12g numeric %.12g located %s", analytic, numeric, located)
     # (b) first contact (downward sweep leaves "0/1").
@@ -146,8 +177,17 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     if i is not None:
         tr = locate_transition(base, parameter, rdown[i], rdown[i + 1], "down", settings=sim, xtol=xtol)
         located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-    out.append(_check("first_contact", "free forced response reaches the stop (downward sweep leaves 0/1)",
-                      analytic, numeric, located, bracket, "simulation bisection from the no-contact motion"))
+    out.append(
+        _check(
+            "first_contact",
+            "free forced response reaches the stop (downward sweep leaves 0/1)",
+            analytic,
+            numeric,
+            located,
+            bracket,
+            "simulation bisection from the no-contact motion",
+        )
+    )
     if log is not None:
         log.info("(b) analytic %.12g numeric %.12g located %s", analytic, numeric, located)
     # (c) Algorithm No. 1's orbit crosses the stop: bracket from the stated gap downward.
@@ -161,8 +201,13 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
         j = adm.index(False)
         analytic = algorithm1_grazing_gap(base, (below[j - 1], below[j]), xtol=1e-12)
         try:
-            numeric = scipy.optimize.brentq(lambda g: algorithm1(with_value(base, "gap", g)).min_gap,
-                                            analytic + 0.05, analytic - 0.05, xtol=1e-14, rtol=1e-15)
+            numeric = scipy.optimize.brentq(
+                lambda g: algorithm1(with_value(base, "gap", g)).min_gap,
+                analytic + 0.05,
+                analytic - 0.05,
+                xtol=1e-14,
+                rtol=1e-15,
+            )
         except ValueError:
             numeric = None
         try:
@@ -189,13 +234,24 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
         # above the grazing it settles on 1/1; just below, the orbit crosses the stop.
         extra["simulation_above"] = _settles_on_alg1(base, analytic + SIMULATION_OFFSET, settings)
         extra["simulation_below"] = _settles_on_alg1(base, analytic - SIMULATION_OFFSET, settings)
-    c = _check("alg1_grazing", "Algorithm No. 1's orbit starts to cross the stop between impacts "
-               "(downward sweep's 1/1 ends)", analytic, numeric, located, bracket,
-               "sweep bisection (orbit continuation) from the one-impact motion")
+    c = _check(
+        "alg1_grazing",
+        "Algorithm No. 1's orbit starts to cross the stop between impacts (downward sweep's 1/1 ends)",
+        analytic,
+        numeric,
+        located,
+        bracket,
+        "sweep bisection (orbit continuation) from the one-impact motion",
+    )
     c.update(extra)
     c["note"] = FINITE_STEP_NOTE
     out.append(c)
     if log is not None:
-        log.info("(c) analytic %s numeric %s located %s continuation %s", analytic, numeric, located,
-                 extra.get("continuation"))
+        log.info(
+            "(c) analytic %s numeric %s located %s continuation %s",
+            analytic,
+            numeric,
+            located,
+            extra.get("continuation"),
+        )
     return out

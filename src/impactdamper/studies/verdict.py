@@ -9,8 +9,13 @@ verdict and its macros.
 
 from __future__ import annotations
 
-from impactdamper.studies.claims import (CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, SEARCH_PARAMETERS, Interval,
-                                         distance_to)
+from impactdamper.studies.claims import (
+    CLAIM_B_IMPACTS,
+    CLAIM_B_PERIOD_MULTIPLE,
+    SEARCH_PARAMETERS,
+    Interval,
+    distance_to,
+)
 from impactdamper.studies.replication import PAPER
 
 __all__ = ["PAPER_CLAIMS", "claims", "beyond_the_gap", "verdict"]
@@ -23,13 +28,17 @@ def _difference(cc: dict, claim: str) -> str:
         c = cc["algorithm1_comparison"]
         if c["periodicity_residual"] is None:
             return "no orbit by either method"
-        return (f"interval ends {c['max_interval_end_difference_over_T']:.1e} T, residual "
-                f"{c['periodicity_residual']:.1e} (tol {c['time_tol']:.0e}, {c['residual_tol']:.0e})")
+        return (
+            f"interval ends {c['max_interval_end_difference_over_T']:.1e} T, residual "
+            f"{c['periodicity_residual']:.1e} (tol {c['time_tol']:.0e}, {c['residual_tol']:.0e})"
+        )
     c = cc["algorithm2"]["cycle_comparison"]
     if c["reason"] and c["max_time_difference_over_T"] is None:
         return c["reason"]
-    return (f"aligned cycles: times {c['max_time_difference_over_T']:.1e} T, velocities "
-            f"{c['max_velocity_difference_rel']:.1e} (tol {c['time_tol']:.0e}, {c['velocity_tol']:.0e})")
+    return (
+        f"aligned cycles: times {c['max_time_difference_over_T']:.1e} T, velocities "
+        f"{c['max_velocity_difference_rel']:.1e} (tol {c['time_tol']:.0e}, {c['velocity_tol']:.0e})"
+    )
 
 
 def _period(k: int) -> str:
@@ -46,16 +55,22 @@ def claims(ref: dict, cc: dict) -> dict:
     return {
         "a": {
             "holds": bool(a1["claim_a"]),
-            "result": (f"gap negative on {fmt_iv(neg)}" if neg else
-                       ("no negative gap: the orbit is admissible" if a1["exists"] else "no orbit: " + a1["reason"])),
+            "result": (
+                f"gap negative on {fmt_iv(neg)}"
+                if neg
+                else ("no negative gap: the orbit is admissible" if a1["exists"] else "no orbit: " + a1["reason"])
+            ),
             "ivp_holds": bool(i1["claim_a"]),
             "ivp_result": (f"gap negative on {fmt_iv(ineg)}" if ineg else "no negative gap")
             + (f"; periodicity residual {i1['periodicity_residual']:.1e}" if "periodicity_residual" in i1 else ""),
         },
         "b_period": {
             "holds": a2["period_multiple"] == CLAIM_B_PERIOD_MULTIPLE and a2["regime"] == "multi_impact",
-            "result": (f"{a2['regime'].replace('_', ' ')}, T_c = {_period(a2['period_multiple'])}"
-                       if a2["period_multiple"] else "no settled period"),
+            "result": (
+                f"{a2['regime'].replace('_', ' ')}, T_c = {_period(a2['period_multiple'])}"
+                if a2["period_multiple"]
+                else "no settled period"
+            ),
             "ivp_holds": i2["period_multiple"] == CLAIM_B_PERIOD_MULTIPLE,
             "ivp_result": f"T_c = {_period(i2['period_multiple'])}" if i2["period_multiple"] else "no period found",
         },
@@ -85,27 +100,46 @@ def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
         both = d["intervals"]["both"]
         near = d["nearest_both"]
         iv = next((r for r in both if near["nearest"] is not None and r["lo"] <= near["nearest"] <= r["hi"]), None)
-        per[name] = {**near, "interval": [iv["lo"], iv["hi"]] if iv else None,
-                     "interval_width": (iv["hi"] - iv["lo"]) if iv else None,
-                     "a": d["intervals"]["a"], "b": d["intervals"]["b"], "both": both}
+        per[name] = {
+            **near,
+            "interval": [iv["lo"], iv["hi"]] if iv else None,
+            "interval_width": (iv["hi"] - iv["lo"]) if iv else None,
+            "a": d["intervals"]["a"],
+            "b": d["intervals"]["b"],
+            "both": both,
+        }
     found = [n for n in SEARCH_PARAMETERS if per[n]["relative_distance"] is not None]
     nearest = min(found, key=lambda n: per[n]["relative_distance"]) if found else None
     cells = len(cmap)
     both_cells = sum(r["both"] == "true" for r in cmap)
     # Along the gap (the scan of gap_scan.py), for comparison.
     stated_gap = float(scan["stated_gap"])
-    gd, gx = distance_to([Interval(r["lo"], r["hi"], r["lo_open"], r["hi_open"], None, None)
-                          for r in scan["both_ranges"]], stated_gap)
-    gap = {"stated": stated_gap, "nearest": gx, "distance": gd if gx is not None else None,
-           "relative_distance": gd / abs(stated_gap) if gx is not None else None}
-    return {"parameters": per, "nearest_parameter": nearest, "gap": gap,
-            "none_found": [n for n in SEARCH_PARAMETERS if n not in found],
-            "rel_tol": search["rel_tol"], "map_cells": cells, "map_both_cells": both_cells,
-            "reference_check": {k: search["reference_check"][k] for k in ("every", "points", "agree", "settling", "cycles")}}
+    gd, gx = distance_to(
+        [Interval(r["lo"], r["hi"], r["lo_open"], r["hi_open"], None, None) for r in scan["both_ranges"]], stated_gap
+    )
+    gap = {
+        "stated": stated_gap,
+        "nearest": gx,
+        "distance": gd if gx is not None else None,
+        "relative_distance": gd / abs(stated_gap) if gx is not None else None,
+    }
+    return {
+        "parameters": per,
+        "nearest_parameter": nearest,
+        "gap": gap,
+        "none_found": [n for n in SEARCH_PARAMETERS if n not in found],
+        "rel_tol": search["rel_tol"],
+        "map_cells": cells,
+        "map_both_cells": both_cells,
+        "reference_check": {
+            k: search["reference_check"][k] for k in ("every", "points", "agree", "settling", "cycles")
+        },
+    }
 
 
-def verdict(ref_s: dict, ref_l: dict, cc_s: dict, cc_l: dict, scan: dict, rd: dict, search: dict,
-            cmap: list[dict]) -> tuple[list[dict], dict]:
+def verdict(
+    ref_s: dict, ref_l: dict, cc_s: dict, cc_l: dict, scan: dict, rd: dict, search: dict, cmap: list[dict]
+) -> tuple[list[dict], dict]:
     """The verdict from the stage's records: the stated and located cases (``ref_*``, as
     solve_case.py writes them) and their cross-checks (``cc_*``), the gap scan, the other
     readings (``rd``), the search beyond the gap and the claims map's rows.
@@ -120,34 +154,57 @@ def verdict(ref_s: dict, ref_l: dict, cc_s: dict, cc_l: dict, scan: dict, rd: di
     cs, cl = claims(ref_s, cc_s), claims(ref_l, cc_l)
     rows = []
     for key, text in PAPER_CLAIMS.items():
-        rows.append({
-            "claim": key, "paper": text,
-            "stated_gap": ref_s["parameters"]["gap"], "stated_result": cs[key]["result"],
-            "stated_ivp_result": cs[key]["ivp_result"], "stated_ivp_difference": _difference(cc_s, key[0]),
-            # Confirmed: the same verdict and, measured, the same motion within tolerance.
-            "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"] and cc_s["agree_" + key[0]],
-            "reproduced": cs[key]["holds"] and cs[key]["ivp_holds"],
-            "located_gap": ref_l["parameters"]["gap"], "located_result": cl[key]["result"],
-            "located_ivp_result": cl[key]["ivp_result"], "located_ivp_difference": _difference(cc_l, key[0]),
-            "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"] and cc_l["agree_" + key[0]],
-        })
+        rows.append(
+            {
+                "claim": key,
+                "paper": text,
+                "stated_gap": ref_s["parameters"]["gap"],
+                "stated_result": cs[key]["result"],
+                "stated_ivp_result": cs[key]["ivp_result"],
+                "stated_ivp_difference": _difference(cc_s, key[0]),
+                # Confirmed: the same verdict and, measured, the same motion within tolerance.
+                "ivp_confirms": cs[key]["holds"] == cs[key]["ivp_holds"] and cc_s["agree_" + key[0]],
+                "reproduced": cs[key]["holds"] and cs[key]["ivp_holds"],
+                "located_gap": ref_l["parameters"]["gap"],
+                "located_result": cl[key]["result"],
+                "located_ivp_result": cl[key]["ivp_result"],
+                "located_ivp_difference": _difference(cc_l, key[0]),
+                "located_ivp_confirms": cl[key]["holds"] == cl[key]["ivp_holds"] and cc_l["agree_" + key[0]],
+            }
+        )
     reproducing = [r["id"] for r in rd["readings"] if r["reproduces"]]
     partial = [r["id"] for r in rd["readings"] if (r["claim_a"] or r["claim_b"]) and not r["reproduces"]]
     result = {
         "paper": PAPER,
         "claims": rows,
         "stated": {"parameters": ref_s["parameters"], "claims": cs, "crosscheck": cc_s},
-        "located": {"parameters": ref_l["parameters"], "claims": cl, "crosscheck": cc_l,
-                    "rule": scan["located"]["rule"], "range": scan["located"]["range"]},
-        "ranges": {"alg1_existence_limit": scan["alg1_existence_limit"], "claim_a": scan["claim_a_ranges"],
-                   "claim_b": scan["claim_b_ranges"], "both": scan["both_ranges"], "window": scan["window"],
-                   "orbit": scan["orbit_range"],
-                   "end_checks_agree": all(c["agree"] for c in scan["end_checks"])},
-        "other_readings": {"reproducing": reproducing, "partial": partial, "R_ranges": rd["R_ranges"],
-                           "random_states": rd["random_states"]},
+        "located": {
+            "parameters": ref_l["parameters"],
+            "claims": cl,
+            "crosscheck": cc_l,
+            "rule": scan["located"]["rule"],
+            "range": scan["located"]["range"],
+        },
+        "ranges": {
+            "alg1_existence_limit": scan["alg1_existence_limit"],
+            "claim_a": scan["claim_a_ranges"],
+            "claim_b": scan["claim_b_ranges"],
+            "both": scan["both_ranges"],
+            "window": scan["window"],
+            "orbit": scan["orbit_range"],
+            "end_checks_agree": all(c["agree"] for c in scan["end_checks"]),
+        },
+        "other_readings": {
+            "reproducing": reproducing,
+            "partial": partial,
+            "R_ranges": rd["R_ranges"],
+            "random_states": rd["random_states"],
+        },
         "beyond_the_gap": beyond_the_gap(search, cmap, scan),
-        "eq13_note": ("Eq. (13) as printed gives x21s' = x1s' - x2s', the opposite of eq. (12)'s x21s = x2s - x1s; "
-                      "the library uses eq. (12)'s sign. With the printed sign Algorithm No. 1's orbit violates the "
-                      "impact law (S/(D v) != 1), see other_readings: eq13_as_printed."),
+        "eq13_note": (
+            "Eq. (13) as printed gives x21s' = x1s' - x2s', the opposite of eq. (12)'s x21s = x2s - x1s; "
+            "the library uses eq. (12)'s sign. With the printed sign Algorithm No. 1's orbit violates the "
+            "impact law (S/(D v) != 1), see other_readings: eq13_as_printed."
+        ),
     }
     return rows, result

@@ -46,8 +46,22 @@ from impactdamper.core.simulate import default_initial_state, simulate
 from impactdamper.reporting.records import json_float
 from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected  # noqa: F401 (METHODS: the study's table)
 
-__all__ = ["CASES", "Reference", "Run", "build_references", "cpu_time", "measure", "run_study", "summarize",
-           "cost_to_reach", "cost_growth", "FAMILIES", "met", "meets", "report_summary"]
+__all__ = [
+    "CASES",
+    "Reference",
+    "Run",
+    "build_references",
+    "cpu_time",
+    "measure",
+    "run_study",
+    "summarize",
+    "cost_to_reach",
+    "cost_growth",
+    "FAMILIES",
+    "met",
+    "meets",
+    "report_summary",
+]
 
 CASES = ("first_impacts", "settled_cycle")
 # The methods' names (the runs' ``family`` column), in table order.
@@ -91,14 +105,20 @@ class Reference:
         return state_scale(self.p)
 
     def to_dict(self) -> dict:
-        return {"case": self.case, "t0": self.t0, "t_end": self.t_end, "state": self.state.tolist(),
-                "impact_times_over_T": (self.impact_times / self.p.T).tolist(),
-                "end_state": None if self.end_state is None else self.end_state.tolist(),
-                "impact_phase": None if math.isnan(self.impact_phase) else self.impact_phase}
+        return {
+            "case": self.case,
+            "t0": self.t0,
+            "t_end": self.t_end,
+            "state": self.state.tolist(),
+            "impact_times_over_T": (self.impact_times / self.p.T).tolist(),
+            "end_state": None if self.end_state is None else self.end_state.tolist(),
+            "impact_phase": None if math.isnan(self.impact_phase) else self.impact_phase,
+        }
 
 
-def build_references(p: Parameters, n_impacts: int = 10, settled_periods: int = 10,
-                     dps: int = hp.DIGITS) -> dict[str, Reference]:
+def build_references(
+    p: Parameters, n_impacts: int = 10, settled_periods: int = 10, dps: int = hp.DIGITS
+) -> dict[str, Reference]:
     """The two test problems with their mpmath answers.
 
     The first impacts' brackets come from the exact solver's estimates, certified by the
@@ -121,9 +141,16 @@ def build_references(p: Parameters, n_impacts: int = 10, settled_periods: int = 
     cyc = hp.settled_cycle(p, dps=dps)
     t_s = float(cyc.t_impact + cyc.model.T / 2)
     t_e = t_s + settled_periods * T
-    settled = Reference("settled_cycle", p, t_s, t_e, hp.to_float(cyc.state(t_s)),
-                        np.array([float(t) for t in cyc.impact_times(t_s, t_e)]), hp.to_float(cyc.state(t_e)),
-                        float(cyc.impact_phase))
+    settled = Reference(
+        "settled_cycle",
+        p,
+        t_s,
+        t_e,
+        hp.to_float(cyc.state(t_s)),
+        np.array([float(t) for t in cyc.impact_times(t_s, t_e)]),
+        hp.to_float(cyc.state(t_e)),
+        float(cyc.impact_phase),
+    )
     return {"first_impacts": first, "settled_cycle": settled}
 
 
@@ -195,11 +222,19 @@ def _run(ref, family, setting, value, cpu, impact_times, end_state, nfev=0, note
     err, ph, st, found = _errors(ref, impact_times, end_state)
     if not math.isfinite(err) and not note:
         note = f"found {found} impacts, expected {len(ref.impact_times)}"
-    return Run(ref.case, family, setting, float(value), float(cpu), err, ph, st, found, len(ref.impact_times), nfev, note)
+    return Run(
+        ref.case, family, setting, float(value), float(cpu), err, ph, st, found, len(ref.impact_times), nfev, note
+    )
 
 
-def measure(ref: Reference, name: str, values=(math.nan,), repeats: int = 5, min_time: float = 0.05,
-            max_steps: int = DEFAULT_MAX_STEPS) -> list[Run]:
+def measure(
+    ref: Reference,
+    name: str,
+    values=(math.nan,),
+    repeats: int = 5,
+    min_time: float = 0.05,
+    max_steps: int = DEFAULT_MAX_STEPS,
+) -> list[Run]:
     """Runs of method ``name`` (:data:`impactdamper.studies.methods.METHODS`) on one problem,
     one per setting in ``values``, each timed (median CPU time, :func:`cpu_time`, unless the
     method times itself) and its impacts and end state compared with the reference.
@@ -220,12 +255,38 @@ def measure(ref: Reference, name: str, values=(math.nan,), repeats: int = 5, min
         try:
             cpu, sol = (math.nan, solve()) if m.times_itself else cpu_time(solve, repeats, min_time)
         except m.catches as exc:  # a method that loops on chatter or fails to step
-            out.append(Run(ref.case, name, m.setting, v, math.nan, math.inf, math.inf, math.inf, 0,
-                           len(ref.impact_times), note=str(exc).splitlines()[0][:120]))
+            out.append(
+                Run(
+                    ref.case,
+                    name,
+                    m.setting,
+                    v,
+                    math.nan,
+                    math.inf,
+                    math.inf,
+                    math.inf,
+                    0,
+                    len(ref.impact_times),
+                    note=str(exc).splitlines()[0][:120],
+                )
+            )
             continue
         if sol is None:
-            out.append(Run(ref.case, name, m.setting, v, cpu, math.inf, math.inf, math.inf, 0,
-                           len(ref.impact_times), note=m.no_solution))
+            out.append(
+                Run(
+                    ref.case,
+                    name,
+                    m.setting,
+                    v,
+                    cpu,
+                    math.inf,
+                    math.inf,
+                    math.inf,
+                    0,
+                    len(ref.impact_times),
+                    note=m.no_solution,
+                )
+            )
             continue
         cpu = sol.cpu_seconds if m.times_itself else cpu
         end = sol.state_at(ref.t_end) if ref.end_state is not None else None
@@ -263,9 +324,14 @@ def run_study(p: Parameters, cfg: dict, log=print) -> dict:
         "references": {k: r.to_dict() for k, r in refs.items()},
         "siconos": {"available": available, "detail": detail},
         "runs": [asdict(r) for r in runs],
-        "environment": {"python": platform.python_version(), "numpy": numpy.__version__, "scipy": scipy.__version__,
-                        "machine": platform.machine(), "timer": "time.process_time (median)",
-                        "note": "timings depend on the machine and its load; not deterministic"},
+        "environment": {
+            "python": platform.python_version(),
+            "numpy": numpy.__version__,
+            "scipy": scipy.__version__,
+            "machine": platform.machine(),
+            "timer": "time.process_time (median)",
+            "note": "timings depend on the machine and its load; not deterministic",
+        },
     }
 
 
@@ -324,9 +390,17 @@ def cost_growth(p: Parameters, periods, repeats=3, min_time=0.05, log=print) -> 
         log(f"[cost growth] {p.gap=} {n} periods")
         cpu, traj = cpu_time(lambda: simulate(p, n * p.T), repeats, min_time)
         impacts = len(traj.impacts())
-        rows.append({"gap": p.gap, "periods": int(n), "impacts": impacts, "events": len(traj.events),
-                     "cpu_seconds": cpu, "per_impact": cpu / impacts if impacts else math.nan,
-                     "per_period": cpu / n})
+        rows.append(
+            {
+                "gap": p.gap,
+                "periods": int(n),
+                "impacts": impacts,
+                "events": len(traj.events),
+                "cpu_seconds": cpu,
+                "per_impact": cpu / impacts if impacts else math.nan,
+                "per_period": cpu / n,
+            }
+        )
     return rows
 
 
@@ -384,26 +458,34 @@ def report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) ->
             rk4 = json_float(methods["RK4"]["cost_to_reach"][f"{t:g}"]) if "RK4" in methods else math.inf
             exact_t = json_float(exact["cost_to_reach"][f"{t:g}"])
             c["levels"][f"{t:g}"] = {
-                "speedup": speedup, "best_ivp_method": sp["best_ivp_method"], "best_ivp_cost": json_float(sp["best_ivp_cost"]),
-                "exact_cost": exact_t, "speedup_met": meets(speedup, float(perf["speedup_target"]), at_most=False),
+                "speedup": speedup,
+                "best_ivp_method": sp["best_ivp_method"],
+                "best_ivp_cost": json_float(sp["best_ivp_cost"]),
+                "exact_cost": exact_t,
+                "speedup_met": meets(speedup, float(perf["speedup_target"]), at_most=False),
                 "speedup_vs_rk4": rk4 / exact_t if math.isfinite(rk4) and math.isfinite(exact_t) else math.inf,
             }
         out["cases"][case] = c
     out["cost_growth"] = growth["summary"]
-    out["hardcases"] = {"passed": hard["passed"], "total": hard["total"],
-                        "slowest": max(hard["cases"], key=lambda r: json_float(r["cpu_seconds"]))["case"],
-                        "slowest_seconds": max(json_float(r["cpu_seconds"]) for r in hard["cases"]),
-                        "total_seconds": sum(json_float(r["cpu_seconds"]) for r in hard["cases"]),
-                        "failed": [r["case"] for r in hard["cases"] if not r["passed"]]}
+    out["hardcases"] = {
+        "passed": hard["passed"],
+        "total": hard["total"],
+        "slowest": max(hard["cases"], key=lambda r: json_float(r["cpu_seconds"]))["case"],
+        "slowest_seconds": max(json_float(r["cpu_seconds"]) for r in hard["cases"]),
+        "total_seconds": sum(json_float(r["cpu_seconds"]) for r in hard["cases"]),
+        "failed": [r["case"] for r in hard["cases"] if not r["passed"]],
+    }
     ex, tg, cross = ref.get("exact", {}), ref.get("targets", {}), ref.get("crosscheck", {})
     fastest = min(cross, key=lambda m: cross[m]["median_s"]) if cross else None
-    out["reference_speed"] = {"steady_state_seconds": json_float(ex.get("steady_state_median_s")),
-                              "speedup_vs_fastest_crosscheck": json_float(tg.get("speedup_vs_fastest_crosscheck")),
-                              "speedup_target": json_float(tg.get("speedup_target")),
-                              "exact_time_target_s": json_float(tg.get("exact_time_target_s")),
-                              "speedup_met": bool(tg.get("speedup_met", False)),
-                              "exact_time_met": bool(tg.get("exact_time_met", False)),
-                              "fastest_crosscheck": fastest,
-                              "crosscheck_rtol": json_float(cross[fastest]["rtol"]) if fastest else math.inf,
-                              "phase_error": json_float(ex.get("phase_error"))}
+    out["reference_speed"] = {
+        "steady_state_seconds": json_float(ex.get("steady_state_median_s")),
+        "speedup_vs_fastest_crosscheck": json_float(tg.get("speedup_vs_fastest_crosscheck")),
+        "speedup_target": json_float(tg.get("speedup_target")),
+        "exact_time_target_s": json_float(tg.get("exact_time_target_s")),
+        "speedup_met": bool(tg.get("speedup_met", False)),
+        "exact_time_met": bool(tg.get("exact_time_met", False)),
+        "fastest_crosscheck": fastest,
+        "crosscheck_rtol": json_float(cross[fastest]["rtol"]) if fastest else math.inf,
+        "phase_error": json_float(ex.get("phase_error")),
+    }
     return out

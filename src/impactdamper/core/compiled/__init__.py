@@ -45,16 +45,48 @@ from impactdamper.core.compiled.cache import keep_in_step
 
 keep_in_step()  # before any kernel is loaded from numba's cache (see cache.py); the imports follow it
 
-from impactdamper.core.compiled.api import (INITIAL_CAPACITY, CompiledRun, CompiledSteady, count_events_compiled,  # noqa: E402
-                                            run_compiled, simulate_compiled, steady_state_compiled,
-                                            steady_state_hybrid, steady_state_full, strobe_step_compiled, map_step)
+from impactdamper.core.compiled.api import (
+    INITIAL_CAPACITY,
+    CompiledRun,
+    CompiledSteady,
+    count_events_compiled,  # noqa: E402
+    run_compiled,
+    simulate_compiled,
+    steady_state_compiled,
+    steady_state_hybrid,
+    steady_state_full,
+    strobe_step_compiled,
+    map_step,
+)
 from impactdamper.core.compiled.layout import EVENT_KINDS, FALLBACK_REASONS
 from impactdamper.core.compiled.pack import PARAMETER_COLUMNS, Pack, pack_many, pack_parameters
 from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel
+
 # The regime names; the kernels' regime codes index them (as BatchResult.regime_code does).
 from impactdamper.core.steady import REGIMES
 
-__all__ = ["CompiledRun", "CompiledSteady", "Pack", "pack_many", "pack_parameters", "run_compiled",
-           "simulate_compiled", "steady_state_compiled", "steady_state_hybrid", "steady_state_full", "strobe_step_compiled", "map_step", "count_events_compiled", "row_kernel", "EVENT_KINDS",
-           "FALLBACK_REASONS", "PARAMETER_COLUMNS", "INITIAL_CAPACITY", "REGIMES", "ROW_DONE", "ROW_FLAGGED",
-           "ROW_ERROR", "ROW_RESCUE"]
+__all__ = [
+    "CompiledRun",
+    "CompiledSteady",
+    "Pack",
+    "pack_many",
+    "pack_parameters",
+    "run_compiled",
+    "simulate_compiled",
+    "steady_state_compiled",
+    "steady_state_hybrid",
+    "steady_state_full",
+    "strobe_step_compiled",
+    "map_step",
+    "count_events_compiled",
+    "row_kernel",
+    "EVENT_KINDS",
+    "FALLBACK_REASONS",
+    "PARAMETER_COLUMNS",
+    "INITIAL_CAPACITY",
+    "REGIMES",
+    "ROW_DONE",
+    "ROW_FLAGGED",
+    "ROW_ERROR",
+    "ROW_RESCUE",
+]

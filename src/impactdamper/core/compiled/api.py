@@ -21,14 +21,44 @@ from impactdamper.core.compiled.settle import steady_kernel
 from impactdamper.core.events import Segment
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
-from impactdamper.core.simulate import (MAX_SIMULATE_PERIODS, default_initial_state, Event, EventDrivenSolver, Tolerances,
-                                        Trajectory, check_start_time, check_state, check_tolerances, simulate)
-from impactdamper.core.steady import (NONPERIODIC_WINDOW, PERIODS_BEFORE_CYCLE, REGIMES, CycleImpact, SteadyState, check_settle_options, describe_run, section_of,
-                                      start_in_first_period, steady_state)
+from impactdamper.core.simulate import (
+    MAX_SIMULATE_PERIODS,
+    default_initial_state,
+    Event,
+    EventDrivenSolver,
+    Tolerances,
+    Trajectory,
+    check_start_time,
+    check_state,
+    check_tolerances,
+    simulate,
+)
+from impactdamper.core.steady import (
+    NONPERIODIC_WINDOW,
+    PERIODS_BEFORE_CYCLE,
+    REGIMES,
+    CycleImpact,
+    SteadyState,
+    check_settle_options,
+    describe_run,
+    section_of,
+    start_in_first_period,
+    steady_state,
+)
 
-__all__ = ["CompiledRun", "CompiledSteady", "run_compiled", "simulate_compiled", "steady_state_compiled",
-           "steady_state_hybrid", "steady_state_full", "strobe_step_compiled", "map_step",
-           "count_events_compiled", "INITIAL_CAPACITY"]
+__all__ = [
+    "CompiledRun",
+    "CompiledSteady",
+    "run_compiled",
+    "simulate_compiled",
+    "steady_state_compiled",
+    "steady_state_hybrid",
+    "steady_state_full",
+    "strobe_step_compiled",
+    "map_step",
+    "count_events_compiled",
+    "INITIAL_CAPACITY",
+]
 
 # Events and segments held before the buffers grow (the run is repeated with 4 times as many):
 # a settled cycle's description holds ~10 periods of a few events each; larger buffers cost more
@@ -78,8 +108,15 @@ class CompiledRun:
         return self.events[:, 0]
 
 
-def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-                 tolerances: Tolerances | None = None, *, pack: Pack | None = None) -> CompiledRun | None:
+def run_compiled(
+    p: Parameters,
+    t_end: float,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    *,
+    pack: Pack | None = None,
+) -> CompiledRun | None:
     """Algorithm No. 2 with contact modes from ``t0`` to ``t_end`` in the kernels, as arrays.
 
     Parameters
@@ -105,21 +142,24 @@ def run_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray
     while True:
         if pack is None:
             try:
-                flag, err, ev_k, ev_f, seg_m, seg_f, _ = pack_simulate_kernel(v, tols, float(t0), full, float(t_end),
-                                                                              capacity)
+                flag, err, ev_k, ev_f, seg_m, seg_f, _ = pack_simulate_kernel(
+                    v, tols, float(t0), full, float(t_end), capacity
+                )
             except PACKING_ERRORS:
                 return None
         else:
-            err, ev_k, ev_f, seg_m, seg_f, _ = simulate_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s,
-                                                               float(t0), full, float(t_end), capacity)
+            err, ev_k, ev_f, seg_m, seg_f, _ = simulate_kernel(
+                pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, float(t0), full, float(t_end), capacity
+            )
         if flag or err != ERR_CAPACITY:
             break
         capacity *= 4
     return None if flag or err else CompiledRun(ev_k, ev_f, seg_m, seg_f)
 
 
-def simulate_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-                      tolerances: Tolerances | None = None) -> Trajectory:
+def simulate_compiled(
+    p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None, tolerances: Tolerances | None = None
+) -> Trajectory:
     """Algorithm No. 2 with contact modes from ``t0`` to ``t_end``, compiled.
 
     The same motion as :func:`impactdamper.core.simulate.simulate` (the same events, kinds and
@@ -164,10 +204,19 @@ def _trajectory(p: Parameters, ev_k, ev_f, seg_m, seg_f) -> Trajectory:
     for m, row in zip(seg_m.tolist(), seg_f):
         name = FREE if m == MODE_FREE else STUCK
         n = 4 if m == MODE_FREE else 2
-        traj.segments.append((name, Segment(model.mode(name), float(row[0]), row[1:1 + n].copy())))
+        traj.segments.append((name, Segment(model.mode(name), float(row[0]), row[1 : 1 + n].copy())))
     for k, row in zip(ev_k.tolist(), ev_f):
-        traj.events.append(Event(float(row[0]), EVENT_KINDS[k], float(row[1]), float(row[2]), row[3:7].copy(),
-                                 row[7:11].copy(), float(row[11])))
+        traj.events.append(
+            Event(
+                float(row[0]),
+                EVENT_KINDS[k],
+                float(row[1]),
+                float(row[2]),
+                row[3:7].copy(),
+                row[7:11].copy(),
+                float(row[11]),
+            )
+        )
     return traj
 
 
@@ -178,14 +227,16 @@ def _fallback_reason(p: Parameters, tol: Tolerances) -> str:
     return FALLBACK_REASONS[flag] if flag else "error"
 
 
-def count_events_compiled(p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None,
-                          tolerances: Tolerances | None = None) -> int:
+def count_events_compiled(
+    p: Parameters, t_end: float, t0: float = 0.0, state: np.ndarray | None = None, tolerances: Tolerances | None = None
+) -> int:
     """Events of the run from ``t0`` to ``t_end`` without recording them (the solver's pure
     cost, for benchmarks). Raises ValueError if the kernels do not apply to ``p``."""
     pack = pack_parameters(p, tolerances)
     if pack.fallback:
-        raise ValueError(f"`p` = {p!r} is not allowed here: the kernels do not apply "
-                         f"({FALLBACK_REASONS[pack.fallback]})")
+        raise ValueError(
+            f"`p` = {p!r} is not allowed here: the kernels do not apply ({FALLBACK_REASONS[pack.fallback]})"
+        )
     full = _checked_state(p, state, check_tolerances(tolerances))
     err, n = count_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, float(t0), full, float(t_end))
     if err:
@@ -247,17 +298,33 @@ class CompiledSteady:
 def _from_reference(p: Parameters, s, reason: str) -> CompiledSteady:
     section, mode = section_of(s)  # the reference's own reading of the section
     return CompiledSteady(
-        regime=s.regime, period_multiple=s.period_multiple,
-        impact_times=np.array([i.t for i in s.impacts]), impact_phases=np.array([i.phase for i in s.impacts]),
-        velocities=np.array([i.velocity for i in s.impacts]), impulses=np.array([i.impulse for i in s.impacts]),
-        cycle_start=s.cycle_start, contact_fraction=float(s.contact_fraction), x1_max=float(s.x1_max),
-        periods=s.periods, residual=float(s.residual), section=np.asarray(section, float), section_mode=mode,
-        fallback=reason)
+        regime=s.regime,
+        period_multiple=s.period_multiple,
+        impact_times=np.array([i.t for i in s.impacts]),
+        impact_phases=np.array([i.phase for i in s.impacts]),
+        velocities=np.array([i.velocity for i in s.impacts]),
+        impulses=np.array([i.impulse for i in s.impacts]),
+        cycle_start=s.cycle_start,
+        contact_fraction=float(s.contact_fraction),
+        x1_max=float(s.x1_max),
+        periods=s.periods,
+        residual=float(s.residual),
+        section=np.asarray(section, float),
+        section_mode=mode,
+        fallback=reason,
+    )
 
 
-def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
-                          tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
-                          max_period_multiple: int = 8) -> CompiledSteady:
+def steady_state_compiled(
+    p: Parameters,
+    *,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    settle_tol: float = 1e-10,
+    max_periods: int = 4000,
+    max_period_multiple: int = 8,
+) -> CompiledSteady:
     """The settled motion, compiled: :func:`impactdamper.core.steady.steady_state`'s result.
 
     Parameters and their meaning as there. The reference runs instead (and ``fallback`` says
@@ -272,15 +339,24 @@ def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray |
     .. deprecated:: use ``impactdamper.steady_state(p, backend="compiled")`` (a full
        :class:`~impactdamper.core.steady.SteadyState` in about the same time).
     """
-    warnings.warn("steady_state_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled')",
-                  DeprecationWarning, stacklevel=2)
+    warnings.warn(
+        "steady_state_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled')",
+        DeprecationWarning,
+        stacklevel=2,
+    )
     p = require_parameters(p)
     tol = check_tolerances(tolerances)
     t0 = finite_argument("t0", t0)
     settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
     pack = pack_parameters(p, tol)
-    args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
-                max_period_multiple=max_period_multiple)
+    args = dict(
+        t0=t0,
+        state=state,
+        tolerances=tolerances,
+        settle_tol=settle_tol,
+        max_periods=max_periods,
+        max_period_multiple=max_period_multiple,
+    )
     if pack.fallback:
         return _from_reference(p, steady_state(p, **args), FALLBACK_REASONS[pack.fallback])
     start = start_in_first_period(p, t0)
@@ -295,16 +371,32 @@ def steady_state_compiled(p: Parameters, *, t0: float = 0.0, state: np.ndarray |
 NO_TAIL = np.zeros((0, 5))
 
 
-def _steady_run(pack: Pack, t0: float, full: np.ndarray, default_start: bool, settle_tol: float, max_periods: int,
-                kmax: int) -> CompiledSteady | None:
+def _steady_run(
+    pack: Pack, t0: float, full: np.ndarray, default_start: bool, settle_tol: float, max_periods: int, kmax: int
+) -> CompiledSteady | None:
     """One kernel run; None if the kernels stopped on an error."""
     capacity = INITIAL_CAPACITY
     out_imp = np.zeros((64 * kmax, 5))
     section = np.zeros(5)
     while True:
-        (err, regime, k, z, start, frac, x1_max, n,
-         residual) = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, t0, full, default_start,
-                                   settle_tol, max_periods, kmax, capacity, out_imp, section, NO_TAIL)
+        (err, regime, k, z, start, frac, x1_max, n, residual) = steady_kernel(
+            pack.cm,
+            pack.fm,
+            pack.fc,
+            pack.fk,
+            pack.fg,
+            pack.s,
+            t0,
+            full,
+            default_start,
+            settle_tol,
+            max_periods,
+            kmax,
+            capacity,
+            out_imp,
+            section,
+            NO_TAIL,
+        )
         if err == ERR_CAPACITY:
             capacity *= 4
             continue
@@ -315,16 +407,33 @@ def _steady_run(pack: Pack, t0: float, full: np.ndarray, default_start: bool, se
     if err:
         return None
     imp = out_imp[:z]
-    return CompiledSteady(regime=REGIMES[regime], period_multiple=int(k), impact_times=imp[:, 0].copy(),
-                          impact_phases=imp[:, 2].copy(), velocities=imp[:, 3].copy(), impulses=imp[:, 4].copy(),
-                          cycle_start=float(start), contact_fraction=float(frac), x1_max=float(x1_max),
-                          periods=int(n), residual=float(residual), section=section[:4].copy(),
-                          section_mode="free" if section[4] == MODE_FREE else "stuck")
+    return CompiledSteady(
+        regime=REGIMES[regime],
+        period_multiple=int(k),
+        impact_times=imp[:, 0].copy(),
+        impact_phases=imp[:, 2].copy(),
+        velocities=imp[:, 3].copy(),
+        impulses=imp[:, 4].copy(),
+        cycle_start=float(start),
+        contact_fraction=float(frac),
+        x1_max=float(x1_max),
+        periods=int(n),
+        residual=float(residual),
+        section=section[:4].copy(),
+        section_mode="free" if section[4] == MODE_FREE else "stuck",
+    )
 
 
-def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
-                        tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
-                        max_period_multiple: int = 8) -> SteadyState:
+def steady_state_hybrid(
+    p: Parameters,
+    *,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    settle_tol: float = 1e-10,
+    max_periods: int = 4000,
+    max_period_multiple: int = 8,
+) -> SteadyState:
     """:func:`impactdamper.core.steady.steady_state`'s full result (a
     :class:`~impactdamper.core.steady.SteadyState` with its trajectory and sections), its period
     loop run by the kernels: the run until the motion repeats is compiled, and the settled cycle
@@ -339,8 +448,14 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
     tol = check_tolerances(tolerances)
     t0f = finite_argument("t0", t0)
     settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
-    args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
-                max_period_multiple=max_period_multiple)
+    args = dict(
+        t0=t0,
+        state=state,
+        tolerances=tolerances,
+        settle_tol=settle_tol,
+        max_periods=max_periods,
+        max_period_multiple=max_period_multiple,
+    )
     pack = pack_parameters(p, tol)
     if pack.fallback:
         return steady_state(p, **args)
@@ -351,9 +466,24 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
     section = np.zeros(5)
     capacity = INITIAL_CAPACITY
     while True:
-        err, _, k, _, _, _, _, n, residual = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, start,
-                                                          full, state is None, settle_tol, max_periods,
-                                                          max_period_multiple, capacity, out_imp, section, tail)
+        err, _, k, _, _, _, _, n, residual = steady_kernel(
+            pack.cm,
+            pack.fm,
+            pack.fc,
+            pack.fk,
+            pack.fg,
+            pack.s,
+            start,
+            full,
+            state is None,
+            settle_tol,
+            max_periods,
+            max_period_multiple,
+            capacity,
+            out_imp,
+            section,
+            tail,
+        )
         if err != ERR_CAPACITY:
             break
         capacity *= 4
@@ -361,13 +491,28 @@ def steady_state_hybrid(p: Parameters, *, t0: float = 0.0, state: np.ndarray | N
         return steady_state(p, **args)  # the reference's own error, or its result
     # The reference's start state (its solver's state at the start: the given one or step 1).
     start_state = full if state is not None else EventDrivenSolver(p, t0=start, tolerances=tol).state_at(start)
-    return describe_run(p, start, tail[max_periods - n:, :4], int(k), float(residual), start_state, tol,
-                        simulate_from=simulate_compiled)
+    return describe_run(
+        p,
+        start,
+        tail[max_periods - n :, :4],
+        int(k),
+        float(residual),
+        start_state,
+        tol,
+        simulate_from=simulate_compiled,
+    )
 
 
-def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: int,
-                         tolerances: Tolerances | None = None, *, pack: Pack | None = None,
-                         model: Model | None = None) -> tuple[np.ndarray, str] | None:
+def strobe_step_compiled(
+    p: Parameters,
+    t0: float,
+    state: np.ndarray,
+    periods: int,
+    tolerances: Tolerances | None = None,
+    *,
+    pack: Pack | None = None,
+    model: Model | None = None,
+) -> tuple[np.ndarray, str] | None:
     """:func:`impactdamper.analysis.strobe.stroboscopic_step` by the kernels: the state and mode at
     t0 + periods T from ``state`` at t0 (the last segment flowed to there by the Python flow).
     ``pack`` and ``model`` (of ``p`` and ``tolerances``), if already made: a Newton iteration
@@ -386,7 +531,7 @@ def strobe_step_compiled(p: Parameters, t0: float, state: np.ndarray, periods: i
     model = Model(p) if model is None else model
     name = FREE if run.segment_modes[-1] == MODE_FREE else STUCK
     row = run.segments[-1]
-    seg = Segment(model.mode(name), float(row[0]), row[1:1 + (4 if name == FREE else 2)].copy())
+    seg = Segment(model.mode(name), float(row[0]), row[1 : 1 + (4 if name == FREE else 2)].copy())
     return model.full_state(name, seg.state(np.array([t_end])))[0], name
 
 
@@ -401,6 +546,7 @@ def map_step(p: Parameters, tolerances: Tolerances | None = None):
 
     def step(state, k):
         return strobe_step_compiled(p, 0.0, state, k, tolerances, pack=pack, model=model)
+
     return step
 
 
@@ -428,9 +574,16 @@ class _DeferredTrajectory(Trajectory):
         return self.__dict__
 
 
-def steady_state_full(p: Parameters, *, t0: float = 0.0, state: np.ndarray | None = None,
-                      tolerances: Tolerances | None = None, settle_tol: float = 1e-10, max_periods: int = 4000,
-                      max_period_multiple: int = 8) -> SteadyState:
+def steady_state_full(
+    p: Parameters,
+    *,
+    t0: float = 0.0,
+    state: np.ndarray | None = None,
+    tolerances: Tolerances | None = None,
+    settle_tol: float = 1e-10,
+    max_periods: int = 4000,
+    max_period_multiple: int = 8,
+) -> SteadyState:
     """:func:`impactdamper.core.steady.steady_state`'s full result by the kernels: the period
     loop and the cycle's description (impacts, regime, contact fraction, x1_max) compiled, the
     stored trajectory around the cycle run (compiled) when first read. A cycle with persistent
@@ -447,8 +600,14 @@ def steady_state_full(p: Parameters, *, t0: float = 0.0, state: np.ndarray | Non
     tol = check_tolerances(tolerances)
     t0f = finite_argument("t0", t0)
     settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
-    args = dict(t0=t0, state=state, tolerances=tolerances, settle_tol=settle_tol, max_periods=max_periods,
-                max_period_multiple=max_period_multiple)
+    args = dict(
+        t0=t0,
+        state=state,
+        tolerances=tolerances,
+        settle_tol=settle_tol,
+        max_periods=max_periods,
+        max_period_multiple=max_period_multiple,
+    )
     pack = pack_parameters(p, tol)
     if pack.fallback:
         return dataclasses.replace(steady_state(p, **args), fallback=FALLBACK_REASONS[pack.fallback])
@@ -459,9 +618,24 @@ def steady_state_full(p: Parameters, *, t0: float = 0.0, state: np.ndarray | Non
     section = np.zeros(5)
     capacity = INITIAL_CAPACITY
     while True:
-        (err, regime, k, z, cycle_start, frac, x1_max, n,
-         residual) = steady_kernel(pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, start, full, state is None,
-                                   settle_tol, max_periods, max_period_multiple, capacity, out_imp, section, tail)
+        (err, regime, k, z, cycle_start, frac, x1_max, n, residual) = steady_kernel(
+            pack.cm,
+            pack.fm,
+            pack.fc,
+            pack.fk,
+            pack.fg,
+            pack.s,
+            start,
+            full,
+            state is None,
+            settle_tol,
+            max_periods,
+            max_period_multiple,
+            capacity,
+            out_imp,
+            section,
+            tail,
+        )
         if err == ERR_CAPACITY:
             capacity *= 4
             continue
@@ -470,8 +644,10 @@ def steady_state_full(p: Parameters, *, t0: float = 0.0, state: np.ndarray | Non
             continue
         break
     if err:
-        return dataclasses.replace(steady_state(p, **args), fallback="error")  # the reference's own error, or its result
-    states = tail[max_periods - n:, :4]
+        return dataclasses.replace(
+            steady_state(p, **args), fallback="error"
+        )  # the reference's own error, or its result
+    states = tail[max_periods - n :, :4]
     if frac > 0.0:  # contact phases: described on the trajectory, as the hybrid does
         start_state = full if state is not None else EventDrivenSolver(p, t0=start, tolerances=tol).state_at(start)
         s = describe_run(p, start, states, int(k), float(residual), start_state, tol, simulate_from=simulate_compiled)
@@ -488,8 +664,19 @@ def steady_state_full(p: Parameters, *, t0: float = 0.0, state: np.ndarray | Non
 
     imp = out_imp[:z]
     impacts = tuple(CycleImpact(float(r[0]), float(r[1]), float(r[2]), float(r[3]), float(r[4])) for r in imp)
-    return SteadyState(p=p, regime=REGIMES[regime], period_multiple=int(k), impacts=impacts,
-                       cycle_start=float(cycle_start), contact_fraction=float(frac), contact_phases=(),
-                       x1_max=float(x1_max), periods=int(n), residual=float(residual),
-                       trajectory=_DeferredTrajectory(build), section_times=start + p.T * np.arange(1, n + 1),
-                       sections=np.array(states, float), backend="compiled")
+    return SteadyState(
+        p=p,
+        regime=REGIMES[regime],
+        period_multiple=int(k),
+        impacts=impacts,
+        cycle_start=float(cycle_start),
+        contact_fraction=float(frac),
+        contact_phases=(),
+        x1_max=float(x1_max),
+        periods=int(n),
+        residual=float(residual),
+        trajectory=_DeferredTrajectory(build),
+        section_times=start + p.T * np.arange(1, n + 1),
+        sections=np.array(states, float),
+        backend="compiled",
+    )

@@ -114,5 +114,5 @@ def of_state(fc, s, f, mode, t, y, derivative):
     for i in range(n):
         value += y[i] * fc[f, derivative, i]
     for j in range(derivative):
-        value = value + fc[f, 7, derivative - 1 - j] * w ** j * math.sin(w * t + j * math.pi / 2)
-    return value + fc[f, 6, 1] * w ** derivative * math.sin(w * t + derivative * math.pi / 2)
+        value = value + fc[f, 7, derivative - 1 - j] * w**j * math.sin(w * t + j * math.pi / 2)
+    return value + fc[f, 6, 1] * w**derivative * math.sin(w * t + derivative * math.pi / 2)

@@ -23,8 +23,24 @@ OK, ERR_BUDGET, ERR_SEARCH, ERR_DEGENERATE, ERR_STUCK_RESONANT, ERR_CAPACITY = 0
 # Why a point was not solved by the kernels (see the package docstring).
 FALLBACK_REASONS = ("", "matrix_exponential", "scales", "error", "rescue")
 # Scalars of the pack (Pack.s), by index.
-(S_OMEGA, S_T, S_DELTA0, S_R, S_M1, S_M2, S_MRED, S_OMEGA1, S_LSCALE, S_FSCALE, S_GAP_EPS, S_CHATTER, S_FORCE_EPS,
- S_STUCK_RES, S_XST, N_SCALARS) = range(16)
+(
+    S_OMEGA,
+    S_T,
+    S_DELTA0,
+    S_R,
+    S_M1,
+    S_M2,
+    S_MRED,
+    S_OMEGA1,
+    S_LSCALE,
+    S_FSCALE,
+    S_GAP_EPS,
+    S_CHATTER,
+    S_FORCE_EPS,
+    S_STUCK_RES,
+    S_XST,
+    N_SCALARS,
+) = range(16)
 # A solver's state: sf = [segment t0, search_from, departure value, run start, budget limit,
 # budget used, last event time]; si = [mode, departure order (0: none), same-time events,
 # events, segments, record flag, error]; y0 (4,) and alpha (4,) of the segment.

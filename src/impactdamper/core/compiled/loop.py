@@ -17,12 +17,46 @@ import numpy as np
 from numba import njit
 
 from impactdamper.core.compiled.flow import full_state, modal_coefficients, mode_size, mode_state, of_state
-from impactdamper.core.compiled.layout import (ERR_CAPACITY, ERR_DEGENERATE, ERR_STUCK_RESONANT, FORCE, GAP, IMPACT,
-                                               LIFTOFF, MODE_FREE, MODE_STUCK, NEG_FORCE, SF_DEPG, SF_FROM, SF_LAST,
-                                               SF_LIMIT, SF_START, SF_T0, SF_USED, SI_DEPM, SI_ERR, SI_MODE, SI_NEV,
-                                               SI_NSEG, SI_REC, SI_SAME, STICK, S_CHATTER, S_DELTA0, S_FORCE_EPS,
-                                               S_GAP_EPS, S_LSCALE, S_M1, S_M2, S_MRED, S_OMEGA, S_OMEGA1, S_R,
-                                               S_STUCK_RES, S_T)
+from impactdamper.core.compiled.layout import (
+    ERR_CAPACITY,
+    ERR_DEGENERATE,
+    ERR_STUCK_RESONANT,
+    FORCE,
+    GAP,
+    IMPACT,
+    LIFTOFF,
+    MODE_FREE,
+    MODE_STUCK,
+    NEG_FORCE,
+    SF_DEPG,
+    SF_FROM,
+    SF_LAST,
+    SF_LIMIT,
+    SF_START,
+    SF_T0,
+    SF_USED,
+    SI_DEPM,
+    SI_ERR,
+    SI_MODE,
+    SI_NEV,
+    SI_NSEG,
+    SI_REC,
+    SI_SAME,
+    STICK,
+    S_CHATTER,
+    S_DELTA0,
+    S_FORCE_EPS,
+    S_GAP_EPS,
+    S_LSCALE,
+    S_M1,
+    S_M2,
+    S_MRED,
+    S_OMEGA,
+    S_OMEGA1,
+    S_R,
+    S_STUCK_RES,
+    S_T,
+)
 from impactdamper.core.compiled.march import march
 from impactdamper.core.compiled.pack import pack_single
 from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
@@ -101,7 +135,7 @@ def _gap_departure(fc, s, t, full, rebound):
     for k in range(5):
         derivs[k] = of_state(fc, s, GAP, MODE_FREE, t, full, k)
     for order in range(2, 5):
-        threshold = DEPARTURE_FLOOR * scale * w ** order
+        threshold = DEPARTURE_FLOOR * scale * w**order
         if order < 4:
             threshold = max(threshold, DEPARTURE_ULPS * np.spacing(max(abs(t), 1.0)) * abs(derivs[order + 1]))
         if derivs[order] > threshold:
@@ -120,9 +154,9 @@ def _force_departure(fc, s, t, stuck):
     w = max(s[S_OMEGA], s[S_OMEGA1])
     for order in range(1, 4):
         d = of_state(fc, s, FORCE, MODE_STUCK, t, stuck, order)
-        if d > scale * w ** order:
+        if d > scale * w**order:
             return order, d
-        if d < -scale * w ** order:
+        if d < -scale * w**order:
             return 0, 0.0
     return 0, 0.0
 
@@ -145,8 +179,12 @@ def _stick(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, ful
 
 @njit(cache=True, inline="always")
 def _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, full, rebound):
-    F = fc[FORCE, 6, 0] + fc[FORCE, 6, 1] * math.sin(s[S_OMEGA] * t) + fc[FORCE, 0, 0] * full[0] \
+    F = (
+        fc[FORCE, 6, 0]
+        + fc[FORCE, 6, 1] * math.sin(s[S_OMEGA] * t)
+        + fc[FORCE, 0, 0] * full[0]
         + fc[FORCE, 0, 1] * full[2]
+    )
     a = F / s[S_MRED]
     if a > 0.0 and rebound * rebound <= 2.0 * a * s[S_CHATTER] * s[S_LSCALE]:
         R = s[S_R]
@@ -185,8 +223,9 @@ def _dip_unresolved(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, t, full):
     slope = of_state(fc, s, FORCE, MODE_STUCK, t, stuck, 1)
     budget = np.array([sf[SF_LIMIT], sf[SF_USED]])
     dm, dg = (1, -slope) if slope < 0.0 else (0, 0.0)
-    status, t_up, _, _ = march(cm, fm, fc, fk, fg, s, NEG_FORCE, MODE_STUCK, t0, alpha, t, t + T, s[S_FORCE_EPS],
-                               dm, dg, budget)
+    status, t_up, _, _ = march(
+        cm, fm, fc, fk, fg, s, NEG_FORCE, MODE_STUCK, t0, alpha, t, t + T, s[S_FORCE_EPS], dm, dg, budget
+    )
     sf[SF_USED] = budget[1]
     if status > 1:
         si[SI_ERR] = status
@@ -249,8 +288,7 @@ def init_solver(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t
         if full[3] - full[2] > 0.0:
             _impact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, full)
         else:
-            _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, full,
-                           full[2] - full[3])
+            _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, full, full[2] - full[3])
     else:
         _start(cm, s, sf, si, y0, alpha, seg_m, seg_f, seg_a, MODE_FREE, t0, full, 0, 0.0)
 
@@ -273,8 +311,24 @@ def advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, 
         if sf[SF_FROM] >= t_target:
             return
         budget[0], budget[1] = sf[SF_LIMIT], sf[SF_USED]
-        status, t_event, _, reached = march(cm, fm, fc, fk, fg, s, f, mode, sf[SF_T0], alpha, sf[SF_FROM],
-                                            t_target, eps, si[SI_DEPM], sf[SF_DEPG], budget)
+        status, t_event, _, reached = march(
+            cm,
+            fm,
+            fc,
+            fk,
+            fg,
+            s,
+            f,
+            mode,
+            sf[SF_T0],
+            alpha,
+            sf[SF_FROM],
+            t_target,
+            eps,
+            si[SI_DEPM],
+            sf[SF_DEPG],
+            budget,
+        )
         sf[SF_USED] = budget[1]
         if status > 1:
             si[SI_ERR] = status
@@ -302,9 +356,17 @@ def solver_state(cm, s, sf, si, alpha, t, out):
 def solver_buffers(capacity):
     """A solver's state (sf, si, y0, alpha) and its event and segment buffers of ``capacity``
     rows (0: not recorded)."""
-    return (np.zeros(8), np.zeros(8, np.int64), np.zeros(4), np.zeros(4, np.complex128),
-            np.empty(capacity, np.int64), np.empty((capacity, 12)), np.empty(capacity, np.int64),
-            np.empty((capacity, 5)), np.empty((capacity, 4), np.complex128))
+    return (
+        np.zeros(8),
+        np.zeros(8, np.int64),
+        np.zeros(4),
+        np.zeros(4, np.complex128),
+        np.empty(capacity, np.int64),
+        np.empty((capacity, 12)),
+        np.empty(capacity, np.int64),
+        np.empty((capacity, 5)),
+        np.empty((capacity, 4), np.complex128),
+    )
 
 
 @njit(cache=True)
@@ -327,8 +389,15 @@ def pack_simulate_kernel(v, tols, t0, state, t_end, capacity):
     packed arrays). Returns (pack flag, then simulate_kernel's values; empty where flag != 0)."""
     s, cm, fm, fc, fk, fg, flag = pack_single(v, tols)
     if flag != 0:
-        return (flag, 0, np.empty(0, np.int64), np.empty((0, 12)), np.empty(0, np.int64), np.empty((0, 5)),
-                np.empty((0, 4), np.complex128))
+        return (
+            flag,
+            0,
+            np.empty(0, np.int64),
+            np.empty((0, 12)),
+            np.empty(0, np.int64),
+            np.empty((0, 5)),
+            np.empty((0, 4), np.complex128),
+        )
     return (flag,) + simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity)
 
 

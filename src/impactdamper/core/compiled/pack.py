@@ -18,9 +18,27 @@ import numpy as np
 from numba import njit, types
 from numba.np.linalg import _LAPACK, ensure_lapack
 
-from impactdamper.core.compiled.layout import (FORCE, GAP, NEG_FORCE, N_SCALARS, S_CHATTER, S_DELTA0, S_FORCE_EPS,
-                                               S_FSCALE, S_GAP_EPS, S_LSCALE, S_M1, S_M2, S_MRED, S_OMEGA, S_OMEGA1,
-                                               S_R, S_STUCK_RES, S_T, S_XST)
+from impactdamper.core.compiled.layout import (
+    FORCE,
+    GAP,
+    NEG_FORCE,
+    N_SCALARS,
+    S_CHATTER,
+    S_DELTA0,
+    S_FORCE_EPS,
+    S_FSCALE,
+    S_GAP_EPS,
+    S_LSCALE,
+    S_M1,
+    S_M2,
+    S_MRED,
+    S_OMEGA,
+    S_OMEGA1,
+    S_R,
+    S_STUCK_RES,
+    S_T,
+    S_XST,
+)
 from impactdamper.core.linear import MODAL_CONDITION_LIMIT
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT
 from impactdamper.core.parameters import NATIVE_SCALES, Parameters, require_parameters
@@ -80,8 +98,9 @@ _GEEV_KIND, _JOB_N, _JOB_V = ord("d"), ord("N"), ord("V")
 # The default tolerances, made once (constructing and validating them costs more than packing's
 # compiled part).
 _DEFAULT_TOLERANCES = Tolerances()
-_DEFAULT_TOLERANCE_VALUES = np.array([_DEFAULT_TOLERANCES.gap_tol, _DEFAULT_TOLERANCES.chatter_tol,
-                                      _DEFAULT_TOLERANCES.force_tol])
+_DEFAULT_TOLERANCE_VALUES = np.array(
+    [_DEFAULT_TOLERANCES.gap_tol, _DEFAULT_TOLERANCES.chatter_tol, _DEFAULT_TOLERANCES.force_tol]
+)
 
 
 def _stacked_mode(M: np.ndarray, b: np.ndarray, omega: np.ndarray, W: np.ndarray):
@@ -157,15 +176,18 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
     modes = []
     for i, (M, b, W) in enumerate(((Mf, bf, Wf), (Ms, bs, Ws))):
         good = np.isfinite(M).all(axis=(1, 2)) & np.isfinite(W).all(axis=(1, 2)) & np.isfinite(b).all(axis=1)
-        Mg, bg, Wg = (np.where(good[:, None, None], M, np.eye(M.shape[1])), np.where(good[:, None], b, 0.0),
-                      np.where(good[:, None, None], W, np.eye(M.shape[1])))
+        Mg, bg, Wg = (
+            np.where(good[:, None, None], M, np.eye(M.shape[1])),
+            np.where(good[:, None], b, 0.0),
+            np.where(good[:, None, None], W, np.eye(M.shape[1])),
+        )
         lam, V, Vinv, Yhat, LiT, powers, modal, ok = _stacked_mode(Mg, bg, omega, Wg)
         n = M.shape[1]
         ok &= good
         flags[~ok] = _PACK_ERROR
         flags[(flags == 0) & ~modal] = _PACK_EXPM
         cm[:, i, 0, :n], cm[:, i, 1, :n] = lam, Yhat
-        cm[:, i, 2:2 + n, :n], cm[:, i, 6:6 + n, :n] = V, Vinv
+        cm[:, i, 2 : 2 + n, :n], cm[:, i, 6 : 6 + n, :n] = V, Vinv
         fm[:, i, :n, :n], fm[:, i, 4, :n] = W, b
         modes.append((V, Yhat, LiT, powers, b, np.abs(Yhat[:, : n // 2]).max(axis=1)))
     # The reference Model's checks: a free-mode forced response beyond FORCED_AMPLITUDE_LIMIT x_st
@@ -195,7 +217,7 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
             fc[:, f, 6, 0], fc[:, f, 6, 1] = g0, d_s
             fk[:, f] = np.linalg.norm(np.einsum("pkj,pjl->pkl", cM, LiT), axis=2)
             fg[:, f, 0] = np.einsum("pi,pi->p", c, Yhat) + d_s
-            fg[:, f, 1:1 + n] = np.einsum("pi,pij->pj", c, V)
+            fg[:, f, 1 : 1 + n] = np.einsum("pi,pij->pj", c, V)
     s = np.zeros((P, N_SCALARS))
     s[:, S_OMEGA], s[:, S_T], s[:, S_DELTA0], s[:, S_R] = omega, T, Delta0, R
     s[:, S_M1], s[:, S_M2], s[:, S_MRED], s[:, S_OMEGA1] = v[:, 9], m2, mred, omega1
@@ -228,9 +250,9 @@ def _pack_mode(i, n, M, b, W, lam, V, omega, cm, fm, powers, LiT):
             LiT[r, c] = Li[c, r]
     cm[i, 0, :n] = lam
     cm[i, 1, :n] = Yhat
-    cm[i, 2:2 + n, :n] = V
+    cm[i, 2 : 2 + n, :n] = V
     if modal:
-        cm[i, 6:6 + n, :n] = np.linalg.inv(V)
+        cm[i, 6 : 6 + n, :n] = np.linalg.inv(V)
     fm[i, :n, :n] = W
     fm[i, 4, :n] = b
     finite = True
@@ -333,8 +355,9 @@ def _pack_one(v, tols, lam_f, V_f):
     cf = np.array([m2 * c1 / m, m2 * k1 / m])
     _pack_functional(GAP, 4, cg, Delta0, 0.0, powers_f, LiT_f, bf, cm[0, 1], V_f, fc, fk, fg)
     _pack_functional(FORCE, 2, cf, -c2 * Delta0, -m2 * P0 / m, powers_s, LiT_s, bs, cm[1, 1], V_s, fc, fk, fg)
-    _pack_functional(NEG_FORCE, 2, -cf, -(-c2 * Delta0), -(-m2 * P0 / m), powers_s, LiT_s, bs, cm[1, 1], V_s,
-                     fc, fk, fg)
+    _pack_functional(
+        NEG_FORCE, 2, -cf, -(-c2 * Delta0), -(-m2 * P0 / m), powers_s, LiT_s, bs, cm[1, 1], V_s, fc, fk, fg
+    )
     s[S_OMEGA], s[S_T], s[S_DELTA0], s[S_R] = omega, T, Delta0, R
     s[S_M1], s[S_M2], s[S_MRED], s[S_OMEGA1] = m1, m2, mred, omega1
     s[S_LSCALE] = x_st
@@ -443,14 +466,28 @@ def pack_single(v, tols):
     v and tols as :func:`packing_values` gives them."""
     ok, lam_f, V_f = _real_eig(_state_matrices(v)[0])
     if not ok:
-        return (np.zeros(N_SCALARS), np.zeros((2, 10, 4), np.complex128), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
-                np.zeros((3, 6)), np.zeros((3, 5), np.complex128), _PACK_ERROR)
+        return (
+            np.zeros(N_SCALARS),
+            np.zeros((2, 10, 4), np.complex128),
+            np.zeros((2, 5, 4)),
+            np.zeros((3, 8, 6)),
+            np.zeros((3, 6)),
+            np.zeros((3, 5), np.complex128),
+            _PACK_ERROR,
+        )
     return _pack_one(v, tols, lam_f, V_f)
 
 
 def _empty_pack(flag: int) -> Pack:
-    return Pack(np.zeros(N_SCALARS), np.zeros((2, 10, 4), complex), np.zeros((2, 5, 4)), np.zeros((3, 8, 6)),
-                np.zeros((3, 6)), np.zeros((3, 5), complex), flag)
+    return Pack(
+        np.zeros(N_SCALARS),
+        np.zeros((2, 10, 4), complex),
+        np.zeros((2, 5, 4)),
+        np.zeros((3, 8, 6)),
+        np.zeros((3, 6)),
+        np.zeros((3, 5), complex),
+        flag,
+    )
 
 
 def packing_values(p: Parameters, tolerances: Tolerances | None = None) -> tuple[np.ndarray, np.ndarray, int]:

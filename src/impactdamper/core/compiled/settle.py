@@ -16,13 +16,39 @@ import numpy as np
 from numba import njit
 
 from impactdamper.core.compiled.flow import full_state, mode_size, mode_state
-from impactdamper.core.compiled.layout import (ERR_CAPACITY, IMPACT, MODE_STUCK, OK, SI_ERR, SI_MODE, SI_NEV, SI_NSEG,
-                                               SI_REC, S_DELTA0, S_M1, S_M2, S_OMEGA, S_OMEGA1, S_T, S_XST)
+from impactdamper.core.compiled.layout import (
+    ERR_CAPACITY,
+    IMPACT,
+    MODE_STUCK,
+    OK,
+    SI_ERR,
+    SI_MODE,
+    SI_NEV,
+    SI_NSEG,
+    SI_REC,
+    S_DELTA0,
+    S_M1,
+    S_M2,
+    S_OMEGA,
+    S_OMEGA1,
+    S_T,
+    S_XST,
+)
 from impactdamper.core.compiled.loop import advance, init_solver, solver_buffers, solver_state
 from impactdamper.core.simulate import DEFAULT_KICK
-from impactdamper.core.steady import (CONVERGENCE_NOISE, CONVERGENCE_WINDOW, DIVISOR_DECAY, DIVISOR_FLOOR_FACTOR,
-                                      DIVISOR_SUSPECT, EXCURSION_SAMPLES_PER_PERIOD, NONPERIODIC_WINDOW,
-                                      PERIODS_BEFORE_CYCLE, REBASE_PERIODS, ROUNDING_FLOOR, STALL_WINDOW)
+from impactdamper.core.steady import (
+    CONVERGENCE_NOISE,
+    CONVERGENCE_WINDOW,
+    DIVISOR_DECAY,
+    DIVISOR_FLOOR_FACTOR,
+    DIVISOR_SUSPECT,
+    EXCURSION_SAMPLES_PER_PERIOD,
+    NONPERIODIC_WINDOW,
+    PERIODS_BEFORE_CYCLE,
+    REBASE_PERIODS,
+    ROUNDING_FLOOR,
+    STALL_WINDOW,
+)
 
 # Golden-section iterations of the x1_max refinement: 0.618^80 ~ 2e-17 of a bracket of 2/256 T,
 # below the reference's xatol of 1e-12 T.
@@ -291,8 +317,9 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
 
 
 @njit(cache=True)
-def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, max_periods, kmax, capacity,
-                  out_imp, section, tail):
+def steady_kernel(
+    cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, max_periods, kmax, capacity, out_imp, section, tail
+):
     """The reference's _steady_state. Returns (error, regime, k, impacts, cycle start, contact
     fraction, x1_max, periods, residual); out_imp and section filled by _describe; ``tail``
     (shape (R, 5), R may be 0) gets the run's last R section states and modes, oldest first
@@ -358,15 +385,42 @@ def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, m
     first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
     _, _, _, _, ev_k, ev_f, seg_m, seg_f, seg_a = solver_buffers(capacity)
     si[SI_REC] = 1
-    init_solver(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0,
-                states[first - 1].copy() if first else start_state)
+    init_solver(
+        cm,
+        fc,
+        s,
+        sf,
+        si,
+        y0,
+        alpha,
+        ev_k,
+        ev_f,
+        seg_m,
+        seg_f,
+        seg_a,
+        t0,
+        states[first - 1].copy() if first else start_state,
+    )
     if si[SI_ERR] == 0:
-        advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a,
-                t0 + (n - first + k + 1) * T)
+        advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0 + (n - first + k + 1) * T)
     if si[SI_ERR]:
         return si[SI_ERR], 0, 0, 0, 0.0, 0.0, 0.0, n, residual
-    regime, z, start, frac, x1_max = _describe(cm, s, ev_k, ev_f, si[SI_NEV], seg_m, seg_f, seg_a, si[SI_NSEG],
-                                               t0 + (n - first - k) * T, k, found_k > 0, out_imp, section)
+    regime, z, start, frac, x1_max = _describe(
+        cm,
+        s,
+        ev_k,
+        ev_f,
+        si[SI_NEV],
+        seg_m,
+        seg_f,
+        seg_a,
+        si[SI_NSEG],
+        t0 + (n - first - k) * T,
+        k,
+        found_k > 0,
+        out_imp,
+        section,
+    )
     return OK, regime, (k if found_k else 0), z, start, frac, x1_max, n, residual
 
 
@@ -379,9 +433,41 @@ ROW_DONE, ROW_FLAGGED, ROW_ERROR, ROW_RESCUE = 0, 1, 2, 3
 
 
 @njit(cache=True)
-def row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_mode, prev_periodic, chain, rescue,
-               settle_tol, max_periods, max_periods_np, kmax, capacity, regime, kk, zz, x1max, frac, periods,
-               residual, starts, sections, sec_mode, phases, vels, given, tail):
+def row_kernel(
+    S,
+    CM,
+    FM,
+    FC,
+    FK,
+    FG,
+    flags,
+    i0,
+    have_prev,
+    prev_section,
+    prev_mode,
+    prev_periodic,
+    chain,
+    rescue,
+    settle_tol,
+    max_periods,
+    max_periods_np,
+    kmax,
+    capacity,
+    regime,
+    kk,
+    zz,
+    x1max,
+    frac,
+    periods,
+    residual,
+    starts,
+    sections,
+    sec_mode,
+    phases,
+    vels,
+    given,
+    tail,
+):
     """Settle points i0, i0 + 1, ... in order, as the reference's solve_point without its
     accelerators: each from its predecessor's section (``chain``, the reference's carry_state),
     from its row of ``given`` (shape (P, 4): the reference's ``state=``; shape (0, 4): none) or
@@ -410,9 +496,24 @@ def row_kernel(S, CM, FM, FC, FK, FG, flags, i0, have_prev, prev_section, prev_m
             full[0], full[1], full[2], full[3] = 0.0, s[S_DELTA0], S0 / s[S_M1], -S0 / s[S_M2]
         cap = max_periods_np if (chain and have_prev and not prev_periodic) else max_periods
         while True:
-            err, rg, k, z, start, fr, x1, n, res = steady_kernel(CM[i], FM[i], FC[i], FK[i], FG[i], S[i], 0.0,
-                                                                 full.copy(), False, settle_tol, cap, kmax, capacity,
-                                                                 out_imp, section, tail)
+            err, rg, k, z, start, fr, x1, n, res = steady_kernel(
+                CM[i],
+                FM[i],
+                FC[i],
+                FK[i],
+                FG[i],
+                S[i],
+                0.0,
+                full.copy(),
+                False,
+                settle_tol,
+                cap,
+                kmax,
+                capacity,
+                out_imp,
+                section,
+                tail,
+            )
             if err != ERR_CAPACITY:
                 break
             capacity *= 4
