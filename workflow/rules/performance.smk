@@ -126,7 +126,7 @@ rule performance_reference_speed:
 rule performance_compile_time:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES),
+        library=library(BASELINES, study("compiled_speed")),
     output:
         "results/benchmarks/compile_time.json",
     log:
@@ -146,7 +146,7 @@ rule performance_compile_time:
 rule performance_compiled_speed:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES),
+        library=library(BASELINES, study("compiled_speed")),
     output:
         "figures/compiled_speed.json",
     log:

@@ -1,0 +1,509 @@
+"""The compiled solver's speed benchmark: its measurements against the pure-Python solver and DOP853.
+
+The measurement functions of ``workflow/scripts/compiled_speed.py`` (which describes each one and
+writes ``figures/compiled_speed.json``), on the paper's reference case (Timofeev et al. 2019,
+Fig. 2). ``TARGETS`` and ``MAP_SETTINGS`` are filled by the caller (the script's command line)
+before :func:`run`; every timing is CPU and wall time, with the 1-minute load average beside it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+import impactdamper as idp
+from impactdamper.analysis.batch import regime_map_batch, warm_up
+from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.sweeps import regime_map
+from impactdamper.baselines.ivp import simulate_ivp
+from impactdamper.core import compiled as cc
+from impactdamper.core.compiled.settle import steady_kernel
+
+# The targets: the config's performance.compiled_speed_targets (main() fills this from --targets).
+TARGETS: dict = {}
+# Batch points: gap x theta around the reference case (every cell a settled motion within the cap).
+BATCH_GAPS = (-9.0, -3.0)
+BATCH_THETAS = (0.8, 1.2)
+# Fresh processes timed for the command line's wall time (median taken).
+CLI_RUNS = 5
+RTOL = ATOL = 1e-10  # DOP853's tolerances named by the issue
+# The full config's theta map (config/config.yaml, maps.theta) and its settings; the workflow's
+# rule passes the config's period caps (--max-periods, --max-periods-after-nonperiodic).
+MAP_GAPS = (-40.0, 15.0)
+MAP_THETAS = (0.5, 1.5)
+MAP_SETTINGS = dict(settle_tol=1e-9, max_periods=300, max_periods_after_nonperiodic=300, max_period_multiple=8)
+# Map points whose DOP853 cost is timed and extrapolated (a full DOP853 map would take hours).
+IVP_MAP_SAMPLE = 6
+
+
+def load() -> float:
+    return os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan
+
+
+def timed(fn, repeats: int) -> dict:
+    """CPU and wall times of ``repeats`` calls (after one warm-up call), min and median."""
+    result = fn()
+    cpu, wall = [], []
+    for _ in range(repeats):
+        c, w = time.process_time(), time.perf_counter()
+        result = fn()
+        cpu.append(time.process_time() - c)
+        wall.append(time.perf_counter() - w)
+    return {
+        "cpu_min_s": min(cpu),
+        "cpu_median_s": statistics.median(cpu),
+        "wall_min_s": min(wall),
+        "wall_median_s": statistics.median(wall),
+        "repeats": repeats,
+        "load_1min": load(),
+        "result": result,
+    }
+
+
+def strip(d: dict) -> dict:
+    return {k: v for k, v in d.items() if k != "result"}
+
+
+def phase_error(phase: float, reference: float) -> float:
+    return abs((phase - reference + 0.5) % 1.0 - 0.5)
+
+
+def compile_times() -> dict:
+    """Kernels compiled into an empty cache, then loaded from it, each in a fresh process."""
+    code = (
+        "import time; t = time.perf_counter(); from impactdamper.analysis.batch import warm_up; warm_up(); "
+        "print(time.perf_counter() - t)"
+    )
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        for name in ("cold_compile_s", "cached_load_s"):
+            run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+            out[name] = float(run.stdout.strip().splitlines()[-1])
+    out["load_1min"] = load()
+    return out
+
+
+def per_impact(p, long_periods: int, ivp_periods: int, repeats: int) -> dict:
+    n_events = cc.count_events_compiled(p, long_periods * p.T)
+    traj = cc.simulate_compiled(p, long_periods * p.T)
+    impacts = len(traj.impacts())
+    compiled = timed(lambda: cc.count_events_compiled(p, long_periods * p.T), repeats)
+    short_ref = idp.simulate(p, ivp_periods * p.T, backend="python")
+    short_impacts = len(short_ref.impacts())
+    python = timed(lambda: idp.simulate(p, ivp_periods * p.T, backend="python"), max(1, repeats // 3))
+    dop = timed(lambda: simulate_ivp(p, ivp_periods * p.T, method="DOP853", rtol=RTOL, atol=ATOL), 1)
+    out = {
+        "compiled": {
+            **strip(compiled),
+            "periods": long_periods,
+            "events": n_events,
+            "impacts": impacts,
+            "us_per_impact_min": 1e6 * compiled["cpu_min_s"] / impacts,
+            "us_per_impact_median": 1e6 * compiled["cpu_median_s"] / impacts,
+        },
+        "python": {
+            **strip(python),
+            "periods": ivp_periods,
+            "impacts": short_impacts,
+            "us_per_impact_min": 1e6 * python["cpu_min_s"] / short_impacts,
+        },
+        "dop853": {
+            **strip(dop),
+            "periods": ivp_periods,
+            "impacts": len(dop["result"].impacts()),
+            "us_per_impact_min": 1e6 * dop["cpu_min_s"] / max(len(dop["result"].impacts()), 1),
+        },
+    }
+    out["target_us"] = TARGETS["us_per_impact"]
+    out["met"] = out["compiled"]["us_per_impact_min"] <= TARGETS["us_per_impact"]
+    out["speedup_vs_python"] = out["python"]["us_per_impact_min"] / out["compiled"]["us_per_impact_min"]
+    out["speedup_vs_dop853"] = out["dop853"]["us_per_impact_min"] / out["compiled"]["us_per_impact_min"]
+    return out
+
+
+def steady(p, repeats: int) -> dict:
+    alg1 = idp.algorithm1(p)
+    reference = alg1.impact_phase
+    compiled = timed(lambda: cc.steady_state_full(p), repeats)
+    s = compiled["result"]
+    python = timed(lambda: idp.steady_state(p, backend="python"), max(1, repeats // 10))
+    sp = python["result"]
+    k = max(s.period_multiple, 1)
+    t_span = (s.periods + k + 1) * p.T  # what steady_state simulates: settling, then one cycle and a period
+    dop = timed(lambda: simulate_ivp(p, t_span, method="DOP853", rtol=RTOL, atol=ATOL), 2)
+    pack = timed(lambda: cc.pack_parameters(p), repeats)
+    err_alg1 = phase_error(s.impacts[0].phase, reference)
+    err_python = phase_error(s.impacts[0].phase, sp.impacts[0].phase)
+    out = {
+        "regime": s.regime,
+        "periods": s.periods,
+        "phase": s.impacts[0].phase,
+        "phase_alg1": reference,
+        "phase_error_vs_alg1": err_alg1,
+        "phase_error_vs_python": err_python,
+        "x1_max": s.x1_max,
+        "x1_max_python": sp.x1_max,
+        "simulated_periods": t_span / p.T,
+        "compiled": strip(compiled),
+        "packing_only": strip(pack),
+        "python": strip(python),
+        "dop853": strip(dop),
+    }
+    out["speedup_vs_dop853"] = dop["cpu_min_s"] / compiled["cpu_min_s"]
+    out["speedup_vs_python"] = python["cpu_min_s"] / compiled["cpu_min_s"]
+    out["targets"] = {
+        "time_s": TARGETS["steady_s"],
+        "time_met": compiled["cpu_min_s"] <= TARGETS["steady_s"],
+        "speedup": TARGETS["steady_speedup"],
+        "speedup_met": out["speedup_vs_dop853"] >= TARGETS["steady_speedup"],
+        "phase": TARGETS["phase"],
+        "phase_met": max(err_alg1, err_python) <= TARGETS["phase"],
+    }
+    return out
+
+
+def front_door(p, repeats: int, batch_points: int) -> dict:
+    """What a user's calls cost: impactdamper.steady_state (auto and python backends), a batch
+    through impactdamper.steady_states against the kernels' own time, and the command line."""
+    public = timed(lambda: idp.steady_state(p), repeats)
+    python = timed(lambda: idp.steady_state(p, backend="python"), max(1, repeats // 10))
+    s = public["result"]
+    out = {
+        "steady_state": {
+            "auto": strip(public),
+            "python": strip(python),
+            "backend": s.backend,
+            "method": s.method,
+            "fallback": s.fallback,
+            "speedup_vs_python": python["wall_median_s"] / public["wall_median_s"],
+            "target_s": TARGETS["public_steady_s"],
+            "met": public["wall_median_s"] <= TARGETS["public_steady_s"],
+        }
+    }
+    # The batch: an n x n grid of (gap, theta), each point from Algorithm No. 2's step 1.
+    n = max(2, int(round(math.sqrt(batch_points))))
+    gg, tt = np.meshgrid(np.linspace(*BATCH_GAPS, n), np.linspace(*BATCH_THETAS, n))
+    values = np.column_stack([gg.ravel(), tt.ravel()])
+    settings = SweepSettings(**MAP_SETTINGS)  # the maps' caps (a map row's cells, here each from step 1)
+    c, w = time.process_time(), time.perf_counter()
+    res = idp.steady_states(p, ("gap", "theta"), values, settings=settings, chain=False)
+    batch_cpu, batch_wall = time.process_time() - c, time.perf_counter() - w
+    # The kernels' own time on the same points: the steady kernel on pre-packed parameters.
+    points = [p.replace(gap=float(g), theta=float(t)) for g, t in values]
+    packed = [(cc.pack_parameters(q), idp.default_initial_state(q)) for q in points]
+    packed = [(pk, full) for pk, full in packed if not pk.fallback]
+    out_imp, section, tail = np.zeros((64 * settings.max_period_multiple, 5)), np.zeros(5), np.zeros((0, 5))
+    c, w = time.process_time(), time.perf_counter()
+    for pk, full in packed:
+        steady_kernel(
+            pk.cm,
+            pk.fm,
+            pk.fc,
+            pk.fk,
+            pk.fg,
+            pk.s,
+            0.0,
+            full,
+            True,
+            settings.settle_tol,
+            settings.max_periods,
+            settings.max_period_multiple,
+            cc.INITIAL_CAPACITY,
+            out_imp,
+            section,
+            tail,
+        )
+    kernel_cpu, kernel_wall = time.process_time() - c, time.perf_counter() - w
+    out["batch"] = {
+        "points": len(values),
+        "grid": [n, n],
+        "gaps": list(BATCH_GAPS),
+        "thetas": list(BATCH_THETAS),
+        "public_cpu_s": batch_cpu,
+        "public_wall_s": batch_wall,
+        "kernel_cpu_s": kernel_cpu,
+        "kernel_wall_s": kernel_wall,
+        "us_per_point_public": 1e6 * batch_cpu / len(values),
+        "us_per_point_kernel": 1e6 * kernel_cpu / len(values),
+        "ratio": batch_cpu / kernel_cpu,
+        "kernel_points": len(packed),
+        "fallbacks": res.fallbacks,
+        "nonperiodic": int(np.sum(res.regime == "nonperiodic")),
+        "target_ratio": TARGETS["batch_ratio"],
+        "met": batch_cpu / kernel_cpu <= TARGETS["batch_ratio"],
+        "load_1min": load(),
+    }
+    # The command line, a fresh process each (the kernels from numba's warm cache).
+    walls = []
+    for _ in range(CLI_RUNS):
+        w = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "impactdamper", "steady", "--json"], check=True, capture_output=True)
+        walls.append(time.perf_counter() - w)
+    probe = (
+        "import sys, time; t = time.perf_counter(); import impactdamper; "
+        "print(time.perf_counter() - t, 'numba' in sys.modules)"
+    )
+    imports = [
+        subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True).stdout.split()
+        for _ in range(CLI_RUNS)
+    ]
+    out["cli"] = {
+        "command": "python -m impactdamper steady --json",
+        "runs": CLI_RUNS,
+        "wall_min_s": min(walls),
+        "wall_median_s": statistics.median(walls),
+        "import_median_s": statistics.median(float(i[0]) for i in imports),
+        "import_loads_numba": any(i[1] == "True" for i in imports),
+        "target_s": TARGETS["cli_wall_s"],
+        "met": statistics.median(walls) <= TARGETS["cli_wall_s"],
+        "load_1min": load(),
+    }
+    return out
+
+
+def first_impacts(p, repeats: int, count: int = 10) -> dict:
+    ref = idp.simulate(p, 40 * p.T, backend="python")
+    t_end = ref.impacts()[count - 1].t + 1e-6 * p.T  # just past the count-th impact
+    compiled = timed(lambda: cc.run_compiled(p, t_end), repeats)
+    pack = cc.pack_parameters(p)
+    solver = timed(lambda: cc.run_compiled(p, t_end, pack=pack), repeats)
+    objects = timed(lambda: cc.simulate_compiled(p, t_end), repeats)
+    python = timed(lambda: idp.simulate(p, t_end, backend="python"), max(1, repeats // 5))
+    dop = timed(lambda: simulate_ivp(p, t_end, method="DOP853", rtol=RTOL, atol=ATOL), 3)
+    run, b = compiled["result"], python["result"]
+    times = run.times[run.kinds == 0]
+    dt = float(np.max(np.abs(times - np.array([e.t for e in b.impacts()])))) / p.T
+    out = {
+        "impacts": count,
+        "t_end_periods": t_end / p.T,
+        "max_time_difference_vs_python_T": dt,
+        "compiled": strip(compiled),
+        "compiled_packed_once": strip(solver),
+        "compiled_with_trajectory_objects": strip(objects),
+        "python": strip(python),
+        "dop853": strip(dop),
+        "speedup_vs_dop853": dop["cpu_min_s"] / compiled["cpu_min_s"],
+        "speedup_vs_python": python["cpu_min_s"] / compiled["cpu_min_s"],
+    }
+    out["speedup_vs_dop853_packed_once"] = dop["cpu_min_s"] / solver["cpu_min_s"]
+    out["target_speedup"] = TARGETS["first10_speedup"]
+    out["met"] = out["speedup_vs_dop853"] >= TARGETS["first10_speedup"]
+    return out
+
+
+def _map_rows(args) -> tuple[list, float, float, int]:
+    """One worker's block of map rows (a chunk): (rows as dicts, cpu, wall, fallback points)."""
+    thetas, gaps, rescue = args
+    c, w = time.process_time(), time.perf_counter()
+    settings = SweepSettings(**MAP_SETTINGS, rescue=rescue)
+    rows = regime_map_batch(idp.Parameters(), "gap", gaps, "theta", thetas, settings=settings)
+    cpu, wall = time.process_time() - c, time.perf_counter() - w
+    out = [
+        {
+            "regime": r.regime_code.tolist(),
+            "k": r.period_multiple.tolist(),
+            "z": r.impacts_per_cycle.tolist(),
+            "periods": r.periods.tolist(),
+            "fallback": sum(r.fallbacks.values()),
+        }
+        for r in rows
+    ]
+    return out, cpu, wall, sum(o["fallback"] for o in out)
+
+
+def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
+    gaps = np.linspace(*MAP_GAPS, n)
+    thetas = np.linspace(*MAP_THETAS, n)
+    # Rows dealt round-robin: the costly rows (near resonance, theta ~ 1) are contiguous, and a
+    # contiguous split left one worker with most of them.
+    blocks = [thetas[w::workers] for w in range(workers)]
+    walls, cpus, result = [], [], None
+    with ProcessPoolExecutor(workers) as pool:
+        list(pool.map(_map_rows, [(b[:1], gaps[:4], rescue) for b in blocks]))  # each worker loads the kernels
+        for _ in range(repeats):
+            w = time.perf_counter()
+            result = list(pool.map(_map_rows, [(b, gaps, rescue) for b in blocks]))
+            walls.append(time.perf_counter() - w)
+            cpus.append(sum(r[1] for r in result))
+    worker_cpu = [r[1] for r in result]
+    worker_wall = [r[2] for r in result]
+    rows = [row for r in result for row in r[0]]
+    codes = np.array([row["regime"] for row in rows])
+    periods = np.array([row["periods"] for row in rows])
+    regimes = {name: int(np.sum(codes == i)) for i, name in enumerate(cc.REGIMES)}
+    return (
+        {
+            "points": n * n,
+            "grid": [n, n],
+            "workers": workers,
+            "rescue": rescue,
+            "wall_min_s": min(walls),
+            "wall_median_s": statistics.median(walls),
+            "cpu_total_min_s": min(cpus),
+            "load_1min": load(),
+            "fallback_points": int(sum(r[3] for r in result)),
+            "regimes": regimes,
+            "worker_cpu_s": worker_cpu,
+            "worker_wall_s": worker_wall,
+            "simulated_periods": int(periods.sum()),
+            "us_per_point": 1e6 * min(cpus) / (n * n),
+        },
+        periods,
+        gaps,
+        thetas,
+    )
+
+
+def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> dict:
+    """DOP853 on a sample of map points over their simulated periods, and one pure-Python row,
+    each extrapolated to the whole map by simulated periods (rows)."""
+    rng = np.random.default_rng(0)
+    n = len(gaps)
+    picks = rng.choice(n * n, IVP_MAP_SAMPLE, replace=False)
+    cpu, sim = 0.0, 0
+    for idx in picks:
+        i, j = divmod(int(idx), n)
+        p = idp.Parameters(theta=float(thetas[i]), gap=float(gaps[j]))
+        c = time.process_time()
+        try:
+            simulate_ivp(p, int(periods[i, j]) * p.T, method="DOP853", rtol=RTOL, atol=ATOL)
+        except RuntimeError:
+            continue
+        cpu += time.process_time() - c
+        sim += int(periods[i, j])
+    per_period = cpu / max(sim, 1)
+    row = n // 2
+    settings = SweepSettings(**MAP_SETTINGS, continuation=True)
+    c = time.process_time()
+    regime_map(idp.Parameters(), "gap", gaps, "theta", thetas[row : row + 1], settings=settings)
+    py_row = time.process_time() - c
+    return {
+        "dop853_sample_points": IVP_MAP_SAMPLE,
+        "dop853_s_per_period": per_period,
+        "dop853_map_estimate_s": per_period * float(periods.sum()),
+        "python_row_cpu_s": py_row,
+        "python_map_estimate_s": py_row * n,
+        "load_1min": load(),
+        "note": "estimates: DOP853 per simulated period on a random sample of map points times the map's "
+        "simulated periods; the pure-Python regime_map (with its accelerators) on the middle row times "
+        "the number of rows",
+    }
+
+
+def run(args) -> dict:
+    p = idp.Parameters()
+    warm_up()
+    out = {"case": p.to_dict(), "compile": None if args.no_compile else compile_times()}
+    out["per_impact"] = per_impact(p, args.long_periods, args.ivp_periods, args.repeats)
+    out["steady_state"] = steady(p, args.repeats * 10)
+    out["first_10_impacts"] = first_impacts(p, args.repeats * 10)
+    out["front_door"] = front_door(p, args.repeats * 10, args.batch_points)
+    maps = {}
+    for n in args.map_sizes:
+        m, periods, gaps, thetas = regime_map_timing(n, args.workers, args.map_repeats, rescue=False)
+        if n == args.map_sizes[0]:
+            m["baselines"] = map_baselines(periods, gaps, thetas)
+            m["speedup_vs_dop853_estimate"] = m["baselines"]["dop853_map_estimate_s"] / m["cpu_total_min_s"]
+        # The same map with the batch's Newton rescue of the cells not settled within the cap
+        # (impactdamper.steady_states' default): how many of them were slow transients.
+        r, _, _, _ = regime_map_timing(n, args.workers, 1, rescue=True)
+        m["rescue_run"] = {
+            "wall_s": r["wall_min_s"],
+            "cpu_s": r["cpu_total_min_s"],
+            "regimes": r["regimes"],
+            "load_1min": r["load_1min"],
+        }
+        m["nonperiodic_share"] = m["regimes"].get("nonperiodic", 0) / m["points"]
+        m["nonperiodic_share_rescued"] = r["regimes"].get("nonperiodic", 0) / m["points"]
+        m["target_s"] = TARGETS["map_s"] if n == 200 else None
+        m["met"] = (m["wall_min_s"] <= TARGETS["map_s"]) if n == 200 else None
+        maps[f"{n}x{n}"] = m
+    out["maps"] = maps
+    out["notes"] = [
+        "maps run the batch entry point without the rescue (SweepSettings(rescue=False), the config's maps.rescue) "
+        "for the timing; 'rescue_run' is the same map once with the rescue (the stroboscopic Newton from the "
+        "kernels' last sections, impactdamper.steady_states' default): nonperiodic_share before, "
+        "nonperiodic_share_rescued after",
+        "the reference regime_map uses its accelerators (orbit continuation, stroboscopic Newton); the batch "
+        "simulates every point (solve_point with continuation=False), as tests/unit/test_compiled.py checks",
+        "first_10_impacts 'compiled' packs the parameter set in each call, in the same compiled call as the run "
+        "(the free mode's eigen-decomposition by LAPACK's dgeev, numpy's eig bit for bit); 'compiled_packed_once' "
+        "reuses the packed arrays, as a search over one parameter set would",
+    ]
+    out["machine"] = {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": __import__("numba").__version__,
+        "platform": platform.platform(),
+        "cpu_count": os.cpu_count(),
+        "load_1min_end": load(),
+    }
+    return out
+
+
+def summary(out: dict) -> str:
+    c, pi, st, f10 = out["compile"], out["per_impact"], out["steady_state"], out["first_10_impacts"]
+    yes = {True: "met", False: "NOT met", None: "-"}
+    lines = [
+        f"JIT compile from scratch: {c['cold_compile_s']:.1f} s" if c else "JIT compile: not measured (--no-compile)",
+        f"JIT load from the cache:  {c['cached_load_s']:.2f} s" if c else "",
+        f"per impact ({pi['compiled']['impacts']} impacts, load {pi['compiled']['load_1min']:.1f}): compiled "
+        f"{pi['compiled']['us_per_impact_min']:.2f} us (median {pi['compiled']['us_per_impact_median']:.2f}); "
+        f"python {pi['python']['us_per_impact_min']:.1f} us; DOP853 {pi['dop853']['us_per_impact_min']:.0f} us; "
+        f"target <= {pi['target_us']} us: {yes[pi['met']]}",
+        f"steady state ({st['regime']}, {st['periods']} periods, load {st['compiled']['load_1min']:.1f}): compiled "
+        f"{1e3 * st['compiled']['cpu_min_s']:.3f} ms (median {1e3 * st['compiled']['cpu_median_s']:.3f}; packing "
+        f"{1e3 * st['packing_only']['cpu_min_s']:.3f}); python {1e3 * st['python']['cpu_min_s']:.1f} ms; DOP853 "
+        f"{1e3 * st['dop853']['cpu_min_s']:.0f} ms: {st['speedup_vs_dop853']:.0f}x; phase error vs Alg. 1 "
+        f"{st['phase_error_vs_alg1']:.1e} T, vs python {st['phase_error_vs_python']:.1e} T; targets <= 1 ms: "
+        f"{yes[st['targets']['time_met']]}, >= 300x: {yes[st['targets']['speedup_met']]}, phase <= 1e-12 T: "
+        f"{yes[st['targets']['phase_met']]}",
+        f"first 10 impacts: compiled {1e3 * f10['compiled']['cpu_min_s']:.3f} ms (parameters packed once "
+        f"{1e3 * f10['compiled_packed_once']['cpu_min_s']:.3f} ms, {f10['speedup_vs_dop853_packed_once']:.0f}x; "
+        f"as a Trajectory "
+        f"{1e3 * f10['compiled_with_trajectory_objects']['cpu_min_s']:.3f} ms); python "
+        f"{1e3 * f10['python']['cpu_min_s']:.2f} ms; DOP853 {1e3 * f10['dop853']['cpu_min_s']:.1f} ms: "
+        f"{f10['speedup_vs_dop853']:.0f}x (target >= 100x: {yes[f10['met']]}); times vs python "
+        f"{f10['max_time_difference_vs_python_T']:.1e} T",
+    ]
+    fd = out["front_door"]
+    lines.append(
+        f"front door: impactdamper.steady_state(Parameters()) median {1e3 * fd['steady_state']['auto']['wall_median_s']:.3f} ms "
+        f"({fd['steady_state']['backend']}; python backend {1e3 * fd['steady_state']['python']['wall_median_s']:.1f} ms, "
+        f"{fd['steady_state']['speedup_vs_python']:.0f}x; target <= {1e3 * fd['steady_state']['target_s']:.1f} ms: "
+        f"{yes[fd['steady_state']['met']]}); batch of {fd['batch']['points']} points "
+        f"{fd['batch']['us_per_point_public']:.0f} us per point vs the kernels' {fd['batch']['us_per_point_kernel']:.0f} "
+        f"us ({fd['batch']['ratio']:.2f}x; target <= {fd['batch']['target_ratio']}x: {yes[fd['batch']['met']]}); "
+        f"CLI steady --json wall {fd['cli']['wall_median_s']:.2f} s median (import {fd['cli']['import_median_s']:.2f} s, "
+        f"numba on import: {fd['cli']['import_loads_numba']}; target <= {fd['cli']['target_s']} s: {yes[fd['cli']['met']]})"
+    )
+    for name, m in out["maps"].items():
+        line = (
+            f"map {name} ({m['workers']} processes, rescue off, load {m['load_1min']:.1f}): wall "
+            f"{m['wall_min_s']:.1f} s (median {m['wall_median_s']:.1f}), cpu {m['cpu_total_min_s']:.1f} s (per "
+            f"worker {', '.join(f'{c:.1f}' for c in m['worker_cpu_s'])} s cpu, "
+            f"{', '.join(f'{w:.1f}' for w in m['worker_wall_s'])} s wall), "
+            f"{m['us_per_point']:.0f} us per point, {m['simulated_periods']} periods simulated; "
+            f"nonperiodic {m['regimes'].get('nonperiodic', 0)} points ({100 * m['nonperiodic_share']:.1f} %; with the "
+            f"rescue {100 * m['nonperiodic_share_rescued']:.1f} %, cpu {m['rescue_run']['cpu_s']:.1f} s)"
+        )
+        if m.get("target_s"):
+            line += f"; target <= {m['target_s']:.0f} s: {yes[m['met']]}"
+        if "baselines" in m:
+            b = m["baselines"]
+            line += (
+                f"; DOP853 estimate {b['dop853_map_estimate_s']:.0f} s ({m['speedup_vs_dop853_estimate']:.0f}x), "
+                f"python regime_map estimate {b['python_map_estimate_s']:.0f} s"
+            )
+        lines.append(line)
+    return "\n".join(lines)
