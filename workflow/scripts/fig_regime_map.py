@@ -23,9 +23,9 @@ from matplotlib.patches import Patch
 from impactdamper.studies import gapsweep as gs
 from impactdamper.studies.sweep_results import grazing_curves, read_map
 from impactdamper.studies.config import located_gap
-from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
+from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, start_stage
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, label_regions, use_style
 
 CLASSES = list(REGIME_COLORS)
 AXIS_LABEL = {
@@ -35,51 +35,6 @@ AXIS_LABEL = {
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 # The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.
 LIFTOFF_COLOR = "#33bbee"
-# Labels are written on connected regions of one label that cover at least this share of the
-# map (60 cells of a 200 x 200 map), and at least MIN_LABEL_CELLS cells: the same regions are
-# labelled whatever the resolution.
-MIN_LABEL_SHARE = 0.0015
-MIN_LABEL_CELLS = 4
-# Region labels (points): the figure is included at the text width, so this is the print size.
-LABEL_SIZE = ANNOTATION_SIZE
-# Least distance between two labels' centres, in axes fractions (x, y): about a label's width
-# and height at LABEL_SIZE on the text-width figure.
-LABEL_CLEARANCE = (0.05, 0.045)
-
-
-def _label_regions(ax, slow, gaps, labels):
-    """z/k on the larger regions, the largest first; a label too close to one already written
-    (LABEL_CLEARANCE) is left out, so that none overlap however fine the map."""
-    import scipy.ndimage
-
-    least = max(MIN_LABEL_SHARE * labels.size, MIN_LABEL_CELLS)
-    candidates = []
-    for lab in sorted(set(labels.ravel())):
-        regions, n = scipy.ndimage.label(labels == lab)
-        for k in range(1, n + 1):
-            ii, jj = np.nonzero(regions == k)
-            if len(ii) >= least:
-                # The region's cell nearest its centroid (a non-convex region's centroid may lie outside).
-                c = int(np.argmin((ii - ii.mean()) ** 2 / len(slow) ** 2 + (jj - jj.mean()) ** 2 / len(gaps) ** 2))
-                candidates.append((len(ii), lab, ii[c], jj[c]))
-    placed = []
-    for _, lab, i, j in sorted(candidates, key=lambda c: -c[0]):
-        x, y = j / max(len(gaps) - 1, 1), i / max(len(slow) - 1, 1)  # axes fractions
-        if any(abs(x - px) < LABEL_CLEARANCE[0] and abs(y - py) < LABEL_CLEARANCE[1] for px, py in placed):
-            continue
-        placed.append((x, y))
-        regime = gs.regime_of_label(lab)
-        ax.text(
-            gaps[j],
-            slow[i],
-            "S" if lab == "stuck" else lab,
-            ha="center",
-            va="center",
-            fontsize=LABEL_SIZE,
-            zorder=6,
-            color=REGIME_TEXT.get(regime, "black"),
-            bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"),
-        )
 
 
 def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
@@ -97,7 +52,7 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
         shading="nearest",
         rasterized=True,
     )
-    _label_regions(ax, slow, gaps, labels)
+    label_regions(ax, slow, gaps, labels, gs.regime_of_label)
     curves = read_csv(curves_csv)
     s = np.array([float(r["slow"]) for r in curves])
     outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]

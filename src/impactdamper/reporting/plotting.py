@@ -147,3 +147,70 @@ def legend_in_rows(fig, rows: list[list], **kwargs):
     rows = [r + [blank] * (ncol - len(r)) for r in rows]
     handles = [rows[i][j] for j in range(ncol) for i in range(len(rows))]
     return fig.legend(handles=handles, ncol=ncol, **kwargs)
+
+
+# Labels are written on connected regions of one label that cover at least this share of the
+# map (60 cells of a 200 x 200 map), and at least REGION_LABEL_CELLS cells: the same regions are
+# labelled whatever the resolution.
+REGION_LABEL_SHARE = 0.0015
+REGION_LABEL_CELLS = 4
+# Least distance between two labels' centres, in axes fractions (x, y): about a label's width
+# and height at ANNOTATION_SIZE on the text-width figure.
+REGION_LABEL_CLEARANCE = (0.05, 0.045)
+
+
+def label_regions(ax, slow, gaps, labels, regime_of, size=ANNOTATION_SIZE) -> None:
+    """Write each larger region's label (z/k, "S" for stuck) on a regime map, the largest first.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The map's axes.
+    slow, gaps : numpy.ndarray
+        The map's row values (y) and gaps (x).
+    labels : numpy.ndarray of str
+        The cells' labels, shape (len(slow), len(gaps)).
+    regime_of : callable
+        A label's regime class (a key of REGIME_COLORS), for the label's box colour.
+    size : str or float
+        The labels' font size.
+
+    Notes
+    -----
+    A connected region of one label is labelled where it covers at least REGION_LABEL_SHARE of
+    the map and REGION_LABEL_CELLS cells; a label too close to one already written
+    (REGION_LABEL_CLEARANCE) is left out, so that none overlap however fine the map.
+    """
+    import numpy as np
+    import scipy.ndimage
+
+    least = max(REGION_LABEL_SHARE * labels.size, REGION_LABEL_CELLS)
+    candidates = []
+    for lab in sorted(set(labels.ravel())):
+        regions, n = scipy.ndimage.label(labels == lab)
+        for k in range(1, n + 1):
+            ii, jj = np.nonzero(regions == k)
+            if len(ii) >= least:
+                # The region's cell nearest its centroid (a non-convex region's centroid may lie outside).
+                c = int(np.argmin((ii - ii.mean()) ** 2 / len(slow) ** 2 + (jj - jj.mean()) ** 2 / len(gaps) ** 2))
+                candidates.append((len(ii), lab, ii[c], jj[c]))
+    placed = []
+    for _, lab, i, j in sorted(candidates, key=lambda c: -c[0]):
+        x, y = j / max(len(gaps) - 1, 1), i / max(len(slow) - 1, 1)  # axes fractions
+        if any(
+            abs(x - px) < REGION_LABEL_CLEARANCE[0] and abs(y - py) < REGION_LABEL_CLEARANCE[1] for px, py in placed
+        ):
+            continue
+        placed.append((x, y))
+        regime = regime_of(lab)
+        ax.text(
+            gaps[j],
+            slow[i],
+            "S" if lab == "stuck" else lab,
+            ha="center",
+            va="center",
+            fontsize=size,
+            zorder=6,
+            color=REGIME_TEXT.get(regime, "black"),
+            bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"),
+        )
