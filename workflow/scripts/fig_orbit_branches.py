@@ -25,25 +25,24 @@ Deviations: none (the paper has no such figure). Data: figures/orbit_branches.cs
 figures/orbit_special_points.csv (workflow/scripts/orbit_branches.py).
 """
 
-import math
-
 import numpy as np
-from matplotlib.patches import Patch
-from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 from impactdamper.studies.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, legend_in_rows, use_style
+from impactdamper.reporting.branch_figure import (
+    RADIUS_LIMITS,
+    STYLE,
+    ZOOM_SHADE,
+    label_point,
+    legend_rows,
+    mark_case,
+    mark_special,
+    radius_axis,
+)
+from impactdamper.reporting.plotting import figure_size, finish_figure, legend_in_rows, use_style
 
-STYLE = {"stable": "-", "unstable": "--", "inadmissible": ":"}
-MARKER = {"period_doubling": "v", "neimark_sacker": "D", "fold": "s", "grazing_velocity": "o", "grazing_interior": "o"}
-INADMISSIBLE_MARK = "0.55"  # grey of special points off the motions
-ZOOM_SHADE = "0.9"  # the right column's window, shaded in the left column
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
 ZOOM_MARGIN = 0.25
-# Spectral radius axis (log): the radius grows without bound at a vanishing impact.
-RADIUS_LIMITS = (0.2, 5.0)
-RADIUS_TICKS = (0.2, 0.5, 1.0, 2.0, 5.0)
 # Label offsets (points) of the special points in the zoom window, by (branch, kind), so that
 # labels where branches meet do not overlap; default above the marker.
 LABEL_OFFSET = {
@@ -93,45 +92,26 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             for s in sp[n]:
                 on = s["admissible"] == "1"
                 g = cell_float(s["gap"])
-                mk = dict(
-                    marker=MARKER[s["kind"]],
-                    ms=4.5 if col else 3.5,
-                    ls="none",
-                    zorder=5,
-                    mfc=(color[n] if on else "white") if s["kind"] != "grazing_interior" else "white",
-                    mec=color[n] if on else INADMISSIBLE_MARK,
-                    mew=0.9,
+                mark_special(
+                    ax_x,
+                    ax_r,
+                    g,
+                    cell_float(s["x1_max"]),
+                    cell_float(s["spectral_radius"]),
+                    s["kind"],
+                    color[n],
+                    on,
+                    4.5 if col else 3.5,
                 )
-                ax_x.plot([g], [cell_float(s["x1_max"])], **mk)
-                r = cell_float(s["spectral_radius"])
-                if not math.isnan(r):
-                    ax_r.plot([g], [min(max(r, RADIUS_LIMITS[0]), RADIUS_LIMITS[1])], **mk)
                 inside = zoom[0] <= g <= zoom[1]
                 if (col == 1 and inside) or (col == 0 and not inside):
                     where = (round(g, 6), round(cell_float(s["x1_max"]), 4))
                     if where in labelled[col]:
                         continue  # branches meeting at one point: one label
                     labelled[col].add(where)
-                    dx, dy = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
-                    ha = "center" if dx == 0 else ("left" if dx > 0 else "right")
-                    va = "bottom" if dy > 0 else ("top" if dy < 0 else "center")
-                    ax_x.annotate(
-                        KIND_MARK[s["kind"]],
-                        (g, cell_float(s["x1_max"])),
-                        xytext=(dx, dy),
-                        textcoords="offset points",
-                        ha=ha,
-                        va=va,
-                        fontsize=ANNOTATION_SIZE,
-                        color="0.1" if on else INADMISSIBLE_MARK,
-                    )
-        ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
-        ax_r.set_yscale("log")
-        ax_r.set_ylim(*RADIUS_LIMITS)
-        ax_r.yaxis.set_major_locator(FixedLocator(RADIUS_TICKS))
-        ax_r.yaxis.set_major_formatter(FormatStrFormatter("%g"))
-        ax_r.yaxis.set_minor_locator(NullLocator())
-        ax_r.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
+                    offset = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
+                    label_point(ax_x, KIND_MARK[s["kind"]], (g, cell_float(s["x1_max"])), offset, on)
+        radius_axis(ax_r)
         # The cases.
         for case in ("stated", "located"):
             c = summary["cases"][case]
@@ -139,26 +119,8 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
             lim = ax_x.get_xlim() if col == 0 else zoom
             if not lim[0] <= g <= lim[1]:
                 continue
-            for ax in (ax_x, ax_r):
-                ax.axvline(g, color="0.35", lw=0.6, ls=(0, (1, 2)), zorder=0)
-            ax_x.plot([g], [c["x1_max"]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none", zorder=6)
-            ax_r.plot([g], [c["multipliers"][0]], marker="*", ms=8, color="k", mfc="gold", mew=0.6, ls="none", zorder=6)
-            if col == 1 or not zoom[0] <= g <= zoom[1]:  # each case named once, along its vertical
-                ax_x.annotate(
-                    f"{case} case {g:g}",
-                    (g, 1.0),
-                    xycoords=("data", "axes fraction"),
-                    xytext=(2, -3),
-                    textcoords="offset points",
-                    ha="left",
-                    va="top",
-                    rotation=90,
-                    fontsize=ANNOTATION_SIZE,
-                    color="0.2",
-                    # on a white ground: the branches' lines pass behind the name, not through it
-                    bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85},
-                    zorder=7,
-                )
+            named = col == 1 or not zoom[0] <= g <= zoom[1]  # each case named once, along its vertical
+            mark_case(ax_x, ax_r, g, c["x1_max"], c["multipliers"][0], f"{case} case {g:g}" if named else None)
     # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
     ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
     pad = 0.06 * (max(ys) - min(ys))
@@ -173,27 +135,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
     axes[0, 1].set_title("zoom near the located case (grey window on the left)", loc="left")
     # Legend in rows (branches and line styles; special points and the case; the shading and
     # the unit line), written row by row although matplotlib fills a legend column by column.
-    line = lambda **kw: plt.Line2D([], [], **kw)  # noqa: E731
-    rows = [
-        [line(color=color[n], lw=1.2, label=f"{summary['branches'][n]['label']}") for n in names]
-        + [line(color="0.2", ls=STYLE[s], lw=1.0, label=s) for s in ("stable", "unstable", "inadmissible")],
-        [
-            line(
-                color="0.2",
-                marker=MARKER[k],
-                mfc="0.2" if k != "grazing_interior" else "white",
-                ls="none",
-                ms=4,
-                label=lab,
-            )
-            for k, lab in KIND_LEGEND.items()
-        ]
-        + [line(marker="*", ms=7, color="k", mfc="gold", mew=0.6, ls="none", label="case")],
-        [
-            Patch(facecolor=ZOOM_SHADE, edgecolor="0.6", lw=0.5, label="zoom window"),
-            line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$"),
-        ],
-    ]
+    rows = legend_rows([(color[n], summary["branches"][n]["label"]) for n in names], KIND_LEGEND)
     legend_in_rows(
         fig, rows, loc="outside lower center", handlelength=1.8, columnspacing=0.9, handletextpad=0.4, fontsize="small"
     )
