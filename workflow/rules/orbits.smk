@@ -49,7 +49,7 @@ rule fig_orbit_branches:
 rule orbit_report:
     input:
         script="workflow/scripts/orbit_report.py",
-        library=library(study("branches", "claims", "config"), REPORTING),
+        library=library(study("branches", "claims", "config", "orbit_record"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
