@@ -10,47 +10,10 @@ generated`` and ``END generated`` markers; tests/workflow/test_readme.py checks 
 is current.
 """
 
-import csv
 import sys
 from pathlib import Path
 
-from impactdamper.reporting.latex import macro_texts
-from impactdamper.reporting.records import read_json
-
-
-def read_records(paths: list[str]) -> dict[str, str]:
-    """The records' macros by name, as plain text."""
-    return macro_texts(*(read_json(path) for path in paths))
-
-
-def impact_table(path: str) -> list[str]:
-    rows = list(csv.DictReader(open(path, newline="")))
-    lines = [
-        "| impact | (t - t1)/T | forcing phase t/T mod 1 | closing velocity v/(x_st omega) | impulse S/(m1 x_st omega) |",
-        "|---|---:|---:|---:|---:|",
-    ]
-    for r in rows:
-        name = r["impact"] + (" (next cycle)" if r["next_cycle"] == "true" else "")
-        lines.append(
-            f"| {name} | {float(r['t_over_T']):.4f} | {float(r['phase']):.4f} | "
-            f"{float(r['velocity_rel']):.3f} | {float(r['impulse_rel']):.4f} |"
-        )
-    return lines
-
-
-BEYOND = (("Theta", "theta"), ("Mu", "mu"), ("N", "N"), ("DeltaOne", "delta1"), ("DeltaTwo", "delta2"), ("R", "R"))
-
-
-def beyond(m: dict[str, str], key: str, name: str) -> str:
-    """Where both claims hold nearest the stated value of one parameter, in words."""
-    tag = "Claims" + key
-    if m[tag + "NearestBoth"] == "–":
-        return f"{name}: nowhere in the searched range (stated {m[tag + 'Stated']})"
-    edge = ", reaching the end of the searched range" if m[tag + "BothOpen"] == "yes" else ""
-    return (
-        f"{name} in [{m[tag + 'BothLo']}, {m[tag + 'BothHi']}] (width {m[tag + 'BothWidth']}{edge}; stated "
-        f"{m[tag + 'Stated']}, {m[tag + 'RelDistance']} % away)"
-    )
+from impactdamper.reporting.readme import BEYOND, beyond, impact_table, read_records
 
 
 def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
