@@ -31,7 +31,7 @@ rule claims_parameter:
 rule claims_by_parameter:
     input:
         script="workflow/scripts/claims_gather.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(BASELINES, study("claims", "claims_record", "config", "replication"), REPORTING),
         results=expand("results/claims/{parameter}.json", parameter=CLAIMS_PARAMETERS),
     output:
         csv="figures/claims_by_parameter.csv",
@@ -231,7 +231,7 @@ ALL_TARGETS.append("figures/claims_nearest.json")
 rule claims_macros:
     input:
         script="workflow/scripts/claims_macros.py",
-        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+        library=library(BASELINES, study("claims", "config", "replication", "nearest", "nearest_record"), REPORTING),
         nearest="figures/claims_nearest.json",
         search="figures/claims_by_parameter_settings.json",
         maps=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
