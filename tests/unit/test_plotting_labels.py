@@ -3,7 +3,7 @@ regions and labels crowding one already written left out."""
 
 import numpy as np
 
-from impactdamper.reporting.plotting import label_regions, use_style
+from impactdamper.reporting.plotting import label_bands, label_regions, use_style
 
 
 def _texts(labels, slow, gaps):
@@ -37,3 +37,16 @@ def test_a_label_crowding_a_larger_one_is_left_out():
     texts = [t for t, _ in _texts(labels, slow, gaps)]
     assert texts[0] == "1/1"  # the largest first
     assert "4/2" not in texts
+
+
+def test_a_band_label_is_written_where_it_fits_upright_on_a_narrow_band_and_not_on_a_sliver():
+    plt = use_style()
+    fig, ax = plt.subplots(figsize=(4.0, 1.0))
+    ax.set_xlim(0.0, 100.0)
+    ax.set_ylim(-0.5, 0.5)
+    fig.canvas.draw()
+    bands = [(40.0, 80.0, "stuck"), (85.0, 6.0, "1/1"), (95.0, 0.01, "2/1")]
+    label_bands(ax, 0.0, bands, fig.canvas.get_renderer(), lambda lab: "single_impact", 0.8, {"stuck": "S"})
+    texts = {t.get_text(): t.get_rotation() for t in ax.texts}
+    plt.close(fig)
+    assert texts == {"S": 0.0, "1/1": 90.0}

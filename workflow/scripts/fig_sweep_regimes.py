@@ -18,15 +18,11 @@ import numpy as np
 from matplotlib.patches import Patch, Rectangle
 
 from impactdamper.studies import gapsweep as gs
-from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES, REGIME_TEXT
+from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, start_stage
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, label_bands, use_style
 
 SHORT = {"stuck": "S", "np": "np"}
-# Band labels (points): the figure is included at the text width, so this is the print size.
-LABEL_SIZE = ANNOTATION_SIZE
-# Least gap (points) between neighbouring labels of one row, and between a label and its band's edge.
-LABEL_PAD = 1.0
 # The zooms of the lower panels (Delta0/x_st): the periodic windows inside the long
 # nonperiodic band (3/1, and 2/1 doubling to 4/2; narrow enough that their labels fit), those
 # around the located case up to the one-impact motion, and the end of the one-impact motion
@@ -47,43 +43,6 @@ def _bands(ax, y, values, labels, step):
             ax.plot([a - step / 2] * 2, [y - BAND_HEIGHT / 2, y + BAND_HEIGHT / 2], color="0.25", lw=0.5)
         out.append((0.5 * (a + b), b - a + step, lab))
     return out
-
-
-def _label_bands(ax, y, bands, renderer):
-    """Write each band's label where it fits inside the band, at LABEL_SIZE, without touching
-    the previous label of the row (widest bands first, so that the main regimes are named)."""
-    to_px = ax.transData.transform
-    x0, x1 = ax.get_xlim()
-    placed = []  # (left, right) in display pixels
-    pad = LABEL_PAD * ax.figure.dpi / 72.0
-    bottom_edge, top_edge = (to_px((x0, y + s * BAND_HEIGHT / 2))[1] for s in (-1, 1))
-    for centre, width, lab in sorted(bands, key=lambda b: -b[1]):
-        left_edge = to_px((max(centre - width / 2, x0), y))[0]
-        right_edge = to_px((min(centre + width / 2, x1), y))[0]
-        if right_edge - left_edge <= 0:
-            continue
-        mid = to_px((0.5 * (max(centre - width / 2, x0) + min(centre + width / 2, x1)), y))[0]
-        x_mid = ax.transData.inverted().transform((mid, 0))[0]
-        regime = gs.regime_of_label(lab)
-        for rotation in (0, 90):  # upright only where the band is too narrow
-            t = ax.text(
-                x_mid,
-                y,
-                SHORT.get(lab, lab),
-                ha="center",
-                va="center",
-                fontsize=LABEL_SIZE,
-                rotation=rotation,
-                color=REGIME_TEXT.get(regime, "black"),
-                clip_on=True,
-            )
-            bb = t.get_window_extent(renderer)
-            fits = bb.x0 - pad >= left_edge and bb.x1 + pad <= right_edge and bb.y0 >= bottom_edge and bb.y1 <= top_edge
-            free = all(bb.x1 + pad <= l or bb.x0 - pad >= r for l, r in placed)
-            if fits and free:
-                placed.append((bb.x0, bb.x1))
-                break
-            t.remove()
 
 
 def _panel(ax, rows, rnd, xlim, with_random: bool):
@@ -165,7 +124,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     renderer = fig.canvas.get_renderer()
     for ax, rows_drawn in drawn:
         for y, bands in rows_drawn:
-            _label_bands(ax, y, bands, renderer)
+            label_bands(ax, y, bands, renderer, gs.regime_of_label, BAND_HEIGHT, SHORT)
     finish_figure(fig, out_pdf, out_png)
 
 

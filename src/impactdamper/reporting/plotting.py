@@ -214,3 +214,69 @@ def label_regions(ax, slow, gaps, labels, regime_of, size=ANNOTATION_SIZE) -> No
             color=REGIME_TEXT.get(regime, "black"),
             bbox=dict(boxstyle="square,pad=0.15", fc=REGIME_COLORS[regime], ec="none"),
         )
+
+
+# Least gap (points) between neighbouring labels of one row of bands, and between a label and its band's edge.
+BAND_LABEL_PAD = 1.0
+
+
+def label_bands(ax, y, bands, renderer, regime_of, height, short=None, size=ANNOTATION_SIZE) -> None:
+    """Write each band's label where it fits inside the band, without touching the previous
+    label of the row (widest bands first, so that the main regimes are named).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes, with its final x limits and layout (draw the figure first).
+    y : float
+        The row's centre (data coordinates).
+    bands : list of (float, float, str)
+        Each band's centre, width (data coordinates) and label.
+    renderer : matplotlib.backend_bases.RendererBase
+        The figure's renderer, to measure the labels.
+    regime_of : callable
+        A label's regime class (a key of REGIME_COLORS), for the text's colour.
+    height : float
+        The band's height (data coordinates): a label must fit within it.
+    short : dict, optional
+        Shorter texts of some labels (label -> text).
+    size : str or float
+        The labels' font size.
+
+    Notes
+    -----
+    A label is written horizontally where it fits with BAND_BAND_LABEL_PAD points to spare, else
+    upright, else not at all.
+    """
+    to_px = ax.transData.transform
+    x0, x1 = ax.get_xlim()
+    placed = []  # (left, right) in display pixels
+    pad = BAND_LABEL_PAD * ax.figure.dpi / 72.0
+    bottom_edge, top_edge = (to_px((x0, y + s * height / 2))[1] for s in (-1, 1))
+    for centre, width, lab in sorted(bands, key=lambda b: -b[1]):
+        left_edge = to_px((max(centre - width / 2, x0), y))[0]
+        right_edge = to_px((min(centre + width / 2, x1), y))[0]
+        if right_edge - left_edge <= 0:
+            continue
+        mid = to_px((0.5 * (max(centre - width / 2, x0) + min(centre + width / 2, x1)), y))[0]
+        x_mid = ax.transData.inverted().transform((mid, 0))[0]
+        regime = regime_of(lab)
+        for rotation in (0, 90):  # upright only where the band is too narrow
+            t = ax.text(
+                x_mid,
+                y,
+                (short or {}).get(lab, lab),
+                ha="center",
+                va="center",
+                fontsize=size,
+                rotation=rotation,
+                color=REGIME_TEXT.get(regime, "black"),
+                clip_on=True,
+            )
+            bb = t.get_window_extent(renderer)
+            fits = bb.x0 - pad >= left_edge and bb.x1 + pad <= right_edge and bb.y0 >= bottom_edge and bb.y1 <= top_edge
+            free = all(bb.x1 + pad <= l or bb.x0 - pad >= r for l, r in placed)
+            if fits and free:
+                placed.append((bb.x0, bb.x1))
+                break
+            t.remove()
