@@ -33,6 +33,7 @@ from impactdamper.studies.performance_record import (  # noqa: F401 (the tests i
     summarize,
     table,
 )
+from impactdamper.studies.workprecision import met  # noqa: F401 (the tests import it from here)
 
 # What the stage's record holds (results/report/performance.json).
 RECORD_WHAT = "the performance stage's numbers for the report (paper/generated/performance_macros.tex) and the README"
