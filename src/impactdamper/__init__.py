@@ -25,7 +25,7 @@ from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Tra
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
 from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
 from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
-from impactdamper.analysis.settled import steady_state_auto
+from impactdamper.analysis.solve import steady_state_auto
 from impactdamper.analysis.solve import BACKENDS, simulate, steady_state, steady_states
 
 __version__ = "0.1.0"

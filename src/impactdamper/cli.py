@@ -23,7 +23,7 @@ import sys
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
 from impactdamper.analysis.response import MAX_POINTS, frequency_response
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
 from impactdamper.core.simulate import Tolerances
 from impactdamper.analysis.solve import BACKENDS, steady_state

@@ -1,19 +1,19 @@
 """Many parameter points per call: settled motions for sweeps, maps and searches, compiled.
 
 A sweep or a map row settles its points in order, each from its neighbour's settled motion
-(:func:`impactdamper.analysis.settled.solve_point` with a ``previous``). Here a whole row goes to
+(:func:`impactdamper.analysis.ladder.solve_point` with a ``previous``). Here a whole row goes to
 the compiled kernels (:mod:`impactdamper.core.compiled`) in one call, so that no per-point Python
 work remains: the parameter sets are packed together (numpy over the stack), and the kernels run
 the points one after the other, carrying each settled section to the next point.
 
-What is computed is :func:`~impactdamper.analysis.settled.solve_point` **without its
+What is computed is :func:`~impactdamper.analysis.ladder.solve_point` **without its
 accelerators** (``SweepSettings(continuation=False)``): every point is simulated until it
 settles (Algorithm No. 2 with the stroboscopic period test of
 :func:`~impactdamper.core.steady.steady_state`). The points the kernels do not settle themselves
 go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
 
 * ``rescue``: a nonperiodic point with ``settings.rescue`` that the Newton rescue (Python,
-  :func:`~impactdamper.analysis.settled.rescue_from_sections`, from the kernels' last
+  :func:`~impactdamper.analysis.rescue.rescue_from_sections`, from the kernels' last
   sections) settled on a stable cycle; where it finds none, the kernels' nonperiodic point
   stands and no fallback is counted;
 * ``matrix_exponential``: a mode with repeated roots (no modal form);
@@ -33,15 +33,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from impactdamper.analysis.settled import (
-    FAILED,
-    RESCUE_MAX_K,
-    SweepPoint,
-    SweepSettings,
-    label_of,
-    rescue_from_sections,
-    solve_point,
-)
+from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, label_of
+from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
 from impactdamper.analysis.sweeps import random_initial_state, swept_names, with_value
 from impactdamper.core import compiled as cc
 from impactdamper.core.model import FREE, STUCK
@@ -82,7 +76,7 @@ class BatchResult:
     period_multiple, impacts_per_cycle : ndarray of int, shape (P,)
         k and z.
     x1_max, contact_fraction, residual : ndarray, shape (P,)
-        As in :class:`~impactdamper.analysis.settled.SweepPoint` (x1_max in x_st).
+        As in :class:`~impactdamper.analysis.point.SweepPoint` (x1_max in x_st).
     periods : ndarray of int, shape (P,)
         Forcing periods simulated per point (SweepPoint's count).
     phases, velocities : ndarray, shape (P, MAX_REPORTED_IMPACTS)
@@ -129,7 +123,7 @@ class BatchResult:
 
     @property
     def label(self) -> np.ndarray:
-        """Peterka's z/k labels (:func:`~impactdamper.analysis.settled.label_of`), shape (P,)."""
+        """Peterka's z/k labels (:func:`~impactdamper.analysis.point.label_of`), shape (P,)."""
         return np.array(
             [
                 label_of(BATCH_REGIMES[c], int(k), int(z))
@@ -265,7 +259,7 @@ def settled_batch(
     values : array_like, shape (P, len(names))
         The points, in the order they are settled.
     settings : SweepSettings, optional
-        As for :func:`~impactdamper.analysis.settled.solve_point`; its ``continuation`` is not
+        As for :func:`~impactdamper.analysis.ladder.solve_point`; its ``continuation`` is not
         used (no accelerators, see the module docstring).
     chain : bool
         Each point from the previous point's settled section (a sweep: the reference's
@@ -276,7 +270,7 @@ def settled_batch(
         (the reference's ``solve_point(p, state=...)``, random starts); only with ``chain=False``.
     backend : str
         ``compiled`` (the kernels) or ``python``: every point by the pure-Python reference
-        (:func:`~impactdamper.analysis.settled.solve_point` without accelerators, its
+        (:func:`~impactdamper.analysis.ladder.solve_point` without accelerators, its
         simulations in Python), the same motions point by point.
 
     Returns
@@ -427,7 +421,7 @@ def settled_batch(
 
 
 def sweep_points(res: BatchResult, base: Parameters) -> list[SweepPoint]:
-    """A batch's points as the reference's :class:`~impactdamper.analysis.settled.SweepPoint`
+    """A batch's points as the reference's :class:`~impactdamper.analysis.point.SweepPoint`
     objects, in the batch's order (``stable`` None, ``multiplier`` nan: the batch does not
     solve the orbits)."""
     out = []

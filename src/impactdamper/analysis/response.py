@@ -33,7 +33,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from impactdamper.analysis.settled import FAILED, SweepPoint, SweepSettings
+from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep, with_value
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters, finite_argument, integer_argument, require_parameters
@@ -78,7 +78,7 @@ class CycleMetrics:
     Attributes
     ----------
     regime, label : str
-        As in :class:`~impactdamper.analysis.settled.SweepPoint` (``failed`` gives nan metrics).
+        As in :class:`~impactdamper.analysis.point.SweepPoint` (``failed`` gives nan metrics).
     period_multiple : int
         k in T_c = k T (0 when nonperiodic: the metrics then cover ``NONPERIODIC_PERIODS`` T).
     max_abs_x1, max_abs_x2 : float

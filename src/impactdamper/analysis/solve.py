@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
@@ -42,7 +43,15 @@ from impactdamper.core.simulate import simulate as simulate_python
 from impactdamper.core.steady import SteadyState
 from impactdamper.core.steady import steady_state as steady_state_python
 
-__all__ = ["BACKENDS", "simulate", "steady_state", "steady_states", "resolve_backend"]
+__all__ = [
+    "BACKENDS",
+    "simulate",
+    "steady_state",
+    "steady_states",
+    "resolve_backend",
+    "steady_state_auto",
+    "STEADY_KEYWORDS",
+]
 
 # The values of every front-door call's ``backend``.
 BACKENDS = ("auto", "compiled", "python")
@@ -256,7 +265,7 @@ def steady_states(
         Caps and tolerances of each point's settling (period cap ``max_periods``,
         ``settle_tol``, ``max_period_multiple``) and ``rescue``: a point that did not settle
         within the cap is handed to the stroboscopic Newton rescue from its last sections
-        (:func:`~impactdamper.analysis.settled.rescue_from_sections`) before it is called
+        (:func:`~impactdamper.analysis.rescue.rescue_from_sections`) before it is called
         ``nonperiodic``.
     chain : bool
         True (a sweep, a map row): each point starts from the previous point's settled
@@ -272,7 +281,7 @@ def steady_states(
     BatchResult
         Arrays per point (regime, k, z, x1_max, phases, sections, ...), ``fallback`` per point
         and ``backend``. :func:`~impactdamper.analysis.batch.sweep_points` turns it into the
-        reference's :class:`~impactdamper.analysis.settled.SweepPoint` objects.
+        reference's :class:`~impactdamper.analysis.point.SweepPoint` objects.
 
     Raises
     ------
@@ -286,3 +295,56 @@ def steady_states(
     if why:
         res.fallback[:] = why
     return res
+
+
+# The keywords of steady_state, which steady_state_auto passes on.
+STEADY_KEYWORDS = ("t0", "state", "tolerances", "settle_tol", "max_periods", "max_period_multiple")
+
+
+def steady_state_auto(p: Parameters, **kwargs) -> SteadyState:
+    """The steady state, cheaply where it can be.
+
+    If Algorithm No. 1's one-impact orbit exists, is admissible, and its Newton-confirmed
+    cycle is stable (:func:`~impactdamper.analysis.orbits.stable_algorithm1_orbit`), that orbit
+    is returned (a :class:`PeriodicOrbit`, a SteadyState with
+    ``periods = 0``) without simulating a transient. Otherwise this is
+    :func:`~impactdamper.core.steady.steady_state` with the same keyword arguments.
+
+    The stable one-impact orbit is an attractor; where attractors coexist, the transient of
+    :func:`~impactdamper.core.steady.steady_state` from its start may settle on another one (for the reference
+    parameters it does at some gaps, e.g. Delta0/x_st = -8.8, where a 4-impact 3T cycle
+    coexists with the one-impact orbit). ``steady_state`` itself is unchanged.
+
+    Raises
+    ------
+    TypeError
+        A keyword that :func:`~impactdamper.core.steady.steady_state` does not take, named.
+
+    .. deprecated:: use ``impactdamper.steady_state(p, attractor=True)``.
+    """
+    from impactdamper.analysis.orbits import stable_algorithm1_orbit
+    from impactdamper.core.algorithm1 import algorithm1
+    from impactdamper.core.events import SearchLimitError
+    from impactdamper.core.simulate import check_tolerances
+
+    warnings.warn(
+        "steady_state_auto is deprecated: use impactdamper.steady_state(p, attractor=True)",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    p = require_parameters(p)
+    unknown = sorted(set(kwargs) - set(STEADY_KEYWORDS))
+    if unknown:
+        raise ArgumentTypeError(
+            f"`{unknown[0]}` is not allowed: steady_state_auto takes the keywords of steady_state, "
+            f"{', '.join(STEADY_KEYWORDS)}"
+        )
+    gap_tol = check_tolerances(kwargs.get("tolerances")).gap_tol
+    try:
+        a1 = algorithm1(p, gap_tol=gap_tol)
+    except (ValueError, SearchLimitError):
+        a1 = None  # no closed-form orbit here (a resonance of the impacts): simulate
+    orbit = stable_algorithm1_orbit(a1, None, kwargs.get("tolerances") or Tolerances())
+    if orbit is not None:
+        return orbit
+    return steady_state_python(p, **kwargs)

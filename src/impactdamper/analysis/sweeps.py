@@ -8,7 +8,7 @@ Delta0/x_st, but any field of :class:`~impactdamper.core.parameters.Parameters`)
 down, each point starting from its neighbour's settled motion, plus random initial states, and
 the motion of every point is labelled with Peterka's z/k (z impacts in k forcing periods).
 
-Each point is solved by :func:`impactdamper.analysis.settled.solve_point` (how, and what its
+Each point is solved by :func:`impactdamper.analysis.ladder.solve_point` (how, and what its
 labels and ``nonperiodic`` mean, is told there); the closed-form band edges a sweep must
 bracket are in :mod:`impactdamper.analysis.transitions`.
 """
@@ -24,7 +24,8 @@ from collections.abc import Callable, Iterable, Sequence
 
 import numpy as np
 
-from impactdamper.analysis.settled import FAILED, SweepPoint, SweepSettings, solve_point
+from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings
 from impactdamper.analysis.transitions import rigid_amplitude
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters

@@ -27,7 +27,7 @@ from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment
 from impactdamper.core.linear import characteristic_roots, forced_amplitudes, mode_shape_ratios
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, ScaleMap, most_extreme, require_parameters
-from impactdamper.core.simulate import check_gap_tol, work_limit_message
+from impactdamper.core.validation import check_gap_tol, work_limit_message
 
 __all__ = ["Algorithm1Result", "algorithm1", "unit_pulse_response", "rescale_algorithm1"]
 

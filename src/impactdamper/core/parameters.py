@@ -17,8 +17,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 from dataclasses import dataclass, field
+
+# The generic argument checks live in arguments.py (validation.py gathers them with the
+# solver's); imported here for the parameters' own checks and so that the names keep working
+# from this module (``from impactdamper.core.parameters import real_argument``).
+from impactdamper.core.arguments import ArgumentTypeError, check_value, finite_argument, show_value
+from impactdamper.core.arguments import integer_argument as integer_argument
+from impactdamper.core.arguments import real_argument as real_argument
 
 __all__ = [
     "Parameters",
@@ -32,73 +38,11 @@ __all__ = [
 ]
 
 
-class ArgumentTypeError(TypeError, ValueError):
-    """An argument of the wrong type (``None``, a string, a bool where a number is expected...).
-
-    A :class:`TypeError`, as scipy raises for a wrong type; also a :class:`ValueError`, so that a
-    caller that catches bad values (the command line) catches it with them.
-    """
-
-
-def _show(value: object) -> str:
-    """repr of a bad value, short enough for a one-line message (an int can have 400 digits)."""
-    if isinstance(value, numbers.Integral) and not isinstance(value, bool) and abs(int(value)) > 10**20:
-        return f"an integer of {len(str(abs(int(value))))} digits"
-    text = repr(value)
-    return text if len(text) <= 60 else text[:40] + "...(truncated)"
-
-
-def _check(name: str, value: float, ok: bool, allowed: str) -> None:
-    if not ok:
-        raise ValueError(f"`{name}` = {_show(value)} is not allowed: must be {allowed}")
-
-
-def real_argument(name: str, value: object) -> float:
-    """``value`` as a float if it is a real number, else an error naming ``name``.
-
-    Python and numpy numbers are accepted (``np.float32(1.0)``, ``np.int64(1)``); a bool is not a
-    number here, nor is a string.
-
-    Raises
-    ------
-    ArgumentTypeError
-        Not a real number.
-    ValueError
-        An integer too large for a float.
-    """
-    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
-        raise ArgumentTypeError(f"`{name}` = {_show(value)} is not allowed: must be a real number")
-    try:
-        return float(value)
-    except OverflowError:
-        raise ValueError(
-            f"`{name}` = {_show(value)} is not allowed: must be a finite number (it overflows a float)"
-        ) from None
-
-
-def finite_argument(name: str, value: object) -> float:
-    """``value`` as a finite float, else an error naming ``name`` (see :func:`real_argument`)."""
-    x = real_argument(name, value)
-    _check(name, x, math.isfinite(x), "a finite number")
-    return x
-
-
-def integer_argument(name: str, value: object, low: int, high: int | None = None) -> int:
-    """``value`` as an int in [low, high], else an error naming ``name`` (numpy integers are
-    accepted; a bool or a float is not an integer here)."""
-    allowed = f"an integer >= {low}" if high is None else f"an integer in [{low}, {high}]"
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise ArgumentTypeError(f"`{name}` = {_show(value)} is not allowed: must be {allowed}")
-    n = int(value)
-    _check(name, n, n >= low and (high is None or n <= high), allowed)
-    return n
-
-
 def require_parameters(p: object, name: str = "p") -> Parameters:
     """``p`` if it is a :class:`Parameters`, else an :class:`ArgumentTypeError` naming ``name``."""
     if not isinstance(p, Parameters):
         raise ArgumentTypeError(
-            f"`{name}` = {_show(p)} is not allowed: must be a Parameters (e.g. impactdamper.Parameters(gap=-9.6))"
+            f"`{name}` = {show_value(p)} is not allowed: must be a Parameters (e.g. impactdamper.Parameters(gap=-9.6))"
         )
     return p
 
@@ -280,7 +224,7 @@ class Parameters:
         for allowed in _RANGE_ORDER:
             for spec in PARAMETER_TABLE:
                 if spec.allowed == allowed:
-                    _check(spec.name, getattr(self, spec.name), spec.ok(getattr(self, spec.name)), allowed)
+                    check_value(spec.name, getattr(self, spec.name), spec.ok(getattr(self, spec.name)), allowed)
 
         omega1 = self.omega / self.theta
         omega2 = self.N * omega1

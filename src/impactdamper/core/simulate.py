@@ -34,21 +34,24 @@ import numpy as np
 
 from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
-from impactdamper.core.linear import characteristic_roots
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import (
-    NATIVE_SCALES,
-    ArgumentTypeError,
-    Parameters,
-    ScaleMap,
+from impactdamper.core.parameters import NATIVE_SCALES, Parameters, ScaleMap, require_parameters
+
+# The solver's argument checks live in validation.py (algorithm1.py uses them too); the names
+# keep working from this module.
+from impactdamper.core.validation import MAX_CLOCK_PERIODS as MAX_CLOCK_PERIODS
+from impactdamper.core.validation import MAX_STATE as MAX_STATE
+from impactdamper.core.validation import (
+    Tolerances,
+    check_start_time,
+    check_state,
+    check_tolerances,
     finite_argument,
     integer_argument,
-    most_extreme,
     real_argument,
-    require_parameters,
-    state_scale,
+    work_limit_message,
 )
-from impactdamper.core.parameters import RELATIVE_PARAMETERS
+from impactdamper.core.validation import check_gap_tol as check_gap_tol
 
 __all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
 
@@ -71,116 +74,10 @@ STEPS_AT_START = 20_000
 # A run that reaches its work bound with this many impacts in a row (a chatter sequence) and a
 # chatter_tol below its default blames chatter_tol: the default ends such sequences sooner.
 CHATTER_BLAME_IMPACTS = 20
-# Largest |t| of the solver's clock, in forcing periods: one ulp of t is ~1e-10 T there, the
-# resolution event times need (at t0 = 1e16 s an ulp was 2 s, longer than T). The forcing is
-# T-periodic: a later start is the same motion from t0 modulo T (steady_state reduces it so).
-MAX_CLOCK_PERIODS = 1e6
-# Largest initial state, relative to x_st (positions) and x_st omega (velocities): a motion
-# 1e12 times the static deflection is far outside the model, and squares of much larger ones
-# (energies, derivative bounds) overflow.
-MAX_STATE = 1e12
 # Default bound on a simulation's length in forcing periods (simulate's max_periods): the
 # pure-Python solver advances ~6000 periods a second at the reference case, so a default call
 # ends within ~20 s (6e5 periods took 100 s); a longer run must ask for it with max_periods.
 MAX_SIMULATE_PERIODS = 100_000
-
-
-@dataclass(frozen=True)
-class Tolerances:
-    """Solver tolerances, all relative (lengths to x_st, velocities to x_st omega).
-
-    Attributes
-    ----------
-    gap_tol : float
-        A gap minimum at or below gap_tol * x_st is a contact (grazing touch).
-    chatter_tol : float
-        Rebound height (relative to x_st) below which an accumulating impact sequence is
-        replaced by persistent contact: the rebound R v rises at most (R v)^2 / (2 a) with
-        a = F/m_red the relative acceleration that presses the bodies together.
-    force_tol : float
-        Contact force (relative to m_red x_st omega_max^2) counted as zero at lift-off.
-    """
-
-    gap_tol: float = 1e-12
-    chatter_tol: float = 1e-9
-    force_tol: float = 1e-12
-
-    def __post_init__(self) -> None:
-        for name in ("gap_tol", "chatter_tol", "force_tol"):
-            # Relative to x_st: a finite number in (0, 1) (NaN used to pass algorithm1 unchecked,
-            # and gap_tol = 10 counted the orbit's whole excursion as grazing).
-            value = real_argument(name, getattr(self, name))
-            if not (math.isfinite(value) and 0.0 < value < 1.0):
-                raise ValueError(f"`{name}` = {value!r} is not allowed: must be in (0, 1)")
-            object.__setattr__(self, name, value)
-
-
-def check_gap_tol(gap_tol: object) -> float:
-    """``gap_tol`` as a float in (0, 1) (relative to x_st), else an error naming it."""
-    return Tolerances(gap_tol=gap_tol).gap_tol
-
-
-def check_tolerances(tolerances: object) -> Tolerances:
-    """``tolerances`` if it is a Tolerances, the defaults for None, else an error naming it."""
-    if tolerances is None:
-        return Tolerances()
-    if not isinstance(tolerances, Tolerances):
-        raise ArgumentTypeError(f"`tolerances` = {tolerances!r} is not allowed: must be a Tolerances or None")
-    return tolerances
-
-
-def check_state(state: object, p: Parameters) -> np.ndarray | None:
-    """``state`` as a float array (x1, x2, x1', x2') of finite values within MAX_STATE (relative),
-    or None; else an error naming it."""
-    if state is None:
-        return None
-    try:
-        full = np.array(state, dtype=float)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(
-            f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')"
-        ) from None
-    if full.shape != (4,) or not np.all(np.isfinite(full)):
-        raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
-    # In the paper's relative coordinates: x1/x_st, (x2 - Delta0)/x_st and the velocities over
-    # x_st omega (x2 itself is Delta0 at the stop, whatever the gap).
-    relative = full - np.array([0.0, p.Delta0, 0.0, 0.0])
-    scale = state_scale(p)
-    with np.errstate(over="ignore"):  # (an overflowing ratio is just too large)
-        too_large = not np.all(np.abs(relative) / scale <= MAX_STATE)
-    if too_large:
-        raise ValueError(
-            f"`state` = {state!r} is not allowed: x1 and x2 - Delta0 must be within {MAX_STATE:.0e} x_st "
-            f"and the velocities within {MAX_STATE:.0e} x_st omega (x_st = {p.x_st!r} m, "
-            f"omega = {p.omega!r} rad/s)"
-        )
-    return full
-
-
-def check_start_time(t0: object, p: Parameters, name: str = "t0") -> float:
-    """``t0`` as a finite float within the solver's clock (MAX_CLOCK_PERIODS), else an error."""
-    t0 = finite_argument(name, t0)
-    limit = MAX_CLOCK_PERIODS * p.T
-    if abs(t0) > limit:
-        raise ValueError(
-            f"`{name}` = {t0!r} is not allowed: must be within {MAX_CLOCK_PERIODS:.0e} forcing periods of 0 "
-            f"(|{name}| <= {limit:.6g} s), where the clock resolves event times to ~1e-10 T; the forcing is "
-            "T-periodic, so a start modulo T is the same motion (steady_state reduces it itself)"
-        )
-    return t0
-
-
-def work_limit_message(p: Parameters, what: str) -> str:
-    """One line for a run that hit a work bound, naming the parameter farthest from the
-    reference case (the usual cause: a free motion far faster or stiffer than the forcing)."""
-    with np.errstate(all="ignore"):  # (only for the message: an overflow just shows as inf)
-        rate = float(np.max(np.abs(characteristic_roots(p)))) / p.omega
-    name = most_extreme(p, RELATIVE_PARAMETERS)
-    return (
-        f"`{name}` = {getattr(p, name)!r} is beyond what the solver resolves: {what} (the free motion's fastest "
-        f"rate is {rate:.3g} omega); allowed are parameters nearer the reference case (theta = 1, mu = 0.08, "
-        "N = 0.5, delta1 = delta2 = 0.05, R = 0.7, gap = -5.8)"
-    )
 
 
 @dataclass(frozen=True)

@@ -561,7 +561,7 @@ def _search_refined(
     p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel_tol, floor, say, refine_floor, rescue, longer_periods
 ) -> dict:
     """:func:`search_parameter` with claim (b)'s grid refined (see there)."""
-    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.analysis.point import SweepSettings
 
     mp = int(steady_kwargs.get("max_periods", 4000))
     settings = SweepSettings(

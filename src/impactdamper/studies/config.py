@@ -56,7 +56,7 @@ def steady_options(solver: dict) -> dict:
 def sweep_settings(section: dict, solver: dict, **changes):
     """:class:`impactdamper.analysis.sweeps.SweepSettings` from a ``sweep:`` or ``maps:``
     config section and the ``solver:`` one (``changes`` override single fields)."""
-    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.analysis.point import SweepSettings
 
     kw = dict(
         settle_tol=float(section["settle_tol"]),

@@ -36,7 +36,7 @@ import numpy as np
 import scipy.optimize
 
 from impactdamper.analysis.response import frequency_response, theta_grid
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
 

@@ -78,7 +78,7 @@ REGIMES_OF_LABELS = {
 
 
 def regime_of_label(label: str) -> str:
-    """The regime class of a label (inverse of impactdamper.analysis.settled.label_of)."""
+    """The regime class of a label (inverse of impactdamper.analysis.point.label_of)."""
     if label in REGIMES_OF_LABELS:
         return REGIMES_OF_LABELS[label]
     return "chatter" if label.startswith("c/") else "multi_impact"
@@ -112,7 +112,7 @@ def map_axes(maps: dict, name: str) -> tuple:
 
 
 def point_row(direction: str, index: int, pt) -> dict:
-    """One row of the sweep table from a :class:`impactdamper.analysis.settled.SweepPoint`."""
+    """One row of the sweep table from a :class:`impactdamper.analysis.point.SweepPoint`."""
     r = pt.row()
     r.update(direction=direction, index=index, velocities=joined(pt.velocities, VELOCITY_FORMAT))
     return r
@@ -208,7 +208,7 @@ def read_points(path) -> dict:
     from dataclasses import fields
 
     from impactdamper import Parameters
-    from impactdamper.analysis.settled import SweepPoint
+    from impactdamper.analysis.point import SweepPoint
 
     with np.load(path, allow_pickle=False) as data:
         keys = list(data.keys())

@@ -49,7 +49,7 @@ from collections.abc import Callable
 import numpy as np
 
 from impactdamper.analysis.batch import settled_batch
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a

@@ -41,7 +41,7 @@ import numpy as np
 import scipy.optimize
 import scipy.stats
 
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import Parameters, finite_argument
 from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.studies.design import (

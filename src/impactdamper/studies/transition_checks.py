@@ -38,7 +38,7 @@ import scipy.optimize
 from impactdamper import algorithm1
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import OrbitError, solve_orbit
-from impactdamper.analysis.settled import solve_point
+from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.sweeps import find_transitions, locate_transition, with_value
 from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap
 from impactdamper.core.linear import free_mode
