@@ -18,7 +18,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 
 CLASSES = (
     ("neither claim", "#eeeeee"),
@@ -50,7 +50,7 @@ def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
 
 def main(csvs, jsons, out_pdf, out_png) -> None:
     plt = use_style()
-    fig, axes = plt.subplots(2, 2, figsize=(TEXT_WIDTH, 5.4))
+    fig, axes = plt.subplots(2, 2, figsize=figure_size(5.4))
     order = sorted(range(len(csvs)), key=lambda i: read_json(jsons[i])["name"] != "theta_N")
     for ax, i in zip(axes.flat, order):
         rows, settings = read_csv(csvs[i]), read_json(jsons[i])
@@ -71,10 +71,12 @@ def main(csvs, jsons, out_pdf, out_png) -> None:
         ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=9, mec="k", mfc="w")
         ax.set_xlabel(LABEL[m["x"]], labelpad=1)
         ax.set_ylabel(LABEL[m["y"]], labelpad=1)
-        ax.set_title(f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both", fontsize=7.5)
+        ax.set_title(
+            f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both", fontsize="small"
+        )
     handles = [Patch(color=c, label=name) for name, c in CLASSES]
     handles.append(plt.Line2D([], [], ls="", marker="*", ms=9, mec="k", mfc="w", label="stated point"))
-    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7.5, bbox_to_anchor=(0.5, 0.0))
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize="small", bbox_to_anchor=(0.5, 0.0))
     fig.tight_layout(rect=(0, 0.08, 1, 1), h_pad=0.8)
     finish_figure(fig, out_pdf, out_png)
 

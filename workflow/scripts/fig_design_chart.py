@@ -12,7 +12,7 @@ period, over the band.
 Deviations: none (the paper has no such figure).
 """
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 
 
@@ -23,7 +23,7 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     base = read_json(baselines_json)
     g = [float(r["gap"]) for r in rows]
     fig, (ax, ax2) = plt.subplots(
-        2, 1, figsize=(TEXT_WIDTH, 4.8), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [2, 1]}
+        2, 1, figsize=figure_size(4.8), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [2, 1]}
     )
     for key, crit, ls, text in (
         ("peak_max_abs_x1", "peak", "-", "peak over the band"),
@@ -50,15 +50,15 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
         (base["tmd"]["peak"]["band_average"], "optimal TMD, band average", "C3", "--"),
     ):
         ax.axhline(value, color=color, ls=ls, lw=0.8, label=f"{text} ({value:.2f})")
-    ax.set_ylabel("$\\max|x_1|/x_{st}$ over the band")
+    ax.set_ylabel("$\\max|x_1|/x_{\\mathrm{st}}$ over the band")
     ax.set_ylim(0.0, None)
-    ax.legend(fontsize=6.5, ncol=3, loc="lower center", bbox_to_anchor=(0.5, 1.01))
+    ax.legend(fontsize="small", ncol=3, loc="lower center", bbox_to_anchor=(0.5, 1.01))
     ax2.plot(
         g,
         [cell_float(r["peak_impulse"]) for r in rows],
         color="C0",
         lw=0.9,
-        label="largest pulse $S/(m_1 x_{st}\\omega)$",
+        label="largest pulse $S/(m_1 x_{\\mathrm{st}}\\omega)$",
     )
     ax3 = ax2.twinx()
     ax3.plot(
@@ -73,10 +73,10 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     ax3.set_ylim(0.0, None)
     ax2.set_ylabel("pulse")
     ax3.set_ylabel("impacts per period")
-    ax2.set_xlabel("initial gap $\\Delta_0/x_{st}$")
+    ax2.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     h1, l1 = ax2.get_legend_handles_labels()
     h2, l2 = ax3.get_legend_handles_labels()
-    ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower left")
+    ax2.legend(h1 + h2, l1 + l2, fontsize="small", loc="lower left")
     finish_figure(fig, out_pdf, out_png)
 
 

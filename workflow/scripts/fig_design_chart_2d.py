@@ -6,7 +6,7 @@ of the same mu as a horizontal line.
 Deviations: none (the paper has no such figure).
 """
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 
 
@@ -17,7 +17,7 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     base = read_json(baselines_json)
     name = info["parameter"]
     symbol = {"N": "N", "R": "R"}.get(name, name)
-    fig, ax = plt.subplots(figsize=(TEXT_WIDTH, 2.9), layout="constrained")
+    fig, ax = plt.subplots(figsize=figure_size(2.9), layout="constrained")
     values = sorted({float(r["value"]) for r in rows})
     for i, v in enumerate(values):
         rs = [r for r in rows if float(r["value"]) == v]
@@ -32,10 +32,10 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
         ax.plot([b["gap"]], [b["value"]], "o", color=f"C{i}", ms=4)
     tmd = base["tmd"]["peak"]["peak"]
     ax.axhline(tmd, color="0.3", ls="--", lw=0.8, label=f"optimal TMD ({tmd:.2f})")
-    ax.set_xlabel("initial gap $\\Delta_0/x_{st}$")
-    ax.set_ylabel("peak $\\max|x_1|/x_{st}$ over the band")
+    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    ax.set_ylabel("peak $\\max|x_1|/x_{\\mathrm{st}}$ over the band")
     ax.set_ylim(0.0, None)
-    ax.legend(fontsize=7, ncol=3, loc="lower left")
+    ax.legend(fontsize="small", ncol=3, loc="lower left")
     finish_figure(fig, out_pdf, out_png)
 
 

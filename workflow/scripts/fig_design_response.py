@@ -12,7 +12,7 @@ Deviations: none (the paper has no such figure).
 
 import numpy as np
 
-from impactdamper.reporting.plotting import TEXT_WIDTH, finish_figure, use_style
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
 
 
@@ -22,7 +22,7 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
     base = read_csv(baselines_csv)
     summary = read_json(response_json)["responses"]
     fig, (ax, ax2) = plt.subplots(
-        2, 1, figsize=(TEXT_WIDTH, 4.6), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [2.2, 1]}
+        2, 1, figsize=figure_size(4.6), sharex=True, layout="constrained", gridspec_kw={"height_ratios": [2.2, 1]}
     )
     th = [float(r["theta"]) for r in base]
     for key, text, color, ls in (
@@ -38,7 +38,7 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
         for direction, ls in (("up", "-"), ("down", "--")):
             d = [r for r in rs if r["direction"] == direction]
             label = (
-                f"impact, $\\Delta_0/x_{{st}} = {g:.2f}$" + (" (best)" if s["role"] == "best" else "")
+                f"impact, $\\Delta_0/x_{{\\mathrm{{st}}}} = {g:.2f}$" + (" (best)" if s["role"] == "best" else "")
                 if direction == "up"
                 else None
             )
@@ -60,9 +60,9 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
                 ms=3,
                 mew=0.7,
             )
-    ax.set_ylabel("$\\max|x_1|/x_{st}$")
+    ax.set_ylabel("$\\max|x_1|/x_{\\mathrm{st}}$")
     ax.set_ylim(0.0, None)
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize="small", loc="upper left")
     best = summary[0]
     rs = [r for r in rows if float(r["gap"]) == best["gap"]]
     for direction, ls in (("up", "-"), ("down", "--")):
@@ -73,7 +73,7 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
             color="C0",
             ls=ls,
             lw=0.9,
-            label="peak pulse $S/(m_1 x_{st}\\omega)$" if direction == "up" else None,
+            label="peak pulse $S/(m_1 x_{\\mathrm{st}}\\omega)$" if direction == "up" else None,
         )
     ax2.set_ylim(0.0, None)
     ax2.set_ylabel("pulse per impact")
@@ -92,8 +92,8 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
     ax3.set_ylim(0.0, max(2.0, 1.15 * np.nanmax([cell_float(r["impacts_per_period"]) for r in d])))
     h1, l1 = ax2.get_legend_handles_labels()
     h2, l2 = ax3.get_legend_handles_labels()
-    ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="upper left")
-    ax2.set_title(f"loads at the best gap $\\Delta_0/x_{{st}} = {best['gap']:.2f}$", fontsize=8)
+    ax2.legend(h1 + h2, l1 + l2, fontsize="small", loc="upper left")
+    ax2.set_title(f"loads at the best gap $\\Delta_0/x_{{\\mathrm{{st}}}} = {best['gap']:.2f}$")
     finish_figure(fig, out_pdf, out_png)
 
 
