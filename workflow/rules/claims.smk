@@ -186,6 +186,7 @@ rule fig_claims_map:
         style=STYLE,
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
+        refined="figures/claims_map_refined.csv",
         located="figures/located_case.json",
     output:
         pdf="figures/claims_map.pdf",
