@@ -359,3 +359,78 @@ def test_end_checks_are_counted_by_what_they_rest_on():
         "outside_tolerance": 2,
         "different_verdict": 1,
     }
+
+
+def _boundary_edges(label: dict, n: int, step: int = 1) -> set:
+    """Pairs of neighbouring lattice points ``step`` apart (of an n x n lattice) whose labels
+    differ or do not settle."""
+    out = set()
+    for i in range(0, n, step):
+        for j in range(0, n, step):
+            for k in ((i + step, j), (i, j + step)):
+                if k in label and (label[(i, j)] != label[k] or "np" in (label[(i, j)], label[k])):
+                    out.add(((i, j), k))
+    return out
+
+
+def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
+    """theta 0.935-0.975 against N 0.47-0.55 (the others as stated), where both claims, (b)
+    only and neither meet on the (theta, N) map: a 5 x 5 grid (steps 0.01 x 0.02) refined twice
+    (floor 0.0025 x 0.005, the full map's steps) against a brute-force 17 x 17 grid at the
+    floor. Every pair of fine-grid neighbours whose labels differ (or that does not settle) must
+    have both points evaluated by the refinement, with the same label, in fewer points than the
+    brute force; one halving alone (floor 0.005 x 0.01) misses some of them."""
+    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.studies.claims import claims_cells
+    from impactdamper.studies.claims_maps import map_label, refine_claims_map
+
+    p = idp.Parameters()
+    st = SweepSettings(
+        settle_tol=1e-9, max_periods=1000, max_periods_after_nonperiodic=1000, max_period_multiple=8, rescue=False
+    )
+    n, (x0, x1), (y0, y1) = 17, (0.935, 0.975), (0.47, 0.55)
+    fx, fy = (x1 - x0) / (n - 1), (y1 - y0) / (n - 1)
+
+    def points(ks):
+        return [(round(x0 + i * fx, 12), round(y0 + j * fy, 12)) for i, j in ks]
+
+    def labels(ks):
+        return dict(
+            zip(ks, (map_label(r) for r in claims_cells(p, "theta", "N", points(ks), gap_tol=1e-9, settings=st)))
+        )
+
+    fine = labels([(i, j) for j in range(n) for i in range(n)])
+    edges = _boundary_edges(fine, n)
+    assert {"both", "b", "neither"} <= set(fine.values()), "the box holds both claims, (b) only and neither"
+    base_keys = [(i, j) for j in range(0, n, 4) for i in range(0, n, 4)]
+    base = claims_cells(p, "theta", "N", points(base_keys), gap_tol=1e-9, settings=st)
+
+    def refined(levels):
+        added, stats = refine_claims_map(
+            p, "theta", (x0, x1, 5), "N", (y0, y1, 5), levels=levels, gap_tol=1e-9, settings=st, base=base
+        )
+        assert stats["refined_points"] == len(added) == sum(stats["points_per_level"])
+        assert {r["level"] for r in added} <= set(range(1, levels + 1))
+        seen = dict(zip(base_keys, (map_label(r) for r in base)))
+        for r in added:
+            k = (round((r["x"] - x0) / fx), round((r["y"] - y0) / fy))
+            assert k not in seen  # each point evaluated once
+            seen[k] = map_label(r)
+        return seen, stats
+
+    seen, stats = refined(2)
+    assert stats["x_floor"] == pytest.approx(fx, rel=1e-9) and stats["y_floor"] == pytest.approx(fy, rel=1e-9)
+    missing = [e for e in edges if e[0] not in seen or e[1] not in seen]
+    assert not missing, missing
+    assert all(seen[k] == fine[k] for k in seen)  # the same motion at the same values
+    assert len(seen) < 0.8 * n * n
+    # One halving: every boundary between points 2 fine steps apart is seen, not those at the floor.
+    seen1, _ = refined(1)
+    assert not [e for e in _boundary_edges(fine, n, 2) if e[0] not in seen1 or e[1] not in seen1]
+    assert [e for e in edges if e[0] not in seen1 or e[1] not in seen1]
+    with pytest.raises(ValueError, match="`levels`"):
+        refine_claims_map(p, "theta", (x0, x1, 5), "N", (y0, y1, 5), levels=7, gap_tol=1e-9, settings=st, base=base)
+    with pytest.raises(ValueError, match="`base`"):
+        refine_claims_map(
+            p, "theta", (x0, x1, 5), "N", (y0, y1, 5), levels=1, gap_tol=1e-9, settings=st, base=base[:-1]
+        )

@@ -194,6 +194,7 @@ RECORD = (
         "figures/claims_by_parameter.png",
         "figures/claims_map.csv",
         "figures/claims_map_settings.json",
+        "figures/claims_map_refined.csv",
         "figures/claims_map.pdf",
         "figures/claims_map.png",
         "figures/claims_nearest.json",
@@ -204,7 +205,7 @@ RECORD = (
     + [
         f"figures/claims_map_{name}{ext}"
         for name in ("theta_N", "theta_gap", "N_gap")
-        for ext in (".csv", "_settings.json")
+        for ext in (".csv", "_settings.json", "_refined.csv")
     ]
 )
 

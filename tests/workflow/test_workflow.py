@@ -92,6 +92,30 @@ def test_schema_rejects_bad_value_naming_the_key(override, key, why):
     assert key in text and why in text, text
 
 
+@pytest.mark.parametrize(
+    ("value", "why"),
+    [(7, "greater than the maximum of 6"), (-1, "less than the minimum of 0"), (1.5, "is not of type 'integer'")],
+)
+def test_schema_rejects_bad_map_refine_levels(value, why):
+    """claims_search.map.refine_levels (and each pair map's): an integer in [0, 6]."""
+    from snakemake.exceptions import WorkflowError
+    from snakemake.utils import validate
+
+    search = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["claims_search"]
+    for where in ("map", "pair_maps"):
+        changed = dict(search)
+        if where == "map":
+            changed["map"] = dict(search["map"], refine_levels=value)
+        else:
+            changed["pair_maps"] = dict(
+                search["pair_maps"], theta_N=dict(search["pair_maps"]["theta_N"], refine_levels=value)
+            )
+        with pytest.raises(WorkflowError) as err:
+            validate(_config_with({"claims_search": changed}), str(SCHEMA))
+        text = str(err.value)
+        assert "refine_levels" in text and why in text, text
+
+
 @pytest.mark.parametrize("name", ["config.yaml", "ci.yaml"])
 def test_shipped_configs_are_valid(name):
     from snakemake.utils import validate

@@ -73,11 +73,13 @@ rule claims_map_chunk:
 rule claims_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
+        library=library(BASELINES, study("claims", "claims_maps", "config", "replication"), REPORTING),
         chunks=claims_map_chunk_files,
     output:
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
+        refined="figures/claims_map_refined.csv",
     log:
         "logs/claims/claims_map.log",
     conda:
@@ -117,11 +119,13 @@ rule claims_pair_map_chunk:
 rule claims_pair_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
+        library=library(BASELINES, study("claims", "claims_maps", "config", "replication"), REPORTING),
         chunks=claims_pair_map_chunk_files,
     output:
         csv="figures/claims_map_{name}.csv",
         json="figures/claims_map_{name}_settings.json",
+        refined="figures/claims_map_{name}_refined.csv",
     log:
         "logs/claims/claims_map_{name}.log",
     wildcard_constraints:
@@ -144,6 +148,8 @@ rule fig_claims_maps:
         csv=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
         json=["figures/claims_map_settings.json"]
         + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
+        refined=["figures/claims_map_refined.csv"]
+        + expand("figures/claims_map_{name}_refined.csv", name=CLAIMS_PAIR_MAPS),
     output:
         pdf="figures/claims_maps.pdf",
         png="figures/claims_maps.png",
@@ -180,6 +186,7 @@ rule fig_claims_map:
         style=STYLE,
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
+        refined="figures/claims_map_refined.csv",
         located="figures/located_case.json",
     output:
         pdf="figures/claims_map.pdf",

@@ -5,7 +5,9 @@ default the restitution R against the gap Delta0/x_st), the others as stated.
 The paper: "the gap Delta takes on negative values when t in (t1, t2)" (Algorithm No. 1, the
 paper's Fig. 2a) and "T_c = 2T and during this period T_c there are three collisions"
 (Algorithm No. 2 from its step 1, the paper's Fig. 2b). Colour per cell: neither claim, (a)
-only, (b) only, both. Star: the stated point; diamond: the located case (stated R).
+only, (b) only, both; dots: the points the adaptive refinement added where a cell's corners
+differ in label or do not settle (``figures/claims_map_refined.csv``, same colours). Star: the
+stated point; diamond: the located case (stated R).
 
 Deviation: a map the paper does not have; each cell is Algorithm No. 2 from the paper's step
 1 (no continuation from a neighbour), as in the verdict.
@@ -35,7 +37,7 @@ LABEL = {
 }
 
 
-def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
+def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=None) -> None:
     plt = use_style()
     rows = read_csv(map_csv)
     settings = read_json(settings_json)
@@ -59,6 +61,19 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
         extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy),
     )
     ax.grid(False)
+    extra = read_csv(refined_csv) if refined_csv else []
+    if extra:
+        colours = np.array([c for _, c in CLASSES])
+        cls = [int(r["claim_a"] == "true") + 2 * int(r["claim_b"] == "true") for r in extra]
+        ax.scatter(
+            [float(r["x"]) for r in extra],
+            [float(r["y"]) for r in extra],
+            s=2,
+            c=colours[cls],
+            marker="s",
+            linewidths=0,
+            rasterized=True,
+        )
     ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=11, mec="k", mfc="w", label="stated point")
     located = read_json(located_json)["located"]["gap"]
     if m["y"] == "gap":
@@ -66,10 +81,14 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
     ax.set_xlabel(LABEL[m["x"]])
     ax.set_ylabel(LABEL[m["y"]])
     # The grid, as the caption promises: the steps in both parameters.
+    levels = int(m.get("refine_levels", 0)) if extra else 0
     ax.set_title(
-        f"steps {2 * dx:.3g} in {m['x']} and {2 * dy:.3g} in the gap"
-        if m["y"] == "gap"
-        else f"steps {2 * dx:.3g} x {2 * dy:.3g}"
+        (
+            f"steps {2 * dx:.3g} in {m['x']} and {2 * dy:.3g} in the gap"
+            if m["y"] == "gap"
+            else f"steps {2 * dx:.3g} x {2 * dy:.3g}"
+        )
+        + (f"\nrefined {levels}x to a floor of {2 * dx / 2**levels:.3g} x {2 * dy / 2**levels:.3g}" if levels else "")
     )
     handles = [Patch(color=c, label=name) for name, c in CLASSES] + ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))
@@ -79,4 +98,4 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png) -> None:
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
-    main(sm.input.csv, sm.input.json, sm.input.located, sm.output.pdf, sm.output.png)
+    main(sm.input.csv, sm.input.json, sm.input.located, sm.output.pdf, sm.output.png, sm.input.refined)

@@ -5,7 +5,9 @@ behaviour the paper reports occurs over the pairs of parameters a reader asks ab
 The paper: "the gap Delta takes on negative values when t in (t1, t2)" (Algorithm No. 1, the
 paper's Fig. 2a) and "T_c = 2T and during this period T_c there are three collisions"
 (Algorithm No. 2 from its step 1, the paper's Fig. 2b). Colour per cell: neither claim, (a)
-only, (b) only, both; star: the stated point. Each panel's title states its grid steps.
+only, (b) only, both; dots: the points the adaptive refinement added where a cell's corners
+differ in label or do not settle (same colours, ``..._refined.csv``); star: the stated point.
+Each panel's title states its grid steps, the refinement's halvings and its floor.
 
 Deviation: maps the paper does not have; each cell is Algorithm No. 2 from the paper's step 1
 (no continuation from a neighbour), a cell not settled within the map's period cap counted as
@@ -48,12 +50,18 @@ def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
     return xs, ys, z
 
 
-def main(csvs, jsons, out_pdf, out_png) -> None:
+def classes(rows: list[dict]) -> np.ndarray:
+    """Class per row (0 neither, 1 (a) only, 2 (b) only, 3 both)."""
+    return np.array([int(r["claim_a"] == "true") + 2 * int(r["claim_b"] == "true") for r in rows], dtype=int)
+
+
+def main(csvs, jsons, out_pdf, out_png, refined_csvs=None) -> None:
     plt = use_style()
     fig, axes = plt.subplots(2, 2, figsize=figure_size(5.4))
     order = sorted(range(len(csvs)), key=lambda i: read_json(jsons[i])["name"] != "theta_N")
     for ax, i in zip(axes.flat, order):
         rows, settings = read_csv(csvs[i]), read_json(jsons[i])
+        extra = read_csv(refined_csvs[i]) if refined_csvs else []
         m, ref = settings["map"], settings["reference"]
         xs, ys, z = grid(rows)
         dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
@@ -68,11 +76,30 @@ def main(csvs, jsons, out_pdf, out_png) -> None:
             extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy),
         )
         ax.grid(False)
+        if extra:
+            colours = np.array([c for _, c in CLASSES])
+            ax.scatter(
+                [float(r["x"]) for r in extra],
+                [float(r["y"]) for r in extra],
+                s=1.5,
+                c=colours[classes(extra)],
+                marker="s",
+                linewidths=0,
+                rasterized=True,
+            )
         ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=9, mec="k", mfc="w")
         ax.set_xlabel(LABEL[m["x"]], labelpad=1)
         ax.set_ylabel(LABEL[m["y"]], labelpad=1)
+        levels = int(m.get("refine_levels", 0)) if extra else 0
+        refined = (
+            f"\nfloor {2 * dx / 2**levels:.3g} x {2 * dy / 2**levels:.3g} ({levels} halving{'s' * (levels > 1)}, "
+            f"+{len(extra)} points)"
+            if levels
+            else ""
+        )
         ax.set_title(
-            f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both", fontsize="small"
+            f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both{refined}",
+            fontsize="small",
         )
     handles = [Patch(color=c, label=name) for name, c in CLASSES]
     handles.append(plt.Line2D([], [], ls="", marker="*", ms=9, mec="k", mfc="w", label="stated point"))
@@ -84,4 +111,4 @@ def main(csvs, jsons, out_pdf, out_png) -> None:
 if __name__ == "__main__":
     sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
     start_stage(sm)
-    main(list(sm.input.csv), list(sm.input.json), sm.output.pdf, sm.output.png)
+    main(list(sm.input.csv), list(sm.input.json), sm.output.pdf, sm.output.png, list(sm.input.refined))

@@ -753,13 +753,29 @@ def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, g
     list of dict
         One per cell, rows of y outer, x inner, with :data:`MAP_COLUMNS`.
     """
+    if x == y:
+        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    return claims_cells(p, x, y, [(float(a), float(b)) for b in ys for a in xs], gap_tol=gap_tol, settings=settings)
+
+
+def claims_cells(p, x: str, y: str, points: Sequence[tuple[float, float]], *, gap_tol: float, settings) -> list[dict]:
+    """Both claims at each point ``(x value, y value)`` of ``points`` (any set, in the given
+    order), as :func:`claims_map` computes them at its cells (one batch call for all points).
+
+    Returns
+    -------
+    list of dict
+        One per point, with :data:`MAP_COLUMNS`.
+    """
     import numpy as np
 
     from impactdamper.analysis.batch import settled_batch
 
     if x == y:
         raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
-    cells = np.array([(float(a), float(b)) for b in ys for a in xs], float).reshape(-1, 2)
+    if not len(points):
+        return []
+    cells = np.array(points, float).reshape(-1, 2)
     res = settled_batch(p, (x, y), cells, settings=settings, chain=False)
     out = []
     for i, (a, b) in enumerate(cells):
