@@ -15,9 +15,13 @@ from impactdamper.analysis.transitions import algorithm1_grazing_gap, algorithm1
 from impactdamper.studies import sweep_results as sr
 
 ROOT = Path(__file__).resolve().parents[2]
-# The offset is the leading order in eps (~7e-6): the located lift-off's offset agrees with it
-# to this relative tolerance (the next order is O(eps), the bisection's 1e-9 x_st is 1.5e-4 of it).
-OFFSET_RTOL = 1e-3
+# The offset is the leading order in eps (~7e-6; the next order is O(eps)). The located lift-off
+# is not sharper than the labels it is bisected on: within 3.5e-8 x_st of it the settled label
+# flickers between stuck and chatter, and differently in the two backends (measured at gaps
+# -31.234745815 ... -31.23474578: stuck, chatter, stuck, chatter, stuck/chatter), 5.3e-3 of the
+# offset; a bisection to 1e-9 x_st lands anywhere in that band (the settle test's longer runs
+# moved it by 1.9e-8). So the offsets agree to the band's width, not to the bisection's step.
+OFFSET_RTOL = 6e-3
 
 
 def _rows(direction, labels, start=0.0, step=1.0):

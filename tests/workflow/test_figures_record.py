@@ -401,7 +401,7 @@ def test_claims_map_sample_matches_record():
     with (FIGURES / "claims_map.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == m["x_points"] * m["y_points"]
-    from impactdamper.core.compiled import steady_state_compiled
+    from impactdamper import steady_state
     from impactdamper.studies.claims import claim_a, claim_b
 
     # Recomputed cell by cell, by the single-point compiled solver with the map's period cap
@@ -409,7 +409,7 @@ def test_claims_map_sample_matches_record():
     opts = dict(rep.solver_options(cfg["solver"]), max_periods=int(m["max_periods"]))
     for r in rows[:: max(1, len(rows) // 12)]:
         p = base.replace(**{m["x"]: float(r["x"]), m["y"]: float(r["y"])})
-        a, b = claim_a(rep.run_alg1(p, cfg["solver"])), claim_b(steady_state_compiled(p, **opts))
+        a, b = claim_a(rep.run_alg1(p, cfg["solver"])), claim_b(steady_state(p, **opts, backend="compiled"))
         assert (r["claim_a"], r["claim_b"]) == (str(a).lower(), str(b).lower()), r
     assert claims_map_chunk.COLUMNS == list(rows[0])
 

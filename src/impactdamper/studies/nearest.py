@@ -485,7 +485,7 @@ def verify_point(p: Parameters, solver: dict, verdict: dict) -> dict:
     ``solve_ivp`` (:func:`~impactdamper.studies.replication.alg2_ivp`) with its settled cycle
     aligned to the reference's by forcing phase, within the verdict's cross-check tolerances.
     """
-    from impactdamper.core.compiled import steady_state_compiled
+    from impactdamper.analysis.solve import steady_state
     from impactdamper.studies import replication as rep
 
     kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
@@ -494,7 +494,7 @@ def verify_point(p: Parameters, solver: dict, verdict: dict) -> dict:
     a_ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "negative_gap_intervals": []}
     a_cmp = rep.compare_alg1(a, a_ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
     s = rep.run_steady(p, solver)
-    c = steady_state_compiled(p, **rep.solver_options(solver))
+    c = steady_state(p, **rep.solver_options(solver), backend="compiled")
     kmax = int(solver["max_period_multiple"])
     b_ivp = rep.alg2_ivp(
         p,
