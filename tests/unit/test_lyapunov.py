@@ -1,0 +1,529 @@
+"""Lyapunov exponents of the impacting flow (impactdamper.analysis.lyapunov).
+
+Each result is checked by a computation that shares no code with the tangent map:
+
+* its pieces (impact, capture and lift-off saltation matrices, with the exact flows) against
+  central finite differences of the event-driven solver across the event, and the impact
+  law and determinants against closed forms;
+* at stable periodic orbits, the exponents against log|Floquet multiplier| / k from the orbit
+  solver (Newton shooting and the eigenvalues of one monodromy matrix: a different
+  computation from the long product); at periodic cycles with persistent contact, which the
+  orbit solver does not solve, against the eigenvalues of the finite-difference Jacobian of the
+  simulated stroboscopic map;
+* the largest exponent against the two-trajectory (Benettin) estimate made with the solver
+  alone: a nearby start renormalised every period, no saltation matrices;
+* the sum of the exponents against its closed form, the flow's trace times the time plus
+  2 log R per impact, with the impacts counted by re-simulating each period.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from impactdamper.analysis.lyapunov import (
+    LABELS,
+    SIGNIFICANCE,
+    ZERO_BAND,
+    LyapunovSpectrum,
+    capture_saltation,
+    classify_spectrum,
+    free_field,
+    impact_jump,
+    impact_saltation,
+    liftoff_saltation,
+    lyapunov_spectrum,
+    saltation,
+)
+from impactdamper.analysis.orbits import solve_orbit
+from impactdamper.core.model import STUCK, Model
+from impactdamper.core.parameters import Parameters
+from impactdamper.core.simulate import EventDrivenSolver, Tolerances, simulate
+from impactdamper.core.steady import steady_state
+
+REF = Parameters()
+# Tolerances, each with its reason:
+# - exponents against Floquet multipliers, absolute per forcing period (the brief's 1e-6; the
+#   weighted averages reach ~1e-10 at these orbits);
+FLOQUET_TOL = 1e-6
+# - the sum rule, relative (rounding of ~1e4 logarithms of 4 x 4 products is ~1e-13);
+SUM_RULE_TOL = 1e-8
+# - a tangent map against central differences of the solver with relative step FD_STEP:
+#   truncation ~FD_STEP^2 times the curvature of the event time, rounding ~1e-15/FD_STEP, both
+#   times the map's norm (up to ~1e3 across an impact, 1/closing velocity);
+FD_STEP = 1e-6
+FD_TOL = 1e-6
+# - Benettin against the tangent along the same motion: the finite separation EPS (relative)
+#   adds a nonlinear term ~EPS times the map's second derivative per period (measured 1.3e-6
+#   to 8e-6 at the chaotic points; 1e-4 bounds it).
+EPS = 1e-7
+SAME_MOTION_TOL = 1e-4
+# - where the solver cuts a chatter sequence (chatter_tol) moves the motion after the capture
+#   by ~1.3e-12 (relative; measured from chatter_tol 1e-7 to 1e-12 at gap -25): bound 1e-11.
+CUT_EFFECT = 1e-11
+# - Benettin's estimate has a floor besides its statistical error: each period's separation is
+#   the difference of two solver states, each rounded to ~1e-15 (relative), so its log carries
+#   ~1e-15/EPS = 1e-8 (measured at gap -12.7: bias 3e-8 at EPS = 1e-7, 6e-7 at 1e-8, 5e-6 at
+#   1e-9, growing as 1/EPS); 1e-6 bounds it.
+BENETTIN_FLOOR = 1e-6
+
+
+def scale(p: Parameters, n: int = 4) -> np.ndarray:
+    """Relative units of a state: (x_st, x_st, x_st omega, x_st omega), or (x_st, x_st omega)."""
+    full = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
+    return full if n == 4 else full[[0, 2]]
+
+
+def run_state(p: Parameters, t0: float, y: np.ndarray, t1: float) -> np.ndarray:
+    """(x1, x2, x1', x2') at t1 of the solver's motion from (t0, y): the solver alone."""
+    s = EventDrivenSolver(p, t0=t0, state=y)
+    s.advance(t1)
+    return s.state_at(t1)
+
+
+def fd_jacobian(p: Parameters, f, y: np.ndarray, n_in: int) -> np.ndarray:
+    """Central differences of f in relative units (inputs scaled by `scale(p, n_in)`)."""
+    D_in = scale(p, n_in)
+    cols = []
+    for j in range(n_in):
+        h = np.zeros(n_in)
+        h[j] = FD_STEP * D_in[j]
+        cols.append((f(y + h) - f(y - h)) / (2.0 * FD_STEP))
+    J = np.array(cols).T  # d out / d (y/D_in)
+    D_out = scale(p, J.shape[0])
+    return J / D_out[:, None]
+
+
+def scaled(p: Parameters, A: np.ndarray) -> np.ndarray:
+    return A * scale(p, A.shape[1])[None, :] / scale(p, A.shape[0])[:, None]
+
+
+def weighted_average(x: np.ndarray) -> np.ndarray:
+    """exp(-1/(s(1-s))) weighted average over the first axis (written here again, on purpose)."""
+    s = (np.arange(len(x)) + 0.5) / len(x)
+    w = np.exp(-1.0 / (s * (1.0 - s)))
+    return (w / w.sum()) @ x
+
+
+def floquet_exponents(p: Parameters) -> np.ndarray:
+    """log|mu| / k per forcing period from the orbit solver, largest first."""
+    o = solve_orbit(p)
+    assert o.solved and o.stable, (o.regime, o.reason)
+    return np.sort(np.log(np.abs(o.multipliers)) / o.period_multiple)[::-1]
+
+
+# ----------------------------------------------------------------------------------------
+# Closed forms of the pieces
+# ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("R", [0.0, 0.3, 0.7, 1.0])
+def test_impact_jump_is_the_impact_law(R):
+    p = REF.replace(R=R)
+    J = impact_jump(p.m1, p.m2, p.R)
+    y = np.array([0.3, p.Delta0 + 0.3, -1.2, 4.5])
+    after = J @ y
+    assert after[3] - after[2] == pytest.approx(-R * (y[3] - y[2]), rel=1e-14, abs=1e-14)
+    assert p.m1 * after[2] + p.m2 * after[3] == pytest.approx(p.m1 * y[2] + p.m2 * y[3], rel=1e-14)
+    assert np.linalg.det(J) == pytest.approx(-R, abs=1e-14)
+    # The model's impact law (eqs. 21-22), a separate implementation, gives the same state.
+    np.testing.assert_allclose(Model(p).impact(y)[0], after, rtol=1e-14, atol=1e-14)
+
+
+@pytest.mark.parametrize("R", [0.0, 0.3, 0.7, 1.0])
+def test_impact_saltation_determinant_is_R_squared(R):
+    """det S = det(J_R) (n.f+)/(n.f-) = (-R)(-R) = R^2 at any impact (see the note)."""
+    p = REF.replace(R=R)
+    lm = Model(p).free
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        x1, v1 = rng.normal(size=2)
+        y = np.array([x1, x1 + p.Delta0, v1, v1 + abs(rng.normal()) + 0.1])  # on the stop, closing
+        t = rng.uniform(0.0, p.T)
+        S = impact_saltation(lm.M, lm.b, lm.omega, impact_jump(p.m1, p.m2, p.R), t, y)
+        assert np.linalg.det(S) == pytest.approx(R**2, abs=1e-12)
+
+
+def test_capture_closed_form_is_the_general_saltation():
+    """The capture's closed form equals the saltation formula with the reset (x1, v_cm) and the
+    contact mode's field after, at a capture with a non-zero closing velocity."""
+    p = REF.replace(gap=-25.0)
+    m = Model(p)
+    M = p.m1 + p.m2
+    G = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, p.m1 / M, p.m2 / M]])
+    y = np.array([0.4, 0.4 + p.Delta0, -0.7, 0.9])
+    t = 0.123
+    f_minus = free_field(m.free.M, m.free.b, p.omega, t, y)
+    f_plus = free_field(m.stuck.M, m.stuck.b, p.omega, t, G @ y)
+    S = saltation(G, f_minus, f_plus, np.array([1.0, -1.0, 0.0, 0.0]))
+    np.testing.assert_allclose(S, capture_saltation(p.m1, p.m2, p.k1), rtol=1e-13, atol=1e-15)
+
+
+# ----------------------------------------------------------------------------------------
+# The pieces against finite differences of the solver across each kind of event
+# ----------------------------------------------------------------------------------------
+def events_of(p: Parameters, periods: int):
+    return simulate(p, periods * p.T).events
+
+
+def test_impact_tangent_against_solver_differences():
+    p = REF
+    lm = Model(p).free
+    e = [e for e in events_of(p, 40) if e.kind == "impact"][-1]
+    t_a, t_b = e.t - 0.1 * p.T, e.t + 0.1 * p.T
+    y_a = simulate(p, t_a).sample(np.array(t_a))[0]
+    S = impact_saltation(lm.M, lm.b, lm.omega, impact_jump(p.m1, p.m2, p.R), e.t, e.before)
+    tangent = scaled(p, lm.propagator(t_b - e.t) @ S @ lm.propagator(e.t - t_a))
+    fd = fd_jacobian(p, lambda y: run_state(p, t_a, y, t_b), y_a, 4)
+    assert np.max(np.abs(fd - tangent)) <= FD_TOL * np.max(np.abs(tangent))
+
+
+def test_capture_tangent_against_solver_differences():
+    """A plastic impact (R = 0) with the bodies pressed together: capture at once."""
+    p = REF.replace(gap=-25.0, R=0.0)
+    m = Model(p)
+    events = events_of(p, 20)
+    i = max(i for i, e in enumerate(events) if e.kind == "stick" and events[i - 1].kind == "impact")
+    e = events[i - 1]
+    t_a, t_b = e.t - 0.05 * p.T, e.t + 0.05 * p.T
+    y_a = simulate(p, t_a).sample(np.array(t_a))[0]
+    tangent = scaled(
+        p, m.stuck.propagator(t_b - e.t) @ capture_saltation(p.m1, p.m2, p.k1) @ m.free.propagator(e.t - t_a)
+    )
+    fd = fd_jacobian(p, lambda y: run_state(p, t_a, y, t_b)[[0, 2]], y_a, 4)
+    assert np.max(np.abs(fd - tangent)) <= FD_TOL * np.max(np.abs(tangent))
+    assert np.linalg.matrix_rank(tangent, tol=1e-12) == 2
+
+
+def test_chatter_tangent_against_solver_differences():
+    """R = 0.7: an accumulation of impacts (every resolved bounce with its saltation matrix, the
+    rest replaced by the capture's closed form) against differences over the whole sequence."""
+    p = REF.replace(gap=-25.0)
+    m = Model(p)
+    lm = m.free
+    events = events_of(p, 20)
+    i_stick = max(i for i, e in enumerate(events) if e.kind == "stick")
+    i_first = max(i for i in range(i_stick) if events[i].kind == "liftoff") + 1
+    sequence = events[i_first : i_stick + 1]
+    assert len(sequence) > 20  # a long chatter sequence
+    t_a, t_b = sequence[0].t - 0.05 * p.T, sequence[-1].t + 0.05 * p.T
+    y_a = simulate(p, t_a).sample(np.array(t_a))[0]
+    A, t = np.eye(4), t_a
+    J = impact_jump(p.m1, p.m2, p.R)
+    for e in sequence[:-2]:
+        A = impact_saltation(lm.M, lm.b, lm.omega, J, e.t, e.before) @ lm.propagator(e.t - t) @ A
+        t = e.t
+    last = sequence[-2]  # the last resolved bounce, captured
+    A = capture_saltation(p.m1, p.m2, p.k1) @ lm.propagator(last.t - t) @ A
+    tangent = scaled(p, m.stuck.propagator(t_b - last.t) @ A)
+    fd = fd_jacobian(p, lambda y: run_state(p, t_a, y, t_b)[[0, 2]], y_a, 4)
+    # The solver cuts the sequence where the rebound height falls below chatter_tol x_st, and a
+    # perturbation can move the cut by a bounce. Where the cut lies changes the map by little:
+    # from chatter_tol 1e-7 (23 events) to 1e-12 (39 events), by at most CUT_EFFECT (relative).
+    ends = [EventDrivenSolver(p, t0=t_a, state=y_a, tolerances=Tolerances(chatter_tol=c)) for c in (1e-7, 1e-12)]
+    for s in ends:
+        s.advance(t_b)
+    cut = np.max(np.abs(ends[0].state_at(t_b) - ends[1].state_at(t_b)) / scale(p))
+    assert cut <= CUT_EFFECT, cut
+    # So a moved cut adds at most CUT_EFFECT / FD_STEP to the differences.
+    err = np.max(np.abs(fd - tangent)) / np.max(np.abs(tangent))
+    assert err <= FD_TOL + CUT_EFFECT / FD_STEP, err
+
+
+def test_liftoff_tangent_against_solver_differences():
+    p = REF.replace(gap=-25.0)
+    m = Model(p)
+    events = events_of(p, 20)
+    i = max(i for i, e in enumerate(events) if e.kind == "liftoff")
+    e = events[i]
+    t_stick = events[i - 1].t
+    assert events[i - 1].kind == "stick"
+    t_a, t_b = 0.5 * (t_stick + e.t), e.t + 0.05 * p.T
+    full_a = simulate(p, t_a).sample(np.array(t_a))[0]
+
+    def on_stop(y2):  # a contact state (x1, x1') as the full state the solver starts from
+        return np.array([y2[0], y2[0] + p.Delta0, y2[1], y2[1]])
+
+    fn = m.contact_force
+    stuck_l = np.array([e.before[0], e.before[2]])
+    S = liftoff_saltation(m.free.M, m.free.b, m.stuck.M, m.stuck.b, p.omega, fn.c, fn.d_s, e.t, stuck_l, p.Delta0)
+    tangent = scaled(p, m.free.propagator(t_b - e.t) @ S @ m.stuck.propagator(e.t - t_a))
+    fd = fd_jacobian(p, lambda y2: run_state(p, t_a, on_stop(y2), t_b), full_a[[0, 2]], 2)
+    assert np.max(np.abs(fd - tangent)) <= FD_TOL * np.max(np.abs(tangent))
+
+
+# ----------------------------------------------------------------------------------------
+# The spectrum at periodic orbits: Floquet multipliers
+# ----------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def stated():
+    return lyapunov_spectrum(REF, periods=1000, transient=300, warmup=100)
+
+
+def test_stated_case_matches_floquet_multipliers(stated):
+    fl = floquet_exponents(REF)
+    diff = np.max(np.abs(stated.exponents - fl))
+    assert diff <= FLOQUET_TOL, (stated.exponents, fl)
+    assert stated.label == "periodic"
+    assert stated.dimension == 4 and stated.impacts == 1000 and stated.captures == 0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "gap, k, z",
+    [(-9.6, 2, 3), (-14.0, 1, 2), (14.0, 1, 0)],
+    ids=["3/2 at -9.6", "2/1 at -14", "0/1 at +14 (no contact)"],
+)
+def test_other_stable_orbits_match_floquet_multipliers(gap, k, z):
+    p = REF.replace(gap=gap)
+    o = solve_orbit(p)
+    assert (o.period_multiple, len(o.impacts)) == (k, z)
+    fl = floquet_exponents(p)
+    s = lyapunov_spectrum(p)
+    diff = np.max(np.abs(s.exponents - fl))
+    assert diff <= FLOQUET_TOL, (s.exponents, fl)
+    assert s.label == "periodic"
+
+
+@pytest.mark.slow
+def test_persistent_contact_has_two_finite_exponents():
+    """Bodies in contact all the time: the two exponents of the joined bodies are log|mu| of
+    e^{M T} of the contact mode (the orbit solver's closed form), the two transverse ones -inf."""
+    p = REF.replace(gap=-33.0)
+    s = lyapunov_spectrum(p, periods=1000, transient=300, warmup=100)
+    fl = floquet_exponents(p)
+    assert s.dimension == 2 and np.all(s.exponents[2:] == -math.inf)
+    assert np.max(np.abs(s.exponents[:2] - fl)) <= FLOQUET_TOL
+    # Sum rule in contact: the trace of the contact mode, -k1/(m1 + m2), times T.
+    total = s.increments[:, :2].sum()
+    closed = -p.k1 / (p.m1 + p.m2) * p.T * s.periods
+    assert abs(total - closed) <= SUM_RULE_TOL * abs(closed)
+
+
+def stroboscopic_fd_multipliers(p: Parameters, k: int) -> np.ndarray:
+    """log|mu| / k of the central-difference Jacobian of the simulated k-period map, taken
+    mid-way through the longest free flight of the settled cycle (largest first)."""
+    st = steady_state(p)
+    assert st.settled and st.period_multiple == k, st.regime
+    traj = st.trajectory
+    flights = [(seg_next.t0 - seg.t0, seg.t0) for (name, seg), (_, seg_next) in zip(traj.segments, traj.segments[1:])]
+    flights = [f for f, (name, _) in zip(flights, traj.segments) if name != STUCK]
+    length, start = max(flights)
+    t = start + 0.5 * length
+    y = traj.sample(np.array(t))[0]
+    J = fd_jacobian(p, lambda x: run_state(p, t, x, t + k * p.T), y, 4)
+    mu = np.linalg.eigvals(J)
+    with np.errstate(divide="ignore"):
+        return np.sort(np.log(np.abs(mu)) / k)[::-1]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("gap, k", [(-25.0, 1), (-13.0, 3)], ids=["c/1 at -25", "c/3 at -13"])
+def test_chatter_cycles_match_the_simulated_map(gap, k):
+    """Cycles with accumulations of impacts, captures and lift-offs (not solved by the orbit
+    solver): the two finite exponents against the finite-difference map's two large
+    multipliers; the other two multipliers are ~0 (the capture annihilates the relative
+    motion), the exponents -inf."""
+    p = REF.replace(gap=gap)
+    s = lyapunov_spectrum(p, periods=1000, transient=300, warmup=100)
+    fd = stroboscopic_fd_multipliers(p, k)
+    assert s.dimension == 2 and s.captures > 0 and s.liftoffs > 0
+    # The differences see the truncated chatter tail (see the chatter test): 1e-4 per period.
+    assert np.max(np.abs(s.exponents[:2] - fd[:2])) <= 1e-4, (s.exponents, fd)
+    assert np.all(fd[2:] < -5.0)  # |mu| < e^-5 per period: the annihilated directions
+    assert s.label == "periodic"
+
+
+# ----------------------------------------------------------------------------------------
+# The sum rule
+# ----------------------------------------------------------------------------------------
+def free_trace_per_period(p: Parameters) -> float:
+    """Trace of the free mode's matrix times T: -(k1 + k2)/m1 - k2/m2 (eqs. 2, 9), closed form."""
+    return -((p.k1 + p.k2) / p.m1 + p.k2 / p.m2) * p.T
+
+
+def check_sum_rule(s: LyapunovSpectrum) -> tuple[float, float]:
+    """Per period, the sum of the increments against tr(M) T + 2 log R x (impacts in the period,
+    counted by re-simulating it from its section). Returns (largest per-period and total
+    relative residual)."""
+    p = s.p
+    assert s.dimension == 4 and s.captures == 0
+    closed = np.empty(s.periods)
+    for n, y in enumerate(s.sections):
+        events = simulate(p, s.t_section + p.T, s.t_section, y).events
+        assert all(e.kind == "impact" for e in events)
+        closed[n] = free_trace_per_period(p) + 2.0 * math.log(p.R) * len(events)
+    sums = s.increments.sum(axis=1)
+    per_period = np.max(np.abs(sums - closed) / np.abs(closed))
+    total = abs(sums.sum() - closed.sum()) / abs(closed.sum())
+    # The reported exponents are weighted averages of the increments: their sum is the same
+    # weighted average of the closed form.
+    assert abs(s.exponents.sum() - weighted_average(closed)) <= SUM_RULE_TOL * abs(weighted_average(closed))
+    return per_period, total
+
+
+def test_sum_rule_stated_case(stated):
+    per_period, total = check_sum_rule(stated)
+    assert per_period <= SUM_RULE_TOL and total <= SUM_RULE_TOL, (per_period, total)
+
+
+# ----------------------------------------------------------------------------------------
+# Benettin's two-trajectory estimate, from the solver alone
+# ----------------------------------------------------------------------------------------
+def benettin(p: Parameters, t0: float, y0: np.ndarray, periods: int, along: np.ndarray | None = None):
+    """Per-period log growth of a separation EPS (relative units) renormalised every period.
+
+    The reference motion is the solver's from (t0, y0), or, with ``along``, the given section
+    states (then y0 = along[0]). Returns the growth per period, shape (periods,)."""
+    D = scale(p)
+    d = np.full(4, 0.5)
+    y = np.array(y0, float)
+    out = np.empty(periods)
+    for n in range(periods):
+        for sign in (1.0, -1.0):  # a perturbation that keeps the gap >= 0 (a motion in contact)
+            yb = y + sign * EPS * D * d
+            if p.Delta0 - (yb[1] - yb[0]) >= -1e-12 * p.x_st:
+                break
+        y_next = along[n + 1] if along is not None else run_state(p, t0, y, t0 + p.T)
+        sep = (run_state(p, t0, yb, t0 + p.T) - y_next) / D
+        r = float(np.linalg.norm(sep))
+        out[n] = math.log(r / EPS)
+        d, y = sep / r, y_next
+    return out
+
+
+def block_estimate(x: np.ndarray, blocks: int = 10) -> tuple[float, float]:
+    """Weighted average and the standard error of its weighted block averages."""
+    b = np.array([weighted_average(c) for c in np.split(x, blocks)])
+    return float(weighted_average(x)), float(b.std(ddof=1) / math.sqrt(blocks))
+
+
+# Chaotic points of the gap sweep's np bands (figures/sweep_gap.csv: -19.312..-18.88,
+# -17.344..-15.856, -12.352..-11.632 upward), and one with captures (-17.0).
+CHAOTIC = [-19.0, -16.0, -12.0, -17.0]
+PERIODIC = [-5.8, -12.7]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("gap", CHAOTIC + PERIODIC)
+def test_largest_exponent_against_benettin(gap):
+    """Two estimates of the largest exponent: (1) along the same motion (the tangent run's
+    sections as the reference), per period, tight; (2) on an independent stretch of the
+    attractor (the next 2000 periods), within SIGNIFICANCE combined standard errors plus
+    Benettin's rounding floor."""
+    p = REF.replace(gap=gap)
+    s = lyapunov_spectrum(p)
+    assert s.label == ("chaotic" if gap in CHAOTIC else "periodic")
+    # (1) The same motion: the alignment of the separation with the leading direction takes a
+    # few periods; both averaged uniformly over the rest.
+    same = benettin(p, s.t_section, s.sections[0], s.periods - 1, along=s.sections)
+    skip = 50
+    same_diff = abs(same[skip:].mean() - s.increments[skip:-1, 0].mean())
+    if gap in CHAOTIC:
+        assert same_diff <= SAME_MOTION_TOL, same_diff
+    # (2) An independent stretch: start where the tangent run ended.
+    y_end = run_state(p, s.t_section, s.sections[-1], s.t_section + p.T)
+    lam, err = block_estimate(benettin(p, s.t_section, y_end, s.periods)[:])
+    combined = math.sqrt(err**2 + s.errors[0] ** 2)
+    assert abs(lam - s.exponents[0]) <= SIGNIFICANCE * combined + BENETTIN_FLOOR, (
+        lam,
+        err,
+        s.exponents[0],
+        s.errors[0],
+    )
+
+
+# ----------------------------------------------------------------------------------------
+# The sum rule on chaotic motion, and the torus
+# ----------------------------------------------------------------------------------------
+@pytest.mark.slow
+@pytest.mark.parametrize("gap", [-19.0, -16.0])
+def test_sum_rule_chaotic(gap):
+    s = lyapunov_spectrum(REF.replace(gap=gap))
+    assert s.label == "chaotic"
+    per_period, total = check_sum_rule(s)
+    assert per_period <= SUM_RULE_TOL and total <= SUM_RULE_TOL, (per_period, total)
+
+
+@pytest.mark.slow
+def test_torus_after_the_neimark_sacker_point():
+    """Past the end of the 3/2 window the motion is quasi-periodic: the largest exponent is
+    zero to within ZERO_BAND, the next negative; the sweep called it np."""
+    s = lyapunov_spectrum(REF.replace(gap=-10.2))
+    assert s.label == "quasi-periodic", (s.exponents, s.errors)
+    assert abs(s.exponents[0]) <= ZERO_BAND / 10
+
+
+# ----------------------------------------------------------------------------------------
+# Labels and arguments
+# ----------------------------------------------------------------------------------------
+def spectrum(exponents, errors) -> LyapunovSpectrum:
+    z = np.zeros((2, 4))
+    return LyapunovSpectrum(
+        p=REF,
+        exponents=np.array(exponents, float),
+        errors=np.array(errors, float),
+        spreads=np.array(errors, float),
+        block_averages=z,
+        increments=z,
+        sections=z,
+        t_section=0.0,
+        dimension=4,
+        periods=2,
+        transient=0,
+        warmup=0,
+        blocks=2,
+        impacts=0,
+        captures=0,
+        liftoffs=0,
+        grazing=0,
+        contact_time=0.0,
+    )
+
+
+@pytest.mark.parametrize(
+    "exponents, errors, label",
+    [
+        ([0.5, -0.2, -0.3, -3.0], [0.04] * 4, "chaotic"),
+        ([0.1, -0.2, -0.3, -3.0], [0.04] * 4, "not settled"),  # positive, within 3 errors
+        ([0.0005, -0.2, -0.3, -3.0], [1e-6] * 4, "quasi-periodic"),  # inside the zero band
+        ([-0.0005, -0.2, -0.3, -3.0], [1e-4] * 4, "quasi-periodic"),
+        ([-0.0005, -0.2, -0.3, -3.0], [3e-4] * 4, "not settled"),  # zero not resolved
+        ([0.0, 0.0, -0.3, -3.0], [1e-5] * 4, "not settled"),  # two neutral directions
+        ([-0.3, -0.3, -0.6, -0.6], [1e-7] * 4, "periodic"),
+        ([-0.01, -0.3, -math.inf, -math.inf], [0.004, 0.01, math.nan, math.nan], "not settled"),
+        ([-0.3, -0.3, -math.inf, -math.inf], [1e-6, 1e-6, math.nan, math.nan], "periodic"),
+    ],
+)
+def test_labels(exponents, errors, label):
+    assert label in LABELS
+    assert classify_spectrum(spectrum(exponents, errors)) == label
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"periods": 1001}, "periods"),
+        ({"blocks": 1}, "blocks"),
+        ({"transient": -1}, "transient"),
+        ({"warmup": 1.5}, "warmup"),
+        ({"t0": math.nan}, "t0"),
+        ({"state": np.zeros(3)}, "state"),
+    ],
+)
+def test_bad_arguments_are_named(kwargs, name):
+    with pytest.raises((ValueError, TypeError), match=f"`{name}`"):
+        lyapunov_spectrum(REF, **kwargs)
+
+
+def test_relative_results_do_not_depend_on_the_free_scales():
+    """Other units (x_st, m1, omega): the same exponents per period (within 1e-9); units outside
+    the solver's native range are solved in the reference units and give the same numbers."""
+    run = dict(periods=200, transient=300, warmup=100, blocks=2)
+    r = lyapunov_spectrum(REF, **run)
+    q = REF.replace(x_st=2.5, m1=3.0, omega=7.0)
+    s = lyapunov_spectrum(q, **run)
+    np.testing.assert_allclose(s.exponents, r.exponents, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(s.exponents_per_second * q.T, s.exponents, rtol=1e-15)
+    far = REF.replace(x_st=1e-40)
+    f = lyapunov_spectrum(far, **run)
+    np.testing.assert_array_equal(f.exponents, r.exponents)
+    np.testing.assert_allclose(f.sections, r.sections * 1e-40, rtol=1e-15)
