@@ -189,7 +189,7 @@ def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_ru
     checked = set()
     for rule, fields in _jobs(forced_dry_run):
         inputs = [s.strip() for s in fields.get("input", "").split(",")]
-        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "benchmarks/", "notebooks/"))]
+        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "notebooks/"))]
         if not scripts:
             continue
         needed = set().union(*(library_imports(ROOT / s) for s in scripts))
@@ -218,7 +218,7 @@ def test_every_job_running_compiled_code_waits_for_the_warm_up(forced_dry_run):
     users = set()
     for rule, fields in _jobs(forced_dry_run):
         inputs = [s.strip() for s in fields.get("input", "").split(",")]
-        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "benchmarks/", "notebooks/"))]
+        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "notebooks/"))]
         needed = set().union(*(library_imports(ROOT / s) for s in scripts)) if scripts else set()
         if rule == "compiled_warm_up" or not any(f.startswith("src/impactdamper/core/compiled/") for f in needed):
             continue
@@ -490,3 +490,52 @@ def test_config_problem_finds_nothing_in_the_shipped_configs():
 
     for name in ("config.yaml", "ci.yaml"):
         assert config_problem(_shipped(name)) is None
+
+
+# --- one convention for every rule script --------------------------------------------------------
+def _rules() -> dict[str, str]:
+    """Each rule's text in workflow/rules/*.smk, by name."""
+    rules = {}
+    for path in sorted((ROOT / "workflow" / "rules").glob("*.smk")):
+        for block in re.split(r"\n(?=rule \w+:)", path.read_text()):
+            m = re.match(r"rule (\w+):", block)
+            if m:
+                rules[m.group(1)] = block
+    return rules
+
+
+def test_every_rule_script_runs_through_script_with_its_settings_from_the_rule():
+    """A rule that runs a workflow script runs it through ``script:`` (settings from
+    snakemake.params), never from ``shell:`` with a command line; every rule script lives in
+    workflow/scripts and reads no config file itself nor changes a library module's globals."""
+    import ast
+
+    rules = _rules()
+    scripted = {name for name, text in rules.items() if "workflow/scripts/" in text}
+    assert len(scripted) > 50 and {"performance_reference_speed", "performance_compiled_speed"} <= scripted
+    for name in scripted:
+        assert re.search(r"^    script:$", rules[name], flags=re.M) and "shell:" not in rules[name], name
+    assert all("python " not in text for text in rules.values() if "shell:" in text)
+    assert not (ROOT / "benchmarks").exists()
+    for path in sorted((ROOT / "workflow" / "scripts").glob("*.py")):
+        text = path.read_text()
+        assert "argparse" not in text and "config.yaml" not in text, path.name
+        tree = ast.parse(text)
+        imported = {
+            alias.asname or alias.name
+            for node in ast.walk(tree)
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("impactdamper")
+            for alias in node.names
+        }
+        for node in ast.walk(tree):
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            for target in targets:  # impactdamper_module.NAME = ..., or IMPORTED[...] = ...
+                base = target.value if isinstance(target, (ast.Attribute, ast.Subscript)) else None
+                assert not (isinstance(base, ast.Name) and base.id in imported), (path.name, ast.unparse(target))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                base = node.func.value  # IMPORTED_TABLE.update(...)
+                mutating = node.func.attr in ("update", "clear", "pop", "setdefault", "append", "extend")
+                assert not (mutating and isinstance(base, ast.Name) and base.id in imported and base.id.isupper()), (
+                    path.name,
+                    ast.unparse(node),
+                )

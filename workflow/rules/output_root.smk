@@ -9,8 +9,8 @@ from pathlib import Path
 
 from snakemake.exceptions import WorkflowError
 
-# The repository's source directories the rules read (scripts, library, notebooks, benchmarks).
-ROOT_LINKED = ("src", "workflow", "notebooks", "benchmarks")
+# The repository's source directories the rules read (scripts, library, notebooks).
+ROOT_LINKED = ("src", "workflow", "notebooks")
 # paper/ holds sources (linked one by one) beside the report's outputs, made in the root.
 ROOT_PAPER_OUTPUTS = ("generated", "report.pdf", "build")
 
