@@ -9,19 +9,18 @@ min_version("8.0")
 configfile: "config/config.yaml"  # a --configfile (config/ci.yaml) is merged over it, key by key
 
 
+include: "workflow/rules/common.smk"
+
+
+# The config checked first (one line naming a bad key), then the schema's defaults filled in.
+validate(checked_config(config), "workflow/schemas/config.schema.yaml")
+
+
 include: "workflow/rules/output_root.smk"
 
 
 # Everything the run writes goes under its output root ("." = the repository and its record).
 workdir: output_root(config)
-
-
-include: "workflow/rules/common.smk"
-
-
-check_config_files(config_files())
-config.update(yaml_scalars(config))
-validate(check_config(config), "workflow/schemas/config.schema.yaml")
 
 
 include: "workflow/rules/reference.smk"

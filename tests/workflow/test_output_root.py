@@ -4,7 +4,9 @@ config/ci.yaml holds only what differs from config/config.yaml and sets ``output
 results/ci``; the Snakefile makes that root the working directory (workflow/rules/output_root.smk)
 and links the sources into it. The test plans the coarse DAG and then has Snakemake create every
 planned output (``--touch``: no job runs) in a scratch copy of the repository: every file it
-makes lies under results/ci, and nothing in the record (figures/, paper/) changes.
+makes lies under results/ci, and nothing in the record (figures/, paper/) changes. A dry run
+writes nothing at all: no root, no link, not even Snakemake's bookkeeping in the root (it plans
+in a temporary directory, removed at exit).
 """
 
 import os
@@ -26,6 +28,24 @@ RECORD = ("figures", "paper")
 def _snakemake(repo: Path, *args: str) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT / "src"), os.environ.get("PYTHONPATH")]))}
     return subprocess.run([*SNAKEMAKE, *args], cwd=repo, env=env, capture_output=True, text=True, timeout=300)
+
+
+def _tree(top: Path) -> dict[str, tuple[int, int]]:
+    """Relative path -> (size, mtime in ns) of every file, directory and link under ``top`` (links
+    not followed)."""
+    return {str(p.relative_to(top)): (p.lstat().st_size, p.lstat().st_mtime_ns) for p in top.rglob("*")}
+
+
+def _dry_run_writes_nothing(repo: Path, *args: str) -> subprocess.CompletedProcess:
+    """A dry run in ``repo``; asserts that no file, directory or link under it changed and that
+    its planning directory is gone."""
+    before = _tree(repo)
+    out = _snakemake(repo, "-n", *args)
+    assert out.returncode == 0, (out.stdout + out.stderr)[-3000:]
+    assert _tree(repo) == before
+    plan = re.search(r"planned in (\S+) \(removed at exit\)", out.stderr)
+    assert plan is not None and not Path(plan.group(1)).exists(), out.stderr[-2000:]
+    return out
 
 
 def _files(top: Path) -> dict[str, tuple[int, int]]:
@@ -71,8 +91,11 @@ def test_ci_config_holds_only_what_differs():
 
 @pytest.mark.slow
 def test_coarse_run_writes_only_under_its_root(copy):
-    plan = _snakemake(copy, "-n", "--forceall", "--configfile", "config/ci.yaml")
-    assert plan.returncode == 0, (plan.stdout + plan.stderr)[-3000:]
+    assert not (copy / "results").exists()
+    # The plan: a dry run, which makes no root and writes nothing anywhere (it used to make
+    # results/ci and fill it with links).
+    plan = _dry_run_writes_nothing(copy, "--forceall", "--configfile", "config/ci.yaml")
+    assert not (copy / "results").exists()
     planned = set()
     for line in re.findall(r"^\s+output: (.*)$", plan.stdout, flags=re.M):
         planned |= {f.strip() for f in line.split(",")}
@@ -99,13 +122,19 @@ def test_coarse_run_writes_only_under_its_root(copy):
     outside = {p: v for p, v in after.items() if not p.startswith(("results/ci/", ".snakemake/log/"))}
     assert outside == {p: v for p, v in before.items() if not p.startswith("results/ci/")}
     assert sum(p.startswith(RECORD) for p in outside) > 100
+    # A dry run over the filled root plans it where it is (every output up to date, as the
+    # root's own files and record of the last run say) and still writes nothing, in it either.
+    again = _dry_run_writes_nothing(copy, "--configfile", "config/ci.yaml")
+    assert "Nothing to be done" in again.stdout + again.stderr, (again.stdout + again.stderr)[-3000:]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("root", ["figures/ci", "paper", "src/out", "."])
-def test_output_root_in_the_record_or_the_sources_is_refused(tmp_path, root):
-    """A root in the record or the sources stops the plan with one line naming the key
-    ("." is the record run itself: allowed)."""
+@pytest.mark.parametrize("root", ["figures/ci", "paper", "src/out", "results", "../outside", "ABSOLUTE", "."])
+def test_output_root_outside_the_scratch_is_refused(tmp_path, root):
+    """A root anywhere but under results/ stops the plan with one line naming the key, before
+    anything is written ("." is the record run itself: allowed). ("/" is refused the same way:
+    tests/unit/test_config_check.py, in process, so that no regression can write there.)"""
+    root = str(tmp_path / "out") if root == "ABSOLUTE" else root
     override = tmp_path / "root.yaml"
     override.write_text(f"output_root: {root}\n")
     out = _snakemake(ROOT, "-n", "reference", "--configfile", "config/ci.yaml", str(override))
@@ -115,8 +144,9 @@ def test_output_root_in_the_record_or_the_sources_is_refused(tmp_path, root):
         return
     assert out.returncode != 0
     message = (
-        f"Error validating config file: ['output_root']: '{root}' is not allowed: must be '.', a directory "
-        "under results/ or one outside the repository"
+        f"Error validating config file: ['output_root']: '{root}' is not allowed: must be '.' or a relative path "
+        "under results/ (the git-ignored scratch), such as results/ci"
     )
     assert message in text and len(text.splitlines()) < 10, text  # one line and Snakemake's frame lines
-    assert not (ROOT / root / "paper").exists()
+    assert not (ROOT / root / "paper").exists() and not (ROOT / root / "src").is_symlink()
+    assert not (tmp_path / "out").exists()

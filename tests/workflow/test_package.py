@@ -97,13 +97,14 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
     assert helped.returncode == 0 and helped.stdout.startswith("usage: impactdamper ")
 
 
-# The figures' modules: matplotlib is theirs, in the workflow extra.
-FIGURE_MODULES = {"plotting.py", "branch_figure.py"}
+# The modules only the workflow imports, whose third-party imports are in the workflow extra:
+# the figures' (matplotlib) and the config checker (pyyaml, jsonschema).
+WORKFLOW_MODULES = {"plotting.py", "branch_figure.py", "config_check.py"}
 
 
 def test_runtime_imports_are_declared_dependencies():
     """Every third-party module the package imports is a declared dependency: a runtime one,
-    unless it is imported only by the figures' module (the workflow extra)."""
+    unless it is imported only by a module of the workflow's (the workflow extra)."""
     distribution = {"yaml": "pyyaml", "mpl_toolkits": "matplotlib"}
     runtime = {re.split(r"[<>=!~ \[]", d)[0].lower() for d in PYPROJECT["project"]["dependencies"]}
     workflow = {
@@ -122,7 +123,7 @@ def test_runtime_imports_are_declared_dependencies():
                 modules.add(node.module.split(".")[0])
         for module in modules - stdlib - {"impactdamper", "__future__"} - elsewhere.get(path.name, set()):
             name = distribution.get(module, module).lower()
-            where = (workflow | runtime) if path.name in FIGURE_MODULES else runtime
+            where = (workflow | runtime) if path.name in WORKFLOW_MODULES else runtime
             assert name in where, (str(path.relative_to(ROOT)), module)
     assert "pandas" not in runtime | workflow  # nothing imports it (the records have their own writers)
 

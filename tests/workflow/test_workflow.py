@@ -6,7 +6,6 @@ workflow/schemas/config.schema.yaml); the tests write a small override file, whi
 merges over config/config.yaml.
 """
 
-import math
 import re
 import subprocess
 import sys
@@ -189,7 +188,7 @@ def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_ru
     checked = set()
     for rule, fields in _jobs(forced_dry_run):
         inputs = [s.strip() for s in fields.get("input", "").split(",")]
-        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "benchmarks/", "notebooks/"))]
+        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "notebooks/"))]
         if not scripts:
             continue
         needed = set().union(*(library_imports(ROOT / s) for s in scripts))
@@ -218,7 +217,7 @@ def test_every_job_running_compiled_code_waits_for_the_warm_up(forced_dry_run):
     users = set()
     for rule, fields in _jobs(forced_dry_run):
         inputs = [s.strip() for s in fields.get("input", "").split(",")]
-        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "benchmarks/", "notebooks/"))]
+        scripts = [s for s in inputs if s.startswith(("workflow/scripts/", "notebooks/"))]
         needed = set().union(*(library_imports(ROOT / s) for s in scripts)) if scripts else set()
         if rule == "compiled_warm_up" or not any(f.startswith("src/impactdamper/core/compiled/") for f in needed):
             continue
@@ -259,138 +258,7 @@ def test_config_override_on_the_command_line_is_typed():
 
 
 # --- config errors: unknown keys, NaN and inf, reversed ranges, numbers in any YAML form -------------
-def _config_helpers() -> dict:
-    """check_config and yaml_scalars from workflow/rules/common.smk, loaded by name (the rest of
-    the file sets up the environment of a Snakemake run, which a test must not)."""
-    import ast
-    from types import SimpleNamespace
-
-    wanted = {
-        "yaml_scalars",
-        "_config_schema",
-        "_schema_node",
-        "check_config",
-        "_config_unknown_or_not_finite",
-        "_config_disordered",
-        "CONFIG_ORDER",
-        "_with_defaults",
-        "_yaml11_only",
-        "DECIMAL",
-    }
-    tree = ast.parse((ROOT / "workflow" / "rules" / "common.smk").read_text())
-    nodes = [
-        n
-        for n in tree.body
-        if (isinstance(n, ast.FunctionDef) and n.name in wanted)
-        or (isinstance(n, ast.Assign) and any(getattr(t, "id", None) in wanted for t in n.targets))
-    ]
-    namespace = {"yaml": yaml, "Path": Path, "workflow": SimpleNamespace(basedir=str(ROOT))}
-    exec(compile(ast.Module(body=nodes, type_ignores=[]), "workflow/rules/common.smk", "exec"), namespace)
-    return namespace
-
-
-CONFIG = _config_helpers()
-
-
-def _shipped(name: str = "config.yaml") -> dict:
-    return CONFIG["yaml_scalars"](shipped_config(name))
-
-
-def _set(config: dict, path: tuple, value) -> dict:
-    node = config
-    for key in path[:-1]:
-        node = node[key]
-    node[path[-1]] = value
-    return config
-
-
-@pytest.mark.parametrize("name", ["config.yaml", "ci.yaml"])
-def test_check_config_accepts_the_shipped_configs(name):
-    config = _shipped(name)
-    assert CONFIG["check_config"](config) is config
-
-
-@pytest.mark.parametrize(
-    ("path", "value", "message"),
-    [
-        (("refrence",), {"theta": 5}, "['refrence'] is not a config key: did you mean 'reference'?"),
-        (("verdict", "gap_stepp"), 0.1, "['verdict']['gap_stepp'] is not a config key: did you mean 'gap_step'?"),
-        (
-            ("maps", "theta", "gap_strat"),
-            1.0,
-            "['maps']['theta']['gap_strat'] is not a config key: did you mean 'gap_start'?",
-        ),
-        (
-            ("orbits", "branches", 0, "gap_mx"),
-            1.0,
-            "['orbits']['branches'][0]['gap_mx'] is not a config key: did you mean 'gap_max'?",
-        ),
-        (("zzz",), 1, "['zzz'] is not a config key: allowed are reference, solver"),
-        (("reference", "gap"), math.nan, "['reference']['gap']: nan is not allowed: must be a finite number"),
-        (("reference", "theta"), math.inf, "['reference']['theta']: inf is not allowed: must be a finite number"),
-        (("performance", "growth_gaps"), [-5.8, -math.inf], "['performance']['growth_gaps'][1]: -inf is not allowed"),
-        (("reference", "R"), 1.5, "['reference']['R']: 1.5 is greater than the maximum of 1"),
-        (("solver", "max_periods"), "many", "['solver']['max_periods']: 'many' is not of type 'integer'"),
-        (("verdict", "gap_min"), 50.0, "['verdict']: gap_min = 50.0 is not allowed: must be < gap_max = "),
-        (("sweep", "start"), 20.0, "['sweep']: start = 20.0 is not allowed: must be < stop = 14.0"),
-        (
-            ("maps", "damping", "gap_start"),
-            40.0,
-            "['maps']['damping']: gap_start = 40.0 is not allowed: must be < gap_stop",
-        ),
-        (
-            ("orbits", "continuation", "min_step"),
-            1.0,
-            "['orbits']['continuation']: min_step = 1.0 is not allowed: must be <= step",
-        ),
-        (
-            ("orbits", "branches", 0, "gap"),
-            50.0,
-            "['orbits']['branches'][0]: gap = 50.0 is not allowed: must be <= gap_max",
-        ),
-        (
-            ("sweep", "max_periods_after_nonperiodic"),
-            10**6,
-            "['sweep']: max_periods_after_nonperiodic = 1000000 is not allowed",
-        ),
-    ],
-)
-def test_check_config_names_the_key_in_one_short_line(path, value, message):
-    from snakemake.exceptions import WorkflowError
-
-    with pytest.raises(WorkflowError) as err:
-        CONFIG["check_config"](_set(_shipped(), path, value))
-    text = str(err.value)
-    assert text.startswith("Error validating config file: ") and message in text, text
-    assert "\n" not in text and len(text) < 300
-
-
-@pytest.mark.parametrize(
-    ("text", "path", "value"),
-    [
-        ("1e-12", ("solver", "gap_tol"), 1e-12),
-        ("1E12", ("verdict", "ivp_atol"), 1e12),
-        ("-1e-9", ("reference", "gap"), -1e-9),
-        ("4e3", ("solver", "max_periods"), 4000),
-        ("1_000", ("solver", "max_periods"), 1000),
-        ("'yes'", ("orbits", "cases", 0, "name"), "yes"),
-        ("yes", ("orbits", "cases", 0, "name"), "yes"),
-        (".5", ("reference", "R"), 0.5),
-        ("true", ("verdict", "ivp_method"), "true"),
-    ],
-)
-def test_numbers_in_any_yaml_form_and_strings_stay_strings(text, path, value):
-    """A value as the YAML file or Snakemake's --config hands it over (a string for a float
-    without a dot, and for every nested --config value) is read as the schema's type."""
-    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
-    raw = yaml.safe_load(f"v: {text}")["v"]
-    read = CONFIG["yaml_scalars"](_set(config, path, raw if not isinstance(raw, bool) else text))
-    node = read
-    for key in path:
-        node = node[key]
-    assert node == value and type(node) is type(value)
-
-
+# (the checks themselves, in process: tests/unit/test_config_check.py; here, end to end)
 @pytest.mark.slow
 @pytest.mark.parametrize(
     ("args", "message"),
@@ -486,7 +354,90 @@ def test_decimal_numbers_and_yaml12_booleans_are_accepted(tmp_path):
 
 
 def test_config_problem_finds_nothing_in_the_shipped_configs():
+    from impactdamper.studies import config_check
     from impactdamper.studies.config import config_problem
 
+    schema = config_check.read_schema(SCHEMA)
     for name in ("config.yaml", "ci.yaml"):
-        assert config_problem(_shipped(name)) is None
+        assert config_problem(config_check.typed(shipped_config(name), schema)) is None
+
+
+# --- issue 33: limits at validation, end to end (a dry run stops in seconds, naming the key) --------
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("override", "message"),
+    [
+        (
+            "design: {theta_points: 4}",
+            "['design']['theta_points']: 4 is not allowed: the theta grid from 0.5 to 1.5 must contain the reference "
+            "theta = 1 (such as 3, 5, 7)",
+        ),
+        ("sweep: {points: 1000000000}", "['sweep']['points']: 1000000000 is not allowed: 1000000000 sweep values"),
+        (
+            "maps: {theta: {points: 100000, gap_points: 100000}}",
+            "['maps']['theta']: points x gap_points = 100000 x 100000 is not allowed: 10000000000 map cells; at most",
+        ),
+        ("verdict: {gap_step: 1.0e-9}", "['verdict']['gap_step']: 1e-09 is not allowed: 16000000000 Algorithm No. 2"),
+        (
+            "claims_search: {map: {x: gap, x_start: -12.0, x_stop: -4.0}}",
+            "['claims_search']['map']['y']: 'gap' is not allowed: must differ from x = 'gap'",
+        ),
+        ("output_root: ../elsewhere", "['output_root']: '../elsewhere' is not allowed: must be '.' or a relative path"),
+    ],
+)
+def test_snakemake_stops_on_a_config_limit_in_one_line(tmp_path, override, message):
+    out = dry_run_with(tmp_path, override + "\n")
+    text = out.stdout + out.stderr
+    assert out.returncode != 0 and message in text, text
+    line = next(x for x in text.splitlines() if message in x)
+    assert line.startswith("Error validating config file: ") and len(text.splitlines()) < 10, text
+    assert not (ROOT.parent / "elsewhere").exists()
+
+
+# --- one convention for every rule script --------------------------------------------------------
+def _rules() -> dict[str, str]:
+    """Each rule's text in workflow/rules/*.smk, by name."""
+    rules = {}
+    for path in sorted((ROOT / "workflow" / "rules").glob("*.smk")):
+        for block in re.split(r"\n(?=rule \w+:)", path.read_text()):
+            m = re.match(r"rule (\w+):", block)
+            if m:
+                rules[m.group(1)] = block
+    return rules
+
+
+def test_every_rule_script_runs_through_script_with_its_settings_from_the_rule():
+    """A rule that runs a workflow script runs it through ``script:`` (settings from
+    snakemake.params), never from ``shell:`` with a command line; every rule script lives in
+    workflow/scripts and reads no config file itself nor changes a library module's globals."""
+    import ast
+
+    rules = _rules()
+    scripted = {name for name, text in rules.items() if "workflow/scripts/" in text}
+    assert len(scripted) > 50 and {"performance_reference_speed", "performance_compiled_speed"} <= scripted
+    for name in scripted:
+        assert re.search(r"^    script:$", rules[name], flags=re.M) and "shell:" not in rules[name], name
+    assert all("python " not in text for text in rules.values() if "shell:" in text)
+    assert not (ROOT / "benchmarks").exists()
+    for path in sorted((ROOT / "workflow" / "scripts").glob("*.py")):
+        text = path.read_text()
+        assert "argparse" not in text and "config.yaml" not in text, path.name
+        tree = ast.parse(text)
+        imported = {
+            alias.asname or alias.name
+            for node in ast.walk(tree)
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("impactdamper")
+            for alias in node.names
+        }
+        for node in ast.walk(tree):
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            for target in targets:  # impactdamper_module.NAME = ..., or IMPORTED[...] = ...
+                base = target.value if isinstance(target, (ast.Attribute, ast.Subscript)) else None
+                assert not (isinstance(base, ast.Name) and base.id in imported), (path.name, ast.unparse(target))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                base = node.func.value  # IMPORTED_TABLE.update(...)
+                mutating = node.func.attr in ("update", "clear", "pop", "setdefault", "append", "extend")
+                assert not (mutating and isinstance(base, ast.Name) and base.id in imported and base.id.isupper()), (
+                    path.name,
+                    ast.unparse(node),
+                )

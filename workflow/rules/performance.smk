@@ -104,8 +104,8 @@ rule performance_hardcases:
 
 rule performance_reference_speed:
     input:
-        script="benchmarks/reference_speed.py",
-        library=library(BASELINES),
+        script="workflow/scripts/reference_speed.py",
+        library=library(BASELINES, REPORTING),
     output:
         "results/benchmarks/reference_speed.json",
     log:
@@ -115,9 +115,9 @@ rule performance_reference_speed:
     params:
         repeats=config["performance"]["reference_speed_repeats"],
         ivp_repeats=config["performance"]["reference_speed_ivp_repeats"],
-    shell:
-        "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
-        "python {input.script} {output} --repeats {params.repeats} --ivp-repeats {params.ivp_repeats} > {log} 2>&1"
+        targets=json.dumps(config["performance"]["reference_speed_targets"], sort_keys=True),
+    script:
+        "../scripts/reference_speed.py"
 
 
 # The JIT compile time of the compiled solver (its kernels compiled into a fresh numba cache of
@@ -126,16 +126,22 @@ rule performance_reference_speed:
 rule performance_compile_time:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("compiled_speed")),
+        library=library(BASELINES, study("compiled_speed"), REPORTING),
     output:
         "results/benchmarks/compile_time.json",
     log:
         "logs/performance/compile_time.log",
     conda:
         ENV
-    shell:
-        "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
-        "python {input.script} {output} --compile-only > {log} 2>&1"
+    params:
+        compile_only=True,
+    script:
+        "../scripts/compiled_speed.py"
+
+
+# The maps' settle settings (keys of the config's maps section), which the compiled-solver
+# benchmark's maps and batch use.
+MAP_SETTLE_KEYS = ("settle_tol", "max_periods", "max_periods_after_nonperiodic", "max_period_multiple")
 
 
 # The compiled solver's speed (core/compiled, analysis/batch.py) against its targets: per
@@ -146,7 +152,7 @@ rule performance_compile_time:
 rule performance_compiled_speed:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("compiled_speed")),
+        library=library(BASELINES, study("compiled_speed"), REPORTING),
     output:
         "figures/compiled_speed.json",
     log:
@@ -157,17 +163,12 @@ rule performance_compiled_speed:
     threads: 2
     params:
         repeats=config["performance"]["compiled_speed_repeats"],
-        map_sizes=" ".join(str(n) for n in config["performance"]["compiled_speed_map_sizes"]),
+        map_sizes=config["performance"]["compiled_speed_map_sizes"],
         targets=json.dumps(config["performance"]["compiled_speed_targets"], sort_keys=True),
         batch_points=config["performance"]["compiled_speed_batch_points"],
-        max_periods=config["maps"]["max_periods"],
-        after_nonperiodic=config["maps"]["max_periods_after_nonperiodic"],
-    shell:
-        "OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 "
-        "python {input.script} {output} --repeats {params.repeats} --map-sizes {params.map_sizes} --workers 2 "
-        "--no-compile --targets '{params.targets}' --batch-points {params.batch_points} "
-        "--max-periods {params.max_periods} --max-periods-after-nonperiodic {params.after_nonperiodic} "
-        "> {log} 2>&1"
+        maps=json.dumps({key: config["maps"][key] for key in MAP_SETTLE_KEYS}, sort_keys=True),
+    script:
+        "../scripts/compiled_speed.py"
 
 
 rule performance_report:

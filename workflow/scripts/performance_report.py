@@ -55,7 +55,7 @@ def main(
 ) -> dict:
     """Write the summary, the stage's record (``out_record``, JSON) and from it the macros
     (``out_macros``), the work-precision table and the compiled solver's table. The JIT compile
-    times come from ``in_compile_time`` (a ``--compile-only`` run of the benchmark) where the
+    times come from ``in_compile_time`` (rule performance_compile_time: the benchmark's compile-only run) where the
     benchmark's record has none."""
     wp = read_json(in_wp)
     compiled = read_json(in_compiled)

@@ -2,8 +2,8 @@
 
 The measurement functions of ``workflow/scripts/compiled_speed.py`` (which describes each one and
 writes ``figures/compiled_speed.json``), on the paper's reference case (Timofeev et al. 2019,
-Fig. 2). ``TARGETS`` and ``MAP_SETTINGS`` are filled by the caller (the script's command line)
-before :func:`run`; every timing is CPU and wall time, with the 1-minute load average beside it.
+Fig. 2). The targets and the maps' settle settings are arguments of :func:`run` (the workflow
+passes the config's); every timing is CPU and wall time, with the 1-minute load average beside it.
 """
 
 from __future__ import annotations
@@ -28,19 +28,17 @@ from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core import compiled as cc
 from impactdamper.core.compiled.settle import steady_kernel
 
-# The targets: the config's performance.compiled_speed_targets (main() fills this from --targets).
-TARGETS: dict = {}
 # Batch points: gap x theta around the reference case (every cell a settled motion within the cap).
 BATCH_GAPS = (-9.0, -3.0)
 BATCH_THETAS = (0.8, 1.2)
 # Fresh processes timed for the command line's wall time (median taken).
 CLI_RUNS = 5
 RTOL = ATOL = 1e-10  # DOP853's tolerances named by the issue
-# The full config's theta map (config/config.yaml, maps.theta) and its settings; the workflow's
-# rule passes the config's period caps (--max-periods, --max-periods-after-nonperiodic).
+# The full config's theta map (config/config.yaml, maps.theta); its settle settings (the
+# SweepSettings fields settle_tol, max_periods, max_periods_after_nonperiodic,
+# max_period_multiple) are the caller's: the workflow passes the config's maps section's.
 MAP_GAPS = (-40.0, 15.0)
 MAP_THETAS = (0.5, 1.5)
-MAP_SETTINGS = dict(settle_tol=1e-9, max_periods=300, max_periods_after_nonperiodic=300, max_period_multiple=8)
 # Map points whose DOP853 cost is timed and extrapolated (a full DOP853 map would take hours).
 IVP_MAP_SAMPLE = 6
 
@@ -93,7 +91,7 @@ def compile_times() -> dict:
     return out
 
 
-def per_impact(p, long_periods: int, ivp_periods: int, repeats: int) -> dict:
+def per_impact(p, long_periods: int, ivp_periods: int, repeats: int, targets: dict) -> dict:
     n_events = cc.count_events_compiled(p, long_periods * p.T)
     traj = cc.simulate_compiled(p, long_periods * p.T)
     impacts = len(traj.impacts())
@@ -124,14 +122,14 @@ def per_impact(p, long_periods: int, ivp_periods: int, repeats: int) -> dict:
             "us_per_impact_min": 1e6 * dop["cpu_min_s"] / max(len(dop["result"].impacts()), 1),
         },
     }
-    out["target_us"] = TARGETS["us_per_impact"]
-    out["met"] = out["compiled"]["us_per_impact_min"] <= TARGETS["us_per_impact"]
+    out["target_us"] = targets["us_per_impact"]
+    out["met"] = out["compiled"]["us_per_impact_min"] <= targets["us_per_impact"]
     out["speedup_vs_python"] = out["python"]["us_per_impact_min"] / out["compiled"]["us_per_impact_min"]
     out["speedup_vs_dop853"] = out["dop853"]["us_per_impact_min"] / out["compiled"]["us_per_impact_min"]
     return out
 
 
-def steady(p, repeats: int) -> dict:
+def steady(p, repeats: int, targets: dict) -> dict:
     alg1 = idp.algorithm1(p)
     reference = alg1.impact_phase
     compiled = timed(lambda: cc.steady_state_full(p), repeats)
@@ -162,17 +160,17 @@ def steady(p, repeats: int) -> dict:
     out["speedup_vs_dop853"] = dop["cpu_min_s"] / compiled["cpu_min_s"]
     out["speedup_vs_python"] = python["cpu_min_s"] / compiled["cpu_min_s"]
     out["targets"] = {
-        "time_s": TARGETS["steady_s"],
-        "time_met": compiled["cpu_min_s"] <= TARGETS["steady_s"],
-        "speedup": TARGETS["steady_speedup"],
-        "speedup_met": out["speedup_vs_dop853"] >= TARGETS["steady_speedup"],
-        "phase": TARGETS["phase"],
-        "phase_met": max(err_alg1, err_python) <= TARGETS["phase"],
+        "time_s": targets["steady_s"],
+        "time_met": compiled["cpu_min_s"] <= targets["steady_s"],
+        "speedup": targets["steady_speedup"],
+        "speedup_met": out["speedup_vs_dop853"] >= targets["steady_speedup"],
+        "phase": targets["phase"],
+        "phase_met": max(err_alg1, err_python) <= targets["phase"],
     }
     return out
 
 
-def front_door(p, repeats: int, batch_points: int) -> dict:
+def front_door(p, repeats: int, batch_points: int, targets: dict, map_settings: dict) -> dict:
     """What a user's calls cost: impactdamper.steady_state (auto and python backends), a batch
     through impactdamper.steady_states against the kernels' own time, and the command line."""
     public = timed(lambda: idp.steady_state(p), repeats)
@@ -186,15 +184,15 @@ def front_door(p, repeats: int, batch_points: int) -> dict:
             "method": s.method,
             "fallback": s.fallback,
             "speedup_vs_python": python["wall_median_s"] / public["wall_median_s"],
-            "target_s": TARGETS["public_steady_s"],
-            "met": public["wall_median_s"] <= TARGETS["public_steady_s"],
+            "target_s": targets["public_steady_s"],
+            "met": public["wall_median_s"] <= targets["public_steady_s"],
         }
     }
     # The batch: an n x n grid of (gap, theta), each point from Algorithm No. 2's step 1.
     n = max(2, int(round(math.sqrt(batch_points))))
     gg, tt = np.meshgrid(np.linspace(*BATCH_GAPS, n), np.linspace(*BATCH_THETAS, n))
     values = np.column_stack([gg.ravel(), tt.ravel()])
-    settings = SweepSettings(**MAP_SETTINGS)  # the maps' caps (a map row's cells, here each from step 1)
+    settings = SweepSettings(**map_settings)  # the maps' caps (a map row's cells, here each from step 1)
     c, w = time.process_time(), time.perf_counter()
     res = idp.steady_states(p, ("gap", "theta"), values, settings=settings, chain=False)
     batch_cpu, batch_wall = time.process_time() - c, time.perf_counter() - w
@@ -239,8 +237,8 @@ def front_door(p, repeats: int, batch_points: int) -> dict:
         "kernel_points": len(packed),
         "fallbacks": res.fallbacks,
         "nonperiodic": int(np.sum(res.regime == "nonperiodic")),
-        "target_ratio": TARGETS["batch_ratio"],
-        "met": batch_cpu / kernel_cpu <= TARGETS["batch_ratio"],
+        "target_ratio": targets["batch_ratio"],
+        "met": batch_cpu / kernel_cpu <= targets["batch_ratio"],
         "load_1min": load(),
     }
     # The command line, a fresh process each (the kernels from numba's warm cache).
@@ -264,14 +262,14 @@ def front_door(p, repeats: int, batch_points: int) -> dict:
         "wall_median_s": statistics.median(walls),
         "import_median_s": statistics.median(float(i[0]) for i in imports),
         "import_loads_numba": any(i[1] == "True" for i in imports),
-        "target_s": TARGETS["cli_wall_s"],
-        "met": statistics.median(walls) <= TARGETS["cli_wall_s"],
+        "target_s": targets["cli_wall_s"],
+        "met": statistics.median(walls) <= targets["cli_wall_s"],
         "load_1min": load(),
     }
     return out
 
 
-def first_impacts(p, repeats: int, count: int = 10) -> dict:
+def first_impacts(p, repeats: int, targets: dict, count: int = 10) -> dict:
     ref = idp.simulate(p, 40 * p.T, backend="python")
     t_end = ref.impacts()[count - 1].t + 1e-6 * p.T  # just past the count-th impact
     compiled = timed(lambda: cc.run_compiled(p, t_end), repeats)
@@ -296,16 +294,16 @@ def first_impacts(p, repeats: int, count: int = 10) -> dict:
         "speedup_vs_python": python["cpu_min_s"] / compiled["cpu_min_s"],
     }
     out["speedup_vs_dop853_packed_once"] = dop["cpu_min_s"] / solver["cpu_min_s"]
-    out["target_speedup"] = TARGETS["first10_speedup"]
-    out["met"] = out["speedup_vs_dop853"] >= TARGETS["first10_speedup"]
+    out["target_speedup"] = targets["first10_speedup"]
+    out["met"] = out["speedup_vs_dop853"] >= targets["first10_speedup"]
     return out
 
 
 def _map_rows(args) -> tuple[list, float, float, int]:
     """One worker's block of map rows (a chunk): (rows as dicts, cpu, wall, fallback points)."""
-    thetas, gaps, rescue = args
+    thetas, gaps, rescue, map_settings = args
     c, w = time.process_time(), time.perf_counter()
-    settings = SweepSettings(**MAP_SETTINGS, rescue=rescue)
+    settings = SweepSettings(**map_settings, rescue=rescue)
     rows = regime_map_batch(idp.Parameters(), "gap", gaps, "theta", thetas, settings=settings)
     cpu, wall = time.process_time() - c, time.perf_counter() - w
     out = [
@@ -321,7 +319,7 @@ def _map_rows(args) -> tuple[list, float, float, int]:
     return out, cpu, wall, sum(o["fallback"] for o in out)
 
 
-def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
+def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool, map_settings: dict) -> dict:
     gaps = np.linspace(*MAP_GAPS, n)
     thetas = np.linspace(*MAP_THETAS, n)
     # Rows dealt round-robin: the costly rows (near resonance, theta ~ 1) are contiguous, and a
@@ -329,10 +327,11 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
     blocks = [thetas[w::workers] for w in range(workers)]
     walls, cpus, result = [], [], None
     with ProcessPoolExecutor(workers) as pool:
-        list(pool.map(_map_rows, [(b[:1], gaps[:4], rescue) for b in blocks]))  # each worker loads the kernels
+        # Each worker loads the kernels first.
+        list(pool.map(_map_rows, [(b[:1], gaps[:4], rescue, map_settings) for b in blocks]))
         for _ in range(repeats):
             w = time.perf_counter()
-            result = list(pool.map(_map_rows, [(b, gaps, rescue) for b in blocks]))
+            result = list(pool.map(_map_rows, [(b, gaps, rescue, map_settings) for b in blocks]))
             walls.append(time.perf_counter() - w)
             cpus.append(sum(r[1] for r in result))
     worker_cpu = [r[1] for r in result]
@@ -364,7 +363,7 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool) -> dict:
     )
 
 
-def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> dict:
+def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray, map_settings: dict) -> dict:
     """DOP853 on a sample of map points over their simulated periods, and one pure-Python row,
     each extrapolated to the whole map by simulated periods (rows)."""
     rng = np.random.default_rng(0)
@@ -383,7 +382,7 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> 
         sim += int(periods[i, j])
     per_period = cpu / max(sim, 1)
     row = n // 2
-    settings = SweepSettings(**MAP_SETTINGS, continuation=True)
+    settings = SweepSettings(**map_settings, continuation=True)
     c = time.process_time()
     regime_map(idp.Parameters(), "gap", gaps, "theta", thetas[row : row + 1], settings=settings)
     py_row = time.process_time() - c
@@ -400,23 +399,39 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray) -> 
     }
 
 
-def run(args) -> dict:
+def run(
+    targets: dict,
+    map_settings: dict,
+    *,
+    repeats: int = 5,
+    map_repeats: int = 2,
+    long_periods: int = 10_000,
+    ivp_periods: int = 200,
+    workers: int = 2,
+    map_sizes=(200,),
+    batch_points: int = 10_000,
+    compile_time: bool = True,
+) -> dict:
+    """Every measurement of the benchmark, against ``targets`` (the config's
+    performance.compiled_speed_targets), the maps with ``map_settings`` (SweepSettings fields:
+    the config's maps caps); ``compile_time=False`` leaves the record's 'compile' null (timed
+    on its own by :func:`compile_times`)."""
     p = idp.Parameters()
     warm_up()
-    out = {"case": p.to_dict(), "compile": None if args.no_compile else compile_times()}
-    out["per_impact"] = per_impact(p, args.long_periods, args.ivp_periods, args.repeats)
-    out["steady_state"] = steady(p, args.repeats * 10)
-    out["first_10_impacts"] = first_impacts(p, args.repeats * 10)
-    out["front_door"] = front_door(p, args.repeats * 10, args.batch_points)
+    out = {"case": p.to_dict(), "compile": compile_times() if compile_time else None}
+    out["per_impact"] = per_impact(p, long_periods, ivp_periods, repeats, targets)
+    out["steady_state"] = steady(p, repeats * 10, targets)
+    out["first_10_impacts"] = first_impacts(p, repeats * 10, targets)
+    out["front_door"] = front_door(p, repeats * 10, batch_points, targets, map_settings)
     maps = {}
-    for n in args.map_sizes:
-        m, periods, gaps, thetas = regime_map_timing(n, args.workers, args.map_repeats, rescue=False)
-        if n == args.map_sizes[0]:
-            m["baselines"] = map_baselines(periods, gaps, thetas)
+    for n in map_sizes:
+        m, periods, gaps, thetas = regime_map_timing(n, workers, map_repeats, rescue=False, map_settings=map_settings)
+        if n == map_sizes[0]:
+            m["baselines"] = map_baselines(periods, gaps, thetas, map_settings)
             m["speedup_vs_dop853_estimate"] = m["baselines"]["dop853_map_estimate_s"] / m["cpu_total_min_s"]
         # The same map with the batch's Newton rescue of the cells not settled within the cap
         # (impactdamper.steady_states' default): how many of them were slow transients.
-        r, _, _, _ = regime_map_timing(n, args.workers, 1, rescue=True)
+        r, _, _, _ = regime_map_timing(n, workers, 1, rescue=True, map_settings=map_settings)
         m["rescue_run"] = {
             "wall_s": r["wall_min_s"],
             "cpu_s": r["cpu_total_min_s"],
@@ -425,8 +440,8 @@ def run(args) -> dict:
         }
         m["nonperiodic_share"] = m["regimes"].get("nonperiodic", 0) / m["points"]
         m["nonperiodic_share_rescued"] = r["regimes"].get("nonperiodic", 0) / m["points"]
-        m["target_s"] = TARGETS["map_s"] if n == 200 else None
-        m["met"] = (m["wall_min_s"] <= TARGETS["map_s"]) if n == 200 else None
+        m["target_s"] = targets["map_s"] if n == 200 else None
+        m["met"] = (m["wall_min_s"] <= targets["map_s"]) if n == 200 else None
         maps[f"{n}x{n}"] = m
     out["maps"] = maps
     out["notes"] = [
@@ -455,7 +470,9 @@ def summary(out: dict) -> str:
     c, pi, st, f10 = out["compile"], out["per_impact"], out["steady_state"], out["first_10_impacts"]
     yes = {True: "met", False: "NOT met", None: "-"}
     lines = [
-        f"JIT compile from scratch: {c['cold_compile_s']:.1f} s" if c else "JIT compile: not measured (--no-compile)",
+        f"JIT compile from scratch: {c['cold_compile_s']:.1f} s"
+        if c
+        else "JIT compile: timed on its own (compile_times)",
         f"JIT load from the cache:  {c['cached_load_s']:.2f} s" if c else "",
         f"per impact ({pi['compiled']['impacts']} impacts, load {pi['compiled']['load_1min']:.1f}): compiled "
         f"{pi['compiled']['us_per_impact_min']:.2f} us (median {pi['compiled']['us_per_impact_median']:.2f}); "
