@@ -16,14 +16,17 @@ from impactdamper.analysis.settled import SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep
 from impactdamper.reporting import latex, records
 from impactdamper.reporting.plotting import finish_figure, use_style
-from impactdamper.studies import gapsweep, replication
+from impactdamper.studies.sweeps import gapsweep
 
 
 # --- the gap scan: a closed-form gap -------------------------------------------------------------
+from impactdamper.studies.replication import crosscheck
+
+
 @pytest.mark.parametrize("samples", [400, 4000])
 def test_gap_sign_scan_finds_the_roots_of_a_cosine(samples):
     """gap(s) = cos(2 pi s) is negative on (1/4, 3/4): both ends to the scan's xtol (1e-14)."""
-    scan = replication.gap_sign_scan(lambda s: math.cos(2 * math.pi * s), samples)
+    scan = crosscheck.gap_sign_scan(lambda s: math.cos(2 * math.pi * s), samples)
     assert len(scan.negative_intervals) == 1
     lo, hi = scan.negative_intervals[0]
     assert abs(lo - 0.25) <= 1e-13 and abs(hi - 0.75) <= 1e-13, (lo, hi)
@@ -33,9 +36,9 @@ def test_gap_sign_scan_finds_the_roots_of_a_cosine(samples):
 
 def test_gap_sign_scan_open_ends_and_no_root():
     """Negative at the scan's start: the interval opens at 0; never negative: no interval."""
-    scan = replication.gap_sign_scan(lambda s: s - 0.5, 100)
+    scan = crosscheck.gap_sign_scan(lambda s: s - 0.5, 100)
     assert scan.negative_intervals == ((0.0, pytest.approx(0.5, abs=1e-14)),)
-    assert replication.gap_sign_scan(lambda s: 1.0 + s, 100).negative_intervals == ()
+    assert crosscheck.gap_sign_scan(lambda s: 1.0 + s, 100).negative_intervals == ()
 
 
 # --- records ------------------------------------------------------------------------------------
@@ -163,7 +166,7 @@ def test_numeric_thresholds_match_the_closed_form():
     resolves the phase to ~1e-14 T."""
     from impactdamper.analysis.sweeps import with_value
     from impactdamper.analysis.transitions import no_contact_gap, stuck_liftoff_gap
-    from impactdamper.studies import transition_checks as transitions
+    from impactdamper.studies.sweeps import transitions as transitions
 
     base = Parameters()
     liftoff = stuck_liftoff_gap(base)

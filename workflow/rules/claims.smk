@@ -11,7 +11,10 @@ CLAIMS_PARAMETERS = ["theta", "mu", "N", "delta1", "delta2", "R"]
 rule claims_parameter:
     input:
         script="workflow/scripts/claims_parameter.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(
+            study("claims/search", "config", "intervals", "replication/cases", "replication/claims"),
+            REPORTING,
+        ),
     output:
         json="results/claims/{parameter}.json",
     log:
@@ -31,7 +34,21 @@ rule claims_parameter:
 rule claims_by_parameter:
     input:
         script="workflow/scripts/claims_gather.py",
-        library=library(BASELINES, study("claims", "claims_record", "config", "replication"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "claims/nearest",
+                "claims/record",
+                "claims/search",
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "replication/gapscan",
+            ),
+            REPORTING,
+        ),
         results=expand("results/claims/{parameter}.json", parameter=CLAIMS_PARAMETERS),
     output:
         csv="figures/claims_by_parameter.csv",
@@ -53,7 +70,7 @@ rule claims_by_parameter:
 rule claims_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        library=library(study("claims", "config"), REPORTING),
+        library=library(study("claims/maps", "config", "replication/claims"), REPORTING),
     output:
         csv="results/claims/map_{chunk}.csv",
     log:
@@ -74,7 +91,10 @@ rule claims_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
         helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
-        library=library(BASELINES, study("claims", "claims_maps", "config", "replication"), REPORTING),
+        library=library(
+            study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
+            REPORTING,
+        ),
         chunks=claims_map_chunk_files,
     output:
         csv="figures/claims_map.csv",
@@ -98,7 +118,7 @@ CLAIMS_PAIR_MAPS = list(config["claims_search"]["pair_maps"])
 rule claims_pair_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        library=library(study("claims", "config"), REPORTING),
+        library=library(study("claims/maps", "config", "replication/claims"), REPORTING),
     output:
         csv="results/claims/map_{name}_{chunk}.csv",
     log:
@@ -120,7 +140,10 @@ rule claims_pair_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
         helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
-        library=library(BASELINES, study("claims", "claims_maps", "config", "replication"), REPORTING),
+        library=library(
+            study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
+            REPORTING,
+        ),
         chunks=claims_pair_map_chunk_files,
     output:
         csv="figures/claims_map_{name}.csv",
@@ -215,7 +238,18 @@ ALL_TARGETS.extend(
 rule claims_nearest:
     input:
         script="workflow/scripts/claims_nearest.py",
-        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "claims/nearest",
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+            ),
+            REPORTING,
+        ),
     output:
         json="figures/claims_nearest.json",
         timing="results/benchmarks/claims_nearest_timing.json",
@@ -238,7 +272,21 @@ ALL_TARGETS.append("figures/claims_nearest.json")
 rule claims_macros:
     input:
         script="workflow/scripts/claims_macros.py",
-        library=library(BASELINES, study("claims", "config", "replication", "nearest", "nearest_record"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "claims/nearest",
+                "claims/record",
+                "claims/search",
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "replication/gapscan",
+            ),
+            REPORTING,
+        ),
         nearest="figures/claims_nearest.json",
         search="figures/claims_by_parameter_settings.json",
         maps=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),

@@ -35,8 +35,8 @@ for _name, _directory in (
 # the package does not import it.
 def library_files(part):
     """The .py files of library part ``part``: a subpackage (``core``, with its own
-    subpackages such as ``core/compiled``) or one module (``studies/claims``), paths relative
-    to the repository."""
+    subpackages such as ``core/compiled``) or one module (``studies/claims/search``), paths
+    relative to the repository."""
     path = Path("src/impactdamper", part)
     if path.with_suffix(".py").is_file():
         return [str(path.with_suffix(".py"))]
@@ -54,9 +54,12 @@ PACKAGE = ["src/impactdamper/__init__.py"] + CORE + ANALYSIS
 
 
 def study(*names):
-    """The study modules ``names`` of the studies part (each with the modules it imports named
-    too by the caller), with the part's __init__.py."""
-    return ["src/impactdamper/studies/__init__.py"] + [f for n in names for f in library_files(f"studies/{n}")]
+    """The study modules ``names`` of the studies part, each a room's module (``claims/search``)
+    or a shared one (``config``), with the modules it imports named too by the caller, and the
+    ``__init__.py`` of the part and of every room named."""
+    rooms = sorted({n.split("/")[0] for n in names if "/" in n})
+    inits = ["src/impactdamper/studies/__init__.py"] + [f"src/impactdamper/studies/{r}/__init__.py" for r in rooms]
+    return inits + [f for n in names for f in library_files(f"studies/{n}")]
 
 
 def library(*parts):

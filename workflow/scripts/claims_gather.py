@@ -18,10 +18,10 @@ Outputs:
 
 from pathlib import Path
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
 from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
-from impactdamper.studies.claims import SEARCH_PARAMETERS, nearest_both
-from impactdamper.studies.claims_record import solver_dependent, table
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS, nearest_both
+from impactdamper.studies.claims.record import solver_dependent, table
 
 PARAMETERS = SEARCH_PARAMETERS
 CLAIMS = ("a", "b", "both")

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
-from impactdamper.studies.nearest_record import macros
+from impactdamper.studies.claims.record import macros
 
 RECORD_WHAT = "where the claims hold beyond the gap: the nearest set, round values, refinement, pair maps, end checks"
 

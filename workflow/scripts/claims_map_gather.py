@@ -2,7 +2,7 @@
 ``figures/claims_map.csv`` (or ``figures/claims_map_{name}.csv`` for
 ``claims_search.pair_maps``; chunks in order, so the table does not depend on the number of
 jobs), refines it where the labels change or a cell does not settle
-(:func:`impactdamper.studies.claims_maps.refine_claims_map`, the map's ``refine_levels``) into
+(:func:`impactdamper.studies.claims.maps.refine_claims_map`, the map's ``refine_levels``) into
 ``..._refined.csv`` (the added points only, with their level) and writes the settings and the
 refinement's counts beside it (``..._settings.json``)."""
 
@@ -10,8 +10,8 @@ import sys
 
 import gather_csv
 from claims_map_chunk import map_settings
-from impactdamper.studies import replication as rep
-from impactdamper.studies.claims_maps import REFINED_COLUMNS, refine_claims_map
+from impactdamper.studies.replication import cases as rep
+from impactdamper.studies.claims.maps import REFINED_COLUMNS, refine_claims_map
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import read_csv, start_stage, write_csv, write_json
 

@@ -41,7 +41,7 @@ import json
 import sys
 from pathlib import Path
 
-from impactdamper.studies.compiled_speed import MAP_SETTINGS, TARGETS, compile_times, run, summary
+from impactdamper.studies.performance.compiled_speed import MAP_SETTINGS, TARGETS, compile_times, run, summary
 
 CONFIG = Path(__file__).resolve().parents[2] / "config" / "config.yaml"
 

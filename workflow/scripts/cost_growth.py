@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402 (after the BLAS threads are set)
 
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import workprecision as wp
+from impactdamper.studies.performance import workprecision as wp
 
 CSV_COLUMNS = ["gap", "periods", "impacts", "events", "cpu_seconds", "per_impact", "per_period"]
 

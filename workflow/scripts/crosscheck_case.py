@@ -19,7 +19,8 @@ residual and the negative-gap interval ends within tolerance, ``agree_b`` the al
 Output: ``figures/crosscheck_{case}.json``.
 """
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
+from impactdamper.studies.replication import crosscheck as xc
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import read_json, start_stage, write_json
 
@@ -31,9 +32,9 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
     a = rep.run_alg1(p, solver)
     s = rep.run_steady(p, solver)
     kmax = int(solver["max_period_multiple"])
-    alg1 = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
+    alg1 = xc.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
     time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
-    alg2 = rep.alg2_ivp(
+    alg2 = xc.alg2_ivp(
         p,
         s.periods + kmax,
         kmax,
@@ -44,7 +45,7 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
         velocity_tol=velocity_tol,
         **kw,
     )
-    alg1_cmp = rep.compare_alg1(a, alg1, time_tol, float(verdict["crosscheck_residual_tol"]))
+    alg1_cmp = xc.compare_alg1(a, alg1, time_tol, float(verdict["crosscheck_residual_tol"]))
     out = {
         "paper": rep.PAPER,
         "case": data["case"],

@@ -13,7 +13,7 @@ import logging
 import numpy as np
 
 from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies.design import (
+from impactdamper.studies.design.design import (
     band_mean,
     band_peak,
     bare_object_amplitude,

@@ -14,7 +14,7 @@ import numpy as np
 
 from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
+from impactdamper.studies.design.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
 from impactdamper.analysis.response import theta_grid
 
 COLUMNS = [

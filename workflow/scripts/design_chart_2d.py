@@ -10,7 +10,7 @@ import logging
 
 from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
+from impactdamper.studies.design.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
 
 COLUMNS = [
     "value",

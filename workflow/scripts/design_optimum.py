@@ -4,7 +4,7 @@ suppressor optimised in gap, N, delta2 and R, the linear TMD in N and delta2, by
 and criterion (peak located, and band average), beside the bare object, the absorber without a
 stop and the paper's suppressor at the design chart's best gap; each device's worst case with
 the object's natural frequency detuned, its stroke and (impact) loads; the robust optima and
-the sensitivity of the peak optima (impactdamper.studies.optimum.design_study).
+the sensitivity of the peak optima (impactdamper.studies.design.optimum.design_study).
 
 Outputs ``figures/design_optimum.json`` (the record) and ``figures/design_optimum.csv`` (one row
 per device of the design table).
@@ -14,8 +14,8 @@ import logging
 
 from impactdamper.reporting.records import Timer, machine, read_json, start_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import design_band, design_parameters
-from impactdamper.studies.optimum import Budget, design_study
+from impactdamper.studies.design.design import design_band, design_parameters
+from impactdamper.studies.design.optimum import Budget, design_study
 
 COLUMNS = [
     "device",

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_json, start_stage, write_json
-from impactdamper.studies.design_record import RECORD_WHAT, design_macros, design_table, second_table
+from impactdamper.studies.design.record import RECORD_WHAT, design_macros, design_table, second_table
 
 
 def main(

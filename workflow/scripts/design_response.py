@@ -16,7 +16,7 @@ from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import design_band, design_parameters, response_gaps
+from impactdamper.studies.design.design import design_band, design_parameters, response_gaps
 
 COLUMNS = [
     "gap",

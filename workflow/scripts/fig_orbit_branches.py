@@ -28,7 +28,7 @@ figures/orbit_special_points.csv (workflow/scripts/orbit_branches.py).
 import numpy as np
 
 from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
-from impactdamper.studies.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
+from impactdamper.studies.sweeps.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
 from impactdamper.reporting.branch_figure import (
     RADIUS_LIMITS,
     STYLE,

@@ -20,8 +20,8 @@ from matplotlib import patheffects
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from impactdamper.studies import gapsweep as gs
-from impactdamper.studies.sweep_results import grazing_curves, read_map
+from impactdamper.studies.sweeps import gapsweep as gs
+from impactdamper.studies.sweeps.results import grazing_curves, read_map
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, start_stage

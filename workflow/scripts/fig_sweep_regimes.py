@@ -17,7 +17,7 @@ Deviations: none (the paper has no such figure).
 import numpy as np
 from matplotlib.patches import Patch, Rectangle
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, start_stage
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, label_bands, use_style

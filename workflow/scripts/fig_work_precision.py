@@ -17,10 +17,10 @@ import math
 
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, TEXT_WIDTH, figure_size, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.studies.methods import METHODS
+from impactdamper.studies.performance.methods import METHODS
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
-# One colour, marker and line per method (:data:`impactdamper.studies.methods.METHODS`, whose
+# One colour, marker and line per method (:data:`impactdamper.studies.performance.methods.METHODS`, whose
 # order is the legend's and whose plot labels name the lines), the same in both panels; a method
 # without an entry here is drawn in DEFAULT_STYLE.
 STYLE = {

@@ -3,7 +3,7 @@
 
 The paper claims, at Delta0/x_st = -5.8: (a) Algorithm No. 1 gives a gap below zero on
 (t1, t2) (Fig. 2a); (b) Algorithm No. 2 gives T_c = 2T with three impacts per cycle (Fig. 2b).
-This script runs :func:`impactdamper.studies.gapscan.locate` (whose module docstring says
+This script runs :func:`impactdamper.studies.replication.gapscan.locate` (whose module docstring says
 how) over the config's ``verdict`` window and writes the records.
 
 Outputs: ``figures/gap_scan.csv`` (the Algorithm No. 2 grid with both claims) and
@@ -12,7 +12,7 @@ located case, the directly solved orbit's range and the cross-checks).
 """
 
 from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import gapscan
+from impactdamper.studies.replication import gapscan
 
 SCAN_COLUMNS = [
     "gap",
@@ -31,7 +31,7 @@ SCAN_COLUMNS = [
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, workers: int = 1) -> dict:
-    """Locate the case (:func:`impactdamper.studies.gapscan.locate`) and write the grid
+    """Locate the case (:func:`impactdamper.studies.replication.gapscan.locate`) and write the grid
     (``out_csv``) and the result (``out_json``)."""
     rows, result = gapscan.locate(reference, solver, verdict, workers)
     write_csv(out_csv, SCAN_COLUMNS, rows)

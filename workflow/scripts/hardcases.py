@@ -1,5 +1,5 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in
-the paper): the hard-case suite (src/impactdamper/studies/hardcases.py).
+the paper): the hard-case suite (src/impactdamper/studies/performance/hardcases.py).
 
 Every case changes the reference case in one way (grazing at the no-contact threshold and at
 the onset of Algorithm No. 1's crossing, chatter into contact, R = 0 and 1, zero and very
@@ -27,7 +27,7 @@ from pathlib import Path
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.latex import tex_escape, tex_time
 from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import hardcases as hc
+from impactdamper.studies.performance import hardcases as hc
 
 CSV_COLUMNS = [
     "case",

@@ -17,7 +17,7 @@ Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
 time, with start and end times so that the gather can compute the whole map's wall time).
 """
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
 from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.analysis.batch import regime_map_batch

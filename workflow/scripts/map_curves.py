@@ -16,7 +16,7 @@ the grazing scan ran), alg1_grazing with ';'-joined values).
 
 import numpy as np
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv
 from impactdamper.analysis.sweeps import with_value

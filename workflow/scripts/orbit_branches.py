@@ -9,7 +9,7 @@ gap Delta takes on negative values when t in (t1, t2)") and Algorithm No. 2 sett
 impacts (seeded by Algorithm No. 2's settled motion) are followed by pseudo-arclength
 continuation (:func:`impactdamper.continue_orbit`, Floquet multipliers from saltation
 matrices), with folds, period doublings, Neimark-Sacker points and grazings located on them
-(see :mod:`impactdamper.studies.branches` for where a branch ends).
+(see :mod:`impactdamper.studies.sweeps.branches` for where a branch ends).
 
 Writes
 
@@ -26,7 +26,7 @@ Deviations: none from the paper (it has no such computation); ranges and steps c
 config's ``orbits`` section.
 """
 
-from impactdamper.studies import branches as br
+from impactdamper.studies.sweeps import branches as br
 from impactdamper.studies.config import located_gap, parameters, steady_options
 from impactdamper.reporting.records import start_stage, write_csv, write_json
 from impactdamper import solve_orbit

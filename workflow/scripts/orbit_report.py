@@ -28,7 +28,7 @@ Numbers are bare (for math mode): gaps to 6 decimals, multipliers to 6 decimals.
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
-from impactdamper.studies.orbit_record import macros, table
+from impactdamper.studies.sweeps.orbit_record import macros, table
 
 # What the stage's record holds (results/report/orbits.json).
 RECORD_WHAT = "the orbits stage's numbers for the report (paper/generated/orbit_macros.tex) and the README"

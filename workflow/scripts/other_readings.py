@@ -3,14 +3,14 @@
 behaviour, (a) a negative gap in Algorithm No. 1's orbit and (b) T_c = 2T with three impacts
 from Algorithm No. 2, where the stated parameters give neither?
 
-The readings and how each is evaluated: :mod:`impactdamper.studies.readings`.
+The readings and how each is evaluated: :mod:`impactdamper.studies.replication.readings`.
 
 Outputs: ``figures/other_readings.csv`` (one row per reading) and
 ``figures/other_readings.json`` (the rows, the random states' motions, the R ranges).
 """
 
 from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import readings as rd
+from impactdamper.studies.replication import readings as rd
 
 COLUMNS = [
     "id",
@@ -39,7 +39,7 @@ COLUMNS = [
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json) -> dict:
-    """Test every reading (:func:`impactdamper.studies.readings.evaluate_readings`) and write the
+    """Test every reading (:func:`impactdamper.studies.replication.readings.evaluate_readings`) and write the
     table (``out_csv``) and the result (``out_json``)."""
     rows, result = rd.evaluate_readings(reference, solver, verdict)
     write_csv(out_csv, COLUMNS, rows)

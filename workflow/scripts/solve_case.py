@@ -15,7 +15,7 @@ Outputs (``case`` is ``stated`` or ``located``):
 
 import numpy as np
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
 from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
 
 # How far past the next cycle's first impact Fig. 2b runs, and how far before t1, in T.

@@ -17,7 +17,7 @@ from impactdamper import algorithm1
 from impactdamper.analysis.orbits import OrbitError, solve_orbit
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.reporting.records import start_stage, write_csv
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import parameters
 
 COLUMNS = ["value", "exists", "admissible", "stable", "multiplier", "velocity", "phase", "min_gap"]

@@ -12,13 +12,13 @@ Outputs: ``figures/sweep_gap_settings.json`` (the configuration it ran with, for
 test), ``figures/sweep_gap.csv`` (one row per point and direction: label z/k, regime,
 stability, max |x1|/x_st, impact velocities over x_st omega, and the state the point started
 from, so that any row can be recomputed on its own), ``results/sweeps/sweep_points.npz``
-(the points themselves as arrays, :func:`impactdamper.studies.gapsweep.write_points`, for the
+(the points themselves as arrays, :func:`impactdamper.studies.sweeps.gapsweep.write_points`, for the
 transition bisection) and
 ``results/benchmarks/sweep_timing.json`` (wall and processor time of the two-way sweep, timed
 inside this job, beside the config's target ``performance.sweep_target_wall_s``).
 """
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
 from impactdamper.analysis.sweeps import two_way_sweep

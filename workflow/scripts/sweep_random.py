@@ -12,7 +12,7 @@ settle goes to the pure-Python reference, with its Newton rescue). Every ``rando
 Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
 """
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
 from impactdamper.reporting.records import Timer, joined, start_stage, write_csv
 from impactdamper.analysis.batch import random_starts_batch

@@ -9,9 +9,9 @@ Outputs:
 * ``paper/generated/sweep_macros.tex`` -- the sweep's extent and settling cap, the regime
   sequence of each direction, the three closed-form checks, the overlaps of the two sweep
   directions (hysteresis), and the bistable rows of each regime map
-  (:func:`impactdamper.studies.sweep_record.macros`);
+  (:func:`impactdamper.studies.sweeps.record.macros`);
 * ``paper/generated/sweep_transitions.tex`` -- the main transitions, each identified where
-  possible (:func:`impactdamper.studies.sweep_record.table`; changes inside the chaotic bands
+  possible (:func:`impactdamper.studies.sweeps.record.table`; changes inside the chaotic bands
   are in ``figures/sweep_transitions.csv``);
 * ``paper/generated/sweep_timing.tex`` -- the benchmarks (wall and processor times measured
   inside the jobs). The only output of the stage that changes from run to run.
@@ -21,7 +21,7 @@ from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
-from impactdamper.studies import sweep_record
+from impactdamper.studies.sweeps import record as sweep_record
 
 # What the stage's record holds (results/report/sweeps.json).
 RECORD_WHAT = "the sweeps stage's numbers for the report (paper/generated/sweep_macros.tex) and the README"

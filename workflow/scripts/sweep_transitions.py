@@ -6,7 +6,7 @@ changes along the gap sweep, located by bisection and checked against analytic v
    first label's side, as a finer sweep would) to ``transition_xtol``.
 2. The three transitions with analytic values (lift-off of the persistent contact, first
    contact, Algorithm No. 1's grazing), each computed numerically a second way and located
-   again by the sweep (:func:`impactdamper.studies.transition_checks.checks`, whose module docstring
+   again by the sweep (:func:`impactdamper.studies.sweeps.transitions.checks`, whose module docstring
    says how).
 
 Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
@@ -17,8 +17,8 @@ import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 
 from impactdamper.reporting.records import Timer, clean, start_stage, write_csv, write_json
-from impactdamper.studies import gapsweep as gs
-from impactdamper.studies import transition_checks as tr
+from impactdamper.studies.sweeps import gapsweep as gs
+from impactdamper.studies.sweeps import transitions as tr
 from impactdamper.studies.config import parameters, sweep_settings
 
 TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped", "one_sided"]

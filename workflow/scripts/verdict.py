@@ -22,10 +22,10 @@ numeric macros are bare numbers for math mode).
 
 from pathlib import Path
 
-from impactdamper.studies import verdict as vd
+from impactdamper.studies.replication import verdict as vd
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_csv, read_json, start_stage, write_csv, write_json
-from impactdamper.studies.verdict_record import claims_macros, macros
+from impactdamper.studies.replication.record import claims_macros, macros
 
 CSV_COLUMNS = [
     "claim",

@@ -23,7 +23,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import workprecision as wp
+from impactdamper.studies.performance import workprecision as wp
 
 CSV_COLUMNS = [
     "case",

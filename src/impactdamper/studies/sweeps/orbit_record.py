@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from impactdamper.reporting.latex import MacroFile, camel
 from impactdamper.reporting.records import cell_float
-from impactdamper.studies import branches as br
+from impactdamper.studies.sweeps import branches as br
 
 GAP_FORMAT = "{:.6f}"
 MULT_FORMAT = "{:.6f}"

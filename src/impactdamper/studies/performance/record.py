@@ -6,7 +6,7 @@ and the word "satisfied" or "missed").
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in the
 paper). The methods' rows and macro names come from
-:data:`impactdamper.studies.methods.METHODS`. All timings are CPU time on the machine that ran
+:data:`impactdamper.studies.performance.methods.METHODS`. All timings are CPU time on the machine that ran
 the workflow: not deterministic.
 """
 
@@ -16,8 +16,8 @@ import math
 
 from impactdamper.reporting.latex import MacroFile, tex_escape, tex_sci, tex_time
 from impactdamper.reporting.records import json_float
-from impactdamper.studies.methods import METHODS, reported_alone
-from impactdamper.studies.workprecision import met, report_summary
+from impactdamper.studies.performance.methods import METHODS, reported_alone
+from impactdamper.studies.performance.workprecision import met, report_summary
 
 __all__ = ["macros", "table", "compiled_table", "FAMILY_LABEL"]
 
@@ -53,7 +53,7 @@ def _criterion(ok: bool) -> str:
 
 
 def macros(s: dict, perf: dict, wp: dict) -> MacroFile:
-    """The stage's macros from the summary ``s`` (:func:`impactdamper.studies.workprecision.report_summary`
+    """The stage's macros from the summary ``s`` (:func:`impactdamper.studies.performance.workprecision.report_summary`
     with the compiled solver's benchmark under ``compiled_speed``), the config section ``perf``
     and the study ``wp``."""
     lines = MacroFile(
@@ -341,6 +341,6 @@ def compiled_speed(cs: dict) -> dict:
 
 
 def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict, cs: dict) -> dict:
-    """The stage's summary (:func:`impactdamper.studies.workprecision.report_summary`) and the
+    """The stage's summary (:func:`impactdamper.studies.performance.workprecision.report_summary`) and the
     compiled solver's benchmark judged against its targets (:func:`compiled_speed`)."""
     return {**report_summary(wp, growth, hard, ref, perf), "compiled_speed": compiled_speed(cs)}

@@ -12,8 +12,8 @@ import numpy as np
 
 from impactdamper.reporting.latex import MacroFile, fixed, tex_sci
 from impactdamper.reporting.records import read_csv
-from impactdamper.studies.design import bare_object_amplitude, runs_where, two_mass_amplitude
-from impactdamper.studies.optimum import device, impacting, recommendation
+from impactdamper.studies.design.design import bare_object_amplitude, runs_where, two_mass_amplitude
+from impactdamper.studies.design.optimum import device, impacting, recommendation
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:

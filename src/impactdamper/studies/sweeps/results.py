@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from impactdamper.reporting.records import cell_float, read_csv, split_floats
-from impactdamper.studies.branches import KIND_SHORT
-from impactdamper.studies.gapsweep import runs
+from impactdamper.studies.sweeps.branches import KIND_SHORT
+from impactdamper.studies.sweeps.gapsweep import runs
 
 __all__ = [
     "MIN_RUN",

@@ -9,14 +9,10 @@ verdict and its macros.
 
 from __future__ import annotations
 
-from impactdamper.studies.claims import (
-    CLAIM_B_IMPACTS,
-    CLAIM_B_PERIOD_MULTIPLE,
-    SEARCH_PARAMETERS,
-    Interval,
-    distance_to,
-)
-from impactdamper.studies.replication import PAPER
+from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS
+from impactdamper.studies.intervals import Interval, distance_to
+from impactdamper.studies.replication.cases import PAPER
 
 __all__ = ["PAPER_CLAIMS", "claims", "beyond_the_gap", "verdict"]
 

@@ -14,7 +14,7 @@ against the mpmath reference of :mod:`impactdamper.baselines.highprecision` (40 
     and the end state's max |y_i - y_i^ref| / scale_i (scales x_st, x_st, x_st omega,
     x_st omega).
 
-Methods: every entry of :data:`impactdamper.studies.methods.METHODS` (the exact solver,
+Methods: every entry of :data:`impactdamper.studies.performance.methods.METHODS` (the exact solver,
 Algorithm No. 1 on the settled cycle, the ``solve_ivp`` methods, RK4 with bisection, Siconos's
 Moreau-Jean scheme when its Python module is present; the study records plainly whether it
 was), each across its own setting, read through one result protocol (``impacts()``,
@@ -44,7 +44,7 @@ from impactdamper.baselines import highprecision as hp
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import default_initial_state, simulate
 from impactdamper.reporting.records import json_float
-from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected  # noqa: F401 (METHODS: the study's table)
+from impactdamper.studies.performance.methods import IVP_METHODS, METHODS, reported_alone, selected  # noqa: F401 (METHODS: the study's table)
 
 __all__ = [
     "CASES",
@@ -235,7 +235,7 @@ def measure(
     min_time: float = 0.05,
     max_steps: int = DEFAULT_MAX_STEPS,
 ) -> list[Run]:
-    """Runs of method ``name`` (:data:`impactdamper.studies.methods.METHODS`) on one problem,
+    """Runs of method ``name`` (:data:`impactdamper.studies.performance.methods.METHODS`) on one problem,
     one per setting in ``values``, each timed (median CPU time, :func:`cpu_time`, unless the
     method times itself) and its impacts and end state compared with the reference.
 

@@ -5,11 +5,11 @@ possible, and the benchmark's timing macros (``paper/generated/sweep_timing.tex`
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the sweep's extent and
 settling cap, the regime sequence of each direction (runs of at least
-:data:`~impactdamper.studies.sweep_results.MIN_RUN` points), the three closed-form checks (each
+:data:`~impactdamper.studies.sweeps.results.MIN_RUN` points), the three closed-form checks (each
 difference with the tolerance it is held to, and for the lift-off the offset the solver's
 grazing resolution predicts, :func:`impactdamper.analysis.transitions.liftoff_resolution_offset`),
 the overlaps of the two sweep directions (hysteresis) and the bistable rows of each regime map
-(:func:`~impactdamper.studies.sweep_results.bistable_rows`). The table's transitions are
+(:func:`~impactdamper.studies.sweeps.results.bistable_rows`). The table's transitions are
 identified with a closed-form check (quoting the check's own numbers, the same macros as the
 text), with a special point of a continued orbit branch, or with the same change located by the
 other sweep direction; a change to or from np that none of these explains is marked as an edge
@@ -24,7 +24,7 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.reporting import latex
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.records import read_json
-from impactdamper.studies.sweep_results import (
+from impactdamper.studies.sweeps.results import (
     MATCH_STEPS,
     MIN_RUN,
     bistable_rows,
@@ -73,7 +73,7 @@ def _and(items: list[str]) -> str:
 
 
 def overlap_text(ovs: list[dict]) -> str:
-    """The overlaps of the two directions (:func:`~impactdamper.studies.sweep_results.overlaps`) as prose."""
+    """The overlaps of the two directions (:func:`~impactdamper.studies.sweeps.results.overlaps`) as prose."""
     parts = [
         f"{_and(o['down'])} (downward) with {_and(o['up'])} (upward) on $({o['lo']:.3f}, {o['hi']:.3f})$" for o in ovs
     ]

@@ -2,10 +2,10 @@
 quotes, as macros of the stage's record (:class:`impactdamper.reporting.latex.MacroFile`).
 
 The verdict is on the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100):
-claim by claim (:mod:`impactdamper.studies.verdict`), what the stated parameters give and where
+claim by claim (:mod:`impactdamper.studies.replication.verdict`), what the stated parameters give and where
 the claimed behaviour does occur: along the gap (the gap scan), beyond it (each parameter alone,
 :mod:`impactdamper.studies.claims`), and under other readings of the paper
-(:mod:`impactdamper.studies.readings`). Numbers are bare (for math mode); ``MISSING`` where a
+(:mod:`impactdamper.studies.replication.readings`). Numbers are bare (for math mode); ``MISSING`` where a
 value does not exist.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from impactdamper.core.parameters import Parameters
 from impactdamper.reporting.latex import MISSING, MacroFile, fixed, sci
-from impactdamper.studies.claims import SEARCH_PARAMETERS, SEARCH_SYMBOLS
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS, SEARCH_SYMBOLS
 
 __all__ = ["macros", "claims_macros", "MACRO_OF"]
 
@@ -100,7 +100,7 @@ def macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows) -> MacroFile:
         The gap scan (``figures/gap_scan.json``) and the other readings
         (``figures/other_readings.json``).
     rows : list of dict
-        The verdict's rows, claim by claim (:func:`impactdamper.studies.verdict.verdict`).
+        The verdict's rows, claim by claim (:func:`impactdamper.studies.replication.verdict.verdict`).
     """
     p = ref_s["parameters"]
     m = [
