@@ -5,7 +5,10 @@
 # (reference.smk) reads the gathered intervals.
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
-CLAIMS_PARAMETERS = ["theta", "mu", "N", "delta1", "delta2", "R"]
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS
+
+# One job per searched parameter (every relative parameter but the gap, from the parameter table).
+CLAIMS_PARAMETERS = list(SEARCH_PARAMETERS)
 
 
 rule claims_parameter:
@@ -46,6 +49,7 @@ rule claims_by_parameter:
                 "replication/claims",
                 "replication/crosscheck",
                 "replication/gapscan",
+                "vocabulary",
             ),
             REPORTING,
         ),
@@ -166,7 +170,7 @@ rule claims_pair_map:
 rule fig_claims_maps:
     input:
         script="workflow/scripts/fig_claims_maps.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
         json=["figures/claims_map_settings.json"]
@@ -187,7 +191,7 @@ rule fig_claims_maps:
 rule fig_claims_by_parameter:
     input:
         script="workflow/scripts/fig_claims_by_parameter.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv="figures/claims_by_parameter.csv",
         json="figures/claims_by_parameter_settings.json",
@@ -205,7 +209,7 @@ rule fig_claims_by_parameter:
 rule fig_claims_map:
     input:
         script="workflow/scripts/fig_claims_map.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
@@ -247,6 +251,7 @@ rule claims_nearest:
                 "replication/cases",
                 "replication/claims",
                 "replication/crosscheck",
+                "vocabulary",
             ),
             REPORTING,
         ),
@@ -284,6 +289,7 @@ rule claims_macros:
                 "replication/claims",
                 "replication/crosscheck",
                 "replication/gapscan",
+                "vocabulary",
             ),
             REPORTING,
         ),

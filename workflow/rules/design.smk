@@ -109,7 +109,7 @@ rule design_optimum:
 rule design_report:
     input:
         script="workflow/scripts/design_report.py",
-        library=library(study("design/design", "design/optimum", "design/record"), REPORTING),
+        library=library(study("design/design", "design/optimum", "design/record", "vocabulary"), REPORTING),
         optimum="figures/design_optimum.json",
         baselines="figures/design_baselines.json",
         chart="figures/design_chart.json",

@@ -222,6 +222,7 @@ rule verdict:
                 "replication/claims",
                 "replication/record",
                 "replication/verdict",
+                "vocabulary",
             ),
             REPORTING,
         ),

@@ -254,7 +254,10 @@ rule fig_sweep_suppression:
 rule fig_regime_map:
     input:
         script="workflow/scripts/fig_regime_map.py",
-        library=library(study("config", "intervals", "sweeps/branches", "sweeps/gapsweep", "sweeps/results"), REPORTING),
+        library=library(
+            study("config", "intervals", "sweeps/branches", "sweeps/gapsweep", "sweeps/results", "vocabulary"),
+            REPORTING,
+        ),
         style=STYLE,
         map="figures/map_{map}.csv",
         curves="figures/map_{map}_curves.csv",

@@ -20,8 +20,8 @@ from pathlib import Path
 
 from impactdamper.studies.replication import cases as rep
 from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
-from impactdamper.studies.claims.search import SEARCH_PARAMETERS, nearest_both
-from impactdamper.studies.claims.record import solver_dependent, table
+from impactdamper.studies.claims.record import table
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS, nearest_both, solver_dependent
 
 PARAMETERS = SEARCH_PARAMETERS
 CLAIMS = ("a", "b", "both")

@@ -19,6 +19,7 @@ from matplotlib.patches import Patch
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
+from impactdamper.studies.vocabulary import SPEC
 
 CLASSES = (
     ("neither claim", "#eeeeee"),
@@ -26,15 +27,6 @@ CLASSES = (
     ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"),
     ("both claims", "#c0392b"),
 )
-LABEL = {
-    "theta": "$\\theta$",
-    "mu": "$\\mu$",
-    "N": "$N$",
-    "delta1": "$\\delta_1$",
-    "delta2": "$\\delta_2$",
-    "R": "restitution $R$",
-    "gap": "$\\Delta_0/x_{\\mathrm{st}}$",
-}
 
 
 def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=None) -> None:
@@ -78,8 +70,8 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=Non
     located = read_json(located_json)["located"]["gap"]
     if m["y"] == "gap":
         ax.plot([ref[m["x"]]], [located], "D", ms=6, mec="k", mfc="w", label="located case")
-    ax.set_xlabel(LABEL[m["x"]])
-    ax.set_ylabel(LABEL[m["y"]])
+    ax.set_xlabel(SPEC[m["x"]].label)
+    ax.set_ylabel(SPEC[m["y"]].label)
     # The grid, as the caption promises: the steps in both parameters.
     levels = int(m.get("refine_levels", 0)) if extra else 0
     ax.set_title(

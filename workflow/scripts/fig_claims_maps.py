@@ -21,6 +21,7 @@ from matplotlib.patches import Patch
 
 from impactdamper.reporting.records import read_csv, read_json, start_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
+from impactdamper.studies.vocabulary import tex
 
 CLASSES = (
     ("neither claim", "#eeeeee"),
@@ -28,15 +29,6 @@ CLASSES = (
     ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"),
     ("both claims", "#c0392b"),
 )
-LABEL = {
-    "theta": "$\\theta$",
-    "mu": "$\\mu$",
-    "N": "$N$",
-    "delta1": "$\\delta_1$",
-    "delta2": "$\\delta_2$",
-    "R": "$R$",
-    "gap": "$\\Delta_0/x_{\\mathrm{st}}$",
-}
 
 
 def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
@@ -88,8 +80,8 @@ def main(csvs, jsons, out_pdf, out_png, refined_csvs=None) -> None:
                 rasterized=True,
             )
         ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=9, mec="k", mfc="w")
-        ax.set_xlabel(LABEL[m["x"]], labelpad=1)
-        ax.set_ylabel(LABEL[m["y"]], labelpad=1)
+        ax.set_xlabel(tex(m["x"]), labelpad=1)
+        ax.set_ylabel(tex(m["y"]), labelpad=1)
         levels = int(m.get("refine_levels", 0)) if extra else 0
         refined = (
             f"\nfloor {2 * dx / 2**levels:.3g} x {2 * dy / 2**levels:.3g} ({levels} halving{'s' * (levels > 1)}, "

@@ -26,11 +26,12 @@ from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, start_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, label_regions, use_style
+from impactdamper.studies.vocabulary import SPEC
 
 CLASSES = list(REGIME_COLORS)
 AXIS_LABEL = {
-    "theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
-    "damping": "damping ratios $\\delta_1 = \\delta_2 = \\delta$",
+    "theta": "frequency ratio " + SPEC["theta"].label,
+    "damping": f"damping ratios ${SPEC['delta1'].symbol} = {SPEC['delta2'].symbol} = \\delta$",
 }
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 # The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.

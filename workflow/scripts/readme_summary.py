@@ -13,7 +13,14 @@ is current.
 import sys
 from pathlib import Path
 
-from impactdamper.reporting.readme import BEYOND, beyond, impact_table, read_records
+from impactdamper.core.parameters import PARAMETER_TABLE
+from impactdamper.reporting.readme import beyond, impact_table, read_records
+
+
+def searched_alone(m: dict[str, str]) -> list:
+    """The parameters the claims were searched along one at a time: those the verdict's record
+    has a nearest value for (``\\Claims<macro>NearestBoth``), in the parameter table's order."""
+    return [s for s in PARAMETER_TABLE if f"Claims{s.macro}NearestBoth" in m]
 
 
 def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
@@ -49,7 +56,7 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"where the settled motion changes, down to step/2^{m['ClaimsRefineLevels']}; ends to {m['ClaimsRelTol']} "
         f"relative, {m['ClaimsSolverDependentCount']} of them solver-dependent), both claims hold on "
         f"{m['ClaimsBothIntervals']} intervals within the searched ranges, nearest the stated value for "
-        + "; ".join(beyond(m, key, name) for key, name in BEYOND)
+        + "; ".join(beyond(m, s.macro, s.plain) for s in searched_alone(m))
         + ". Of these single changes "
         f"the smallest is in {m['ClaimsNearestParameterName']}. Searched in all seven relative parameters at once "
         f"(equally weighted relative changes; {m['NearestRays']} rays from the stated point and a local refinement: a "

@@ -51,8 +51,9 @@ import numpy as np
 from impactdamper.analysis.batch import settled_batch
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.algorithm1 import algorithm1
-from impactdamper.core.parameters import Parameters
+from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters
 from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a
+from impactdamper.studies.vocabulary import SPEC
 
 __all__ = [
     "NEAREST_NAMES",
@@ -72,11 +73,8 @@ __all__ = [
 ]
 
 # The seven relative parameters searched, in this order (u's components).
-NEAREST_NAMES = ("theta", "mu", "N", "delta1", "delta2", "R", "gap")
+NEAREST_NAMES = RELATIVE_PARAMETERS
 NORMS = ("max", "euclidean")
-# Domains (Parameters' own): a point outside one is no reproduction, never an error.
-_LOWER = {"theta": 0.0, "mu": 0.0, "N": 0.0, "delta1": 0.0, "delta2": 0.0, "R": 0.0}
-_UPPER = {"R": 1.0}
 
 
 def norm(u: np.ndarray, which: str) -> np.ndarray:
@@ -120,13 +118,9 @@ class ClaimsEvaluator:
         return self.stated * (1.0 + np.asarray(U, float).reshape(-1, len(NEAREST_NAMES)))
 
     def valid(self, X: np.ndarray) -> np.ndarray:
-        ok = np.ones(len(X), bool)
-        for j, n in enumerate(NEAREST_NAMES):
-            if n in _LOWER:
-                ok &= X[:, j] > _LOWER[n] if n in ("theta", "mu", "N") else X[:, j] >= _LOWER[n]
-            if n in _UPPER:
-                ok &= X[:, j] <= _UPPER[n]
-        return ok
+        """Whether each point is in every parameter's domain (Parameters' own ranges): a point
+        outside one is no reproduction, never an error."""
+        return np.array([all(SPEC[n].ok(float(v)) for n, v in zip(NEAREST_NAMES, x)) for x in X], bool)
 
     def __call__(self, U) -> tuple[np.ndarray, np.ndarray]:
         """(claim_a, claim_b) flags, shape (P,) each (claim_b False where claim_a is)."""

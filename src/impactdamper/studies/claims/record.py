@@ -1,37 +1,69 @@
-"""The claims stage's macros: where the paper's Fig. 2 claims hold beyond the gap, i.e. the
-nearest reproducing set in all seven parameters and the round values, the refinement of the
-one-parameter search, the pair maps, and the located range's end checks counted by what they
-rest on.
+"""The claims stage's record for the report, declared for :mod:`impactdamper.reporting.texrecord`:
+where the paper's Fig. 2 claims hold beyond the gap, i.e. the macros of the nearest reproducing
+set in all seven parameters and the round values, the refinement of the one-parameter search,
+the pair maps, and the located range's end checks counted by what they rest on; and the table
+of the nearest interval where both claims hold, per parameter.
 
 Replication of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (beyond its
-stated point). Used by ``workflow/scripts/claims_macros.py``.
+stated point). Used by ``workflow/scripts/claims_macros.py`` and ``claims_gather.py``.
 """
 
 from __future__ import annotations
 
-from impactdamper.reporting.latex import MISSING, MacroFile, fixed, sci
-from impactdamper.studies.claims.search import SEARCH_PARAMETERS, SEARCH_SYMBOLS
-from impactdamper.studies.replication.gapscan import count_end_checks
+from impactdamper.reporting.latex import MacroFile
+from impactdamper.reporting.texrecord import (
+    COUNT,
+    YES_NO,
+    Column,
+    Format,
+    Macro,
+    Table,
+    fixed,
+    macro_lines,
+    percent,
+    sci,
+)
 from impactdamper.studies.claims.nearest import NEAREST_NAMES
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS
+from impactdamper.studies.replication.gapscan import count_end_checks
+from impactdamper.studies.vocabulary import SPEC, tex
 
-MACRO_OF = {"theta": "Theta", "mu": "Mu", "N": "N", "delta1": "DeltaOne", "delta2": "DeltaTwo", "R": "R", "gap": "Gap"}
 NORM_TAG = {"max": "Max", "euclidean": "Euclid"}
-SYMBOL = {
-    "theta": "\\theta",
-    "mu": "\\mu",
-    "N": "N",
-    "delta1": "\\delta_1",
-    "delta2": "\\delta_2",
-    "R": "R",
-    "gap": "\\Delta_0/x_{\\mathrm{st}}",
-}
-PLAIN = {"theta": "theta", "mu": "mu", "N": "N", "delta1": "delta1", "delta2": "delta2", "R": "R", "gap": "Delta0/x_st"}
-MAP_TAG = {"R_gap": "RGap", "theta_N": "ThetaN", "theta_gap": "ThetaGap", "N_gap": "NGap"}
 
-
-def pct(x) -> str:
-    """A share as a percentage to 0.1 (MISSING where None)."""
-    return fixed(100 * x, 1) if x is not None else MISSING
+# The nearest set's search (figures/claims_nearest.json: st, its settings; joint, its answers).
+SEARCH = (
+    Macro("NearestMarginPct", lambda n: float(n["st"]["margin"]), percent(1)),
+    Macro("NearestRays", "joint.rays.count", COUNT),
+    Macro("NearestRandomRays", "joint.rays.random", COUNT),
+    Macro("NearestRayStepPct", lambda n: float(n["st"]["ray_step"]), percent(1)),
+    Macro("NearestRayMaxPct", lambda n: float(n["st"]["ray_max"]), percent(0)),
+    Macro("NearestRayHits", "joint.rays.hits", COUNT),
+    Macro("NearestPoints", lambda n: n["joint"].get("points", 0), COUNT),
+    Macro("NearestStarts", "st.starts", COUNT),
+    Macro("NearestCompassFloorPct", lambda n: float(n["st"]["compass_floor"]), percent(2)),
+    Macro("NearestScreenPeriods", "st.max_periods", COUNT),
+)
+# Each parameter's value and relative change in one norm's answer ({N}: Max or Euclid, {P} the
+# parameter's macro part; the answer None where the norm found none).
+VALUE = (Macro("Nearest{N}{P}", "value", fixed(4)), Macro("Nearest{N}{P}Pct", "u", percent(1)))
+GAP_VALUE = (Macro("Nearest{N}{P}", "value", fixed(3)), Macro("Nearest{N}{P}Pct", "u", percent(1)))
+# One norm's answer: its distance, the margin ball and the verification by the other methods.
+ANSWER = (
+    Macro("Nearest{N}DistMaxPct", "distance.max", percent(1)),
+    Macro("Nearest{N}DistEuclidPct", "distance.euclidean", percent(1)),
+    Macro("Nearest{N}BallHold", lambda a: (a or {}).get("margin_check", {}).get("hold", 0), COUNT),
+    Macro("Nearest{N}BallPoints", lambda a: (a or {}).get("margin_check", {}).get("points", 0), COUNT),
+    Macro("Nearest{N}AlgOneEndDiff", "verification.claim_a.interval_end_difference_over_T", sci()),
+    Macro("Nearest{N}AlgOneResidual", "verification.claim_a.periodicity_residual", sci()),
+    Macro("Nearest{N}IvpTimeDiff", "verification.claim_b.max_time_difference_over_T", sci()),
+    Macro("Nearest{N}IvpVelocityDiff", "verification.claim_b.max_velocity_difference_rel", sci()),
+    Macro("Nearest{N}ReferencePeriods", "verification.claim_b.reference_periods", COUNT),
+    Macro(
+        "Nearest{N}Verified",
+        lambda a: bool(a and (v := a["verification"]) and v["both_hold_every_method"] and v["agree"]),
+        YES_NO,
+    ),
+)
 
 
 def round_text(rows: list[dict], tex: bool) -> str:
@@ -42,17 +74,59 @@ def round_text(rows: list[dict], tex: bool) -> str:
         ((name, v),) = r["changes"].items()
         note = "" if r["robust"] else ", not at the margin"
         if tex:
-            parts.append(f"${SYMBOL[name]}={v:g}$ (${fixed(100 * r['distance']['max'], 1)}\\,\\%${note})")
+            parts.append(f"${SPEC[name].symbol}={v:g}$ (${percent(1)(r['distance']['max'])}\\,\\%${note})")
         else:
-            parts.append(f"{PLAIN[name]} = {v:g} ({100 * r['distance']['max']:.1f} %{note})")
+            parts.append(f"{SPEC[name].plain} = {v:g} ({100 * r['distance']['max']:.1f} %{note})")
     return ", ".join(parts) if parts else "none"
 
 
-def add_text(m: MacroFile, name: str, tex: str, text: str) -> None:
-    """A macro whose README text is written out (the symbols of a TeX list, such as
-    ``\\Delta_0/x_{\\mathrm{st}}``, have no plain form the generic conversion could find)."""
-    m.add(name, tex)
-    m.entries[-1]["text"] = text
+# The round values one digit away (rows: those reproducing both claims; off: those whose methods
+# differ). A list of TeX symbols has its own README text.
+ROUND = (
+    Macro("RoundCandidates", "candidates", COUNT),
+    Macro("RoundReproducing", lambda rv: len(rv["rows"]), COUNT),
+    Macro("RoundList", lambda rv: round_text(rv["rows"], True), text=lambda rv: round_text(rv["rows"], False)),
+    Macro(
+        "RoundTuningList", lambda rv: round_text(rv["tuning"], True), text=lambda rv: round_text(rv["tuning"], False)
+    ),
+    Macro("RoundAgreeCount", lambda rv: sum(r["verification"]["agree"] for r in rv["rows"]), COUNT),
+    Macro("RoundOffList", lambda rv: round_text(rv["off"], True) if rv["off"] else "none"),
+    Macro("RoundOffVelocityDiff", "off.0?.verification.claim_b.max_velocity_difference_rel", sci()),
+)
+# The one-parameter search's refinement (per: its parameters' records; dep: the solver-dependent
+# ends as (name, value)).
+REFINEMENT = (
+    Macro("ClaimsRefineLevels", "refine_levels", COUNT),
+    Macro("ClaimsRefineAdded", lambda s: sum(d["refinement"]["added"] for d in s["per"]), COUNT),
+    Macro("ClaimsRefinePoints", lambda s: sum(d["refinement"]["points"] for d in s["per"]), COUNT),
+    Macro("ClaimsRefineRescued", lambda s: sum(d["refinement"]["rescued"] for d in s["per"]), COUNT),
+    Macro("ClaimsRefineNonperiodic", lambda s: sum(d["refinement"]["nonperiodic"] for d in s["per"]), COUNT),
+    Macro("ClaimsSolverDependentCount", lambda s: len(s["dep"]), COUNT),
+    Macro(
+        "ClaimsSolverDependentList",
+        lambda s: ", ".join(f"${SPEC[n].symbol}={x:.4f}$" for n, x in s["dep"]) if s["dep"] else "none",
+    ),
+    Macro("ClaimsBothIntervals", lambda s: sum(len(d["intervals"]["both"]) for d in s["per"]), COUNT),
+)
+# Each pair map's cells ({M}: the map's parameters' macro parts, RGap).
+MAP = (
+    Macro("Map{M}Cells", len, COUNT),
+    Macro("Map{M}BothCells", lambda rows: sum(r["both"] == "true" for r in rows), COUNT),
+)
+# The located range's end checks, by what they rest on (count_end_checks).
+END_CHECKS = (
+    Macro("EndChecksTotal", "checks", COUNT),
+    Macro("EndChecksWithinCount", "compared_within", COUNT),
+    Macro("EndChecksNothingCount", "nothing_to_compare", COUNT),
+    Macro("EndChecksOutsideCount", "outside_tolerance", COUNT),
+    Macro("EndChecksDifferentCount", "different_verdict", COUNT),
+)
+
+
+def map_tag(name: str) -> str:
+    """A pair map's part of the macro names: its parameters' (``theta_gap`` -> ``ThetaGap``)."""
+    parts = name.split("_")
+    return "".join(SPEC[p].macro for p in parts) if all(p in SPEC for p in parts) else name.replace("_", "")
 
 
 def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
@@ -78,106 +152,66 @@ def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
     m = MacroFile(
         ["% Where the claims hold beyond the gap. Generated by workflow/scripts/claims_macros.py; do not edit."]
     )
-    add = m.add
-    st = nearest["settings"]
     joint = nearest["joint"]
-    add("NearestMarginPct", fixed(100 * float(st["margin"]), 1))
-    add("NearestRays", str(joint["rays"]["count"]))
-    add("NearestRandomRays", str(joint["rays"]["random"]))
-    add("NearestRayStepPct", fixed(100 * float(st["ray_step"]), 1))
-    add("NearestRayMaxPct", fixed(100 * float(st["ray_max"]), 0))
-    add("NearestRayHits", str(joint["rays"]["hits"]))
-    add("NearestPoints", str(joint.get("points", 0)))
-    add("NearestStarts", str(st["starts"]))
-    add("NearestCompassFloorPct", fixed(100 * float(st["compass_floor"]), 2))
-    add("NearestScreenPeriods", str(st["max_periods"]))
+    m.extend(macro_lines(SEARCH, {"st": nearest["settings"], "joint": joint}))
     for which, tag in NORM_TAG.items():
         a = joint["answers"].get(which)
-        t = "Nearest" + tag
         for name in NEAREST_NAMES:
-            add(t + MACRO_OF[name], fixed(a["values"][name], 3 if name == "gap" else 4) if a else MISSING)
-            add(t + MACRO_OF[name] + "Pct", fixed(100 * a["u"][name], 1) if a else MISSING)
-        add(t + "DistMaxPct", pct(a["distance"]["max"]) if a else MISSING)
-        add(t + "DistEuclidPct", pct(a["distance"]["euclidean"]) if a else MISSING)
-        mc = a["margin_check"] if a else {}
-        add(t + "BallHold", str(mc.get("hold", 0)))
-        add(t + "BallPoints", str(mc.get("points", 0)))
-        v = a["verification"] if a else None
-        add(t + "AlgOneEndDiff", sci(v["claim_a"]["interval_end_difference_over_T"]) if v else MISSING)
-        add(t + "AlgOneResidual", sci(v["claim_a"]["periodicity_residual"]) if v else MISSING)
-        add(t + "IvpTimeDiff", sci(v["claim_b"]["max_time_difference_over_T"]) if v else MISSING)
-        add(t + "IvpVelocityDiff", sci(v["claim_b"]["max_velocity_difference_rel"]) if v else MISSING)
-        add(t + "ReferencePeriods", str(v["claim_b"]["reference_periods"]) if v else MISSING)
-        add(t + "Verified", "yes" if v and v["both_hold_every_method"] and v["agree"] else "no")
-    rv = nearest["round_values"]
-    rows = rv["reproducing"]
-    add("RoundCandidates", str(rv["candidates"]))
-    add("RoundReproducing", str(len(rows)))
-    tuning = [r for r in rows if r["keeps_tuning_condition"]]
-    add_text(m, "RoundList", round_text(rows, True), round_text(rows, False))
-    add_text(m, "RoundTuningList", round_text(tuning, True), round_text(tuning, False))
-    add("RoundAgreeCount", str(sum(r["verification"]["agree"] for r in rows)))
-    off = [r for r in rows if not r["verification"]["agree"]]
-    add("RoundOffList", round_text(off, True) if off else "none")
-    add(
-        "RoundOffVelocityDiff",
-        sci(off[0]["verification"]["claim_b"]["max_velocity_difference_rel"]) if off else MISSING,
-    )
-    # The one-parameter search's refinement.
-    per = search["parameters"]
-    add("ClaimsRefineLevels", str(search["refine_levels"]))
-    add("ClaimsRefineAdded", str(sum(per[n]["refinement"]["added"] for n in SEARCH_PARAMETERS)))
-    add("ClaimsRefinePoints", str(sum(per[n]["refinement"]["points"] for n in SEARCH_PARAMETERS)))
-    add("ClaimsRefineRescued", str(sum(per[n]["refinement"]["rescued"] for n in SEARCH_PARAMETERS)))
-    add("ClaimsRefineNonperiodic", str(sum(per[n]["refinement"]["nonperiodic"] for n in SEARCH_PARAMETERS)))
-    dep = [(n, x) for n in SEARCH_PARAMETERS for x in per[n]["solver_dependent_ends"]]
-    add("ClaimsSolverDependentCount", str(len(dep)))
-    add("ClaimsSolverDependentList", ", ".join(f"${SYMBOL[n]}={x:.4f}$" for n, x in dep) if dep else "none")
-    add("ClaimsBothIntervals", str(sum(len(per[n]["intervals"]["both"]) for n in SEARCH_PARAMETERS)))
-    # The maps.
-    for name, rows_ in maps.items():
-        add("Map" + MAP_TAG.get(name, name.replace("_", "")) + "Cells", str(len(rows_)))
-        add(
-            "Map" + MAP_TAG.get(name, name.replace("_", "")) + "BothCells", str(sum(r["both"] == "true" for r in rows_))
-        )
-    # The located range's end checks, by what they rest on.
-    ec = count_end_checks(located["end_checks"])
-    add("EndChecksTotal", str(ec["checks"]))
-    add("EndChecksWithinCount", str(ec["compared_within"]))
-    add("EndChecksNothingCount", str(ec["nothing_to_compare"]))
-    add("EndChecksOutsideCount", str(ec["outside_tolerance"]))
-    add("EndChecksDifferentCount", str(ec["different_verdict"]))
+            value = {"value": a["values"][name], "u": a["u"][name]} if a else None
+            m.extend(macro_lines(GAP_VALUE if name == "gap" else VALUE, value, N=tag, P=SPEC[name].macro))
+        m.extend(macro_lines(ANSWER, a, N=tag))
+    rows = nearest["round_values"]["reproducing"]
+    rv = {
+        "candidates": nearest["round_values"]["candidates"],
+        "rows": rows,
+        "tuning": [r for r in rows if r["keeps_tuning_condition"]],
+        "off": [r for r in rows if not r["verification"]["agree"]],
+    }
+    m.extend(macro_lines(ROUND, rv))
+    per = [search["parameters"][n] for n in SEARCH_PARAMETERS]
+    dep = [(n, x) for n in SEARCH_PARAMETERS for x in search["parameters"][n]["solver_dependent_ends"]]
+    m.extend(macro_lines(REFINEMENT, {"refine_levels": search["refine_levels"], "per": per, "dep": dep}))
+    for name, map_rows in maps.items():
+        m.extend(macro_lines(MAP, map_rows, M=map_tag(name)))
+    m.extend(macro_lines(END_CHECKS, count_end_checks(located["end_checks"])))
     return m
 
 
-def solver_dependent(d: dict) -> list[float]:
-    """Ends of the intervals where both claims hold whose final bisection bracket holds a value
-    where the pure-Python reference gives another motion than the compiled solver (the end is
-    known to the bisection's tolerance only for the compiled solver)."""
-    off = {float(m["value"]) for m in d["reference_check"]["mismatches"]}
-    out = []
-    for iv in d["intervals"]["both"]:
-        for side in ("lo", "hi"):
-            bracket = iv[side + "_bracket"]
-            if bracket is not None and off & {float(x) for x in bracket}:
-                out.append(iv[side])
-    return out
+# --- the table of the nearest interval where both claims hold, per parameter --------------------
+def _end(iv: dict, side: str, flagged: list) -> str:
+    """An interval's end: ``*`` where it reaches the searched range's end, a dagger where the
+    solvers disagree in its final bracket."""
+    x = iv[side]
+    return f"{x:.4f}" + ("^{*}" if iv[side + "_open"] else "") + ("^{\\dagger}" if x in flagged else "")
+
+
+TABLE = Table(
+    colspec="lrllllr",
+    header="parameter & stated & searched & step / floor & both claims hold on & width & distance",
+    comments=[
+        "Where both claims of the paper's Fig. 2 hold, each parameter alone at the stated gap.",
+        "Generated by workflow/scripts/claims_gather.py (Snakemake rule claims_by_parameter); do not edit.",
+    ],
+    columns=[
+        Column("name", Format(tex)),
+        Column("near.stated", Format("${:g}$".format)),
+        Column("range", Format(lambda r: f"${r['start']:g}$--${r['stop']:g}$")),
+        Column("refinement", Format(lambda r: f"${r['step']:.3g}$ / ${r['floor']:.2g}$" if r else "")),
+        Column("interval", Format(lambda iv: f"$[{iv[0]}, {iv[1]}]$")),
+        Column("width", Format("${:.4f}$".format)),
+        Column("near", Format(lambda n: f"${n['distance']:.4f}$ (${100 * n['relative_distance']:.1f}\\,\\%$)")),
+    ],
+)
 
 
 def table(per: dict) -> str:
     """Booktabs table: per parameter, the searched range, the interval where both claims hold
-    nearest the stated value (an end at the range's edge marked), its width and distance."""
-    lines = [
-        "% Where both claims of the paper's Fig. 2 hold, each parameter alone at the stated gap.",
-        "% Generated by workflow/scripts/claims_gather.py (Snakemake rule claims_by_parameter); do not edit.",
-        "\\begin{tabular}{lrllllr}",
-        "\\toprule",
-        "parameter & stated & searched & step / floor & both claims hold on & width & distance \\\\",
-        "\\midrule",
-    ]
+    nearest the stated value (an end at the range's edge marked), its width and distance
+    (figures/claims_by_parameter_settings.json's parameters)."""
+    rows = []
     for name in SEARCH_PARAMETERS:
         d = per[name]
-        near, rng = d["nearest_both"], d["range"]
+        near = d["nearest_both"]
         iv = next(
             (
                 r
@@ -186,19 +220,12 @@ def table(per: dict) -> str:
             ),
             None,
         )
-        searched = f"${rng['start']:g}$--${rng['stop']:g}$"
-        ref = d.get("refinement") or {}
-        steps = f"${ref['step']:.3g}$ / ${ref['floor']:.2g}$" if ref else ""
+        row = {"name": name, "near": near, "range": d["range"], "refinement": d.get("refinement") or {}}
         if iv is None:
-            lines.append(f"{SEARCH_SYMBOLS[name]} & ${near['stated']:g}$ & {searched} & {steps} & nowhere & & \\\\")
+            rows.append(" & ".join(TABLE.cells(row, 4)) + " & nowhere & & \\\\")
             continue
-        flagged = solver_dependent(d)
-        lo = f"{iv['lo']:.4f}" + ("^{*}" if iv["lo_open"] else "") + ("^{\\dagger}" if iv["lo"] in flagged else "")
-        hi = f"{iv['hi']:.4f}" + ("^{*}" if iv["hi_open"] else "") + ("^{\\dagger}" if iv["hi"] in flagged else "")
-        lines.append(
-            f"{SEARCH_SYMBOLS[name]} & ${near['stated']:g}$ & {searched} & {steps} & $[{lo}, {hi}]$ & "
-            f"${iv['hi'] - iv['lo']:.4f}$ & ${near['distance']:.4f}$ "
-            f"(${100 * near['relative_distance']:.1f}\\,\\%$) \\\\"
+        flagged = d["solver_dependent_ends"]
+        rows.append(
+            {**row, "interval": (_end(iv, "lo", flagged), _end(iv, "hi", flagged)), "width": iv["hi"] - iv["lo"]}
         )
-    lines += ["\\bottomrule", "\\end{tabular}"]
-    return "\n".join(lines) + "\n"
+    return TABLE.render(rows)

@@ -14,18 +14,19 @@ from collections.abc import Callable, Sequence
 
 from impactdamper.analysis.solve import steady_state
 from impactdamper.core.algorithm1 import algorithm1
+from impactdamper.core.parameters import RELATIVE_PARAMETERS
 from impactdamper.studies.intervals import Interval, distance_to, intersect, true_intervals
 from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a, claim_b
 
 __all__ = [
     "SEARCH_PARAMETERS",
-    "SEARCH_SYMBOLS",
     "refine_grid",
     "batch_rows",
     "search_parameter",
     "reference_check",
     "check_rows",
     "nearest_both",
+    "solver_dependent",
 ]
 
 
@@ -358,16 +359,9 @@ def check_rows(result: dict, every: int) -> list[dict]:
 
 
 # The parameters the claims are searched along beyond the gap, each varied alone at the stated
-# Delta0/x_st (config claims_search), in the order of the report's table, and their symbols there.
-SEARCH_PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
-SEARCH_SYMBOLS = {
-    "theta": "$\\theta$",
-    "mu": "$\\mu$",
-    "N": "$N$",
-    "delta1": "$\\delta_1$",
-    "delta2": "$\\delta_2$",
-    "R": "$R$",
-}
+# Delta0/x_st (config claims_search), in the order of the report's table: every relative
+# parameter but the gap (the gap scan's, replication/gapscan.py).
+SEARCH_PARAMETERS = tuple(n for n in RELATIVE_PARAMETERS if n != "gap")
 
 
 def nearest_both(result: dict) -> dict:
@@ -392,3 +386,18 @@ def nearest_both(result: dict) -> dict:
         "relative_distance": (d / abs(stated)) if (math.isfinite(d) and stated) else None,
         "intervals": len(ivs),
     }
+
+
+def solver_dependent(d: dict) -> list[float]:
+    """Ends of the intervals where both claims hold whose final bisection bracket holds a value
+    where the pure-Python reference gives another motion than the compiled solver (the end is
+    known to the bisection's tolerance only for the compiled solver), from one parameter's
+    gathered record (``intervals["both"]`` as dicts, ``reference_check``)."""
+    off = {float(m["value"]) for m in d["reference_check"]["mismatches"]}
+    out = []
+    for iv in d["intervals"]["both"]:
+        for side in ("lo", "hi"):
+            bracket = iv[side + "_bracket"]
+            if bracket is not None and off & {float(x) for x in bracket}:
+                out.append(iv[side])
+    return out

@@ -13,7 +13,8 @@ import numpy as np
 from impactdamper.reporting.latex import MacroFile, fixed, tex_sci
 from impactdamper.reporting.records import read_csv
 from impactdamper.studies.design.design import bare_object_amplitude, runs_where, two_mass_amplitude
-from impactdamper.studies.design.optimum import device, impacting, recommendation
+from impactdamper.studies.design.optimum import IMPACT_BOUNDS, device, impacting, recommendation
+from impactdamper.studies.vocabulary import SPEC
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -45,7 +46,9 @@ def _sensitivity_text(sens: dict, names: dict) -> str:
     return ", ".join(parts)
 
 
-SYMBOLS = {"gap": "\\Delta_0/x_{st}", "N": "N", "delta2": "\\delta_2", "R": "R"}
+# The impact suppressor's designed parameters (the optimiser's, in its order) and their symbols,
+# as the design section writes them (x_{st} without \\mathrm, as in its other macros).
+SYMBOLS = {k: SPEC[k].symbol.replace("\\mathrm{st}", "st") for k in IMPACT_BOUNDS}
 
 
 def tex_device(name: str) -> str:
