@@ -173,9 +173,7 @@ rule performance_compiled_speed:
 rule performance_report:
     input:
         script="workflow/scripts/performance_report.py",
-        library=library(
-            BASELINES, study("performance/methods", "performance/record", "performance/workprecision"), REPORTING
-        ),
+        library=library(BASELINES, study("performance/methods", "performance/record", "performance/summary"), REPORTING),
         work_precision="results/benchmarks/work_precision.json",
         cost_growth="results/benchmarks/cost_growth.json",
         hardcases="results/benchmarks/hardcases.json",

@@ -26,8 +26,12 @@ from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_json, start_stage, write_json
-from impactdamper.studies.performance.record import compiled_speed, compiled_table, macros, summarize, table  # noqa: F401 (the tests import them from here)
-from impactdamper.studies.performance.workprecision import met  # noqa: F401 (the tests import it from here)
+from impactdamper.studies.performance.record import compiled_table, macros, table
+from impactdamper.studies.performance.summary import (  # noqa: F401 (the tests import them from here)
+    compiled_speed,
+    met,
+    summarize,
+)
 
 # What the stage's record holds (results/report/performance.json).
 RECORD_WHAT = "the performance stage's numbers for the report (paper/generated/performance_macros.tex) and the README"

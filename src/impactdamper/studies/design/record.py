@@ -1,5 +1,6 @@
-"""The design stage's record for the report's section "Choosing a suppressor": its macros, the
-design table and the table of the best gap against the second parameter, as TeX.
+"""The design stage's record for the report's section "Choosing a suppressor", declared for
+:mod:`impactdamper.reporting.texrecord`: its macros, the design table and the table of the best
+gap against the second parameter.
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in the
 paper): the numbers come from the design stage's records (figures/design_*.json), no number is
@@ -8,13 +9,36 @@ typed by hand. Used by ``workflow/scripts/design_report.py``.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from impactdamper.reporting.latex import MacroFile, fixed, tex_sci
+from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.records import read_csv
+from impactdamper.reporting.texrecord import (
+    TEXT,
+    Column,
+    Format,
+    Macro,
+    Table,
+    fixed,
+    macro_lines,
+    percent,
+    pick,
+    tex_sci,
+)
 from impactdamper.studies.design.design import bare_object_amplitude, runs_where, two_mass_amplitude
 from impactdamper.studies.design.optimum import IMPACT_BOUNDS, device, impacting, recommendation
 from impactdamper.studies.vocabulary import SPEC
+
+# What the stage's record holds (results/report/design.json).
+RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design stage)"
+
+# The impact suppressor's designed parameters (the optimiser's, in its order), their decimals,
+# and their symbols as the design section writes them (x_{st} without \mathrm, as in its other
+# macros).
+DIGITS = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
+SYMBOLS = {k: SPEC[k].symbol.replace("\\mathrm{st}", "st") for k in IMPACT_BOUNDS}
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -28,174 +52,226 @@ def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
     return float(better.mean()), runs_where(thetas, better)
 
 
-# What the stage's record holds (results/report/design.json).
-RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design stage)"
+def _ratio(a: str, b: str):
+    """The value at path ``a`` over the value at path ``b`` of the source."""
+    return lambda s: pick(s, a) / pick(s, b)
 
 
-def _sensitivity_text(sens: dict, names: dict) -> str:
+# The charts, the baselines, the responses and the Den Hartog check (bp, ba: the chart's best
+# gaps by peak and band average; best: the response at the best gap; paper: at the paper's gap).
+CHART = (
+    Macro("DesignBandStart", "base.band.0", fixed(2)),
+    Macro("DesignBandStop", "base.band.1", fixed(2)),
+    Macro("DesignThetaPoints", "chart.theta_points", TEXT),
+    Macro("DesignGapStep", "chart.gap_step", fixed(2)),
+    Macro("DesignTolerancePct", "bp.tolerance", percent(0)),
+    Macro("DesignBestGap", "bp.gap", fixed(2)),
+    Macro("DesignBestPeak", "bp.value", fixed(2)),
+    Macro("DesignGoodFrom", "bp.good_from", fixed(2)),
+    Macro("DesignGoodTo", "bp.good_to", fixed(2)),
+    Macro("DesignBestImpulse", "bp.peak_impulse", fixed(2)),
+    Macro("DesignBestImpacts", "bp.impacts_per_period", fixed(0)),
+    Macro("DesignRefTheta", "one.theta", fixed(2)),
+    Macro("DesignRefThetaGap", "one.gap", fixed(2)),
+    Macro("DesignRefThetaValue", "one.value", fixed(2)),
+    Macro(
+        "DesignRefThetaBare",
+        lambda s: float(bare_object_amplitude(s["base"]["parameters"]["delta1"], [s["one"]["theta"]])[0]),
+        fixed(2),
+    ),
+    Macro("DesignAvgBestGap", "ba.gap", fixed(2)),
+    Macro("DesignAvgBest", "ba.value", fixed(3)),
+    Macro("DesignAvgGoodFrom", "ba.good_from", fixed(2)),
+    Macro("DesignAvgGoodTo", "ba.good_to", fixed(2)),
+    Macro("DesignBestGapAvg", "best.band_average", fixed(3)),
+    Macro("DesignBarePeak", "bare.peak", fixed(2)),
+    Macro("DesignBareAvg", "bare.band_average", fixed(3)),
+    Macro("DesignAbsorberPeak", "absorber.peak", fixed(2)),
+    Macro("DesignAbsorberAvg", "absorber.band_average", fixed(3)),
+    Macro("DesignTmdPeak", "tmd.peak", fixed(2)),
+    Macro("DesignTmdAvg", "tmd.band_average", fixed(3)),
+    Macro("DesignTmdN", "tmd.N", fixed(4)),
+    Macro("DesignTmdDeltaTwo", "tmd.delta2", fixed(4)),
+    Macro("DesignTmdAvgOptAvg", "tmd_avg.band_average", fixed(3)),
+    Macro("DesignTmdAvgOptN", "tmd_avg.N", fixed(4)),
+    Macro("DesignTmdAvgOptDeltaTwo", "tmd_avg.delta2", fixed(4)),
+    Macro("DesignGainBare", _ratio("bare.peak", "bp.value"), fixed(2)),
+    Macro("DesignGainAbsorber", _ratio("absorber.peak", "bp.value"), fixed(2)),
+    Macro("DesignRatioTmd", _ratio("bp.value", "tmd.peak"), fixed(2)),
+    Macro("DesignRatioTmdAvg", _ratio("best.band_average", "tmd.band_average"), fixed(2)),
+    Macro("DesignImpactBetterPct", "share", percent(0)),
+    Macro(
+        "DesignImpactBetterRuns",
+        lambda s: (
+            ", ".join(f"${fixed(2)(a)}$--${fixed(2)(b)}$" if b > a else f"${fixed(2)(a)}$" for a, b in s["runs"])
+            or "none"
+        ),
+    ),
+    Macro("DesignPaperGap", "paper_gap", fixed(1)),
+    Macro("DesignPaperPeak", "paper.peak", fixed(2)),
+    Macro("DesignPaperImpulse", "paper.peak_impulse", fixed(2)),
+    Macro("DesignPaperImpacts", "paper.impacts_per_period", fixed(0)),
+    Macro("DesignBestHysteresis", "best.hysteresis_points", TEXT),
+    Macro("DesignResponsePoints", "resp.points", TEXT),
+    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), tex_sci(1)),
+    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), tex_sci(1)),
+    Macro("DesignDHPeak", "dh.closed_form.peak", fixed(4)),
+    Macro("DesignDHPeakAtDH", "dh.peak_at_closed_form", fixed(4)),
+    Macro("DesignDHOptPeak", "dh.optimiser.peak", fixed(4)),
+    Macro("DesignDHExcessPct", "dh.peak_relative_excess", percent(2)),
+    Macro("DesignDHN", "dh.closed_form.N", fixed(4)),
+    Macro("DesignDHOptN", "dh.optimiser.N", fixed(4)),
+    Macro("DesignDHNDiff", lambda s: abs(s["dh"]["N_relative_difference"]), tex_sci(1)),
+    Macro("DesignDHDeltaTwo", "dh.closed_form.delta2", fixed(4)),
+    Macro("DesignDHOptDeltaTwo", "dh.optimiser.delta2", fixed(4)),
+    Macro("DesignSecondName", "chart2.parameter", TEXT),
+)
+
+# The design table's devices by their macro part and their names in the record (a name ending in
+# "..." is the start of one): the impact suppressors, the linear ones, the references.
+DEVICE_NAMES = {
+    "Opt": "impact, optimal peak",
+    "OptAvgCrit": "impact, optimal band average",
+    "Chart": "impact, paper...",
+    "RobImp": "impact, robust...",
+    "Near": "impact, optimal peak, gap...",
+    "TmdOpt": "TMD, optimal peak",
+    "TmdOptAvgCrit": "TMD, optimal band average",
+    "Eq": "TMD, impact's stroke",
+    "RobTmd": "TMD, robust...",
+    "BareDev": "bare object",
+    "AbsorberDev": "absorber without a stop",
+}
+IMPACT_DEVICES = ("Opt", "OptAvgCrit", "Chart", "RobImp", "Near")
+TMD_DEVICES = ("TmdOpt", "TmdOptAvgCrit", "Eq", "RobTmd")
+# A device's designed parameter ({D}: the device, {P}: the parameter's macro part).
+PARAMETER = {k: Macro("Design{D}{P}", f"parameters.{k}", fixed(d)) for k, d in DIGITS.items()}
+# A device's located peak, band average, worst cases at the two detunings and stroke.
+DEVICE = (
+    Macro("Design{D}LocPeak", "peak", fixed(3)),
+    Macro("Design{D}LocTheta", "peak_theta", fixed(3)),
+    Macro("Design{D}Avg", "band_average", fixed(3)),
+    Macro("Design{D}WorstSmall", "worst_small", fixed(2)),
+    Macro("Design{D}WorstLarge", "worst_large", fixed(2)),
+    Macro("Design{D}Stroke", "stroke", fixed(1)),
+)
+
+
+def _sensitivity_text(sens: dict) -> str:
     """``$N$: -0.012/+0.020, ...``: each parameter's move for a 5 % worse peak (">" where even
     the box's bound is not that much worse)."""
     parts = []
-    for n in [k for k in names if k in sens]:
+    for n in [k for k in SYMBOLS if k in sens]:
         sides = sens[n]
         text = "/".join(
-            ("$>$bound" if v is None else f"{sign}{fixed(v, 3)}")
+            ("$>$bound" if v is None else f"{sign}{fixed(3)(v)}")
             for sign, v in (("$-$", sides["down"]), ("$+$", sides["up"]))
         )
-        parts.append(f"${names[n]}$ {text}")
+        parts.append(f"${SYMBOLS[n]}$ {text}")
     return ", ".join(parts)
 
 
-# The impact suppressor's designed parameters (the optimiser's, in its order) and their symbols,
-# as the design section writes them (x_{st} without \\mathrm, as in its other macros).
-SYMBOLS = {k: SPEC[k].symbol.replace("\\mathrm{st}", "st") for k in IMPACT_BOUNDS}
-
-
-def tex_device(name: str) -> str:
-    """A device's name of the record as TeX."""
-    for plain, tex in (
-        ("<=", "$\\le$"),
-        ("+-", "$\\pm$"),
-        (" %", "\\,\\%"),
-        ("delta2", "$\\delta_2$"),
-        ("paper's N", "paper's $N$"),
-        (", R", ", $R$"),
-    ):
-        name = name.replace(plain, tex)
-    return name
-
-
-def design_table(optimum: dict) -> str:
-    """The design table (booktabs): device; parameters; located peak; band average; worst case
-    at each detuning; stroke; loads (impact suppressors)."""
-    ds = [f"{100 * d:g}" for d in optimum["detunings"]]
-    head = (
-        "device & parameters & peak & band avg. & "
-        + " & ".join(f"worst $\\pm{d}\\,\\%$" for d in ds)
-        + " & stroke & pulse, impacts, force \\\\"
-    )
-    lines = [
-        "% Written by workflow/scripts/design_report.py; do not edit.",
-        "\\begin{tabular}{ll" + "r" * (4 + len(ds)) + "}",
-        "\\toprule",
-        head,
-        "\\midrule",
-    ]
-    for d in optimum["devices"]:
-        digits = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
-        pars = (
-            ", ".join(f"${SYMBOLS[k]}={fixed(d['parameters'][k], digits[k])}$" for k in SYMBOLS if k in d["parameters"])
-            or "---"
-        )
-        worst = " & ".join(fixed(d["worst_case"][f"{x:g}"], 2) for x in optimum["detunings"])
-        loads = (
-            f"{fixed(d['impulse_per_impact'], 2)}, {fixed(d['impacts_per_second'], 2)}, {fixed(d['mean_force'], 3)}"
-            if d["kind"] == "impact"
-            else "---"
-        )
-        lines.append(
-            f"{tex_device(d['device'])} & {pars} & {fixed(d['peak'], 3)} & {fixed(d['band_average'], 3)} & "
-            f"{worst} & {fixed(d['stroke'], 1)} & {loads} \\\\"
-        )
-    lines += ["\\bottomrule", "\\end{tabular}"]
-    return "\n".join(lines) + "\n"
-
-
-def optimum_macros(add, optimum: dict) -> None:
-    """The design table's macros (``add(name, text)``)."""
-    dmax = f"{max(optimum['detunings']):g}"
-    dmin = f"{min(optimum['detunings']):g}"
-    imp, tmd = device(optimum, "impact, optimal peak"), device(optimum, "TMD, optimal peak")
-    impa, tmda = device(optimum, "impact, optimal band average"), device(optimum, "TMD, optimal band average")
-    bare, absorber = device(optimum, "bare object"), device(optimum, "absorber without a stop")
-    paper = next(d for d in optimum["devices"] if d["device"].startswith("impact, paper"))
-    eq = device(optimum, "TMD, impact's stroke")
-    rob_t = next(d for d in optimum["devices"] if d["device"].startswith("TMD, robust"))
-    rob_i = next(d for d in optimum["devices"] if d["device"].startswith("impact, robust"))
-    near = next(d for d in optimum["devices"] if d["device"].startswith("impact, optimal peak, gap"))
-    add("DesignStep", fixed(optimum["step"], 2))
-    add("DesignDetuneSmallPct", fixed(100 * min(optimum["detunings"]), 0))
-    add("DesignDetuneLargePct", fixed(100 * max(optimum["detunings"]), 0))
-    for key, d in (("Opt", imp), ("OptAvgCrit", impa), ("Chart", paper), ("RobImp", rob_i), ("Near", near)):
-        for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
-            add(f"Design{key}{name}", fixed(d["parameters"][k], digits))
-    for key, d in (("TmdOpt", tmd), ("TmdOptAvgCrit", tmda), ("Eq", eq), ("RobTmd", rob_t)):
-        add(f"Design{key}N", fixed(d["parameters"]["N"], 3))
-        add(f"Design{key}DeltaTwo", fixed(d["parameters"]["delta2"], 3))
-    for key, d in (
-        ("Opt", imp),
-        ("OptAvgCrit", impa),
-        ("Chart", paper),
-        ("RobImp", rob_i),
-        ("Near", near),
-        ("TmdOpt", tmd),
-        ("TmdOptAvgCrit", tmda),
-        ("Eq", eq),
-        ("RobTmd", rob_t),
-        ("BareDev", bare),
-        ("AbsorberDev", absorber),
-    ):
-        add(f"Design{key}LocPeak", fixed(d["peak"], 3))
-        add(f"Design{key}LocTheta", fixed(d["peak_theta"], 3))
-        add(f"Design{key}Avg", fixed(d["band_average"], 3))
-        add(f"Design{key}WorstSmall", fixed(d["worst_case"][dmin], 2))
-        add(f"Design{key}WorstLarge", fixed(d["worst_case"][dmax], 2))
-        add(f"Design{key}Stroke", fixed(d["stroke"], 1))
-    add("DesignRobTmdDampingWord", "more" if rob_t["parameters"]["delta2"] > tmd["parameters"]["delta2"] else "less")
-    add("DesignChartGainBare", fixed(bare["peak"] / paper["peak"], 2))
-    add("DesignChartGainAbsorber", fixed(absorber["peak"] / paper["peak"], 2))
-    add("DesignChartRatioTmd", fixed(paper["peak"] / tmd["peak"], 2))
-    add("DesignOptRatioTmd", fixed(imp["peak"] / tmd["peak"], 3))
-    add("DesignOptRatioTmdAvg", fixed(impa["band_average"] / tmda["band_average"], 3))
-    add("DesignOptRatioWorstLarge", fixed(imp["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
-    add("DesignOptGainBare", fixed(bare["peak"] / imp["peak"], 2))
-    add("DesignNearRatioTmd", fixed(near["peak"] / tmd["peak"], 3))
-    add("DesignNearImpulse", fixed(near["impulse_per_impact"], 2))
-    add("DesignNearImpactsPerSecond", fixed(near["impacts_per_second"], 2))
-    add("DesignNearMeanForce", fixed(near["mean_force"], 3))
-    hit = impacting(optimum["devices"])
-    add(
-        "DesignOptStopText",
-        (
-            f"its gap lies beyond its own travel (stroke {fixed(imp['stroke'], 1)}), so that the "
+def _stop_text(imp: dict) -> str:
+    """Whether the optimal impact suppressor reaches its stop, in words."""
+    if imp["impacts_per_second"] == 0:
+        return (
+            f"its gap lies beyond its own travel (stroke {fixed(1)(imp['stroke'])}), so that the "
             "stop is never reached: allowed that, the optimiser makes the impact suppressor a TMD"
-            if imp["impacts_per_second"] == 0
-            else f"its stop is reached, up to {fixed(imp['impacts_per_second'], 2)} impacts per natural period"
+        )
+    return f"its stop is reached, up to {fixed(2)(imp['impacts_per_second'])} impacts per natural period"
+
+
+# The comparisons between devices (d: the devices by macro part; hit, hita: the impacting optima
+# by peak and band average; large: the largest detuning's key).
+COMPARISONS = (
+    Macro(
+        "DesignRobTmdDampingWord",
+        lambda s: (
+            "more" if s["d"]["RobTmd"]["parameters"]["delta2"] > s["d"]["TmdOpt"]["parameters"]["delta2"] else "less"
         ),
-    )
-    for k, digits, name in (("gap", 2, "Gap"), ("N", 3, "N"), ("delta2", 3, "DeltaTwo"), ("R", 2, "R")):
-        add(f"DesignHit{name}", fixed(hit["parameters"][k], digits))
-    for k, digits, name in (
-        ("peak", 3, "LocPeak"),
-        ("stroke", 1, "Stroke"),
-        ("impulse_per_impact", 2, "Impulse"),
-        ("impacts_per_second", 2, "ImpactsPerSecond"),
-        ("mean_force", 3, "MeanForce"),
-    ):
-        add(f"DesignHit{name}", fixed(hit[k], digits))
-    add("DesignHitWorstLarge", fixed(hit["worst_case"][dmax], 2))
-    hita = impacting(optimum["devices"], "band_average")
-    add("DesignHitAvgCritGap", fixed(hita["parameters"]["gap"], 2))
-    add("DesignHitAvgCritAvg", fixed(hita["band_average"], 3))
-    add("DesignHitRatioTmdAvg", fixed(hita["band_average"] / tmda["band_average"], 3))
-    add("DesignHitRatioTmd", fixed(hit["peak"] / tmd["peak"], 3))
-    add("DesignHitRatioWorstLarge", fixed(hit["worst_case"][dmax] / tmd["worst_case"][dmax], 3))
-    add("DesignOptImpulse", fixed(imp["impulse_per_impact"], 2))
-    add("DesignOptImpactsPerSecond", fixed(imp["impacts_per_second"], 2))
-    add("DesignOptMeanForce", fixed(imp["mean_force"], 3))
-    add("DesignOptGridPeak", fixed(imp["grid_peak"], 3))
-    add("DesignChartGridPeak", fixed(paper["grid_peak"], 3))
-    add("DesignOptAtBound", ", ".join(imp["at_bound"]) or "none")
-    add("DesignStarts", optimum["budget"]["starts"])
-    add("DesignKeep", optimum["budget"]["keep"])
-    add("DesignLocalEvaluations", optimum["budget"]["local_evaluations"])
-    add("DesignSensImpact", _sensitivity_text(optimum["sensitivity"]["impact"], SYMBOLS))
-    add("DesignSensTmd", _sensitivity_text(optimum["sensitivity"]["tmd"], SYMBOLS))
-    add("DesignSensWorsePct", fixed(100 * optimum["sensitivity_worse"], 0))
-    add("DesignRecommendation", recommendation(optimum, pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{st}$"))
+    ),
+    Macro("DesignChartGainBare", _ratio("d.BareDev.peak", "d.Chart.peak"), fixed(2)),
+    Macro("DesignChartGainAbsorber", _ratio("d.AbsorberDev.peak", "d.Chart.peak"), fixed(2)),
+    Macro("DesignChartRatioTmd", _ratio("d.Chart.peak", "d.TmdOpt.peak"), fixed(2)),
+    Macro("DesignOptRatioTmd", _ratio("d.Opt.peak", "d.TmdOpt.peak"), fixed(3)),
+    Macro("DesignOptRatioTmdAvg", _ratio("d.OptAvgCrit.band_average", "d.TmdOptAvgCrit.band_average"), fixed(3)),
+    Macro("DesignOptRatioWorstLarge", _ratio("d.Opt.worst_large", "d.TmdOpt.worst_large"), fixed(3)),
+    Macro("DesignOptGainBare", _ratio("d.BareDev.peak", "d.Opt.peak"), fixed(2)),
+    Macro("DesignNearRatioTmd", _ratio("d.Near.peak", "d.TmdOpt.peak"), fixed(3)),
+    Macro("DesignNearImpulse", "d.Near.impulse_per_impact", fixed(2)),
+    Macro("DesignNearImpactsPerSecond", "d.Near.impacts_per_second", fixed(2)),
+    Macro("DesignNearMeanForce", "d.Near.mean_force", fixed(3)),
+    Macro("DesignOptStopText", "d.Opt", Format(_stop_text)),
+)
+HIT = (
+    Macro("DesignHitLocPeak", "hit.peak", fixed(3)),
+    Macro("DesignHitStroke", "hit.stroke", fixed(1)),
+    Macro("DesignHitImpulse", "hit.impulse_per_impact", fixed(2)),
+    Macro("DesignHitImpactsPerSecond", "hit.impacts_per_second", fixed(2)),
+    Macro("DesignHitMeanForce", "hit.mean_force", fixed(3)),
+    Macro("DesignHitWorstLarge", "hit.worst_large", fixed(2)),
+    Macro("DesignHitAvgCritGap", "hita.parameters.gap", fixed(2)),
+    Macro("DesignHitAvgCritAvg", "hita.band_average", fixed(3)),
+    Macro("DesignHitRatioTmdAvg", _ratio("hita.band_average", "d.TmdOptAvgCrit.band_average"), fixed(3)),
+    Macro("DesignHitRatioTmd", _ratio("hit.peak", "d.TmdOpt.peak"), fixed(3)),
+    Macro("DesignHitRatioWorstLarge", _ratio("hit.worst_large", "d.TmdOpt.worst_large"), fixed(3)),
+    Macro("DesignOptImpulse", "d.Opt.impulse_per_impact", fixed(2)),
+    Macro("DesignOptImpactsPerSecond", "d.Opt.impacts_per_second", fixed(2)),
+    Macro("DesignOptMeanForce", "d.Opt.mean_force", fixed(3)),
+    Macro("DesignOptGridPeak", "d.Opt.grid_peak", fixed(3)),
+    Macro("DesignChartGridPeak", "d.Chart.grid_peak", fixed(3)),
+    Macro("DesignOptAtBound", lambda s: ", ".join(s["d"]["Opt"]["at_bound"]) or "none"),
+    Macro("DesignStarts", "optimum.budget.starts", TEXT),
+    Macro("DesignKeep", "optimum.budget.keep", TEXT),
+    Macro("DesignLocalEvaluations", "optimum.budget.local_evaluations", TEXT),
+    Macro("DesignSensImpact", "optimum.sensitivity.impact", Format(_sensitivity_text)),
+    Macro("DesignSensTmd", "optimum.sensitivity.tmd", Format(_sensitivity_text)),
+    Macro("DesignSensWorsePct", "optimum.sensitivity_worse", percent(0)),
+    Macro("DesignRecommendation", lambda s: recommendation(s["optimum"], pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{st}$")),
     # For the README (never expanded in TeX, where its x_st would fail; no "%", which would end the
     # TeX line of its definition).
-    add("DesignRecommendationPlain", recommendation(optimum, pct=" per cent"))
+    Macro("DesignRecommendationPlain", lambda s: recommendation(s["optimum"], pct=" per cent")),
+)
+
+
+def _devices(optimum: dict) -> dict[str, dict]:
+    """The design table's devices by macro part (:data:`DEVICE_NAMES`), each with its worst cases
+    at the smallest and largest detuning (``worst_small``, ``worst_large``)."""
+    out = {}
+    for key, name in DEVICE_NAMES.items():
+        if name.endswith("..."):
+            d = next(d for d in optimum["devices"] if d["device"].startswith(name.removesuffix("...")))
+        else:
+            d = device(optimum, name)
+        out[key] = _with_worst(d, optimum)
+    return out
+
+
+def _with_worst(d: dict, optimum: dict) -> dict:
+    """``d`` with its worst cases at the smallest and largest detuning."""
+    small, large = (f"{f(optimum['detunings']):g}" for f in (min, max))
+    return {**d, "worst_small": d["worst_case"][small], "worst_large": d["worst_case"][large]}
+
+
+def optimum_macros(optimum: dict) -> list:
+    """The design table's macros."""
+    d = _devices(optimum)
+    out = [
+        ("DesignStep", fixed(2)(optimum["step"])),
+        ("DesignDetuneSmallPct", percent(0)(min(optimum["detunings"]))),
+        ("DesignDetuneLargePct", percent(0)(max(optimum["detunings"]))),
+    ]
+    for key in IMPACT_DEVICES:
+        out += [line for k in DIGITS for line in macro_lines([PARAMETER[k]], d[key], D=key, P=SPEC[k].macro)]
+    for key in TMD_DEVICES:
+        out += [line for k in ("N", "delta2") for line in macro_lines([PARAMETER[k]], d[key], D=key, P=SPEC[k].macro)]
+    for key in d:
+        out += macro_lines(DEVICE, d[key], D=key)
+    hit = _with_worst(impacting(optimum["devices"]), optimum)
+    source = {"d": d, "hit": hit, "hita": impacting(optimum["devices"], "band_average"), "optimum": optimum}
+    out += macro_lines(COMPARISONS, source)
+    out += [line for k in DIGITS for line in macro_lines([PARAMETER[k]], hit, D="Hit", P=SPEC[k].macro)]
+    return out + macro_lines(HIT, source)
 
 
 def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, optimum: dict, response_csv) -> MacroFile:
@@ -214,96 +290,105 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, optimum: di
     MacroFile
         The macros, in the order the report's record lists them.
     """
-    bp, ba = chart["best"]["peak"], chart["best"]["band_average"]
-    tmd, tmd_avg = base["tmd"]["peak"], base["tmd"]["band_average"]
-    bare, absorber = base["references"]["bare"], base["references"]["absorber"]
-    best_resp = next(r for r in resp["responses"] if r["role"] == "best")
+    bp, tmd = chart["best"]["peak"], base["tmd"]["peak"]
     paper = {r["gap"]: r for r in resp["responses"]}
     paper_gap = -5.8 if -5.8 in paper else resp["responses"][-1]["gap"]
     share, runs = impact_better(response_csv, bp["gap"], tmd)
-    dh = base["den_hartog_check"]
+    source = {
+        "base": base,
+        "chart": chart,
+        "chart2": chart2,
+        "resp": resp,
+        "bp": bp,
+        "ba": chart["best"]["band_average"],
+        "one": chart["at_reference_theta"],
+        "best": next(r for r in resp["responses"] if r["role"] == "best"),
+        "paper": paper[paper_gap],
+        "paper_gap": paper_gap,
+        "tmd": tmd,
+        "tmd_avg": base["tmd"]["band_average"],
+        "bare": base["references"]["bare"],
+        "absorber": base["references"]["absorber"],
+        "share": share,
+        "runs": runs,
+        "dh": base["den_hartog_check"],
+    }
     m = MacroFile(["% Written by workflow/scripts/design_report.py; do not edit."])
-    add = m.add
-    add("DesignBandStart", fixed(base["band"][0], 2))
-    add("DesignBandStop", fixed(base["band"][1], 2))
-    add("DesignThetaPoints", chart["theta_points"])
-    add("DesignGapStep", fixed(chart["gap_step"], 2))
-    add("DesignTolerancePct", fixed(100 * bp["tolerance"], 0))
-    add("DesignBestGap", fixed(bp["gap"], 2))
-    add("DesignBestPeak", fixed(bp["value"], 2))
-    add("DesignGoodFrom", fixed(bp["good_from"], 2))
-    add("DesignGoodTo", fixed(bp["good_to"], 2))
-    add("DesignBestImpulse", fixed(bp["peak_impulse"], 2))
-    add("DesignBestImpacts", fixed(bp["impacts_per_period"], 0))
-    one = chart["at_reference_theta"]
-    add("DesignRefTheta", fixed(one["theta"], 2))
-    add("DesignRefThetaGap", fixed(one["gap"], 2))
-    add("DesignRefThetaValue", fixed(one["value"], 2))
-    add("DesignRefThetaBare", fixed(float(bare_object_amplitude(base["parameters"]["delta1"], [one["theta"]])[0]), 2))
-    add("DesignAvgBestGap", fixed(ba["gap"], 2))
-    add("DesignAvgBest", fixed(ba["value"], 3))
-    add("DesignAvgGoodFrom", fixed(ba["good_from"], 2))
-    add("DesignAvgGoodTo", fixed(ba["good_to"], 2))
-    add("DesignBestGapAvg", fixed(best_resp["band_average"], 3))
-    add("DesignBarePeak", fixed(bare["peak"], 2))
-    add("DesignBareAvg", fixed(bare["band_average"], 3))
-    add("DesignAbsorberPeak", fixed(absorber["peak"], 2))
-    add("DesignAbsorberAvg", fixed(absorber["band_average"], 3))
-    add("DesignTmdPeak", fixed(tmd["peak"], 2))
-    add("DesignTmdAvg", fixed(tmd["band_average"], 3))
-    add("DesignTmdN", fixed(tmd["N"], 4))
-    add("DesignTmdDeltaTwo", fixed(tmd["delta2"], 4))
-    add("DesignTmdAvgOptAvg", fixed(tmd_avg["band_average"], 3))
-    add("DesignTmdAvgOptN", fixed(tmd_avg["N"], 4))
-    add("DesignTmdAvgOptDeltaTwo", fixed(tmd_avg["delta2"], 4))
-    add("DesignGainBare", fixed(bare["peak"] / bp["value"], 2))
-    add("DesignGainAbsorber", fixed(absorber["peak"] / bp["value"], 2))
-    add("DesignRatioTmd", fixed(bp["value"] / tmd["peak"], 2))
-    add("DesignRatioTmdAvg", fixed(best_resp["band_average"] / tmd["band_average"], 2))
-    add("DesignImpactBetterPct", fixed(100 * share, 0))
-    add(
-        "DesignImpactBetterRuns",
-        ", ".join(f"${fixed(a, 2)}$--${fixed(b, 2)}$" if b > a else f"${fixed(a, 2)}$" for a, b in runs) or "none",
-    )
-    add("DesignPaperGap", fixed(paper_gap, 1))
-    add("DesignPaperPeak", fixed(paper[paper_gap]["peak"], 2))
-    add("DesignPaperImpulse", fixed(paper[paper_gap]["peak_impulse"], 2))
-    add("DesignPaperImpacts", fixed(paper[paper_gap]["impacts_per_period"], 0))
-    add("DesignBestHysteresis", best_resp["hysteresis_points"])
-    add("DesignResponsePoints", resp["points"])
-    add("DesignBalanceMax", tex_sci(max(r["largest_balance"] for r in resp["responses"]), 1))
-    add("DesignDriftMax", tex_sci(max(r["largest_drift_settled"] for r in resp["responses"]), 1))
-    add("DesignDHPeak", fixed(dh["closed_form"]["peak"], 4))
-    add("DesignDHPeakAtDH", fixed(dh["peak_at_closed_form"], 4))
-    add("DesignDHOptPeak", fixed(dh["optimiser"]["peak"], 4))
-    add("DesignDHExcessPct", fixed(100 * dh["peak_relative_excess"], 2))
-    add("DesignDHN", fixed(dh["closed_form"]["N"], 4))
-    add("DesignDHOptN", fixed(dh["optimiser"]["N"], 4))
-    add("DesignDHNDiff", tex_sci(abs(dh["N_relative_difference"]), 1))
-    add("DesignDHDeltaTwo", fixed(dh["closed_form"]["delta2"], 4))
-    add("DesignDHOptDeltaTwo", fixed(dh["optimiser"]["delta2"], 4))
-    add("DesignSecondName", chart2["parameter"])
-    optimum_macros(add, optimum)
+    m.extend(macro_lines(CHART, source))
+    m.extend(optimum_macros(optimum))
     return m
+
+
+# --- the tables -----------------------------------------------------------------------------
+def tex_device(name: str) -> str:
+    """A device's name of the record as TeX."""
+    for plain, tex in (
+        ("<=", "$\\le$"),
+        ("+-", "$\\pm$"),
+        (" %", "\\,\\%"),
+        ("delta2", "$\\delta_2$"),
+        ("paper's N", "paper's $N$"),
+        (", R", ", $R$"),
+    ):
+        name = name.replace(plain, tex)
+    return name
+
+
+def _parameters_text(parameters: dict) -> str:
+    """A device's designed parameters, ``$N=0.500$, ...`` (--- where it has none)."""
+    text = ", ".join(f"${SYMBOLS[k]}={fixed(DIGITS[k])(parameters[k])}$" for k in SYMBOLS if k in parameters)
+    return text or "---"
+
+
+def _loads_text(d: dict) -> str:
+    """An impact suppressor's pulse, impacts and mean force (--- for a linear device)."""
+    if d["kind"] != "impact":
+        return "---"
+    return f"{fixed(2)(d['impulse_per_impact'])}, {fixed(2)(d['impacts_per_second'])}, {fixed(3)(d['mean_force'])}"
+
+
+def design_table(optimum: dict) -> str:
+    """The design table (booktabs): device; parameters; located peak; band average; worst case
+    at each detuning; stroke; loads (impact suppressors)."""
+    detunings = optimum["detunings"]
+    worst = [Column(lambda d, k=f"{x:g}": d["worst_case"][k], fixed(2)) for x in detunings]
+    table = Table(
+        colspec="ll" + "r" * (4 + len(detunings)),
+        header="device & parameters & peak & band avg. & "
+        + " & ".join(f"worst $\\pm{100 * x:g}\\,\\%$" for x in detunings)
+        + " & stroke & pulse, impacts, force",
+        comments=["Written by workflow/scripts/design_report.py; do not edit."],
+        columns=[
+            Column("device", Format(tex_device)),
+            Column("parameters", Format(_parameters_text)),
+            Column("peak", fixed(3)),
+            Column("band_average", fixed(3)),
+            *worst,
+            Column("stroke", fixed(1)),
+            Column(lambda d: d, Format(_loads_text)),
+        ],
+    )
+    return table.render(optimum["devices"])
+
+
+SECOND_TABLE = Table(
+    colspec="rrrrrr",
+    header="{} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & impacts/$T$",
+    comments=["Written by workflow/scripts/design_report.py; do not edit."],
+    columns=[
+        Column("second", fixed(2)),
+        Column("gap", fixed(2)),
+        Column("value", fixed(2)),
+        Column(lambda b: f"{fixed(2)(b['good_from'])} to {fixed(2)(b['good_to'])}"),
+        Column("peak_impulse", fixed(2)),
+        Column("impacts_per_period", fixed(0)),
+    ],
+)
 
 
 def second_table(chart2: dict) -> str:
     """The booktabs table of the best gap (peak criterion) against the second parameter."""
-    sym = {"N": "$N$", "R": "$R$"}.get(chart2["parameter"], chart2["parameter"])
-    lines = [
-        "% Written by workflow/scripts/design_report.py; do not edit.",
-        "\\begin{tabular}{rrrrrr}",
-        "\\toprule",
-        f"{sym} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & impacts/$T$ \\\\",
-        "\\midrule",
-    ]
-    for b in chart2["best"]:
-        if b["criterion"] != "peak":
-            continue
-        lines.append(
-            f"{fixed(b['second'], 2)} & {fixed(b['gap'], 2)} & {fixed(b['value'], 2)} & "
-            f"{fixed(b['good_from'], 2)} to {fixed(b['good_to'], 2)} & {fixed(b['peak_impulse'], 2)} & "
-            f"{fixed(b['impacts_per_period'], 0)} \\\\"
-        )
-    lines += ["\\bottomrule", "\\end{tabular}"]
-    return "\n".join(lines) + "\n"
+    name = chart2["parameter"]
+    symbol = f"${SPEC[name].symbol}$" if name in SPEC else name
+    table = dataclasses.replace(SECOND_TABLE, header=SECOND_TABLE.header.format(symbol))
+    return table.render([b for b in chart2["best"] if b["criterion"] == "peak"])
