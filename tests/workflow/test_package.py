@@ -98,7 +98,7 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
 
 
 # The figures' modules: matplotlib is theirs, in the workflow extra.
-FIGURE_MODULES = {"plotting.py", "branch_figure.py"}
+FIGURE_MODULES = {"plotting.py", "branch_figure.py", "figures.py"}
 
 
 def test_runtime_imports_are_declared_dependencies():

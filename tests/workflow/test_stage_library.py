@@ -72,6 +72,47 @@ def test_start_stage_reads_the_config_params_and_logs(tmp_path):
     assert (tmp_path / "logs" / "x.log").read_text() == "hello\n"
 
 
+def test_run_stage_hands_main_the_jobs_values(tmp_path):
+    """A script's __main__ (records.run_stage): each path of the spec is the job's value, in
+    order, converted where asked, a missing optional wildcard None, keywords by name, callables
+    of the job, and the config sections read back as dicts."""
+    params = types.SimpleNamespace(items=lambda: [("reference", '{"gap": -5.8}'), ("stated_gap", "-5.8")])
+    job = types.SimpleNamespace(
+        log=[str(tmp_path / "x.log")],
+        params=params,
+        input=types.SimpleNamespace(csv="in.csv", maps=("a.csv", "b.csv")),
+        output=types.SimpleNamespace(pdf="out.pdf"),
+        wildcards=types.SimpleNamespace(chunk="3"),
+        threads=2,
+    )
+    got = []
+
+    def main(*args, **kwargs):
+        got.append((args, kwargs))
+        return "result"
+
+    out = records.run_stage(
+        job,
+        main,
+        ("params.reference input.csv wildcards.chunk:int", lambda j: j.threads + 1),
+        "input.maps:list params.stated_gap:float name=wildcards.name? out=output.pdf",
+        log="say",
+        logger="test_run_stage",  # progress lines to the log file (without: the standard error)
+    )
+    assert out == "result"
+    ((args, kwargs),) = got
+    assert args == ({"gap": -5.8}, "in.csv", 3, 3, ["a.csv", "b.csv"], -5.8)
+    assert kwargs["name"] is None and kwargs["out"] == "out.pdf"
+    kwargs["log"]("hello")  # "say": a progress line to the stage's logger
+    for h in logging.getLogger("test_run_stage").handlers:
+        h.flush()
+    assert (tmp_path / "x.log").read_text() == "hello\n"
+    with pytest.raises(AttributeError):  # a path that is not optional must exist
+        records.run_stage(job, main, "wildcards.name", logger="test_run_stage")
+    for h in logging.getLogger("test_run_stage").handlers:
+        h.close()
+
+
 # --- LaTeX macro records ------------------------------------------------------------------------
 def test_macro_file_renders_tex_and_text_from_one_record(tmp_path):
     m = latex.MacroFile(["% a comment\n", ("Alpha", latex.sci(7.2e-12))])

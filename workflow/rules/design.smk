@@ -132,7 +132,7 @@ rule design_report:
 rule fig_design_response:
     input:
         script="workflow/scripts/fig_design_response.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         response="figures/design_response.csv",
         summary="figures/design_response.json",
@@ -170,7 +170,7 @@ rule fig_design_chart:
 rule fig_design_chart_2d:
     input:
         script="workflow/scripts/fig_design_chart_2d.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         chart="figures/design_chart_2d.csv",
         best="figures/design_chart_2d.json",

@@ -11,9 +11,10 @@ Output: ``results/claims/map_{chunk}.csv`` or ``results/claims/map_{name}_{chunk
 
 import numpy as np
 
-from impactdamper.reporting.records import start_stage, write_csv
+from impactdamper.reporting.records import run_stage, write_csv
 from impactdamper.studies.claims.maps import MAP_COLUMNS, claims_map
 from impactdamper.studies.config import parameters, sweep_settings
+
 
 COLUMNS = MAP_COLUMNS
 
@@ -64,17 +65,7 @@ def main(
     return out
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = "wildcards.chunk:int params.reference params.solver params.search output.csv log=say name=wildcards.name?"
 
-    cfg, _ = start_stage(sm)
-    main(
-        int(sm.wildcards.chunk),
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.csv,
-        log=lambda msg: print(msg, file=sys.stderr, flush=True),
-        name=getattr(sm.wildcards, "name", None),
-    )
+if __name__ == "__main__":
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

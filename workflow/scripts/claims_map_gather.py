@@ -13,7 +13,7 @@ from claims_map_chunk import map_settings
 from impactdamper.studies.replication import cases as rep
 from impactdamper.studies.claims.maps import REFINED_COLUMNS, refine_claims_map
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import read_csv, start_stage, write_csv, write_json
+from impactdamper.reporting.records import read_csv, run_stage, write_csv, write_json
 
 
 def main(
@@ -58,16 +58,10 @@ def main(
     )
 
 
+JOB = (
+    "input.chunks:list params.reference params.solver params.search output.csv output.json "
+    "output.refined name=wildcards.name?"
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    main(
-        list(sm.input.chunks),
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.csv,
-        sm.output.json,
-        sm.output.refined,
-        name=getattr(sm.wildcards, "name", None),
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

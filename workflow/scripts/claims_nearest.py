@@ -12,7 +12,7 @@ of the record).
 import time
 
 from impactdamper.studies.replication import cases as rep
-from impactdamper.reporting.records import start_stage, write_json
+from impactdamper.reporting.records import run_stage, write_json
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.claims.nearest import NEAREST_NAMES, ClaimsEvaluator, nearest_set, round_values, verify_point
 
@@ -97,17 +97,7 @@ def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, o
     return out
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = "params.reference params.solver params.verdict params.search output.json output.timing log=say"
 
-    cfg, _ = start_stage(sm)
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["verdict"],
-        cfg["search"],
-        sm.output.json,
-        sm.output.timing,
-        log=lambda msg: print(msg, file=sys.stderr, flush=True),
-    )
+if __name__ == "__main__":
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -27,7 +27,7 @@ import numpy as np
 
 from impactdamper.studies.replication import cases as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import start_stage, write_json
+from impactdamper.reporting.records import run_stage, write_json
 from impactdamper.studies.claims.search import check_rows, reference_check, search_parameter
 
 
@@ -67,15 +67,4 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    cfg, _ = start_stage(sm)
-    main(
-        sm.wildcards.parameter,
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.json,
-        log=lambda msg: print(msg, file=sys.stderr, flush=True),
-    )
+    run_stage(snakemake, main, "wildcards.parameter params.reference params.solver params.search output.json log=say")  # noqa: F821 (injected by Snakemake's script: directive)

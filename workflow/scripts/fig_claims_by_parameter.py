@@ -14,9 +14,10 @@ refinement reached down to. Data: ``figures/claims_by_parameter.csv`` and its se
 Deviation: a search the paper does not have.
 """
 
-from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.records import read_csv, read_json, run_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.studies.vocabulary import SPEC
+
 
 LANES = (
     ("a", "claim (a): gap negative (Alg. No. 1)", "#e67e22"),
@@ -70,6 +71,4 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.csv input.json output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

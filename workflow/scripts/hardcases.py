@@ -26,9 +26,10 @@ from pathlib import Path
 
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.latex import tex_escape
-from impactdamper.reporting.records import start_stage, write_csv, write_json
+from impactdamper.reporting.records import run_stage, write_csv, write_json
 from impactdamper.reporting.texrecord import Column, Format, Table, time
 from impactdamper.studies.performance import hardcases as hc
+
 
 CSV_COLUMNS = [
     "case",
@@ -119,6 +120,4 @@ def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, lg = start_stage(sm, "hardcases")
-    main(cfg["reference"], sm.output.csv, sm.output.json, sm.output.tex, log=lg.info)
+    run_stage(snakemake, main, "params.reference output.csv output.json output.tex log=log.info", logger="hardcases")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -17,8 +17,9 @@ Outputs: ``figures/impacts_{case}.csv`` (full precision) and
 from pathlib import Path
 
 from impactdamper.reporting.latex import fixed
-from impactdamper.reporting.records import read_json, start_stage, write_csv
+from impactdamper.reporting.records import read_json, run_stage, write_csv
 from impactdamper.reporting.texrecord import MIDRULE, Column, Format, Table
+
 
 # The table's cells: the impact (t1, ...; the next cycle's first marked), times, velocity, pulse.
 COLUMNS_TEX = [
@@ -68,6 +69,4 @@ def main(case: str, case_json, out_csv, out_tex) -> list[dict]:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.wildcards.case, sm.input.json, sm.output.csv, sm.output.tex)
+    run_stage(snakemake, main, "wildcards.case input.json output.csv output.tex")  # noqa: F821 (injected by Snakemake's script: directive)
