@@ -11,18 +11,8 @@ stated point). Used by ``workflow/scripts/claims_macros.py`` and ``claims_gather
 from __future__ import annotations
 
 from impactdamper.reporting.latex import MacroFile
-from impactdamper.reporting.texrecord import (
-    COUNT,
-    YES_NO,
-    Column,
-    Format,
-    Macro,
-    Table,
-    fixed,
-    macro_lines,
-    percent,
-    sci,
-)
+from impactdamper.reporting.texrecord import COUNT, YES_NO, Column, Format, Macro, Table, fixed, macro_lines, percent
+from impactdamper.reporting.texrecord import sci
 from impactdamper.studies.claims.nearest import NEAREST_NAMES
 from impactdamper.studies.claims.search import SEARCH_PARAMETERS
 from impactdamper.studies.replication.gapscan import count_end_checks

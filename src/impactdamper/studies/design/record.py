@@ -15,18 +15,8 @@ import numpy as np
 
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.records import read_csv
-from impactdamper.reporting.texrecord import (
-    TEXT,
-    Column,
-    Format,
-    Macro,
-    Table,
-    fixed,
-    macro_lines,
-    percent,
-    pick,
-    tex_sci,
-)
+from impactdamper.reporting.texrecord import TEXT, Column, Format, Macro, Table, fixed, macro_lines, percent, pick
+from impactdamper.reporting.texrecord import tex_sci
 from impactdamper.studies.design.design import bare_object_amplitude, runs_where, two_mass_amplitude
 from impactdamper.studies.design.optimum import IMPACT_BOUNDS, device, impacting, recommendation
 from impactdamper.studies.vocabulary import SPEC

@@ -17,18 +17,8 @@ import math
 
 from impactdamper.reporting.latex import MacroFile, tex_escape, tex_time
 from impactdamper.reporting.records import json_float
-from impactdamper.reporting.texrecord import (
-    COUNT,
-    TEXT,
-    YES_NO,
-    Format,
-    Macro,
-    Table,
-    general,
-    macro_lines,
-    tex_sci,
-    time,
-)
+from impactdamper.reporting.texrecord import COUNT, TEXT, YES_NO, Format, Macro, Table, general, macro_lines, tex_sci
+from impactdamper.reporting.texrecord import time
 from impactdamper.studies.performance.methods import METHODS, reported_alone
 
 __all__ = ["macros", "table", "compiled_table", "FAMILY_LABEL"]

@@ -13,18 +13,8 @@ from __future__ import annotations
 
 from impactdamper.core.parameters import Parameters
 from impactdamper.reporting.latex import MacroFile
-from impactdamper.reporting.texrecord import (
-    COUNT,
-    TEXT,
-    WORDS,
-    YES_NO,
-    Format,
-    Macro,
-    fixed,
-    macro_lines,
-    percent,
-    sci,
-)
+from impactdamper.reporting.texrecord import COUNT, TEXT, WORDS, YES_NO, Format, Macro, fixed, macro_lines, percent
+from impactdamper.reporting.texrecord import sci
 from impactdamper.studies.claims.search import SEARCH_PARAMETERS
 from impactdamper.studies.vocabulary import SPEC, tex
 
