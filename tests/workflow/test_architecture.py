@@ -96,6 +96,24 @@ def test_each_stage_has_its_room_and_its_scripts_use_it():
             assert str(module.relative_to(ROOT)) in imported, module
 
 
+def test_rooms_import_each_other_without_a_circle():
+    """The rooms of studies/ (and its shared modules) import each other one way only."""
+    edges: dict[str, set[str]] = {}
+    for path in (SRC / "studies").rglob("*.py"):
+        parts = path.relative_to(SRC / "studies").parts
+        room = parts[0] if len(parts) > 1 else parts[0].removesuffix(".py")
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("impactdamper.studies"):
+                names = node.module.split(".")[2:3] or [a.name for a in node.names]
+                edges.setdefault(room, set()).update(n for n in names if n != room)
+    assert edges["claims"] >= {"replication"}  # the claims stage builds on the replication's claims
+
+    def reaches(a: str, b: str, seen=()) -> bool:
+        return any(n == b or (n not in seen and reaches(n, b, (*seen, n))) for n in edges.get(a, ()))
+
+    assert not [room for room in edges if reaches(room, room)]
+
+
 # How the source states the impact law (eqs. 14, 21-22) or carries its parameter R: the pulse
 # D = m_red (1 + R), the rebound R v, the compiled kernels' slot, Siconos's impact law, and R
 # handed to the Siconos driver.

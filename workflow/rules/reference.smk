@@ -215,7 +215,6 @@ rule verdict:
         script="workflow/scripts/verdict.py",
         library=library(
             study(
-                "claims/search",
                 "config",
                 "intervals",
                 "replication/cases",

@@ -13,7 +13,7 @@ is current.
 import sys
 from pathlib import Path
 
-from impactdamper.core.parameters import PARAMETER_TABLE
+from impactdamper.core.parameters import PARAMETER_TABLE, RELATIVE_PARAMETERS
 from impactdamper.reporting.readme import beyond, impact_table, read_records
 
 
@@ -61,9 +61,11 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"the smallest is in {m['ClaimsNearestParameterName']}. Searched in all seven relative parameters at once "
         f"(equally weighted relative changes; {m['NearestRays']} rays from the stated point and a local refinement: a "
         f"near set, not a proven nearest one), the nearest set found where both claims hold with a "
-        f"{m['NearestMarginPct']} % margin changes no parameter by more than {m['NearestMaxDistMaxPct']} % (theta = "
-        f"{m['NearestMaxTheta']}, mu = {m['NearestMaxMu']}, N = {m['NearestMaxN']}, delta1 = {m['NearestMaxDeltaOne']}, "
-        f"delta2 = {m['NearestMaxDeltaTwo']}, R = {m['NearestMaxR']}, Delta0/x_st = {m['NearestMaxGap']}); in the "
+        f"{m['NearestMarginPct']} % margin changes no parameter by more than {m['NearestMaxDistMaxPct']} % ("
+        + ", ".join(
+            f"{s.plain} = {m['NearestMax' + s.macro]}" for s in PARAMETER_TABLE if s.name in RELATIVE_PARAMETERS
+        )
+        + "); in the "
         f"Euclidean norm ({m['NearestEuclidDistEuclidPct']} %) it is theta = {m['NearestEuclidTheta']}, N = "
         f"{m['NearestEuclidN']}, mu = {m['NearestEuclidMu']}, the rest as stated; the pure-Python solver and solve_ivp "
         f"confirm both. Round values one digit away that reproduce both claims: {m['RoundList']}; the nearest break "

@@ -4,7 +4,7 @@ quotes, as macros of the stage's record, declared for :mod:`impactdamper.reporti
 The verdict is on the paper's Fig. 2 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100):
 claim by claim (:mod:`impactdamper.studies.replication.verdict`), what the stated parameters give
 and where the claimed behaviour does occur: along the gap (the gap scan), beyond it (each
-parameter alone, :mod:`impactdamper.studies.claims.search`), and under other readings of the
+parameter alone, the claims stage's record), and under other readings of the
 paper (:mod:`impactdamper.studies.replication.readings`). Numbers are bare (for math mode);
 ``MISSING`` where a value does not exist.
 """
@@ -15,7 +15,6 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import COUNT, TEXT, WORDS, YES_NO, Format, Macro, fixed, macro_lines, percent
 from impactdamper.reporting.texrecord import sci
-from impactdamper.studies.claims.search import SEARCH_PARAMETERS
 from impactdamper.studies.vocabulary import SPEC, tex
 
 __all__ = ["macros", "claims_macros"]
@@ -72,8 +71,8 @@ SEARCH = (
 def claims_macros(b: dict) -> MacroFile:
     """Macros of the search beyond the gap (claims_by_parameter)."""
     m = MacroFile(CLAIMS_COMMENTS + [("ClaimsRelTol", sci(0)(b["rel_tol"]))])
-    for name in SEARCH_PARAMETERS:
-        m.extend(macro_lines(SEARCHED, b["parameters"][name], P=SPEC[name].macro))
+    for name, d in b["parameters"].items():  # the parameters searched, in the search's order
+        m.extend(macro_lines(SEARCHED, d, P=SPEC[name].macro))
     near = b["nearest_parameter"]
     m.extend(macro_lines(SEARCH, {**b, "near": b["parameters"][near] if near else None}))
     return m

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from impactdamper.analysis.transitions import liftoff_resolution_offset
 from impactdamper.core.parameters import Parameters
-from impactdamper.reporting.latex import MacroFile
+from impactdamper.reporting.latex import MacroFile, camel
 from impactdamper.reporting.records import read_json
 from impactdamper.reporting.texrecord import COUNT, TEXT, Format, Macro, Table, general, macro_lines, tex_sci
 from impactdamper.studies.sweeps.results import (
@@ -37,7 +37,6 @@ __all__ = ["macros", "table", "timing", "sequence", "overlap_text"]
 
 CHECK_NAMES = {"liftoff": "LiftOff", "first_contact": "FirstContact", "alg1_grazing": "AlgOneGrazing"}
 CHECK_TEXT = {"liftoff": "(a) lift-off", "first_contact": "(b) first contact", "alg1_grazing": "(c) Alg.~1 grazing"}
-MAP_MACRO = {"theta": "Theta", "damping": "Damping"}
 # A difference as TeX: 6.6\times10^{-6}; 10^{-9} for an exact power of ten; -- where none.
 SCI = tex_sci(missing="\\text{--}", powers_of_ten=True)
 SCI3 = tex_sci(3, missing="\\text{--}", powers_of_ten=True)
@@ -148,7 +147,7 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> MacroFile:
     m.extend(macro_lines(DIRECTIONS, source))
     for name, (map_csv, curves_csv, map_settings) in maps.items():
         source = {"maps": read_json(map_settings)["maps"], "bistable": bistable_rows(map_csv, curves_csv)}
-        m.extend(macro_lines(MAP, source, M=MAP_MACRO[name]))
+        m.extend(macro_lines(MAP, source, M=camel(name)))
     return m
 
 
@@ -255,5 +254,5 @@ def timing(sweep_timing, map_timings) -> str:
     m = MacroFile(macro_lines(BENCH, read_json(sweep_timing)))
     for path in map_timings:
         mt = read_json(path)
-        m.extend(macro_lines(MAP_BENCH, mt, M=MAP_MACRO[mt["map"]]))
+        m.extend(macro_lines(MAP_BENCH, mt, M=camel(mt["map"])))
     return m.tex()
