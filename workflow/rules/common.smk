@@ -57,7 +57,7 @@ def study(*names):
     """The study modules ``names`` of the studies part, each a room's module (``claims/search``)
     or a shared one (``config``), with the modules it imports named too by the caller, and the
     ``__init__.py`` of the part and of every room named."""
-    rooms = sorted({n.split("/")[0] for n in names if "/" in n})
+    rooms = sorted({Path(n).parts[0] for n in names if len(Path(n).parts) > 1})
     inits = ["src/impactdamper/studies/__init__.py"] + [f"src/impactdamper/studies/{r}/__init__.py" for r in rooms]
     return inits + [f for n in names for f in library_files(f"studies/{n}")]
 
