@@ -43,7 +43,7 @@ import numpy as np
 
 import impactdamper as idp
 from impactdamper.reporting import plotting
-from impactdamper.studies import design, optimum
+from impactdamper.studies.design import design, optimum
 
 plt.style.use(plotting.STYLE_FILE)
 

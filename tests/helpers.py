@@ -178,14 +178,15 @@ def library_imports(path) -> list[str]:
 def library_parts(files) -> set[str]:
     """The parts of the library that ``files`` belong to, as the workflow's rules list them
     (workflow/rules/common.smk): a subpackage (``core``, ``reporting``, ...), one study module
-    (``studies/claims``: each study is listed on its own) or the package's ``__init__``."""
+    (``studies/claims/search``, ``studies/config``: each study is listed on its own, with the
+    ``__init__`` of its room) or the package's ``__init__``."""
     out = set()
     for f in files:
         parts = Path(f).relative_to("src/impactdamper").parts
         if len(parts) == 1:
             out.add(parts[0])
         elif parts[0] == "studies":
-            out.add("studies/" + Path(parts[1]).stem)
+            out.add(str(Path(*parts).with_suffix("")))
         else:
             out.add(parts[0])
     return out

@@ -381,8 +381,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
-    """``design``: both devices' optima (:func:`impactdamper.studies.optimum.design_optima`)."""
-    from impactdamper.studies.optimum import design_optima
+    """``design``: both devices' optima (:func:`impactdamper.studies.design.optimum.design_optima`)."""
+    from impactdamper.studies.design.optimum import design_optima
 
     def progress(message: str) -> None:
         if not args.quiet:

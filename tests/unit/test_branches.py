@@ -1,11 +1,11 @@
-"""Tests of the branch readings of :mod:`impactdamper.studies.branches`: the special points'
+"""Tests of the branch readings of :mod:`impactdamper.studies.sweeps.branches`: the special points'
 vocabulary, a branch split into runs of one state for drawing, the multi-impact window and
 the special points' descriptions. Hand-made rows (strings, as the committed CSVs are read)."""
 
 import pytest
 
 from impactdamper.analysis.continuation import SPECIAL_KINDS
-from impactdamper.studies import branches as br
+from impactdamper.studies.sweeps import branches as br
 
 
 def test_vocabulary_names_every_kind_the_continuation_reports():

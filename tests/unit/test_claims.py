@@ -1,5 +1,6 @@
 """The paper's claims, the aligned cross-check of settled cycles and the interval search
-(impactdamper.studies.claims).
+(impactdamper.studies.replication.claims, impactdamper.studies.intervals and the claims stage's
+impactdamper.studies.claims).
 
 Regression guarded: the headline cross-check compared the exact solver's settled cycle
 (described on a fresh run, clock rebased) with the solve_ivp impacts in the same absolute time
@@ -15,17 +16,9 @@ import math
 import pytest
 
 import impactdamper as idp
-from impactdamper.studies.claims import (
-    Interval,
-    check_rows,
-    claim_intervals,
-    compare_cycles,
-    distance_to,
-    intersect,
-    reference_check,
-    search_parameter,
-    true_intervals,
-)
+from impactdamper.studies.intervals import Interval, claim_intervals, distance_to, intersect, true_intervals
+from impactdamper.studies.claims.search import check_rows, reference_check, search_parameter
+from impactdamper.studies.replication.claims import compare_cycles
 
 TOL = 1e-8
 
@@ -226,7 +219,7 @@ def test_check_rows_takes_every_nth_value_and_the_final_brackets():
 def test_nearest_both_measures_from_the_stated_value():
     """A gathered search record: both claims hold on [0.9, 0.95] and [1.2, 1.3]; stated 1.0 is
     0.05 from the first (5 % of |stated|)."""
-    from impactdamper.studies.claims import nearest_both
+    from impactdamper.studies.claims.search import nearest_both
 
     both = [
         {"lo": 0.9, "hi": 0.95, "lo_open": False, "hi_open": False},
@@ -257,7 +250,7 @@ def test_refine_grid_finds_a_window_between_other_labels_down_to_the_floor():
         calls.append(len(xs))
         return [{"value": x, "label": label(x)} for x in xs]
 
-    from impactdamper.studies.claims import refine_grid
+    from impactdamper.studies.claims.search import refine_grid
 
     rows, rounds = refine_grid([i / 100 for i in range(101)], rows_at, 0.01 / 2**4)
     b = [r["value"] for r in rows if r["label"] == "B"]
@@ -281,7 +274,8 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
     they share a value, and every end of a run must lie within one fine step of a change of the
     refined grid."""
     from impactdamper.analysis.settled import SweepSettings
-    from impactdamper.studies.claims import batch_rows, refine_grid, true_runs
+    from impactdamper.studies.claims.search import batch_rows, refine_grid
+    from impactdamper.studies.intervals import true_runs
 
     p = idp.Parameters()
     st = SweepSettings(
@@ -317,7 +311,7 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
 def test_end_checks_are_counted_by_what_they_rest_on():
     """Two compared within tolerance, one with nothing to compare per claim, one compared
     outside tolerance, one with different verdicts: the counts say so (not "6 of 6 agree")."""
-    from impactdamper.studies.claims import count_end_checks
+    from impactdamper.studies.replication.gapscan import count_end_checks
 
     a_ok = {
         "claim": "a",
@@ -381,8 +375,8 @@ def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
     have both points evaluated by the refinement, with the same label, in fewer points than the
     brute force; one halving alone (floor 0.005 x 0.01) misses some of them."""
     from impactdamper.analysis.settled import SweepSettings
-    from impactdamper.studies.claims import claims_cells
-    from impactdamper.studies.claims_maps import map_label, refine_claims_map
+    from impactdamper.studies.claims.maps import claims_cells
+    from impactdamper.studies.claims.maps import map_label, refine_claims_map
 
     p = idp.Parameters()
     st = SweepSettings(

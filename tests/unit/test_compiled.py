@@ -25,7 +25,7 @@ from impactdamper.analysis.sweeps import random_starts, regime_map, two_way_swee
 from impactdamper.core import compiled as cc
 from impactdamper.core.simulate import simulate
 from impactdamper.core.steady import steady_state
-from impactdamper.studies.hardcases import TOUCH_VELOCITY, hard_cases
+from impactdamper.studies.performance.hardcases import TOUCH_VELOCITY, hard_cases
 
 # Event times agree to this, in forcing periods, where the motion is well conditioned (the brief).
 TIME_TOL = 1e-12

@@ -1,4 +1,4 @@
-"""Choosing a suppressor (impactdamper.studies.design): the linear baselines against the
+"""Choosing a suppressor (impactdamper.studies.design.design): the linear baselines against the
 library's own flow and closed forms, Den Hartog's optimum as the optimiser's check, and the
 design chart's bookkeeping.
 
@@ -24,7 +24,7 @@ from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.transitions import object_alone_amplitude
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
-from impactdamper.studies.design import (
+from impactdamper.studies.design.design import (
     band_peak,
     bare_object_amplitude,
     den_hartog,

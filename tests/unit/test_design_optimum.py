@@ -1,5 +1,5 @@
-"""Choosing a suppressor, answered (impactdamper.studies.design's located peaks and closed-form
-linear peaks; impactdamper.studies.optimum's optimiser, detuning, stroke and loads; the
+"""Choosing a suppressor, answered (impactdamper.studies.design.design's located peaks and closed-form
+linear peaks; impactdamper.studies.design.optimum's optimiser, detuning, stroke and loads; the
 ``design`` command).
 
 * The linear devices' peaks and strokes in closed form against a dense grid (200001 points):
@@ -25,8 +25,8 @@ import pytest
 
 from impactdamper.analysis.settled import SweepSettings
 from impactdamper.core.parameters import Parameters
-from impactdamper.studies import design as dz
-from impactdamper.studies.design import (
+from impactdamper.studies.design import design as dz
+from impactdamper.studies.design.design import (
     AMPLITUDE_RTOL,
     THETA_TOL,
     LinearDevice,
@@ -35,7 +35,7 @@ from impactdamper.studies.design import (
     impact_band_response,
     linear_maxima,
 )
-from impactdamper.studies.optimum import Budget, detuned, minimise, optimise_tmd, sensitivity, worst_case_tmd
+from impactdamper.studies.design.optimum import Budget, detuned, minimise, optimise_tmd, sensitivity, worst_case_tmd
 
 BAND = (0.5, 1.5)
 DENSE = 200001
@@ -304,7 +304,7 @@ def _record(imp_peak, tmd_peak, imp_worst, tmd_worst, imp_avg=2.3, tmd_avg=2.3):
     ],
 )
 def test_recommendation_follows_the_record(values, first):
-    from impactdamper.studies.optimum import recommendation
+    from impactdamper.studies.design.optimum import recommendation
 
     text = recommendation(_record(*values))
     assert text.startswith(first + ":"), text

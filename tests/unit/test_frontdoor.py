@@ -152,7 +152,7 @@ def test_steady_states_backends_agree():
 
 def test_old_names_warn_and_name_the_new_call():
     from impactdamper.core.compiled import steady_state_compiled
-    from impactdamper.studies.replication import run_steady_compiled
+    from impactdamper.studies.replication.cases import run_steady_compiled
 
     p = idp.Parameters()
     with pytest.warns(DeprecationWarning, match="use impactdamper.steady_state"):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import impactdamper as idp
-from impactdamper.studies import hardcases as hc
+from impactdamper.studies.performance import hardcases as hc
 from impactdamper.baselines import highprecision as hp
 from impactdamper.core.events import Segment
 from impactdamper.core.linear import forced_amplitudes

@@ -1,4 +1,4 @@
-"""Tests of the work-precision methods' table (:mod:`impactdamper.studies.methods`): every
+"""Tests of the work-precision methods' table (:mod:`impactdamper.studies.performance.methods`): every
 method answers through the one protocol (``impacts()``, ``state_at(t)``) on a short window of
 the reference case, agreeing with the exact solver; the vocabulary the report, the figure and
 the config schema use is the table's."""
@@ -11,8 +11,8 @@ import yaml
 
 from impactdamper import Parameters, simulate
 from impactdamper.baselines.ivp import METHODS as IVP_METHODS
-from impactdamper.studies import methods as mt
-from impactdamper.studies import workprecision as wp
+from impactdamper.studies.performance import methods as mt
+from impactdamper.studies.performance import workprecision as wp
 
 ROOT = Path(__file__).resolve().parents[2]
 REF = Parameters()

@@ -1,4 +1,4 @@
-"""The nearest reproducing set in all seven parameters (impactdamper.studies.nearest).
+"""The nearest reproducing set in all seven parameters (impactdamper.studies.claims.nearest).
 
 The committed answer (figures/claims_nearest.json) must reproduce both of the paper's Fig. 2
 claims when recomputed here by the pure-Python reference, and the stated point must not; the
@@ -15,8 +15,8 @@ import pytest
 
 import impactdamper as idp
 from impactdamper.analysis.settled import SweepSettings
-from impactdamper.studies.claims import claim_a, claim_b
-from impactdamper.studies.nearest import (
+from impactdamper.studies.replication.claims import claim_a, claim_b
+from impactdamper.studies.claims.nearest import (
     NEAREST_NAMES,
     ClaimsEvaluator,
     ball_offsets,

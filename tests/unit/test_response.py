@@ -34,7 +34,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.core.steady import steady_state
-from impactdamper.studies.design import two_mass_amplitude
+from impactdamper.studies.design.design import two_mass_amplitude
 
 # A gap the motion never reaches: 1000 x_st against forced amplitudes below 30 x_st.
 NO_CONTACT_GAP = 1.0e3

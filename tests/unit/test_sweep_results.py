@@ -1,4 +1,4 @@
-"""Tests of the sweeps' result readings (:mod:`impactdamper.studies.sweep_results`) and of the
+"""Tests of the sweeps' result readings (:mod:`impactdamper.studies.sweeps.results`) and of the
 lift-off's resolution offset (:func:`impactdamper.analysis.transitions.liftoff_resolution_offset`).
 
 Small hand-made sweeps first, each with the answer worked out by hand; then the offset against
@@ -12,7 +12,7 @@ import pytest
 
 from impactdamper import Parameters, algorithm1
 from impactdamper.analysis.transitions import algorithm1_grazing_gap, algorithm1_grazing_gaps, liftoff_resolution_offset
-from impactdamper.studies import sweep_results as sr
+from impactdamper.studies.sweeps import results as sr
 
 ROOT = Path(__file__).resolve().parents[2]
 # The offset is the leading order in eps (~7e-6; the next order is O(eps)). The located lift-off

@@ -1,4 +1,4 @@
-"""Tests of the verdict's macros (:mod:`impactdamper.studies.verdict_record`) on the committed
+"""Tests of the verdict's macros (:mod:`impactdamper.studies.replication.record`) on the committed
 record: the period and the velocity and impulse units come from :class:`Parameters` (change
 the forcing frequency and they follow), and every claim has its verdict."""
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from impactdamper import Parameters
-from impactdamper.studies.verdict_record import claims_macros, macros
+from impactdamper.studies.replication.record import claims_macros, macros
 
 FIG = Path(__file__).resolve().parents[2] / "figures"
 

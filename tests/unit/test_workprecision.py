@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import impactdamper as idp
-from impactdamper.studies import workprecision as wp
+from impactdamper.studies.performance import workprecision as wp
 from impactdamper.baselines.rk4 import simulate_rk4
 from impactdamper.baselines.siconos_bridge import siconos_status, simulate_siconos
 

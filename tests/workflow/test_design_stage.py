@@ -24,7 +24,7 @@ import yaml
 import design_baselines
 import design_report
 from impactdamper.reporting.records import cell_float, read_csv, read_json
-from impactdamper.studies.design import CRITERIA, good_band
+from impactdamper.studies.design.design import CRITERIA, good_band
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = ROOT / "figures"
@@ -160,7 +160,7 @@ def test_a_chart_row_regenerates():
     """The chart's row at the best gap, recomputed on its own (every gap's response starts
     afresh, so one row is the committed one), within the settle tolerance's reach."""
     from impactdamper.studies.config import sweep_settings
-    from impactdamper.studies.design import design_band, design_parameters, gap_chart
+    from impactdamper.studies.design.design import design_band, design_parameters, gap_chart
 
     design = CONFIG["design"]
     best = read_json(FIGURES / "design_chart.json")["best"]["peak"]
@@ -215,7 +215,7 @@ def test_chart_grid_must_hold_the_reference_theta(config, tmp_path):
 
 
 def test_design_table_linear_rows_recompute_in_closed_form():
-    from impactdamper.studies.design import LinearDevice
+    from impactdamper.studies.design.design import LinearDevice
 
     rec = read_json(FIGURES / "design_optimum.json")
     band = tuple(rec["band"])
@@ -235,7 +235,7 @@ def test_design_table_linear_rows_recompute_in_closed_form():
 
 
 def test_design_table_optima_are_no_worse_than_their_starts():
-    from impactdamper.studies.optimum import device
+    from impactdamper.studies.design.optimum import device
 
     rec = read_json(FIGURES / "design_optimum.json")
     imp, tmd = device(rec, "impact, optimal peak"), device(rec, "TMD, optimal peak")

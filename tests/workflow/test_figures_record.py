@@ -47,7 +47,7 @@ import fig2a  # noqa: E402
 import fig2b  # noqa: E402
 import fig_located_range  # noqa: E402
 import impact_table  # noqa: E402
-from impactdamper.studies import replication as rep  # noqa: E402
+from impactdamper.studies.replication import cases as rep  # noqa: E402
 import solve_case  # noqa: E402
 import verdict  # noqa: E402
 
@@ -300,7 +300,7 @@ SCAN_SAMPLE_EVERY = 20
 
 @pytest.mark.slow
 def test_gap_scan_matches_record():
-    from impactdamper.studies import gapscan
+    from impactdamper.studies.replication import gapscan
 
     cfg = _config()
     base = rep.parameters(cfg["reference"]).to_dict()
@@ -346,7 +346,8 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
     tolerance. Where the pure-Python solver was run at the same values (the record's reference
     check), the two never settled on different cycles."""
     from impactdamper.analysis.settled import SweepSettings
-    from impactdamper.studies.claims import batch_rows, claim_a
+    from impactdamper.studies.claims.search import batch_rows
+    from impactdamper.studies.replication.claims import claim_a
 
     cfg = _config()
     base = rep.parameters(cfg["reference"])
@@ -402,7 +403,7 @@ def test_claims_map_sample_matches_record():
         rows = list(csv.DictReader(f))
     assert len(rows) == m["x_points"] * m["y_points"]
     from impactdamper import steady_state
-    from impactdamper.studies.claims import claim_a, claim_b
+    from impactdamper.studies.replication.claims import claim_a, claim_b
 
     # Recomputed cell by cell, by the single-point compiled solver with the map's period cap
     # (the map ran them all in one batch call).

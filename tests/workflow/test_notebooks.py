@@ -48,8 +48,8 @@ def test_only_the_public_api_is_imported():
         "impactdamper.analysis.settled",
         "impactdamper.analysis.transitions",
         "impactdamper.analysis.response",
-        "impactdamper.studies.design",
-        "impactdamper.studies.optimum",
+        "impactdamper.studies.design.design",
+        "impactdamper.studies.design.optimum",
     }
     for name in NOTEBOOKS:
         for line in (NOTEBOOK_DIR / f"{name}.py").read_text().splitlines():

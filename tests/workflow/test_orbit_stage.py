@@ -32,7 +32,7 @@ GENERATED = ROOT / "paper" / "generated"
 import fig_orbit_branches  # noqa: E402
 import orbit_report  # noqa: E402
 from impactdamper.reporting.records import cell_float, csv_cell, read_csv, read_json, split_floats  # noqa: E402
-from impactdamper.studies import branches as st  # noqa: E402
+from impactdamper.studies.sweeps import branches as st  # noqa: E402
 from impactdamper.studies.config import parameters  # noqa: E402
 
 # Numbers in the regenerated rows: far above run-to-run rounding, far below any change of the

@@ -125,7 +125,7 @@ def test_running_text_check_catches_the_words():
         "regime_map_batch",
         "compiled_warm_up",
     ]
-    assert code_names(r"(\texttt{impactdamper.studies.optimum})") == ["impactdamper.studies.optimum"]
+    assert code_names(r"(\texttt{impactdamper.studies.design.optimum})") == ["impactdamper.studies.design.optimum"]
     assert code_names(r"\texttt{solve\_ivp} made \texttt{figures/sweep\_checks.json} % \texttt{end\_checks}") == []
 
 

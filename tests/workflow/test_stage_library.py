@@ -16,14 +16,17 @@ from impactdamper.analysis.settled import SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep
 from impactdamper.reporting import latex, records
 from impactdamper.reporting.plotting import finish_figure, use_style
-from impactdamper.studies import gapsweep, replication
+from impactdamper.studies.sweeps import gapsweep
 
 
 # --- the gap scan: a closed-form gap -------------------------------------------------------------
+from impactdamper.studies.replication import crosscheck
+
+
 @pytest.mark.parametrize("samples", [400, 4000])
 def test_gap_sign_scan_finds_the_roots_of_a_cosine(samples):
     """gap(s) = cos(2 pi s) is negative on (1/4, 3/4): both ends to the scan's xtol (1e-14)."""
-    scan = replication.gap_sign_scan(lambda s: math.cos(2 * math.pi * s), samples)
+    scan = crosscheck.gap_sign_scan(lambda s: math.cos(2 * math.pi * s), samples)
     assert len(scan.negative_intervals) == 1
     lo, hi = scan.negative_intervals[0]
     assert abs(lo - 0.25) <= 1e-13 and abs(hi - 0.75) <= 1e-13, (lo, hi)
@@ -33,9 +36,9 @@ def test_gap_sign_scan_finds_the_roots_of_a_cosine(samples):
 
 def test_gap_sign_scan_open_ends_and_no_root():
     """Negative at the scan's start: the interval opens at 0; never negative: no interval."""
-    scan = replication.gap_sign_scan(lambda s: s - 0.5, 100)
+    scan = crosscheck.gap_sign_scan(lambda s: s - 0.5, 100)
     assert scan.negative_intervals == ((0.0, pytest.approx(0.5, abs=1e-14)),)
-    assert replication.gap_sign_scan(lambda s: 1.0 + s, 100).negative_intervals == ()
+    assert crosscheck.gap_sign_scan(lambda s: 1.0 + s, 100).negative_intervals == ()
 
 
 # --- records ------------------------------------------------------------------------------------
@@ -67,6 +70,47 @@ def test_start_stage_reads_the_config_params_and_logs(tmp_path):
     for h in logging.getLogger("test_start_stage").handlers:
         h.flush()
     assert (tmp_path / "logs" / "x.log").read_text() == "hello\n"
+
+
+def test_run_stage_hands_main_the_jobs_values(tmp_path):
+    """A script's __main__ (records.run_stage): each path of the spec is the job's value, in
+    order, converted where asked, a missing optional wildcard None, keywords by name, callables
+    of the job, and the config sections read back as dicts."""
+    params = types.SimpleNamespace(items=lambda: [("reference", '{"gap": -5.8}'), ("stated_gap", "-5.8")])
+    job = types.SimpleNamespace(
+        log=[str(tmp_path / "x.log")],
+        params=params,
+        input=types.SimpleNamespace(csv="in.csv", maps=("a.csv", "b.csv")),
+        output=types.SimpleNamespace(pdf="out.pdf"),
+        wildcards=types.SimpleNamespace(chunk="3"),
+        threads=2,
+    )
+    got = []
+
+    def main(*args, **kwargs):
+        got.append((args, kwargs))
+        return "result"
+
+    out = records.run_stage(
+        job,
+        main,
+        ("params.reference input.csv wildcards.chunk:int", lambda j: j.threads + 1),
+        "input.maps:list params.stated_gap:float name=wildcards.name? out=output.pdf",
+        log="say",
+        logger="test_run_stage",  # progress lines to the log file (without: the standard error)
+    )
+    assert out == "result"
+    ((args, kwargs),) = got
+    assert args == ({"gap": -5.8}, "in.csv", 3, 3, ["a.csv", "b.csv"], -5.8)
+    assert kwargs["name"] is None and kwargs["out"] == "out.pdf"
+    kwargs["log"]("hello")  # "say": a progress line to the stage's logger
+    for h in logging.getLogger("test_run_stage").handlers:
+        h.flush()
+    assert (tmp_path / "x.log").read_text() == "hello\n"
+    with pytest.raises(AttributeError):  # a path that is not optional must exist
+        records.run_stage(job, main, "wildcards.name", logger="test_run_stage")
+    for h in logging.getLogger("test_run_stage").handlers:
+        h.close()
 
 
 # --- LaTeX macro records ------------------------------------------------------------------------
@@ -163,7 +207,7 @@ def test_numeric_thresholds_match_the_closed_form():
     resolves the phase to ~1e-14 T."""
     from impactdamper.analysis.sweeps import with_value
     from impactdamper.analysis.transitions import no_contact_gap, stuck_liftoff_gap
-    from impactdamper.studies import transition_checks as transitions
+    from impactdamper.studies.sweeps import transitions as transitions
 
     base = Parameters()
     liftoff = stuck_liftoff_gap(base)

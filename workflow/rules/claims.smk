@@ -5,13 +5,19 @@
 # (reference.smk) reads the gathered intervals.
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
-CLAIMS_PARAMETERS = ["theta", "mu", "N", "delta1", "delta2", "R"]
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS
+
+# One job per searched parameter (every relative parameter but the gap, from the parameter table).
+CLAIMS_PARAMETERS = list(SEARCH_PARAMETERS)
 
 
 rule claims_parameter:
     input:
         script="workflow/scripts/claims_parameter.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(
+            study("claims/search", "config", "intervals", "replication/cases", "replication/claims"),
+            REPORTING,
+        ),
     output:
         json="results/claims/{parameter}.json",
     log:
@@ -31,7 +37,22 @@ rule claims_parameter:
 rule claims_by_parameter:
     input:
         script="workflow/scripts/claims_gather.py",
-        library=library(BASELINES, study("claims", "claims_record", "config", "replication"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "claims/nearest",
+                "claims/record",
+                "claims/search",
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "replication/gapscan",
+                "vocabulary",
+            ),
+            REPORTING,
+        ),
         results=expand("results/claims/{parameter}.json", parameter=CLAIMS_PARAMETERS),
     output:
         csv="figures/claims_by_parameter.csv",
@@ -53,7 +74,7 @@ rule claims_by_parameter:
 rule claims_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        library=library(study("claims", "config"), REPORTING),
+        library=library(study("claims/maps", "config", "replication/claims"), REPORTING),
     output:
         csv="results/claims/map_{chunk}.csv",
     log:
@@ -74,7 +95,10 @@ rule claims_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
         helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
-        library=library(BASELINES, study("claims", "claims_maps", "config", "replication"), REPORTING),
+        library=library(
+            study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
+            REPORTING,
+        ),
         chunks=claims_map_chunk_files,
     output:
         csv="figures/claims_map.csv",
@@ -98,7 +122,7 @@ CLAIMS_PAIR_MAPS = list(config["claims_search"]["pair_maps"])
 rule claims_pair_map_chunk:
     input:
         script="workflow/scripts/claims_map_chunk.py",
-        library=library(study("claims", "config"), REPORTING),
+        library=library(study("claims/maps", "config", "replication/claims"), REPORTING),
     output:
         csv="results/claims/map_{name}_{chunk}.csv",
     log:
@@ -120,7 +144,10 @@ rule claims_pair_map:
     input:
         script="workflow/scripts/claims_map_gather.py",
         helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
-        library=library(BASELINES, study("claims", "claims_maps", "config", "replication"), REPORTING),
+        library=library(
+            study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
+            REPORTING,
+        ),
         chunks=claims_pair_map_chunk_files,
     output:
         csv="figures/claims_map_{name}.csv",
@@ -143,7 +170,7 @@ rule claims_pair_map:
 rule fig_claims_maps:
     input:
         script="workflow/scripts/fig_claims_maps.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
         json=["figures/claims_map_settings.json"]
@@ -164,7 +191,7 @@ rule fig_claims_maps:
 rule fig_claims_by_parameter:
     input:
         script="workflow/scripts/fig_claims_by_parameter.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv="figures/claims_by_parameter.csv",
         json="figures/claims_by_parameter_settings.json",
@@ -182,7 +209,7 @@ rule fig_claims_by_parameter:
 rule fig_claims_map:
     input:
         script="workflow/scripts/fig_claims_map.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
@@ -215,7 +242,19 @@ ALL_TARGETS.extend(
 rule claims_nearest:
     input:
         script="workflow/scripts/claims_nearest.py",
-        library=library(BASELINES, study("claims", "config", "replication", "nearest"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "claims/nearest",
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "vocabulary",
+            ),
+            REPORTING,
+        ),
     output:
         json="figures/claims_nearest.json",
         timing="results/benchmarks/claims_nearest_timing.json",
@@ -238,7 +277,22 @@ ALL_TARGETS.append("figures/claims_nearest.json")
 rule claims_macros:
     input:
         script="workflow/scripts/claims_macros.py",
-        library=library(BASELINES, study("claims", "config", "replication", "nearest", "nearest_record"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "claims/nearest",
+                "claims/record",
+                "claims/search",
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "replication/gapscan",
+                "vocabulary",
+            ),
+            REPORTING,
+        ),
         nearest="figures/claims_nearest.json",
         search="figures/claims_by_parameter_settings.json",
         maps=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),

@@ -33,8 +33,8 @@ for _name, _directory in (
 # the package does not import it.
 def library_files(part):
     """The .py files of library part ``part``: a subpackage (``core``, with its own
-    subpackages such as ``core/compiled``) or one module (``studies/claims``), paths relative
-    to the repository (found there, whatever the working directory)."""
+    subpackages such as ``core/compiled``) or one module (``studies/claims/search``), paths
+    relative to the repository (found there, whatever the working directory)."""
     repo = Path(workflow.basedir)
     path = repo / "src" / "impactdamper" / part
     if path.with_suffix(".py").is_file():
@@ -53,9 +53,12 @@ PACKAGE = ["src/impactdamper/__init__.py"] + CORE + ANALYSIS
 
 
 def study(*names):
-    """The study modules ``names`` of the studies part (each with the modules it imports named
-    too by the caller), with the part's __init__.py."""
-    return ["src/impactdamper/studies/__init__.py"] + [f for n in names for f in library_files(f"studies/{n}")]
+    """The study modules ``names`` of the studies part, each a room's module (``claims/search``)
+    or a shared one (``config``), with the modules it imports named too by the caller, and the
+    ``__init__.py`` of the part and of every room named."""
+    rooms = sorted({Path(n).parts[0] for n in names if len(Path(n).parts) > 1})
+    inits = ["src/impactdamper/studies/__init__.py"] + [f"src/impactdamper/studies/{r}/__init__.py" for r in rooms]
+    return inits + [f for n in names for f in library_files(f"studies/{n}")]
 
 
 def library(*parts):

@@ -9,7 +9,7 @@
 rule design_baselines:
     input:
         script="workflow/scripts/design_baselines.py",
-        library=library(study("design"), REPORTING),
+        library=library(study("design/design"), REPORTING),
     output:
         csv="figures/design_baselines.csv",
         json="figures/design_baselines.json",
@@ -27,7 +27,7 @@ rule design_baselines:
 rule design_chart:
     input:
         script="workflow/scripts/design_chart.py",
-        library=library(study("config", "design"), REPORTING),
+        library=library(study("config", "design/design"), REPORTING),
     output:
         csv="figures/design_chart.csv",
         json="figures/design_chart.json",
@@ -47,7 +47,7 @@ rule design_chart:
 rule design_chart_2d:
     input:
         script="workflow/scripts/design_chart_2d.py",
-        library=library(study("config", "design"), REPORTING),
+        library=library(study("config", "design/design"), REPORTING),
     output:
         csv="figures/design_chart_2d.csv",
         json="figures/design_chart_2d.json",
@@ -67,7 +67,7 @@ rule design_chart_2d:
 rule design_response:
     input:
         script="workflow/scripts/design_response.py",
-        library=library(study("config", "design"), REPORTING),
+        library=library(study("config", "design/design"), REPORTING),
         chart="figures/design_chart.json",
     output:
         csv="figures/design_response.csv",
@@ -88,7 +88,7 @@ rule design_response:
 rule design_optimum:
     input:
         script="workflow/scripts/design_optimum.py",
-        library=library(study("config", "design", "optimum"), REPORTING),
+        library=library(study("config", "design/design", "design/optimum"), REPORTING),
         chart="figures/design_chart.json",
     output:
         json="figures/design_optimum.json",
@@ -109,7 +109,7 @@ rule design_optimum:
 rule design_report:
     input:
         script="workflow/scripts/design_report.py",
-        library=library(study("design", "design_record", "optimum"), REPORTING),
+        library=library(study("design/design", "design/optimum", "design/record", "vocabulary"), REPORTING),
         optimum="figures/design_optimum.json",
         baselines="figures/design_baselines.json",
         chart="figures/design_chart.json",
@@ -132,7 +132,7 @@ rule design_report:
 rule fig_design_response:
     input:
         script="workflow/scripts/fig_design_response.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         response="figures/design_response.csv",
         summary="figures/design_response.json",
@@ -170,7 +170,7 @@ rule fig_design_chart:
 rule fig_design_chart_2d:
     input:
         script="workflow/scripts/fig_design_chart_2d.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         chart="figures/design_chart_2d.csv",
         best="figures/design_chart_2d.json",

@@ -9,7 +9,7 @@
 rule orbit_branches:
     input:
         script="workflow/scripts/orbit_branches.py",
-        library=library(study("branches", "claims", "config"), REPORTING),
+        library=library(study("config", "intervals", "sweeps/branches"), REPORTING),
         located="figures/located_case.json",
     output:
         branches="figures/orbit_branches.csv",
@@ -31,7 +31,7 @@ rule fig_orbit_branches:
     input:
         script="workflow/scripts/fig_orbit_branches.py",
         style=STYLE,
-        library=library(study("branches", "claims", "config"), REPORTING),
+        library=library(study("config", "intervals", "sweeps/branches"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
@@ -49,7 +49,7 @@ rule fig_orbit_branches:
 rule orbit_report:
     input:
         script="workflow/scripts/orbit_report.py",
-        library=library(study("branches", "claims", "config", "orbit_record"), REPORTING),
+        library=library(study("config", "intervals", "sweeps/branches", "sweeps/orbit_record"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",

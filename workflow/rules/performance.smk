@@ -14,7 +14,7 @@
 rule performance_work_precision:
     input:
         script="workflow/scripts/work_precision.py",
-        library=library(BASELINES, study("config", "methods", "workprecision"), REPORTING),
+        library=library(BASELINES, study("config", "performance/methods", "performance/workprecision"), REPORTING),
     output:
         json="results/benchmarks/work_precision.json",
         csv="figures/work_precision.csv",
@@ -32,7 +32,7 @@ rule performance_work_precision:
 rule fig_work_precision:
     input:
         script="workflow/scripts/fig_work_precision.py",
-        library=library(BASELINES, study("methods"), REPORTING),
+        library=library(BASELINES, study("performance/methods"), REPORTING),
         style=STYLE,
         csv="figures/work_precision.csv",
         json="results/benchmarks/work_precision.json",
@@ -52,7 +52,7 @@ rule fig_work_precision:
 rule performance_cost_growth:
     input:
         script="workflow/scripts/cost_growth.py",
-        library=library(BASELINES, study("config", "methods", "workprecision"), REPORTING),
+        library=library(BASELINES, study("config", "performance/methods", "performance/workprecision"), REPORTING),
     output:
         json="results/benchmarks/cost_growth.json",
         csv="figures/cost_growth.csv",
@@ -87,7 +87,7 @@ rule fig_cost_growth:
 rule performance_hardcases:
     input:
         script="workflow/scripts/hardcases.py",
-        library=library(BASELINES, study("config", "hardcases"), REPORTING),
+        library=library(BASELINES, study("config", "performance/hardcases"), REPORTING),
     output:
         csv="figures/hardcases.csv",
         json="results/benchmarks/hardcases.json",
@@ -126,7 +126,7 @@ rule performance_reference_speed:
 rule performance_compile_time:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("compiled_speed"), REPORTING),
+        library=library(BASELINES, study("performance/compiled_speed"), REPORTING),
     output:
         "results/benchmarks/compile_time.json",
     log:
@@ -152,7 +152,7 @@ MAP_SETTLE_KEYS = ("settle_tol", "max_periods", "max_periods_after_nonperiodic",
 rule performance_compiled_speed:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("compiled_speed"), REPORTING),
+        library=library(BASELINES, study("performance/compiled_speed"), REPORTING),
     output:
         "figures/compiled_speed.json",
     log:
@@ -174,7 +174,7 @@ rule performance_compiled_speed:
 rule performance_report:
     input:
         script="workflow/scripts/performance_report.py",
-        library=library(BASELINES, study("methods", "performance_record", "workprecision"), REPORTING),
+        library=library(BASELINES, study("performance/methods", "performance/record", "performance/summary"), REPORTING),
         work_precision="results/benchmarks/work_precision.json",
         cost_growth="results/benchmarks/cost_growth.json",
         hardcases="results/benchmarks/hardcases.json",

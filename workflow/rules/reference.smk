@@ -11,7 +11,7 @@ REFERENCE_CASES = ["stated", "located"]
 rule reference_case_stated:
     input:
         script="workflow/scripts/solve_case.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(study("config", "intervals", "replication/cases", "replication/claims"), REPORTING),
     output:
         json="figures/reference_stated.json",
         fig2a="figures/fig2a_stated.csv",
@@ -31,7 +31,18 @@ rule reference_case_stated:
 rule gap_scan:
     input:
         script="workflow/scripts/gap_scan.py",
-        library=library(BASELINES, study("claims", "config", "gapscan", "replication"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "replication/gapscan",
+            ),
+            REPORTING,
+        ),
     output:
         csv="figures/gap_scan.csv",
         json="figures/located_case.json",
@@ -51,7 +62,7 @@ rule gap_scan:
 rule reference_case_located:
     input:
         script="workflow/scripts/solve_case.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(study("config", "intervals", "replication/cases", "replication/claims"), REPORTING),
         located="figures/located_case.json",
     output:
         json="figures/reference_located.json",
@@ -130,7 +141,11 @@ rule impact_table:
 rule crosscheck_case:
     input:
         script="workflow/scripts/crosscheck_case.py",
-        library=library(BASELINES, study("claims", "config", "replication"), REPORTING),
+        library=library(
+            BASELINES,
+            study("config", "intervals", "replication/cases", "replication/claims", "replication/crosscheck"),
+            REPORTING,
+        ),
         json="figures/reference_{case}.json",
     output:
         json="figures/crosscheck_{case}.json",
@@ -150,7 +165,18 @@ rule crosscheck_case:
 rule other_readings:
     input:
         script="workflow/scripts/other_readings.py",
-        library=library(BASELINES, study("claims", "config", "readings", "replication"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/crosscheck",
+                "replication/readings",
+            ),
+            REPORTING,
+        ),
     output:
         csv="figures/other_readings.csv",
         json="figures/other_readings.json",
@@ -187,7 +213,18 @@ rule fig_located_range:
 rule verdict:
     input:
         script="workflow/scripts/verdict.py",
-        library=library(BASELINES, study("claims", "config", "replication", "verdict", "verdict_record"), REPORTING),
+        library=library(
+            study(
+                "config",
+                "intervals",
+                "replication/cases",
+                "replication/claims",
+                "replication/record",
+                "replication/verdict",
+                "vocabulary",
+            ),
+            REPORTING,
+        ),
         stated="figures/reference_stated.json",
         located="figures/reference_located.json",
         cc_stated="figures/crosscheck_stated.json",

@@ -31,7 +31,7 @@ rule compiled_warm_up:
 rule sweep_gap:
     input:
         script="workflow/scripts/sweep_gap.py",
-        library=library(study("config", "gapsweep"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep"), REPORTING),
     output:
         csv="figures/sweep_gap.csv",
         settings="figures/sweep_gap_settings.json",
@@ -54,7 +54,7 @@ rule sweep_gap:
 rule sweep_random_chunk:
     input:
         script="workflow/scripts/sweep_random.py",
-        library=library(study("config", "gapsweep"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep"), REPORTING),
     output:
         csv="results/sweeps/random_{chunk}.csv",
     log:
@@ -89,7 +89,7 @@ rule sweep_random:
 rule sweep_alg1:
     input:
         script="workflow/scripts/sweep_alg1.py",
-        library=library(study("config", "gapsweep"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep"), REPORTING),
     output:
         csv="figures/sweep_alg1.csv",
     log:
@@ -107,7 +107,7 @@ rule sweep_alg1:
 rule sweep_transitions:
     input:
         script="workflow/scripts/sweep_transitions.py",
-        library=library(study("config", "gapsweep", "transition_checks"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep", "sweeps/transitions"), REPORTING),
         points="results/sweeps/sweep_points.npz",
     output:
         csv="figures/sweep_transitions.csv",
@@ -128,7 +128,7 @@ rule sweep_transitions:
 rule map_chunk:
     input:
         script="workflow/scripts/map_chunk.py",
-        library=library(study("config", "gapsweep"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep"), REPORTING),
     output:
         csv="results/maps/{map}/chunk_{chunk}.csv",
         json="results/maps/{map}/chunk_{chunk}.json",
@@ -174,7 +174,7 @@ rule map_gather:
 rule map_curves:
     input:
         script="workflow/scripts/map_curves.py",
-        library=library(study("config", "gapsweep"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep"), REPORTING),
     output:
         csv="figures/map_{map}_curves.csv",
     log:
@@ -216,7 +216,7 @@ rule fig_sweep_bifurcation:
 rule fig_sweep_regimes:
     input:
         script="workflow/scripts/fig_sweep_regimes.py",
-        library=library(study("gapsweep"), REPORTING),
+        library=library(study("sweeps/gapsweep"), REPORTING),
         style=STYLE,
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
@@ -254,7 +254,10 @@ rule fig_sweep_suppression:
 rule fig_regime_map:
     input:
         script="workflow/scripts/fig_regime_map.py",
-        library=library(study("branches", "claims", "config", "gapsweep", "sweep_results"), REPORTING),
+        library=library(
+            study("config", "intervals", "sweeps/branches", "sweeps/gapsweep", "sweeps/results", "vocabulary"),
+            REPORTING,
+        ),
         style=STYLE,
         map="figures/map_{map}.csv",
         curves="figures/map_{map}_curves.csv",
@@ -277,7 +280,10 @@ rule fig_regime_map:
 rule sweep_report:
     input:
         script="workflow/scripts/sweep_report.py",
-        library=library(study("branches", "claims", "config", "gapsweep", "sweep_record", "sweep_results"), REPORTING),
+        library=library(
+            study("config", "intervals", "sweeps/branches", "sweeps/gapsweep", "sweeps/record", "sweeps/results"),
+            REPORTING,
+        ),
         sweep="figures/sweep_gap.csv",
         transitions="figures/sweep_transitions.csv",
         checks="figures/sweep_checks.json",

@@ -18,10 +18,11 @@ Outputs:
 
 from pathlib import Path
 
-from impactdamper.studies import replication as rep
-from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
-from impactdamper.studies.claims import SEARCH_PARAMETERS, nearest_both
-from impactdamper.studies.claims_record import solver_dependent, table
+from impactdamper.studies.replication import cases as rep
+from impactdamper.reporting.records import read_json, run_stage, say, write_csv, write_json
+from impactdamper.studies.claims.record import table
+from impactdamper.studies.claims.search import SEARCH_PARAMETERS, nearest_both, solver_dependent
+
 
 PARAMETERS = SEARCH_PARAMETERS
 CLAIMS = ("a", "b", "both")
@@ -97,21 +98,12 @@ def main(inputs: dict, reference: dict, solver: dict, search: dict, out_csv, out
     return settings
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = (
+    lambda j: dict(zip(PARAMETERS, j.input.results)),
+    "params.reference params.solver params.search output.csv output.json output.grid output.tex",
+)
 
-    cfg, _ = start_stage(sm)
-    inputs = {name: path for name, path in zip(PARAMETERS, sm.input.results)}
-    out = main(
-        inputs,
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.csv,
-        sm.output.json,
-        sm.output.grid,
-        sm.output.tex,
-    )
+if __name__ == "__main__":
+    out = run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)
     for name, d in out["parameters"].items():
-        print(f"{name}: nearest both {d['nearest_both']}", file=sys.stderr)
+        say(f"{name}: nearest both {d['nearest_both']}")

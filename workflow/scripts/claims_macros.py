@@ -12,8 +12,9 @@ Outputs: ``results/report/claims.json`` (the stage's record of its macros,
 from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
-from impactdamper.studies.nearest_record import macros
+from impactdamper.reporting.records import read_csv, read_json, run_stage, write_json
+from impactdamper.studies.claims.record import macros
+
 
 RECORD_WHAT = "where the claims hold beyond the gap: the nearest set, round values, refinement, pair maps, end checks"
 
@@ -31,15 +32,11 @@ def main(nearest_json, search_json, map_csvs: dict, located_json, out_record, ou
     return record
 
 
+JOB = (
+    "input.nearest input.search",
+    lambda j: dict(zip(["R_gap", *j.params.pair_maps], j.input.maps)),
+    "input.located output.record output.tex",
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    names = ["R_gap"] + list(sm.params.pair_maps)
-    main(
-        sm.input.nearest,
-        sm.input.search,
-        dict(zip(names, sm.input.maps)),
-        sm.input.located,
-        sm.output.record,
-        sm.output.tex,
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

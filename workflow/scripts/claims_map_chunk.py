@@ -2,7 +2,7 @@
 over a grid of two parameters (config ``claims_search.map``, R against Delta0/x_st, or one of
 ``claims_search.pair_maps``), where one parameter alone does not explain where the behaviour
 occurs: Algorithm No. 1 and Algorithm No. 2 from the paper's step 1 at every cell, on the
-compiled batch (:func:`impactdamper.studies.claims.claims_map`; a cell that needs more than the
+compiled batch (:func:`impactdamper.studies.claims.maps.claims_map`; a cell that needs more than the
 map's ``max_periods`` to settle is nonperiodic). One chunk of rows (contiguous y values) per
 Snakemake job.
 
@@ -11,9 +11,10 @@ Output: ``results/claims/map_{chunk}.csv`` or ``results/claims/map_{name}_{chunk
 
 import numpy as np
 
-from impactdamper.reporting.records import start_stage, write_csv
-from impactdamper.studies.claims import MAP_COLUMNS, claims_map
+from impactdamper.reporting.records import run_stage, write_csv
+from impactdamper.studies.claims.maps import MAP_COLUMNS, claims_map
 from impactdamper.studies.config import parameters, sweep_settings
+
 
 COLUMNS = MAP_COLUMNS
 
@@ -64,17 +65,7 @@ def main(
     return out
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = "wildcards.chunk:int params.reference params.solver params.search output.csv log=say name=wildcards.name?"
 
-    cfg, _ = start_stage(sm)
-    main(
-        int(sm.wildcards.chunk),
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.csv,
-        log=lambda msg: print(msg, file=sys.stderr, flush=True),
-        name=getattr(sm.wildcards, "name", None),
-    )
+if __name__ == "__main__":
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -2,7 +2,7 @@
 ``figures/claims_map.csv`` (or ``figures/claims_map_{name}.csv`` for
 ``claims_search.pair_maps``; chunks in order, so the table does not depend on the number of
 jobs), refines it where the labels change or a cell does not settle
-(:func:`impactdamper.studies.claims_maps.refine_claims_map`, the map's ``refine_levels``) into
+(:func:`impactdamper.studies.claims.maps.refine_claims_map`, the map's ``refine_levels``) into
 ``..._refined.csv`` (the added points only, with their level) and writes the settings and the
 refinement's counts beside it (``..._settings.json``)."""
 
@@ -10,10 +10,10 @@ import sys
 
 import gather_csv
 from claims_map_chunk import map_settings
-from impactdamper.studies import replication as rep
-from impactdamper.studies.claims_maps import REFINED_COLUMNS, refine_claims_map
+from impactdamper.studies.replication import cases as rep
+from impactdamper.studies.claims.maps import REFINED_COLUMNS, refine_claims_map
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import read_csv, start_stage, write_csv, write_json
+from impactdamper.reporting.records import read_csv, run_stage, write_csv, write_json
 
 
 def main(
@@ -58,16 +58,10 @@ def main(
     )
 
 
+JOB = (
+    "input.chunks:list params.reference params.solver params.search output.csv output.json "
+    "output.refined name=wildcards.name?"
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    main(
-        list(sm.input.chunks),
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.csv,
-        sm.output.json,
-        sm.output.refined,
-        name=getattr(sm.wildcards, "name", None),
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

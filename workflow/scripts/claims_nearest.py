@@ -2,7 +2,7 @@
 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100), searched in all seven relative
 parameters at once (theta, mu, N, delta1, delta2, R, Delta0/x_st) on the compiled batch, with a
 margin, verified by the pure-Python reference and by solve_ivp; and the nearest set among round
-values (:mod:`impactdamper.studies.nearest`).
+values (:mod:`impactdamper.studies.claims.nearest`).
 
 Outputs: ``figures/claims_nearest.json``; its processor times (search, verification) in
 ``results/benchmarks/claims_nearest_timing.json`` (timings change from run to run and stay out
@@ -11,10 +11,10 @@ of the record).
 
 import time
 
-from impactdamper.studies import replication as rep
-from impactdamper.reporting.records import start_stage, write_json
+from impactdamper.studies.replication import cases as rep
+from impactdamper.reporting.records import run_stage, write_json
 from impactdamper.studies.config import parameters, sweep_settings
-from impactdamper.studies.nearest import NEAREST_NAMES, ClaimsEvaluator, nearest_set, round_values, verify_point
+from impactdamper.studies.claims.nearest import NEAREST_NAMES, ClaimsEvaluator, nearest_set, round_values, verify_point
 
 
 def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, out_timing=None, log=print) -> dict:
@@ -97,17 +97,7 @@ def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, o
     return out
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = "params.reference params.solver params.verdict params.search output.json output.timing log=say"
 
-    cfg, _ = start_stage(sm)
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["verdict"],
-        cfg["search"],
-        sm.output.json,
-        sm.output.timing,
-        log=lambda msg: print(msg, file=sys.stderr, flush=True),
-    )
+if __name__ == "__main__":
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -4,7 +4,7 @@ N, delta1, delta2 or R) is varied alone over a wide range, the others as stated,
 intervals where claim (a) (Algorithm No. 1: the gap goes negative between impacts), claim (b)
 (Algorithm No. 2 from the paper's step 1: T_c = 2T with three impacts) and both hold are
 located, each end bisected to ``claims_search.rel_tol`` relative
-(:func:`impactdamper.studies.claims.search_parameter`). Claim (b)'s grid (the compiled batch,
+(:func:`impactdamper.studies.claims.search.search_parameter`). Claim (b)'s grid (the compiled batch,
 each value from the paper's step 1, a nonperiodic value rescued by Newton's method from the
 run's last sections where it can be) is refined adaptively wherever the settled motion's label
 changes between neighbours or a value does not settle, halving the step
@@ -25,10 +25,10 @@ import time
 
 import numpy as np
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import start_stage, write_json
-from impactdamper.studies.claims import check_rows, reference_check, search_parameter
+from impactdamper.reporting.records import run_stage, write_json
+from impactdamper.studies.claims.search import check_rows, reference_check, search_parameter
 
 
 def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, log=print) -> dict:
@@ -67,15 +67,4 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    cfg, _ = start_stage(sm)
-    main(
-        sm.wildcards.parameter,
-        cfg["reference"],
-        cfg["solver"],
-        cfg["search"],
-        sm.output.json,
-        log=lambda msg: print(msg, file=sys.stderr, flush=True),
-    )
+    run_stage(snakemake, main, "wildcards.parameter params.reference params.solver params.search output.json log=say")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -41,7 +41,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
 from impactdamper.reporting.records import start_stage, write_json
-from impactdamper.studies.compiled_speed import compile_times, run, summary
+from impactdamper.studies.performance.compiled_speed import compile_times, run, summary
 
 
 def main(params: dict, output, workers: int = 2, log=print) -> dict:

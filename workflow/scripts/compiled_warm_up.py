@@ -14,7 +14,7 @@ numba's version and the machine's load (not deterministic).
 import numba
 
 from impactdamper.analysis.batch import warm_up
-from impactdamper.reporting.records import machine, start_stage, write_json
+from impactdamper.reporting.records import machine, run_stage, write_json
 
 
 def main(out_json, log=None) -> dict:
@@ -27,6 +27,4 @@ def main(out_json, log=None) -> dict:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    _, log = start_stage(sm, "compiled_warm_up", timestamps=True)
-    main(sm.output.json, log=log)
+    run_stage(snakemake, main, "output.json log=log", logger="compiled_warm_up", timestamps=True)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -19,9 +19,10 @@ residual and the negative-gap interval ends within tolerance, ``agree_b`` the al
 Output: ``figures/crosscheck_{case}.json``.
 """
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
+from impactdamper.studies.replication import crosscheck as xc
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import read_json, start_stage, write_json
+from impactdamper.reporting.records import read_json, run_stage, say, write_json
 
 
 def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
@@ -31,9 +32,9 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
     a = rep.run_alg1(p, solver)
     s = rep.run_steady(p, solver)
     kmax = int(solver["max_period_multiple"])
-    alg1 = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
+    alg1 = xc.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
     time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
-    alg2 = rep.alg2_ivp(
+    alg2 = xc.alg2_ivp(
         p,
         s.periods + kmax,
         kmax,
@@ -44,7 +45,7 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
         velocity_tol=velocity_tol,
         **kw,
     )
-    alg1_cmp = rep.compare_alg1(a, alg1, time_tol, float(verdict["crosscheck_residual_tol"]))
+    alg1_cmp = xc.compare_alg1(a, alg1, time_tol, float(verdict["crosscheck_residual_tol"]))
     out = {
         "paper": rep.PAPER,
         "case": data["case"],
@@ -60,15 +61,10 @@ def main(case_json, solver: dict, verdict: dict, out_json) -> dict:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    cfg, _ = start_stage(sm)
-    out = main(sm.input.json, cfg["solver"], cfg["verdict"], sm.output.json)
+    out = run_stage(snakemake, main, "input.json params.solver params.verdict output.json")  # noqa: F821 (injected by Snakemake's script: directive)
     c1, c2 = out["algorithm1_comparison"], out["algorithm2"]["cycle_comparison"]
-    print(
+    say(
         f"agree (a) {out['agree_a']}: interval ends {c1['max_interval_end_difference_over_T']} T, residual "
         f"{c1['periodicity_residual']}; agree (b) {out['agree_b']}: times {c2['max_time_difference_over_T']:.1e} T "
-        f"(tol {c2['time_tol']:.0e}), velocities {c2['max_velocity_difference_rel']:.1e} (tol {c2['velocity_tol']:.0e})",
-        file=sys.stderr,
+        f"(tol {c2['time_tol']:.0e}), velocities {c2['max_velocity_difference_rel']:.1e} (tol {c2['velocity_tol']:.0e})"
     )

@@ -12,8 +12,8 @@ import logging
 
 import numpy as np
 
-from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies.design import (
+from impactdamper.reporting.records import run_stage, write_csv, write_json
+from impactdamper.studies.design.design import (
     band_mean,
     band_peak,
     bare_object_amplitude,
@@ -23,6 +23,7 @@ from impactdamper.studies.design import (
     optimal_tmd,
     two_mass_amplitude,
 )
+
 
 COLUMNS = ["theta", "bare", "absorber", "tmd_peak", "tmd_band_average"]
 
@@ -85,7 +86,8 @@ def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
     )
 
 
+JOB = "params.reference params.design output.csv output.json log=log"
+STAGE = {"logger": "design_baselines", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "design_baselines", timestamps=True, library=True)
-    main(cfg["reference"], cfg["design"], sm.output.csv, sm.output.json, log=log)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -12,10 +12,11 @@ import logging
 
 import numpy as np
 
-from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
+from impactdamper.studies.design.design import CRITERIA, design_band, design_gaps, design_parameters, gap_chart
 from impactdamper.analysis.response import theta_grid
+
 
 COLUMNS = [
     "gap",
@@ -75,7 +76,8 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
 
 
+JOB = "params.reference params.solver params.sweep params.design output.csv output.json log=log"
+STAGE = {"logger": "design_chart", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "design_chart", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.output.csv, sm.output.json, log=log)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -8,9 +8,10 @@ Outputs ``figures/design_chart_2d.csv`` (one row per value and gap) and
 
 import logging
 
-from impactdamper.reporting.records import start_stage, write_csv, write_json
+from impactdamper.reporting.records import run_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
+from impactdamper.studies.design.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
+
 
 COLUMNS = [
     "value",
@@ -48,7 +49,8 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
     write_json(out_json, {"parameter": name, "best": best, "parameters": p.to_dict()})
 
 
+JOB = "params.reference params.solver params.sweep params.design output.csv output.json log=log"
+STAGE = {"logger": "design_chart_2d", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "design_chart_2d", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"], cfg["design"], sm.output.csv, sm.output.json, log=log)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

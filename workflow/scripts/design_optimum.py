@@ -4,7 +4,7 @@ suppressor optimised in gap, N, delta2 and R, the linear TMD in N and delta2, by
 and criterion (peak located, and band average), beside the bare object, the absorber without a
 stop and the paper's suppressor at the design chart's best gap; each device's worst case with
 the object's natural frequency detuned, its stroke and (impact) loads; the robust optima and
-the sensitivity of the peak optima (impactdamper.studies.optimum.design_study).
+the sensitivity of the peak optima (impactdamper.studies.design.optimum.design_study).
 
 Outputs ``figures/design_optimum.json`` (the record) and ``figures/design_optimum.csv`` (one row
 per device of the design table).
@@ -12,10 +12,11 @@ per device of the design table).
 
 import logging
 
-from impactdamper.reporting.records import Timer, machine, read_json, start_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, read_json, run_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import design_band, design_parameters
-from impactdamper.studies.optimum import Budget, design_study
+from impactdamper.studies.design.design import design_band, design_parameters
+from impactdamper.studies.design.optimum import Budget, design_study
+
 
 COLUMNS = [
     "device",
@@ -86,16 +87,8 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
 
 
+JOB = "params.reference params.solver params.sweep params.design input.chart output.json output.csv log=log"
+STAGE = {"logger": "design_optimum", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "design_optimum", timestamps=True, library=True)
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["sweep"],
-        cfg["design"],
-        sm.input.chart,
-        sm.output.json,
-        sm.output.csv,
-        log=log,
-    )
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -12,8 +12,8 @@ device) and ``paper/generated/design_second_table.tex`` (best gap against the se
 from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import read_json, start_stage, write_json
-from impactdamper.studies.design_record import RECORD_WHAT, design_macros, design_table, second_table
+from impactdamper.reporting.records import read_json, run_stage, write_json
+from impactdamper.studies.design.record import RECORD_WHAT, design_macros, design_table, second_table
 
 
 def main(
@@ -40,18 +40,10 @@ def main(
     Path(out_design_table).write_text(design_table(optimum))
 
 
+JOB = (
+    "input.baselines input.chart input.chart2d input.response input.response_csv input.optimum "
+    "output.record output.macros output.table output.design_table"
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(
-        sm.input.baselines,
-        sm.input.chart,
-        sm.input.chart2d,
-        sm.input.response,
-        sm.input.response_csv,
-        sm.input.optimum,
-        sm.output.record,
-        sm.output.macros,
-        sm.output.table,
-        sm.output.design_table,
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

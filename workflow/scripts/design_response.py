@@ -14,9 +14,10 @@ import numpy as np
 
 from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.sweeps import with_value
-from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.reporting.records import read_json, run_stage, write_csv, write_json
 from impactdamper.studies.config import sweep_settings
-from impactdamper.studies.design import design_band, design_parameters, response_gaps
+from impactdamper.studies.design.design import design_band, design_parameters, response_gaps
+
 
 COLUMNS = [
     "gap",
@@ -78,16 +79,8 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
     write_json(out_json, {"responses": summary, "band": list(band), "points": int(design["response_points"])})
 
 
+JOB = "params.reference params.solver params.sweep params.design input.chart output.csv output.json log=log"
+STAGE = {"logger": "design_response", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "design_response", timestamps=True, library=True)
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["sweep"],
-        cfg["design"],
-        sm.input.chart,
-        sm.output.csv,
-        sm.output.json,
-        log=log,
-    )
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

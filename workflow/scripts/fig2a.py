@@ -17,19 +17,20 @@ does), each labelled in its title.
 
 import numpy as np
 
-from impactdamper.reporting.records import read_json, start_stage
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, CASE_LABELS, finish_figure, use_style
+from impactdamper.reporting.records import read_json, run_stage
+from impactdamper.reporting.figures import label_above, motion_figure, plot_motion
+from impactdamper.reporting.plotting import CASE_LABELS, finish_figure
+
 
 # Light red of the shaded negative-gap stretch.
 NEGATIVE_GAP_COLOR = "#f4cccc"
 
 
 def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
-    plt = use_style()
     data = read_json(case_json)
     a = data["algorithm1"]
     gap = data["parameters"]["gap"]
-    fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
+    fig, ax, axg = motion_figure()
     label = CASE_LABELS[case]
     title = f"The paper's Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$"
     if not a["exists"]:
@@ -47,20 +48,8 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
             for name, x in ((2 * k + 1, t1), (2 * k + 2, t2)):
                 for axis in (ax, axg):
                     axis.axvline(x, color="0.35", lw=0.7, ls=":")
-                ax.annotate(
-                    f"$t_{{{name}}} = {x:.4f}\\,T$",
-                    (x, 1.0),
-                    xycoords=("data", "axes fraction"),
-                    xytext=(0, 2),
-                    textcoords="offset points",
-                    ha="center",
-                    va="bottom",
-                    fontsize=ANNOTATION_SIZE,
-                )
-        ax.plot(t, x1, label="$\\bar x_1$ (object)")
-        ax.plot(t, x2, ls="--", label="$\\bar x_2$ (suppressor)")
-        axg.axhline(0.0, color="0.2", lw=0.6)
-        axg.plot(t, g, color="C2", label="$\\Delta/x_{\\mathrm{st}} = \\bar x_1 - \\bar x_2$")
+                label_above(ax, x, f"$t_{{{name}}} = {x:.4f}\\,T$")
+        plot_motion(ax, axg, t, x1, x2, g, "$\\Delta/x_{\\mathrm{st}} = \\bar x_1 - \\bar x_2$")
         note = "" if intervals else "gap $\\Delta \\geq 0$ over\nthe whole period:\nno interval $(t_1, t_2)$"
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), title=note or None, alignment="left")
         axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
@@ -73,6 +62,4 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.wildcards.case, sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "wildcards.case input.csv input.json output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -18,14 +18,15 @@ settles to the paper's T_c = 2T with three impacts), each labelled in its title.
 
 import numpy as np
 
-from impactdamper.reporting.records import read_json, start_stage
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, CASE_LABELS, finish_figure, use_style
+from impactdamper.reporting.records import read_json, run_stage
+from impactdamper.reporting.figures import label_above, motion_figure, plot_motion
+from impactdamper.reporting.plotting import CASE_LABELS, finish_figure
+
 
 CYCLE_COLOR = "#e8eef6"
 
 
 def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
-    plt = use_style()
     data = read_json(case_json)
     s = data["algorithm2"]
     gap = data["parameters"]["gap"]
@@ -36,14 +37,11 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     cycle = f"$T_c = {period}$, {n} impact{'s' if n != 1 else ''} per cycle" if k else "no settled period"
     title = f"The paper's Fig. 2b, {label}: Algorithm No. 2, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$: {cycle}"
     t, x1, x2, g = np.loadtxt(curve_csv, delimiter=",", skiprows=1, unpack=True)
-    fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
+    fig, ax, axg = motion_figure()
     if k:
         for axis in (ax, axg):
             axis.axvspan(0.0, k, color=CYCLE_COLOR, lw=0, label=f"one cycle $T_c = {period}$" if axis is ax else None)
-    ax.plot(t, x1, label="$\\bar x_1$ (object)")
-    ax.plot(t, x2, ls="--", label="$\\bar x_2$ (suppressor)")
-    axg.axhline(0.0, color="0.2", lw=0.6)
-    axg.plot(t, g, color="C2", label="$\\Delta/x_{\\mathrm{st}}$")
+    plot_motion(ax, axg, t, x1, x2, g, "$\\Delta/x_{\\mathrm{st}}$")
     for row in s["impact_table"]:
         x = row["t_over_T"]
         nxt = row["next_cycle"]
@@ -53,16 +51,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
         ax.plot([x], [y], "o", color="k", ms=3.5, zorder=5)
         name = row["label"].replace("t", "t_")
         text = f"${name}$" + (" (next cycle)" if nxt else "")  # one line: clear of the title above
-        ax.annotate(
-            text,
-            (x, 1.0),
-            xycoords=("data", "axes fraction"),
-            xytext=(0, 2),
-            textcoords="offset points",
-            ha="center",
-            va="bottom",
-            fontsize=ANNOTATION_SIZE,
-        )
+        label_above(ax, x, text)
     ax.plot([], [], "o", color="k", ms=3.5, label="impacts")
     ax.set_xlim(t[0], t[-1])
     ax.set_ylabel("relative coordinate")
@@ -75,6 +64,4 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.wildcards.case, sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "wildcards.case input.csv input.json output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -14,18 +14,11 @@ refinement reached down to. Data: ``figures/claims_by_parameter.csv`` and its se
 Deviation: a search the paper does not have.
 """
 
-from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.records import read_csv, read_json, run_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
+from impactdamper.studies.vocabulary import SPEC
 
-PARAMETERS = ("theta", "mu", "N", "delta1", "delta2", "R")
-LABEL = {
-    "theta": "$\\theta = \\omega/\\omega_1$",
-    "mu": "$\\mu = m_2/m_1$",
-    "N": "$N = \\omega_2/\\omega_1$",
-    "delta1": "$\\delta_1$ (object's damping)",
-    "delta2": "$\\delta_2$ (suppressor's damping)",
-    "R": "restitution $R$",
-}
+
 LANES = (
     ("a", "claim (a): gap negative (Alg. No. 1)", "#e67e22"),
     ("b", "claim (b): $T_c = 2T$, 3 impacts (Alg. No. 2)", "#1f4e79"),
@@ -37,8 +30,9 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
     plt = use_style()
     rows = read_csv(csv_path)
     settings = read_json(settings_json)
-    fig, axes = plt.subplots(len(PARAMETERS), 1, figsize=figure_size(6.6))
-    for ax, name in zip(axes, PARAMETERS):
+    names = list(settings["parameters"])  # the searched parameters, in the record's order
+    fig, axes = plt.subplots(len(names), 1, figsize=figure_size(6.6))
+    for ax, name in zip(axes, names):
         d = settings["parameters"][name]
         lo, hi = d["range"]["start"], d["range"]["stop"]
         for lane, (claim, label, color) in enumerate(LANES):
@@ -49,7 +43,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
             ]
             # A very narrow interval is still drawn at least 0.4 % of the axis wide.
             spans = [(x, max(w, 0.004 * (hi - lo))) for x, w in spans]
-            ax.broken_barh(spans, (2 - lane - 0.35, 0.7), color=color, label=label if name == PARAMETERS[0] else None)
+            ax.broken_barh(spans, (2 - lane - 0.35, 0.7), color=color, label=label if name == names[0] else None)
         near = d["nearest_both"]
         ax.axvline(near["stated"], color="0.2", lw=0.8, ls=":")
         if near["nearest"] is not None:
@@ -60,7 +54,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
                 ms=4,
                 color="k",
                 zorder=5,
-                label="nearest value where both hold" if name == PARAMETERS[0] else None,
+                label="nearest value where both hold" if name == names[0] else None,
             )
         ax.set_xlim(lo, hi)
         ax.set_ylim(-0.6, 2.6)
@@ -68,7 +62,7 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
         ax.grid(axis="y", visible=False)
         ref = d.get("refinement")
         steps = f"  (Alg. No. 2 step {ref['step']:.3g}, refined to {ref['floor']:.2g})" if ref else ""
-        ax.set_xlabel(LABEL[name] + steps, labelpad=1)
+        ax.set_xlabel(SPEC[name].label + steps, labelpad=1)
         ax.tick_params(axis="y", length=0)
     axes[0].plot([], [], color="0.2", lw=0.8, ls=":", label="stated value")
     axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=3, fontsize="small")
@@ -77,6 +71,4 @@ def main(csv_path, settings_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.csv input.json output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

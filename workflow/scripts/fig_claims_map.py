@@ -13,28 +13,12 @@ Deviation: a map the paper does not have; each cell is Algorithm No. 2 from the 
 1 (no continuation from a neighbour), as in the verdict.
 """
 
-import numpy as np
-from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.figures import CLAIM_CLASSES, class_image, class_points, claim_grid
+from impactdamper.reporting.records import read_csv, read_json, run_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
-
-CLASSES = (
-    ("neither claim", "#eeeeee"),
-    ("(a) only: gap negative", "#f5c28b"),
-    ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"),
-    ("both claims", "#c0392b"),
-)
-LABEL = {
-    "theta": "$\\theta$",
-    "mu": "$\\mu$",
-    "N": "$N$",
-    "delta1": "$\\delta_1$",
-    "delta2": "$\\delta_2$",
-    "R": "restitution $R$",
-    "gap": "$\\Delta_0/x_{\\mathrm{st}}$",
-}
+from impactdamper.studies.vocabulary import SPEC
 
 
 def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=None) -> None:
@@ -42,44 +26,19 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=Non
     rows = read_csv(map_csv)
     settings = read_json(settings_json)
     m, ref = settings["map"], settings["reference"]
-    xs = sorted({float(r["x"]) for r in rows})
-    ys = sorted({float(r["y"]) for r in rows})
-    z = np.zeros((len(ys), len(xs)), dtype=int)
-    for r in rows:
-        a, b = r["claim_a"] == "true", r["claim_b"] == "true"
-        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(a) + 2 * int(b)
+    xs, ys, z = claim_grid(rows)
     fig, ax = plt.subplots(figsize=figure_size(3.6))
     dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
-    ax.imshow(
-        z,
-        origin="lower",
-        aspect="auto",
-        interpolation="nearest",
-        vmin=-0.5,
-        vmax=3.5,
-        cmap=ListedColormap([c for _, c in CLASSES]),
-        extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy),
-    )
-    ax.grid(False)
+    class_image(ax, xs, ys, z)
     extra = read_csv(refined_csv) if refined_csv else []
     if extra:
-        colours = np.array([c for _, c in CLASSES])
-        cls = [int(r["claim_a"] == "true") + 2 * int(r["claim_b"] == "true") for r in extra]
-        ax.scatter(
-            [float(r["x"]) for r in extra],
-            [float(r["y"]) for r in extra],
-            s=2,
-            c=colours[cls],
-            marker="s",
-            linewidths=0,
-            rasterized=True,
-        )
+        class_points(ax, extra, 2)
     ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=11, mec="k", mfc="w", label="stated point")
     located = read_json(located_json)["located"]["gap"]
     if m["y"] == "gap":
         ax.plot([ref[m["x"]]], [located], "D", ms=6, mec="k", mfc="w", label="located case")
-    ax.set_xlabel(LABEL[m["x"]])
-    ax.set_ylabel(LABEL[m["y"]])
+    ax.set_xlabel(SPEC[m["x"]].label)
+    ax.set_ylabel(SPEC[m["y"]].label)
     # The grid, as the caption promises: the steps in both parameters.
     levels = int(m.get("refine_levels", 0)) if extra else 0
     ax.set_title(
@@ -90,12 +49,10 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=Non
         )
         + (f"\nrefined {levels}x to a floor of {2 * dx / 2**levels:.3g} x {2 * dy / 2**levels:.3g}" if levels else "")
     )
-    handles = [Patch(color=c, label=name) for name, c in CLASSES] + ax.get_legend_handles_labels()[0]
+    handles = [Patch(color=c, label=name) for name, c in CLAIM_CLASSES] + ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     finish_figure(fig, out_pdf, out_png)
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.csv, sm.input.json, sm.input.located, sm.output.pdf, sm.output.png, sm.input.refined)
+    run_stage(snakemake, main, "input.csv input.json input.located output.pdf output.png input.refined")  # noqa: F821 (injected by Snakemake's script: directive)

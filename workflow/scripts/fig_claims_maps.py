@@ -15,44 +15,12 @@ nonperiodic. Data: ``figures/claims_map.csv`` and ``figures/claims_map_{name}.cs
 settings JSON.
 """
 
-import numpy as np
-from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from impactdamper.reporting.records import read_csv, read_json, start_stage
+from impactdamper.reporting.figures import CLAIM_CLASSES, class_image, class_points, claim_grid
+from impactdamper.reporting.records import read_csv, read_json, run_stage
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
-
-CLASSES = (
-    ("neither claim", "#eeeeee"),
-    ("(a) only: gap negative", "#f5c28b"),
-    ("(b) only: $T_c = 2T$, 3 impacts", "#8fb3d9"),
-    ("both claims", "#c0392b"),
-)
-LABEL = {
-    "theta": "$\\theta$",
-    "mu": "$\\mu$",
-    "N": "$N$",
-    "delta1": "$\\delta_1$",
-    "delta2": "$\\delta_2$",
-    "R": "$R$",
-    "gap": "$\\Delta_0/x_{\\mathrm{st}}$",
-}
-
-
-def grid(rows: list[dict]) -> tuple[list[float], list[float], np.ndarray]:
-    xs = sorted({float(r["x"]) for r in rows})
-    ys = sorted({float(r["y"]) for r in rows})
-    z = np.zeros((len(ys), len(xs)), dtype=int)
-    for r in rows:
-        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = int(r["claim_a"] == "true") + 2 * int(
-            r["claim_b"] == "true"
-        )
-    return xs, ys, z
-
-
-def classes(rows: list[dict]) -> np.ndarray:
-    """Class per row (0 neither, 1 (a) only, 2 (b) only, 3 both)."""
-    return np.array([int(r["claim_a"] == "true") + 2 * int(r["claim_b"] == "true") for r in rows], dtype=int)
+from impactdamper.studies.vocabulary import tex
 
 
 def main(csvs, jsons, out_pdf, out_png, refined_csvs=None) -> None:
@@ -63,33 +31,14 @@ def main(csvs, jsons, out_pdf, out_png, refined_csvs=None) -> None:
         rows, settings = read_csv(csvs[i]), read_json(jsons[i])
         extra = read_csv(refined_csvs[i]) if refined_csvs else []
         m, ref = settings["map"], settings["reference"]
-        xs, ys, z = grid(rows)
+        xs, ys, z = claim_grid(rows)
         dx, dy = (xs[1] - xs[0]) / 2, (ys[1] - ys[0]) / 2
-        ax.imshow(
-            z,
-            origin="lower",
-            aspect="auto",
-            interpolation="nearest",
-            vmin=-0.5,
-            vmax=3.5,
-            cmap=ListedColormap([c for _, c in CLASSES]),
-            extent=(xs[0] - dx, xs[-1] + dx, ys[0] - dy, ys[-1] + dy),
-        )
-        ax.grid(False)
+        class_image(ax, xs, ys, z)
         if extra:
-            colours = np.array([c for _, c in CLASSES])
-            ax.scatter(
-                [float(r["x"]) for r in extra],
-                [float(r["y"]) for r in extra],
-                s=1.5,
-                c=colours[classes(extra)],
-                marker="s",
-                linewidths=0,
-                rasterized=True,
-            )
+            class_points(ax, extra, 1.5)
         ax.plot([ref[m["x"]]], [ref[m["y"]]], "*", ms=9, mec="k", mfc="w")
-        ax.set_xlabel(LABEL[m["x"]], labelpad=1)
-        ax.set_ylabel(LABEL[m["y"]], labelpad=1)
+        ax.set_xlabel(tex(m["x"]), labelpad=1)
+        ax.set_ylabel(tex(m["y"]), labelpad=1)
         levels = int(m.get("refine_levels", 0)) if extra else 0
         refined = (
             f"\nfloor {2 * dx / 2**levels:.3g} x {2 * dy / 2**levels:.3g} ({levels} halving{'s' * (levels > 1)}, "
@@ -101,7 +50,7 @@ def main(csvs, jsons, out_pdf, out_png, refined_csvs=None) -> None:
             f"steps {2 * dx:.3g} x {2 * dy:.3g}; {int((z == 3).sum())} of {z.size} cells both{refined}",
             fontsize="small",
         )
-    handles = [Patch(color=c, label=name) for name, c in CLASSES]
+    handles = [Patch(color=c, label=name) for name, c in CLAIM_CLASSES]
     handles.append(plt.Line2D([], [], ls="", marker="*", ms=9, mec="k", mfc="w", label="stated point"))
     fig.legend(handles=handles, loc="lower center", ncol=3, fontsize="small", bbox_to_anchor=(0.5, 0.0))
     fig.tight_layout(rect=(0, 0.08, 1, 1), h_pad=0.8)
@@ -109,6 +58,4 @@ def main(csvs, jsons, out_pdf, out_png, refined_csvs=None) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(list(sm.input.csv), list(sm.input.json), sm.output.pdf, sm.output.png, list(sm.input.refined))
+    run_stage(snakemake, main, "input.csv:list input.json:list output.pdf output.png input.refined:list")  # noqa: F821 (injected by Snakemake's script: directive)

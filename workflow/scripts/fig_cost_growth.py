@@ -11,7 +11,8 @@ Timings are CPU time on the machine that ran the workflow: not pixel-stable acro
 """
 
 from impactdamper.reporting.plotting import TEXT_WIDTH, figure_size, finish_figure, use_style
-from impactdamper.reporting.records import read_csv, start_stage
+from impactdamper.reporting.records import read_csv, run_stage
+
 
 MARKERS = ("o", "s", "^", "v", "D")
 
@@ -56,7 +57,10 @@ def main(in_csv, out_stem) -> None:
     finish_figure(fig, out_stem)
 
 
+JOB = (
+    "input.csv",
+    lambda j: str(j.output.pdf).removesuffix(".pdf"),
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.csv, str(sm.output.pdf).removesuffix(".pdf"))
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -13,7 +13,7 @@ Deviations: none (the paper has no such figure).
 """
 
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
-from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
+from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
 
 
 def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
@@ -81,6 +81,4 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.chart, sm.input.best, sm.input.baselines, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.chart input.best input.baselines output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -7,7 +7,8 @@ Deviations: none (the paper has no such figure).
 """
 
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
-from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
+from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
+from impactdamper.studies.vocabulary import SPEC
 
 
 def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
@@ -16,7 +17,7 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
     info = read_json(chart_json)
     base = read_json(baselines_json)
     name = info["parameter"]
-    symbol = {"N": "N", "R": "R"}.get(name, name)
+    symbol = SPEC[name].symbol
     fig, ax = plt.subplots(figsize=figure_size(2.9), layout="constrained")
     values = sorted({float(r["value"]) for r in rows})
     for i, v in enumerate(values):
@@ -40,6 +41,4 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.chart, sm.input.best, sm.input.baselines, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.chart input.best input.baselines output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

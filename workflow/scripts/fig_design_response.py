@@ -13,7 +13,8 @@ Deviations: none (the paper has no such figure).
 import numpy as np
 
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
-from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
+from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
+from impactdamper.studies.vocabulary import SPEC
 
 
 def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
@@ -77,7 +78,7 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
         )
     ax2.set_ylim(0.0, None)
     ax2.set_ylabel("pulse per impact")
-    ax2.set_xlabel("forcing frequency $\\theta = \\omega/\\omega_1$")
+    ax2.set_xlabel("forcing frequency " + SPEC["theta"].label)
     ax3 = ax2.twinx()
     d = [r for r in rs if r["direction"] == "up"]
     ax3.step(
@@ -98,6 +99,4 @@ def main(response_csv, response_json, baselines_csv, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.response, sm.input.summary, sm.input.baselines, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.response input.summary input.baselines output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

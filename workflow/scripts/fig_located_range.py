@@ -20,8 +20,10 @@ Deviations: a scan the paper does not have; the grid and the window come from th
 
 import numpy as np
 
-from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
+from impactdamper.reporting.records import read_csv, read_json, run_stage
+from impactdamper.reporting.figures import label_above
+from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
+
 
 RANGE_COLOR = "#f4cccc"
 # Top of the bottom panel's scale: chatter cycles with dozens of impacts are drawn as ^ there.
@@ -65,16 +67,7 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
         for gap, _name in marks:
             axis.axvline(gap, color="0.3", lw=0.7, ls=":")
     for gap, name in marks:
-        ax1.annotate(
-            f"{name}\n{gap:g}",
-            (gap, 1.0),
-            xycoords=("data", "axes fraction"),
-            xytext=(0, 2),
-            textcoords="offset points",
-            ha="center",
-            va="bottom",
-            fontsize=ANNOTATION_SIZE,
-        )
+        label_above(ax1, gap, f"{name}\n{gap:g}")
     ax1.plot([], [], color=RANGE_COLOR, lw=6, label="claim (a): gap negative")
     ax2.plot([], [], color=RANGE_COLOR, lw=6, label="claim (b): $T_c = 2T$, 3 impacts")
     if orbit.get("found"):
@@ -88,6 +81,4 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.csv, sm.input.json, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.csv input.json output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -27,8 +27,8 @@ figures/orbit_special_points.csv (workflow/scripts/orbit_branches.py).
 
 import numpy as np
 
-from impactdamper.reporting.records import cell_float, read_csv, read_json, start_stage
-from impactdamper.studies.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
+from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
+from impactdamper.studies.sweeps.branches import KIND_LEGEND, KIND_MARK, multi_impact_window, run_pieces
 from impactdamper.reporting.branch_figure import (
     RADIUS_LIMITS,
     STYLE,
@@ -40,6 +40,7 @@ from impactdamper.reporting.branch_figure import (
     radius_axis,
 )
 from impactdamper.reporting.plotting import figure_size, finish_figure, legend_in_rows, use_style
+
 
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
 ZOOM_MARGIN = 0.25
@@ -143,6 +144,4 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.branches, sm.input.special, sm.input.summary, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.branches input.special input.summary output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -20,17 +20,20 @@ from matplotlib import patheffects
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from impactdamper.studies import gapsweep as gs
-from impactdamper.studies.sweep_results import grazing_curves, read_map
+from impactdamper.studies.sweeps import gapsweep as gs
+from impactdamper.studies.sweeps.results import grazing_curves, read_map
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
-from impactdamper.reporting.records import read_csv, start_stage
+from impactdamper.reporting.records import read_csv, run_stage
+from impactdamper.reporting.figures import outside_legend
 from impactdamper.reporting.plotting import figure_size, finish_figure, label_regions, use_style
+from impactdamper.studies.vocabulary import SPEC
+
 
 CLASSES = list(REGIME_COLORS)
 AXIS_LABEL = {
-    "theta": "frequency ratio $\\theta = \\omega/\\omega_1$",
-    "damping": "damping ratios $\\delta_1 = \\delta_2 = \\delta$",
+    "theta": "frequency ratio " + SPEC["theta"].label,
+    "damping": f"damping ratios ${SPEC['delta1'].symbol} = {SPEC['delta2'].symbol} = \\delta$",
 }
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 # The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.
@@ -85,29 +88,13 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
         label="first contact, $\\Delta_0 = U_1$",
     )
     ref = float(reference[REFERENCE_VALUE[name]])
-    ax.plot(
-        [float(reference["gap"])],
-        [ref],
-        marker="*",
-        ms=9,
-        color="#f1c40f",
-        mec="k",
-        mew=0.6,
-        ls="none",
-        label=f"stated case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {float(reference['gap']):g})",
-    )
-    loc = located_gap(located_json)
-    ax.plot(
-        [loc],
-        [ref],
-        marker="D",
-        ms=5,
-        color="w",
-        mec="k",
-        mew=0.6,
-        ls="none",
-        label=f"located case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {loc:g})",
-    )
+    # The two cases: a yellow star at the stated gap, a white diamond at the located one.
+    for case, gap, style in (
+        ("stated", float(reference["gap"]), {"marker": "*", "ms": 9, "color": "#f1c40f"}),
+        ("located", located_gap(located_json), {"marker": "D", "ms": 5, "color": "w"}),
+    ):
+        label = f"{case} case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {gap:g})"
+        ax.plot([gap], [ref], **style, mec="k", mew=0.6, ls="none", label=label)
     ax.set_xlim(gaps[0], gaps[-1])
     ax.set_ylim(slow[0], slow[-1])
     ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
@@ -121,26 +108,11 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
         if c in present
     ]
     # Under the map: the regime colours, then the lines and markers, filled column by column.
-    fig.legend(
-        handles=patches + handles,
-        loc="outside lower center",
-        ncol=3,
-        fontsize="small",
-        handlelength=2.4,
-        columnspacing=1.0,
-    )
+    outside_legend(fig, patches + handles, where="lower", ncol=3, handlelength=2.4, columnspacing=1.0)
     finish_figure(fig, out_pdf, out_png)
 
 
+JOB = "wildcards.map params.reference input.map input.curves input.located output.pdf output.png"
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    main(
-        sm.wildcards.map,
-        cfg["reference"],
-        sm.input.map,
-        sm.input.curves,
-        sm.input.located,
-        sm.output.pdf,
-        sm.output.png,
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -20,8 +20,10 @@ x_st omega; for nonperiodic points they are the impacts of the last 8 periods si
 import numpy as np
 
 from impactdamper.studies.config import located_gap
-from impactdamper.reporting.records import read_csv, read_json, split_floats, start_stage
+from impactdamper.reporting.records import read_csv, read_json, run_stage, split_floats
+from impactdamper.reporting.figures import outside_legend
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
+
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
 # The analytic transitions drawn as dashed verticals (sweep_checks.json names) and their labels.
@@ -114,29 +116,13 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
         "stated and located cases",
     ]
     found = dict(zip(l0 + l1, h0 + h1))
-    fig.legend(
-        [found[k] for k in order],
-        order,
-        loc="outside upper center",
-        ncol=4,
-        markerscale=4,
-        fontsize="small",
-        handlelength=2.0,
-        columnspacing=0.8,
+    outside_legend(
+        fig, [found[k] for k in order], order, where="upper", ncol=4, markerscale=4, handlelength=2.0, columnspacing=0.8
     )
     finish_figure(fig, out_pdf, out_png)
 
 
+JOB = "input.sweep input.random input.alg1 input.checks input.located params.stated_gap:float output.pdf output.png"
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(
-        sm.input.sweep,
-        sm.input.random,
-        sm.input.alg1,
-        sm.input.checks,
-        sm.input.located,
-        float(sm.params.stated_gap),
-        sm.output.pdf,
-        sm.output.png,
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

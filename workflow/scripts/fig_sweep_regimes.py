@@ -17,10 +17,11 @@ Deviations: none (the paper has no such figure).
 import numpy as np
 from matplotlib.patches import Patch, Rectangle
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
-from impactdamper.reporting.records import read_csv, start_stage
+from impactdamper.reporting.records import read_csv, run_stage
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, label_bands, use_style
+
 
 SHORT = {"stuck": "S", "np": "np"}
 # The zooms of the lower panels (Delta0/x_st): the periodic windows inside the long
@@ -129,6 +130,4 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "input.sweep input.random output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -13,7 +13,7 @@ Deviations: none (the paper has no such figure).
 """
 
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import cell_float, read_csv, start_stage
+from impactdamper.reporting.records import cell_float, read_csv, run_stage
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.analysis.transitions import object_alone_amplitude, rigid_amplitude
@@ -59,6 +59,4 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    main(cfg["reference"], sm.input.sweep, sm.input.random, sm.output.pdf, sm.output.png)
+    run_stage(snakemake, main, "params.reference input.sweep input.random output.pdf output.png")  # noqa: F821 (injected by Snakemake's script: directive)

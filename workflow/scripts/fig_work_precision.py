@@ -16,11 +16,12 @@ across runs.
 import math
 
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, TEXT_WIDTH, figure_size, finish_figure, use_style
-from impactdamper.reporting.records import read_csv, read_json, start_stage
-from impactdamper.studies.methods import METHODS
+from impactdamper.reporting.records import read_csv, read_json, run_stage
+from impactdamper.studies.performance.methods import METHODS
+
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
-# One colour, marker and line per method (:data:`impactdamper.studies.methods.METHODS`, whose
+# One colour, marker and line per method (:data:`impactdamper.studies.performance.methods.METHODS`, whose
 # order is the legend's and whose plot labels name the lines), the same in both panels; a method
 # without an entry here is drawn in DEFAULT_STYLE.
 STYLE = {
@@ -104,13 +105,12 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
     finish_figure(fig, out_stem)
 
 
+JOB = (
+    "input.csv",
+    lambda j: str(j.output.pdf).removesuffix(".pdf"),
+    lambda j: tuple(j.params.performance["targets"]),
+    lambda j: bool(read_json(j.input.json)["siconos"]["available"]),
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    study = read_json(sm.input.json)
-    main(
-        sm.input.csv,
-        str(sm.output.pdf).removesuffix(".pdf"),
-        tuple(cfg["performance"]["targets"]),
-        bool(study["siconos"]["available"]),
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -3,7 +3,7 @@
 
 The paper claims, at Delta0/x_st = -5.8: (a) Algorithm No. 1 gives a gap below zero on
 (t1, t2) (Fig. 2a); (b) Algorithm No. 2 gives T_c = 2T with three impacts per cycle (Fig. 2b).
-This script runs :func:`impactdamper.studies.gapscan.locate` (whose module docstring says
+This script runs :func:`impactdamper.studies.replication.gapscan.locate` (whose module docstring says
 how) over the config's ``verdict`` window and writes the records.
 
 Outputs: ``figures/gap_scan.csv`` (the Algorithm No. 2 grid with both claims) and
@@ -11,8 +11,9 @@ Outputs: ``figures/gap_scan.csv`` (the Algorithm No. 2 grid with both claims) an
 located case, the directly solved orbit's range and the cross-checks).
 """
 
-from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import gapscan
+from impactdamper.reporting.records import run_stage, say, write_csv, write_json
+from impactdamper.studies.replication import gapscan
+
 
 SCAN_COLUMNS = [
     "gap",
@@ -31,7 +32,7 @@ SCAN_COLUMNS = [
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, workers: int = 1) -> dict:
-    """Locate the case (:func:`impactdamper.studies.gapscan.locate`) and write the grid
+    """Locate the case (:func:`impactdamper.studies.replication.gapscan.locate`) and write the grid
     (``out_csv``) and the result (``out_json``)."""
     rows, result = gapscan.locate(reference, solver, verdict, workers)
     write_csv(out_csv, SCAN_COLUMNS, rows)
@@ -39,12 +40,10 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json, worker
     return result
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = "params.reference params.solver params.verdict output.csv output.json workers=threads"
 
-    cfg, _ = start_stage(sm)
-    out = main(cfg["reference"], cfg["solver"], cfg["verdict"], sm.output.csv, sm.output.json, workers=sm.threads)
-    print(f"claim (a) ranges {[(r['lo'], r['hi']) for r in out['claim_a_ranges']]}", file=sys.stderr)
-    print(f"claim (b) ranges {[(r['lo'], r['hi']) for r in out['claim_b_ranges']]}", file=sys.stderr)
-    print(f"both {[(r['lo'], r['hi']) for r in out['both_ranges']]}; located {out['located']['gap']}", file=sys.stderr)
+if __name__ == "__main__":
+    out = run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)
+    say(f"claim (a) ranges {[(r['lo'], r['hi']) for r in out['claim_a_ranges']]}")
+    say(f"claim (b) ranges {[(r['lo'], r['hi']) for r in out['claim_b_ranges']]}")
+    say(f"both {[(r['lo'], r['hi']) for r in out['both_ranges']]}; located {out['located']['gap']}")

@@ -6,7 +6,7 @@ so the gathered table does not depend on how many jobs ran or in which order.
 
 from pathlib import Path
 
-from impactdamper.reporting.records import start_stage
+from impactdamper.reporting.records import run_stage
 
 
 def main(chunks, out_csv) -> None:
@@ -23,6 +23,4 @@ def main(chunks, out_csv) -> None:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(list(sm.input.chunks), sm.output.csv)
+    run_stage(snakemake, main, "input.chunks:list output.csv")  # noqa: F821 (injected by Snakemake's script: directive)

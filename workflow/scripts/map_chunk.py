@@ -17,10 +17,11 @@ Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
 time, with start and end times so that the gather can compute the whole map's wall time).
 """
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
-from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
 from impactdamper.analysis.batch import regime_map_batch
+
 
 COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods", "fallback"]
 
@@ -106,16 +107,8 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
     return timing
 
 
+JOB = "params.reference params.solver params.maps wildcards.map wildcards.chunk:int output.csv output.json log=log"
+STAGE = {"logger": "map_chunk", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "map_chunk", timestamps=True, library=True)
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["maps"],
-        sm.wildcards.map,
-        int(sm.wildcards.chunk),
-        sm.output.csv,
-        sm.output.json,
-        log=log,
-    )
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

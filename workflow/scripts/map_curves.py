@@ -16,11 +16,12 @@ the grazing scan ran), alg1_grazing with ';'-joined values).
 
 import numpy as np
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import start_stage, write_csv
+from impactdamper.reporting.records import run_stage, write_csv
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.analysis.transitions import algorithm1_grazing_gaps, no_contact_gap, stuck_liftoff_gap
+
 
 COLUMNS = ["slow", "liftoff", "first_contact", "alg1_scanned", "alg1_grazing"]
 # Algorithm No. 1 costs ~2 ms: a scan of this many gaps per row finds the admissibility
@@ -49,6 +50,4 @@ def main(reference: dict, maps: dict, name: str, out_csv) -> list[dict]:
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    main(cfg["reference"], cfg["maps"], sm.wildcards.map, sm.output.csv)
+    run_stage(snakemake, main, "params.reference params.maps wildcards.map output.csv")  # noqa: F821 (injected by Snakemake's script: directive)

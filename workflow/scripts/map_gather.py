@@ -15,7 +15,8 @@ answers "how long with ``--cores N``" when nothing else runs) with the machine's
 
 from pathlib import Path
 
-from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
+from impactdamper.reporting.records import read_csv, read_json, run_stage, write_json
+
 
 # How every cell was computed (map_chunk.py), for the record and the report.
 METHOD = "regime_map_batch"
@@ -72,16 +73,10 @@ def main(
     return out
 
 
+JOB = (
+    "input.csvs:list input.jsons:list wildcards.map output.csv output.timing output.settings",
+    lambda j: {k: getattr(j.params, k) for k in ("reference", "solver", "maps")},
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, _ = start_stage(sm)
-    config = {"reference": cfg["reference"], "solver": cfg["solver"], "maps": cfg["maps"]}
-    main(
-        list(sm.input.csvs),
-        list(sm.input.jsons),
-        sm.wildcards.map,
-        sm.output.csv,
-        sm.output.timing,
-        sm.output.settings,
-        config,
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

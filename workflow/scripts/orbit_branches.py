@@ -9,7 +9,7 @@ gap Delta takes on negative values when t in (t1, t2)") and Algorithm No. 2 sett
 impacts (seeded by Algorithm No. 2's settled motion) are followed by pseudo-arclength
 continuation (:func:`impactdamper.continue_orbit`, Floquet multipliers from saltation
 matrices), with folds, period doublings, Neimark-Sacker points and grazings located on them
-(see :mod:`impactdamper.studies.branches` for where a branch ends).
+(see :mod:`impactdamper.studies.sweeps.branches` for where a branch ends).
 
 Writes
 
@@ -26,9 +26,9 @@ Deviations: none from the paper (it has no such computation); ranges and steps c
 config's ``orbits`` section.
 """
 
-from impactdamper.studies import branches as br
+from impactdamper.studies.sweeps import branches as br
 from impactdamper.studies.config import located_gap, parameters, steady_options
-from impactdamper.reporting.records import start_stage, write_csv, write_json
+from impactdamper.reporting.records import run_stage, write_csv, write_json
 from impactdamper import solve_orbit
 
 
@@ -100,16 +100,8 @@ def main(
     return res
 
 
+JOB = "params.reference params.solver params.orbits input.located output.branches output.special output.summary log=log"
+STAGE = {"logger": "orbit_branches"}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "orbit_branches")
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["orbits"],
-        sm.input.located,
-        sm.output.branches,
-        sm.output.special,
-        sm.output.summary,
-        log=log,
-    )
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -27,8 +27,9 @@ Numbers are bare (for math mode): gaps to 6 decimals, multipliers to 6 decimals.
 """
 
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
-from impactdamper.studies.orbit_record import macros, table
+from impactdamper.reporting.records import read_csv, read_json, run_stage, write_json
+from impactdamper.studies.sweeps.orbit_record import macros, table
+
 
 # What the stage's record holds (results/report/orbits.json).
 RECORD_WHAT = "the orbits stage's numbers for the report (paper/generated/orbit_macros.tex) and the README"
@@ -52,6 +53,4 @@ def main(branches_csv, special_csv, summary_json, out_record, out_macros, out_ta
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    main(sm.input.branches, sm.input.special, sm.input.summary, sm.output.record, sm.output.macros, sm.output.table)
+    run_stage(snakemake, main, "input.branches input.special input.summary output.record output.macros output.table")  # noqa: F821 (injected by Snakemake's script: directive)

@@ -3,14 +3,15 @@
 behaviour, (a) a negative gap in Algorithm No. 1's orbit and (b) T_c = 2T with three impacts
 from Algorithm No. 2, where the stated parameters give neither?
 
-The readings and how each is evaluated: :mod:`impactdamper.studies.readings`.
+The readings and how each is evaluated: :mod:`impactdamper.studies.replication.readings`.
 
 Outputs: ``figures/other_readings.csv`` (one row per reading) and
 ``figures/other_readings.json`` (the rows, the random states' motions, the R ranges).
 """
 
-from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import readings as rd
+from impactdamper.reporting.records import run_stage, say, write_csv, write_json
+from impactdamper.studies.replication import readings as rd
+
 
 COLUMNS = [
     "id",
@@ -39,7 +40,7 @@ COLUMNS = [
 
 
 def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json) -> dict:
-    """Test every reading (:func:`impactdamper.studies.readings.evaluate_readings`) and write the
+    """Test every reading (:func:`impactdamper.studies.replication.readings.evaluate_readings`) and write the
     table (``out_csv``) and the result (``out_json``)."""
     rows, result = rd.evaluate_readings(reference, solver, verdict)
     write_csv(out_csv, COLUMNS, rows)
@@ -48,10 +49,6 @@ def main(reference: dict, solver: dict, verdict: dict, out_csv, out_json) -> dic
 
 
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
-
-    cfg, _ = start_stage(sm)
-    out = main(cfg["reference"], cfg["solver"], cfg["verdict"], sm.output.csv, sm.output.json)
+    out = run_stage(snakemake, main, "params.reference params.solver params.verdict output.csv output.json")  # noqa: F821 (injected by Snakemake's script: directive)
     for row in out["readings"]:
-        print(f"{row['id']}: claim (a) {row['claim_a']}, claim (b) {row['claim_b']}", file=sys.stderr)
+        say(f"{row['id']}: claim (a) {row['claim_a']}, claim (b) {row['claim_b']}")

@@ -25,15 +25,14 @@ All timings are CPU time on the machine that ran the workflow: not deterministic
 from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import read_json, start_stage, write_json
-from impactdamper.studies.performance_record import (  # noqa: F401 (the tests import them from here)
+from impactdamper.reporting.records import read_json, run_stage, write_json
+from impactdamper.studies.performance.record import compiled_table, macros, table
+from impactdamper.studies.performance.summary import (  # noqa: F401 (the tests import them from here)
     compiled_speed,
-    compiled_table,
-    macros,
+    met,
     summarize,
-    table,
 )
-from impactdamper.studies.workprecision import met  # noqa: F401 (the tests import it from here)
+
 
 # What the stage's record holds (results/report/performance.json).
 RECORD_WHAT = "the performance stage's numbers for the report (paper/generated/performance_macros.tex) and the README"
@@ -73,21 +72,12 @@ def main(
     return s
 
 
+JOB = (
+    "params.performance input.work_precision input.cost_growth input.hardcases "
+    "input.reference_speed input.compiled_speed output.record output.macros output.table "
+    "output.compiled_table output.summary in_compile_time=input.compile_time"
+)
+STAGE = {"logger": "performance_report"}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "performance_report")
-    log.info("writing %s", sm.output.macros)
-    main(
-        cfg["performance"],
-        sm.input.work_precision,
-        sm.input.cost_growth,
-        sm.input.hardcases,
-        sm.input.reference_speed,
-        sm.input.compiled_speed,
-        sm.output.record,
-        sm.output.macros,
-        sm.output.table,
-        sm.output.compiled_table,
-        sm.output.summary,
-        in_compile_time=sm.input.compile_time,
-    )
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

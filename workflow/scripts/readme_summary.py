@@ -13,7 +13,14 @@ is current.
 import sys
 from pathlib import Path
 
-from impactdamper.reporting.readme import BEYOND, beyond, impact_table, read_records
+from impactdamper.core.parameters import PARAMETER_TABLE, RELATIVE_PARAMETERS
+from impactdamper.reporting.readme import beyond, impact_table, read_records
+
+
+def searched_alone(m: dict[str, str]) -> list:
+    """The parameters the claims were searched along one at a time: those the verdict's record
+    has a nearest value for (``\\Claims<macro>NearestBoth``), in the parameter table's order."""
+    return [s for s in PARAMETER_TABLE if f"Claims{s.macro}NearestBoth" in m]
 
 
 def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
@@ -49,14 +56,16 @@ def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
         f"where the settled motion changes, down to step/2^{m['ClaimsRefineLevels']}; ends to {m['ClaimsRelTol']} "
         f"relative, {m['ClaimsSolverDependentCount']} of them solver-dependent), both claims hold on "
         f"{m['ClaimsBothIntervals']} intervals within the searched ranges, nearest the stated value for "
-        + "; ".join(beyond(m, key, name) for key, name in BEYOND)
+        + "; ".join(beyond(m, s.macro, s.plain) for s in searched_alone(m))
         + ". Of these single changes "
         f"the smallest is in {m['ClaimsNearestParameterName']}. Searched in all seven relative parameters at once "
         f"(equally weighted relative changes; {m['NearestRays']} rays from the stated point and a local refinement: a "
         f"near set, not a proven nearest one), the nearest set found where both claims hold with a "
-        f"{m['NearestMarginPct']} % margin changes no parameter by more than {m['NearestMaxDistMaxPct']} % (theta = "
-        f"{m['NearestMaxTheta']}, mu = {m['NearestMaxMu']}, N = {m['NearestMaxN']}, delta1 = {m['NearestMaxDeltaOne']}, "
-        f"delta2 = {m['NearestMaxDeltaTwo']}, R = {m['NearestMaxR']}, Delta0/x_st = {m['NearestMaxGap']}); in the "
+        f"{m['NearestMarginPct']} % margin changes no parameter by more than {m['NearestMaxDistMaxPct']} % ("
+        + ", ".join(
+            f"{s.plain} = {m['NearestMax' + s.macro]}" for s in PARAMETER_TABLE if s.name in RELATIVE_PARAMETERS
+        )
+        + "); in the "
         f"Euclidean norm ({m['NearestEuclidDistEuclidPct']} %) it is theta = {m['NearestEuclidTheta']}, N = "
         f"{m['NearestEuclidN']}, mu = {m['NearestEuclidMu']}, the rest as stated; the pure-Python solver and solve_ivp "
         f"confirm both. Round values one digit away that reproduce both claims: {m['RoundList']}; the nearest break "

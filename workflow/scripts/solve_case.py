@@ -15,8 +15,9 @@ Outputs (``case`` is ``stated`` or ``located``):
 
 import numpy as np
 
-from impactdamper.studies import replication as rep
-from impactdamper.reporting.records import read_json, start_stage, write_csv, write_json
+from impactdamper.studies.replication import cases as rep
+from impactdamper.reporting.records import read_json, run_stage, say, write_csv, write_json
+
 
 # How far past the next cycle's first impact Fig. 2b runs, and how far before t1, in T.
 FIG2B_MARGIN = 0.12
@@ -74,21 +75,26 @@ def main(case: str, parameters: dict, solver: dict, out_json, out_fig2a, out_fig
     return result
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+def case_of(job) -> tuple[dict, str]:
+    """The case's parameters and where they come from: the config's stated case, or the gap
+    scan's located one."""
+    if job.params.case == "stated":
+        return job.params.reference, "the paper's stated reference case (config: reference)"
+    located = read_json(job.input.located)["located"]
+    return located["parameters"], located["rule"]
 
-    cfg, _ = start_stage(sm)
-    case = sm.params.case
-    if case == "stated":
-        params, origin = cfg["reference"], "the paper's stated reference case (config: reference)"
-    else:
-        located = read_json(sm.input.located)["located"]
-        params, origin = located["parameters"], located["rule"]
-    out = main(case, params, cfg["solver"], sm.output.json, sm.output.fig2a, sm.output.fig2b, origin)
-    print(
-        f"{case}: gap {out['parameters']['gap']}, claim (a) {out['algorithm1']['claim_a']}, "
+
+JOB = (
+    "params.case",
+    lambda j: case_of(j)[0],
+    "params.solver output.json output.fig2a output.fig2b",
+    lambda j: case_of(j)[1],
+)
+
+if __name__ == "__main__":
+    out = run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)
+    say(
+        f"{out['case']}: gap {out['parameters']['gap']}, claim (a) {out['algorithm1']['claim_a']}, "
         f"regime {out['algorithm2']['regime']}, T_c = {out['algorithm2']['T_c_over_T']} T, "
-        f"claim (b) {out['algorithm2']['claim_b']}",
-        file=sys.stderr,
+        f"claim (b) {out['algorithm2']['claim_b']}"
     )

@@ -16,9 +16,10 @@ import numpy as np
 from impactdamper import algorithm1
 from impactdamper.analysis.orbits import OrbitError, solve_orbit
 from impactdamper.analysis.sweeps import with_value
-from impactdamper.reporting.records import start_stage, write_csv
-from impactdamper.studies import gapsweep as gs
+from impactdamper.reporting.records import run_stage, write_csv
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import parameters
+
 
 COLUMNS = ["value", "exists", "admissible", "stable", "multiplier", "velocity", "phase", "min_gap"]
 
@@ -63,7 +64,8 @@ def main(reference: dict, solver: dict, sweep: dict, out_csv, log=None) -> list[
     return rows
 
 
+JOB = "params.reference params.solver params.sweep output.csv log=log"
+STAGE = {"logger": "sweep_alg1", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "sweep_alg1", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"], sm.output.csv, log=log)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -12,15 +12,15 @@ Outputs: ``figures/sweep_gap_settings.json`` (the configuration it ran with, for
 test), ``figures/sweep_gap.csv`` (one row per point and direction: label z/k, regime,
 stability, max |x1|/x_st, impact velocities over x_st omega, and the state the point started
 from, so that any row can be recomputed on its own), ``results/sweeps/sweep_points.npz``
-(the points themselves as arrays, :func:`impactdamper.studies.gapsweep.write_points`, for the
+(the points themselves as arrays, :func:`impactdamper.studies.sweeps.gapsweep.write_points`, for the
 transition bisection) and
 ``results/benchmarks/sweep_timing.json`` (wall and processor time of the two-way sweep, timed
 inside this job, beside the config's target ``performance.sweep_target_wall_s``).
 """
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import parameters, sweep_settings
-from impactdamper.reporting.records import Timer, machine, start_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
 from impactdamper.analysis.sweeps import two_way_sweep
 
 
@@ -87,18 +87,13 @@ def _count(points, attr: str) -> dict:
     return dict(sorted(out.items()))
 
 
+JOB = (
+    "params.reference params.solver params.sweep output.csv output.settings output.points "
+    "output.timing log=log target_wall_s=params.target_wall_s:float"
+)
+STAGE = {"logger": "sweep_gap", "timestamps": True, "library": True}
+# The two sweep directions, one process each (at most the job's threads).
+TWO_DIRECTIONS = lambda j: min(int(j.threads), 2)  # noqa: E731
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "sweep_gap", timestamps=True, library=True)
-    main(
-        cfg["reference"],
-        cfg["solver"],
-        cfg["sweep"],
-        sm.output.csv,
-        sm.output.settings,
-        sm.output.points,
-        sm.output.timing,
-        processes=min(int(sm.threads), 2),
-        log=log,
-        target_wall_s=float(sm.params.target_wall_s),
-    )
+    run_stage(snakemake, main, JOB, processes=TWO_DIRECTIONS, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

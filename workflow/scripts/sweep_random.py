@@ -12,9 +12,9 @@ settle goes to the pure-Python reference, with its Newton rescue). Every ``rando
 Output: ``results/sweeps/random_{chunk}.csv`` (gathered into ``figures/sweep_random.csv``).
 """
 
-from impactdamper.studies import gapsweep as gs
+from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
-from impactdamper.reporting.records import Timer, joined, start_stage, write_csv
+from impactdamper.reporting.records import Timer, joined, run_stage, write_csv
 from impactdamper.analysis.batch import random_starts_batch
 
 
@@ -72,7 +72,8 @@ def main(reference: dict, solver: dict, sweep: dict, chunk: int, out_csv, log=No
     return rows
 
 
+JOB = "params.reference params.solver params.sweep wildcards.chunk:int output.csv log=log"
+STAGE = {"logger": "sweep_random", "timestamps": True, "library": True}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "sweep_random", timestamps=True, library=True)
-    main(cfg["reference"], cfg["solver"], cfg["sweep"], int(sm.wildcards.chunk), sm.output.csv, log=log)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -9,9 +9,9 @@ Outputs:
 * ``paper/generated/sweep_macros.tex`` -- the sweep's extent and settling cap, the regime
   sequence of each direction, the three closed-form checks, the overlaps of the two sweep
   directions (hysteresis), and the bistable rows of each regime map
-  (:func:`impactdamper.studies.sweep_record.macros`);
+  (:func:`impactdamper.studies.sweeps.record.macros`);
 * ``paper/generated/sweep_transitions.tex`` -- the main transitions, each identified where
-  possible (:func:`impactdamper.studies.sweep_record.table`; changes inside the chaotic bands
+  possible (:func:`impactdamper.studies.sweeps.record.table`; changes inside the chaotic bands
   are in ``figures/sweep_transitions.csv``);
 * ``paper/generated/sweep_timing.tex`` -- the benchmarks (wall and processor times measured
   inside the jobs). The only output of the stage that changes from run to run.
@@ -20,8 +20,9 @@ Outputs:
 from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import read_csv, read_json, start_stage, write_json
-from impactdamper.studies import sweep_record
+from impactdamper.reporting.records import read_csv, read_json, run_stage, write_json
+from impactdamper.studies.sweeps import record as sweep_record
+
 
 # What the stage's record holds (results/report/sweeps.json).
 RECORD_WHAT = "the sweeps stage's numbers for the report (paper/generated/sweep_macros.tex) and the README"
@@ -64,23 +65,12 @@ def main(
     Path(out_timing).write_text(sweep_record.timing(sweep_timing, map_timings))
 
 
+JOB = (
+    "input.sweep input.transitions input.checks input.sweep_timing input.map_timings:list "
+    "output.record output.macros output.table output.timing settings_json=input.settings "
+    "special_csv=input.special map_csvs=input.maps:list map_curves=input.map_curves:list "
+    "map_settings=input.map_settings:list"
+)
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    start_stage(sm)
-    i, o = sm.input, sm.output
-    main(
-        i.sweep,
-        i.transitions,
-        i.checks,
-        i.sweep_timing,
-        list(i.map_timings),
-        o.record,
-        o.macros,
-        o.table,
-        o.timing,
-        settings_json=i.settings,
-        special_csv=i.special,
-        map_csvs=list(i.maps),
-        map_curves=list(i.map_curves),
-        map_settings=list(i.map_settings),
-    )
+    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -6,7 +6,7 @@ changes along the gap sweep, located by bisection and checked against analytic v
    first label's side, as a finer sweep would) to ``transition_xtol``.
 2. The three transitions with analytic values (lift-off of the persistent contact, first
    contact, Algorithm No. 1's grazing), each computed numerically a second way and located
-   again by the sweep (:func:`impactdamper.studies.transition_checks.checks`, whose module docstring
+   again by the sweep (:func:`impactdamper.studies.sweeps.transitions.checks`, whose module docstring
    says how).
 
 Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
@@ -16,10 +16,11 @@ Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 
-from impactdamper.reporting.records import Timer, clean, start_stage, write_csv, write_json
-from impactdamper.studies import gapsweep as gs
-from impactdamper.studies import transition_checks as tr
+from impactdamper.reporting.records import Timer, clean, run_stage, write_csv, write_json
+from impactdamper.studies.sweeps import gapsweep as gs
+from impactdamper.studies.sweeps import transitions as tr
 from impactdamper.studies.config import parameters, sweep_settings
+
 
 TRANSITION_COLUMNS = ["direction", "value", "lower", "upper", "before", "after", "evaluations", "stopped", "one_sided"]
 
@@ -54,16 +55,10 @@ def main(
     return result
 
 
+JOB = "input.points params.reference params.solver params.sweep output.csv output.json log=log"
+STAGE = {"logger": "sweep_transitions", "timestamps": True, "library": True}
+# The two sweep directions, one process each (at most the job's threads).
+TWO_DIRECTIONS = lambda j: min(int(j.threads), 2)  # noqa: E731
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, log = start_stage(sm, "sweep_transitions", timestamps=True, library=True)
-    main(
-        sm.input.points,
-        cfg["reference"],
-        cfg["solver"],
-        cfg["sweep"],
-        sm.output.csv,
-        sm.output.json,
-        processes=min(int(sm.threads), 2),
-        log=log,
-    )
+    run_stage(snakemake, main, JOB, processes=TWO_DIRECTIONS, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

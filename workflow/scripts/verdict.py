@@ -22,10 +22,11 @@ numeric macros are bare numbers for math mode).
 
 from pathlib import Path
 
-from impactdamper.studies import verdict as vd
+from impactdamper.studies.replication import verdict as vd
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import read_csv, read_json, start_stage, write_csv, write_json
-from impactdamper.studies.verdict_record import claims_macros, macros
+from impactdamper.reporting.records import read_csv, read_json, run_stage, say, write_csv, write_json
+from impactdamper.studies.replication.record import claims_macros, macros
+
 
 CSV_COLUMNS = [
     "claim",
@@ -78,25 +79,12 @@ def main(
     return result
 
 
-if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    import sys
+JOB = (
+    "input.stated input.located input.cc_stated input.cc_located input.scan input.readings "
+    "input.claims input.claims_map output.json output.csv output.record output.tex"
+)
 
-    start_stage(sm)
-    i, o = sm.input, sm.output
-    out = main(
-        i.stated,
-        i.located,
-        i.cc_stated,
-        i.cc_located,
-        i.scan,
-        i.readings,
-        i.claims,
-        i.claims_map,
-        o.json,
-        o.csv,
-        o.record,
-        o.tex,
-    )
+if __name__ == "__main__":
+    out = run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)
     for row in out["claims"]:
-        print(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})", file=sys.stderr)
+        say(f"{row['claim']}: reproduced {row['reproduced']} (ivp confirms {row['ivp_confirms']})")

@@ -22,8 +22,9 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"
 
 from impactdamper.studies.config import parameters
-from impactdamper.reporting.records import start_stage, write_csv, write_json
-from impactdamper.studies import workprecision as wp
+from impactdamper.reporting.records import run_stage, write_csv, write_json
+from impactdamper.studies.performance import workprecision as wp
+
 
 CSV_COLUMNS = [
     "case",
@@ -51,7 +52,8 @@ def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> di
     return study
 
 
+JOB = "params.reference params.performance output.json output.csv log=log.info"
+STAGE = {"logger": "work_precision"}
+
 if __name__ == "__main__":
-    sm = snakemake  # noqa: F821 (injected by Snakemake's script: directive)
-    cfg, lg = start_stage(sm, "work_precision")
-    main(cfg["reference"], cfg["performance"], sm.output.json, sm.output.csv, log=lg.info)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -86,6 +86,16 @@ class ParameterSpec:
         (results in relative units do not depend on it).
     help : str
         One line for the command line's ``--help``.
+    symbol : str
+        Its symbol in TeX math (no dollars): ``\\theta``, ``\\Delta_0/x_{\\mathrm{st}}``; the
+        report's tables and lists, the figures' labels.
+    macro : str
+        Its part of a TeX macro name (letters only): ``Theta``, ``DeltaOne`` (``\\StatedTheta``,
+        ``\\NearestMaxDeltaOne``).
+    plain : str
+        Its name in plain text (the README): ``theta``, ``Delta0/x_st``.
+    label : str
+        Its axis label in a figure (TeX text, math in dollars): ``$\\mu = m_2/m_1$``.
     """
 
     name: str
@@ -93,6 +103,10 @@ class ParameterSpec:
     typical: float
     role: str
     help: str
+    symbol: str
+    macro: str
+    plain: str
+    label: str
 
     def ok(self, value: float) -> bool:
         """Whether ``value`` (finite) is in the parameter's range."""
@@ -107,21 +121,35 @@ _IN_RANGE = {
 }
 # The one table of the parameters, in the paper's order: Parameters.names(), the ranges checked
 # on construction, the compiled kernels' packed columns (compiled/pack.py reads them by name),
-# the CSV columns, the command line's flags and their help, and the sets of parameters a
-# message may name (LINEAR_PARAMETERS, RELATIVE_PARAMETERS) derive from it. A new parameter is
+# the CSV columns, the command line's flags and their help, the sets of parameters a message
+# may name (LINEAR_PARAMETERS, RELATIVE_PARAMETERS) and every display of a parameter (symbols,
+# macro names, plain names, axis labels: studies/vocabulary.py) derive from it. A new parameter is
 # a row here and a field of Parameters (tests/unit/test_parameters.py holds the two together).
+# fmt: off
 PARAMETER_TABLE = (
-    ParameterSpec("theta", "> 0", 1.0, "linear", "forcing frequency ratio omega/omega1"),
-    ParameterSpec("mu", "> 0", 0.08, "linear", "mass ratio m2/m1"),
-    ParameterSpec("N", "> 0", 0.5, "linear", "frequency ratio omega2/omega1"),
-    ParameterSpec("delta1", ">= 0", 0.05, "linear", "relative damping k1/(2 m1 omega1)"),
-    ParameterSpec("delta2", ">= 0", 0.05, "linear", "relative damping k2/(2 m2 omega1)"),
-    ParameterSpec("R", "in [0, 1]", 0.7, "impact", "coefficient of restitution, in [0, 1]"),
-    ParameterSpec("gap", "", 5.8, "impact", "initial gap Delta0/x_st"),
-    ParameterSpec("omega", "> 0", 10.0, "scale", "forcing frequency, rad/s"),
-    ParameterSpec("x_st", "> 0", 1.0, "scale", "static deflection P0/c1, m"),
-    ParameterSpec("m1", "> 0", 1.0, "scale", "object mass, kg (a free scale)"),
+    # name, range, typical value, role, help; then its symbol, macro-name part, plain name, axis label.
+    ParameterSpec("theta", "> 0", 1.0, "linear", "forcing frequency ratio omega/omega1",
+                  "\\theta", "Theta", "theta", "$\\theta = \\omega/\\omega_1$"),
+    ParameterSpec("mu", "> 0", 0.08, "linear", "mass ratio m2/m1",
+                  "\\mu", "Mu", "mu", "$\\mu = m_2/m_1$"),
+    ParameterSpec("N", "> 0", 0.5, "linear", "frequency ratio omega2/omega1",
+                  "N", "N", "N", "$N = \\omega_2/\\omega_1$"),
+    ParameterSpec("delta1", ">= 0", 0.05, "linear", "relative damping k1/(2 m1 omega1)",
+                  "\\delta_1", "DeltaOne", "delta1", "$\\delta_1$ (object's damping)"),
+    ParameterSpec("delta2", ">= 0", 0.05, "linear", "relative damping k2/(2 m2 omega1)",
+                  "\\delta_2", "DeltaTwo", "delta2", "$\\delta_2$ (suppressor's damping)"),
+    ParameterSpec("R", "in [0, 1]", 0.7, "impact", "coefficient of restitution, in [0, 1]",
+                  "R", "R", "R", "restitution $R$"),
+    ParameterSpec("gap", "", 5.8, "impact", "initial gap Delta0/x_st",
+                  "\\Delta_0/x_{\\mathrm{st}}", "Gap", "Delta0/x_st", "$\\Delta_0/x_{\\mathrm{st}}$"),
+    ParameterSpec("omega", "> 0", 10.0, "scale", "forcing frequency, rad/s",
+                  "\\omega", "Omega", "omega", "forcing frequency $\\omega$, rad/s"),
+    ParameterSpec("x_st", "> 0", 1.0, "scale", "static deflection P0/c1, m",
+                  "x_{\\mathrm{st}}", "Xst", "x_st", "static deflection $x_{\\mathrm{st}}$, m"),
+    ParameterSpec("m1", "> 0", 1.0, "scale", "object mass, kg (a free scale)",
+                  "m_1", "MOne", "m1", "object mass $m_1$, kg"),
 )
+# fmt: on
 # The parameters of the linear part (the model's matrices depend on these only) and all the
 # relative ones (the free scales left out): the candidates a message about the matrices, and
 # about a solver's limits, may name.

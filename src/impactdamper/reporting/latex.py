@@ -141,7 +141,8 @@ class MacroFile:
         self.extend(lines)
 
     def extend(self, lines) -> None:
-        """Lines in order, each a comment line (str) or a macro ((name, value))."""
+        """Lines in order, each a comment line (str) or a macro ((name, value), or (name, value,
+        text) with its README text)."""
         for line in lines:
             if isinstance(line, tuple):
                 self.add(*line)
@@ -152,10 +153,11 @@ class MacroFile:
         """A line of the file that is not a macro (a comment), without its newline."""
         self.entries.append({"line": line[:-1] if line.endswith("\n") else line})
 
-    def add(self, name: str, value) -> None:
-        """One macro: ``value`` as TeX (checked by :func:`macro`) and as plain text."""
+    def add(self, name: str, value, text: str | None = None) -> None:
+        """One macro: ``value`` as TeX (checked by :func:`macro`) and as plain text (``text``, or
+        :func:`plain_text` of the TeX where not given)."""
         macro(name, value)
-        self.entries.append({"name": name, "tex": str(value), "text": plain_text(str(value))})
+        self.entries.append({"name": name, "tex": str(value), "text": plain_text(str(value)) if text is None else text})
 
     def record(self, what: str) -> dict:
         """The JSON record: what the macros are (``what``) and the entries in file order."""

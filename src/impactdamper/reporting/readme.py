@@ -37,12 +37,10 @@ def impact_table(path: str) -> list[str]:
     return lines
 
 
-# The parameters searched one at a time (figures/claims_by_parameter.csv): macro key, name.
-BEYOND = (("Theta", "theta"), ("Mu", "mu"), ("N", "N"), ("DeltaOne", "delta1"), ("DeltaTwo", "delta2"), ("R", "R"))
-
-
 def beyond(m: dict[str, str], key: str, name: str) -> str:
-    """Where both claims hold nearest the stated value of one parameter, in words."""
+    """Where both claims hold nearest the stated value of one parameter searched alone
+    (figures/claims_by_parameter.csv), in words: ``key`` is the parameter's part of the macro
+    names (``DeltaOne``), ``name`` its plain name."""
     tag = "Claims" + key
     if m[tag + "NearestBoth"] == "–":
         return f"{name}: nowhere in the searched range (stated {m[tag + 'Stated']})"

@@ -31,6 +31,8 @@ __all__ = [
     "joined",
     "stage_logger",
     "start_stage",
+    "run_stage",
+    "say",
     "machine",
     "Timer",
 ]
@@ -140,6 +142,8 @@ def stage_logger(log_path, name: str, *, timestamps: bool = False, library: bool
     )
     for n in (name, "impactdamper") if library else (name,):
         lg = logging.getLogger(n)
+        for old in lg.handlers:
+            old.close()  # a second stage in one process (the tests) replaces the first's log
         lg.handlers[:] = [handler]
         lg.setLevel(logging.INFO)
         lg.propagate = False
@@ -180,6 +184,78 @@ def start_stage(sm, name: str | None = None, *, timestamps: bool = False, librar
             value = json.loads(value)
         params[key] = value
     return params, log
+
+
+def say(message: str) -> None:
+    """A progress line on the standard error (the rule's log, after :func:`start_stage`)."""
+    import sys
+
+    print(message, file=sys.stderr, flush=True)
+
+
+def _job_value(view, spec: str):
+    """One value of a Snakemake job: a path ``input.csv``, ``params.reference``, with ``?`` where
+    it may be absent (None) and a conversion ``:int``, ``:float`` or ``:list``."""
+    path, _, convert = spec.partition(":")
+    value = view
+    for part in path.split("."):
+        value = getattr(value, part.rstrip("?"), None) if part.endswith("?") else getattr(value, part)
+    return {"": lambda v: v, "int": int, "float": float, "list": list}[convert](value)
+
+
+def run_stage(job, main, *args, logger: str | None = None, timestamps: bool = False, library: bool = False, **kwargs):
+    """Run a workflow script's ``main`` as the Snakemake job ``job`` (the ``snakemake`` object the
+    ``script:`` directive injects): the stage's start (:func:`start_stage`: its log, its params
+    read back) and the call of ``main`` with each argument taken from the job.
+
+    Parameters
+    ----------
+    job : snakemake.script.Snakemake
+        The job.
+    main : callable
+        The script's ``main`` (which the tests call directly).
+    args : str, callable, or a tuple of them
+        ``main``'s arguments, in order: strings of whitespace-separated paths in the job
+        (``"wildcards.case input.csv output.pdf"``; ``params.<name>`` is a config section read
+        back as a dict, ``threads`` the job's, ``log`` the stage's logger, ``say`` a function of
+        one progress line, to the logger or the standard error; ``?`` after a part: None where
+        the job has none; a conversion ``:int``, ``:float`` or ``:list`` after a path; a
+        keyword argument as ``name=path``), or a callable of the job's view (those attributes)
+        for a value built from several.
+    logger, timestamps, library
+        The stage's logger name and options (:func:`start_stage`); without a name the script's
+        standard error is the rule's log.
+    kwargs : str or callable
+        ``main``'s keyword arguments: one path each, or a callable as above.
+
+    Returns
+    -------
+    What ``main`` returns.
+    """
+    import types
+
+    params, log = start_stage(job, logger, timestamps=timestamps, library=library)
+    view = types.SimpleNamespace(
+        input=job.input,
+        output=job.output,
+        wildcards=job.wildcards,
+        threads=job.threads,
+        params=types.SimpleNamespace(**params),
+        log=log,
+        say=log.info if log is not None else say,
+    )
+
+    positional, keywords = [], {}
+    for spec in [s for a in args for s in (a if isinstance(a, (tuple, list)) else [a])]:
+        for token in [spec] if callable(spec) else spec.split():
+            key, _, path = token.rpartition("=") if isinstance(token, str) else ("", "", token)
+            value = path(view) if callable(path) else _job_value(view, path)
+            if key:
+                keywords[key] = value
+            else:
+                positional.append(value)
+    keywords.update({key: spec(view) if callable(spec) else _job_value(view, spec) for key, spec in kwargs.items()})
+    return main(*positional, **keywords)
 
 
 def machine() -> dict:

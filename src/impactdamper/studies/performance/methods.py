@@ -1,7 +1,7 @@
 """The work-precision methods, in one table, and the one protocol of their results.
 
 Like scipy's ``solve_ivp`` with its ``METHODS`` table, the work-precision study
-(:mod:`impactdamper.studies.workprecision`) knows its methods only through :data:`METHODS`:
+(:mod:`impactdamper.studies.performance.workprecision`) knows its methods only through :data:`METHODS`:
 each entry names the method, its family, its labels in the report and the figure, the setting
 swept (and the ``performance`` config key that lists its values), and how it runs. Every run
 returns a :class:`Solution`, read through one protocol: ``impacts()`` (the impact times) and

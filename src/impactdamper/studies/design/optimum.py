@@ -7,16 +7,16 @@ The two devices on an object of mass ratio mu and damping delta1 (Timofeev et al
 * the **impact suppressor**: a spring-damper absorber (N, delta2) whose travel x2 - x1 is stopped
   at the gap Delta0 (eq. 9), impacts by Newton's law with restitution R (eqs. 21-22); its
   max|x1|/x_st over the band is the worse of the upward and downward sweeps
-  (:func:`impactdamper.studies.design.impact_band_response`), its peak located;
-* the **linear TMD** (N, delta2), no stop, in closed form (:class:`~impactdamper.studies.design.LinearDevice`).
+  (:func:`impactdamper.studies.design.design.impact_band_response`), its peak located;
+* the **linear TMD** (N, delta2), no stop, in closed form (:class:`~impactdamper.studies.design.design.LinearDevice`).
 
 **Optimiser** (:func:`minimise`, the same for both): a scrambled Sobol sample of the parameter
 box (seeded: deterministic), the criterion at every sample on a coarse grid, then Nelder-Mead
 (in the box scaled to the unit cube, bounded) from the best few samples on the finer criterion.
 For the TMD both stages are the exact located peak; for the impact suppressor the coarse stage
 is the peak on a band grid of step ``COARSE_STEP`` and the local stage the peak on the band grid
-(step :data:`~impactdamper.studies.design.BAND_STEP`) refined by a parabola through each local
-maximum (:meth:`~impactdamper.studies.design.BandResponse.interpolated_peak`); with a
+(step :data:`~impactdamper.studies.design.design.BAND_STEP`) refined by a parabola through each local
+maximum (:meth:`~impactdamper.studies.design.design.BandResponse.interpolated_peak`); with a
 ``polish_evaluations`` budget a last Nelder-Mead runs on the located peak itself; the optimum's
 peak is then located.
 
@@ -44,7 +44,7 @@ import scipy.stats
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import Parameters, finite_argument
 from impactdamper.core.simulate import EventDrivenSolver
-from impactdamper.studies.design import (
+from impactdamper.studies.design.design import (
     BAND_STEP,
     CRITERIA,
     BandResponse,
@@ -340,7 +340,7 @@ def optimise_impact(
     """The impact suppressor (gap, N, delta2, R) minimising ``criterion`` over ``band`` at the
     given ``mu`` and ``delta1``, by :func:`minimise`: the coarse stage on the band grid of step
     ``coarse_step``, the local stage on the band grid of step ``step`` (peaks sampled there),
-    then the optimum's peak located (:func:`~impactdamper.studies.design.impact_band_response`).
+    then the optimum's peak located (:func:`~impactdamper.studies.design.design.impact_band_response`).
 
     Returns
     -------

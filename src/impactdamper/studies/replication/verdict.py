@@ -9,14 +9,9 @@ verdict and its macros.
 
 from __future__ import annotations
 
-from impactdamper.studies.claims import (
-    CLAIM_B_IMPACTS,
-    CLAIM_B_PERIOD_MULTIPLE,
-    SEARCH_PARAMETERS,
-    Interval,
-    distance_to,
-)
-from impactdamper.studies.replication import PAPER
+from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE
+from impactdamper.studies.intervals import Interval, distance_to
+from impactdamper.studies.replication.cases import PAPER
 
 __all__ = ["PAPER_CLAIMS", "claims", "beyond_the_gap", "verdict"]
 
@@ -94,8 +89,9 @@ def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
     """Where, along each parameter alone (at the stated gap), both claims hold nearest the
     stated value; which parameter gets there with the smallest relative change; and the
     two-parameter map's share of cells where both hold."""
+    names = list(search["parameters"])  # the parameters searched, in the search's order
     per = {}
-    for name in SEARCH_PARAMETERS:
+    for name in names:
         d = search["parameters"][name]
         both = d["intervals"]["both"]
         near = d["nearest_both"]
@@ -108,7 +104,7 @@ def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
             "b": d["intervals"]["b"],
             "both": both,
         }
-    found = [n for n in SEARCH_PARAMETERS if per[n]["relative_distance"] is not None]
+    found = [n for n in names if per[n]["relative_distance"] is not None]
     nearest = min(found, key=lambda n: per[n]["relative_distance"]) if found else None
     cells = len(cmap)
     both_cells = sum(r["both"] == "true" for r in cmap)
@@ -127,7 +123,7 @@ def beyond_the_gap(search: dict, cmap: list[dict], scan: dict) -> dict:
         "parameters": per,
         "nearest_parameter": nearest,
         "gap": gap,
-        "none_found": [n for n in SEARCH_PARAMETERS if n not in found],
+        "none_found": [n for n in names if n not in found],
         "rel_tol": search["rel_tol"],
         "map_cells": cells,
         "map_both_cells": both_cells,

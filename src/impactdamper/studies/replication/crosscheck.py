@@ -1,83 +1,42 @@
-"""The reference case's replication checks: cases, the paper's claims, the independent
-``solve_ivp`` cross-checks and the scans of the gap Delta0/x_st.
-
-The paper is Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100.
-The two claims about the reference case (the prose around Fig. 2):
-
-* **(a)** Algorithm No. 1 gives an orbit whose gap is negative on an interval (t1, t2);
-* **(b)** Algorithm No. 2 settles to T_c = 2T with three impacts per cycle (t1, t2, t3; the
-  next cycle starts at t4).
-
-The workflow's reference stage (``workflow/scripts/solve_case.py``, ``crosscheck_case.py``,
-``gap_scan.py``, ``other_readings.py``, ``verdict.py``) calls these and writes the records.
+"""The replication's independent cross-checks: Algorithms No. 1 and No. 2 of Timofeev,
+Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100, integrated again by
+``solve_ivp`` (:mod:`impactdamper.baselines.ivp`), and each compared with the exact solver:
+Algorithm No. 1's orbit by its periodicity residual and the ends of its negative-gap intervals
+(the paper's Fig. 2a), Algorithm No. 2's settled cycle impact by impact, aligned by forcing
+phase (the paper's Fig. 2b, :func:`impactdamper.studies.replication.claims.compare_cycles`).
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.integrate
 import scipy.optimize
 
-from impactdamper import Parameters, Tolerances, algorithm1, steady_state
+from impactdamper import Parameters, Tolerances
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import state_scale
-from impactdamper.studies.claims import (
-    CLAIM_B_IMPACTS,
-    CLAIM_B_PERIOD_MULTIPLE,
-    claim_a,
-    claim_b,
-    compare_cycles,
-    true_intervals,
-)
-from impactdamper.studies.config import parameters, steady_options
+from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, compare_cycles
 
 __all__ = [
-    "PAPER",
-    "CASES",
-    "SAMPLES_PER_PERIOD",
     "IVP_GAP_SAMPLES",
-    "CLAIM_B_IMPACTS",
-    "CLAIM_B_PERIOD_MULTIPLE",
-    "claim_a",
-    "claim_b",
-    "parameters",
-    "solver_options",
     "free_rhs",
     "GapScan",
     "gap_sign_scan",
-    "next_cycle_impact",
-    "alg1_summary",
-    "steady_summary",
     "alg1_ivp",
     "alg2_ivp",
     "compare_alg1",
-    "grid",
-    "ranges",
-    "overlap",
-    "run_steady",
-    "run_steady_compiled",
-    "run_alg1",
 ]
 
-PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"
-CASES = ("stated", "located")
-# Samples per forcing period of the curves behind Fig. 2a/2b (dense enough that a straight
-# line between samples is within ~1e-4 x_st of the exact motion at the plot's scale).
-SAMPLES_PER_PERIOD = 400
 # Grid of the independent gap scan of an Algorithm No. 1 orbit (per period): the solve_ivp
 # dense output is sampled there and every sign change refined by brentq.
 IVP_GAP_SAMPLES = 4000
 # Absolute tolerance (units of T) of a refined sign change of the gap: far below the
 # cross-check's tolerance on the interval ends (config verdict), near rounding of t/T ~ 1.
 GAP_ROOT_XTOL = 1e-14
-
-# The solver options are the config module's; the stage's scripts know them by this name.
-solver_options = steady_options
 
 
 def free_rhs(p: Parameters):
@@ -131,61 +90,6 @@ def gap_sign_scan(gap_of, samples: int, xtol: float = GAP_ROOT_XTOL) -> GapScan:
     )
 
 
-# --- cases ----------------------------------------------------------------------------------
-def next_cycle_impact(s):
-    """The first impact of the next repetition of the settled cycle (the paper's t4), or None."""
-    T = s.p.T
-    t_next = s.cycle_start + s.cycle_duration - 1e-9 * T
-    later = s.trajectory.impacts(t_next)
-    return later[0] if later else None
-
-
-def alg1_summary(a) -> dict:
-    """Algorithm No. 1 result as a JSON-ready dict, with the claim (a) verdict."""
-    d = a.to_dict()
-    d["claim_a"] = claim_a(a)
-    return d
-
-
-def steady_summary(s) -> dict:
-    """Settled motion as a JSON-ready dict: the cycle's impacts with times since the cycle's
-    first impact (s and T), and the next cycle's first impact."""
-    p = s.p
-    d = s.to_dict()
-    start = s.cycle_start
-    rows = [
-        {
-            "label": f"t{i + 1}",
-            "t_s": imp.t - start,
-            "t_over_T": (imp.t - start) / p.T,
-            "phase": imp.phase,
-            "velocity": imp.velocity,
-            "impulse": imp.impulse,
-            "next_cycle": False,
-        }
-        for i, imp in enumerate(s.impacts)
-    ]
-    nxt = next_cycle_impact(s)
-    if nxt is not None and s.settled and s.impacts:
-        rows.append(
-            {
-                "label": f"t{len(rows) + 1}",
-                "t_s": nxt.t - start,
-                "t_over_T": (nxt.t - start) / p.T,
-                "phase": (nxt.t / p.T) % 1.0,
-                "velocity": nxt.velocity,
-                "impulse": nxt.impulse,
-                "next_cycle": True,
-            }
-        )
-    d["impact_table"] = rows
-    d["cycle_start"] = start
-    d["T_c_over_T"] = s.period_multiple
-    d["claim_b"] = claim_b(s)
-    return d
-
-
-# --- the independent cross-checks -----------------------------------------------------------
 def alg1_ivp(a, method: str = "DOP853", rtol: float = 1e-10, atol: float = 1e-10) -> dict:
     """Check an Algorithm No. 1 orbit with ``solve_ivp``: integrate eqs. (2) + (9) (no stop)
     from the state just after the impact over one period T, then
@@ -260,7 +164,7 @@ def alg2_ivp(
     periods earlier within ``section_tol`` (relative), and the impacts in the last k periods.
 
     With ``exact`` (a :class:`impactdamper.SteadyState` of the same start), also compares the
-    two settled cycles aligned by forcing phase (:func:`impactdamper.studies.claims.compare_cycles`):
+    two settled cycles aligned by forcing phase (:func:`~impactdamper.studies.replication.claims.compare_cycles`):
     the exact solver describes its cycle on a fresh run whose clock differs from this run's by
     whole periods, so impacts are paired by t/T modulo k, never by absolute time or by counts
     alone. ``agree`` is both differences within ``time_tol`` (units of T) and
@@ -346,69 +250,3 @@ def compare_alg1(a, ivp: dict, time_tol: float, residual_tol: float) -> dict:
         "time_tol": time_tol,
         "residual_tol": residual_tol,
     }
-
-
-# --- scans: grids, ranges and their ends ------------------------------------------------
-def grid(lo: float, hi: float, step: float) -> np.ndarray:
-    """lo, lo + step, ..., up to hi (inclusive within rounding), rounded to 10 decimals."""
-    n = int(math.floor((hi - lo) / step + 1e-9))
-    return np.round(lo + step * np.arange(n + 1), 10)
-
-
-def ranges(gaps: np.ndarray, flags: list[bool], pred, tol: float) -> list[dict]:
-    """Maximal runs of True on the grid, each end bisected to ``tol`` (absolute) or open at
-    the window's edge (:func:`impactdamper.studies.claims.true_intervals`), as dicts."""
-    out = []
-    for iv in true_intervals(gaps, flags, pred, 0.0, 0.0, abs_tol=tol):
-        # The run's first and last grid values: a bisected end lies between grid values.
-        r = {"grid_lo": float(min(g for g in gaps if g >= iv.lo)), "grid_hi": float(max(g for g in gaps if g <= iv.hi))}
-        for side, bracket, is_open in (("lo", iv.lo_bracket, iv.lo_open), ("hi", iv.hi_bracket, iv.hi_open)):
-            r[side] = getattr(iv, side)
-            r[side + "_bracket"] = list(bracket) if bracket is not None else None
-            r[side + "_open"] = is_open  # True: the range reaches the window's edge
-        out.append(r)
-    return out
-
-
-def overlap(ra: list[dict], rb: list[dict]) -> list[dict]:
-    """Intersections of two lists of ranges; each end says which claim bounds it."""
-    out = []
-    for a in ra:
-        for b in rb:
-            lo_src = a if a["lo"] >= b["lo"] else b
-            hi_src = a if a["hi"] <= b["hi"] else b
-            lo, hi = lo_src["lo"], hi_src["hi"]
-            if lo < hi:
-                out.append(
-                    {
-                        "lo": lo,
-                        "hi": hi,
-                        "lo_claim": "a" if lo_src is a else "b",
-                        "hi_claim": "a" if hi_src is a else "b",
-                        "lo_bracket": lo_src["lo_bracket"],
-                        "hi_bracket": hi_src["hi_bracket"],
-                        "lo_open": lo_src["lo_open"],
-                        "hi_open": hi_src["hi_open"],
-                    }
-                )
-    return out
-
-
-def run_steady(p: Parameters, solver: dict, **kw):
-    """:func:`impactdamper.steady_state` (the front door, its default backend: compiled) with the
-    config's solver options."""
-    return steady_state(p, **solver_options(solver), **kw)
-
-
-def run_steady_compiled(p: Parameters, solver: dict):
-    """Deprecated: :func:`run_steady` (:func:`impactdamper.steady_state`, compiled by default)."""
-    warnings.warn(
-        "run_steady_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled') (run_steady does)",
-        DeprecationWarning,
-        stacklevel=2,
-    )
-    return steady_state(p, **solver_options(solver), backend="compiled")
-
-
-def run_alg1(p: Parameters, solver: dict):
-    return algorithm1(p, gap_tol=float(solver["gap_tol"]))

@@ -37,7 +37,8 @@ from collections import Counter
 
 import numpy as np
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
+from impactdamper.studies.replication import crosscheck as xc
 from impactdamper.studies.config import parameters
 from impactdamper.core.algorithm1 import unit_pulse_response
 from impactdamper.core.events import Segment
@@ -93,7 +94,7 @@ def alg1_eq13_as_printed(p):
     t_imp = ((phi - eps21) % (2.0 * math.pi)) / p.omega
     after = model.free.forced(t_imp) + S * z0
     seg = Segment(model.free, t_imp, after)
-    scan = rep.gap_sign_scan(lambda s: float(model.gap_of(seg.state(t_imp + s * p.T))), rep.IVP_GAP_SAMPLES)
+    scan = xc.gap_sign_scan(lambda s: float(model.gap_of(seg.state(t_imp + s * p.T))), xc.IVP_GAP_SAMPLES)
     before = seg.state(t_imp + p.T)
     out.exists, out.S, out.t_impact, out.state_after = True, S, t_imp, after
     out.negative_gap_intervals = scan.negative_intervals
@@ -166,8 +167,8 @@ def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, di
         a = rep.run_alg1(p, solver)
     state = np.array(r["state"]) if "state" in r else None
     s = rep.run_steady(p, solver, state=state)
-    ivp_a = rep.alg1_ivp(a, **ivp_kw) if a.exists else {"claim_a": False}
-    ivp_b = rep.alg2_ivp(
+    ivp_a = xc.alg1_ivp(a, **ivp_kw) if a.exists else {"claim_a": False}
+    ivp_b = xc.alg2_ivp(
         p,
         s.periods + kmax,
         kmax,
@@ -220,7 +221,7 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
         t0 = float(rng.uniform(0.0, p.T))
         state = np.array([x1, x1 + p.Delta0 - gap, v1, v2])
         s = rep.run_steady(p, solver, t0=t0, state=state)
-        ivp = rep.alg2_ivp(
+        ivp = xc.alg2_ivp(
             p,
             s.periods + kmax,
             kmax,

@@ -5,7 +5,7 @@ Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-1
 reference case theta = 1, mu = 0.08, N = 0.5, delta1 = delta2 = 0.05, R = 0.7,
 Delta0/x_st = -5.8 and claim there (a) Algorithm No. 1 (eqs. 7-17) gives a negative gap on
 (t1, t2) and (b) Algorithm No. 2, from its step 1, settles to T_c = 2T with three impacts.
-Neither holds at the stated point (:mod:`impactdamper.studies.claims`). Here:
+Neither holds at the stated point (:mod:`impactdamper.studies.replication.claims`). Here:
 
 * **Distance.** A point is u in R^7, the relative changes u_i = x_i/x_i,stated - 1 of
   (theta, mu, N, delta1, delta2, R, Delta0/x_st), all weighted alike: every one is a
@@ -29,8 +29,8 @@ Neither holds at the stated point (:mod:`impactdamper.studies.claims`). Here:
   while the point stays robust, s halved from ``compass_step`` down to ``compass_floor``.
 * **Verification** at each answer: Algorithm No. 2 by the pure-Python reference
   :func:`impactdamper.steady_state`, Algorithm No. 1's orbit re-integrated by ``solve_ivp``
-  and Algorithm No. 2 rerun by ``solve_ivp`` (:func:`impactdamper.studies.replication.alg2_ivp`)
-  with the cycles aligned by forcing phase (:func:`impactdamper.studies.claims.compare_cycles`).
+  and Algorithm No. 2 rerun by ``solve_ivp`` (:func:`impactdamper.studies.replication.crosscheck.alg2_ivp`)
+  with the cycles aligned by forcing phase (:func:`impactdamper.studies.replication.claims.compare_cycles`).
 * **Round values.** :func:`round_candidates` lists, per parameter, the values that differ from
   the stated one in one significant digit (a digit replaced, or one unit of the last stated
   digit up or down: 1 -> 0.9); :func:`round_values` evaluates them alone, then pairs only if no
@@ -51,8 +51,9 @@ import numpy as np
 from impactdamper.analysis.batch import settled_batch
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.algorithm1 import algorithm1
-from impactdamper.core.parameters import Parameters
-from impactdamper.studies.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a
+from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters
+from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a
+from impactdamper.studies.vocabulary import SPEC
 
 __all__ = [
     "NEAREST_NAMES",
@@ -72,11 +73,8 @@ __all__ = [
 ]
 
 # The seven relative parameters searched, in this order (u's components).
-NEAREST_NAMES = ("theta", "mu", "N", "delta1", "delta2", "R", "gap")
+NEAREST_NAMES = RELATIVE_PARAMETERS
 NORMS = ("max", "euclidean")
-# Domains (Parameters' own): a point outside one is no reproduction, never an error.
-_LOWER = {"theta": 0.0, "mu": 0.0, "N": 0.0, "delta1": 0.0, "delta2": 0.0, "R": 0.0}
-_UPPER = {"R": 1.0}
 
 
 def norm(u: np.ndarray, which: str) -> np.ndarray:
@@ -120,13 +118,9 @@ class ClaimsEvaluator:
         return self.stated * (1.0 + np.asarray(U, float).reshape(-1, len(NEAREST_NAMES)))
 
     def valid(self, X: np.ndarray) -> np.ndarray:
-        ok = np.ones(len(X), bool)
-        for j, n in enumerate(NEAREST_NAMES):
-            if n in _LOWER:
-                ok &= X[:, j] > _LOWER[n] if n in ("theta", "mu", "N") else X[:, j] >= _LOWER[n]
-            if n in _UPPER:
-                ok &= X[:, j] <= _UPPER[n]
-        return ok
+        """Whether each point is in every parameter's domain (Parameters' own ranges): a point
+        outside one is no reproduction, never an error."""
+        return np.array([all(SPEC[n].ok(float(v)) for n, v in zip(NEAREST_NAMES, x)) for x in X], bool)
 
     def __call__(self, U) -> tuple[np.ndarray, np.ndarray]:
         """(claim_a, claim_b) flags, shape (P,) each (claim_b False where claim_a is)."""
@@ -480,23 +474,24 @@ def tuning_condition(changes: dict) -> bool:
 def verify_point(p: Parameters, solver: dict, verdict: dict) -> dict:
     """Both claims at ``p`` by the independent methods: Algorithm No. 2 by the pure-Python
     reference :func:`impactdamper.steady_state` (and the compiled solver), Algorithm No. 1's
-    orbit re-integrated by ``solve_ivp`` (:func:`~impactdamper.studies.replication.alg1_ivp`,
-    :func:`~impactdamper.studies.replication.compare_alg1`), and Algorithm No. 2 rerun by
-    ``solve_ivp`` (:func:`~impactdamper.studies.replication.alg2_ivp`) with its settled cycle
+    orbit re-integrated by ``solve_ivp`` (:func:`~impactdamper.studies.replication.crosscheck.alg1_ivp`,
+    :func:`~impactdamper.studies.replication.crosscheck.compare_alg1`), and Algorithm No. 2 rerun by
+    ``solve_ivp`` (:func:`~impactdamper.studies.replication.crosscheck.alg2_ivp`) with its settled cycle
     aligned to the reference's by forcing phase, within the verdict's cross-check tolerances.
     """
     from impactdamper.analysis.solve import steady_state
-    from impactdamper.studies import replication as rep
+    from impactdamper.studies.replication import cases as rep
+    from impactdamper.studies.replication import crosscheck as xc
 
     kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
     time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
     a = rep.run_alg1(p, solver)
-    a_ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "negative_gap_intervals": []}
-    a_cmp = rep.compare_alg1(a, a_ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
+    a_ivp = xc.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "negative_gap_intervals": []}
+    a_cmp = xc.compare_alg1(a, a_ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
     s = rep.run_steady(p, solver)
     c = steady_state(p, **rep.solver_options(solver), backend="compiled")
     kmax = int(solver["max_period_multiple"])
-    b_ivp = rep.alg2_ivp(
+    b_ivp = xc.alg2_ivp(
         p,
         s.periods + kmax,
         kmax,

@@ -14,7 +14,7 @@ against the mpmath reference of :mod:`impactdamper.baselines.highprecision` (40 
     and the end state's max |y_i - y_i^ref| / scale_i (scales x_st, x_st, x_st omega,
     x_st omega).
 
-Methods: every entry of :data:`impactdamper.studies.methods.METHODS` (the exact solver,
+Methods: every entry of :data:`impactdamper.studies.performance.methods.METHODS` (the exact solver,
 Algorithm No. 1 on the settled cycle, the ``solve_ivp`` methods, RK4 with bisection, Siconos's
 Moreau-Jean scheme when its Python module is present; the study records plainly whether it
 was), each across its own setting, read through one result protocol (``impacts()``,
@@ -43,8 +43,7 @@ import numpy as np
 from impactdamper.baselines import highprecision as hp
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import default_initial_state, simulate
-from impactdamper.reporting.records import json_float
-from impactdamper.studies.methods import IVP_METHODS, METHODS, reported_alone, selected  # noqa: F401 (METHODS: the study's table)
+from impactdamper.studies.performance.methods import IVP_METHODS, METHODS, selected  # noqa: F401 (METHODS: the study's table)
 
 __all__ = [
     "CASES",
@@ -58,9 +57,6 @@ __all__ = [
     "cost_to_reach",
     "cost_growth",
     "FAMILIES",
-    "met",
-    "meets",
-    "report_summary",
 ]
 
 CASES = ("first_impacts", "settled_cycle")
@@ -235,7 +231,7 @@ def measure(
     min_time: float = 0.05,
     max_steps: int = DEFAULT_MAX_STEPS,
 ) -> list[Run]:
-    """Runs of method ``name`` (:data:`impactdamper.studies.methods.METHODS`) on one problem,
+    """Runs of method ``name`` (:data:`impactdamper.studies.performance.methods.METHODS`) on one problem,
     one per setting in ``values``, each timed (median CPU time, :func:`cpu_time`, unless the
     method times itself) and its impacts and end state compared with the reference.
 
@@ -402,90 +398,3 @@ def cost_growth(p: Parameters, periods, repeats=3, min_time=0.05, log=print) -> 
             }
         )
     return rows
-
-
-def met(value: float, target: float, at_most: bool) -> str:
-    """ "met" or "not met": ``value`` against ``target`` (an upper bound if ``at_most``, else
-    a lower one); "---" when either is missing."""
-    if value is None or target is None or not (math.isfinite(value) and math.isfinite(target)):
-        return "---"
-    return "met" if (value <= target if at_most else value >= target) else "not met"
-
-
-def meets(value: float, target: float, at_most: bool) -> bool:
-    """Whether ``value`` meets ``target`` (:func:`met`); never where either is missing."""
-    return met(value, target, at_most) == "met"
-
-
-def report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict:
-    """The performance stage's numbers for the report: per problem, the exact solver's best
-    error and cost, the best ``solve_ivp`` error, each other method's best error and cost,
-    and at each target error the speed-up over the best ``solve_ivp`` method (and over RK4)
-    judged against ``perf["speedup_target"]``; the cost growth, the hard cases and the
-    reference-speed benchmark.
-
-    Parameters
-    ----------
-    wp : dict
-        The study (:func:`run_study`) with its ``summary`` (:func:`summarize`).
-    growth, hard, ref : dict
-        The cost growth, hard-case and reference-speed benchmarks' records.
-    perf : dict
-        The ``performance`` config section (targets, speedup_target, phase_target).
-    """
-    targets = [float(t) for t in perf["targets"]]
-    out = {"targets": targets, "siconos": wp["siconos"], "cases": {}}
-    for case, s in wp["summary"].items():
-        methods = s["methods"]
-        exact = methods["exact"]
-        ivp_best = {m: json_float(methods[m]["best_error"]) for m in IVP_METHODS if m in methods}
-        best_ivp_method = min(ivp_best, key=ivp_best.get) if ivp_best else None
-        c = {
-            "exact_best_error": json_float(exact["best_error"]),
-            "exact_cost": json_float(exact["min_cost"]),
-            "exact_phase_target_met": meets(json_float(exact["best_error"]), float(perf["phase_target"]), at_most=True),
-            "best_ivp_error": ivp_best.get(best_ivp_method, math.inf) if best_ivp_method else math.inf,
-            "best_ivp_error_method": best_ivp_method,
-            "levels": {},
-        }
-        for key in reported_alone():
-            if key in methods:
-                c[f"{key}_best_error"] = json_float(methods[key]["best_error"])
-                c[f"{key}_min_cost"] = json_float(methods[key]["min_cost"])
-        for t in targets:
-            sp = s["speedup_vs_best_ivp"][f"{t:g}"]
-            speedup = json_float(sp["speedup"])
-            rk4 = json_float(methods["RK4"]["cost_to_reach"][f"{t:g}"]) if "RK4" in methods else math.inf
-            exact_t = json_float(exact["cost_to_reach"][f"{t:g}"])
-            c["levels"][f"{t:g}"] = {
-                "speedup": speedup,
-                "best_ivp_method": sp["best_ivp_method"],
-                "best_ivp_cost": json_float(sp["best_ivp_cost"]),
-                "exact_cost": exact_t,
-                "speedup_met": meets(speedup, float(perf["speedup_target"]), at_most=False),
-                "speedup_vs_rk4": rk4 / exact_t if math.isfinite(rk4) and math.isfinite(exact_t) else math.inf,
-            }
-        out["cases"][case] = c
-    out["cost_growth"] = growth["summary"]
-    out["hardcases"] = {
-        "passed": hard["passed"],
-        "total": hard["total"],
-        "slowest": max(hard["cases"], key=lambda r: json_float(r["cpu_seconds"]))["case"],
-        "slowest_seconds": max(json_float(r["cpu_seconds"]) for r in hard["cases"]),
-        "total_seconds": sum(json_float(r["cpu_seconds"]) for r in hard["cases"]),
-        "failed": [r["case"] for r in hard["cases"] if not r["passed"]],
-    }
-    ex, tg, cross = ref.get("exact", {}), ref.get("targets", {}), ref.get("crosscheck", {})
-    fastest = min(cross, key=lambda m: cross[m]["median_s"]) if cross else None
-    out["reference_speed"] = {
-        "steady_state_seconds": json_float(ex.get("steady_state_median_s")),
-        "speedup_vs_fastest_crosscheck": json_float(tg.get("speedup_vs_fastest_crosscheck")),
-        "speedup_target": json_float(tg.get("speedup_target")),
-        "exact_time_target_s": json_float(tg.get("exact_time_target_s")),
-        "speedup_met": bool(tg.get("speedup_met", False)),
-        "exact_time_met": bool(tg.get("exact_time_met", False)),
-        "fastest_crosscheck": fastest,
-        "crosscheck_rtol": json_float(cross[fastest]["rtol"]) if fastest else math.inf,
-        "phase_error": json_float(ex.get("phase_error")),
-    }
-    return out

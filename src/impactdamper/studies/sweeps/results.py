@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from impactdamper.reporting.records import cell_float, read_csv, split_floats
-from impactdamper.studies.branches import KIND_SHORT
-from impactdamper.studies.gapsweep import runs
+from impactdamper.studies.sweeps.branches import KIND_SHORT
+from impactdamper.studies.sweeps.gapsweep import runs
 
 __all__ = [
     "MIN_RUN",
@@ -29,6 +29,8 @@ __all__ = [
     "main_runs",
     "special_match",
     "mirror_match",
+    "CHECK_MATCH",
+    "main_transitions",
     "run_intervals",
     "overlaps",
     "np_only_labels",
@@ -105,6 +107,75 @@ def mirror_match(t: dict, trans: list[dict], tol: float) -> dict | None:
     if not cands:
         return None
     return min(cands, key=lambda u: abs(float(u["value"]) - value))
+
+
+# The sweep changes the closed-form checks (figures/sweep_checks.json) explain: the direction
+# and the label the sweep leaves.
+CHECK_MATCH = {"liftoff": ("up", "stuck"), "first_contact": ("down", "0/1"), "alg1_grazing": ("down", "1/1")}
+
+
+def _check_match(t: dict, before: str, checks: dict) -> str | None:
+    """The closed-form check that explains transition ``t`` (leaving ``before``), or None: its
+    direction and label, a located value, and an analytic value within 0.5 of the change."""
+    for name, (direction, label) in CHECK_MATCH.items():
+        c = checks.get(name, {})
+        if (
+            direction == t["direction"]
+            and label == before
+            and c.get("analytic") is not None
+            and c.get("located") is not None
+            and abs(c["analytic"] - float(t["value"])) < 0.5
+        ):
+            return name
+    return None
+
+
+def main_transitions(rows: list[dict], trans: list[dict], checks_doc: dict, special: list[dict]) -> list[dict]:
+    """Where a main run (:func:`main_runs`) ends and the next one begins, direction by direction
+    in sweep order: the bisected transition found between them and what identifies it.
+
+    Returns
+    -------
+    list of dict
+        ``transition`` (the row of ``trans``), ``next`` (the next main run's label, where the
+        change passes through others), and the first that explains it: ``check`` (a closed-form
+        check's name, :data:`CHECK_MATCH`), ``special`` ((name, gap) of a special point of a
+        continued branch, :func:`special_match`), ``mirror`` (the other direction's row,
+        :func:`mirror_match`, for a change to or from np), or ``budget`` (a change to or from np
+        that nothing explains: an edge of the settling budget); the others None or False. Both
+        matches are within :data:`MATCH_STEPS` of the sweep step.
+    """
+    checks = {c["name"]: c for c in checks_doc["checks"]}
+    values = sorted({float(r["value"]) for r in rows})
+    tol = MATCH_STEPS * (values[-1] - values[0]) / (len(values) - 1)
+    out = []
+    for direction in ("up", "down"):
+        ordered = main_runs(rows, direction)
+        ordered = ordered if direction == "up" else ordered[::-1]
+        for a, b in zip(ordered[:-1], ordered[1:]):
+            if a[0] == b[0]:
+                continue
+            lo, hi = sorted((a[2], b[1]) if direction == "up" else (a[1], b[2]))
+            cands = [
+                t
+                for t in trans
+                if t["direction"] == direction and lo <= float(t["value"]) <= hi and t["before"] == a[0]
+            ]
+            if not cands:
+                continue
+            t = cands[0] if direction == "up" else cands[-1]
+            found = {"transition": t, "next": b[0], "check": None, "special": None, "mirror": None, "budget": False}
+            loose = "np" in (t["before"], t["after"])
+            if (check := _check_match(t, a[0], checks)) is not None:
+                found["check"] = check
+            elif (sp := special_match(t, special, tol)) is not None:
+                found["special"] = sp
+            elif loose and (u := mirror_match(t, trans, tol)) is not None:
+                found["mirror"] = u
+            elif loose:
+                found["budget"] = True
+            out.append(found)
+    return out
 
 
 def run_intervals(rows: list[dict], trans: list[dict], direction: str) -> list[tuple]:

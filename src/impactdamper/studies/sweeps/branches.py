@@ -36,7 +36,7 @@ import numpy as np
 
 from impactdamper import Parameters, continue_orbit, solve_orbit, steady_state
 from impactdamper.reporting.records import cell_float, joined
-from impactdamper.studies.claims import true_runs
+from impactdamper.studies.intervals import true_runs
 from impactdamper.studies.config import steady_options, tolerances
 
 PAPER = "Timofeev, Lyuminarskiy & Lyuminarskiy (2019), DOI 10.18698/0236-3941-2019-1-90-100"

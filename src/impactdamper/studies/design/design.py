@@ -38,7 +38,7 @@ import scipy.optimize
 from impactdamper.analysis.response import frequency_response, theta_grid
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
-from impactdamper.core.parameters import Parameters, finite_argument, require_parameters
+from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, finite_argument, require_parameters
 
 __all__ = [
     "bare_object_amplitude",
@@ -84,9 +84,10 @@ GOOD_GAP_TOLERANCE = 0.10
 LINEAR_GRID_POINTS = 801
 # Nelder-Mead stops when the peak changes by less than this (relative): the figures show 3 digits.
 OPTIMISER_FTOL = 1e-10
-# The parameters the config's ``design`` section may set for the suppressor it studies; the
-# others (gap, theta and the scales) stay the reference case's.
-DESIGN_FIELDS = ("mu", "N", "delta1", "delta2", "R")
+# The parameters the config's ``design`` section may set for the suppressor it studies: the
+# relative ones but the gap (the design variable) and theta (the band); those and the scales
+# stay the reference case's.
+DESIGN_FIELDS = tuple(n for n in RELATIVE_PARAMETERS if n not in ("theta", "gap"))
 # Two gaps closer than this (Delta0/x_st) are one gap of the frequency responses: far below the
 # design chart's step.
 SAME_GAP = 1e-12

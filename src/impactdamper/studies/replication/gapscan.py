@@ -35,9 +35,11 @@ coexist), and an end of (b) is where the settled-motion test (``settle_tol`` wit
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
 
-from impactdamper.studies import replication as rep
+from impactdamper.studies.replication import cases as rep
+from impactdamper.studies.replication import crosscheck as xc
 from impactdamper.studies.config import parameters
 
 __all__ = [
@@ -51,6 +53,7 @@ __all__ = [
     "end_checks",
     "end_check",
     "locate",
+    "count_end_checks",
 ]
 
 # Algorithm No. 1 costs milliseconds: its range ends are bisected to near rounding.
@@ -247,8 +250,8 @@ def end_check(args) -> dict:
     time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
     if claim == "a":
         a = rep.run_alg1(parameters(dict(base, gap=g)), solver)
-        ivp = rep.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
-        cmp = rep.compare_alg1(a, ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
+        ivp = xc.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
+        cmp = xc.compare_alg1(a, ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
         return {
             "claim": "a",
             "end": side,
@@ -262,7 +265,7 @@ def end_check(args) -> dict:
         }
     p = parameters(dict(base, gap=g))
     s = rep.run_steady(p, solver)
-    ivp = rep.alg2_ivp(
+    ivp = xc.alg2_ivp(
         p,
         s.periods + kmax,
         kmax,
@@ -415,3 +418,41 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
         "end_checks": checks,
     }
     return rows, result
+
+
+def count_end_checks(checks: Sequence[dict]) -> dict:
+    """The located range's end checks (:func:`end_checks`) counted
+    by what they rest on.
+
+    Returns
+    -------
+    dict
+        ``checks``; ``compared_within``: both methods gave a motion to compare and every
+        measured difference is within its tolerance; ``nothing_to_compare``: the same verdict
+        but nothing to compare (claim a: no orbit by either method; claim b: neither settles);
+        ``outside_tolerance``: compared, a difference above its tolerance (whatever the
+        verdicts); ``different_verdict``: the two methods give different verdicts on the claim.
+    """
+    out = {
+        "checks": len(checks),
+        "compared_within": 0,
+        "nothing_to_compare": 0,
+        "outside_tolerance": 0,
+        "different_verdict": 0,
+    }
+    for c in checks:
+        if c["exact"] != c["independent"]:
+            out["different_verdict"] += 1
+        if c["claim"] == "a":
+            nothing = c["comparison"]["periodicity_residual"] is None
+            within = bool(c["comparison"]["agree"])
+        else:
+            nothing = c["exact_period_multiple"] == 0 and c["independent_period_multiple"] == 0
+            within = bool(c["details"].get("agree", False))
+        if nothing:
+            out["nothing_to_compare"] += c["exact"] == c["independent"]
+        elif within:
+            out["compared_within"] += 1
+        else:
+            out["outside_tolerance"] += 1
+    return out

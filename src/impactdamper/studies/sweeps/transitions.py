@@ -51,6 +51,9 @@ __all__ = [
     "find_both",
     "least_contact_force",
     "largest_relative_displacement",
+    "liftoff_check",
+    "first_contact_check",
+    "alg1_grazing_check",
     "checks",
 ]
 
@@ -135,13 +138,14 @@ def _check(name, description, analytic, numeric, located, bracket, method):
     }
 
 
-def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> list[dict]:
-    """The three transitions with analytic values (see the module docstring), each against its
-    numeric value and where the sweep locates it (``up``, ``down``: the sweep's points;
-    ``xtol``: the bisection's tolerance in Delta0/x_st)."""
-    sim = replace(settings, continuation=False)
-    out = []
-    # (a) lift-off of the persistent contact (upward sweep leaves "stuck").
+def _bracket(tr) -> list:
+    """A located transition's bisection bracket, as a check records it."""
+    return [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
+
+
+def liftoff_check(base, parameter: str, up, settings, xtol: float) -> dict:
+    """(a) Lift-off of the persistent contact (the upward sweep leaves "stuck"): the closed form,
+    the root of the joined bodies' least contact force, and the sweep's simulation bisection."""
     analytic = stuck_liftoff_gap(base)
     numeric = scipy.optimize.brentq(
         lambda g: least_contact_force(with_value(base, "gap", g)),
@@ -153,45 +157,48 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     i = _run(up, lambda p: p.label == "stuck", True)
     located = bracket = None
     if i is not None:
-        tr = locate_transition(base, parameter, up[i], up[i + 1], "up", settings=sim, xtol=xtol)
-        located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-    out.append(
-        _check(
-            "liftoff",
-            "persistent contact lifts off (upward sweep leaves stuck)",
-            analytic,
-            numeric,
-            located,
-            bracket,
-            "simulation bisection from the stuck motion",
-        )
+        tr = locate_transition(base, parameter, up[i], up[i + 1], "up", settings=settings, xtol=xtol)
+        located, bracket = tr.value, _bracket(tr)
+    return _check(
+        "liftoff",
+        "persistent contact lifts off (upward sweep leaves stuck)",
+        analytic,
+        numeric,
+        located,
+        bracket,
+        "simulation bisection from the stuck motion",
     )
-    if log is not None:
-        log.info("(a) analytic %.12g numeric %.12g located %s", analytic, numeric, located)
-    # (b) first contact (downward sweep leaves "0/1").
+
+
+def first_contact_check(base, parameter: str, down, settings, xtol: float) -> dict:
+    """(b) First contact (the downward sweep leaves "0/1"): U1 of eq. (12), the free forced
+    response's largest relative displacement, and the sweep's simulation bisection."""
     analytic = no_contact_gap(base)
     numeric = largest_relative_displacement(base)
     rdown = down[::-1]
     i = _run(rdown, lambda p: p.label == "0/1", True)
     located = bracket = None
     if i is not None:
-        tr = locate_transition(base, parameter, rdown[i], rdown[i + 1], "down", settings=sim, xtol=xtol)
-        located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
-    out.append(
-        _check(
-            "first_contact",
-            "free forced response reaches the stop (downward sweep leaves 0/1)",
-            analytic,
-            numeric,
-            located,
-            bracket,
-            "simulation bisection from the no-contact motion",
-        )
+        tr = locate_transition(base, parameter, rdown[i], rdown[i + 1], "down", settings=settings, xtol=xtol)
+        located, bracket = tr.value, _bracket(tr)
+    return _check(
+        "first_contact",
+        "free forced response reaches the stop (downward sweep leaves 0/1)",
+        analytic,
+        numeric,
+        located,
+        bracket,
+        "simulation bisection from the no-contact motion",
     )
-    if log is not None:
-        log.info("(b) analytic %.12g numeric %.12g located %s", analytic, numeric, located)
-    # (c) Algorithm No. 1's orbit crosses the stop: bracket from the stated gap downward.
+
+
+def alg1_grazing_check(base, parameter: str, down, settings, xtol: float) -> dict:
+    """(c) Algorithm No. 1's orbit starts to cross the stop between impacts, bracketed from the
+    stated gap downward: the closed form, the root of the orbit's least gap, the orbit
+    continuation's grazing, the sweep's bisection, and simulations started on the orbit on
+    either side."""
     g0 = float(base.gap)
+    rdown = down[::-1]
     values = sorted(p.value for p in down)
     below = [v for v in values if v <= g0][::-1]
     adm = [bool(algorithm1(with_value(base, "gap", v)).admissible) for v in below]
@@ -229,7 +236,7 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
             k += 1
         if rdown[i0].label == "1/1" and k + 1 < len(rdown):
             tr = locate_transition(base, parameter, rdown[k], rdown[k + 1], "down", settings=settings, xtol=xtol)
-            located, bracket = tr.value, [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
+            located, bracket = tr.value, _bracket(tr)
         # Simulation confirms: started on Algorithm No. 1's orbit (perturbed by 1e-9) just
         # above the grazing it settles on 1/1; just below, the orbit crosses the stop.
         extra["simulation_above"] = _settles_on_alg1(base, analytic + SIMULATION_OFFSET, settings)
@@ -245,13 +252,32 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     )
     c.update(extra)
     c["note"] = FINITE_STEP_NOTE
-    out.append(c)
+    return c
+
+
+def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> list[dict]:
+    """The three transitions with analytic values (see the module docstring), each against its
+    numeric value and where the sweep locates it (``up``, ``down``: the sweep's points;
+    ``xtol``: the bisection's tolerance in Delta0/x_st): :func:`liftoff_check` and
+    :func:`first_contact_check` by simulation alone, :func:`alg1_grazing_check` by the sweep's
+    own bisection."""
+    sim = replace(settings, continuation=False)
+    out = [liftoff_check(base, parameter, up, sim, xtol)]
     if log is not None:
+        c = out[-1]
+        log.info("(a) analytic %.12g numeric %.12g located %s", c["analytic"], c["numeric"], c["located"])
+    out.append(first_contact_check(base, parameter, down, sim, xtol))
+    if log is not None:
+        c = out[-1]
+        log.info("(b) analytic %.12g numeric %.12g located %s", c["analytic"], c["numeric"], c["located"])
+    out.append(alg1_grazing_check(base, parameter, down, settings, xtol))
+    if log is not None:
+        c = out[-1]
         log.info(
             "(c) analytic %s numeric %s located %s continuation %s",
-            analytic,
-            numeric,
-            located,
-            extra.get("continuation"),
+            c["analytic"],
+            c["numeric"],
+            c["located"],
+            c.get("continuation"),
         )
     return out

@@ -1,0 +1,163 @@
+"""docs/ARCHITECTURE.md is true where a test can check it: the module table names files that
+exist (and every module of studies/ and reporting/), the public names it quotes are the
+package's, each stage has the room the page names and its scripts use it, the files that state
+the impact law are the ones the source states it in, and a new parameter's plumbing is the
+files that list the parameters."""
+
+import ast
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+import impactdamper
+
+ROOT = Path(__file__).resolve().parents[2]
+SRC = ROOT / "src" / "impactdamper"
+DOC = (ROOT / "docs" / "ARCHITECTURE.md").read_text()
+sys.path.insert(0, str(ROOT / "tests"))
+from helpers import library_imports  # noqa: E402 (what a script imports)
+
+
+def _module_table() -> dict[str, list[str]]:
+    """The module table's rows: package folder -> the .py files (and folders) each row names."""
+    rows, package = {}, None
+    for line in DOC.split("## The library, bottom up")[1].split("## The workflow")[0].splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 3 or not line.startswith("|") or (cells[0] and set(cells[0]) <= {"-"}):
+            continue
+        if cells[0]:
+            package = cells[0].strip("`")
+        if package is None or package == "package":
+            continue
+        rows.setdefault(package, []).extend(re.findall(r"`([\w./]+(?:\.py|\.mplstyle|/))`", cells[1]))
+        # A room's files in parentheses after its folder: ``room/`` (``a.py``, ...).
+        room = re.match(r"`(\w+/)` \(", cells[1])
+        if room:
+            names = re.findall(r"`([\w.]+\.py)`", cells[1])
+            rows[package] = [n for n in rows[package] if n not in names] + [room.group(1) + n for n in names]
+    return rows
+
+
+def test_module_table_names_files_that_exist():
+    table = _module_table()
+    assert {"core/", "analysis/", "baselines/", "studies/", "reporting/"} <= set(table)
+    for package, names in table.items():
+        if package == "top level":
+            continue
+        for name in names:
+            path = SRC / package / name
+            assert path.exists(), f"{package}{name}"
+
+
+def test_module_table_lists_every_study_and_reporting_module():
+    table = _module_table()
+    for package in ("studies/", "reporting/"):
+        listed = {n for n in table[package] if n.endswith(".py")}
+        modules = {str(p.relative_to(SRC / package)) for p in (SRC / package).rglob("*.py") if p.name != "__init__.py"}
+        assert modules == listed, (package, sorted(modules ^ listed))
+
+
+def test_public_names_quoted_are_the_packages():
+    """Every ``impactdamper.<name>`` the page quotes is a public name of the package."""
+    quoted = set(re.findall(r"`impactdamper\.(\w+)\(", DOC))
+    assert {"simulate", "steady_state", "steady_states"} <= quoted
+    assert quoted <= set(impactdamper.__all__), sorted(quoted - set(impactdamper.__all__))
+
+
+def _stage_rooms() -> dict[str, str]:
+    """The page's table of stages (workflow/rules/<stage>.smk) and their rooms."""
+    out = {}
+    for stages, room in re.findall(r"^\s*\| ((?:`\w+\.smk`(?:, )?)+) \| `(\w+)/` \|$", DOC, flags=re.M):
+        for stage in re.findall(r"`(\w+)\.smk`", stages):
+            out[stage] = room
+    return out
+
+
+@pytest.mark.slow  # follows every stage script's imports (about 25 s)
+def test_each_stage_has_its_room_and_its_scripts_use_it():
+    stages = _stage_rooms()
+    rooms = {p.parent.name for p in (SRC / "studies").glob("*/__init__.py")}
+    assert set(stages.values()) == rooms, sorted(set(stages.values()) ^ rooms)
+    for stage, room in stages.items():
+        rules = (ROOT / "workflow" / "rules" / f"{stage}.smk").read_text()
+        scripts = set(re.findall(r'script="(workflow/scripts/\w+\.py)"', rules))
+        imported = set().union(*(library_imports(ROOT / s) for s in scripts))
+        assert any(f.startswith(f"src/impactdamper/studies/{room}/") for f in imported), (stage, room)
+    # Every room module is imported by a script of its stages (or by a module of its room).
+    for room in rooms:
+        scripts = set()
+        for stage in (s for s, r in stages.items() if r == room):
+            rules = (ROOT / "workflow" / "rules" / f"{stage}.smk").read_text()
+            scripts |= set(re.findall(r'script="(workflow/scripts/\w+\.py)"', rules))
+        imported = set().union(*(library_imports(ROOT / s) for s in scripts))
+        for module in (SRC / "studies" / room).glob("*.py"):
+            assert str(module.relative_to(ROOT)) in imported, module
+
+
+def test_rooms_import_each_other_without_a_circle():
+    """The rooms of studies/ (and its shared modules) import each other one way only."""
+    edges: dict[str, set[str]] = {}
+    for path in (SRC / "studies").rglob("*.py"):
+        parts = path.relative_to(SRC / "studies").parts
+        room = parts[0] if len(parts) > 1 else parts[0].removesuffix(".py")
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("impactdamper.studies"):
+                names = node.module.split(".")[2:3] or [a.name for a in node.names]
+                edges.setdefault(room, set()).update(n for n in names if n != room)
+    assert edges["claims"] >= {"replication"}  # the claims stage builds on the replication's claims
+
+    def reaches(a: str, b: str, seen=()) -> bool:
+        return any(n == b or (n not in seen and reaches(n, b, (*seen, n))) for n in edges.get(a, ()))
+
+    assert not [room for room in edges if reaches(room, room)]
+
+
+# How the source states the impact law (eqs. 14, 21-22) or carries its parameter R: the pulse
+# D = m_red (1 + R), the rebound R v, the compiled kernels' slot, Siconos's impact law, and R
+# handed to the Siconos driver.
+IMPACT_LAW = [r"\b1(\.0)? \+ ([\w.\[\]]+\.)?R\b", r"\bR \* ", r"\bS_R\b", r"NewtonImpactNSL", r", 'R'\)"]
+
+
+def _code(path: Path) -> str:
+    """The module's code without its docstrings and comments."""
+    tree = ast.parse(path.read_text())
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if isinstance(body, list) and body and isinstance(body[0], ast.Expr):
+            if isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+                body[0] = ast.Pass()
+    return ast.unparse(tree)
+
+
+def test_impact_law_files_are_where_the_source_states_it():
+    listed = DOC.split("<!-- impact-law files")[1].split("<!-- end of the impact-law files -->")[0]
+    documented = set(re.findall(r"`((?:core|analysis|baselines|studies)/[\w/]+\.py)`", listed))
+    found = {
+        str(p.relative_to(SRC))
+        for p in SRC.rglob("*.py")
+        if any(re.search(pattern, _code(p)) for pattern in IMPACT_LAW)
+    }
+    assert documented == found, (
+        "documented, not found:",
+        documented - found,
+        "found, not documented:",
+        found - documented,
+    )
+    assert f"{len(found)} files that state the impact law" in DOC
+
+
+def test_a_new_parameter_is_three_files_of_plumbing():
+    """The files besides the parameter table that list every parameter by name are the config
+    and its schema (ci.yaml, an overlay, has no reference section): 3 files of plumbing."""
+    from impactdamper.core.parameters import PARAMETER_TABLE
+
+    names = [s.name for s in PARAMETER_TABLE]
+    listing = {
+        str(p.relative_to(ROOT))
+        for p in [*(ROOT / "config").glob("*.yaml"), *(ROOT / "workflow" / "schemas").glob("*.yaml")]
+        if all(re.search(rf"^\s+{re.escape(n)}:", p.read_text(), flags=re.M) for n in names)
+    }
+    assert listing == {"config/config.yaml", "workflow/schemas/config.schema.yaml"}, listing
+    assert "plumbing is 3 files" in " ".join(DOC.split())
