@@ -415,7 +415,7 @@ def refine_grid(
 
 def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None) -> list[dict]:
     """Algorithm No. 2 from the paper's step 1 at each value of ``name`` (the others as in
-    ``p``), on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each point
+    ``p``), on the compiled batch (:func:`impactdamper.steady_states`, each point
     alone, ``settings``: its ``rescue`` tries the Newton rescue on a point that did not
     settle). A point still nonperiodic is run again with ``longer_periods`` (if given).
 
@@ -430,13 +430,13 @@ def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = No
 
     import numpy as np
 
-    from impactdamper.analysis.batch import settled_batch
+    from impactdamper import steady_states
 
     if not xs:
         return []
 
     def run(values, st):
-        r = settled_batch(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
+        r = steady_states(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
         return [
             {
                 "value": float(v),
@@ -745,7 +745,7 @@ MAP_COLUMNS = [
 def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings) -> list[dict]:
     """Both claims at every cell of the grid ``xs`` x ``ys`` of parameters ``x`` and ``y`` (the
     others as in ``p``): Algorithm No. 1 (closed form, ``gap_tol``) and Algorithm No. 2 from the
-    paper's step 1 on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each
+    paper's step 1 on the compiled batch (:func:`impactdamper.steady_states`, each
     cell alone, ``settings``), in one call for all cells.
 
     Returns
@@ -769,14 +769,14 @@ def claims_cells(p, x: str, y: str, points: Sequence[tuple[float, float]], *, ga
     """
     import numpy as np
 
-    from impactdamper.analysis.batch import settled_batch
+    from impactdamper import steady_states
 
     if x == y:
         raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
     if not len(points):
         return []
     cells = np.array(points, float).reshape(-1, 2)
-    res = settled_batch(p, (x, y), cells, settings=settings, chain=False)
+    res = steady_states(p, (x, y), cells, settings=settings, chain=False)
     out = []
     for i, (a, b) in enumerate(cells):
         alg1 = algorithm1(p.replace(**{x: float(a), y: float(b)}), gap_tol=gap_tol)
