@@ -89,3 +89,31 @@ def test_buffers_grow_to_the_run():
     large = simulate_kernel(*args, 100_000, np.zeros(N_DIAG))
     assert small[0] == large[0] == 0 and len(small[1]) > 100
     assert all(np.array_equal(a, b) for a, b in zip(small[1:], large[1:]))
+
+
+def test_the_architecture_page_lists_the_modules_of_core_and_analysis():
+    """docs/ARCHITECTURE.md's module table names every module of core/, core/compiled/ and
+    analysis/, and none that does not exist; the modules it says touch the kernels do."""
+    import re
+    from pathlib import Path
+
+    src = Path(idp.__file__).resolve().parent
+    page = (src.parents[1] / "docs" / "ARCHITECTURE.md").read_text()
+    rows = {"core": set(), "analysis": set()}
+    package = None
+    for line in page.splitlines():
+        cells = [c.strip() for c in line.split("|")[1:-1]]
+        if len(cells) != 3 or cells[0] in ("package", "---"):
+            continue
+        package = cells[0].strip("`/") or package
+        if package in rows:
+            rows[package] |= set(re.findall(r"`(\w+\.py)`", cells[1]))
+            if cells[1] == "`compiled/`":  # its modules, named in the row's text
+                compiled = set(re.findall(r"`(\w+)`", cells[2].split(")")[0]))
+    for name, listed in rows.items():
+        actual = {f.name for f in (src / name).glob("*.py")} - {"__init__.py"}
+        assert listed == actual, name
+    assert {f.stem for f in (src / "core" / "compiled").glob("*.py")} - {"__init__"} == compiled | {"backend"}
+    from impactdamper.core import compiled as package_of_kernels
+
+    assert len(package_of_kernels.__all__) <= 3

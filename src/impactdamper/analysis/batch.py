@@ -45,7 +45,7 @@ import numpy as np
 from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
-from impactdamper.analysis.sweeps import PSEUDO_PARAMETERS, random_initial_state, swept_names, with_value
+from impactdamper.analysis.sweeps import PSEUDO_PARAMETERS, random_start_states, swept_names, with_value
 from impactdamper.core.backends import RowArrays, get_backend, row_arrays
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
@@ -513,23 +513,13 @@ def random_starts_batch(
     list (per value) of list (per start) of SweepPoint (``start`` is ``random``).
     """
     base = require_parameters(base, "base")
-    if not (isinstance(count, int) and not isinstance(count, bool) and count >= 1):
-        raise ValueError(f"`count` = {count!r} is not allowed: must be an integer >= 1")
-    values = [float(v) for v in values]
-    indices = list(range(len(values))) if indices is None else [int(i) for i in indices]
-    if len(indices) != len(values):
-        raise ValueError(f"`indices` is not allowed: has {len(indices)} entries for {len(values)} values")
-    if not values:
+    plan = random_start_states(base, parameter, values, count, seed, indices)
+    if not plan:
         return []
-    points, states = [], []
-    for i, v in zip(indices, values):
-        p = with_value(base, parameter, v)
-        for j in range(count):
-            points.append([v])
-            states.append(random_initial_state(p, np.random.default_rng([int(seed), i, j])))
-    res = steady_states(base, (parameter,), np.array(points), settings=settings, chain=False, states=np.array(states))
-    out = []
-    for n, v in enumerate(values):
-        p = with_value(base, parameter, v)
-        out.append([dataclasses.replace(_sweep_point(res, n * count + j, p), start="random") for j in range(count)])
-    return out
+    points = np.array([[v] for v, _, states in plan for _ in states])
+    states = np.array([state for _, _, states in plan for state in states])
+    res = steady_states(base, (parameter,), points, settings=settings, chain=False, states=states)
+    return [
+        [dataclasses.replace(_sweep_point(res, n * count + j, p), start="random") for j in range(count)]
+        for n, (_, p, _) in enumerate(plan)
+    ]

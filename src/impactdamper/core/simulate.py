@@ -32,15 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from impactdamper.core.constants import (
-    CURVATURE_FLOOR,
-    DEPARTURE_FLOOR,
-    DEPARTURE_ULPS,
-    REBOUND_FLOOR,
-    SAME_TIME_ULPS,
-    STEPS_AT_START,
-    STEPS_PER_PERIOD,
-)
+from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
+from impactdamper.core.constants import STEPS_AT_START, STEPS_PER_PERIOD  # (the work bound)
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import NATIVE_SCALES, Parameters, ScaleMap, require_parameters
