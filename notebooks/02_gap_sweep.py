@@ -35,7 +35,7 @@ import numpy as np
 import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
-from impactdamper.analysis import settled, sweeps, transitions
+from impactdamper.analysis import ladder, point, sweeps, transitions
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -70,7 +70,7 @@ start = time.perf_counter()
 both = sweeps.two_way_sweep(reference, "gap", gaps)
 print(f"up and down sweeps of {len(gaps)} gaps: {time.perf_counter() - start:.1f} s")
 start = time.perf_counter()
-from_step1 = [settled.solve_point(reference.replace(gap=float(g))) for g in gaps]
+from_step1 = [ladder.solve_point(reference.replace(gap=float(g))) for g in gaps]
 print(f"every gap from step 1: {time.perf_counter() - start:.1f} s")
 runs = {"up": both["up"], "down": both["down"], "step 1": from_step1}
 
@@ -245,7 +245,7 @@ for regime in idp.REGIMES:
     if any(pt.regime == regime for pt in runs["up"]):
         pt = representative(runs["up"], regime)
         s = idp.steady_state(pt.p, state=pt.start_state, max_periods=1500)
-        again = settled.label_of(s.regime, s.period_multiple, s.impacts_per_cycle)
+        again = point.label_of(s.regime, s.period_multiple, s.impacts_per_cycle)
         print(
             f"gap {pt.value:7.2f}: sweep {pt.label:>6s} ({pt.method}), steady_state {again:>6s}, max|x1|/x_st"
             f" {pt.x1_max:.6f} vs {s.x1_max:.6f}"

@@ -149,8 +149,10 @@ def library_imports(path) -> list[str]:
     functions too, with the ``__init__.py``
     of every package on the way: what a rule running the script must list as inputs so that a
     change to them reruns it (Snakemake does not follow imports). Paths relative to the
-    repository, sorted."""
+    repository, sorted. A module a registry names as a string ``"impactdamper.x.y:NAME"``
+    (core/backends.REGISTRY: the compiled backend, imported on first use) counts as imported."""
     import ast
+    import re
 
     seen, todo = set(), [Path(path).resolve()]
     while todo:
@@ -161,6 +163,8 @@ def library_imports(path) -> list[str]:
                 names = [a.name for a in node.names]
             elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
                 names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Constant) and isinstance(node.value, str):
+                names = re.findall(r"^(impactdamper(?:\.\w+)+):\w+$", node.value)
             for name in names:
                 sibling = f.parent / f"{name}.py"  # another workflow script it imports
                 if f.parent != _SRC and "." not in name and sibling.is_file() and sibling not in seen:

@@ -13,7 +13,7 @@ simulate(p, t_end)  Algorithm No. 2 with the exact flow, contact modes and grazi
 steady_state(p)     the settled motion: period, impacts, regime (attractor=True: Algorithm No. 1's
                     orbit where it is an attractor, no transient)
 steady_states(base, names, values)  settled motions at many points: sweeps, grids, map rows,
-                    random starts
+                    random starts, many independent chains (chain_length=), in parallel (workers=)
                     (each with backend="auto" | "compiled" | "python"; see analysis/solve.py)
 solve_orbit(p)      a periodic cycle solved directly: admissibility, Floquet multipliers
 continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings, grazing
@@ -25,7 +25,6 @@ from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Tra
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
 from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
 from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
-from impactdamper.analysis.solve import steady_state_auto
 from impactdamper.analysis.solve import BACKENDS, simulate, steady_state, steady_states
 
 __version__ = "0.1.0"
@@ -49,7 +48,6 @@ __all__ = [
     "REGIMES",
     "solve_orbit",
     "orbit_from_cycle",
-    "steady_state_auto",
     "continue_orbit",
     "PeriodicOrbit",
     "Branch",

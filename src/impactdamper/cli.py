@@ -16,6 +16,7 @@ import argparse
 import contextlib
 import io
 import json
+import logging
 import os
 import re
 import sys
@@ -25,10 +26,9 @@ from impactdamper.analysis.orbits import SEEDS, OrbitError, solve_orbit
 from impactdamper.analysis.response import MAX_POINTS, frequency_response
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
-from impactdamper.core.simulate import Tolerances
+from impactdamper.core.validation import MAX_PERIODS_LIMIT, Tolerances
 from impactdamper.analysis.solve import BACKENDS, steady_state
 from impactdamper.reporting.progress import progress_bar
-from impactdamper.core.steady import MAX_PERIODS_LIMIT
 from impactdamper.reporting.records import clean
 
 __all__ = ["main", "run", "build_parser", "add_quiet_flag", "PROG"]
@@ -326,6 +326,8 @@ def main(argv: list[str] | None = None) -> int:
     printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady, "response": _print_response}[
         args.command
     ]
+    # A failed point shows as such in the output (label err); its warning is not printed too.
+    logging.getLogger("impactdamper").addHandler(logging.NullHandler())
     try:
         if args.command == "response":
             settings = SweepSettings(

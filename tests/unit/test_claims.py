@@ -273,7 +273,7 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
     must contain a refined point where it holds, the two grids must give the same motion where
     they share a value, and every end of a run must lie within one fine step of a change of the
     refined grid."""
-    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.analysis.point import SweepSettings
     from impactdamper.studies.claims.search import batch_rows, refine_grid
     from impactdamper.studies.intervals import true_runs
 
@@ -374,7 +374,7 @@ def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
     floor. Every pair of fine-grid neighbours whose labels differ (or that does not settle) must
     have both points evaluated by the refinement, with the same label, in fewer points than the
     brute force; one halving alone (floor 0.005 x 0.01) misses some of them."""
-    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.analysis.point import SweepSettings
     from impactdamper.studies.claims.maps import claims_cells
     from impactdamper.studies.claims.maps import map_label, refine_claims_map
 

@@ -1,5 +1,5 @@
-"""The compiled solver (impactdamper.core.compiled) and the batch entry points
-(impactdamper.analysis.batch) against the pure-Python reference.
+"""The compiled backend (impactdamper.core.compiled) and the many-point call
+(impactdamper.steady_states, impactdamper.analysis.batch) against the pure-Python reference.
 
 Event times: two correct implementations of the same algorithm agree to the rounding of their
 arithmetic only as far as the motion's conditioning allows. An impact's time moves by
@@ -18,13 +18,20 @@ import math
 import numpy as np
 import pytest
 
+import impactdamper as idp
 from impactdamper import Parameters
-from impactdamper.analysis.batch import random_starts_batch, regime_map_batch, settled_batch, two_way_batch, warm_up
-from impactdamper.analysis.settled import SweepSettings, rescue_from_sections, solve_point
+from impactdamper.analysis.batch import random_starts_batch, regime_map_batch
+from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.point import SweepSettings
+from impactdamper.analysis.rescue import rescue_from_sections
 from impactdamper.analysis.sweeps import random_starts, regime_map, two_way_sweep
-from impactdamper.core import compiled as cc
-from impactdamper.core.simulate import simulate
+from impactdamper.core.backends import get_backend, warm_up
+from impactdamper.core.compiled.layout import FALLBACK_REASONS, N_DIAG
+from impactdamper.core.compiled.loop import pack_simulate_kernel, simulate_kernel
+from impactdamper.core.compiled.pack import pack_parameters, packing_values
+from impactdamper.core.simulate import Tolerances, default_initial_state, simulate
 from impactdamper.core.steady import steady_state
+from impactdamper.core.validation import SettleOptions
 from impactdamper.studies.performance.hardcases import TOUCH_VELOCITY, hard_cases
 
 # Event times agree to this, in forcing periods, where the motion is well conditioned (the brief).
@@ -44,12 +51,12 @@ X1_TOL = 1e-9
 @pytest.fixture(scope="module", autouse=True)
 def compiled_kernels():
     """Compile (or load the cache of) every kernel once for the module."""
-    return warm_up()
+    return warm_up("compiled")
 
 
 def compare_events(p, t0, state, periods=WINDOW_PERIODS):
     """(largest time difference over its tolerance, events compared); asserts kinds and order."""
-    a = cc.simulate_compiled(p, t0 + periods * p.T, t0, state)
+    a = idp.simulate(p, t0 + periods * p.T, t0, state, backend="compiled")
     b = simulate(p, t0 + periods * p.T, t0, state)
     assert [e.kind for e in a.events] == [e.kind for e in b.events]
     X = max([1.0] + [float(np.max(np.abs(e.before[:2]))) / p.x_st for e in b.events]) * p.x_st
@@ -63,7 +70,7 @@ def compare_events(p, t0, state, periods=WINDOW_PERIODS):
         tol = TIME_TOL * p.T + CONDITIONING * np.finfo(float).eps * X / v_min
         worst = max(worst, abs(ea.t - eb.t) / tol)
         compared += 1
-    return worst, compared, a.compiled
+    return worst, compared, a.backend == "compiled"
 
 
 # --- closed-form checks on the compiled events ------------------------------------------------
@@ -72,9 +79,9 @@ def test_impact_law(R):
     """Every compiled impact: the relative velocity becomes -R times itself, momentum is kept,
     energy never rises; the gap at the impact is zero (the event residual)."""
     p = Parameters(R=R)
-    traj = cc.simulate_compiled(p, 10 * p.T)
+    traj = idp.simulate(p, 10 * p.T, backend="compiled")
     impacts = [e for e in traj.events if e.kind == "impact"]
-    assert traj.compiled and impacts
+    assert traj.backend == "compiled" and impacts
     vs = p.x_st * p.omega
     for e in impacts:
         v_before = e.before[3] - e.before[2]
@@ -91,7 +98,7 @@ def test_gap_at_impacts_from_the_flow(gap):
     """The gap of the compiled trajectory's segment at each impact, from the exact flow, is
     within the grazing tolerance of zero (both signs of the initial gap)."""
     p = Parameters(gap=gap)
-    traj = cc.simulate_compiled(p, 10 * p.T)
+    traj = idp.simulate(p, 10 * p.T, backend="compiled")
     for e in traj.impacts():
         full, _ = traj.sample(np.array([e.t - 1e-15]))
         assert abs(traj.model.gap_of(full[0])) <= 1e-9 * p.x_st
@@ -137,7 +144,7 @@ def test_random_parameter_events(seed):
 def test_compiled_eig_is_numpys():
     """The packing's dgeev call gives numpy's eig bit for bit: complex pairs (damped), real roots
     (overdamped) and undamped roots, on random free-mode matrices."""
-    from impactdamper.core.compiled.pack import _real_eig, _state_matrices, packing_values
+    from impactdamper.core.compiled.pack import _real_eig, _state_matrices
 
     rng = np.random.default_rng(3)
     kinds = set()
@@ -160,21 +167,29 @@ def test_compiled_eig_is_numpys():
 
 @pytest.mark.parametrize("seed", range(4))
 def test_packed_in_the_run_is_packed_apart(seed):
-    """run_compiled packing inside its kernel call gives the events of a run on a separate pack."""
+    """A run packing its parameters inside its kernel call (the public simulate's) gives the
+    events of a run on a separate pack (the map step's)."""
     p = random_parameters(seed)
-    a = cc.run_compiled(p, 5 * p.T)
-    b = cc.run_compiled(p, 5 * p.T, pack=cc.pack_parameters(p))
-    assert np.array_equal(a.kinds, b.kinds) and np.array_equal(a.events, b.events)
-    assert np.array_equal(a.segments, b.segments)
+    v, tols, _ = packing_values(p)
+    full, diag = default_initial_state(p), np.zeros(N_DIAG)
+    flag, err, *a = pack_simulate_kernel(v, tols, 0.0, full, 5 * p.T, 256, diag)
+    pk = pack_parameters(p)
+    err_b, *b = simulate_kernel(pk.cm, pk.fm, pk.fc, pk.fk, pk.fg, pk.s, 0.0, full, 5 * p.T, 256, diag)
+    assert (flag, err, err_b) == (0, 0, 0)
+    assert all(np.array_equal(x, y) for x, y in zip(a, b))
 
 
 def test_packed_in_the_run_falls_back_as_the_pack():
     """Where the pack is flagged (a double root, outside the native scales), the fused run
-    returns None, as the run on the flagged pack does."""
+    stops with the pack's flag, and the public call runs the reference and names the reason."""
     delta2 = HARD["repeated_roots"].changes["delta2"]
-    for p in (Parameters(N=0.9, delta2=delta2), Parameters(omega=1e7)):
-        assert cc.pack_parameters(p).fallback != 0
-        assert cc.run_compiled(p, 2 * p.T) is None
+    for p in (Parameters(N=0.9, delta2=delta2), Parameters(omega=1e7), Parameters(x_st=1e-40)):
+        v, tols, flag = packing_values(p)
+        if not flag:
+            flag = pack_simulate_kernel(v, tols, 0.0, default_initial_state(p), 2 * p.T, 256, np.zeros(N_DIAG))[0]
+        assert flag == pack_parameters(p).fallback != 0
+        traj = idp.simulate(p, 2 * p.T, backend="compiled")
+        assert (traj.backend, traj.fallback) == ("python", FALLBACK_REASONS[flag])
 
 
 # --- the same settled motions -------------------------------------------------------------
@@ -184,7 +199,7 @@ SWEEP_GAPS = np.linspace(-34.0, 14.0, 13)
 @pytest.mark.parametrize("gap", SWEEP_GAPS)
 def test_steady_state_on_sweep_grid(gap):
     p = Parameters(gap=float(gap))
-    a = cc.steady_state_full(p, max_periods=300)
+    a = idp.steady_state(p, max_periods=300, backend="compiled")
     b = steady_state(p, max_periods=300)
     assert a.fallback == ""
     assert (a.regime, a.periods) == (b.regime, b.periods)
@@ -208,7 +223,7 @@ def test_batch_matches_regime_map():
     gaps, thetas = np.linspace(-40.0, 15.0, 8), np.linspace(0.5, 1.5, 4)
     settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, continuation=False)
     rows = regime_map_batch(base, "gap", gaps, "theta", thetas, settings=settings)
-    ref = regime_map(base, "gap", gaps, "theta", thetas, settings=dataclasses.replace(settings, compiled=False))
+    ref = regime_map(base, "gap", gaps, "theta", thetas, settings=dataclasses.replace(settings, backend="python"))
     rescued = 0
     for r, row in zip(rows, ref):
         assert list(r.regime) == [pt.regime for pt in row]
@@ -232,7 +247,7 @@ def test_batch_down_and_unchained():
     settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, rescue=False)
     down = regime_map_batch(base, "gap", gaps, "theta", [1.0], direction="down", settings=settings)[0]
     assert list(down.values[:, 0]) == sorted(gaps)
-    single = settled_batch(base, ("gap",), gaps[:, None], settings=settings, chain=False)
+    single = idp.steady_states(base, ("gap",), gaps[:, None], settings=settings, chain=False)
     for i, g in enumerate(gaps):
         s = steady_state(Parameters(gap=float(g)), settle_tol=1e-9, max_periods=100)
         assert (single.regime[i], single.period_multiple[i]) == (s.regime, s.period_multiple)
@@ -255,7 +270,7 @@ def test_random_starts_batch_matches_the_reference():
     values = [-20.0, -10.0, -5.8, 5.0]
     batch = random_starts_batch(base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=settings)
     ref = random_starts(
-        base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=dataclasses.replace(settings, compiled=False)
+        base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=dataclasses.replace(settings, backend="python")
     )
     for row_a, row_b in zip(batch, ref):
         for a, b in zip(row_a, row_b):
@@ -265,16 +280,19 @@ def test_random_starts_batch_matches_the_reference():
 
 
 @pytest.mark.slow
-def test_two_way_batch_matches_the_reference():
-    """A theta sweep both ways: the batch's points are the reference's without accelerators."""
+def test_two_chains_are_the_reference_sweeps_both_ways():
+    """A theta sweep up and one down as two chains of one call (``chain_length``): the points
+    are the reference's two-way sweep without accelerators."""
+    from impactdamper.analysis.batch import sweep_points
+
     base = Parameters()
     settings = SweepSettings(settle_tol=1e-9, max_periods=150, max_periods_after_nonperiodic=50, continuation=False)
     thetas = np.linspace(0.9, 1.3, 9)
-    a = two_way_batch(base, "theta", thetas, settings=settings)
-    b = two_way_sweep(base, "theta", thetas, settings=dataclasses.replace(settings, compiled=False))
-    for direction in ("up", "down"):
-        for x, y in zip(a[direction], b[direction]):
-            _same_point(x, y)
+    res = idp.steady_states(base, ("theta",), np.r_[thetas, thetas[::-1]][:, None], settings=settings, chain_length=9)
+    points = sweep_points(res, base)
+    b = two_way_sweep(base, "theta", thetas, settings=dataclasses.replace(settings, backend="python"))
+    for x, y in zip(points[:9] + points[9:][::-1], b["up"] + b["down"]):
+        _same_point(x, y)
 
 
 @pytest.mark.parametrize(
@@ -289,7 +307,7 @@ def test_two_way_batch_matches_the_reference():
 )
 def test_bad_start_states(kwargs):
     with pytest.raises(ValueError, match="`states`"):
-        settled_batch(Parameters(), ("gap",), [[-5.8]], **kwargs)
+        idp.steady_states(Parameters(), ("gap",), [[-5.8]], **kwargs)
 
 
 def test_rescue_from_sections_is_the_rescue_without_accelerators():
@@ -308,12 +326,14 @@ def test_rescue_from_sections_is_the_rescue_without_accelerators():
 
 
 @pytest.mark.parametrize("gap", [-5.8, -9.6, -13.0, -20.0, -33.0, 12.0])
-def test_hybrid_steady_state_is_the_reference(gap):
-    """steady_state_hybrid (the period loop compiled, the cycle described in Python) against
-    steady_state: the same regime, k, periods and cycle (impact times to PHASE_TOL T, x1_max to
-    X1_TOL), the same sections to rounding; a nonperiodic (chaotic) run only its verdict."""
+def test_compiled_settle_described_by_the_reference_is_the_reference(gap):
+    """The compiled backend's settle with the cycle described by the reference (the sweeps'
+    ladder: the period loop compiled, describe_run on the kernels' run) against steady_state:
+    the same regime, k, periods and cycle (impact times to PHASE_TOL T, x1_max to X1_TOL), the
+    same sections to rounding; a nonperiodic (chaotic) run only its verdict."""
     p = Parameters(gap=gap)
-    a, b = cc.steady_state_hybrid(p, max_periods=400), steady_state(p, max_periods=400)
+    options = SettleOptions(max_periods=400, describe="reference")
+    a, b = get_backend("compiled")[0].settle(p, 0.0, None, Tolerances(), options), steady_state(p, max_periods=400)
     assert (a.regime, a.period_multiple, a.periods) == (b.regime, b.period_multiple, b.periods)
     assert a.sections.shape == b.sections.shape
     if b.settled:
@@ -324,7 +344,7 @@ def test_hybrid_steady_state_is_the_reference(gap):
 
 
 def test_sweep_with_the_compiled_loop_is_the_reference():
-    """solve_point's simulations with the compiled loop (SweepSettings.compiled, the default)
+    """solve_point's simulations by the compiled backend (SweepSettings.backend "auto", the default)
     against the pure-Python ones, accelerators on, along a gap sweep through the chaotic band.
 
     A point started from its neighbour may wander through a chaotic transient before it lands
@@ -339,7 +359,7 @@ def test_sweep_with_the_compiled_loop_is_the_reference():
     base = Parameters()
     gaps = np.linspace(-14.0, -4.0, 11)
     a = two_way_sweep(base, "gap", gaps, settings=SweepSettings())
-    b = two_way_sweep(base, "gap", gaps, settings=SweepSettings(compiled=False))
+    b = two_way_sweep(base, "gap", gaps, settings=SweepSettings(backend="python"))
     differ = []
     for direction in ("up", "down"):
         for x, y in zip(a[direction], b[direction]):
@@ -360,7 +380,7 @@ def test_fallback_is_counted():
     delta2 = HARD["repeated_roots"].changes["delta2"]
     p = Parameters(N=0.9, delta2=delta2)
     settings = SweepSettings(max_periods=40, max_periods_after_nonperiodic=30, rescue=False, continuation=False)
-    res = settled_batch(p, ("gap",), [[-5.8]], settings=settings)
+    res = idp.steady_states(p, ("gap",), [[-5.8]], settings=settings)
     assert res.fallbacks == {"matrix_exponential": 1}
     ref = solve_point(p, settings=settings)
     assert (res.regime[0], res.periods[0]) == (ref.regime, ref.periods)
@@ -378,22 +398,22 @@ def test_fallback_is_counted():
 )
 def test_bad_batch_arguments(kwargs, name):
     with pytest.raises(ValueError, match=f"`{name}`"):
-        settled_batch(Parameters(), **kwargs)
+        idp.steady_states(Parameters(), **kwargs)
 
 
 @pytest.mark.parametrize(
     "call, name",
     [
-        (lambda: cc.steady_state_full(Parameters(), max_periods=1), "max_periods"),
-        (lambda: cc.steady_state_full(Parameters(), settle_tol=2.0), "settle_tol"),
-        (lambda: cc.steady_state_full(Parameters(), t0=math.inf), "t0"),
-        (lambda: cc.steady_state_full("reference"), "p"),
-        (lambda: cc.simulate_compiled(Parameters(), -1.0), "t_end"),
-        (lambda: cc.simulate_compiled(Parameters(), 1.0, state=[0.0, 10.0, 0.0, 0.0]), "state"),
+        (lambda: idp.steady_state(Parameters(), max_periods=1, backend="compiled"), "max_periods"),
+        (lambda: idp.steady_state(Parameters(), settle_tol=2.0, backend="compiled"), "settle_tol"),
+        (lambda: idp.steady_state(Parameters(), t0=math.inf, backend="compiled"), "t0"),
+        (lambda: idp.steady_state("reference", backend="compiled"), "p"),
+        (lambda: idp.simulate(Parameters(), -1.0, backend="compiled"), "t_end"),
+        (lambda: idp.simulate(Parameters(), 1.0, state=[0.0, 10.0, 0.0, 0.0], backend="compiled"), "state"),
     ],
 )
 def test_bad_compiled_arguments(call, name):
-    """The compiled entry points name a bad argument as the reference does."""
+    """The compiled backend's calls name a bad argument as the reference does."""
     with pytest.raises(ValueError, match=f"`{name}`"):
         call()
 

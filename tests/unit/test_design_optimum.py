@@ -23,7 +23,7 @@ import sys
 import numpy as np
 import pytest
 
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.design import design as dz
 from impactdamper.studies.design.design import (

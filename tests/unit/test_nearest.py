@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import impactdamper as idp
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.studies.replication.claims import claim_a, claim_b
 from impactdamper.studies.claims.nearest import (
     NEAREST_NAMES,

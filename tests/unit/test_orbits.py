@@ -1,6 +1,6 @@
 """Periodic orbits solved directly (impactdamper.analysis.orbits, .shooting, .continuation):
 shooting, admissibility, Floquet multipliers from saltation matrices, continuation, the cheap
-steady state (impactdamper.analysis.settled) and the CLI.
+steady state (impactdamper.steady_state(p, attractor=True)) and the CLI.
 
 Every number is checked by an independent route: periodicity by the event-driven solver, the
 multipliers by finite differences of the simulated stroboscopic map and by the growth of a
@@ -323,7 +323,7 @@ def test_continuation_in_another_parameter_matches_direct_solves(single):
 
 
 # --- the cheap steady state -------------------------------------------------------------
-def test_steady_state_auto_uses_algorithm1_when_it_can(single):
+def test_attractor_uses_algorithm1_when_it_can(single):
     s = idp.steady_state(REF, backend="python")
     a = idp.steady_state(REF, attractor=True, backend="python")
     assert isinstance(a, idp.PeriodicOrbit) and a.periods == 0 and a.seed == "alg1"
@@ -333,7 +333,7 @@ def test_steady_state_auto_uses_algorithm1_when_it_can(single):
     assert set(s.to_dict()) <= set(a.to_dict())
 
 
-def test_steady_state_auto_falls_back_when_algorithm1_is_not_admissible(steady10):
+def test_attractor_falls_back_when_algorithm1_is_not_admissible(steady10):
     a = idp.steady_state(REF.replace(gap=-10.0), attractor=True, backend="python")
     assert not isinstance(a, idp.PeriodicOrbit)
     assert (a.regime, a.period_multiple, a.impacts_per_cycle) == ("multi_impact", 2, 3)

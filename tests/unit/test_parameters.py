@@ -195,9 +195,13 @@ def test_each_range_of_the_table_is_checked_by_name(spec):
 
 
 def test_packed_columns_are_read_by_name():
+    import inspect
+
     from impactdamper.core.compiled import pack
 
     assert pack.PARAMETER_COLUMNS == Parameters.names()
+    # No column is read by position (the packing of one set and of many alike).
+    assert not re.findall(r"\bv\[:?, ?\d+\]|\bv\[\d+\]", inspect.getsource(pack))
     for const, name in (
         (pack.C_THETA, "theta"),
         (pack.C_MU, "mu"),

@@ -28,7 +28,8 @@ from impactdamper.analysis.response import (
     linear_response,
     theta_grid,
 )
-from impactdamper.analysis.settled import SweepSettings, solve_point
+from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
@@ -132,7 +133,7 @@ def test_compiled_loop_gives_the_reference_motions():
     """Sweeps whose simulations run their period loop compiled (the default) against the
     pure-Python ones: the same motion at every theta both ways, and x1_max of the same cycle."""
     a = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11)
-    b = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11, settings=SweepSettings(compiled=False))
+    b = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11, settings=SweepSettings(backend="python"))
     for qa, qb in zip(a.points, b.points):
         for ma, mb in ((qa.up, qb.up), (qa.down, qb.down)):
             assert ma.label == mb.label, (qa.theta, ma.label, mb.label)

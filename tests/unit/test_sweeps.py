@@ -21,7 +21,8 @@ from impactdamper.core.model import Model
 from impactdamper.analysis.batch import regime_map_batch
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import solve_orbit
-from impactdamper.analysis.settled import SweepSettings, carry_state, label_of, solve_point
+from impactdamper.analysis.ladder import carry_state, solve_point
+from impactdamper.analysis.point import SweepSettings, label_of
 from impactdamper.analysis.sweeps import locate_transition, random_starts, sweep, with_value
 from impactdamper.analysis.transitions import (
     algorithm1_grazing_gap,

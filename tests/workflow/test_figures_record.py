@@ -345,7 +345,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
     with its Newton rescue of a point that does not settle), and the brackets meet the
     tolerance. Where the pure-Python solver was run at the same values (the record's reference
     check), the two never settled on different cycles."""
-    from impactdamper.analysis.settled import SweepSettings
+    from impactdamper.analysis.point import SweepSettings
     from impactdamper.studies.claims.search import batch_rows
     from impactdamper.studies.replication.claims import claim_a
 

@@ -62,7 +62,7 @@ ALLOWED_CODE_NAMES = {"solve_ivp"}
 CODE_NAMES = (
     "regime_map_batch",
     "solve_point",
-    "steady_state_hybrid",
+    "settle_row",
     "compiled_warm_up",
     "analytic_minus_located",
     "end_checks",

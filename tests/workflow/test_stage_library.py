@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from impactdamper import Parameters
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep
 from impactdamper.reporting import latex, records
 from impactdamper.reporting.plotting import finish_figure, use_style

@@ -7,7 +7,7 @@ reference, by reason, summed over the chunks: ``fallbacks``, see
 :mod:`impactdamper.analysis.batch`),
 ``figures/map_{map}.csv`` -- the label matrix (first column the second parameter's
 value, then one column per Delta0/x_st value, header ``slow,<gap values>``; cells are
-Peterka's labels, see :func:`impactdamper.analysis.settled.label_of`) -- and
+Peterka's labels, see :func:`impactdamper.analysis.point.label_of`) -- and
 ``results/benchmarks/map_{map}_timing.json``: the total processor time, the sum of the jobs'
 wall times, and the map's wall time (first job start to last job end, the figure that
 answers "how long with ``--cores N``" when nothing else runs) with the machine's load.

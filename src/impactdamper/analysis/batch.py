@@ -1,25 +1,32 @@
-"""Many parameter points per call: settled motions for sweeps, maps and searches, compiled.
+"""Many parameter points per call: settled motions for sweeps, maps, searches and designs.
 
-A sweep or a map row settles its points in order, each from its neighbour's settled motion
-(:func:`impactdamper.analysis.ladder.solve_point` with a ``previous``). Here a whole row goes to
-the compiled kernels (:mod:`impactdamper.core.compiled`) in one call, so that no per-point Python
-work remains: the parameter sets are packed together (numpy over the stack), and the kernels run
-the points one after the other, carrying each settled section to the next point.
+:func:`steady_states` (the front door's many-point call, re-exported by
+:mod:`impactdamper.analysis.solve`) settles points in order: a sweep or a map row each from its
+neighbour's settled motion (:func:`impactdamper.analysis.ladder.solve_point` with a
+``previous``), a grid or random starts each from its own start, or many independent chains of
+equal length (``chain_length``: a frequency sweep up and down for each of many designs, a map's
+rows) -- in parallel processes with ``workers``, the result the same bit for bit as the serial
+call's. The backend (:func:`impactdamper.core.backends.get_backend`) settles a whole row at
+once where it can (the compiled kernels: the parameter sets packed together, each settled
+section carried to the next point without Python work per point) and hands the rest back here.
 
 What is computed is :func:`~impactdamper.analysis.ladder.solve_point` **without its
 accelerators** (``SweepSettings(continuation=False)``): every point is simulated until it
 settles (Algorithm No. 2 with the stroboscopic period test of
-:func:`~impactdamper.core.steady.steady_state`). The points the kernels do not settle themselves
+:func:`~impactdamper.core.steady.steady_state`). The points the backend does not settle itself
 go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
 
 * ``rescue``: a nonperiodic point with ``settings.rescue`` that the Newton rescue (Python,
-  :func:`~impactdamper.analysis.rescue.rescue_from_sections`, from the kernels' last
-  sections) settled on a stable cycle; where it finds none, the kernels' nonperiodic point
-  stands and no fallback is counted;
+  :func:`~impactdamper.analysis.rescue.rescue_from_sections`, from the run's last sections)
+  settled on a stable cycle; where it finds none, the nonperiodic point stands and no fallback
+  is counted;
 * ``matrix_exponential``: a mode with repeated roots (no modal form);
 * ``scales``: free scales outside the native range;
-* ``error``: the kernels stopped on an error (step budget, degenerate contact, resonance);
-  the reference then gives its ``failed`` point or raises its own error.
+* ``error``: the kernels stopped on an error other than the work bound; the reference then
+  gives its ``failed`` point or raises its own error.
+
+A point whose run reaches the solver's work bound is ``failed`` (method ``error``) in either
+backend, with the reference's line logged; the next point of its chain starts from its start.
 """
 
 from __future__ import annotations
@@ -27,6 +34,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import multiprocessing
+import numbers
 import time
 from dataclasses import dataclass, field
 from collections.abc import Sequence
@@ -34,22 +43,21 @@ from collections.abc import Sequence
 import numpy as np
 
 from impactdamper.analysis.ladder import solve_point
-from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, label_of
+from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
-from impactdamper.analysis.sweeps import random_initial_state, swept_names, with_value
-from impactdamper.core import compiled as cc
+from impactdamper.analysis.sweeps import PSEUDO_PARAMETERS, random_start_states, swept_names, with_value
+from impactdamper.core.backends import RowArrays, get_backend, row_arrays
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.steady import REGIMES
+from impactdamper.core.validation import show_value
 
 __all__ = [
     "BatchResult",
-    "settled_batch",
+    "steady_states",
     "sweep_points",
-    "two_way_batch",
     "regime_map_batch",
     "random_starts_batch",
-    "warm_up",
     "BATCH_REGIMES",
     "MAX_REPORTED_IMPACTS",
 ]
@@ -59,37 +67,22 @@ BATCH_REGIMES = REGIMES + (FAILED,)
 # Impacts per cycle whose phase and velocity are kept per point (a map reads k, z and x1_max;
 # a sweep's table the first few impacts); z itself is always exact.
 MAX_REPORTED_IMPACTS = 16
+# The relative parameters, in the columns of the rows handed to a backend.
+COLUMNS = Parameters.names()
 
 
 @dataclass
-class BatchResult:
-    """Settled motions of P points, as arrays.
+class BatchResult(RowArrays):
+    """Settled motions of P points, as arrays (the fields of
+    :class:`~impactdamper.core.backends.RowArrays`, phases and velocities of the first
+    :data:`MAX_REPORTED_IMPACTS` impacts, regime codes indexing :data:`BATCH_REGIMES`, and):
 
     Attributes
     ----------
     values : ndarray, shape (P, len(names))
         The points, as given.
     names : tuple of str
-        The swept parameters.
-    regime_code : ndarray of int, shape (P,)
-        Index into :data:`BATCH_REGIMES`.
-    period_multiple, impacts_per_cycle : ndarray of int, shape (P,)
-        k and z.
-    x1_max, contact_fraction, residual : ndarray, shape (P,)
-        As in :class:`~impactdamper.analysis.point.SweepPoint` (x1_max in x_st).
-    periods : ndarray of int, shape (P,)
-        Forcing periods simulated per point (SweepPoint's count).
-    phases, velocities : ndarray, shape (P, MAX_REPORTED_IMPACTS)
-        The first impacts' forcing phases t/T mod 1 and closing velocities over x_st omega
-        (NaN beyond z).
-    start_states, sections : ndarray, shape (P, 4)
-        Each point's start state and settled section state (x1, x2, x1', x2').
-    section_modes : ndarray of int, shape (P,)
-        0 free, 1 stuck at the section.
-    fallback : ndarray of object, shape (P,)
-        "" where the kernels settled the point, else why the reference did (module docstring).
-    method : ndarray of object, shape (P,)
-        ``simulation``, ``rescue`` or ``error`` (SweepPoint's method).
+        The varied parameters.
     elapsed : float
         Wall time of the call, s.
     backend : str
@@ -97,22 +90,8 @@ class BatchResult:
         (every point by the pure-Python reference).
     """
 
-    values: np.ndarray
-    names: tuple
-    regime_code: np.ndarray
-    period_multiple: np.ndarray
-    impacts_per_cycle: np.ndarray
-    x1_max: np.ndarray
-    contact_fraction: np.ndarray
-    residual: np.ndarray
-    periods: np.ndarray
-    phases: np.ndarray
-    velocities: np.ndarray
-    start_states: np.ndarray
-    sections: np.ndarray
-    section_modes: np.ndarray
-    fallback: np.ndarray
-    method: np.ndarray
+    values: np.ndarray = None
+    names: tuple = ()
     elapsed: float = field(default=0.0)
     backend: str = "compiled"
 
@@ -134,16 +113,9 @@ class BatchResult:
 
     @property
     def fallbacks(self) -> dict:
-        """Points settled by the reference, by reason ({} when the kernels did them all)."""
+        """Points settled by the reference, by reason ({} when the backend did them all)."""
         reasons, counts = np.unique(self.fallback[self.fallback != ""].astype(str), return_counts=True)
         return {str(r): int(c) for r, c in zip(reasons, counts)}
-
-
-def _shown(values) -> str:
-    """A bad ``values`` argument as an error message shows it (made only for the message: the
-    repr of a map row's array cost as much as settling the row's cheap cells)."""
-    text = repr(values)
-    return text if len(text) <= 60 else text[:40] + "...(truncated)"
 
 
 @functools.lru_cache(maxsize=4096)
@@ -152,26 +124,82 @@ def _changed_columns(base: Parameters, name: str, value: float) -> tuple:
     raises its named error for a bad value. Cached: a map's rows repeat the same values of
     their fast parameter, and constructing Parameters was a third of a cheap row's time."""
     q = with_value(base, name, value)
-    return tuple(
-        (c, getattr(q, col)) for c, col in enumerate(cc.PARAMETER_COLUMNS) if getattr(q, col) != getattr(base, col)
-    )
+    return tuple((c, getattr(q, col)) for c, col in enumerate(COLUMNS) if getattr(q, col) != getattr(base, col))
+
+
+def _checked_names(names) -> tuple:
+    """The varied parameters: a sequence of known names, none given twice (``delta`` sets
+    delta1 and delta2, so it goes with neither)."""
+    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+        raise ArgumentTypeError(f"`names` = {names!r} is not allowed: must be a sequence of parameter names")
+    names = tuple(names)
+    if not names:
+        raise ValueError("`names` = () is not allowed: must name at least one parameter")
+    fields = {}
+    for n in names:
+        if n not in swept_names():
+            raise ValueError(f"`names` = {names!r} is not allowed: {n!r} is not one of {', '.join(swept_names())}")
+        for f in PSEUDO_PARAMETERS.get(n, (n,)):
+            if f in fields:
+                raise ValueError(
+                    f"`names` = {names!r} is not allowed: {fields[f]!r} and {n!r} both set {f} (each parameter once)"
+                )
+            fields[f] = n
+    return names
+
+
+def _checked_values(values, names: tuple) -> np.ndarray:
+    """``values`` as a float array of shape (P, len(names)): one row per point, one real number
+    per name (a bool, a string or a complex number is refused as Parameters refuses it; nothing
+    is reshaped). The message names the point and the name."""
+    allowed = f"must be finite real numbers of shape (P, {len(names)}): one row per point, one column per name {names}"
+    if isinstance(values, np.ndarray) and values.dtype.kind in "iuf":
+        arr = values
+    else:
+        try:
+            arr = np.array(values, dtype=object)
+        except (TypeError, ValueError):
+            raise ArgumentTypeError(f"`values` = {show_value(values)} is not allowed: {allowed}") from None
+    if arr.ndim != 2 or arr.shape[1] != len(names):
+        raise ValueError(f"`values` of shape {arr.shape} is not allowed: {allowed}")
+    if arr.dtype == object:
+        for (i, j), x in np.ndenumerate(arr):
+            if isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real):
+                raise ArgumentTypeError(
+                    f"`values` point {i}, `{names[j]}` = {show_value(x)} is not allowed: must be a real number"
+                )
+        try:
+            arr = arr.astype(float)
+        except OverflowError:
+            raise ValueError(f"`values` is not allowed: {allowed} (an integer overflows a float)") from None
+    arr = np.array(arr, dtype=float)
+    bad = np.argwhere(~np.isfinite(arr))
+    if len(bad):
+        i, j = (int(x) for x in bad[0])
+        raise ValueError(
+            f"`values` point {i}, `{names[j]}` = {float(arr[i, j])!r} is not allowed: must be a finite number"
+        )
+    return arr
 
 
 def _point_values(base: Parameters, names: tuple, values: np.ndarray) -> np.ndarray:
-    """(P, 10) relative parameters (columns of compiled.PARAMETER_COLUMNS), validated: every
-    distinct value of each swept name goes through Parameters once (its named errors)."""
-    out = np.tile(np.array([getattr(base, c) for c in cc.PARAMETER_COLUMNS], float), (len(values), 1))
+    """(P, len(COLUMNS)) relative parameters, validated: every distinct value of each name goes
+    through Parameters once (its named error, with the first point that has it)."""
+    out = np.tile(np.array([getattr(base, c) for c in COLUMNS], float), (len(values), 1))
     for j, name in enumerate(names):
         for v in np.unique(values[:, j]):
-            changed = _changed_columns(base, name, float(v))
             rows = values[:, j] == v
+            try:
+                changed = _changed_columns(base, name, float(v))
+            except ValueError as err:  # (ArgumentTypeError too)
+                raise ValueError(f"`values` point {int(np.argmax(rows))} ({name}): {err}") from None
             for c, x in changed:
                 out[rows, c] = x
     return out
 
 
 def _parameters(row: np.ndarray) -> Parameters:
-    return Parameters(**{c: float(x) for c, x in zip(cc.PARAMETER_COLUMNS, row)})
+    return Parameters(**{c: float(x) for c, x in zip(COLUMNS, row)})
 
 
 def _sweep_point(res: BatchResult, i: int, p: Parameters) -> SweepPoint:
@@ -201,7 +229,7 @@ def _sweep_point(res: BatchResult, i: int, p: Parameters) -> SweepPoint:
     )
 
 
-def _store_reference(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> None:
+def _store(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> None:
     res.regime_code[i] = BATCH_REGIMES.index(pt.regime)
     res.period_multiple[i], res.impacts_per_cycle[i] = pt.period_multiple, pt.impacts_per_cycle
     res.x1_max[i], res.contact_fraction[i], res.periods[i] = pt.x1_max, pt.contact_fraction, pt.periods
@@ -227,9 +255,9 @@ def _start_states(states, chain: bool, rows: np.ndarray, gap_tol: float) -> np.n
         raise ArgumentTypeError(f"`states` is not allowed: {allowed}") from None
     if given.shape != (len(rows), 4) or not np.all(np.isfinite(given)):
         raise ValueError(f"`states` of shape {given.shape} is not allowed: {allowed}")
-    delta0 = rows[:, cc.PARAMETER_COLUMNS.index("gap")] * rows[:, cc.PARAMETER_COLUMNS.index("x_st")]
+    delta0 = rows[:, COLUMNS.index("gap")] * rows[:, COLUMNS.index("x_st")]
     gap = delta0 - (given[:, 1] - given[:, 0])
-    bad = np.flatnonzero(gap < -gap_tol * rows[:, cc.PARAMETER_COLUMNS.index("x_st")])
+    bad = np.flatnonzero(gap < -gap_tol * rows[:, COLUMNS.index("x_st")])
     if len(bad):
         raise ValueError(
             f"`states` row {int(bad[0])} is not allowed: its gap Delta0 - (x2 - x1) = {gap[bad[0]]:.6g} m "
@@ -238,185 +266,181 @@ def _start_states(states, chain: bool, rows: np.ndarray, gap_tol: float) -> np.n
     return given
 
 
-def settled_batch(
+def _checked_count(name: str, value, low: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise ArgumentTypeError(f"`{name}` = {show_value(value)} is not allowed: must be an integer >= {low}")
+    return int(value)
+
+
+def steady_states(
     base: Parameters,
     names: Sequence[str],
     values,
     *,
     settings: SweepSettings | None = None,
     chain: bool = True,
+    chain_length: int | None = None,
     states=None,
-    backend: str = "compiled",
+    backend: str = "auto",
+    workers: int = 1,
 ) -> BatchResult:
-    """Settle many parameter points in one call.
+    """Settled motions at many points in one call: a sweep, a grid or a map row, random starts,
+    many independent chains.
 
     Parameters
     ----------
     base : Parameters
-        The parameters not swept.
+        The parameters not varied.
     names : sequence of str
-        Swept parameters (see :func:`~impactdamper.analysis.sweeps.swept_names`).
+        The varied parameters (``gap``, ``theta``, ... see
+        :func:`~impactdamper.analysis.sweeps.swept_names`), each once.
     values : array_like, shape (P, len(names))
-        The points, in the order they are settled.
+        The points, in the order they are settled: one row per point, one real number per name.
     settings : SweepSettings, optional
-        As for :func:`~impactdamper.analysis.ladder.solve_point`; its ``continuation`` is not
-        used (no accelerators, see the module docstring).
+        Caps and tolerances of each point's settling (period cap ``max_periods``,
+        ``settle_tol``, ``max_period_multiple``), ``rescue`` (a point that did not settle within
+        the cap is handed to the stroboscopic Newton rescue from its last sections,
+        :func:`~impactdamper.analysis.rescue.rescue_from_sections`, before it is called
+        ``nonperiodic``); its ``continuation`` is not used (no accelerators, see the module
+        docstring) and its ``backend`` is replaced by ``backend``.
     chain : bool
-        Each point from the previous point's settled section (a sweep: the reference's
-        ``solve_point(p, previous=...)``); False: each from Algorithm No. 2's step 1, or from
-        its row of ``states``.
+        True (a sweep, a map row): each point starts from the previous point's settled section
+        (the reference's ``solve_point(p, previous=...)``); False (a grid of independent
+        points, random starts): each from Algorithm No. 2's step 1 or its row of ``states``.
+    chain_length : int, optional
+        With ``chain``: the points are independent chains of this many consecutive points each
+        (the first of each from Algorithm No. 2's step 1); P must be a multiple. Default: one
+        chain of all P points.
     states : array_like, shape (P, 4), optional
         Start states (x1, x2, x1', x2') at t0 = 0, one per point, each with a non-negative gap
         (the reference's ``solve_point(p, state=...)``, random starts); only with ``chain=False``.
-    backend : str
-        ``compiled`` (the kernels) or ``python``: every point by the pure-Python reference
-        (:func:`~impactdamper.analysis.ladder.solve_point` without accelerators, its
-        simulations in Python), the same motions point by point.
+    backend : {"auto", "compiled", "python"}
+        Who settles the points (:mod:`impactdamper.analysis.solve`); ``python``: every point
+        by the reference's ladder, the same motions point by point.
+    workers : int
+        Processes that settle independent blocks of points (whole chains; single points
+        without ``chain``) at once, by the 'fork' start method: the result is the serial
+        call's, bit for bit and in the same order (each block is settled as the serial call
+        settles it). 1 (default): in this process.
 
     Returns
     -------
     BatchResult
+        Arrays per point (regime, k, z, x1_max, phases, sections, ...), ``fallback`` per point
+        and ``backend``. :func:`sweep_points` turns it into the reference's
+        :class:`~impactdamper.analysis.point.SweepPoint` objects.
 
     Raises
     ------
     TypeError, ValueError
-        A bad argument, named (``ArgumentTypeError`` is both).
+        A bad argument, named in one line (for a bad value: its point and name).
     """
     t_begin = time.perf_counter()
+    run, why = get_backend(backend)
     base = require_parameters(base, "base")
-    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
-        raise ArgumentTypeError(f"`names` = {names!r} is not allowed: must be a sequence of parameter names")
-    names = tuple(names)
-    for n in names:
-        if n not in swept_names():
-            raise ValueError(f"`names` = {names!r} is not allowed: {n!r} is not one of {', '.join(swept_names())}")
-    given_values = values
-    allowed = f"must be finite numbers of shape (P, {len(names)}), one column per name"
-    try:
-        values = np.array(values, dtype=float).reshape(-1, len(names)) if len(names) else None
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(f"`values` = {_shown(given_values)} is not allowed: {allowed}") from None
-    if values is None or not np.all(np.isfinite(values)):
-        raise ValueError(f"`values` = {_shown(given_values)} is not allowed: {allowed}")
+    names = _checked_names(names)
+    values = _checked_values(values, names)
     if not isinstance(chain, bool):
         raise ArgumentTypeError(f"`chain` = {chain!r} is not allowed: must be True or False")
     settings = settings or SweepSettings()
     if not isinstance(settings, SweepSettings):
         raise ArgumentTypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings or None")
-    ref_settings = dataclasses.replace(settings, continuation=False)
+    P = len(values)
+    if chain_length is not None:
+        chain_length = _checked_count("chain_length", chain_length)
+        if not chain:
+            raise ValueError("`chain_length` is not allowed with `chain=False`: the points are independent")
+        if P % chain_length:
+            raise ValueError(
+                f"`chain_length` = {chain_length} is not allowed: the {P} points must form whole chains "
+                "(P a multiple of chain_length)"
+            )
+    workers = _checked_count("workers", workers)
+    if workers > 1 and "fork" not in multiprocessing.get_all_start_methods():
+        raise ValueError(f"`workers` = {workers} is not allowed here: parallel points need the 'fork' start method")
     rows = _point_values(base, names, values)
     given = _start_states(states, chain, rows, settings.tolerances.gap_tol)
-    pack, flags = cc.pack_many(rows, settings.tolerances)
-    P = len(rows)
-    res = BatchResult(
-        values=values,
-        names=names,
-        regime_code=np.zeros(P, np.int64),
-        period_multiple=np.zeros(P, np.int64),
-        impacts_per_cycle=np.zeros(P, np.int64),
-        x1_max=np.full(P, np.nan),
-        contact_fraction=np.full(P, np.nan),
-        residual=np.full(P, np.nan),
-        periods=np.zeros(P, np.int64),
-        phases=np.full((P, MAX_REPORTED_IMPACTS), np.nan),
-        velocities=np.full((P, MAX_REPORTED_IMPACTS), np.nan),
-        start_states=np.zeros((P, 4)),
-        sections=np.zeros((P, 4)),
-        section_modes=np.zeros(P, np.int64),
-        fallback=np.full(P, "", dtype=object),
-        method=np.full(P, "simulation", dtype=object),
-    )
-    if backend not in ("compiled", "python"):
-        raise ValueError(f"`backend` = {backend!r} is not allowed: must be 'compiled' or 'python'")
-    if backend == "python":
-        python_settings = dataclasses.replace(ref_settings, compiled=False)
-        previous = None
-        for i in range(P):
-            p = _parameters(rows[i])
-            pt = solve_point(
-                p,
-                float(values[i, 0]),
-                previous if chain else None,
-                state=given[i].copy() if len(given) else None,
-                settings=python_settings,
-            )
-            _store_reference(res, i, pt, "")
-            previous = pt
-        res.backend, res.elapsed = "python", time.perf_counter() - t_begin
-        return res
-    tail = np.full((2 * max(settings.max_period_multiple, RESCUE_MAX_K) + 1, 5), np.nan)
-    i, have_prev = 0, False
-    while i < P:
-        prev = i - 1
-        code, stop = cc.row_kernel(
-            pack.s,
-            pack.cm,
-            pack.fm,
-            pack.fc,
-            pack.fk,
-            pack.fg,
-            flags,
-            i,
-            have_prev,
-            res.sections[prev].copy() if have_prev else np.zeros(4),
-            int(res.section_modes[prev]) if have_prev else 0,
-            bool(have_prev and res.regime_code[prev] < BATCH_REGIMES.index("nonperiodic")),
-            chain,
-            settings.rescue,
-            settings.settle_tol,
-            settings.max_periods,
-            settings.max_periods_after_nonperiodic,
-            settings.max_period_multiple,
-            cc.INITIAL_CAPACITY,
-            res.regime_code,
-            res.period_multiple,
-            res.impacts_per_cycle,
-            res.x1_max,
-            res.contact_fraction,
-            res.periods,
-            res.residual,
-            res.start_states,
-            res.sections,
-            res.section_modes,
-            res.phases,
-            res.velocities,
-            given,
-            tail,
+    length = (chain_length or max(P, 1)) if chain else 1  # points per independent block unit
+    units = P // length if P else 0
+    if workers > 1 and units > 1:
+        run.warm_up()  # (the kernels loaded once, here: the forked workers inherit them)
+        cuts = [length * int(u) for u in np.linspace(0, units, min(workers, units) + 1).round()]
+        jobs = [
+            (values[a:b], rows[a:b], given[a:b] if len(given) else given, settings, chain, length, run.name)
+            for a, b in zip(cuts[:-1], cuts[1:])
+        ]
+        with multiprocessing.get_context("fork").Pool(len(jobs)) as pool:
+            parts = pool.map(_settle_job, jobs)
+        res = BatchResult(
+            values=values,
+            names=names,
+            **{
+                f.name: np.concatenate([getattr(part, f.name) for part in parts]) for f in dataclasses.fields(RowArrays)
+            },
         )
-        if code == cc.ROW_DONE:
-            break
-        if code == cc.ROW_RESCUE:
-            # The kernels ran the point and it did not settle: the Newton rescue (Python) starts
-            # from the run's last sections, as the reference's would; where it finds no stable
-            # cycle, the kernels' nonperiodic point stands.
-            p = _parameters(rows[stop])
+    else:
+        res = _settle(values, rows, given, settings, chain, length, run)
+    res.names, res.backend = names, run.name
+    if why:
+        res.fallback[:] = why
+    res.elapsed = time.perf_counter() - t_begin
+    return res
+
+
+def _settle_job(job) -> BatchResult:
+    values, rows, given, settings, chain, length, name = job
+    return _settle(values, rows, given, settings, chain, length, get_backend(name)[0])
+
+
+def _settle(values, rows, given, settings: SweepSettings, chain: bool, length: int, run) -> BatchResult:
+    """The points in this process: the backend's row, and here the points it hands back."""
+    P = len(rows)
+    res = BatchResult(values=values, **vars(row_arrays(P, MAX_REPORTED_IMPACTS)))
+    if not P:
+        return res
+    rescue_settings = dataclasses.replace(settings, continuation=False, backend=run.name)
+    reference = dataclasses.replace(rescue_settings, backend="python")
+    points = run.settle_row(
+        rows,
+        res,
+        tolerances=settings.tolerances,
+        settle_tol=settings.settle_tol,
+        max_periods=settings.max_periods,
+        max_periods_after_nonperiodic=settings.max_periods_after_nonperiodic,
+        max_period_multiple=settings.max_period_multiple,
+        chain_length=length if chain else 0,
+        rescue=settings.rescue,
+        given=given,
+        tail_rows=2 * max(settings.max_period_multiple, RESCUE_MAX_K) + 1,
+    )
+    for i, reason, detail in points:
+        p, value = _parameters(rows[i]), float(values[i, 0])
+        if reason == "rescue":
+            # The backend ran the point and it did not settle: the Newton rescue (Python)
+            # starts from the run's last sections, as the reference's would; where it finds no
+            # stable cycle, the backend's nonperiodic point stands.
+            mode = STUCK if res.section_modes[i] == 1 else FREE
+            periods = int(res.periods[i])
             pt = rescue_from_sections(
                 p,
-                float(values[stop, 0]),
-                tail[:, :4],
-                res.sections[stop],
-                STUCK if res.section_modes[stop] == 1 else FREE,
-                ref_settings,
+                value,
+                detail,
+                res.sections[i],
+                mode,
+                rescue_settings,
                 start="",
-                start_state=res.start_states[stop].copy(),
-                periods=int(res.periods[stop]),
+                start_state=res.start_states[i].copy(),
+                periods=periods,
             )
             if pt is not None:
-                _store_reference(res, stop, pt, "rescue")
-            i, have_prev = stop + 1, True
-            continue
-        # Point `stop` goes to the reference, from the same neighbour.
-        p = _parameters(rows[stop])
-        previous = _sweep_point(res, stop - 1, _parameters(rows[stop - 1])) if (chain and stop > 0) else None
-        reason = {
-            cc.ROW_FLAGGED: cc.FALLBACK_REASONS[int(flags[stop])] if stop < P else "error",
-            cc.ROW_ERROR: "error",
-        }[int(code)]
-        state = given[stop].copy() if len(given) else None
-        pt = solve_point(p, float(values[stop, 0]), previous, state=state, settings=ref_settings)
-        _store_reference(res, stop, pt, reason)
-        i, have_prev = stop + 1, True
-    res.elapsed = time.perf_counter() - t_begin
+                _store(res, i, pt, "rescue")
+        elif reason == "failed":  # the work bound, as the reference's ladder meets it
+            _store(res, i, failed_point(p, value, "", res.start_states[i], detail), "")
+        else:  # the reference's ladder, from the same neighbour or start
+            chained = chain and i % length != 0
+            previous = _sweep_point(res, i - 1, _parameters(rows[i - 1])) if chained else None
+            state = given[i].copy() if len(given) else None
+            _store(res, i, solve_point(p, value, previous, state=state, settings=reference), reason)
     return res
 
 
@@ -433,29 +457,6 @@ def sweep_points(res: BatchResult, base: Parameters) -> list[SweepPoint]:
     return out
 
 
-def two_way_batch(
-    base: Parameters, parameter: str, values: Sequence[float], *, settings: SweepSettings | None = None
-) -> dict:
-    """:func:`impactdamper.analysis.sweeps.two_way_sweep` in two compiled batches (each point
-    from its neighbour, no accelerators).
-
-    Returns
-    -------
-    dict
-        ``{"up": [...], "down": [...]}``, each a list of SweepPoint in increasing order of the
-        value, and ``"cpu"``/``"wall"``: ``{"up": s, "down": s}``.
-    """
-    values = sorted(float(v) for v in values)
-    out = {"cpu": {}, "wall": {}}
-    for direction, order in (("up", values), ("down", values[::-1])):
-        cpu, wall = time.process_time(), time.perf_counter()
-        res = settled_batch(base, (parameter,), np.array(order)[:, None], settings=settings)
-        points = sweep_points(res, base)
-        out[direction] = points if direction == "up" else points[::-1]
-        out["cpu"][direction], out["wall"][direction] = time.process_time() - cpu, time.perf_counter() - wall
-    return out
-
-
 def regime_map_batch(
     base: Parameters,
     fast: str,
@@ -466,7 +467,7 @@ def regime_map_batch(
     direction: str = "up",
     settings: SweepSettings | None = None,
 ) -> list[BatchResult]:
-    """A regime map, one :func:`settled_batch` call per value of ``slow``: the row sweeps
+    """A regime map, one :func:`steady_states` call per value of ``slow``: the row sweeps
     ``fast`` over its sorted values in ``direction``, each point from its neighbour (as
     :func:`~impactdamper.analysis.sweeps.regime_map` with ``continuation=False``).
 
@@ -482,7 +483,7 @@ def regime_map_batch(
     out = []
     for s in slow_values:
         pts = np.column_stack([order, np.full(len(order), float(s))])
-        r = settled_batch(base, (fast, slow), pts, settings=settings)
+        r = steady_states(base, (fast, slow), pts, settings=settings)
         if direction == "down":
             idx = np.arange(len(order))[::-1]
             for f in dataclasses.fields(r):
@@ -503,7 +504,7 @@ def random_starts_batch(
     indices: Sequence[int] | None = None,
     settings: SweepSettings | None = None,
 ) -> list[list[SweepPoint]]:
-    """:func:`impactdamper.analysis.sweeps.random_starts` in one compiled batch: the same random
+    """:func:`impactdamper.analysis.sweeps.random_starts` in one :func:`steady_states` call: the same random
     states (the generator of value ``indices[i]``, start j is ``numpy.random.default_rng([seed,
     indices[i], j])``), each settled from its state (no neighbour, no accelerators).
 
@@ -512,45 +513,13 @@ def random_starts_batch(
     list (per value) of list (per start) of SweepPoint (``start`` is ``random``).
     """
     base = require_parameters(base, "base")
-    if not (isinstance(count, int) and not isinstance(count, bool) and count >= 1):
-        raise ValueError(f"`count` = {count!r} is not allowed: must be an integer >= 1")
-    values = [float(v) for v in values]
-    indices = list(range(len(values))) if indices is None else [int(i) for i in indices]
-    if len(indices) != len(values):
-        raise ValueError(f"`indices` is not allowed: has {len(indices)} entries for {len(values)} values")
-    if not values:
+    plan = random_start_states(base, parameter, values, count, seed, indices)
+    if not plan:
         return []
-    points, states = [], []
-    for i, v in zip(indices, values):
-        p = with_value(base, parameter, v)
-        for j in range(count):
-            points.append([v])
-            states.append(random_initial_state(p, np.random.default_rng([int(seed), i, j])))
-    res = settled_batch(base, (parameter,), np.array(points), settings=settings, chain=False, states=np.array(states))
-    out = []
-    for n, v in enumerate(values):
-        p = with_value(base, parameter, v)
-        out.append([dataclasses.replace(_sweep_point(res, n * count + j, p), start="random") for j in range(count)])
-    return out
-
-
-def warm_up() -> float:
-    """Compile (or load from the numba cache) every compiled kernel, on the reference case.
-
-    The single-point entry points of :mod:`impactdamper.core.compiled` and :func:`settled_batch`
-    each run once, briefly, so that later calls pay no compilation.
-
-    Returns
-    -------
-    float
-        The wall time it took, s.
-    """
-    t = time.perf_counter()
-    p = Parameters()
-    cc.steady_state_full(p, max_periods=40)
-    settled_batch(p, ("gap",), np.array([[-5.8], [-5.0]]))
-    random_starts_batch(p, "gap", [-5.8], 1, 0)
-    cc.simulate_compiled(p, 2 * p.T)
-    cc.run_compiled(p, 2 * p.T)  # (packs in its own kernel call)
-    cc.count_events_compiled(p, 2 * p.T)
-    return time.perf_counter() - t
+    points = np.array([[v] for v, _, states in plan for _ in states])
+    states = np.array([state for _, _, states in plan for state in states])
+    res = steady_states(base, (parameter,), points, settings=settings, chain=False, states=states)
+    return [
+        [dataclasses.replace(_sweep_point(res, n * count + j, p), start="random") for j in range(count)]
+        for n, (_, p, _) in enumerate(plan)
+    ]

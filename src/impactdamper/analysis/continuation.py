@@ -28,8 +28,9 @@ import numpy as np
 
 from impactdamper.analysis.orbits import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
-from impactdamper.core.parameters import Parameters, ScaleMap, finite_argument, integer_argument
-from impactdamper.core.simulate import Tolerances, check_tolerances
+from impactdamper.core.parameters import Parameters, ScaleMap
+from impactdamper.core.simulate import Tolerances
+from impactdamper.core.validation import check_tolerances, finite_argument, integer_argument
 from impactdamper.core.parameters import state_scale
 
 __all__ = [

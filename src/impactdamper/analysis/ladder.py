@@ -60,19 +60,16 @@ of chaos.
 
 from __future__ import annotations
 
-import logging
-import math
 import time
 from dataclasses import replace
 
 import numpy as np
 
 from impactdamper.analysis.point import (
-    FAILED,
     STABILITY_MARGIN,
     SweepPoint,
     SweepSettings,
-    compiled_step,
+    failed_point,
     label_of,
     point_from_steady,
     shoot_cycle,
@@ -80,25 +77,16 @@ from impactdamper.analysis.point import (
 )
 from impactdamper.analysis.rescue import rescue_run
 from impactdamper.analysis.strobe import strobe_newton
+from impactdamper.core.backends import get_backend
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances, default_initial_state
-from impactdamper.core.steady import steady_state
+from impactdamper.core.validation import SettleOptions, check_start_state
 
 __all__ = ["carry_state", "solve_point"]
 
-log = logging.getLogger(__name__)
-
 # Relative tolerance on the contact force / gap of the closed-form motions (rounding guard).
 CLOSED_FORM_MARGIN = 1e-12
-
-
-def _compiled_settle():
-    """steady_state_hybrid, the compiled backend imported on first use (``import impactdamper``
-    loads no numba)."""
-    from impactdamper.core.compiled import steady_state_hybrid
-
-    return steady_state_hybrid
 
 
 def carry_state(p: Parameters, state: np.ndarray, mode: str) -> tuple[np.ndarray, str]:
@@ -214,12 +202,11 @@ def solve_point(
     if previous is not None:
         full, how = carry_state(p, previous.section, previous.section_mode)
     elif state is not None:
-        full, how = np.array(state, float), "random"
-        if full.shape != (4,) or not np.all(np.isfinite(full)):
-            raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
+        full, how = check_start_state(state, p, settings.tolerances), "random"
     else:
         full, how = default_initial_state(p), "default"
     start = start or how
+    backend = get_backend(settings.backend)[0]
     result = None
     if previous is not None and settings.continuation and previous.periodic:
         if previous.regime in ("stuck", "no_contact"):
@@ -234,7 +221,7 @@ def solve_point(
                 previous.period_multiple,
                 settings.tolerances,
                 jacobian=previous.jacobian,
-                step=compiled_step(p, settings),
+                step=backend.map_step(p, settings.tolerances),
             )
             if res is not None and res.spectral_radius < 1.0 - STABILITY_MARGIN:
                 result = verify_cycle(
@@ -255,38 +242,11 @@ def solve_point(
         if previous is not None and not previous.periodic:
             cap = settings.max_periods_after_nonperiodic
         try:
-            settle = _compiled_settle() if settings.compiled else steady_state
-            s = settle(
-                p,
-                state=full,
-                tolerances=settings.tolerances,
-                settle_tol=settings.settle_tol,
-                max_periods=cap,
-                max_period_multiple=settings.max_period_multiple,
-            )
+            # (the cycle described by the reference, x1_max by its Brent search, as the sweeps report)
+            options = SettleOptions(settings.settle_tol, cap, settings.max_period_multiple, describe="reference")
+            s = backend.settle(p, 0.0, full, settings.tolerances, options)
         except RuntimeError as err:  # the event solver's guards (SearchLimitError, degenerate contact)
-            log.warning("the simulation failed at value %r (%s): %s", value, p, err)
-            return SweepPoint(
-                p=p,
-                value=value,
-                regime=FAILED,
-                period_multiple=0,
-                impacts_per_cycle=0,
-                label=label_of(FAILED, 0, 0),
-                stable=None,
-                multiplier=math.nan,
-                x1_max=math.nan,
-                velocities=(),
-                phases=(),
-                contact_fraction=math.nan,
-                method="error",
-                periods=0,
-                start=start,
-                start_state=np.array(full, float),
-                section=np.array(full, float),
-                section_mode=FREE,
-                elapsed=time.perf_counter() - t_begin,
-            )
+            return replace(failed_point(p, value, start, full, err), elapsed=time.perf_counter() - t_begin)
         periods = s.periods + max(s.period_multiple, 1) + 1
         if not s.settled and settings.rescue:
             result = rescue_run(p, value, s, settings, start=start, start_state=full, periods=periods)

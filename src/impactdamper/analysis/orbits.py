@@ -54,15 +54,15 @@ from impactdamper.analysis.shooting import OrbitError, Shooting, impact_matrix, 
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1, rescale_algorithm1
 from impactdamper.core.events import SearchLimitError, Segment, first_root
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import (
-    ArgumentTypeError,
-    Parameters,
-    ScaleMap,
+from impactdamper.core.parameters import ArgumentTypeError, Parameters, ScaleMap, require_parameters
+from impactdamper.core.simulate import Event, Tolerances, Trajectory
+from impactdamper.core.validation import (
+    check_state,
+    check_tolerances,
     finite_argument,
     integer_argument,
-    require_parameters,
+    work_limit_message,
 )
-from impactdamper.core.simulate import Event, Tolerances, Trajectory, check_state, check_tolerances, work_limit_message
 from impactdamper.core.steady import (
     CycleImpact,
     SteadyState,
@@ -756,7 +756,7 @@ def stable_algorithm1_orbit(
 
     The cheap route to a settled one-impact motion: no transient is simulated. Used by
     :func:`solve_orbit` (seed ``"auto"``) and
-    :func:`impactdamper.analysis.settled.steady_state_auto`.
+    ``impactdamper.steady_state(p, attractor=True)``.
 
     Parameters
     ----------

@@ -21,16 +21,19 @@ label ``err``; the next point starts from the state it started from.
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle
+from impactdamper.core.backends import check_backend
 from impactdamper.core.model import FREE
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 from impactdamper.core.steady import SteadyState, describe_cycle, section_of
+from impactdamper.core.validation import MAX_PERIODS_LIMIT, check_settle_tol
 
 __all__ = [
     "SweepSettings",
@@ -43,8 +46,10 @@ __all__ = [
     "orbit_section",
     "shoot_cycle",
     "verify_cycle",
-    "compiled_step",
+    "failed_point",
 ]
+
+log = logging.getLogger(__name__)
 
 # Orbits whose largest Floquet multiplier is within this of 1 are too close to a bifurcation
 # to be trusted as the attractor the simulation would settle on: the simulation decides there.
@@ -80,11 +85,10 @@ class SweepSettings:
         Try the Newton rescue on points that did not settle.
     tolerances : Tolerances
         Event-solver tolerances.
-    compiled : bool
-        Run each simulation's period loop in the compiled kernels
-        (:func:`~impactdamper.core.compiled.steady_state_hybrid`: the same motion, its cycle
-        described by the pure-Python solver); False: the pure-Python
-        :func:`~impactdamper.core.steady.steady_state` throughout (the reference).
+    backend : str
+        Who runs each simulation and each stroboscopic map (:data:`~impactdamper.core.backends.BACKENDS`:
+        ``"auto"``, ``"compiled"`` or ``"python"``, resolved by
+        :func:`~impactdamper.core.backends.get_backend`): the same motion either way.
     """
 
     settle_tol: float = 1e-9
@@ -94,22 +98,26 @@ class SweepSettings:
     continuation: bool = True
     rescue: bool = True
     tolerances: Tolerances = field(default_factory=Tolerances)
-    compiled: bool = True
+    backend: str = "auto"
 
     def __post_init__(self) -> None:
-        for name in ("continuation", "rescue", "compiled"):
+        for name in ("continuation", "rescue"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"`{name}` = {getattr(self, name)!r} is not allowed: must be True or False")
-        if not (math.isfinite(self.settle_tol) and 0 < self.settle_tol < 1):
-            raise ValueError(f"`settle_tol` = {self.settle_tol!r} is not allowed: must be in (0, 1)")
+        check_backend(self.backend)
+        object.__setattr__(self, "settle_tol", check_settle_tol(self.settle_tol))
+        if not isinstance(self.tolerances, Tolerances):
+            raise ValueError(f"`tolerances` = {self.tolerances!r} is not allowed: must be a Tolerances")
         if not (isinstance(self.max_period_multiple, int) and self.max_period_multiple >= 1):
             raise ValueError(
                 f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be an integer >= 1"
             )
-        if not (isinstance(self.max_periods, int) and self.max_periods > 2 * self.max_period_multiple):
+        if not (
+            isinstance(self.max_periods, int) and 2 * self.max_period_multiple < self.max_periods <= MAX_PERIODS_LIMIT
+        ):
             raise ValueError(
                 f"`max_periods` = {self.max_periods!r} is not allowed: must be an integer > "
-                f"2 max_period_multiple = {2 * self.max_period_multiple}"
+                f"2 max_period_multiple = {2 * self.max_period_multiple}, at most {MAX_PERIODS_LIMIT}"
             )
         if not (
             isinstance(self.max_periods_after_nonperiodic, int)
@@ -172,6 +180,9 @@ class SweepPoint:
         The stroboscopic Newton's Jacobian (relative coordinates), reused by the next point.
     elapsed : float
         Wall time spent on the point, s (not part of the result's identity).
+    error : str
+        For regime ``failed``: the solver's one-line error ("" otherwise; not part of the
+        result's identity).
     """
 
     p: Parameters = field(repr=False)
@@ -195,6 +206,7 @@ class SweepPoint:
     cycle: tuple = field(repr=False, default=(), compare=False)
     jacobian: np.ndarray | None = field(repr=False, default=None, compare=False)
     elapsed: float = field(repr=False, default=0.0, compare=False)
+    error: str = field(repr=False, default="", compare=False)
 
     @property
     def periodic(self) -> bool:
@@ -239,14 +251,36 @@ def label_of(regime: str, k: int, z: int) -> str:
     return f"{z}/{k}"
 
 
-def compiled_step(p: Parameters, settings: SweepSettings):
-    """The compiled stroboscopic map for strobe_newton's ``step`` with ``settings.compiled``, else
-    None (the pure-Python map). The compiled backend is imported here, on first use."""
-    if not settings.compiled:
-        return None
-    from impactdamper.core.compiled import map_step
-
-    return map_step(p, settings.tolerances)
+def failed_point(
+    p: Parameters, value: float, start: str, start_state: np.ndarray, error: BaseException | str
+) -> SweepPoint:
+    """The point whose simulation stopped on one of the event solver's guards (a work bound:
+    :class:`~impactdamper.core.events.SearchLimitError`, degenerate contact): regime ``failed``,
+    label ``err``, its section the state it started from (the next point starts there too).
+    The error's line is logged as a warning."""
+    log.warning("the simulation failed at value %r (%s): %s", value, p, error)
+    full = np.array(start_state, float)
+    return SweepPoint(
+        p=p,
+        value=value,
+        regime=FAILED,
+        period_multiple=0,
+        impacts_per_cycle=0,
+        label=label_of(FAILED, 0, 0),
+        stable=None,
+        multiplier=math.nan,
+        x1_max=math.nan,
+        velocities=(),
+        phases=(),
+        contact_fraction=math.nan,
+        method="error",
+        periods=0,
+        start=start,
+        start_state=full,
+        section=full.copy(),
+        section_mode=FREE,
+        error=str(error),
+    )
 
 
 def _cycle_of(s: SteadyState) -> tuple:

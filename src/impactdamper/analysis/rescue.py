@@ -12,7 +12,7 @@ motion the capped run was still converging to; otherwise the point stays ``nonpe
 
 :func:`rescue_run` rescues from the run's :class:`~impactdamper.core.steady.SteadyState` (step 5
 of :func:`~impactdamper.analysis.ladder.solve_point`); :func:`rescue_from_sections` from the last
-sections alone (the compiled batch's points, :mod:`impactdamper.analysis.batch`).
+sections alone (the batch's points, :mod:`impactdamper.analysis.batch`).
 """
 
 from __future__ import annotations
@@ -25,12 +25,12 @@ from impactdamper.analysis.point import (
     STABILITY_MARGIN,
     SweepPoint,
     SweepSettings,
-    compiled_step,
     orbit_section,
     shoot_cycle,
     verify_cycle,
 )
 from impactdamper.analysis.strobe import strobe_newton
+from impactdamper.core.backends import get_backend
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.steady import SteadyState, section_of
 
@@ -133,7 +133,8 @@ def _stroberescue_run(
     periods: int,
 ) -> SweepPoint | None:
     """Step 3 of the rescue: Newton on the stroboscopic map from section state ``full``."""
-    res = strobe_newton(p, full, mode, k, settings.tolerances, step=compiled_step(p, settings))
+    step = get_backend(settings.backend)[0].map_step(p, settings.tolerances)
+    res = strobe_newton(p, full, mode, k, settings.tolerances, step=step)
     if res is None:
         return None
     sol, rho, used, J = res.state, res.spectral_radius, res.periods, res.jacobian

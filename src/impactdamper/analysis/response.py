@@ -35,8 +35,10 @@ import numpy as np
 
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep, with_value
+from impactdamper.core.events import SearchLimitError
 from impactdamper.core.linear import forced_amplitudes
-from impactdamper.core.parameters import Parameters, finite_argument, integer_argument, require_parameters
+from impactdamper.core.parameters import Parameters, require_parameters
+from impactdamper.core.validation import finite_argument, integer_argument
 from impactdamper.core.simulate import EventDrivenSolver, Trajectory
 
 __all__ = [
@@ -139,7 +141,8 @@ class ResponsePoint:
     @property
     def worst_x1(self) -> float:
         """The larger max|x1|/x_st of the two directions (a designer cannot pick the branch)."""
-        return float(np.nanmax([self.up.max_abs_x1, self.down.max_abs_x1]))
+        known = [x for x in (self.up.max_abs_x1, self.down.max_abs_x1) if not math.isnan(x)]
+        return float(max(known)) if known else math.nan  # (nan where both directions failed)
 
     def to_dict(self) -> dict:
         return {
@@ -447,6 +450,9 @@ def frequency_response(
     ------
     ValueError, TypeError
         A bad argument, in one line naming it.
+    SearchLimitError
+        Every point of both sweeps failed (the solver's work bound at every theta): the first
+        point's line, naming its cause.
     """
     p = require_parameters(p)
     thetas = theta_grid(theta_start, theta_stop, points)
@@ -457,6 +463,12 @@ def frequency_response(
         raise TypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings")
     with_value(p, "theta", thetas[0])  # an invalid combination fails here, named, before the sweep
     sweep = two_way_sweep(p, "theta", thetas, settings=settings, on_point=on_point)
+    failed = [q for q in sweep["up"] + sweep["down"] if q.regime == FAILED]
+    if len(failed) == 2 * len(thetas):
+        first = min(failed, key=lambda q: q.value)
+        raise SearchLimitError(
+            f"every point of the response failed (the first at theta = {first.value:.6g}): {first.error}"
+        )
     if progress is not None:
         progress(
             f"theta sweeps done ({len(thetas)} points each): up {sweep['cpu']['up']:.2f} s, "

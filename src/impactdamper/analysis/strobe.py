@@ -82,9 +82,9 @@ def stroboscopic_step(
         Event-solver tolerances.
     step : callable, optional
         ``step(p, t0, state, periods, tolerances)`` -> (state, mode), or None where it does not
-        apply: another backend of the same motion, tried first (the compiled kernels'
-        :func:`impactdamper.core.compiled.strobe_step_compiled`; this module imports no
-        backend, the caller injects it). Where it returns None, and without it, the
+        apply: another backend of the same motion, tried first (a backend's map step,
+        :meth:`impactdamper.core.backends.Backend.map_step`, wrapped to this signature; this
+        module imports no backend, the caller injects it). Where it returns None, and without it, the
         pure-Python solver.
 
     Returns
@@ -221,9 +221,9 @@ def strobe_newton(
         Starting Jacobian in section coordinates.
     step : callable, optional
         ``step(state, k)`` -> (state, mode) at t = k T from ``state`` at t = 0, or None where
-        it does not apply: each map evaluation by another backend made for ``p`` and ``tol``
-        (the compiled kernels' :func:`impactdamper.core.compiled.map_step`); where it returns
-        None, and without it, the pure-Python solver.
+        it does not apply: each map evaluation by a backend made for ``p`` and ``tol``
+        (:meth:`impactdamper.core.backends.Backend.map_step`); where it returns None, and
+        without it, the pure-Python solver.
 
     Returns
     -------

@@ -35,6 +35,7 @@ __all__ = [
     "sweep",
     "two_way_sweep",
     "random_initial_state",
+    "random_start_states",
     "random_starts",
     "locate_transition",
     "find_transitions",
@@ -197,6 +198,35 @@ def random_initial_state(p: Parameters, rng: np.random.Generator) -> np.ndarray:
     return np.array([x1, x2, v1, v1 + B * p.omega * u[3]])
 
 
+def random_start_states(
+    base: Parameters,
+    parameter: str,
+    values: Sequence[float],
+    count: int,
+    seed: int,
+    indices: Sequence[int] | None = None,
+) -> list[tuple[float, Parameters, list[np.ndarray]]]:
+    """``count`` random initial states per value, deterministic: the generator of value
+    ``indices[i]`` (default i), start j is ``numpy.random.default_rng([seed, indices[i], j])``,
+    so a state does not depend on how the values are split into jobs.
+
+    Returns
+    -------
+    list (per value) of (value, its parameters, its states).
+    """
+    if not (isinstance(count, int) and not isinstance(count, bool) and count >= 1):
+        raise ValueError(f"`count` = {count!r} is not allowed: must be an integer >= 1")
+    values = [float(v) for v in values]
+    indices = list(range(len(values))) if indices is None else [int(i) for i in indices]
+    if len(indices) != len(values):
+        raise ValueError(f"`indices` is not allowed: has {len(indices)} entries for {len(values)} values")
+    out = []
+    for i, v in zip(indices, values):
+        p = with_value(base, parameter, v)
+        out.append((v, p, [random_initial_state(p, np.random.default_rng([int(seed), i, j])) for j in range(count)]))
+    return out
+
+
 def random_starts(
     base: Parameters,
     parameter: str,
@@ -208,10 +238,8 @@ def random_starts(
     settings: SweepSettings | None = None,
     progress: Callable[[int, int, SweepPoint], None] | None = None,
 ) -> list[list[SweepPoint]]:
-    """``count`` random initial states per value (no neighbour), deterministic.
-
-    The generator of value ``indices[i]``, start j is ``numpy.random.default_rng([seed,
-    indices[i], j])``, so a result does not depend on how the values are split into jobs.
+    """``count`` random initial states per value (no neighbour), deterministic
+    (:func:`random_start_states`).
 
     Parameters
     ----------
@@ -223,22 +251,12 @@ def random_starts(
     list (per value) of list (per start) of SweepPoint.
     """
     settings = settings or SweepSettings()
-    if not (isinstance(count, int) and count >= 1):
-        raise ValueError(f"`count` = {count!r} is not allowed: must be an integer >= 1")
-    values = [float(v) for v in values]
-    indices = list(range(len(values))) if indices is None else [int(i) for i in indices]
-    if len(indices) != len(values):
-        raise ValueError(f"`indices` is not allowed: has {len(indices)} entries for {len(values)} values")
     out = []
-    for i, v in zip(indices, values):
-        p = with_value(base, parameter, v)
-        row = []
-        for j in range(count):
-            rng = np.random.default_rng([int(seed), i, j])
-            row.append(solve_point(p, v, state=random_initial_state(p, rng), settings=settings, start="random"))
-        out.append(row)
+    plan = random_start_states(base, parameter, values, count, seed, indices)
+    for v, p, states in plan:
+        out.append([solve_point(p, v, state=state, settings=settings, start="random") for state in states])
         if progress is not None:
-            progress(len(out) - 1, len(values), row[-1])
+            progress(len(out) - 1, len(plan), out[-1][-1])
     return out
 
 

@@ -10,7 +10,15 @@ source of :mod:`impactdamper.core`, recompiles).
 
 from __future__ import annotations
 
-__all__ = ["REBOUND_FLOOR", "DEPARTURE_FLOOR", "DEPARTURE_ULPS", "SAME_TIME_ULPS", "CURVATURE_FLOOR"]
+__all__ = [
+    "REBOUND_FLOOR",
+    "DEPARTURE_FLOOR",
+    "DEPARTURE_ULPS",
+    "SAME_TIME_ULPS",
+    "CURVATURE_FLOOR",
+    "STEPS_PER_PERIOD",
+    "STEPS_AT_START",
+]
 
 # A rebound velocity (relative, after an impact) above REBOUND_FLOOR * length_scale * omega_max
 # opens the gap at first order; below it the rebound is rounding of a plastic or grazing impact
@@ -34,3 +42,11 @@ SAME_TIME_ULPS = 4
 # F'' as the departure value; F'' is floored at CURVATURE_FLOOR (a positive tiny number, far
 # below any physical F'') so that the search's Taylor bound stays finite and positive.
 CURVATURE_FLOOR = 1e-300
+# The work bound of one run: certified search steps allowed per forcing period advanced, plus
+# an allowance at the start (the reference's StepBudget, the kernels' budget). Ordinary motions
+# take 5-600 steps per period on average (a chatter sequence or a search at the lift-off
+# threshold a few thousand at once); a motion far faster or stiffer than the forcing (theta =
+# 1e-5: 2e5 steps in its first period) ends in a SearchLimitError within seconds instead of
+# running for minutes. Every event and contact switch costs a step, so this bounds them too.
+STEPS_PER_PERIOD = 20_000
+STEPS_AT_START = 20_000

@@ -19,12 +19,9 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
-# The generic argument checks live in arguments.py (validation.py gathers them with the
-# solver's); imported here for the parameters' own checks and so that the names keep working
-# from this module (``from impactdamper.core.parameters import real_argument``).
+# The generic argument checks live in arguments.py (validation.py, the module to import a check
+# from, gathers them with the solver's); the parameters check their own values with them.
 from impactdamper.core.arguments import ArgumentTypeError, check_value, finite_argument, show_value
-from impactdamper.core.arguments import integer_argument as integer_argument
-from impactdamper.core.arguments import real_argument as real_argument
 
 __all__ = [
     "Parameters",

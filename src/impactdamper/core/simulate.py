@@ -33,27 +33,32 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
+from impactdamper.core.constants import STEPS_AT_START, STEPS_PER_PERIOD  # (the work bound)
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import NATIVE_SCALES, Parameters, ScaleMap, require_parameters
 
-# The solver's argument checks live in validation.py (algorithm1.py uses them too); the names
-# keep working from this module.
-from impactdamper.core.validation import MAX_CLOCK_PERIODS as MAX_CLOCK_PERIODS
-from impactdamper.core.validation import MAX_STATE as MAX_STATE
 from impactdamper.core.validation import (
     Tolerances,
+    check_run_call,
     check_start_time,
     check_state,
     check_tolerances,
-    finite_argument,
-    integer_argument,
-    real_argument,
-    work_limit_message,
+    work_bound_message,
 )
-from impactdamper.core.validation import check_gap_tol as check_gap_tol
 
-__all__ = ["Event", "Trajectory", "EventDrivenSolver", "simulate", "default_initial_state", "Tolerances"]
+__all__ = [
+    "Event",
+    "Trajectory",
+    "EventDrivenSolver",
+    "simulate",
+    "default_initial_state",
+    "Tolerances",
+    "EVENT_KINDS",
+    "MODE_NAMES",
+    "budget_exceeded",
+    "degenerate_contact",
+]
 
 # The paper's step 1 example pulse, 1 N s with m1 = 1 kg in the reference case
 # (m1 omega1 x_st = 10 N s there), written relative to m1 omega1 x_st so that relative
@@ -64,20 +69,24 @@ MAX_EVENTS_AT_ONE_TIME = 50
 # Samples of the gap over a contact-force dip when judging whether the bodies part by a
 # resolvable amount (the gap there is a smooth bump).
 DIP_SAMPLES = 33
-# The work bound of one solver: certified search steps allowed per forcing period advanced,
-# plus an allowance at the start. Ordinary motions take 5-600 steps per period on average (a
-# chatter sequence or a search at the lift-off threshold a few thousand at once); a motion far
-# faster or stiffer than the forcing (theta = 1e-5: 2e5 steps in its first period) ends in a
-# SearchLimitError within seconds instead of running for minutes.
-STEPS_PER_PERIOD = 20_000
-STEPS_AT_START = 20_000
-# A run that reaches its work bound with this many impacts in a row (a chatter sequence) and a
-# chatter_tol below its default blames chatter_tol: the default ends such sequences sooner.
-CHATTER_BLAME_IMPACTS = 20
 # Default bound on a simulation's length in forcing periods (simulate's max_periods): the
 # pure-Python solver advances ~6000 periods a second at the reference case, so a default call
 # ends within ~20 s (6e5 periods took 100 s); a longer run must ask for it with max_periods.
 MAX_SIMULATE_PERIODS = 100_000
+
+
+def budget_exceeded(used: float, periods: float) -> str:
+    """What a run that spent its step budget says (both backends): the bound, the steps used and
+    how far into the run (in forcing periods)."""
+    return (
+        f"the event search reached its work bound, {STEPS_AT_START} + {STEPS_PER_PERIOD} certified steps per "
+        f"forcing period ({int(used)} steps {periods:.3g} periods into the run)"
+    )
+
+
+def degenerate_contact(t: float) -> str:
+    """What a run with more than MAX_EVENTS_AT_ONE_TIME events at one instant says."""
+    return f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {t!r}: degenerate contact"
 
 
 @dataclass(frozen=True)
@@ -118,23 +127,86 @@ def default_initial_state(p: Parameters) -> np.ndarray:
     return np.array([0.0, p.Delta0, S0 / p.m1, -S0 / p.m2])
 
 
+# Event kinds and contact modes by code: how a compiled run's arrays name them (the kernels'
+# codes index these; core/compiled/layout.py).
+EVENT_KINDS = ("impact", "stick", "liftoff")
+MODE_NAMES = (FREE, STUCK)
+
+
 class Trajectory:
     """The piecewise-exact motion: segments of one mode each, and the events between them.
 
-    ``compiled`` says whether the compiled kernels computed it (else this pure-Python solver),
-    ``fallback`` why the Python solver ran where the kernels were asked ("" otherwise)."""
+    ``backend`` says what computed it (``python``: this solver; ``compiled``: the numba
+    kernels), ``fallback`` why the Python solver ran where the kernels were asked ("" otherwise).
+    A compiled run (:meth:`from_arrays`) keeps the kernels' arrays and makes its
+    :class:`Event` and :class:`~impactdamper.core.events.Segment` objects when they are first read
+    (a segment when a time in it is sampled): a long run costs no Python object per event until
+    one is asked for."""
 
-    def __init__(self, model: Model, compiled: bool = False, fallback: str = ""):
+    def __init__(self, model: Model, backend: str = "python", fallback: str = ""):
         self.model = model
-        self.segments: list[tuple[str, Segment]] = []
-        self.events: list[Event] = []
-        self.compiled = compiled
+        self.backend = backend
         self.fallback = fallback
+        self._segments: list[tuple[str, Segment]] = []
+        self._events: list[Event] = []
+        self._arrays = None  # a compiled run's (kinds, events, segment modes, segments) not yet made into objects
+        self._made: dict[int, tuple[str, Segment]] = {}  # its segments made so far, by index
+
+    @classmethod
+    def from_arrays(
+        cls, model: Model, kinds, events, segment_modes, segments, *, backend: str = "compiled", fallback: str = ""
+    ) -> Trajectory:
+        """A run from a compiled kernel's arrays: event kinds (E,) indexing :data:`EVENT_KINDS`;
+        events (E, 12): t, closing velocity, pulse, state before (4), after (4), accumulation
+        time; segment modes (S,) indexing :data:`MODE_NAMES`; segments (S, 5): start time and
+        start state (4; stuck: x1, x1', 0, 0)."""
+        traj = cls(model, backend, fallback)
+        traj._arrays = (kinds, events, segment_modes, segments)
+        return traj
+
+    def _segment(self, k: int) -> tuple[str, Segment]:
+        """Segment k, made from the arrays on first use."""
+        if self._arrays is None:
+            return self._segments[k]
+        made = self._made.get(k)
+        if made is None:
+            name = MODE_NAMES[int(self._arrays[2][k])]
+            row = self._arrays[3][k]
+            y0 = row[1 : 1 + (4 if name == FREE else 2)].copy()
+            made = self._made[k] = (name, Segment(self.model.mode(name), float(row[0]), y0))
+        return made
+
+    def _make(self) -> None:
+        """Every event and segment of a compiled run as objects (once)."""
+        if self._arrays is None:
+            return
+        kinds, events, modes, _ = self._arrays
+        self._segments = [self._segment(k) for k in range(len(modes))]
+        self._events = [
+            Event(float(r[0]), EVENT_KINDS[k], float(r[1]), float(r[2]), r[3:7].copy(), r[7:11].copy(), float(r[11]))
+            for k, r in zip(kinds.tolist(), events)
+        ]
+        self._arrays, self._made = None, {}
+
+    @property
+    def segments(self) -> list[tuple[str, Segment]]:
+        """(mode name, :class:`~impactdamper.core.events.Segment`) per segment, in time order."""
+        self._make()
+        return self._segments
+
+    @property
+    def events(self) -> list[Event]:
+        """The :class:`Event` objects, in time order."""
+        self._make()
+        return self._events
 
     def segment_index(self, t: np.ndarray) -> np.ndarray:
         """Index into :attr:`segments` of the segment that holds each time of ``t`` (the last
         one whose start is at or before it; times before the start map to segment 0)."""
-        starts = np.array([seg.t0 for _, seg in self.segments])
+        if self._arrays is not None:
+            starts = self._arrays[3][:, 0]
+        else:
+            starts = np.array([seg.t0 for _, seg in self._segments])
         return np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(starts) - 1)
 
     def sample(self, t: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
@@ -142,7 +214,7 @@ class Trajectory:
         names (``"free"``/``"stuck"``), shape t.shape. Times must not precede the start."""
         t = np.asarray(t, dtype=float)
         flat = t.reshape(-1)
-        start = self.segments[0][1].t0
+        start = self._segment(0)[1].t0
         if flat.size and flat.min() < start - 1e-12 * max(abs(start), 1.0):
             raise ValueError(f"`t` = {flat.min()!r} precedes the trajectory's start {start!r}")
         idx = self.segment_index(flat)
@@ -150,7 +222,7 @@ class Trajectory:
         modes = np.empty(flat.size, dtype=object)
         for k in np.unique(idx):
             sel = idx == k
-            name, seg = self.segments[k]
+            name, seg = self._segment(int(k))
             out[sel] = self.model.full_state(name, seg.state(flat[sel]))
             modes[sel] = name
         return out.reshape(t.shape + (4,)), modes.reshape(t.shape)
@@ -212,29 +284,21 @@ class EventDrivenSolver:
 
     # --- bookkeeping ------------------------------------------------------------------
     def _budget_message(self, t: float) -> str:
-        periods = (t - self._t_start) / self.p.T
-        what = (
-            f"the event search reached its work bound, {STEPS_AT_START} + {STEPS_PER_PERIOD} certified steps per "
-            f"forcing period ({self.budget.used} steps {periods:.3g} periods into the run)"
+        return work_bound_message(
+            self.p,
+            self.tol,
+            budget_exceeded(self.budget.used, (t - self._t_start) / self.p.T),
+            self._impacts_in_a_row(),
         )
-        return self._chatter_message(what) or work_limit_message(self.p, what)
 
-    def _chatter_message(self, what: str) -> str | None:
-        """The work bound's message naming ``chatter_tol``, if the run was in a chatter sequence
-        (the last CHATTER_BLAME_IMPACTS events all impacts) with chatter_tol below its default:
-        the sequence's bounces are then followed far further than the default would (at gap -28
-        with chatter_tol 1e-300 the message named the gap, a case the default settles)."""
-        default = Tolerances.chatter_tol
-        events = self.trajectory.events
-        if self.tol.chatter_tol >= default or len(events) < CHATTER_BLAME_IMPACTS:
-            return None
-        if any(e.kind != "impact" for e in events[-CHATTER_BLAME_IMPACTS:]):
-            return None
-        return (
-            f"`chatter_tol` = {self.tol.chatter_tol!r} is beyond what the solver resolves here: {what}, in a "
-            f"chatter sequence followed to rebounds below {self.tol.chatter_tol:.3g} x_st; allowed are values "
-            f"nearer the default {default!r}, which ends such a sequence in persistent contact sooner"
-        )
+    def _impacts_in_a_row(self) -> int:
+        """Impacts among the last events since the last other event (a chatter sequence)."""
+        n = 0
+        for e in reversed(self.trajectory.events):
+            if e.kind != "impact":
+                break
+            n += 1
+        return n
 
     def _start(self, mode: str, t: float, y: np.ndarray, departure: tuple[int, float] | None) -> None:
         if mode == STUCK and self.model.stuck_resonant:
@@ -250,8 +314,9 @@ class EventDrivenSolver:
         if events and event.t - events[-1].t <= SAME_TIME_ULPS * math.ulp(max(abs(event.t), 1.0)):
             self._same_time_events += 1
             if self._same_time_events > MAX_EVENTS_AT_ONE_TIME:
-                what = f"more than {MAX_EVENTS_AT_ONE_TIME} events at t = {event.t!r}: degenerate contact"
-                raise SearchLimitError(self._chatter_message(what) or work_limit_message(self.p, what))
+                raise SearchLimitError(
+                    work_bound_message(self.p, self.tol, degenerate_contact(event.t), self._impacts_in_a_row())
+                )
         else:
             self._same_time_events = 0
         events.append(event)
@@ -293,7 +358,7 @@ class EventDrivenSolver:
                 if str(err).startswith("`"):  # the budget's message names a parameter already
                     raise
                 raise SearchLimitError(
-                    self._chatter_message(str(err)) or work_limit_message(self.p, str(err))
+                    work_bound_message(self.p, self.tol, str(err), self._impacts_in_a_row())
                 ) from None
             if root is None:
                 # Resume later from where the march got (it may have stepped past t_target),
@@ -443,25 +508,11 @@ def simulate(
     SearchLimitError
         The run exceeded its work bound (see :meth:`EventDrivenSolver.advance`).
     """
-    p = require_parameters(p)
-    t_end = finite_argument("t_end", t_end)
-    if not math.isfinite(real_argument("t0", t0)):
-        raise ValueError(f"`t0` = {t0!r} is not allowed: must be a finite number, before `t_end` = {t_end!r}")
-    t0 = check_start_time(t0, p)
-    max_periods = integer_argument("max_periods", max_periods, 1)
-    if not t_end > t0:
-        raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be > t0 = {t0!r}")
-    if (t_end - t0) / p.T > max_periods:
-        raise ValueError(
-            f"`t_end` = {t_end!r} is not allowed: (t_end - t0)/T = {(t_end - t0) / p.T:.6g} forcing periods "
-            f"is more than max_periods = {max_periods} (a bound on the work; pass a larger max_periods)"
-        )
-    check_start_time(t_end, p, "t_end")
+    p, t_end, t0, full, tolerances = check_run_call(p, t_end, t0, state, tolerances, max_periods)
     if not p.native_scales():
         # Solve the same relative problem in the reference case's units, and convert back.
         q = p.canonical()
         to_q, to_p = ScaleMap(p, q), ScaleMap(q, p)
-        full = check_state(state, p)
         traj = simulate(
             q,
             to_q.apply(t_end, "time"),
@@ -471,7 +522,7 @@ def simulate(
             max_periods=max_periods,
         )
         return rescale_trajectory(traj, to_p)
-    solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
+    solver = EventDrivenSolver(p, t0=t0, state=full, tolerances=tolerances)
     solver.advance(t_end)
     return solver.trajectory
 

@@ -36,23 +36,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactdamper.core.model import STUCK
-from impactdamper.core.parameters import (
-    Parameters,
-    ScaleMap,
-    finite_argument,
-    integer_argument,
-    real_argument,
-    require_parameters,
-    state_scale,
-)
-from impactdamper.core.simulate import (
-    EventDrivenSolver,
-    Tolerances,
-    Trajectory,
-    check_state,
-    check_tolerances,
-    rescale_trajectory,
-)
+from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
+from impactdamper.core.simulate import EventDrivenSolver, Tolerances, Trajectory, rescale_trajectory
+from impactdamper.core.validation import check_settle_call
 
 __all__ = [
     "SteadyState",
@@ -64,7 +50,6 @@ __all__ = [
     "rescale_steady",
     "section_of",
     "start_in_first_period",
-    "check_settle_options",
     "describe_run",
 ]
 
@@ -213,12 +198,6 @@ class SteadyState:
 NONPERIODIC_WINDOW = 8
 
 
-# Bound on max_periods: the work of one run (the pure-Python loop advances ~7000 forcing periods
-# a second, so a run that does not settle ends within ~15 s; the run keeps every section, 2
-# arrays of max_periods x 4 floats). The slowest settling case of the workflow takes ~4000.
-MAX_PERIODS_LIMIT = 100_000
-
-
 def start_in_first_period(p: Parameters, t0: float) -> float:
     """The time in [0, T) with the forcing's phase at ``t0``: omega t0 modulo 2 pi, exactly.
 
@@ -238,31 +217,6 @@ def start_in_first_period(p: Parameters, t0: float) -> float:
         fraction = float(cycles - mpmath.floor(cycles))
     start = fraction * p.T
     return start if start < p.T else 0.0  # (a fraction that rounds to 1 is the phase 0)
-
-
-def check_settle_options(settle_tol, max_periods, max_period_multiple) -> tuple[float, int, int]:
-    """The settled-motion search's options, checked: ``settle_tol`` in (0, 1), ``max_periods``
-    an integer in [2, MAX_PERIODS_LIMIT], ``max_period_multiple`` an integer in
-    [1, max_periods - 1].
-
-    Raises
-    ------
-    TypeError, ValueError
-        Naming the argument and what is allowed.
-    """
-    settle_tol = real_argument("settle_tol", settle_tol)
-    if not (math.isfinite(settle_tol) and 0 < settle_tol < 1):
-        raise ValueError(f"`settle_tol` = {settle_tol!r} is not allowed: must be in (0, 1)")
-    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
-    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, MAX_PERIODS_LIMIT - 1)
-    if max_period_multiple >= max_periods:
-        # Named first: max_periods, the bound usually given (``steady --max-periods 2`` blamed
-        # --max-period-multiple, a flag never given, at its default 8); the CLI names the flag given.
-        raise ValueError(
-            f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
-            f"{max_period_multiple!r}: max_periods must exceed max_period_multiple"
-        )
-    return settle_tol, max_periods, max_period_multiple
 
 
 def steady_state(
@@ -288,14 +242,15 @@ def steady_state(
     tolerances : Tolerances, optional
         Event-solver tolerances.
     settle_tol : float
-        Section mismatch (relative) below which the motion counts as repeating, in (0, 1): the
+        Section mismatch (relative) below which the motion counts as repeating, in
+        [:data:`~impactdamper.core.validation.SETTLE_TOL_FLOOR`, 1): the
         last sections' distance to the cycle they approach is below it (see
         :func:`_converged`), and x1_max is within ``X1_MAX_FACTOR`` settle_tol of the exactly
         settled motion's. The regime, k and the cycle's impacts do not depend on it.
     max_periods : int
         Forcing periods after which an unsettled motion is called ``nonperiodic`` (at most
-        ``MAX_PERIODS_LIMIT``; a motion needs at least 2 CONVERGENCE_WINDOW + k periods to
-        settle).
+        :data:`~impactdamper.core.validation.MAX_PERIODS_LIMIT`; a motion needs at least
+        2 CONVERGENCE_WINDOW + k periods to settle).
     max_period_multiple : int
         Largest k tried for T_c = k T.
 
@@ -312,26 +267,17 @@ def steady_state(
         The motion needs more work than the event-driven solver's bound (see
         :meth:`impactdamper.EventDrivenSolver.advance`).
     """
-    p = require_parameters(p)
-    t0 = finite_argument("t0", t0)
-    tolerances = check_tolerances(tolerances)
-    state = check_state(state, p)
-    settle_tol, max_periods, max_period_multiple = check_settle_options(settle_tol, max_periods, max_period_multiple)
+    p, t0, state, tolerances, opts = check_settle_call(
+        p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple
+    )
     start = start_in_first_period(p, t0)
+    args = (opts.settle_tol, opts.max_periods, opts.max_period_multiple)
     if not p.native_scales():
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        s = _steady_state(
-            q,
-            to_q.apply(start, "time"),
-            None if state is None else to_q.full(state),
-            tolerances,
-            settle_tol,
-            max_periods,
-            max_period_multiple,
-        )
+        s = _steady_state(q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances, *args)
         return rescale_steady(s, ScaleMap(q, p))
-    return _steady_state(p, start, state, tolerances, settle_tol, max_periods, max_period_multiple)
+    return _steady_state(p, start, state, tolerances, *args)
 
 
 def rescale_steady(s: SteadyState, scales: ScaleMap) -> SteadyState:
@@ -436,14 +382,13 @@ def describe_run(
     residual: float,
     start_state: np.ndarray,
     tolerances: Tolerances,
-    simulate_from=None,
+    trajectory: Trajectory | None = None,
 ) -> SteadyState:
     """The :class:`SteadyState` of a run of :func:`steady_state`'s period loop, from its section
     states (x1, x2, x1', x2') at t0 + T, ..., t0 + n T, the period it found (0: none) and its
-    last residual; the cycle is described on a fresh run (below). The compiled loop
-    (:func:`impactdamper.core.compiled.steady_state_hybrid`) ends here too, its fresh run made by
-    ``simulate_from(p, t_end, t0, state, tolerances)`` (a :class:`Trajectory`; None: the
-    pure-Python solver)."""
+    last residual; the cycle is described on a fresh run (below). The compiled backend ends here
+    too for a cycle with contact phases, with ``trajectory``: that fresh run, made by its
+    kernels (None: the pure-Python solver makes it)."""
     T = p.T
     n = len(states)
     # (A run shorter than the window reports what it has: with max_periods = 2 the window began
@@ -455,12 +400,10 @@ def describe_run(
     # again near t0.
     first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
     state, t_end = states[first - 1] if first else start_state, t0 + (n - first + k + 1) * T
-    if simulate_from is None:
+    if trajectory is None:
         describer = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
         describer.advance(t_end)
         trajectory = describer.trajectory
-    else:
-        trajectory = simulate_from(p, t_end, t0, state, tolerances)
     result = describe_cycle(p, trajectory, t0 + (n - first - k) * T, k, bool(found_k), n, residual)
     return dataclasses.replace(result, section_times=t0 + T * np.arange(1, n + 1), sections=np.array(states, float))
 

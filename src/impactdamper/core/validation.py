@@ -13,8 +13,9 @@ answer. This is the one module to import an argument check from:
 * the solver's, for the arguments of Timofeev et al. (2019)'s Algorithms No. 1 and No. 2
   (:mod:`impactdamper.core.algorithm1`, :mod:`impactdamper.core.simulate`): the tolerances
   (:class:`Tolerances`, :func:`check_tolerances`, :func:`check_gap_tol`), the start state and
-  time (:func:`check_state`, :func:`check_start_time`) and the line for a run beyond the work
-  bound (:func:`work_limit_message`).
+  time (:func:`check_state`, :func:`check_start_time`), the settled-motion search's options
+  (:func:`check_settle_options`, :class:`SettleOptions`) and the lines for a run beyond the work
+  bound (:func:`work_limit_message`, :func:`work_bound_message`), which both backends word alike.
 """
 
 from __future__ import annotations
@@ -32,8 +33,9 @@ from impactdamper.core.arguments import (
     real_argument,
     show_value,
 )
+from impactdamper.core.constants import STEPS_PER_PERIOD
 from impactdamper.core.linear import characteristic_roots
-from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, most_extreme, state_scale
+from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, most_extreme, require_parameters, state_scale
 
 __all__ = [
     "ArgumentTypeError",
@@ -46,10 +48,20 @@ __all__ = [
     "check_gap_tol",
     "check_tolerances",
     "check_state",
+    "check_start_state",
     "check_start_time",
     "work_limit_message",
+    "work_bound_message",
+    "check_settle_tol",
+    "check_settle_options",
+    "check_settle_call",
+    "check_run_call",
+    "SettleOptions",
+    "CHATTER_BLAME_IMPACTS",
     "MAX_CLOCK_PERIODS",
     "MAX_STATE",
+    "MAX_PERIODS_LIMIT",
+    "SETTLE_TOL_FLOOR",
 ]
 
 
@@ -135,6 +147,17 @@ def check_state(state: object, p: Parameters) -> np.ndarray | None:
     return full
 
 
+def check_start_state(state: object, p: Parameters, tolerances: Tolerances) -> np.ndarray | None:
+    """:func:`check_state`, and the bodies not overlapping: the gap Delta0 - (x2 - x1) at least
+    -gap_tol x_st (the event-driven solver's own check, made before a run)."""
+    full = check_state(state, p)
+    if full is not None:
+        gap = p.Delta0 - (full[1] - full[0])
+        if gap < -tolerances.gap_tol * p.x_st:
+            raise ValueError(f"`state` has gap Delta0 - (x2 - x1) = {gap:.6g} m < 0: the bodies would overlap")
+    return full
+
+
 def check_start_time(t0: object, p: Parameters, name: str = "t0") -> float:
     """``t0`` as a finite float within the solver's clock (MAX_CLOCK_PERIODS), else an error."""
     t0 = finite_argument(name, t0)
@@ -159,3 +182,173 @@ def work_limit_message(p: Parameters, what: str) -> str:
         f"rate is {rate:.3g} omega); allowed are parameters nearer the reference case (theta = 1, mu = 0.08, "
         "N = 0.5, delta1 = delta2 = 0.05, R = 0.7, gap = -5.8)"
     )
+
+
+# A run that reaches its work bound with this many impacts in a row (a chatter sequence) blames
+# the impact law, not the parameter farthest from the reference case: ``chatter_tol`` where it
+# is below its default (which ends such sequences sooner), ``R`` where it is 1 (elastic impacts
+# on a preloaded stop do not accumulate, so the sequence never ends in persistent contact: at
+# theta = 0.5 the impacts came 3e-5 T apart after 17 periods, while R = 0.99 settles there) or
+# so close to 1 that the sequence needs more impacts than a period's budget of steps (R =
+# 0.99999 at theta 1.4, N 1.5, gap -2.5 named N before).
+CHATTER_BLAME_IMPACTS = 20
+
+
+def work_bound_message(p: Parameters, tolerances: Tolerances, what: str, impacts_in_a_row: int) -> str:
+    """The line for a run that reached a work bound (``what``: which, and where), the same for
+    both backends: in a chatter sequence (the run's last ``impacts_in_a_row`` events impacts, at
+    least :data:`CHATTER_BLAME_IMPACTS`) it names ``chatter_tol`` below its default or ``R`` = 1,
+    else :func:`work_limit_message`'s parameter."""
+    if impacts_in_a_row >= CHATTER_BLAME_IMPACTS:
+        default = Tolerances.chatter_tol
+        if tolerances.chatter_tol < default:
+            return (
+                f"`chatter_tol` = {tolerances.chatter_tol!r} is beyond what the solver resolves here: {what}, in "
+                f"a chatter sequence followed to rebounds below {tolerances.chatter_tol:.3g} x_st; allowed are "
+                f"values nearer the default {default!r}, which ends such a sequence in persistent contact sooner"
+            )
+        if p.R == 1.0:
+            return (
+                f"`R` = {p.R!r} is beyond what the solver resolves here: {what}, in a sequence of impacts on the "
+                "stop that does not accumulate (elastic impacts: the rebounds do not shrink, so the sequence "
+                "never ends in persistent contact); allowed are R < 1 (each rebound R times the last)"
+            )
+        # Rebound heights shrink by R^2 per impact: from ~x_st to chatter_tol x_st takes this many.
+        needed = math.log(tolerances.chatter_tol) / (2.0 * math.log(p.R)) if 0.0 < p.R < 1.0 else 0.0
+        if needed > STEPS_PER_PERIOD:
+            return (
+                f"`R` = {p.R!r} is beyond what the solver resolves here: {what}, in a sequence of impacts on the "
+                f"stop that accumulates too slowly (each rebound R times the last: about {needed:.2g} impacts to "
+                f"end in persistent contact, more than the {STEPS_PER_PERIOD} steps per forcing period of the work "
+                "bound); allowed are smaller R"
+            )
+    return work_limit_message(p, what)
+
+
+# Largest max_periods of a settled-motion search: the work of one run (the pure-Python loop
+# advances ~7000 forcing periods a second, so a run that does not settle ends within ~15 s; the
+# run keeps every section, 2 arrays of max_periods x 4 floats). The slowest settling case of
+# the workflow takes ~4000.
+MAX_PERIODS_LIMIT = 100_000
+# Smallest settle_tol: the run's rounding noise in the relative sections. After the transient
+# the sections' lag-k differences level off at 2e-14 to 4e-12 (reference case, gaps -20 to 2,
+# theta 0.8 to 1.2, both backends; 3.8e-12 at gap -9, theta 1); below the noise the period test
+# never passes (at settle_tol = 1e-13 the reference case's 1/1 cycle came out nonperiodic with 8
+# impacts per cycle). Twice the noise's largest measured level keeps the test decidable.
+SETTLE_TOL_FLOOR = 1e-11
+
+
+def check_settle_tol(settle_tol: object) -> float:
+    """``settle_tol`` as a float in [SETTLE_TOL_FLOOR, 1), else an error naming it and the floor."""
+    value = real_argument("settle_tol", settle_tol)
+    if not (math.isfinite(value) and 0 < value < 1):
+        raise ValueError(f"`settle_tol` = {value!r} is not allowed: must be in (0, 1)")
+    if value < SETTLE_TOL_FLOOR:
+        raise ValueError(
+            f"`settle_tol` = {value!r} is not allowed: must be at least {SETTLE_TOL_FLOOR:g}, the floor above "
+            "the rounding noise of the section mismatch (below it the period test cannot pass)"
+        )
+    return value
+
+
+def check_settle_options(settle_tol, max_periods, max_period_multiple) -> tuple[float, int, int]:
+    """The settled-motion search's options, checked: ``settle_tol`` in [SETTLE_TOL_FLOOR, 1),
+    ``max_periods`` an integer in [2, MAX_PERIODS_LIMIT], ``max_period_multiple`` an integer in
+    [1, max_periods - 1].
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the argument and what is allowed.
+    """
+    settle_tol = check_settle_tol(settle_tol)
+    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
+    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, MAX_PERIODS_LIMIT - 1)
+    if max_period_multiple >= max_periods:
+        # Named first: max_periods, the bound usually given (``steady --max-periods 2`` blamed
+        # --max-period-multiple, a flag never given, at its default 8); the CLI names the flag given.
+        raise ValueError(
+            f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
+            f"{max_period_multiple!r}: max_periods must exceed max_period_multiple"
+        )
+    return settle_tol, max_periods, max_period_multiple
+
+
+@dataclass(frozen=True)
+class SettleOptions:
+    """The settled-motion search's options (:func:`impactdamper.core.steady.steady_state`),
+    checked on construction (:func:`check_settle_options`): a backend's ``settle`` takes them
+    validated.
+
+    Attributes
+    ----------
+    settle_tol : float
+        Relative section mismatch of a settled motion, in [SETTLE_TOL_FLOOR, 1).
+    max_periods : int
+        Forcing periods after which an unsettled motion is ``nonperiodic``.
+    max_period_multiple : int
+        Largest k tried for T_c = k T.
+    describe : str
+        Who describes the settled cycle: ``"backend"`` (the backend itself; the kernels refine
+        x1_max by golden-section search) or ``"reference"`` (the reference's
+        :func:`~impactdamper.core.steady.describe_run` on the backend's run, x1_max by scipy's
+        Brent search: what the sweeps' ladder has always reported). Both stop at 1e-12 T; the
+        maxima differ by rounding.
+    """
+
+    settle_tol: float = 1e-10
+    max_periods: int = 4000
+    max_period_multiple: int = 8
+    describe: str = "backend"
+
+    def __post_init__(self) -> None:
+        checked = check_settle_options(self.settle_tol, self.max_periods, self.max_period_multiple)
+        for name, value in zip(("settle_tol", "max_periods", "max_period_multiple"), checked):
+            object.__setattr__(self, name, value)
+        if self.describe not in ("backend", "reference"):
+            raise ValueError(f"`describe` = {self.describe!r} is not allowed: must be 'backend' or 'reference'")
+
+
+def check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple):
+    """A settled-motion call's arguments (:func:`impactdamper.core.steady.steady_state`, the
+    front door's ``steady_state``), checked once and in that order: (p, t0, state or None,
+    Tolerances, :class:`SettleOptions`).
+
+    Raises
+    ------
+    TypeError, ValueError
+        The first bad argument, named.
+    """
+    p = require_parameters(p)
+    t0 = finite_argument("t0", t0)
+    tolerances = check_tolerances(tolerances)
+    state = check_start_state(state, p, tolerances)
+    return p, t0, state, tolerances, SettleOptions(settle_tol, max_periods, max_period_multiple)
+
+
+def check_run_call(p, t_end, t0, state, tolerances, max_periods: int):
+    """A run's arguments (:func:`impactdamper.core.simulate.simulate`, the front door's
+    ``simulate``), checked once and in that order: (p, t_end, t0, state or None, Tolerances).
+    ``max_periods`` bounds the run's length (t_end - t0)/T, a bound on its work.
+
+    Raises
+    ------
+    TypeError, ValueError
+        The first bad argument, named.
+    """
+    p = require_parameters(p)
+    t_end = finite_argument("t_end", t_end)
+    if not math.isfinite(real_argument("t0", t0)):
+        raise ValueError(f"`t0` = {t0!r} is not allowed: must be a finite number, before `t_end` = {t_end!r}")
+    t0 = check_start_time(t0, p)
+    max_periods = integer_argument("max_periods", max_periods, 1)
+    if not t_end > t0:
+        raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be > t0 = {t0!r}")
+    if (t_end - t0) / p.T > max_periods:
+        raise ValueError(
+            f"`t_end` = {t_end!r} is not allowed: (t_end - t0)/T = {(t_end - t0) / p.T:.6g} forcing periods "
+            f"is more than max_periods = {max_periods} (a bound on the work; pass a larger max_periods)"
+        )
+    check_start_time(t_end, p, "t_end")
+    tolerances = check_tolerances(tolerances)
+    return p, t_end, t0, check_start_state(state, p, tolerances), tolerances

@@ -123,7 +123,7 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
     (path, message), the key's path in the config and ": <why>", or None if every job would
     accept its values.
     """
-    from impactdamper.core.steady import check_settle_options
+    from impactdamper.core.validation import check_settle_options
 
     reference = config["reference"]
     try:

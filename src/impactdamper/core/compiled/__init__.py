@@ -20,8 +20,12 @@ pure-Python solver, and the result says so (``fallback``):
 * a mode whose eigenvector matrix is ill conditioned (repeated roots of eq. (4)), where the
   reference uses the matrix exponential;
 * parameters outside the native scales (the reference rescales them);
-* any error of the reference (step budget, degenerate contact, a resonance in contact): the
-  reference is re-run so that its exception, with its message, is raised.
+* an error of the kernels that is not a work bound (a failed search, a resonance in contact):
+  the reference is re-run so that its exception, with its message, is raised.
+
+A run that reaches the work bound (the reference's step budget, more than
+``MAX_EVENTS_AT_ONE_TIME`` events at one instant) raises the reference's error with the
+reference's message, worded from the kernels' diagnostics.
 
 The maximum excursion x1_max is refined by golden-section search where the reference uses
 scipy's bounded Brent search; both stop at 1e-12 T, and the maximum's value differs by the
@@ -33,9 +37,11 @@ The modules, each one idea:
 * :mod:`~impactdamper.core.compiled.pack` -- a parameter set packed into arrays;
 * :mod:`~impactdamper.core.compiled.flow` -- the exact flow between events;
 * :mod:`~impactdamper.core.compiled.march` -- the certified event march and its polish;
-* :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law and the modes;
+* :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law, the modes, the
+  work bound and the recorded run;
 * :mod:`~impactdamper.core.compiled.settle` -- the settled motion, one point or a row of them;
-* :mod:`~impactdamper.core.compiled.api` -- the Python entry points, re-exported here;
+* :mod:`~impactdamper.core.compiled.backend` -- the backend object (:data:`COMPILED`) that the
+  registry (:mod:`impactdamper.core.backends`) hands out: the only entry point;
 * :mod:`~impactdamper.core.compiled.cache` -- numba's cache kept in step with the sources.
 """
 
@@ -45,48 +51,6 @@ from impactdamper.core.compiled.cache import keep_in_step
 
 keep_in_step()  # before any kernel is loaded from numba's cache (see cache.py); the imports follow it
 
-from impactdamper.core.compiled.api import (
-    INITIAL_CAPACITY,
-    CompiledRun,
-    CompiledSteady,
-    count_events_compiled,  # noqa: E402
-    run_compiled,
-    simulate_compiled,
-    steady_state_compiled,
-    steady_state_hybrid,
-    steady_state_full,
-    strobe_step_compiled,
-    map_step,
-)
-from impactdamper.core.compiled.layout import EVENT_KINDS, FALLBACK_REASONS
-from impactdamper.core.compiled.pack import PARAMETER_COLUMNS, Pack, pack_many, pack_parameters
-from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel
+from impactdamper.core.compiled.backend import COMPILED, CompiledBackend  # noqa: E402
 
-# The regime names; the kernels' regime codes index them (as BatchResult.regime_code does).
-from impactdamper.core.steady import REGIMES
-
-__all__ = [
-    "CompiledRun",
-    "CompiledSteady",
-    "Pack",
-    "pack_many",
-    "pack_parameters",
-    "run_compiled",
-    "simulate_compiled",
-    "steady_state_compiled",
-    "steady_state_hybrid",
-    "steady_state_full",
-    "strobe_step_compiled",
-    "map_step",
-    "count_events_compiled",
-    "row_kernel",
-    "EVENT_KINDS",
-    "FALLBACK_REASONS",
-    "PARAMETER_COLUMNS",
-    "INITIAL_CAPACITY",
-    "REGIMES",
-    "ROW_DONE",
-    "ROW_FLAGGED",
-    "ROW_ERROR",
-    "ROW_RESCUE",
-]
+__all__ = ["COMPILED", "CompiledBackend"]

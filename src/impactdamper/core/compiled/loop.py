@@ -6,7 +6,15 @@ free mode that is an impact, on the stuck mode a lift-off. The impact law of eqs
 the pulse and the velocities after it; a rebound too slow to part the bodies captures them into
 persistent contact; a contact-force dip too brief to part them keeps the contact; the gap's or
 the force's first non-zero derivative decides which way a grazing start leaves. Events and
-segments are recorded into preallocated buffers (a capacity error asks for larger ones).
+segments are recorded into preallocated buffers (a capacity error asks for larger ones,
+:func:`recorded_run`).
+
+The work bound is the reference's: a run may take ``STEPS_AT_START`` plus ``STEPS_PER_PERIOD``
+certified search steps per forcing period (``ERR_BUDGET``), at most ``MAX_EVENTS_AT_ONE_TIME``
+events at one instant (``ERR_DEGENERATE``). Every event and every contact switch costs at least
+one certified step (an impact, a lift-off or a touch of the contact force is the root of a
+march), so the step budget bounds the events per period, the contact switches and the buffers
+of a recorded run alike: no loop of the kernels runs without spending it.
 """
 
 from __future__ import annotations
@@ -18,6 +26,11 @@ from numba import njit
 
 from impactdamper.core.compiled.flow import full_state, modal_coefficients, mode_size, mode_state, of_state
 from impactdamper.core.compiled.layout import (
+    DIAG_ERR,
+    DIAG_IMPACTS,
+    DIAG_START,
+    DIAG_TIME,
+    DIAG_USED,
     ERR_CAPACITY,
     ERR_DEGENERATE,
     ERR_STUCK_RESONANT,
@@ -25,10 +38,13 @@ from impactdamper.core.compiled.layout import (
     GAP,
     IMPACT,
     LIFTOFF,
+    MARCH_NONE,
+    MARCH_ROOT,
     MODE_FREE,
     MODE_STUCK,
     NEG_FORCE,
     SF_DEPG,
+    SF_ERRT,
     SF_FROM,
     SF_LAST,
     SF_LIMIT,
@@ -37,6 +53,7 @@ from impactdamper.core.compiled.layout import (
     SF_USED,
     SI_DEPM,
     SI_ERR,
+    SI_IMPACTS,
     SI_MODE,
     SI_NEV,
     SI_NSEG,
@@ -59,8 +76,16 @@ from impactdamper.core.compiled.layout import (
 )
 from impactdamper.core.compiled.march import march
 from impactdamper.core.compiled.pack import pack_single
-from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
-from impactdamper.core.simulate import DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME, STEPS_AT_START, STEPS_PER_PERIOD
+from impactdamper.core.constants import (
+    CURVATURE_FLOOR,
+    DEPARTURE_FLOOR,
+    DEPARTURE_ULPS,
+    REBOUND_FLOOR,
+    SAME_TIME_ULPS,
+    STEPS_AT_START,
+    STEPS_PER_PERIOD,
+)
+from impactdamper.core.simulate import DIP_SAMPLES, MAX_EVENTS_AT_ONE_TIME
 
 
 # The hot path (a march step, an impact, a segment start) is inlined into its callers at numba's
@@ -83,9 +108,12 @@ def _record_event(s, sf, si, ev_k, ev_f, t, kind, v, S, before, after, t_acc):
         si[SI_SAME] += 1
         if si[SI_SAME] > MAX_EVENTS_AT_ONE_TIME:
             si[SI_ERR] = ERR_DEGENERATE
+            sf[SF_ERRT] = t
             return
     else:
         si[SI_SAME] = 0
+    # (a chatter sequence: impacts in a row, which the work bound's message reads)
+    si[SI_IMPACTS] = si[SI_IMPACTS] + 1 if kind == IMPACT else 0
     k = si[SI_NEV]
     if si[SI_REC]:
         if _no_room(si, k, ev_k.shape[0]):
@@ -223,14 +251,15 @@ def _dip_unresolved(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, t, full):
     slope = of_state(fc, s, FORCE, MODE_STUCK, t, stuck, 1)
     budget = np.array([sf[SF_LIMIT], sf[SF_USED]])
     dm, dg = (1, -slope) if slope < 0.0 else (0, 0.0)
-    status, t_up, _, _ = march(
+    status, t_up, _, reached = march(
         cm, fm, fc, fk, fg, s, NEG_FORCE, MODE_STUCK, t0, alpha, t, t + T, s[S_FORCE_EPS], dm, dg, budget
     )
     sf[SF_USED] = budget[1]
-    if status > 1:
+    if status > MARCH_ROOT:
         si[SI_ERR] = status
+        sf[SF_ERRT] = reached
         return False
-    if status == 0 or t_up <= t:
+    if status == MARCH_NONE or t_up <= t:
         return False
     a_free = np.empty(4, np.complex128)
     modal_coefficients(cm, s, MODE_FREE, t, full, a_free)
@@ -330,10 +359,11 @@ def advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, 
             budget,
         )
         sf[SF_USED] = budget[1]
-        if status > 1:
+        if status > MARCH_ROOT:
             si[SI_ERR] = status
+            sf[SF_ERRT] = reached
             return
-        if status == 0:
+        if status == MARCH_NONE:
             sf[SF_FROM] = reached
             si[SI_DEPM], sf[SF_DEPG] = 0, 0.0
             return
@@ -370,35 +400,53 @@ def solver_buffers(capacity):
 
 
 @njit(cache=True)
-def simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity):
-    """A recorded run from (t0, state) to t_end. Returns (error, events' kinds and values,
-    segments' modes, values and alphas), cut to their lengths."""
-    sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a = solver_buffers(capacity)
-    si[SI_REC] = 1
-    init_solver(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, state)
-    if si[SI_ERR] == 0:
-        advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_end)
+def diagnose(sf, si, diag):
+    """A failed run's diagnostics into ``diag`` (see layout.DIAG_*)."""
+    diag[DIAG_USED], diag[DIAG_TIME], diag[DIAG_START] = sf[SF_USED], sf[SF_ERRT], sf[SF_START]
+    diag[DIAG_IMPACTS], diag[DIAG_ERR] = si[SI_IMPACTS], si[SI_ERR]
+
+
+@njit(cache=True)
+def recorded_run(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity, diag):
+    """A recorded run from (t0, state) to t_end, its buffers grown (4 times, rerun) until its
+    events fit: never beyond what the run's work bound allows (every event costs a certified
+    step, at most two events per step and two at the start), so the growth ends with the run or
+    with its ERR_BUDGET. Returns (error, events' kinds and values, segments' modes, values and
+    alphas), cut to their lengths; ``diag`` gets a failed run's diagnostics."""
+    steps = STEPS_AT_START + STEPS_PER_PERIOD * max(t_end - t0, 0.0) / s[S_T]
+    most = int(min(2.0 * steps + 4.0, 2.0**62))
+    capacity = min(max(capacity, 1), most)
+    while True:
+        sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a = solver_buffers(capacity)
+        si[SI_REC] = 1
+        init_solver(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, state)
+        if si[SI_ERR] == 0:
+            advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_end)
+        if si[SI_ERR] != ERR_CAPACITY or capacity >= most:
+            break
+        capacity = min(4 * capacity, most)
+    diagnose(sf, si, diag)
     ne = min(si[SI_NEV], capacity)
     ns = min(si[SI_NSEG], capacity)
     return si[SI_ERR], ev_k[:ne].copy(), ev_f[:ne].copy(), seg_m[:ns].copy(), seg_f[:ns].copy(), seg_a[:ns].copy()
 
 
 @njit(cache=True)
-def pack_simulate_kernel(v, tols, t0, state, t_end, capacity):
+def simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity, diag):
+    """:func:`recorded_run` without the alphas: (error, events' kinds and values, segments'
+    modes and values)."""
+    err, ev_k, ev_f, seg_m, seg_f, _ = recorded_run(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity, diag)
+    return err, ev_k, ev_f, seg_m, seg_f
+
+
+@njit(cache=True)
+def pack_simulate_kernel(v, tols, t0, state, t_end, capacity, diag):
     """pack_single, then simulate_kernel, in one call (a short run costs less than boxing the
     packed arrays). Returns (pack flag, then simulate_kernel's values; empty where flag != 0)."""
     s, cm, fm, fc, fk, fg, flag = pack_single(v, tols)
     if flag != 0:
-        return (
-            flag,
-            0,
-            np.empty(0, np.int64),
-            np.empty((0, 12)),
-            np.empty(0, np.int64),
-            np.empty((0, 5)),
-            np.empty((0, 4), np.complex128),
-        )
-    return (flag,) + simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity)
+        return flag, 0, np.empty(0, np.int64), np.empty((0, 12)), np.empty(0, np.int64), np.empty((0, 5))
+    return (flag,) + simulate_kernel(cm, fm, fc, fk, fg, s, t0, state, t_end, capacity, diag)
 
 
 @njit(cache=True)

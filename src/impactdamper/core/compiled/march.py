@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from impactdamper.core.compiled.flow import evaluate, free_part, mode_size
-from impactdamper.core.compiled.layout import ERR_BUDGET, ERR_SEARCH, S_OMEGA
+from impactdamper.core.compiled.layout import ERR_BUDGET, ERR_SEARCH, MARCH_NONE, MARCH_ROOT, S_OMEGA
 from impactdamper.core.events import MAX_STEPS, MIN_BOUND, NEWTON_ITERATIONS, NEWTON_MAX_STEP
 
 
@@ -55,7 +55,9 @@ def _polish(cm, fc, fg, s, f, mode, t0, alpha, t, g, g1):
 def march(cm, fm, fc, fk, fg, s, f, mode, t0, alpha, t_from, t_to, tol, dep_m, dep_g, budget):
     """The reference's events.march. budget = [limit, used] (floats), updated.
 
-    Returns (status, t_root, dg, reached): status 1 a root, 0 none, else an error code."""
+    Returns (status, t_root, dg, reached): status MARCH_ROOT, MARCH_NONE or an error code
+    (ERR_BUDGET where the run's budget ran out, ERR_SEARCH past MAX_STEPS or a bound beyond
+    range); ``reached`` is where the march got (on an error: where it stopped)."""
     n = mode_size(mode)
     w = s[S_OMEGA]
     z = np.empty(4)
@@ -75,7 +77,7 @@ def march(cm, fm, fc, fk, fg, s, f, mode, t0, alpha, t_from, t_to, tol, dep_m, d
             return ERR_SEARCH, 0.0, 0.0, a
         a += (dep_m + 1) * dep_g / K
         if a >= t_to:
-            return 0, 0.0, 0.0, a
+            return MARCH_NONE, 0.0, 0.0, a
     K = max(Gabs * w * w + fk[f, 2] * energy, MIN_BOUND)
     if not math.isfinite(K):
         return ERR_SEARCH, 0.0, 0.0, a
@@ -87,17 +89,17 @@ def march(cm, fm, fc, fk, fg, s, f, mode, t0, alpha, t_from, t_to, tol, dep_m, d
         if g <= tol and g1 <= 0.0:
             budget[1] += steps
             tr, dg = _polish(cm, fc, fg, s, f, mode, t0, alpha, a, g, g1)
-            return 1, tr, dg, tr
+            return MARCH_ROOT, tr, dg, tr
         step = _lower_bound_root(max(g, 0.0), g1, K)
         if a + step <= a:
             budget[1] += steps
-            return 1, a, g1, a
+            return MARCH_ROOT, a, g1, a
         if step != step:
             budget[1] += steps
             return ERR_SEARCH, 0.0, 0.0, a
         a += step
         if a >= t_to:
             budget[1] += steps
-            return 0, 0.0, 0.0, a
+            return MARCH_NONE, 0.0, 0.0, a
     budget[1] += steps
     return ERR_BUDGET if limit < MAX_STEPS else ERR_SEARCH, 0.0, 0.0, a

@@ -41,8 +41,8 @@ from impactdamper.core.compiled.layout import (
 )
 from impactdamper.core.linear import MODAL_CONDITION_LIMIT
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT
-from impactdamper.core.parameters import NATIVE_SCALES, Parameters, require_parameters
-from impactdamper.core.simulate import Tolerances, check_tolerances
+from impactdamper.core.parameters import NATIVE_SCALES, Parameters
+from impactdamper.core.validation import Tolerances
 
 
 @dataclass(frozen=True)
@@ -152,6 +152,7 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
         Relative parameters in the order of :data:`PARAMETER_COLUMNS`, each row valid for
         :class:`Parameters` (the caller validates).
     tolerances : Tolerances, optional
+        Validated by the caller (None: the defaults).
 
     Returns
     -------
@@ -162,13 +163,13 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
         mode is not modal (repeated roots); 2 outside the native scales; 3 where the reference
         Model raises (extreme parameters, resonance), so that the reference reports it.
     """
-    tol = check_tolerances(tolerances)
+    tol = tolerances or _DEFAULT_TOLERANCES
     v = np.asarray(values, dtype=float).reshape(-1, len(PARAMETER_COLUMNS))
     P = v.shape[0]
     Mf, bf, Wf, Ms, bs, Ws, D = _state_matrices_many(v)
     omega1, m2, c1, c2, k1, P0, Delta0, T, mred = D.T
-    omega, x_st, R = v[:, 7], v[:, 8], v[:, 5]
-    m = v[:, 9] + m2
+    omega, x_st, R = v[:, C_OMEGA], v[:, C_XST], v[:, C_R]
+    m = v[:, C_M1] + m2
     z = np.zeros(P)
     flags = np.zeros(P, np.int64)
     cm = np.zeros((P, 2, 10, 4), complex)
@@ -220,9 +221,9 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
             fg[:, f, 1 : 1 + n] = np.einsum("pi,pij->pj", c, V)
     s = np.zeros((P, N_SCALARS))
     s[:, S_OMEGA], s[:, S_T], s[:, S_DELTA0], s[:, S_R] = omega, T, Delta0, R
-    s[:, S_M1], s[:, S_M2], s[:, S_MRED], s[:, S_OMEGA1] = v[:, 9], m2, mred, omega1
+    s[:, S_M1], s[:, S_M2], s[:, S_MRED], s[:, S_OMEGA1] = v[:, C_M1], m2, mred, omega1
     s[:, S_LSCALE] = x_st
-    s[:, S_FSCALE] = mred * x_st * np.maximum(np.maximum(omega, omega1), v[:, 2] * omega1) ** 2
+    s[:, S_FSCALE] = mred * x_st * np.maximum(np.maximum(omega, omega1), v[:, C_N] * omega1) ** 2
     s[:, S_GAP_EPS] = tol.gap_tol * x_st
     s[:, S_CHATTER] = tol.chatter_tol
     s[:, S_FORCE_EPS] = tol.force_tol * s[:, S_FSCALE]
@@ -492,14 +493,13 @@ def _empty_pack(flag: int) -> Pack:
 
 def packing_values(p: Parameters, tolerances: Tolerances | None = None) -> tuple[np.ndarray, np.ndarray, int]:
     """(v, tols, flag): the set's relative values in PARAMETER_COLUMNS order and the tolerances
-    (gap, chatter, force) that :func:`pack_single` takes, validated; flag is _PACK_SCALES
-    outside the native scales (then the kernels do not apply), else 0."""
-    p = require_parameters(p)
+    (gap, chatter, force) that :func:`pack_single` takes (both validated by the caller; None:
+    the default tolerances); flag is _PACK_SCALES outside the native scales (then the kernels
+    do not apply), else 0."""
     if tolerances is None:
         tols = _DEFAULT_TOLERANCE_VALUES
     else:
-        tol = check_tolerances(tolerances)
-        tols = np.array([tol.gap_tol, tol.chatter_tol, tol.force_tol])
+        tols = np.array([tolerances.gap_tol, tolerances.chatter_tol, tolerances.force_tol])
     v = np.array([getattr(p, name) for name in PARAMETER_COLUMNS])
     return v, tols, (_PACK_OK if p.native_scales() else _PACK_SCALES)
 

@@ -5,7 +5,12 @@ The reference's :func:`impactdamper.core.steady.steady_state` on arrays: the eve
 with its divisor rule finds the least period k, the clock is re-based every ``REBASE_PERIODS``,
 and the cycle is described (regime, impacts, contact fraction, x1_max, the section carried to a
 sweep's next point). :func:`row_kernel` settles a sweep's or a map row's points one after the
-other, each from its neighbour's section.
+other, each from its neighbour's section (or from its own start).
+
+Both end in bounded time: the event loop spends the reference's step budget
+(:mod:`~impactdamper.core.compiled.loop`), the period loop stops at ``max_periods``, and the run
+that describes the cycle grows its buffers only as far as that budget allows
+(:func:`~impactdamper.core.compiled.loop.recorded_run`, the one capacity-retry loop).
 """
 
 from __future__ import annotations
@@ -17,15 +22,11 @@ from numba import njit
 
 from impactdamper.core.compiled.flow import full_state, mode_size, mode_state
 from impactdamper.core.compiled.layout import (
-    ERR_CAPACITY,
     IMPACT,
     MODE_STUCK,
     OK,
     SI_ERR,
     SI_MODE,
-    SI_NEV,
-    SI_NSEG,
-    SI_REC,
     S_DELTA0,
     S_M1,
     S_M2,
@@ -34,7 +35,7 @@ from impactdamper.core.compiled.layout import (
     S_T,
     S_XST,
 )
-from impactdamper.core.compiled.loop import advance, init_solver, solver_buffers, solver_state
+from impactdamper.core.compiled.loop import advance, diagnose, init_solver, recorded_run, solver_buffers, solver_state
 from impactdamper.core.simulate import DEFAULT_KICK
 from impactdamper.core.steady import (
     CONVERGENCE_NOISE,
@@ -316,26 +317,57 @@ def _describe(cm, s, ev_k, ev_f, ne, seg_m, seg_f, seg_a, ns, window_start, k, s
     return regime, z, start, contact_fraction, x1_max
 
 
+# Events a settled cycle's description is first given room for (the run of a few cycles that
+# describes it; grown by recorded_run where a chatter cycle needs more).
+INITIAL_CAPACITY = 256
+
+
 @njit(cache=True)
-def steady_kernel(
-    cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, max_periods, kmax, capacity, out_imp, section, tail
-):
-    """The reference's _steady_state. Returns (error, regime, k, impacts, cycle start, contact
-    fraction, x1_max, periods, residual); out_imp and section filled by _describe; ``tail``
-    (shape (R, 5), R may be 0) gets the run's last R section states and modes, oldest first
-    (rows before the run's first section NaN): what the reference's Newton rescue reads."""
+def _failed(err, n, residual, states, section):
+    """steady_kernel's values for a run that stopped on an error (empty arrays)."""
+    no_events, no_segments = np.empty((0, 12)), np.empty((0, 5))
+    empty = np.empty(0, np.int64)
+    return (
+        err,
+        0,
+        0,
+        0.0,
+        0.0,
+        0.0,
+        n,
+        residual,
+        states[:0],
+        np.empty((0, 5)),
+        section,
+        empty,
+        no_events,
+        empty,
+        no_segments,
+    )
+
+
+@njit(cache=True)
+def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, max_periods, kmax, diag):
+    """The reference's _steady_state and describe_cycle. Returns (error, regime, k, cycle start,
+    contact fraction, x1_max, periods, residual, section states (periods, 4), impacts (z, 5):
+    t, t/T since the cycle's start, phase, velocity, pulse; section (5,): the state at the
+    first section in the cycle and its mode; then the describing run's events and segments
+    (kinds, values, modes, values): the motion the reference's describe_run would simulate).
+    ``diag`` gets a failed run's diagnostics (layout.DIAG_*)."""
     T = s[S_T]
     scale = np.array([s[S_XST], s[S_XST], s[S_XST] * s[S_OMEGA], s[S_XST] * s[S_OMEGA]])
+    states = np.empty((max_periods, 4))
+    section = np.zeros(5)
     sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a = solver_buffers(0)
     init_solver(cm, fc, s, sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a, t0, state)
     if si[SI_ERR]:
-        return si[SI_ERR], 0, 0, 0, 0.0, 0.0, 0.0, 0, 0.0
+        diagnose(sf, si, diag)
+        return _failed(si[SI_ERR], 0, 0.0, states, section)
     start_state = np.empty(4)
     if default_start:
         solver_state(cm, s, sf, si, alpha, t0, start_state)
     else:
         start_state[:] = state
-    states = np.empty((max_periods, 4))
     sections = np.empty((max_periods, 4))
     modes = np.empty(max_periods, np.int64)
     found_k, n, residual = 0, 0, math.inf
@@ -343,14 +375,13 @@ def steady_kernel(
     for n in range(1, max_periods + 1):
         if n - 1 - base >= REBASE_PERIODS:
             init_solver(cm, fc, s, sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a, t0, states[n - 2].copy())
-            if si[SI_ERR]:
-                return si[SI_ERR], 0, 0, 0, 0.0, 0.0, 0.0, 0, 0.0
             base = n - 1
-        t_n = t0 + (n - base) * T
-        advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a, t_n)
+        if si[SI_ERR] == 0:
+            advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, e_k, e_f, s_m, s_f, s_a, t0 + (n - base) * T)
         if si[SI_ERR]:
-            return si[SI_ERR], 0, 0, 0, 0.0, 0.0, 0.0, 0, 0.0
-        solver_state(cm, s, sf, si, alpha, t_n, states[n - 1])
+            diagnose(sf, si, diag)
+            return _failed(si[SI_ERR], n, 0.0, states, section)
+        solver_state(cm, s, sf, si, alpha, t0 + (n - base) * T, states[n - 1])
         for c in range(4):
             sections[n - 1, c] = states[n - 1, c] / scale[c]
         modes[n - 1] = si[SI_MODE]
@@ -373,55 +404,59 @@ def steady_kernel(
             found_k = 0
         if found_k:
             break
-    R = tail.shape[0]
-    for j in range(R):
-        m = n - R + j
-        if m < 0:
-            tail[j, :] = np.nan
-        else:
-            tail[j, :4] = states[m]
-            tail[j, 4] = modes[m]
+    # The describing run (the reference's describe_run): from a section one cycle (and
+    # PERIODS_BEFORE_CYCLE periods) before the reported cycle to one cycle after it.
     k = found_k if found_k else min(NONPERIODIC_WINDOW, n)
     first = max(n - k - max(k, PERIODS_BEFORE_CYCLE), 0)
-    _, _, _, _, ev_k, ev_f, seg_m, seg_f, seg_a = solver_buffers(capacity)
-    si[SI_REC] = 1
-    init_solver(
+    err, ev_k, ev_f, seg_m, seg_f, seg_a = recorded_run(
         cm,
+        fm,
         fc,
+        fk,
+        fg,
         s,
-        sf,
-        si,
-        y0,
-        alpha,
-        ev_k,
-        ev_f,
-        seg_m,
-        seg_f,
-        seg_a,
         t0,
         states[first - 1].copy() if first else start_state,
+        t0 + (n - first + k + 1) * T,
+        INITIAL_CAPACITY,
+        diag,
     )
-    if si[SI_ERR] == 0:
-        advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0 + (n - first + k + 1) * T)
-    if si[SI_ERR]:
-        return si[SI_ERR], 0, 0, 0, 0.0, 0.0, 0.0, n, residual
+    if err:
+        return _failed(err, n, residual, states, section)
+    imp = np.empty((ev_k.shape[0], 5))
     regime, z, start, frac, x1_max = _describe(
         cm,
         s,
         ev_k,
         ev_f,
-        si[SI_NEV],
+        ev_k.shape[0],
         seg_m,
         seg_f,
         seg_a,
-        si[SI_NSEG],
+        seg_m.shape[0],
         t0 + (n - first - k) * T,
         k,
         found_k > 0,
-        out_imp,
+        imp,
         section,
     )
-    return OK, regime, (k if found_k else 0), z, start, frac, x1_max, n, residual
+    return (
+        OK,
+        regime,
+        (k if found_k else 0),
+        start,
+        frac,
+        x1_max,
+        n,
+        residual,
+        states[:n],
+        imp[:z].copy(),
+        section,
+        ev_k,
+        ev_f,
+        seg_m,
+        seg_f,
+    )
 
 
 # ------------------------------------------------------------------------------------------
@@ -442,49 +477,46 @@ def row_kernel(
     FG,
     flags,
     i0,
-    have_prev,
-    prev_section,
-    prev_mode,
-    prev_periodic,
-    chain,
+    prev,
+    chain_length,
     rescue,
     settle_tol,
     max_periods,
     max_periods_np,
     kmax,
-    capacity,
-    regime,
-    kk,
-    zz,
-    x1max,
-    frac,
-    periods,
-    residual,
+    given,
+    out_i,
+    out_f,
     starts,
     sections,
-    sec_mode,
     phases,
     vels,
-    given,
     tail,
+    diag,
 ):
     """Settle points i0, i0 + 1, ... in order, as the reference's solve_point without its
-    accelerators: each from its predecessor's section (``chain``, the reference's carry_state),
-    from its row of ``given`` (shape (P, 4): the reference's ``state=``; shape (0, 4): none) or
-    from Algorithm No. 2's step 1. Fills the output arrays; returns (stop code, index). A
-    nonperiodic point with ``rescue`` stops the row after its outputs are filled, with its
-    run's last sections in ``tail`` (see steady_kernel), for the Newton rescue."""
+    accelerators: each from its predecessor's section (the reference's carry_state) where the
+    row is chained (``chain_length`` > 0: point i continues point i - 1 unless i is a multiple
+    of chain_length, the start of a new chain), else from its row of ``given`` (shape (P, 4):
+    the reference's ``state=``; shape (0, 4): none) or from Algorithm No. 2's step 1.
+
+    ``prev`` (shape (7,)): the predecessor of point i0 as (have one, its section (4), its
+    section's mode, periodic), updated point by point. Outputs per point: ``out_i`` (P, 5) regime
+    code, k, z, periods, section mode; ``out_f`` (P, 3) x1_max, contact fraction, residual;
+    ``starts``, ``sections`` (P, 4); ``phases``, ``vels`` (P, M): the first impacts. Returns
+    (stop code, index): a point the kernels did not settle stops the row (its flag, an error
+    with ``diag`` set, or a nonperiodic point with ``rescue``, its outputs filled and its run's
+    last sections in ``tail``, oldest first, rows before the run NaN)."""
     P = S.shape[0]
-    out_imp = np.zeros((64 * kmax, 5))
-    section = np.zeros(5)
     full = np.empty(4)
     for i in range(i0, P):
         if flags[i] != 0:
             return ROW_FLAGGED, i
         s = S[i]
-        if chain and have_prev:
-            full[:] = prev_section
-            if prev_mode == MODE_STUCK:
+        chained = chain_length > 0 and i % chain_length != 0 and prev[0] != 0.0
+        if chained:
+            full[:] = prev[1:5]
+            if prev[5] == MODE_STUCK:
                 full[1] = full[0] + s[S_DELTA0]
                 full[3] = full[2]
             elif s[S_DELTA0] - (full[1] - full[0]) < 0.0:
@@ -494,44 +526,31 @@ def row_kernel(
         else:
             S0 = DEFAULT_KICK * s[S_M1] * s[S_OMEGA1] * s[S_XST]
             full[0], full[1], full[2], full[3] = 0.0, s[S_DELTA0], S0 / s[S_M1], -S0 / s[S_M2]
-        cap = max_periods_np if (chain and have_prev and not prev_periodic) else max_periods
-        while True:
-            err, rg, k, z, start, fr, x1, n, res = steady_kernel(
-                CM[i],
-                FM[i],
-                FC[i],
-                FK[i],
-                FG[i],
-                S[i],
-                0.0,
-                full.copy(),
-                False,
-                settle_tol,
-                cap,
-                kmax,
-                capacity,
-                out_imp,
-                section,
-                tail,
-            )
-            if err != ERR_CAPACITY:
-                break
-            capacity *= 4
-        if err != OK or z > out_imp.shape[0]:
-            return ROW_ERROR, i
+        cap = max_periods_np if (chained and prev[6] == 0.0) else max_periods
         starts[i] = full
-        regime[i], kk[i], zz[i], x1max[i], frac[i] = rg, k, z, x1, fr
-        periods[i] = n + max(k, 1) + 1
-        residual[i] = res
+        err, rg, k, _, fr, x1, n, res, states, imp, section, _, _, _, _ = steady_kernel(
+            CM[i], FM[i], FC[i], FK[i], FG[i], S[i], 0.0, full.copy(), False, settle_tol, cap, kmax, diag
+        )
+        if err != OK:
+            return ROW_ERROR, i
+        z = imp.shape[0]
+        out_i[i, 0], out_i[i, 1], out_i[i, 2], out_i[i, 3], out_i[i, 4] = rg, k, z, n + max(k, 1) + 1, int(section[4])
+        out_f[i, 0], out_f[i, 1], out_f[i, 2] = x1, fr, res
         sections[i] = section[:4]
-        sec_mode[i] = int(section[4])
         for j in range(min(z, phases.shape[1])):
-            phases[i, j] = out_imp[j, 2]
-            vels[i, j] = out_imp[j, 3] / (s[S_XST] * s[S_OMEGA])
-        have_prev = True
-        prev_section = section[:4].copy()
-        prev_mode = int(section[4])
-        prev_periodic = rg != _RG_NONPERIODIC
+            phases[i, j] = imp[j, 2]
+            vels[i, j] = imp[j, 3] / (s[S_XST] * s[S_OMEGA])
+        prev[0] = 1.0
+        prev[1:5] = section[:4]
+        prev[5] = section[4]
+        prev[6] = 1.0 if rg != _RG_NONPERIODIC else 0.0
         if rg == _RG_NONPERIODIC and rescue:
+            R = tail.shape[0]
+            for j in range(R):
+                m = n - R + j
+                if m < 0:
+                    tail[j, :] = np.nan
+                else:
+                    tail[j, :] = states[m]
             return ROW_RESCUE, i
     return ROW_DONE, P

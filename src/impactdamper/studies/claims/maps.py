@@ -39,7 +39,7 @@ MAP_COLUMNS = [
 def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings) -> list[dict]:
     """Both claims at every cell of the grid ``xs`` x ``ys`` of parameters ``x`` and ``y`` (the
     others as in ``p``): Algorithm No. 1 (closed form, ``gap_tol``) and Algorithm No. 2 from the
-    paper's step 1 on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each
+    paper's step 1 on the compiled batch (:func:`impactdamper.steady_states`, each
     cell alone, ``settings``), in one call for all cells.
 
     Returns
@@ -63,14 +63,14 @@ def claims_cells(p, x: str, y: str, points: Sequence[tuple[float, float]], *, ga
     """
     import numpy as np
 
-    from impactdamper.analysis.batch import settled_batch
+    from impactdamper import steady_states
 
     if x == y:
         raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
     if not len(points):
         return []
     cells = np.array(points, float).reshape(-1, 2)
-    res = settled_batch(p, (x, y), cells, settings=settings, chain=False)
+    res = steady_states(p, (x, y), cells, settings=settings, chain=False)
     out = []
     for i, (a, b) in enumerate(cells):
         alg1 = algorithm1(p.replace(**{x: float(a), y: float(b)}), gap_tol=gap_tol)

@@ -21,7 +21,7 @@ Neither holds at the stated point (:mod:`impactdamper.studies.replication.claims
   answer is then checked at ``ball_points`` random points on the ball's surface too.
 * **Method.** (1) Rays: ``rays`` random directions (seeded), each stepped outward from the
   stated point by ``ray_step`` (Euclidean) up to ``ray_max``, all rays at once per step on the
-  compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each point from the
+  compiled batch (:func:`impactdamper.steady_states`, each point from the
   paper's step 1); the first step where both claims hold is bisected to ``ray_tol``. (2) For
   each norm, the ``starts`` rays with the nearest hits: a robust point is sought just beyond
   the hit along the ray, then a compass search (moves +-s e_i, a radial shrink, and for the
@@ -48,7 +48,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from impactdamper.analysis.batch import settled_batch
+from impactdamper import steady_states
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters
@@ -137,7 +137,7 @@ class ClaimsEvaluator:
             fb = np.zeros(len(todo), bool)
             idx = np.flatnonzero(fa)
             if len(idx):
-                res = settled_batch(self.base, NEAREST_NAMES, X[idx], settings=self.settings, chain=False)
+                res = steady_states(self.base, NEAREST_NAMES, X[idx], settings=self.settings, chain=False)
                 fb[idx] = (
                     (res.regime == "multi_impact")
                     & (res.period_multiple == CLAIM_B_PERIOD_MULTIPLE)

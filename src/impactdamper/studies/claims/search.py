@@ -84,7 +84,7 @@ def refine_grid(
 
 def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None) -> list[dict]:
     """Algorithm No. 2 from the paper's step 1 at each value of ``name`` (the others as in
-    ``p``), on the compiled batch (:func:`impactdamper.analysis.batch.settled_batch`, each point
+    ``p``), on the compiled batch (:func:`impactdamper.steady_states`, each point
     alone, ``settings``: its ``rescue`` tries the Newton rescue on a point that did not
     settle). A point still nonperiodic is run again with ``longer_periods`` (if given).
 
@@ -99,13 +99,13 @@ def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = No
 
     import numpy as np
 
-    from impactdamper.analysis.batch import settled_batch
+    from impactdamper import steady_states
 
     if not xs:
         return []
 
     def run(values, st):
-        r = settled_batch(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
+        r = steady_states(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
         return [
             {
                 "value": float(v),

@@ -641,12 +641,12 @@ def _settle_from(p: Parameters, thetas: Sequence[float], start: np.ndarray, sett
     """Settle the thetas in order, each from the previous one's section (the first from
     ``start``): continuation, as a sweep. Returns (values, sections, period multiples), shapes
     (m,), (m, 4), (m,) (k = 0: nonperiodic)."""
-    from impactdamper.analysis.batch import settled_batch
+    from impactdamper import steady_states
 
     values, sections, ks = [], [], []
     state = np.asarray(start, float)
     for t in thetas:
-        r = settled_batch(p, ("theta",), np.array([[float(t)]]), settings=settings, chain=False, states=state[None, :])
+        r = steady_states(p, ("theta",), np.array([[float(t)]]), settings=settings, chain=False, states=state[None, :])
         values.append(float(r.x1_max[0]))
         ks.append(int(r.period_multiple[0]))
         state = r.sections[0].copy()
@@ -727,7 +727,7 @@ def impact_band_response(
     """max|x1|/x_st of an impact suppressor over a band, both sweep directions, peaks located.
 
     The band grid (:func:`band_grid`) is swept upward and downward by the compiled batch engine
-    (:func:`impactdamper.analysis.batch.settled_batch`, each point from its neighbour's settled
+    (:func:`impactdamper.steady_states`, each point from its neighbour's settled
     motion, Algorithm No. 2 of Timofeev et al. 2019 with eqs. 21-22 at the impacts). Then every
     local maximum of each direction's samples (the ``peaks`` largest) is located: the branch is
     continued from the grid point before it (in the sweep's direction) through ZOOM_POINTS
@@ -755,13 +755,13 @@ def impact_band_response(
     -------
     BandResponse
     """
-    from impactdamper.analysis.batch import settled_batch
+    from impactdamper import steady_states
 
     p = require_parameters(p)
     th = band_grid(band, step)
     settings = settings or SweepSettings()
-    up = settled_batch(p, ("theta",), th[:, None], settings=settings)
-    down = settled_batch(p, ("theta",), th[::-1, None], settings=settings)
+    up = steady_states(p, ("theta",), th[:, None], settings=settings)
+    down = steady_states(p, ("theta",), th[::-1, None], settings=settings)
     located = []
     evaluations = 2 * len(th)
     if locate:

@@ -21,12 +21,16 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 import impactdamper as idp
-from impactdamper.analysis.batch import regime_map_batch, warm_up
-from impactdamper.analysis.settled import SweepSettings
+from impactdamper.analysis.batch import regime_map_batch
+from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import regime_map
 from impactdamper.baselines.ivp import simulate_ivp
-from impactdamper.core import compiled as cc
+from impactdamper.core.backends import warm_up
+from impactdamper.core.compiled.layout import N_DIAG
+from impactdamper.core.compiled.loop import count_kernel, pack_simulate_kernel, simulate_kernel
+from impactdamper.core.compiled.pack import pack_parameters, packing_values
 from impactdamper.core.compiled.settle import steady_kernel
+from impactdamper.core.steady import REGIMES
 
 # Batch points: gap x theta around the reference case (every cell a settled motion within the cap).
 BATCH_GAPS = (-9.0, -3.0)
@@ -71,6 +75,30 @@ def strip(d: dict) -> dict:
     return {k: v for k, v in d.items() if k != "result"}
 
 
+def count_events(p, t_end: float) -> int:
+    """Events of the compiled run from Algorithm No. 2's step 1 to ``t_end``, unrecorded (the
+    solver's pure cost per impact)."""
+    pk = pack_parameters(p)
+    err, n = count_kernel(pk.cm, pk.fm, pk.fc, pk.fk, pk.fg, pk.s, 0.0, idp.default_initial_state(p), float(t_end))
+    if err or pk.fallback:
+        raise RuntimeError(
+            f"the compiled run failed (pack flag {pk.fallback}, error {err}): run simulate() for the message"
+        )
+    return int(n)
+
+
+def run_packing(p, t_end: float, pack=None):
+    """The compiled run's arrays (flag, error, event kinds and values, segment modes and values)
+    from step 1 to ``t_end``: the parameters packed in the same kernel call, or ``pack``."""
+    full, diag = idp.default_initial_state(p), np.zeros(N_DIAG)
+    if pack is None:
+        v, tols, _ = packing_values(p)
+        return pack_simulate_kernel(v, tols, 0.0, full, float(t_end), 256, diag)
+    return (0,) + simulate_kernel(
+        pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s, 0.0, full, float(t_end), 256, diag
+    )
+
+
 def phase_error(phase: float, reference: float) -> float:
     return abs((phase - reference + 0.5) % 1.0 - 0.5)
 
@@ -78,7 +106,7 @@ def phase_error(phase: float, reference: float) -> float:
 def compile_times() -> dict:
     """Kernels compiled into an empty cache, then loaded from it, each in a fresh process."""
     code = (
-        "import time; t = time.perf_counter(); from impactdamper.analysis.batch import warm_up; warm_up(); "
+        "import time; t = time.perf_counter(); from impactdamper.core.backends import warm_up; warm_up('compiled'); "
         "print(time.perf_counter() - t)"
     )
     out = {}
@@ -92,10 +120,12 @@ def compile_times() -> dict:
 
 
 def per_impact(p, long_periods: int, ivp_periods: int, repeats: int, targets: dict) -> dict:
-    n_events = cc.count_events_compiled(p, long_periods * p.T)
-    traj = cc.simulate_compiled(p, long_periods * p.T)
+    n_events = count_events(p, long_periods * p.T)
+    traj = idp.simulate(p, long_periods * p.T, backend="compiled")
     impacts = len(traj.impacts())
-    compiled = timed(lambda: cc.count_events_compiled(p, long_periods * p.T), repeats)
+    compiled = timed(lambda: count_events(p, long_periods * p.T), repeats)
+    # The public call on the same run (a Trajectory whose objects are made when first read).
+    public = timed(lambda: idp.simulate(p, long_periods * p.T), repeats)
     short_ref = idp.simulate(p, ivp_periods * p.T, backend="python")
     short_impacts = len(short_ref.impacts())
     python = timed(lambda: idp.simulate(p, ivp_periods * p.T, backend="python"), max(1, repeats // 3))
@@ -108,6 +138,12 @@ def per_impact(p, long_periods: int, ivp_periods: int, repeats: int, targets: di
             "impacts": impacts,
             "us_per_impact_min": 1e6 * compiled["cpu_min_s"] / impacts,
             "us_per_impact_median": 1e6 * compiled["cpu_median_s"] / impacts,
+        },
+        "public_simulate": {
+            **strip(public),
+            "backend": public["result"].backend,
+            "us_per_impact_min": 1e6 * public["cpu_min_s"] / impacts,
+            "us_per_impact_median": 1e6 * public["cpu_median_s"] / impacts,
         },
         "python": {
             **strip(python),
@@ -132,14 +168,14 @@ def per_impact(p, long_periods: int, ivp_periods: int, repeats: int, targets: di
 def steady(p, repeats: int, targets: dict) -> dict:
     alg1 = idp.algorithm1(p)
     reference = alg1.impact_phase
-    compiled = timed(lambda: cc.steady_state_full(p), repeats)
+    compiled = timed(lambda: idp.steady_state(p, backend="compiled"), repeats)
     s = compiled["result"]
     python = timed(lambda: idp.steady_state(p, backend="python"), max(1, repeats // 10))
     sp = python["result"]
     k = max(s.period_multiple, 1)
     t_span = (s.periods + k + 1) * p.T  # what steady_state simulates: settling, then one cycle and a period
     dop = timed(lambda: simulate_ivp(p, t_span, method="DOP853", rtol=RTOL, atol=ATOL), 2)
-    pack = timed(lambda: cc.pack_parameters(p), repeats)
+    pack = timed(lambda: pack_parameters(p), repeats)
     err_alg1 = phase_error(s.impacts[0].phase, reference)
     err_python = phase_error(s.impacts[0].phase, sp.impacts[0].phase)
     out = {
@@ -198,9 +234,9 @@ def front_door(p, repeats: int, batch_points: int, targets: dict, map_settings: 
     batch_cpu, batch_wall = time.process_time() - c, time.perf_counter() - w
     # The kernels' own time on the same points: the steady kernel on pre-packed parameters.
     points = [p.replace(gap=float(g), theta=float(t)) for g, t in values]
-    packed = [(cc.pack_parameters(q), idp.default_initial_state(q)) for q in points]
+    packed = [(pack_parameters(q), idp.default_initial_state(q)) for q in points]
     packed = [(pk, full) for pk, full in packed if not pk.fallback]
-    out_imp, section, tail = np.zeros((64 * settings.max_period_multiple, 5)), np.zeros(5), np.zeros((0, 5))
+    diag = np.zeros(N_DIAG)
     c, w = time.process_time(), time.perf_counter()
     for pk, full in packed:
         steady_kernel(
@@ -216,10 +252,7 @@ def front_door(p, repeats: int, batch_points: int, targets: dict, map_settings: 
             settings.settle_tol,
             settings.max_periods,
             settings.max_period_multiple,
-            cc.INITIAL_CAPACITY,
-            out_imp,
-            section,
-            tail,
+            diag,
         )
     kernel_cpu, kernel_wall = time.process_time() - c, time.perf_counter() - w
     out["batch"] = {
@@ -272,14 +305,14 @@ def front_door(p, repeats: int, batch_points: int, targets: dict, map_settings: 
 def first_impacts(p, repeats: int, targets: dict, count: int = 10) -> dict:
     ref = idp.simulate(p, 40 * p.T, backend="python")
     t_end = ref.impacts()[count - 1].t + 1e-6 * p.T  # just past the count-th impact
-    compiled = timed(lambda: cc.run_compiled(p, t_end), repeats)
-    pack = cc.pack_parameters(p)
-    solver = timed(lambda: cc.run_compiled(p, t_end, pack=pack), repeats)
-    objects = timed(lambda: cc.simulate_compiled(p, t_end), repeats)
+    compiled = timed(lambda: run_packing(p, t_end), repeats)
+    pack = pack_parameters(p)
+    solver = timed(lambda: run_packing(p, t_end, pack), repeats)
+    objects = timed(lambda: idp.simulate(p, t_end, backend="compiled").events, repeats)
     python = timed(lambda: idp.simulate(p, t_end, backend="python"), max(1, repeats // 5))
     dop = timed(lambda: simulate_ivp(p, t_end, method="DOP853", rtol=RTOL, atol=ATOL), 3)
-    run, b = compiled["result"], python["result"]
-    times = run.times[run.kinds == 0]
+    (_, _, kinds, events, _, _), b = compiled["result"], python["result"]
+    times = events[kinds == 0, 0]
     dt = float(np.max(np.abs(times - np.array([e.t for e in b.impacts()])))) / p.T
     out = {
         "impacts": count,
@@ -339,7 +372,7 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool, map_sett
     rows = [row for r in result for row in r[0]]
     codes = np.array([row["regime"] for row in rows])
     periods = np.array([row["periods"] for row in rows])
-    regimes = {name: int(np.sum(codes == i)) for i, name in enumerate(cc.REGIMES)}
+    regimes = {name: int(np.sum(codes == i)) for i, name in enumerate(REGIMES)}
     return (
         {
             "points": n * n,
@@ -417,7 +450,7 @@ def run(
     the config's maps caps); ``compile_time=False`` leaves the record's 'compile' null (timed
     on its own by :func:`compile_times`)."""
     p = idp.Parameters()
-    warm_up()
+    warm_up("compiled")
     out = {"case": p.to_dict(), "compile": compile_times() if compile_time else None}
     out["per_impact"] = per_impact(p, long_periods, ivp_periods, repeats, targets)
     out["steady_state"] = steady(p, repeats * 10, targets)
@@ -475,7 +508,8 @@ def summary(out: dict) -> str:
         else "JIT compile: timed on its own (compile_times)",
         f"JIT load from the cache:  {c['cached_load_s']:.2f} s" if c else "",
         f"per impact ({pi['compiled']['impacts']} impacts, load {pi['compiled']['load_1min']:.1f}): compiled "
-        f"{pi['compiled']['us_per_impact_min']:.2f} us (median {pi['compiled']['us_per_impact_median']:.2f}); "
+        f"{pi['compiled']['us_per_impact_min']:.2f} us (median {pi['compiled']['us_per_impact_median']:.2f}; public "
+        f"simulate {pi['public_simulate']['us_per_impact_median']:.2f} us median); "
         f"python {pi['python']['us_per_impact_min']:.1f} us; DOP853 {pi['dop853']['us_per_impact_min']:.0f} us; "
         f"target <= {pi['target_us']} us: {yes[pi['met']]}",
         f"steady state ({st['regime']}, {st['periods']} periods, load {st['compiled']['load_1min']:.1f}): compiled "

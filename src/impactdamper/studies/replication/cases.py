@@ -17,7 +17,6 @@ claims themselves are :mod:`impactdamper.studies.replication.claims`, the indepe
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
@@ -43,7 +42,6 @@ __all__ = [
     "ranges",
     "overlap",
     "run_steady",
-    "run_steady_compiled",
     "run_alg1",
 ]
 
@@ -161,16 +159,6 @@ def run_steady(p: Parameters, solver: dict, **kw):
     """:func:`impactdamper.steady_state` (the front door, its default backend: compiled) with the
     config's solver options."""
     return steady_state(p, **solver_options(solver), **kw)
-
-
-def run_steady_compiled(p: Parameters, solver: dict):
-    """Deprecated: :func:`run_steady` (:func:`impactdamper.steady_state`, compiled by default)."""
-    warnings.warn(
-        "run_steady_compiled is deprecated: use impactdamper.steady_state(p, backend='compiled') (run_steady does)",
-        DeprecationWarning,
-        stacklevel=2,
-    )
-    return steady_state(p, **solver_options(solver), backend="compiled")
 
 
 def run_alg1(p: Parameters, solver: dict):

@@ -1,0 +1,279 @@
+"""The compiled backend: the kernels behind the registry's ``"compiled"``
+(:mod:`impactdamper.core.backends`).
+
+Its operations take arguments the caller validated (:mod:`impactdamper.core.validation`), pack
+the parameters (:mod:`~impactdamper.core.compiled.pack`), run one kernel and return the
+reference's types. Where the kernels do not apply (a pack flag: repeated roots, free scales
+outside the native range, a matrix the reference refuses) or stop on an error that is not a
+work bound, the reference runs instead and the result says why (``fallback``). A run that
+reaches a work bound (the step budget, more than ``MAX_EVENTS_AT_ONE_TIME`` events at one
+instant) raises the reference's :class:`~impactdamper.core.events.SearchLimitError`, worded from
+the kernels' diagnostics as the reference words it, without running the reference to its bound.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from impactdamper.core.backends import PYTHON, row_arrays
+from impactdamper.core.compiled.layout import (
+    DIAG_ERR,
+    DIAG_IMPACTS,
+    DIAG_START,
+    DIAG_TIME,
+    DIAG_USED,
+    ERR_DEGENERATE,
+    FALLBACK_REASONS,
+    MODE_FREE,
+    N_DIAG,
+    WORK_BOUND_ERRORS,
+)
+from impactdamper.core.compiled.loop import pack_simulate_kernel, simulate_kernel
+from impactdamper.core.compiled.pack import (
+    PACKING_ERRORS,
+    PARAMETER_COLUMNS,
+    pack_many,
+    pack_parameters,
+    packing_values,
+)
+from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel, steady_kernel
+from impactdamper.core.events import SearchLimitError, Segment
+from impactdamper.core.model import FREE, STUCK, Model
+from impactdamper.core.parameters import Parameters
+from impactdamper.core.simulate import Trajectory, budget_exceeded, default_initial_state, degenerate_contact
+from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, describe_run, start_in_first_period
+from impactdamper.core.validation import SettleOptions, Tolerances, work_bound_message
+
+__all__ = ["CompiledBackend", "COMPILED"]
+
+# Events per forcing period a run's buffers are first sized for (a periodic impacting motion has
+# 1-3; a chatter cycle ~30, found by growing them).
+EVENTS_PER_PERIOD_GUESS = 4
+# A run's buffers hold at least this many events at first.
+MIN_CAPACITY = 256
+# A settled point's regime code at or above this is not periodic (REGIMES' order).
+NONPERIODIC = REGIMES.index("nonperiodic")
+
+
+def _work_bound(p: Parameters, tolerances: Tolerances, diag: np.ndarray) -> str:
+    """The reference's line for a run that reached a work bound, from the kernels' diagnostics."""
+    if int(diag[DIAG_ERR]) == ERR_DEGENERATE:
+        what = degenerate_contact(float(diag[DIAG_TIME]))
+    else:
+        what = budget_exceeded(diag[DIAG_USED], (diag[DIAG_TIME] - diag[DIAG_START]) / p.T)
+    return work_bound_message(p, tolerances, what, int(diag[DIAG_IMPACTS]))
+
+
+class CompiledBackend:
+    """Algorithm No. 2 and the settled motion in the numba kernels (see the module docstring)."""
+
+    name = "compiled"
+
+    def run(self, p: Parameters, t_end: float, t0: float, state, tolerances: Tolerances) -> Trajectory:
+        """:func:`impactdamper.core.simulate.simulate`'s motion: a Trajectory holding the
+        kernels' arrays, its Event and Segment objects made when first read."""
+        v, tols, flag = packing_values(p, tolerances)
+        full = default_initial_state(p) if state is None else state
+        capacity = max(MIN_CAPACITY, int(EVENTS_PER_PERIOD_GUESS * (t_end - t0) / p.T))
+        diag, err = np.zeros(N_DIAG), 0
+        if not flag:
+            try:
+                flag, err, ev_k, ev_f, seg_m, seg_f = pack_simulate_kernel(v, tols, t0, full, t_end, capacity, diag)
+            except PACKING_ERRORS:
+                flag = FALLBACK_REASONS.index("error")
+        if flag or err:
+            if not flag and err in WORK_BOUND_ERRORS:
+                raise SearchLimitError(_work_bound(p, tolerances, diag))
+            traj = PYTHON.run(p, t_end, t0, state, tolerances)  # the reference's own error, or its run
+            traj.fallback = FALLBACK_REASONS[flag] if flag else "error"
+            return traj
+        return Trajectory.from_arrays(Model(p), ev_k, ev_f, seg_m, seg_f)
+
+    def settle(self, p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions) -> SteadyState:
+        """:func:`impactdamper.core.steady.steady_state`'s result: the period loop and the
+        cycle's description (impacts, regime, contact fraction, x1_max by golden-section search
+        where the reference uses Brent's, both to 1e-12 T) in the kernels, with the describing
+        run's trajectory; a cycle with persistent contact (or every cycle, with
+        ``options.describe`` ``"reference"``) is described by the reference's
+        :func:`~impactdamper.core.steady.describe_run` on that trajectory."""
+        pack = pack_parameters(p, tolerances)
+        if pack.fallback:
+            return dataclasses.replace(
+                PYTHON.settle(p, t0, state, tolerances, options), fallback=FALLBACK_REASONS[pack.fallback]
+            )
+        start = start_in_first_period(p, t0)
+        full = default_initial_state(p) if state is None else state
+        diag = np.zeros(N_DIAG)
+        (err, regime, k, cycle_start, frac, x1_max, n, residual, states, imp, _, ev_k, ev_f, seg_m, seg_f) = (
+            steady_kernel(
+                pack.cm,
+                pack.fm,
+                pack.fc,
+                pack.fk,
+                pack.fg,
+                pack.s,
+                start,
+                full,
+                state is None,
+                options.settle_tol,
+                options.max_periods,
+                options.max_period_multiple,
+                diag,
+            )
+        )
+        if err:
+            if err in WORK_BOUND_ERRORS:
+                raise SearchLimitError(_work_bound(p, tolerances, diag))
+            # The reference's own error, or its result.
+            return dataclasses.replace(PYTHON.settle(p, t0, state, tolerances, options), fallback="error")
+        trajectory = Trajectory.from_arrays(Model(p), ev_k, ev_f, seg_m, seg_f)
+        if frac > 0.0 or options.describe == "reference":  # (contact phases: as the reference does)
+            s = describe_run(p, start, states, int(k), float(residual), full, tolerances, trajectory=trajectory)
+            return dataclasses.replace(s, backend="compiled")
+        return SteadyState(
+            p=p,
+            regime=REGIMES[regime],
+            period_multiple=int(k),
+            impacts=tuple(CycleImpact(*map(float, row)) for row in imp),
+            cycle_start=float(cycle_start),
+            contact_fraction=float(frac),
+            contact_phases=(),
+            x1_max=float(x1_max),
+            periods=int(n),
+            residual=float(residual),
+            trajectory=trajectory,
+            section_times=start + p.T * np.arange(1, n + 1),
+            sections=np.array(states, float),
+            backend="compiled",
+        )
+
+    def map_step(self, p: Parameters, tolerances: Tolerances):
+        """The stroboscopic map by the kernels (the parameters packed once: a Newton iteration
+        evaluates the map many times at one set): ``step(state, k)`` -> the state and mode at
+        t = k T from ``state`` at t = 0, or None where the kernels do not apply or stopped
+        (the caller then runs the reference, which raises its own error where there is one)."""
+        pack = pack_parameters(p, tolerances)
+        if pack.fallback:
+            return None
+        model = Model(p)
+        diag = np.zeros(N_DIAG)
+
+        def step(state, k):
+            t_end = k * p.T
+            capacity = max(MIN_CAPACITY, EVENTS_PER_PERIOD_GUESS * k)
+            args = (pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s)
+            err, _, _, seg_m, seg_f = simulate_kernel(*args, 0.0, np.asarray(state, float), t_end, capacity, diag)
+            if err:
+                return None
+            name = FREE if seg_m[-1] == MODE_FREE else STUCK
+            row = seg_f[-1]
+            seg = Segment(model.mode(name), float(row[0]), row[1 : 1 + (4 if name == FREE else 2)].copy())
+            return model.full_state(name, seg.state(np.array([t_end])))[0], name
+
+        return step
+
+    def settle_row(
+        self,
+        rows: np.ndarray,
+        out,
+        *,
+        tolerances: Tolerances,
+        settle_tol: float,
+        max_periods: int,
+        max_periods_after_nonperiodic: int,
+        max_period_multiple: int,
+        chain_length: int,
+        rescue: bool,
+        given: np.ndarray,
+        tail_rows: int,
+    ):
+        """Settle the points ``rows`` in order in the kernels (:func:`row_kernel`), as the
+        reference's ladder without accelerators, into ``out``'s arrays (``regime_code``,
+        ``period_multiple``, ``impacts_per_cycle``, ``periods``, ``section_modes``, ``x1_max``,
+        ``contact_fraction``, ``residual``, ``start_states``, ``sections``, ``phases``,
+        ``velocities``). Point i continues point i - 1 unless ``chain_length`` is 0 or divides
+        i; else it starts from ``given[i]`` (shape (P, 4); (0, 4): none) or Algorithm No. 2's
+        step 1. ``max_periods_after_nonperiodic`` caps a point whose predecessor did not settle.
+        Yields the points the kernels leave to the caller (:class:`~impactdamper.core.backends.Backend`):
+        a pack flag or an error (its reason), a work bound (``"failed"``, with the reference's
+        line), a nonperiodic point with ``rescue`` (``"rescue"``, with the run's last
+        ``tail_rows`` section states, oldest first, rows before the run NaN)."""
+        pack, flags = pack_many(rows, tolerances)
+        P = len(rows)
+        ints = np.zeros((P, 5), np.int64)  # regime code, k, z, periods, section mode
+        floats = np.full((P, 3), np.nan)  # x1_max, contact fraction, residual
+        tail = np.full((tail_rows, 4), np.nan)
+        diag = np.zeros(N_DIAG)
+        prev = np.zeros(7)  # (have one, section (4), its mode, periodic)
+        i = 0
+        while i < P:
+            code, stop = row_kernel(
+                pack.s,
+                pack.cm,
+                pack.fm,
+                pack.fc,
+                pack.fk,
+                pack.fg,
+                flags,
+                i,
+                prev,
+                chain_length,
+                rescue,
+                settle_tol,
+                max_periods,
+                max_periods_after_nonperiodic,
+                max_period_multiple,
+                given,
+                ints,
+                floats,
+                out.start_states,
+                out.sections,
+                out.phases,
+                out.velocities,
+                tail,
+                diag,
+            )
+            settled = slice(i, stop + 1 if code == ROW_RESCUE else stop)
+            for j, name in enumerate(
+                ("regime_code", "period_multiple", "impacts_per_cycle", "periods", "section_modes")
+            ):
+                getattr(out, name)[settled] = ints[settled, j]
+            for j, name in enumerate(("x1_max", "contact_fraction", "residual")):
+                getattr(out, name)[settled] = floats[settled, j]
+            if code == ROW_DONE:
+                return
+            if code == ROW_RESCUE:
+                yield stop, "rescue", tail.copy()
+            elif code == ROW_FLAGGED:
+                yield stop, FALLBACK_REASONS[int(flags[stop])], None
+            elif code == ROW_ERROR and int(diag[DIAG_ERR]) in WORK_BOUND_ERRORS:
+                p = Parameters(**{c: float(x) for c, x in zip(PARAMETER_COLUMNS, rows[stop])})
+                yield stop, "failed", _work_bound(p, tolerances, diag)
+            else:
+                yield stop, "error", None
+            # Point `stop` as the caller filled it is the next point's predecessor.
+            prev[0], prev[1:5], prev[5] = 1.0, out.sections[stop], out.section_modes[stop]
+            prev[6] = 1.0 if out.regime_code[stop] < NONPERIODIC else 0.0
+            i = stop + 1
+
+    def warm_up(self) -> None:
+        """Every kernel run once on the reference case (compiled, or loaded from numba's cache)."""
+        p, tol = Parameters(), Tolerances()
+        self.settle(p, 0.0, None, tol, SettleOptions(max_periods=40))
+        self.settle(Parameters(theta=0.8), 0.0, None, tol, SettleOptions(max_periods=40))  # (a contact cycle)
+        self.run(p, 2 * p.T, 0.0, None, tol)
+        self.map_step(p, tol)(default_initial_state(p), 1)
+
+        rows = np.array([[getattr(p, c) for c in PARAMETER_COLUMNS]] * 2)
+        out = row_arrays(2, 4)
+        options = dict(settle_tol=1e-9, max_periods=40, max_periods_after_nonperiodic=40, max_period_multiple=8)
+        given = np.zeros((0, 4))
+        for _ in self.settle_row(
+            rows, out, tolerances=tol, **options, chain_length=2, rescue=True, given=given, tail_rows=17
+        ):
+            pass
+
+
+COMPILED = CompiledBackend()

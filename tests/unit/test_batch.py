@@ -1,0 +1,114 @@
+"""The many-point call (impactdamper.steady_states): its input refused or read as given, and
+its parallel workers giving the serial call's result bit for bit."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import impactdamper as idp
+from impactdamper.analysis.batch import BatchResult
+from impactdamper.analysis.point import SweepSettings
+
+REF = idp.Parameters()
+SETTINGS = SweepSettings(max_periods=150, max_periods_after_nonperiodic=50)
+
+
+# --- input: refused with the point and the name, never reshaped -------------------------------
+@pytest.mark.parametrize(
+    "names, values, match",
+    [
+        # (2, P) for two names: refused, not read row by row into other points
+        (("gap", "theta"), [[-5.8, -5.0, -4.0], [1.0, 1.1, 1.2]], r"^`values` of shape \(2, 3\) is not allowed"),
+        (("gap",), [[[-5.8]]], r"^`values` of shape \(1, 1, 1\) is not allowed"),  # 3-d
+        (("gap",), [-5.8, -5.0], r"^`values` of shape \(2,\) is not allowed"),  # 1-d
+        (("gap", "gap"), [[-5.8, -5.0]], r"^`names` = .* 'gap' and 'gap' both set gap"),
+        (("delta", "delta1"), [[0.1, 0.2]], r"^`names` = .* 'delta' and 'delta1' both set delta1"),
+        (("gap", "theta"), [[-5.8, 1.0], [-5.0, 1 + 2j]], r"^`values` point 1, `theta` = \(1\+2j\) is not allowed"),
+        (("gap",), [[-5.8], ["-5.0"]], r"^`values` point 1, `gap` = '-5.0' is not allowed"),
+        (("gap", "R"), [[-5.8, True]], r"^`values` point 0, `R` = True is not allowed"),
+        (("gap",), np.array([[True]]), r"^`values` point 0, `gap` = .*True is not allowed"),
+        (("gap", "theta"), [[-5.8, 1.0], [-5.0, math.nan]], r"^`values` point 1, `theta` = nan is not allowed"),
+        (("gap", "theta"), [[-5.8, 1.0], [-5.0, -1.0]], r"^`values` point 1 \(theta\): `theta` = -1.0 is not allowed"),
+        (("nope",), [[1.0]], r"^`names`"),
+        ("gap", [[1.0]], r"^`names`"),
+        ((), np.zeros((1, 0)), r"^`names`"),
+    ],
+)
+def test_bad_values_are_refused_by_point_and_name(names, values, match):
+    with pytest.raises(ValueError, match=match):
+        idp.steady_states(REF, names, values)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(chain_length=0), r"^`chain_length` = 0 is not allowed: must be an integer >= 1"),
+        (dict(chain_length=2), r"^`chain_length` = 2 is not allowed: the 3 points must form whole chains"),
+        (dict(chain_length=True), r"^`chain_length` = True"),
+        (dict(chain=False, chain_length=1), r"^`chain_length` is not allowed with `chain=False`"),
+        (dict(workers=0), r"^`workers` = 0 is not allowed: must be an integer >= 1"),
+        (dict(workers=2.0), r"^`workers` = 2.0 is not allowed"),
+        (dict(workers="2"), r"^`workers` = '2' is not allowed"),
+    ],
+)
+def test_bad_chains_and_workers_are_named(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        idp.steady_states(REF, ("gap",), [[-6.0], [-5.8], [-5.0]], **kwargs)
+
+
+def test_integer_values_are_numbers():
+    a = idp.steady_states(REF, ("gap",), [[-6], [2]], settings=SETTINGS)
+    b = idp.steady_states(REF, ("gap",), np.array([[-6.0], [2.0]]), settings=SETTINGS)
+    assert a.label.tolist() == b.label.tolist() and np.array_equal(a.x1_max, b.x1_max)
+
+
+# --- chains and workers -------------------------------------------------------------------------
+def _same_result(a: BatchResult, b: BatchResult) -> None:
+    """Every per-point array equal, bit for bit (NaN where NaN), and the same order."""
+    for f in dataclasses.fields(BatchResult):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if f.name == "elapsed":
+            continue
+        if isinstance(x, np.ndarray) and x.dtype.kind == "f":
+            assert np.array_equal(x, y, equal_nan=True), f.name
+        elif isinstance(x, np.ndarray):
+            assert np.array_equal(x, y), f.name
+        else:
+            assert x == y, f.name
+
+
+def test_chains_are_independent():
+    """Each chain of ``chain_length`` points settles as a call of its own: its first point from
+    Algorithm No. 2's step 1, the others from their neighbours."""
+    up, down = np.array([-7.0, -6.0, -5.0]), np.array([-5.0, -6.0, -7.0])
+    both = idp.steady_states(REF, ("gap",), np.r_[up, down][:, None], settings=SETTINGS, chain_length=3)
+    alone = [idp.steady_states(REF, ("gap",), v[:, None], settings=SETTINGS) for v in (up, down)]
+    for name in ("regime_code", "period_multiple", "x1_max", "sections", "start_states", "periods"):
+        assert np.array_equal(getattr(both, name), np.concatenate([getattr(r, name) for r in alone])), name
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("backend", ["compiled", "python"])
+def test_workers_give_the_serial_result_bit_for_bit(backend):
+    """Two processes on blocks of whole chains (and of single points) give the serial call's
+    arrays exactly, in the same order: a theta sweep up and down for each of three designs."""
+    thetas = np.linspace(0.8, 1.3, 6 if backend == "compiled" else 3)
+    designs = [(-5.8, 0.5), (-2.0, 0.7), (-9.0, 0.4)]
+    rows = [
+        (gap, N, t)
+        for gap, N in designs
+        for sweep in (thetas, thetas[::-1])  # up, then down: two chains per design
+        for t in sweep
+    ]
+    names, values = ("gap", "N", "theta"), np.array(rows)
+    serial = idp.steady_states(REF, names, values, settings=SETTINGS, chain_length=len(thetas), backend=backend)
+    parallel = idp.steady_states(
+        REF, names, values, settings=SETTINGS, chain_length=len(thetas), workers=2, backend=backend
+    )
+    _same_result(serial, parallel)
+    grid = idp.steady_states(REF, names, values, settings=SETTINGS, chain=False, backend=backend)
+    _same_result(
+        grid, idp.steady_states(REF, names, values, settings=SETTINGS, chain=False, workers=3, backend=backend)
+    )
