@@ -73,10 +73,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import Parameters, ScaleMap, integer_argument, require_parameters, state_scale
-from impactdamper.core.simulate import EventDrivenSolver, Tolerances, check_state, check_tolerances
+from impactdamper.core.parameters import Parameters, ScaleMap, require_parameters, state_scale
+from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.core.steady import start_in_first_period
-from impactdamper.core.validation import finite_argument
+from impactdamper.core.validation import Tolerances, check_state, check_tolerances, finite_argument, integer_argument
 
 __all__ = [
     "LyapunovSpectrum",
