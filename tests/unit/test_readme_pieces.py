@@ -1,37 +1,26 @@
-"""The README's pieces: one parameter's claim interval in words, and a cycle's impact table."""
+"""The README's pieces: the results table, one line per row with its cells on one line, read
+back by the parser the README's test uses."""
 
-from impactdamper.reporting.readme import beyond, impact_table
+import pytest
 
-
-def _claims(**kw):
-    m = {
-        "ClaimsNNearestBoth": "0.41",
-        "ClaimsNStated": "0.5",
-        "ClaimsNBothOpen": "no",
-        "ClaimsNBothLo": "0.38",
-        "ClaimsNBothHi": "0.44",
-        "ClaimsNBothWidth": "0.06",
-        "ClaimsNRelDistance": "18",
-    }
-    return {**m, **kw}
+from impactdamper.reporting.readme import RESULTS_HEADER, parse_results_table, results_table
 
 
-def test_a_parameter_interval_is_named_with_its_ends_and_distance():
-    assert beyond(_claims(), "N", "N") == "N in [0.38, 0.44] (width 0.06; stated 0.5, 18 % away)"
-    assert "reaching the end of the searched range" in beyond(_claims(ClaimsNBothOpen="yes"), "N", "N")
+def test_the_results_table_has_its_header_and_one_line_per_row():
+    lines = results_table([("a claim", "**not reproduced**", "x | y\n  z", "Reproduction")])
+    assert lines[0] == "| claim or question | verdict or answer | evidence | in the report |"
+    assert lines[1] == "|---|---|---|---|"
+    assert lines[2] == "| a claim | **not reproduced** | x \\| y z | Reproduction |"
 
 
-def test_a_parameter_without_an_interval_says_nowhere():
-    assert beyond(_claims(ClaimsNNearestBoth="–"), "N", "N") == "N: nowhere in the searched range (stated 0.5)"
+def test_the_results_table_reads_back():
+    rows = [("a", "b", "c | d", "e"), ("f", "g", "h", "i")]
+    parsed = parse_results_table("text\n\n" + "\n".join(results_table(rows)) + "\n\nmore")
+    assert [tuple(r[k] for k in RESULTS_HEADER) for r in parsed] == rows
 
 
-def test_the_impact_table_has_one_row_per_impact_rounded(tmp_path):
-    csv = tmp_path / "impacts.csv"
-    csv.write_text(
-        "impact,t_over_T,phase,velocity_rel,impulse_rel,next_cycle\n1,0,0.123456,1.23456,0.654321,false\n"
-        "1,2,0.123457,1.23456,0.654321,true\n"
-    )
-    lines = impact_table(str(csv))
-    assert len(lines) == 4
-    assert lines[2] == "| 1 | 0.0000 | 0.1235 | 1.235 | 0.6543 |"
-    assert lines[3].startswith("| 1 (next cycle) | 2.0000 |")
+def test_a_row_of_the_wrong_length_is_refused():
+    with pytest.raises(ValueError, match="`rows` has a row of 3 cells"):
+        results_table([("a", "b", "c")])
+    with pytest.raises(ValueError, match="no results table"):
+        parse_results_table("| x | y |\n|---|---|")

@@ -78,11 +78,16 @@ def test_the_nearest_search_domain_is_the_parameters_own(name, value):
 
 
 def test_readme_names_the_parameters_the_record_searched():
-    """The README's "beyond the gap" list takes the searched parameters from the verdict's
-    macros (the committed TeX file holds the same names as its record)."""
+    """The README's table names the nearest single change by the parameter's symbol: every
+    parameter the verdict's record searched alone (its macros, the committed TeX file holding the
+    same names as its record) has one."""
     sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
-    from readme_summary import searched_alone
+    from readme_summary import SYMBOLS
+
+    from impactdamper.core.parameters import PARAMETER_TABLE
 
     tex_file = (ROOT / "paper" / "generated" / "verdict_macros.tex").read_text()
-    names = dict.fromkeys(re.findall(r"\\newcommand\{\\([A-Za-z]+)\}", tex_file), "")
-    assert [s.name for s in searched_alone(names)] == ["theta", "mu", "N", "delta1", "delta2", "R"]
+    names = set(re.findall(r"\\newcommand\{\\([A-Za-z]+)\}", tex_file))
+    searched = [s.name for s in PARAMETER_TABLE if f"Claims{s.macro}NearestBoth" in names]
+    assert searched == ["theta", "mu", "N", "delta1", "delta2", "R"]
+    assert set(searched) <= set(SYMBOLS)

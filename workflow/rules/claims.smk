@@ -177,6 +177,7 @@ rule fig_claims_maps:
         + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
         refined=["figures/claims_map_refined.csv"]
         + expand("figures/claims_map_{name}_refined.csv", name=CLAIMS_PAIR_MAPS),
+        located="figures/located_case.json",
     output:
         pdf="figures/claims_maps.pdf",
         png="figures/claims_maps.png",

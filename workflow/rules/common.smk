@@ -140,3 +140,27 @@ def checked_config(config):
     except config_check.ConfigError as err:
         raise WorkflowError(str(err)) from None  # (raised here: Snakemake lists the frames under it)
     return config
+
+
+# Report stage: the report's appendix of provenance (rule provenance) reads the workflow's own
+# rules and the project's citation metadata, when its job is planned (after every rules file is
+# parsed).
+def workflow_rules(wildcards):
+    """The workflow's rules as JSON, for the report's appendix of provenance (name, script
+    relative to the repository, output patterns, input patterns other than sources)."""
+    repo = Path(workflow.basedir)
+    rules = []
+    for r in workflow.rules:
+        script = None
+        if r.script:
+            script = os.path.relpath(os.path.normpath(Path(r.snakefile).parent / r.script), repo)
+        inputs = [str(i) for i in r.input if isinstance(i, str) and not str(i).startswith(("src/", "workflow/"))]
+        rules.append({"name": r.name, "script": script, "outputs": [str(o) for o in r.output], "inputs": inputs})
+    return json.dumps({"rules": rules})
+
+
+def citation_metadata(wildcards):
+    """The project's citation metadata (CITATION.cff) as JSON, for the report's author line and locator."""
+    import yaml
+
+    return json.dumps(yaml.safe_load((Path(workflow.basedir) / "CITATION.cff").read_text()), sort_keys=True)

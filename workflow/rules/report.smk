@@ -1,3 +1,34 @@
+# The report's appendix of provenance: every figure, table and file of numbers of the report ->
+# the rule that writes it, its script and the committed records it reads, from the workflow's
+# own rules (workflow_rules, read when the job is planned, after every rules file is parsed);
+# and the report's author line and locator from CITATION.cff.
+PROVENANCE_READS = [t for t in ALL_TARGETS if t.startswith("paper/generated/")]
+
+
+rule provenance:
+    input:
+        script="workflow/scripts/provenance.py",
+        library=library(REPORTING),
+        report="paper/report.tex",
+        sections=sorted(str(p) for p in Path("paper/sections").glob("*.tex")),
+        generated=PROVENANCE_READS,
+    output:
+        table="paper/generated/provenance_table.tex",
+        citation="paper/generated/citation_macros.tex",
+    log:
+        "logs/report/provenance.log",
+    conda:
+        ENV
+    params:
+        rules=workflow_rules,
+        citation=citation_metadata,
+    script:
+        "../scripts/provenance.py"
+
+
+ALL_TARGETS.extend(["paper/generated/provenance_table.tex", "paper/generated/citation_macros.tex"])
+
+
 # The report: paper/report.tex compiled by latexmk into paper/report.pdf. Included last, so
 # that every figure and generated LaTeX file of the other stages is an input; notebooks are
 # not (they never produce a number the report depends on).
@@ -42,8 +73,6 @@ rule readme_summary:
             "results/report/design.json",
             "results/report/claims.json",
         ],
-        stated="figures/impacts_stated.csv",
-        located="figures/impacts_located.csv",
     output:
         "figures/readme_summary.md",
     log:
@@ -55,3 +84,23 @@ rule readme_summary:
 
 
 ALL_TARGETS.append("figures/readme_summary.md")
+
+
+# The repository's benchmark page: the package's software benchmarks against its own targets,
+# from the performance stage's record (the report states speed and accuracy as results).
+rule benchmarks_doc:
+    input:
+        script="workflow/scripts/benchmarks_doc.py",
+        library=library(REPORTING),
+        records=["results/report/performance.json"],
+    output:
+        page="docs/BENCHMARKS.md",
+    log:
+        "logs/benchmarks_doc.log",
+    conda:
+        ENV
+    script:
+        "../scripts/benchmarks_doc.py"
+
+
+ALL_TARGETS.append("docs/BENCHMARKS.md")

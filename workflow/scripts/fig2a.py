@@ -54,10 +54,10 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), title=note or None, alignment="left")
         axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
         axg.set_xlim(0.0, 1.0)
-    axg.set_xlabel("time since the impact, $t/T$")
+    axg.set_xlabel("time since the impact, in units of $T$")
     ax.set_ylabel("relative coordinate")
     axg.set_ylabel("gap")
-    ax.set_title(title, pad=14)
+    ax.set_title(title, pad=14, loc="left", x=-0.1)
     finish_figure(fig, out_pdf, out_png)
 
 

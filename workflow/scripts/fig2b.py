@@ -59,7 +59,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     axg.set_xlabel("time since the cycle's first impact, $(t - t_1)/T$")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axg.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    ax.set_title(title, pad=24)
+    ax.set_title(title, pad=24, loc="left", x=-0.1)
     finish_figure(fig, out_pdf, out_png)
 
 

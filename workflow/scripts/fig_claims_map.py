@@ -45,9 +45,14 @@ def main(map_csv, settings_json, located_json, out_pdf, out_png, refined_csv=Non
         (
             f"steps {2 * dx:.3g} in {m['x']} and {2 * dy:.3g} in the gap"
             if m["y"] == "gap"
-            else f"steps {2 * dx:.3g} x {2 * dy:.3g}"
+            else f"steps {2 * dx:.3g} $\\times$ {2 * dy:.3g}"
         )
-        + (f"\nrefined {levels}x to a floor of {2 * dx / 2**levels:.3g} x {2 * dy / 2**levels:.3g}" if levels else "")
+        + (
+            f"\nrefined by {levels} halving{'s' * (levels > 1)} to a floor of "
+            f"{2 * dx / 2**levels:.3g} $\\times$ {2 * dy / 2**levels:.3g}"
+            if levels
+            else ""
+        )
     )
     handles = [Patch(color=c, label=name) for name, c in CLAIM_CLASSES] + ax.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0))

@@ -44,9 +44,14 @@ from impactdamper.reporting.plotting import figure_size, finish_figure, legend_i
 
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
 ZOOM_MARGIN = 0.25
-# Label offsets (points) of the special points in the zoom window, by (branch, kind), so that
-# labels where branches meet do not overlap; default above the marker.
+# Label offsets (points) of the special points, by (branch, kind) or, where one branch has two
+# points of a kind, (branch, kind, leg), so that labels where branches meet do not overlap and
+# each label sits beside its own marker; default above the marker.
 LABEL_OFFSET = {
+    # The one-impact branch's period doubling (triangle) just below its grazing at first contact
+    # (filled circle): the doubling's label to the left of its marker, the grazing's above its own.
+    ("single", "period_doubling", "up"): (-5, -1),
+    ("single", "grazing_velocity", "up"): (0, 6),
     ("single", "grazing_interior"): (-4, 6),
     ("double", "grazing_velocity"): (0, -11),
     ("triple", "grazing_velocity"): (4, -11),
@@ -110,7 +115,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                     if where in labelled[col]:
                         continue  # branches meeting at one point: one label
                     labelled[col].add(where)
-                    offset = LABEL_OFFSET.get((n, s["kind"]), (0, 6))
+                    offset = LABEL_OFFSET.get((n, s["kind"], s["leg"]), LABEL_OFFSET.get((n, s["kind"]), (0, 6)))
                     label_point(ax_x, KIND_MARK[s["kind"]], (g, cell_float(s["x1_max"])), offset, on)
         radius_axis(ax_r)
         # The cases.

@@ -38,13 +38,15 @@ AXIS_LABEL = {
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 # The lift-off line: bright cyan, visible on the dark persistent-contact region and on chatter.
 LIFTOFF_COLOR = "#33bbee"
+# Height of a map (inches) at the style's width: the two maps and their captions share one page.
+MAP_HEIGHT = 3.9
 
 
 def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
     plt = use_style()
     slow, gaps, labels = read_map(map_csv)
     codes = np.vectorize(lambda s: CLASSES.index(gs.regime_of_label(s)))(labels)
-    fig, ax = plt.subplots(figsize=figure_size(4.7), layout="constrained")
+    fig, ax = plt.subplots(figsize=figure_size(MAP_HEIGHT), layout="constrained")
     ax.pcolormesh(
         gaps,
         slow,

@@ -8,8 +8,9 @@ text: the label z/k (z impacts in k forcing periods; S persistent contact, c/k c
 contact phases, 0/1 no contact, np not settled within the sweep's cap of periods) on every
 band wide enough to hold it at print size (turned upright on narrow bands); a thin line
 parts neighbouring bands of one colour. Lower panels: the two sweeps again, zoomed (windows
-outlined in the top panel) on the bands between chatter and the one-impact motion, and on
-the end of the one-impact motion near first contact.
+outlined in the top panel) on the periodic windows inside the long nonperiodic band (zoom a,
+the full width), on the bands around the located case (b) and on the end of the one-impact
+motion near first contact (c).
 
 Deviations: none (the paper has no such figure).
 """
@@ -25,11 +26,12 @@ from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish
 
 SHORT = {"stuck": "S", "np": "np"}
 # The zooms of the lower panels (Delta0/x_st): the periodic windows inside the long
-# nonperiodic band (3/1, and 2/1 doubling to 4/2; narrow enough that their labels fit), those
-# around the located case up to the one-impact motion, and the end of the one-impact motion
-# near first contact (U1/x_st = 11.33 in the reference case); their widths on the page.
+# nonperiodic band (3/1, and 2/1 doubling to 4/2), those around the located case up to the
+# one-impact motion, and the end of the one-impact motion near first contact (U1/x_st = 11.33
+# in the reference case). Zoom a takes a row of its own, the full width, so that the narrow 3/1
+# band holds its label; zooms b and c share the next row, in these widths.
 ZOOMS = ((-18.0, -13.1), (-10.4, -7.9), (9.9, 11.7))
-ZOOM_WIDTHS = (2.4, 1.35, 1.0)
+ZOOM_WIDTHS = (1.35, 1.0)
 # Height of a row's band, as a share of the row pitch.
 BAND_HEIGHT = 0.8
 
@@ -75,17 +77,17 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     rnd = read_csv(random_csv)
     values = [float(r["value"]) for r in rows]
     n_random = len({r["start_index"] for r in rnd})
-    fig = plt.figure(figsize=figure_size(1.2 + 0.3 * (2 + n_random) + 0.45 * 2 + 0.9), layout="constrained")
-    grid = fig.add_gridspec(2, len(ZOOMS), height_ratios=[2 + n_random, 3], width_ratios=ZOOM_WIDTHS)
+    fig = plt.figure(figsize=figure_size(1.2 + 0.3 * (2 + n_random) + 2 * (0.45 * 2 + 0.5)), layout="constrained")
+    grid = fig.add_gridspec(3, 2, height_ratios=[2 + n_random, 3, 3], width_ratios=ZOOM_WIDTHS)
     top = fig.add_subplot(grid[0, :])
-    zooms = [fig.add_subplot(grid[1, i]) for i in range(len(ZOOMS))]
+    zooms = [fig.add_subplot(grid[1, :]), fig.add_subplot(grid[2, 0]), fig.add_subplot(grid[2, 1])]
     drawn = [(top, _panel(top, rows, rnd, (min(values), max(values)), True))]
     top.set_title("whole sweep", loc="left")
     for i, (ax, window) in enumerate(zip(zooms, ZOOMS)):
         drawn.append((ax, _panel(ax, rows, rnd, window, False)))
         ax.set_title(f"zoom {'abc'[i]}", loc="left")
         ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
-        if i:
+        if i == 2:
             ax.set_yticklabels([])
         # The window, outlined and named in the top panel.
         top.add_patch(

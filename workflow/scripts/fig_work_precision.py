@@ -21,6 +21,12 @@ from impactdamper.studies.performance.methods import METHODS
 
 
 PANELS = (("first_impacts", "first impacts"), ("settled_cycle", "settled cycle"))
+# Each panel's error and its unit: the impact times' in units of T; on the settled cycle the
+# larger of that and the final state's, relative to x_st and x_st omega.
+ERROR_LABELS = {
+    "first_impacts": "error of the impact times ($T$)",
+    "settled_cycle": "error of impact times ($T$) and state (rel.)",
+}
 # One colour, marker and line per method (:data:`impactdamper.studies.performance.methods.METHODS`, whose
 # order is the legend's and whose plot labels name the lines), the same in both panels; a method
 # without an entry here is drawn in DEFAULT_STYLE.
@@ -90,7 +96,7 @@ def main(in_csv, out_stem, targets=(1e-6, 1e-10), siconos_available: bool | None
         ax.set_yscale("log")
         ax.set_xlim(*ERROR_LIMITS)
         ax.set_title(title)
-        ax.set_xlabel("error")
+        ax.set_xlabel(ERROR_LABELS[case])
     axes[0].set_ylabel("CPU time per run (s)")
     labels = {}
     for ax in axes:

@@ -24,6 +24,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from pathlib import Path
 
+from impactdamper.analysis.point import label_of
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.latex import tex_escape
 from impactdamper.reporting.records import run_stage, write_csv, write_json
@@ -65,9 +66,16 @@ CHECK_NAMES = {"terminated": "ends", "gap_nonnegative": "gap", "impact_law": "la
 
 
 def _did_tex(r: dict) -> str:
-    text = r["regime"].replace("_", " ")  # the classification in words, not a code name
-    if r["regime"] not in ("nonperiodic", "timeout"):
-        text += rf", $k = {r['k']}$, $z = {r['z']}$"
+    """The solver's settled motion in the report's notation (Peterka's z/k, S, c/k, np, as the
+    glossary defines them), with the impacts of a chatter cycle, the captures and the grazing
+    touches of the run."""
+    regime, k, z = r["regime"], int(r["k"]), int(r["z"])
+    if regime == "timeout":
+        return "no result in time"
+    label = {"stuck": "S", "nonperiodic": "np"}.get(regime) or label_of(regime, k, z)
+    text = label
+    if regime == "chatter":
+        text += f" ({z} impact{'s' if z != 1 else ''} per cycle)"
     extras = r["did"].split("; ")[1:] if r["did"] else []  # captures, grazing touches
     if extras:
         text += "; " + "; ".join(tex_escape(e) for e in extras)
@@ -79,7 +87,8 @@ def _checks_text(failed: list[str]) -> str:
 
 
 TABLE = Table(
-    colspec=r"p{0.24\linewidth}p{0.24\linewidth}p{0.2\linewidth}rl",
+    colspec=r">{\raggedright\arraybackslash}p{0.24\linewidth}>{\raggedright\arraybackslash}p{0.28\linewidth}"
+    r">{\raggedright\arraybackslash}p{0.2\linewidth}rl",
     header=r"Case & Stresses & Solver's result & CPU & Checks",
     comments=[
         "Hard cases of the exact solver, each a change of the reference case of Timofeev et al. (2019).",

@@ -15,8 +15,9 @@ benchmark (results/benchmarks/*.json), and the compiled solver's benchmark
   and a word, "met" or "not met", computed here from the two);
 * ``paper/generated/workprecision_table.tex``: per method and problem, the CPU time to reach
   each target error, the best error reached and its cost (booktabs);
-* ``paper/generated/compiled_speed_table.tex``: the compiled solver's numbers, each beside its
-  target and the word (booktabs);
+* ``paper/generated/compiled_speed_table.tex``: the compiled solver's speed beside the
+  pure-Python solver's and DOP853's on the same runs (booktabs; its targets and their words stay
+  in the record, for the repository's benchmark page, docs/BENCHMARKS.md);
 * ``results/benchmarks/performance_summary.json``: the same numbers, machine-readable.
 
 All timings are CPU time on the machine that ran the workflow: not deterministic.

@@ -1,127 +1,142 @@
-"""Writes the README's block of results (figures/readme_summary.md) from the workflow's outputs.
+"""Writes the README's block of results (figures/readme_summary.md) from the workflow's outputs:
+a short table of the results of the replication of Timofeev et al. (2019), DOI
+10.18698/0236-3941-2019-1-90-100, and its extension (claim or question, verdict or answer, the
+evidence in numbers, and the report's section that gives the long account).
 
 Every number the README states comes from here: the report stages' records
 (results/report/{verdict,orbits,performance,sweeps,design,claims}.json, the same records their TeX macro
-files are rendered from, :class:`impactdamper.reporting.latex.MacroFile`) and the impact
-tables (figures/impacts_*.csv). Only results that a rerun reproduces exactly are quoted:
-timings change from run to run and stay in the report, so that a user's own run leaves the
-README's copy current. The README carries a verbatim copy of this file between its ``BEGIN
-generated`` and ``END generated`` markers; tests/workflow/test_readme.py checks that the copy
-is current.
+files are rendered from, :class:`impactdamper.reporting.latex.MacroFile`). Only results that a
+rerun reproduces exactly are quoted: timings change from run to run and stay in the report and
+the repository's benchmark page, so that a user's own run leaves the README's copy current. The
+README carries a verbatim copy of this file between its ``BEGIN generated`` and ``END
+generated`` markers; tests/workflow/test_readme.py checks that the copy is current and that the
+table says what the committed records say.
 """
 
 import sys
 from pathlib import Path
 
-from impactdamper.core.parameters import PARAMETER_TABLE, RELATIVE_PARAMETERS
-from impactdamper.reporting.readme import beyond, impact_table, read_records
+from impactdamper.reporting.readme import read_records, results_table
+
+# The report's sections that give the long account, by their titles (tests/workflow/test_readme.py
+# holds them to the report's \section titles).
+REPRODUCTION = "Reproduction of the paper's Fig. 2"
+ORBITS = "Periodic orbits and their stability"
+SWEEPS = "Gap sweeps and regime maps"
+DESIGN = "Choosing a suppressor"
+PERFORMANCE = "Speed against error, and hard cases"
+# The relative parameters as the README writes them.
+SYMBOLS = {"theta": "θ", "mu": "μ", "N": "N", "delta1": "δ1", "delta2": "δ2", "R": "R", "gap": "Δ0/x_st"}
 
 
-def searched_alone(m: dict[str, str]) -> list:
-    """The parameters the claims were searched along one at a time: those the verdict's record
-    has a nearest value for (``\\Claims<macro>NearestBoth``), in the parameter table's order."""
-    return [s for s in PARAMETER_TABLE if f"Claims{s.macro}NearestBoth" in m]
+def rows(m: dict[str, str]) -> list[tuple[str, str, str, str]]:
+    """The table's rows: (claim or question, verdict or answer, evidence, the report's section)."""
+    stated = f"at the stated case (Δ0/x_st = {m['StatedGap']})"
+    ivp = (
+        f"the independent solve_ivp integration settles to the same cycle: impact times differ by "
+        f"{m['StatedIvpTimeDiff']} T, closing velocities by {m['StatedIvpVelocityDiff']} x_st ω "
+        f"(tolerance {m['CrosscheckTimeTol']} each)"
+    )
+    nearest = SYMBOLS.get(m["ClaimsNearestParameterName"], m["ClaimsNearestParameterName"])
+    end_note = "; the nearer end depends on the solver" if m["ClaimsNearestEndNote"] else ""
+    checks = [m[f"Sweep{c}Outcome"] for c in ("LiftOff", "FirstContact", "AlgOneGrazing")]
+    within = sum(c == "within the tolerance" for c in checks)
+    design = m["DesignRecommendationPlain"].split(":")[0]
+    return [
+        (
+            f"The paper's Fig. 2a {stated}: Algorithm No. 1's gap is negative on (t1, t2)",
+            f"**{m['ClaimAVerdict']}**",
+            f"the one-impact orbit is admissible (impact phase {m['StatedAlgOneImpactPhase']}) and its gap stays "
+            f"positive; solve_ivp's re-integration agrees (periodicity residual {m['StatedIvpAlgOneResidual']})",
+            REPRODUCTION,
+        ),
+        (
+            f"The paper's Fig. 2b {stated}: T_c = 2T",
+            f"**{m['ClaimBPeriodVerdict']}**",
+            f"Algorithm No. 2 settles to T_c = {m['StatedAlgTwoPeriod']}; {ivp}",
+            REPRODUCTION,
+        ),
+        (
+            f"The paper's Fig. 2b {stated}: three impacts per cycle",
+            f"**{m['ClaimBImpactsVerdict']}**",
+            f"{m['StatedAlgTwoImpacts']} impact per cycle",
+            REPRODUCTION,
+        ),
+        (
+            "Where both claims hold, the other parameters as stated",
+            f"Δ0/x_st in [{m['BothRangeLo']}, {m['BothRangeHi']}]",
+            f"the {m['OrbitLabelDouble']} cycle (three impacts in two periods) is stable on "
+            f"({m['OrbitStableDoubleLow']}, {m['OrbitStableDoubleHigh']}); at the located case Δ0/x_st = "
+            f"{m['LocatedGap']} Algorithm No. 2 settles to T_c = {m['LocatedAlgTwoPeriod']} with "
+            f"{m['LocatedAlgTwoImpacts']} impacts, and solve_ivp's cycle differs by {m['LocatedIvpTimeDiff']} T",
+            f"{REPRODUCTION}; {ORBITS}",
+        ),
+        (
+            f"The nearest change of one parameter alone, at Δ0/x_st = {m['StatedGap']}",
+            f"{nearest} in [{m['ClaimsNearestLo']}, {m['ClaimsNearestHi']}], {m['ClaimsNearestRelDistance']} to "
+            f"{m['ClaimsNearestFarRelDistance']} % from {m['ClaimsNearestStated']}",
+            f"each of the six other parameters searched alone, grids refined where the motion changes{end_note}",
+            REPRODUCTION,
+        ),
+        (
+            "The nearest set of all seven parameters",
+            f"no parameter changed by more than {m['NearestMaxDistMaxPct']} %",
+            f"θ and N raised together (θ = {m['NearestMaxTheta']}, N = {m['NearestMaxN']}), with a "
+            f"{m['NearestMarginPct']} % margin; {m['NearestRays']} rays and a local refinement (a near set, not a "
+            "proven nearest one); the pure-Python solver and solve_ivp confirm both claims",
+            REPRODUCTION,
+        ),
+        (
+            "Another reading of the paper's definitions",
+            f"{m['ReadingsReproducing']} of {m['ReadingsCount']} reproduces both claims",
+            f"R read as the loss 1 − R (R = {m['RAsLossR']}), against the paper's own impact coefficient",
+            REPRODUCTION,
+        ),
+        (
+            "Three transitions of the gap sweep against their closed forms",
+            f"{within} of 3 within {m['SweepCheckTolerance']}",
+            f"lift-off of the persistent contact: difference {m['SweepLiftOffDifference']}, {m['SweepLiftOffOutcome']}: "
+            "the model's contact resolution, worked out in the report",
+            SWEEPS,
+        ),
+        (
+            f"Impact suppressor or tuned-mass damper, over θ = {m['DesignBandStart']} to {m['DesignBandStop']}",
+            design,
+            f"located peaks: the TMD {m['DesignTmdOptLocPeak']}, the impact suppressor with its stop in reach "
+            f"{m['DesignHitLocPeak']} (bare object {m['DesignBareDevLocPeak']}); strokes: the TMD "
+            f"{m['DesignTmdOptStroke']}, the impact suppressor {m['DesignHitStroke']}",
+            DESIGN,
+        ),
+        (
+            f"Accuracy of the exact solver, against a {m['PerfDigits']}-digit recomputation",
+            f"impact-time error {m['PerfFirstExactError']} T",
+            f"on the first {m['PerfNImpacts']} impacts ({m['PerfSettledExactError']} on the settled cycle); "
+            f"solve_ivp's best {m['PerfFirstBestIvpError']}; {m['PerfHardCasesPassed']} of "
+            f"{m['PerfHardCasesTotal']} hard cases pass all checks",
+            PERFORMANCE,
+        ),
+    ]
 
 
-def summary(m: dict[str, str], stated_csv: str, located_csv: str) -> str:
+def summary(m: dict[str, str]) -> str:
     lines = [
         "<!-- Generated by workflow/scripts/readme_summary.py (rule readme_summary); do not edit by hand. -->",
         "",
-        f"**Stated case** (Delta0/x_st = {m['StatedGap']}, the other parameters as in the paper): "
-        f"Algorithm No. 1's orbit is admissible (impact phase {m['StatedAlgOneImpactPhase']}, no negative gap) and "
-        f"Algorithm No. 2 settles to T_c = {m['StatedAlgTwoPeriodMultiple']} T with {m['StatedAlgTwoImpacts']} impact "
-        f"per cycle. The paper's Fig. 2a claim (negative gap on (t1, t2)): **{m['ClaimAVerdict']}**; its Fig. 2b "
-        f"claims: T_c = 2T **{m['ClaimBPeriodVerdict']}**, three impacts per cycle **{m['ClaimBImpactsVerdict']}**. "
-        f"The independent solve_ivp integrator settles to the same cycle: aligned by forcing phase, impact times "
-        f"differ by {m['StatedIvpTimeDiff']} T and closing velocities by {m['StatedIvpVelocityDiff']} x_st omega "
-        f"(tolerance {m['CrosscheckTimeTol']} each; at the located case {m['LocatedIvpTimeDiff']} T and "
-        f"{m['LocatedIvpVelocityDiff']} x_st omega).",
+        *results_table(rows(m)),
         "",
-        f"**Where the paper's behaviour occurs** (other parameters as stated): both claims hold for Delta0/x_st in "
-        f"[{m['BothRangeLo']}, {m['BothRangeHi']}] (Algorithm No. 2 from the paper's step 1); the directly solved "
-        f"{m['OrbitLabelDouble']} cycle (three impacts in two periods) is stable on ({m['OrbitStableDoubleLow']}, "
-        f"{m['OrbitStableDoubleHigh']}), between a Neimark-Sacker point and a period doubling. The located case "
-        f"Delta0/x_st = {m['LocatedGap']} reproduces both panels: Algorithm No. 1's gap is negative on "
-        f"({m['LocatedAlgOneTOne']}, {m['LocatedAlgOneTTwo']}) T after the impact, and Algorithm No. 2 settles to "
-        f"T_c = {m['LocatedAlgTwoPeriodMultiple']} T with {m['LocatedAlgTwoImpacts']} impacts:",
-        "",
-        *impact_table(located_csv),
-        "",
-        "At the stated case the cycle is one impact per period (`figures/impacts_stated.csv`):",
-        "",
-        *impact_table(stated_csv),
-        "",
-        f"**Beyond the gap** (`figures/claims_by_parameter.csv`, `figures/claims_nearest.json`): at Delta0/x_st = "
-        f"{m['StatedGap']}, each other parameter changed alone (the rest as stated; Algorithm No. 2's grid refined "
-        f"where the settled motion changes, down to step/2^{m['ClaimsRefineLevels']}; ends to {m['ClaimsRelTol']} "
-        f"relative, {m['ClaimsSolverDependentCount']} of them solver-dependent), both claims hold on "
-        f"{m['ClaimsBothIntervals']} intervals within the searched ranges, nearest the stated value for "
-        + "; ".join(beyond(m, s.macro, s.plain) for s in searched_alone(m))
-        + ". Of these single changes "
-        f"the smallest is in {m['ClaimsNearestParameterName']}. Searched in all seven relative parameters at once "
-        f"(equally weighted relative changes; {m['NearestRays']} rays from the stated point and a local refinement: a "
-        f"near set, not a proven nearest one), the nearest set found where both claims hold with a "
-        f"{m['NearestMarginPct']} % margin changes no parameter by more than {m['NearestMaxDistMaxPct']} % ("
-        + ", ".join(
-            f"{s.plain} = {m['NearestMax' + s.macro]}" for s in PARAMETER_TABLE if s.name in RELATIVE_PARAMETERS
-        )
-        + "); in the "
-        f"Euclidean norm ({m['NearestEuclidDistEuclidPct']} %) it is theta = {m['NearestEuclidTheta']}, N = "
-        f"{m['NearestEuclidN']}, mu = {m['NearestEuclidMu']}, the rest as stated; the pure-Python solver and solve_ivp "
-        f"confirm both. Round values one digit away that reproduce both claims: {m['RoundList']}; the nearest break "
-        f"the paper's tuning 2 sqrt(c2/m2) = sqrt(c1/m1) = omega (theta = 1, N = 0.5), and those that keep it "
-        f"({m['RoundTuningList']}) change R or the gap by more than half.",
-        "",
-        f"**Other readings** at Delta0/x_st = {m['StatedGap']}: of {m['ReadingsCount']} tested, "
-        f"{m['ReadingsReproducing']} reproduces both claims (R read as 1 - R, R = {m['RAsLossR']}, which contradicts "
-        f"the paper's own D = m1 m2 (R + 1)/(m1 + m2)); the paper's eq. (13) with its printed sign gives Fig. 2a's negative gap "
-        f"on ({m['EqThirteenTOne']}, {m['EqThirteenTTwo']}) T but breaks the impact law.",
-        "",
-        f"**Gap sweep** ({m['SweepPoints']} values of Delta0/x_st from {m['SweepGapMin']} to {m['SweepGapMax']}, "
-        f"upward and downward; Peterka's z/k labels, S persistent contact, c/k chatter, np nonperiodic within the "
-        f"cap): upward {m['SweepSequenceUp']}; downward {m['SweepSequenceDown']}. Three transitions located by "
-        f"simulation alone are checked against closed forms, each held to {m['SweepCheckTolerance']}: the lift-off "
-        f"of the persistent contact at {m['SweepLiftOffLocated']} (analytic {m['SweepLiftOffAnalytic']}, difference "
-        f"{m['SweepLiftOffDifference']}: {m['SweepLiftOffOutcome']}"
-        + (
-            "; the report explains the miss by the model's contact resolution"
-            if m["SweepLiftOffOutcome"] == "missed"
-            else ""
-        )
-        + f"), first contact at {m['SweepFirstContactLocated']} (U1/x_st = "
-        f"{m['SweepFirstContactAnalytic']}: {m['SweepFirstContactOutcome']}), Algorithm No. 1's orbit touching the "
-        f"stop between impacts at {m['SweepAlgOneGrazingLocated']} (analytic {m['SweepAlgOneGrazingAnalytic']}: "
-        f"{m['SweepAlgOneGrazingOutcome']}).",
-        "",
-        f"**Choosing a suppressor** (report, Table 'Design table'; `figures/design_optimum.csv`): over the band "
-        f"theta = {m['DesignBandStart']} to {m['DesignBandStop']}, both devices optimised by the same optimiser on "
-        f"the located peak of max|x1|/x_st. The linear TMD of the same mass (N = {m['DesignTmdOptN']}, "
-        f"delta2 = {m['DesignTmdOptDeltaTwo']}) peaks at {m['DesignTmdOptLocPeak']} (bare object "
-        f"{m['DesignBareDevLocPeak']}); the impact suppressor optimised in all its parameters peaks at "
-        f"{m['DesignOptLocPeak']} ({m['DesignOptStopText']}), and with its stop within reach (Delta0/x_st = "
-        f"{m['DesignHitGap']}, N = {m['DesignHitN']}, delta2 = {m['DesignHitDeltaTwo']}, R = {m['DesignHitR']}) at "
-        f"{m['DesignHitLocPeak']}, with a stroke max|x2 - x1|/x_st of {m['DesignHitStroke']} (TMD "
-        f"{m['DesignTmdOptStroke']}). With the object's natural frequency off by up to +-{m['DesignDetuneLargePct']} % "
-        f"the worst cases are {m['DesignHitWorstLarge']} and {m['DesignTmdOptWorstLarge']} (robust designs: "
-        f"{m['DesignRobImpWorstLarge']} and {m['DesignRobTmdWorstLarge']}). {m['DesignRecommendationPlain']} "
-        f"Your own object: `python -m impactdamper design --theta-start A --theta-stop B --mu M --delta1 D --json`.",
-        "",
-        f"**Accuracy** (against a {m['PerfDigits']}-digit recomputation): the exact solver's impact times are "
-        f"within {m['PerfFirstExactError']} T on the first {m['PerfNImpacts']} impacts and {m['PerfSettledExactError']} "
-        f"on the settled cycle (solve_ivp's best: {m['PerfFirstBestIvpError']} and {m['PerfSettledBestIvpError']}); "
-        f"{m['PerfHardCasesPassed']} of {m['PerfHardCasesTotal']} hard cases pass all checks. Timings change from "
-        f"run to run, so they are in the report (`paper/report.pdf`, speed against error), not here.",
+        "Δ0/x_st is the initial gap over the static deflection; x_st ω the unit of velocities. The report "
+        "(`paper/report.pdf`) gives the long account of each row in the section named, and its timings.",
     ]
     return "\n".join(lines) + "\n"
 
 
-def main(records: list[str], stated_csv: str, located_csv: str, output: str) -> None:
-    Path(output).write_text(summary(read_records(records), stated_csv, located_csv))
+def main(records: list[str], output: str) -> None:
+    Path(output).write_text(summary(read_records(records)))
 
 
 if __name__ == "__main__":
     if "snakemake" in globals():
         sm = globals()["snakemake"]
-        main(list(sm.input.records), sm.input.stated, sm.input.located, sm.output[0])
-    else:  # python readme_summary.py OUT STATED_CSV LOCATED_CSV RECORD...
-        main(sys.argv[4:], sys.argv[2], sys.argv[3], sys.argv[1])
+        main(list(sm.input.records), sm.output[0])
+    else:  # python readme_summary.py OUT RECORD...
+        main(sys.argv[2:], sys.argv[1])

@@ -72,7 +72,8 @@ def main(
     write_json(out_json, result, sort_keys=False)
     write_csv(out_csv, CSV_COLUMNS, rows)
     record = macros(ref_s, ref_l, cc_s, cc_l, scan, rd, rows).record(RECORD_WHAT)
-    record["entries"] += claims_macros(result["beyond_the_gap"]).entries
+    dependent = {name: d.get("solver_dependent_ends", []) for name, d in search["parameters"].items()}
+    record["entries"] += claims_macros(result["beyond_the_gap"], dependent).entries
     write_json(out_record, record, sort_keys=False)
     Path(out_tex).parent.mkdir(parents=True, exist_ok=True)
     Path(out_tex).write_text(render_macros(read_json(out_record)))

@@ -9,7 +9,7 @@ each script (``workflow/scripts/fig*.py``) says which of the paper's figures it 
 
 from __future__ import annotations
 
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, use_style
 
 __all__ = [
     "motion_figure",
@@ -24,11 +24,20 @@ __all__ = [
 ]
 
 
+# The paper's Fig. 2 panels: height (inches) at the style's width, and the share of that width
+# the axes take, the rest holding the legends, so that the figure prints at its own size (its
+# fonts at the style's sizes) within the report's text width.
+MOTION_HEIGHT = 2.7
+MOTION_AXES_RIGHT = 0.74
+
+
 def motion_figure():
     """The paper's Fig. 2 layout: the two bodies' coordinates (top) over the gap (bottom), one
-    time axis. Returns the figure and the two axes."""
+    time axis, the legends to the right within the figure's width. Returns the figure and the
+    two axes."""
     plt = use_style()
-    fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1))
+    fig, (ax, axg) = plt.subplots(2, 1, sharex=True, height_ratios=(3, 1), figsize=figure_size(MOTION_HEIGHT))
+    fig.subplots_adjust(left=0.1, right=MOTION_AXES_RIGHT, bottom=0.15, top=0.86, hspace=0.12)
     return fig, ax, axg
 
 

@@ -63,16 +63,24 @@ def sci(x, digits: int = 1) -> str:
     return f"{m:.{digits}f} \\times 10^{{{e}}}"
 
 
-def tex_sci(x, digits: int = 2, *, missing: str = r"\text{---}", powers_of_ten: bool = False) -> str:
+def tex_sci(
+    x, digits: int = 2, *, missing: str = r"\text{---}", powers_of_ten: bool = False, round_up: bool = False
+) -> str:
     """x with ``digits`` significant digits, e.g. ``3.1\\times10^{-14}`` (math mode);
     ``missing`` when None or not finite (not reached, in the performance tables); with
-    ``powers_of_ten`` an exact power of ten as ``10^{-9}`` (a tolerance, in the sweep's macros)."""
+    ``powers_of_ten`` an exact power of ten as ``10^{-9}`` (a tolerance, in the sweep's macros);
+    with ``round_up`` the magnitude rounded up, never down (a bound the data must not exceed:
+    1.25e-10 as 1.3e-10, never 1.2e-10)."""
     if x is None or not math.isfinite(x):
         return missing
     if x == 0:
         return "0"
     e = math.floor(math.log10(abs(x)))
     m = abs(x) / 10**e
+    if round_up:
+        scale = 10 ** (digits - 1)
+        # The smallest m' >= m with digits - 1 decimals (a relative 1e-12 absorbs the division's rounding).
+        m = math.ceil(m * scale * (1 - 1e-12)) / scale
     if round(m, digits - 1) >= 10:
         m, e = m / 10, e + 1
     sign = "-" if x < 0 else ""

@@ -1,17 +1,20 @@
 """The README's block of results: the pieces that figures/readme_summary.md is written from
-(``workflow/scripts/readme_summary.py`` writes the text).
+(``workflow/scripts/readme_summary.py`` writes the rows).
 
 Every number comes from the report stages' records (:class:`impactdamper.reporting.latex.MacroFile`)
-and the impact tables (figures/impacts_*.csv) of the replication of Timofeev et al. (2019), DOI
-10.18698/0236-3941-2019-1-90-100.
+of the replication of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100, and its
+extension.
 """
 
 from __future__ import annotations
 
-import csv
+from collections.abc import Sequence
 
 from impactdamper.reporting.latex import macro_texts
 from impactdamper.reporting.records import read_json
+
+# The results table's columns.
+RESULTS_HEADER = ("claim or question", "verdict or answer", "evidence", "in the report")
 
 
 def read_records(paths: list[str]) -> dict[str, str]:
@@ -19,33 +22,30 @@ def read_records(paths: list[str]) -> dict[str, str]:
     return macro_texts(*(read_json(path) for path in paths))
 
 
-def impact_table(path: str) -> list[str]:
-    """A Markdown table of one cycle's impacts (figures/impacts_*.csv): time after the first
-    impact, forcing phase, closing velocity and impulse, each relative."""
-    with open(path, newline="") as f:  # closed: the tests turn a ResourceWarning into an error
-        rows = list(csv.DictReader(f))
-    lines = [
-        "| impact | (t - t1)/T | forcing phase t/T mod 1 | closing velocity v/(x_st omega) | impulse S/(m1 x_st omega) |",
-        "|---|---:|---:|---:|---:|",
-    ]
-    for r in rows:
-        name = r["impact"] + (" (next cycle)" if r["next_cycle"] == "true" else "")
-        lines.append(
-            f"| {name} | {float(r['t_over_T']):.4f} | {float(r['phase']):.4f} | "
-            f"{float(r['velocity_rel']):.3f} | {float(r['impulse_rel']):.4f} |"
-        )
+def _cell(text: str) -> str:
+    """A Markdown table cell: its pipes escaped, on one line."""
+    return " ".join(str(text).split()).replace("|", "\\|")
+
+
+def results_table(rows: Sequence[Sequence[str]]) -> list[str]:
+    """A Markdown table of results, one line per row (claim or question, verdict or answer,
+    evidence, the report's section), with its header."""
+    lines = ["| " + " | ".join(RESULTS_HEADER) + " |", "|" + "---|" * len(RESULTS_HEADER)]
+    for row in rows:
+        if len(row) != len(RESULTS_HEADER):
+            raise ValueError(f"`rows` has a row of {len(row)} cells: a results row has {len(RESULTS_HEADER)}")
+        lines.append("| " + " | ".join(_cell(c) for c in row) + " |")
     return lines
 
 
-def beyond(m: dict[str, str], key: str, name: str) -> str:
-    """Where both claims hold nearest the stated value of one parameter searched alone
-    (figures/claims_by_parameter.csv), in words: ``key`` is the parameter's part of the macro
-    names (``DeltaOne``), ``name`` its plain name."""
-    tag = "Claims" + key
-    if m[tag + "NearestBoth"] == "–":
-        return f"{name}: nowhere in the searched range (stated {m[tag + 'Stated']})"
-    edge = ", reaching the end of the searched range" if m[tag + "BothOpen"] == "yes" else ""
-    return (
-        f"{name} in [{m[tag + 'BothLo']}, {m[tag + 'BothHi']}] (width {m[tag + 'BothWidth']}{edge}; stated "
-        f"{m[tag + 'Stated']}, {m[tag + 'RelDistance']} % away)"
-    )
+def parse_results_table(text: str) -> list[dict[str, str]]:
+    """The rows of the first results table in ``text`` (Markdown), each a dict by column name:
+    the inverse of :func:`results_table`, for the README's test."""
+    lines = [ln for ln in text.splitlines() if ln.startswith("|")]
+    if not lines or [c.strip() for c in lines[0].strip("|").split(" | ")] != list(RESULTS_HEADER):
+        raise ValueError("`text` holds no results table")
+    out = []
+    for ln in lines[2:]:
+        cells = [c.strip().replace("\\|", "|") for c in ln.strip().strip("|").split(" | ")]
+        out.append(dict(zip(RESULTS_HEADER, cells)))
+    return out

@@ -12,7 +12,7 @@ that does not exist (``None``, not finite, or a macro's ``when`` false) shows th
 ``missing`` text, never a number.
 
 Formats are callables ``value -> TeX``: :func:`fixed`, :func:`sci`, :func:`tex_sci`,
-:func:`percent`, :func:`general` (a Python format string), :func:`time`, and the words
+:func:`percent`, :func:`bound` (rounded up), :func:`general` (a Python format string), :func:`time`, and the words
 :data:`YES_NO`, :data:`COUNT`, :data:`TEXT`, :data:`WORDS`.
 """
 
@@ -32,6 +32,7 @@ __all__ = [
     "percent",
     "sci",
     "tex_sci",
+    "bound",
     "general",
     "time",
     "YES_NO",
@@ -114,6 +115,13 @@ def tex_sci(
     if math_mode:
         return Format(lambda x: rf"\ensuremath{{{render(x)}}}", rf"\ensuremath{{{missing}}}")
     return Format(render, missing)
+
+
+def bound(digits: int = 2, missing: str = r"\text{---}") -> Format:
+    """An upper bound: ``digits`` significant digits as ``1.3\\times10^{-10}``, the magnitude
+    rounded up, so that "at most" the value holds for every number it bounds
+    (:func:`impactdamper.reporting.latex.tex_sci` with ``round_up``)."""
+    return Format(lambda x: latex.tex_sci(x, digits, round_up=True), missing)
 
 
 def general(spec: str, missing: str = latex.MISSING) -> Format:

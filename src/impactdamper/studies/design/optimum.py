@@ -921,11 +921,19 @@ def impacting(devices: Sequence[dict], criterion: str = "peak") -> dict:
     return min(hitting or rows, key=lambda d: d[criterion])
 
 
-def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x_st") -> str:
+def recommendation(
+    record: dict,
+    pm: str = "+-",
+    pct: str = " %",
+    xst: str = " x_st",
+    clearance: str = "Delta0 = {gap:.2f} P0/c1",
+    force: str = "P0",
+) -> str:
     """One plain recommendation from a :func:`design_study` record: which device to build, on
     the nominal optima's located peaks, the robust optima's worst cases at the largest detuning,
     the band-average optima and the strokes; differences within TIE count as equal (``pm``,
-    ``pct``, ``xst``: how to write plus-minus, per cent and the unit x_st)."""
+    ``pct``, ``xst``, ``clearance``, ``force``: how to write plus-minus, per cent, the unit x_st,
+    the clearance with its ``{gap}`` and the force amplitude)."""
     imp, tmd = impacting(record["devices"]), device(record, "TMD, optimal peak")
     impa, tmda = impacting(record["devices"], "band_average"), device(record, "TMD, optimal band average")
     dmax = max(record["detunings"])
@@ -955,5 +963,5 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
         avg = (avg[0], avg[1] + f"; no criterion favours the impact suppressor by more than {100 * TIE:g}{pct}")
     return (
         f"{first}: {peak[1]}; {worst[1]}; {avg[1]}. {stroke}, and the impact suppressor's gap, a clearance "
-        f"Delta0 = {imp['parameters']['gap']:.2f} P0/c1, is optimal only at the design force amplitude P0."
+        f"{clearance.format(gap=imp['parameters']['gap'])}, is optimal only at the design force amplitude {force}."
     )

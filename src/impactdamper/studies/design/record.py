@@ -16,7 +16,7 @@ import numpy as np
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.records import read_csv
 from impactdamper.reporting.texrecord import TEXT, Column, Format, Macro, Table, fixed, macro_lines, percent, pick
-from impactdamper.reporting.texrecord import tex_sci
+from impactdamper.reporting.texrecord import bound, tex_sci
 from impactdamper.studies.design.design import bare_object_amplitude, runs_where, two_mass_amplitude
 from impactdamper.studies.design.optimum import IMPACT_BOUNDS, device, impacting, recommendation
 from impactdamper.studies.vocabulary import SPEC
@@ -25,10 +25,9 @@ from impactdamper.studies.vocabulary import SPEC
 RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design stage)"
 
 # The impact suppressor's designed parameters (the optimiser's, in its order), their decimals,
-# and their symbols as the design section writes them (x_{st} without \mathrm, as in its other
-# macros).
+# and their symbols (the report's: x_{\mathrm{st}}, as in the text).
 DIGITS = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
-SYMBOLS = {k: SPEC[k].symbol.replace("\\mathrm{st}", "st") for k in IMPACT_BOUNDS}
+SYMBOLS = {k: SPEC[k].symbol for k in IMPACT_BOUNDS}
 
 
 def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
@@ -103,8 +102,9 @@ CHART = (
     Macro("DesignPaperImpacts", "paper.impacts_per_period", fixed(0)),
     Macro("DesignBestHysteresis", "best.hysteresis_points", TEXT),
     Macro("DesignResponsePoints", "resp.points", TEXT),
-    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), tex_sci(1)),
-    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), tex_sci(1)),
+    # Bounds the text states ("to within", "at most"): rounded up, never below the data.
+    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), bound(2)),
+    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), bound(2)),
     Macro("DesignDHPeak", "dh.closed_form.peak", fixed(4)),
     Macro("DesignDHPeakAtDH", "dh.peak_at_closed_form", fixed(4)),
     Macro("DesignDHOptPeak", "dh.optimiser.peak", fixed(4)),
@@ -148,17 +148,25 @@ DEVICE = (
 
 
 def _sensitivity_text(sens: dict) -> str:
-    """``$N$: -0.012/+0.020, ...``: each parameter's move for a 5 % worse peak (">" where even
-    the box's bound is not that much worse)."""
+    """``$N$ down by $0.012$, up by $0.020$; ...``: each parameter's move down and up for a 5 %
+    worse peak ("to its bound" where even the box's bound is not that much worse)."""
     parts = []
     for n in [k for k in SYMBOLS if k in sens]:
-        sides = sens[n]
-        text = "/".join(
-            ("$>$bound" if v is None else f"{sign}{fixed(3)(v)}")
-            for sign, v in (("$-$", sides["down"]), ("$+$", sides["up"]))
-        )
-        parts.append(f"${SYMBOLS[n]}$ {text}")
-    return ", ".join(parts)
+        moves = [
+            f"{side} " + ("to its bound" if v is None else f"by ${fixed(3)(abs(v))}$")
+            for side, v in (("down", sens[n]["down"]), ("up", sens[n]["up"]))
+        ]
+        parts.append(f"${SYMBOLS[n]}$ " + ", ".join(moves))
+    return "; ".join(parts)
+
+
+def _at_bound_text(names: list[str]) -> str:
+    """Which of the impact optimum's parameters lie at a bound of the optimiser's box, as a clause."""
+    symbols = [f"${SYMBOLS[k]}$" for k in names if k in SYMBOLS]
+    if not symbols:
+        return "no parameter of the impact optimum lies at a bound of its box"
+    listed = symbols[0] if len(symbols) == 1 else ", ".join(symbols[:-1]) + " and " + symbols[-1]
+    return f"the impact optimum's {listed} {'lies' if len(symbols) == 1 else 'lie'} at a bound of its box"
 
 
 def _stop_text(imp: dict) -> str:
@@ -210,14 +218,24 @@ HIT = (
     Macro("DesignOptMeanForce", "d.Opt.mean_force", fixed(3)),
     Macro("DesignOptGridPeak", "d.Opt.grid_peak", fixed(3)),
     Macro("DesignChartGridPeak", "d.Chart.grid_peak", fixed(3)),
-    Macro("DesignOptAtBound", lambda s: ", ".join(s["d"]["Opt"]["at_bound"]) or "none"),
+    Macro("DesignOptAtBound", lambda s: _at_bound_text(s["d"]["Opt"]["at_bound"])),
     Macro("DesignStarts", "optimum.budget.starts", TEXT),
     Macro("DesignKeep", "optimum.budget.keep", TEXT),
     Macro("DesignLocalEvaluations", "optimum.budget.local_evaluations", TEXT),
     Macro("DesignSensImpact", "optimum.sensitivity.impact", Format(_sensitivity_text)),
     Macro("DesignSensTmd", "optimum.sensitivity.tmd", Format(_sensitivity_text)),
     Macro("DesignSensWorsePct", "optimum.sensitivity_worse", percent(0)),
-    Macro("DesignRecommendation", lambda s: recommendation(s["optimum"], pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{st}$")),
+    Macro(
+        "DesignRecommendation",
+        lambda s: recommendation(
+            s["optimum"],
+            pm="$\\pm$",
+            pct="\\,\\%",
+            xst="\\,$x_{\\mathrm{st}}$",
+            clearance="$\\Delta_0={gap:.2f}\\,P_0/c_1$",
+            force="$P_0$",
+        ),
+    ),
     # For the README (never expanded in TeX, where its x_st would fail; no "%", which would end the
     # TeX line of its definition).
     Macro("DesignRecommendationPlain", lambda s: recommendation(s["optimum"], pct=" per cent")),
@@ -343,7 +361,10 @@ def design_table(optimum: dict) -> str:
     detunings = optimum["detunings"]
     worst = [Column(lambda d, k=f"{x:g}": d["worst_case"][k], fixed(2)) for x in detunings]
     table = Table(
-        colspec="ll" + "r" * (4 + len(detunings)),
+        # Text columns that wrap, so that the table fits the text width at the caption's size.
+        colspec=r">{\raggedright\arraybackslash}p{0.17\linewidth}>{\raggedright\arraybackslash}p{0.2\linewidth}"
+        + "r" * (3 + len(detunings))
+        + r">{\raggedright\arraybackslash}p{0.1\linewidth}",
         header="device & parameters & peak & band avg. & "
         + " & ".join(f"worst $\\pm{100 * x:g}\\,\\%$" for x in detunings)
         + " & stroke & pulse, impacts, force",
@@ -354,24 +375,28 @@ def design_table(optimum: dict) -> str:
             Column("peak", fixed(3)),
             Column("band_average", fixed(3)),
             *worst,
-            Column("stroke", fixed(1)),
+            # The bare object has no suppressor, hence no stroke.
+            Column(lambda d: None if not d["parameters"] else d["stroke"], fixed(1, missing="---")),
             Column(lambda d: d, Format(_loads_text)),
         ],
     )
     return table.render(optimum["devices"])
 
 
+# A table's number in math mode (a true minus sign).
+MATH2 = Format(lambda x: f"${fixed(2)(x)}$")
 SECOND_TABLE = Table(
     colspec="rrrrrr",
-    header="{} & best $\\Delta_0/x_{{st}}$ & peak $\\max|x_1|/x_{{st}}$ & good gaps & peak pulse & impacts/$T$",
+    header="{} & best $\\Delta_0/x_{{\\mathrm{{st}}}}$ & peak $\\max|x_1|/x_{{\\mathrm{{st}}}}$ & good gaps & peak pulse & "
+    "impacts/$T$",
     comments=["Written by workflow/scripts/design_report.py; do not edit."],
     columns=[
-        Column("second", fixed(2)),
-        Column("gap", fixed(2)),
-        Column("value", fixed(2)),
-        Column(lambda b: f"{fixed(2)(b['good_from'])} to {fixed(2)(b['good_to'])}"),
-        Column("peak_impulse", fixed(2)),
-        Column("impacts_per_period", fixed(0)),
+        Column("second", MATH2),
+        Column("gap", MATH2),
+        Column("value", MATH2),
+        Column(lambda b: f"{MATH2(b['good_from'])} to {MATH2(b['good_to'])}"),
+        Column("peak_impulse", MATH2),
+        Column("impacts_per_period", Format(lambda x: f"${fixed(0)(x)}$")),
     ],
 )
 

@@ -215,7 +215,7 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
         HardCase(
             "repeated_roots",
             rf"$N = 0.9$, $\delta_2 = {repeated_delta2:.6f}$",
-            "a double root of eq. (4): the modal form breaks, the matrix exponential takes over",
+            "a double root of the paper's eq. (4): the modal form breaks, the matrix exponential takes over",
             {"N": 0.9, "delta2": repeated_delta2},
         ),
         HardCase(

@@ -57,6 +57,8 @@ SEARCH = (
     Macro("ClaimsNearestLo", "near.interval.0", fixed(4)),
     Macro("ClaimsNearestHi", "near.interval.1", fixed(4)),
     Macro("ClaimsNearestStated", "near.stated", fixed(2)),
+    Macro("ClaimsNearestFarRelDistance", lambda b: _far_relative_distance(b["near"]), percent(1)),
+    Macro("ClaimsNearestEndNote", lambda b: _nearer_end_note(b["nearest_parameter"], b["near"], b["dependent"])),
     Macro("ClaimsNoneFound", lambda b: len(b["none_found"]), COUNT),
     Macro("ClaimsMapCells", "map_cells", COUNT),
     Macro("ClaimsMapBothCells", "map_both_cells", COUNT),
@@ -68,13 +70,31 @@ SEARCH = (
 )
 
 
-def claims_macros(b: dict) -> MacroFile:
-    """Macros of the search beyond the gap (claims_by_parameter)."""
+def _far_relative_distance(near: dict | None) -> float | None:
+    """How far, relative to the stated value, the farther end of the nearest interval where both
+    claims hold lies (the nearer end's distance is the search's own)."""
+    if not near or not near.get("interval"):
+        return None
+    return max(abs(x - near["stated"]) for x in near["interval"]) / abs(near["stated"])
+
+
+def _nearer_end_note(name: str | None, near: dict | None, dependent: dict) -> str:
+    """A clause for the nearest reproducing change where its nearer end depends on the solver
+    (the pure-Python solver does not reproduce the compiled solver's verdict in its final
+    bracket), else nothing."""
+    if not near or near.get("nearest") is None or near["nearest"] not in dependent.get(name, ()):
+        return ""
+    return f" (the nearer end, ${SPEC[name].symbol}={near['nearest']:.4f}$, depends on the solver)"
+
+
+def claims_macros(b: dict, dependent: dict | None = None) -> MacroFile:
+    """Macros of the search beyond the gap (claims_by_parameter); ``dependent``: the interval
+    ends that depend on the solver, by parameter (the search's ``solver_dependent_ends``)."""
     m = MacroFile(CLAIMS_COMMENTS + [("ClaimsRelTol", sci(0)(b["rel_tol"]))])
     for name, d in b["parameters"].items():  # the parameters searched, in the search's order
         m.extend(macro_lines(SEARCHED, d, P=SPEC[name].macro))
     near = b["nearest_parameter"]
-    m.extend(macro_lines(SEARCH, {**b, "near": b["parameters"][near] if near else None}))
+    m.extend(macro_lines(SEARCH, {**b, "near": b["parameters"][near] if near else None, "dependent": dependent or {}}))
     return m
 
 
@@ -111,6 +131,8 @@ CASE = (
     Macro("{T}IvpAlgOneTTwo", "i1.negative_gap_intervals?.0?.1", fixed(4)),
     Macro("{T}AlgTwoRegime", "a2.regime", WORDS),
     Macro("{T}AlgTwoPeriodMultiple", "a2.period_multiple", COUNT),
+    # The settled period as the text writes it: T, 2T, ... (T_c = T, never 1 T).
+    Macro("{T}AlgTwoPeriod", "a2.period_multiple", Format(lambda k: "T" if k == 1 else f"{k}T")),
     Macro("{T}AlgTwoImpacts", "a2.impacts_per_cycle", COUNT),
     Macro("{T}AlgTwoPeriods", "a2.periods_simulated", COUNT),
     Macro("{T}AlgTwoXOneMax", "a2.x1_max", fixed(3)),
@@ -187,10 +209,27 @@ RANGES = (
     Macro("{R}RangeLo", "range.lo", fixed(3)),
     Macro("{R}RangeHi", "range.hi", fixed(3)),
 )
+NUMBER_WORDS = ("none", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine")
+
+
+def count_clause(n: int, one: str, many: str) -> str:
+    """A count and its verb as words: "none gives a different verdict", "one gives ...", "12 give
+    ..." (``one``: the clause after a count of one or none, ``many``: after a larger count)."""
+    word = NUMBER_WORDS[n] if n < len(NUMBER_WORDS) else str(n)
+    return f"{word} {one if n <= 1 else many}"
+
+
 END_CHECKS = (
     Macro("EndChecksAgree", lambda checks: all(c["agree"] for c in checks), YES_NO),
     Macro("EndChecksCount", len, COUNT),
     Macro("EndChecksAgreeCount", lambda checks: sum(bool(c["agree"]) for c in checks), COUNT),
+    # The end checks where the two methods give different verdicts on the claim, in words.
+    Macro(
+        "EndChecksDifferentText",
+        lambda checks: count_clause(
+            sum(c["exact"] != c["independent"] for c in checks), "gives a different verdict", "give different verdicts"
+        ),
+    ),
 )
 # The end check whose methods differ most (where one differs).
 END_CHECK_OFF = (

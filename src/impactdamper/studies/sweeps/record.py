@@ -118,9 +118,19 @@ DIRECTIONS = (
     Macro("SweepNpOnlyLabels", lambda s: _and(np_only_labels(s["rows"])) if np_only_labels(s["rows"]) else "none"),
     Macro("SweepMatchSteps", lambda s: 1 / MATCH_STEPS, general("{:g}")),
 )
+
+
 # Each regime map ({M}: Theta, Damping; maps: its settings' section; bistable: its bistable
 # rows, None where none).
+def cap_text(cap: int, after_nonperiodic: int) -> str:
+    """A map's period cap per cell as a phrase: the cap after a nonperiodic neighbour named only
+    where it differs."""
+    text = f"a cap of ${cap}$ periods per cell"
+    return text if after_nonperiodic == cap else text + f" (${after_nonperiodic}$ after a nonperiodic neighbour)"
+
+
 MAP = (
+    Macro("Map{M}CapText", lambda m: cap_text(m["maps"]["max_periods"], m["maps"]["max_periods_after_nonperiodic"])),
     Macro("Map{M}MaxPeriods", "maps.max_periods", COUNT),
     Macro("Map{M}MaxPeriodsAfterNonperiodic", "maps.max_periods_after_nonperiodic", COUNT),
     Macro("Map{M}BistableLabel", "bistable.label", Format(str, "--")),
