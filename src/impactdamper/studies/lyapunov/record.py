@@ -12,8 +12,20 @@ from __future__ import annotations
 from collections import Counter
 
 from impactdamper.analysis.lyapunov import LABELS, SIGNIFICANCE, ZERO_BAND
+from impactdamper.reporting import latex
 from impactdamper.reporting.latex import MacroFile
-from impactdamper.reporting.texrecord import COUNT, Column, Macro, Table, fixed, macro_lines, percent, tex_sci, time
+from impactdamper.reporting.texrecord import (
+    COUNT,
+    Column,
+    Format,
+    Macro,
+    Table,
+    fixed,
+    macro_lines,
+    percent,
+    tex_sci,
+    time,
+)
 
 __all__ = ["RECORD_WHAT", "label_counts", "lyapunov_macros", "benettin_table", "timing"]
 
@@ -141,6 +153,11 @@ def lyapunov_macros(sweep_rows: list[dict], map_rows: list[dict], checks: dict, 
     return MacroFile(macro_lines(MACROS, source))
 
 
+def math_fixed(digits: int) -> Format:
+    """Fixed decimals in math mode (a table's cell: ``$-16.000$``)."""
+    return Format(lambda x: f"${latex.fixed(x, digits)}$", f"${latex.MISSING}$")
+
+
 BENETTIN_TABLE = Table(
     colspec="rrrrrr",
     header=(
@@ -148,12 +165,12 @@ BENETTIN_TABLE = Table(
         r"$|\mathrm{difference}|$"
     ),
     columns=(
-        Column("gap", fixed(3)),
-        Column("exponent", fixed(4)),
-        Column("error", fixed(4)),
-        Column("benettin", fixed(4)),
-        Column("benettin_error", fixed(4)),
-        Column("difference", fixed(4)),
+        Column("gap", math_fixed(3)),
+        Column("exponent", math_fixed(4)),
+        Column("error", math_fixed(4)),
+        Column("benettin", math_fixed(4)),
+        Column("benettin_error", math_fixed(4)),
+        Column("difference", math_fixed(4)),
     ),
     comments=("Benettin's two-trajectory estimate against the largest exponent (lyapunov stage)",),
 )
