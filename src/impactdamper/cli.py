@@ -217,6 +217,12 @@ def build_parser() -> argparse.ArgumentParser:
     design.add_argument("--json", action="store_true", help="print one JSON object")
     design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
 
+    _add_lyapunov_command(sub, add_parameters)
+    return parser
+
+
+def _add_lyapunov_command(sub, add_parameters) -> None:
+    """The ``lyapunov`` command: the parameters' flags, the run's lengths, a start, a backend."""
     spectrum = sub.add_parser(
         "lyapunov",
         help="Lyapunov spectrum of the motion (exact tangent map, saltation matrices): exponents with "
@@ -241,7 +247,6 @@ def build_parser() -> argparse.ArgumentParser:
     )
     ly.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
     ly.add_argument("--backend", choices=BACKENDS, default="auto", help="who walks (default auto: compiled)")
-    return parser
 
 
 LYAPUNOV_KEYS = """JSON keys (--json), exponents per forcing period T (log|mu|/k at a period-k orbit):

@@ -80,7 +80,7 @@ DEFAULT_WARMUP = 200
 DEFAULT_PERIODS = 2000
 DEFAULT_BLOCKS = 10
 # Bounds on the work of one call (the pure-Python walk advances ~2000-6000 periods a second,
-# the compiled one ~100 times more).
+# the compiled one 50-100 times more).
 MAX_PERIODS = 1_000_000
 
 # --- labels -----------------------------------------------------------------------------

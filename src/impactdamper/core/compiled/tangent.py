@@ -206,6 +206,126 @@ def _liftoff_saltation(Mf, bf, Ms, bs, s, fc, t, x1, v1, S, f_minus, f_plus, ful
 
 
 @njit(cache=True)
+def _frame_matrices(cm, fm, s):
+    """The walk's constant arrays: both modes' state matrices M (2, 4, 4), forcing directions b
+    (2, 4) and relative units D (2, 4), indexed by mode."""
+    w, xst = s[S_OMEGA], s[S_XST]
+    M, b, D = np.zeros((2, 4, 4)), np.zeros((2, 4)), np.zeros((2, 4))
+    _mode_matrix(cm, MODE_FREE, 4, cm[MODE_FREE, 0], M[MODE_FREE])
+    _mode_matrix(cm, MODE_STUCK, 2, cm[MODE_STUCK, 0], M[MODE_STUCK])
+    b[MODE_FREE], b[MODE_STUCK] = fm[MODE_FREE, 4], fm[MODE_STUCK, 4]
+    D[MODE_FREE, 0], D[MODE_FREE, 1], D[MODE_FREE, 2], D[MODE_FREE, 3] = xst, xst, xst * w, xst * w
+    D[MODE_STUCK, 0], D[MODE_STUCK, 1] = xst, xst * w
+    return M, b, D
+
+
+@njit(cache=True)
+def _start_frame(mode, Q, growth, shape):
+    """The identity frame in ``mode``; shape = (mode, rows, columns)."""
+    n = 4 if mode == MODE_FREE else 2
+    for i in range(4):
+        for j in range(4):
+            Q[i, j] = 1.0 if i == j and i < n else 0.0
+        growth[i] = 0.0 if i < n else -math.inf
+    shape[0], shape[1], shape[2] = mode, n, n
+
+
+@njit(cache=True)
+def _capture(s, fc, D, Q, growth, shape, S, work):
+    """The frame across a capture into persistent contact (closed form, 2 x 4)."""
+    _capture_saltation(s, fc, S)
+    _apply(S, 4, 2, D[MODE_FREE], D[MODE_STUCK], Q, shape[2], work)
+    shape[0], shape[1] = MODE_STUCK, 2
+    shape[2] = _orthonormalise(Q, 2, shape[2], growth)
+
+
+@njit(cache=True)
+def _walk_events(cm, fc, s, M, b, D, ev_k, ev_f, first, nev, t, t_to, Q, growth, shape, counts, averaged, scratch):
+    """Carry the frame over the events ev_*[first:nev] of one period, from t to t_to, then QR.
+    ``shape`` (mode, rows, columns) is updated; ``counts`` gets the events where ``averaged``.
+    An impact followed at the same time by a capture is one event, the capture (its matrix
+    reads the state before the impact that ends in contact). Returns the time in contact."""
+    S, trans, work = scratch[0], scratch[1], scratch[2]
+    e = np.empty(4, np.complex128)
+    f_minus, f_plus, vec, full = np.empty(4), np.empty(4), np.empty(4), np.empty(4)
+    contact = 0.0
+    i = first
+    while i < nev:
+        te, kind = ev_f[i, 0], ev_k[i]
+        if shape[0] == MODE_STUCK and averaged:
+            contact += te - t
+        _flow(cm, shape[0], shape[1], te - t, Q, shape[2], D[shape[0]], trans, e, work)
+        t = te
+        if kind == IMPACT:
+            captured = i + 1 < nev and ev_k[i + 1] == STICK and ev_f[i + 1, 0] == te
+            if averaged:
+                counts[C_IMPACTS] += 1
+                counts[C_GRAZING] += 1 if ev_f[i, 1] < GRAZING_VELOCITY * s[S_XST] * s[S_OMEGA] else 0
+                counts[C_CAPTURES] += 1 if captured else 0
+            if captured:
+                _capture(s, fc, D, Q, growth, shape, S, work)
+                i += 1
+            else:
+                for k in range(4):
+                    vec[k] = ev_f[i, 3 + k]
+                _impact_saltation(M[MODE_FREE], b[MODE_FREE], s, te, vec, S, f_minus, f_plus, full)
+                _apply(S, 4, 4, D[MODE_FREE], D[MODE_FREE], Q, shape[2], work)
+                shape[2] = _orthonormalise(Q, 4, shape[2], growth)
+        elif kind == STICK and shape[0] == MODE_FREE:  # (a restart on the stop keeps a contact)
+            counts[C_CAPTURES] += 1 if averaged else 0
+            _capture(s, fc, D, Q, growth, shape, S, work)
+        elif kind == LIFTOFF:
+            counts[C_LIFTOFFS] += 1 if averaged else 0
+            x1, v1 = ev_f[i, 3], ev_f[i, 5]
+            _liftoff_saltation(
+                M[MODE_FREE], b[MODE_FREE], M[MODE_STUCK], b[MODE_STUCK], s, fc, te, x1, v1, S, f_minus, f_plus, full
+            )
+            _apply(S, 2, 4, D[MODE_STUCK], D[MODE_FREE], Q, shape[2], work)
+            shape[0], shape[1] = MODE_FREE, 4
+            shape[2] = _orthonormalise(Q, 4, shape[2], growth)
+        i += 1
+    if shape[0] == MODE_STUCK and averaged:
+        contact += t_to - t
+    _flow(cm, shape[0], shape[1], t_to - t, Q, shape[2], D[shape[0]], trans, e, work)
+    shape[2] = _orthonormalise(Q, shape[1], shape[2], growth)
+    return contact
+
+
+@njit(cache=True)
+def _advance_period(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_to, cap):
+    """The loop advanced to t_to; a period that outgrows the buffers is run again, from the
+    state saved before it, with buffers four times larger (the rows already kept copied).
+    Returns the buffers (new ones where they grew) and their capacity."""
+    saved_sf, saved_si, saved_y0, saved_alpha = sf.copy(), si.copy(), y0.copy(), alpha.copy()
+    kept = si[SI_NEV]
+    while True:
+        advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_to)
+        if si[SI_ERR] != ERR_CAPACITY or cap >= MOST_CAPACITY:
+            return ev_k, ev_f, seg_m, seg_f, seg_a, cap
+        cap = min(4 * cap, MOST_CAPACITY)
+        _, _, _, _, new_k, new_f, seg_m, seg_f, seg_a = solver_buffers(cap)
+        new_k[:kept] = ev_k[:kept]
+        new_f[:kept] = ev_f[:kept]
+        ev_k, ev_f = new_k, new_f
+        sf[:] = saved_sf
+        si[:] = saved_si
+        y0[:] = saved_y0
+        alpha[:] = saved_alpha
+
+
+@njit(cache=True)
+def _keep_last_event(ev_k, ev_f, si):
+    """Drop the period's events but the last (the loop's same-time guard reads it) and return
+    the row the next period's events start at."""
+    last = si[SI_NEV] - 1
+    if last >= 0:
+        ev_k[0] = ev_k[last]
+        ev_f[0, :] = ev_f[last, :]
+        si[SI_NEV] = 1
+    return si[SI_NEV]
+
+
+@njit(cache=True)
 def tangent_kernel(cm, fm, fc, fk, fg, s, t0, state, transient, warmup, periods, increments, sections, counts, diag):
     """The reference's tangent_walk: from (t0, state) the loop runs ``transient`` periods, then
     the frame is walked, ``warmup`` periods discarded and ``periods`` written into
@@ -215,7 +335,7 @@ def tangent_kernel(cm, fm, fc, fk, fg, s, t0, state, transient, warmup, periods,
     Returns (error, the frame's final dimension, time in contact in the averaged periods);
     ``diag`` gets a failed run's diagnostics (layout.DIAG_*). ERR_WALK: the walk's mode and the
     loop's disagreed at a period's end (never expected)."""
-    T, w, xst = s[S_T], s[S_OMEGA], s[S_XST]
+    T = s[S_T]
     cap = FIRST_CAPACITY
     sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a = solver_buffers(cap)
     si[SI_REC] = 1
@@ -223,137 +343,42 @@ def tangent_kernel(cm, fm, fc, fk, fg, s, t0, state, transient, warmup, periods,
     if si[SI_ERR]:
         diagnose(sf, si, diag)
         return si[SI_ERR], 0, 0.0
-    # Both modes' state matrices and forcing directions (for the fields f- and f+).
-    Mf, Ms = np.zeros((4, 4)), np.zeros((4, 4))
-    _mode_matrix(cm, MODE_FREE, 4, cm[MODE_FREE, 0], Mf)
-    _mode_matrix(cm, MODE_STUCK, 2, cm[MODE_STUCK, 0], Ms)
-    bf, bs = fm[MODE_FREE, 4].copy(), fm[MODE_STUCK, 4].copy()
-    scale_free = np.array([xst, xst, xst * w, xst * w])
-    scale_stuck = np.array([xst, xst * w, 0.0, 0.0])
-    # The frame, its growth since the last reading, and scratch.
-    Q, S, trans, work = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((4, 4))
-    e = np.empty(4, np.complex128)
-    growth = np.zeros(4)
-    f_minus, f_plus, vec = np.empty(4), np.empty(4), np.empty(4)
-    full = np.empty(4)
-    saved_sf, saved_si = np.empty(8), np.empty(8, np.int64)
-    saved_y0, saved_alpha = np.empty(4), np.empty(4, np.complex128)
-    mode, n, dim = MODE_FREE, 4, 4
+    M, b, D = _frame_matrices(cm, fm, s)
+    Q, growth, shape = np.zeros((4, 4)), np.zeros(4), np.zeros(3, np.int64)
+    scratch, full = np.zeros((3, 4, 4)), np.empty(4)
     contact = 0.0
     done = 0  # periods since the loop's (re)start
     for p in range(transient + warmup + periods):
         if p == transient:  # the frame starts in the mode the motion is in
-            mode = si[SI_MODE]
-            n = 4 if mode == MODE_FREE else 2
-            dim = n
-            for i in range(4):
-                for j in range(4):
-                    Q[i, j] = 1.0 if i == j and i < n else 0.0
-                growth[i] = 0.0 if i < n else -math.inf
-        walking = p >= transient
-        averaged = p >= transient + warmup
-        row = p - transient - warmup
+            _start_frame(si[SI_MODE], Q, growth, shape)
+        averaged, row = p >= transient + warmup, p - transient - warmup
         if averaged:
             solver_state(cm, s, sf, si, alpha, t0 + done * T, sections[row])
-        if done >= REBASE_PERIODS:
+        if done >= REBASE_PERIODS:  # (a restart's own events, such as a capture at t0, are this period's)
             solver_state(cm, s, sf, si, alpha, t0 + done * T, full)
             init_solver(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, full.copy())
-            done = 0
-            first = 0  # (a restart's own events, such as a capture at t0, are this period's)
-            if si[SI_ERR]:
-                diagnose(sf, si, diag)
-                return si[SI_ERR], dim, contact
+            done, first = 0, 0
         else:
-            last = si[SI_NEV] - 1
-            if last >= 0:
-                ev_k[0] = ev_k[last]
-                ev_f[0, :] = ev_f[last, :]
-                si[SI_NEV] = 1
-            first = si[SI_NEV]
+            first = _keep_last_event(ev_k, ev_f, si)
         si[SI_NSEG] = 0  # (the segments are not read)
-        saved_sf[:] = sf
-        saved_si[:] = si
-        saved_y0[:] = y0
-        saved_alpha[:] = alpha
-        kept = si[SI_NEV]
-        t_from, t_to = t0 + done * T, t0 + (done + 1) * T
-        while True:
-            advance(cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t_to)
-            if si[SI_ERR] != ERR_CAPACITY or cap >= MOST_CAPACITY:
-                break
-            cap = min(4 * cap, MOST_CAPACITY)
-            _, _, _, _, new_k, new_f, seg_m, seg_f, seg_a = solver_buffers(cap)
-            new_k[:kept] = ev_k[:kept]
-            new_f[:kept] = ev_f[:kept]
-            ev_k, ev_f = new_k, new_f
-            sf[:] = saved_sf
-            si[:] = saved_si
-            y0[:] = saved_y0
-            alpha[:] = saved_alpha
+        if si[SI_ERR] == 0:
+            ev_k, ev_f, seg_m, seg_f, seg_a, cap = _advance_period(
+                cm, fm, fc, fk, fg, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0 + (done + 1) * T, cap
+            )
         if si[SI_ERR]:
             diagnose(sf, si, diag)
-            return si[SI_ERR], dim, contact
+            return si[SI_ERR], shape[2], contact
         done += 1
-        if not walking:
+        if p < transient:
             continue
-        # The period's events: flights between them, an event's matrix at each.
-        t = t_from
-        nev = si[SI_NEV]
-        i = first
-        while i < nev:
-            te = ev_f[i, 0]
-            kind = ev_k[i]
-            scale = scale_free if mode == MODE_FREE else scale_stuck
-            if mode == MODE_STUCK and averaged:
-                contact += te - t
-            _flow(cm, mode, n, te - t, Q, dim, scale, trans, e, work)
-            t = te
-            if kind == IMPACT:
-                captured = i + 1 < nev and ev_k[i + 1] == STICK and ev_f[i + 1, 0] == te
-                if averaged:
-                    counts[C_IMPACTS] += 1
-                    if ev_f[i, 1] < GRAZING_VELOCITY * xst * w:
-                        counts[C_GRAZING] += 1
-                    if captured:
-                        counts[C_CAPTURES] += 1
-                if captured:
-                    # (impact and capture are one event: the capture's matrix reads the state
-                    # before the impact that ends in contact)
-                    _capture_saltation(s, fc, S)
-                    _apply(S, 4, 2, scale_free, scale_stuck, Q, dim, work)
-                    mode, n = MODE_STUCK, 2
-                    dim = _orthonormalise(Q, n, dim, growth)
-                    i += 1
-                else:
-                    for k in range(4):
-                        vec[k] = ev_f[i, 3 + k]
-                    _impact_saltation(Mf, bf, s, te, vec, S, f_minus, f_plus, full)
-                    _apply(S, 4, 4, scale_free, scale_free, Q, dim, work)
-                    dim = _orthonormalise(Q, n, dim, growth)
-            elif kind == STICK:
-                if mode == MODE_FREE:  # (a restart on the stop keeps a contact already there)
-                    if averaged:
-                        counts[C_CAPTURES] += 1
-                    _capture_saltation(s, fc, S)
-                    _apply(S, 4, 2, scale_free, scale_stuck, Q, dim, work)
-                    mode, n = MODE_STUCK, 2
-                    dim = _orthonormalise(Q, n, dim, growth)
-            elif kind == LIFTOFF:
-                if averaged:
-                    counts[C_LIFTOFFS] += 1
-                _liftoff_saltation(Mf, bf, Ms, bs, s, fc, te, ev_f[i, 3], ev_f[i, 5], S, f_minus, f_plus, full)
-                _apply(S, 2, 4, scale_stuck, scale_free, Q, dim, work)
-                mode, n = MODE_FREE, 4
-                dim = _orthonormalise(Q, n, dim, growth)
-            i += 1
-        if mode == MODE_STUCK and averaged:
-            contact += t_to - t
-        _flow(cm, mode, n, t_to - t, Q, dim, scale_free if mode == MODE_FREE else scale_stuck, trans, e, work)
-        dim = _orthonormalise(Q, n, dim, growth)
+        t_from, t_to = t0 + (done - 1) * T, t0 + done * T
+        contact += _walk_events(
+            cm, fc, s, M, b, D, ev_k, ev_f, first, si[SI_NEV], t_from, t_to, Q, growth, shape, counts, averaged, scratch
+        )
         for j in range(4):
             if averaged:
                 increments[row, j] = growth[j]
             growth[j] = 0.0 if math.isfinite(growth[j]) else -math.inf
-        if mode != si[SI_MODE]:
-            return ERR_WALK, dim, contact
-    return OK, dim, contact
+        if shape[0] != si[SI_MODE]:
+            return ERR_WALK, shape[2], contact
+    return OK, shape[2], contact
