@@ -242,7 +242,7 @@ def sweep_np_values() -> dict:
 NP_POINTS = [-19.024, -16.0, -17.008, -12.016]
 
 
-@pytest.mark.parametrize("gap", NP_POINTS)
+@pytest.mark.parametrize("gap", [g if g == -16.0 else pytest.param(g, marks=pytest.mark.slow) for g in NP_POINTS])
 def test_np_points_largest_exponent_against_benettin(gap):
     """The compiled largest exponent against Benettin's estimate made with the compiled
     solver's stroboscopic map alone (no saltation matrices): along the same motion, per
