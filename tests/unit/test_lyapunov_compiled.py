@@ -108,8 +108,59 @@ def test_chaotic_walks_share_their_events_until_rounding_grows():
     assert np.max(np.abs(c.increments[:, finite] - r.increments[:, finite])) <= 1e-6
 
 
+@pytest.mark.parametrize("backend", ["compiled", pytest.param("python", marks=pytest.mark.slow)])
+def test_the_clock_is_rebased_only_clear_of_the_stop(backend):
+    """Regression: at gap -23.68 of the gap sweep (a chatter cycle, from the sweep's own start
+    state) a lift-off falls 4e-7 T before the 100th section; re-based there, the walk restarted
+    on the stop within the grazing resolution, lost the lift-off's departure and spent the
+    solver's work bound at once. The re-basing now waits for a section clear of the stop."""
+    from impactdamper.studies.lyapunov.sweep import start_state
+
+    with open(ROOT / "figures" / "sweep_gap.csv") as f:
+        row = next(r for r in csv.DictReader(f) if r["direction"] == "up" and r["index"] == "215")
+    p = REF.replace(gap=float(row["value"]))
+    assert p.gap == -23.68
+    s = idp.lyapunov_spectrum(p, state=start_state(p, row), transient=100, warmup=50, periods=200, backend=backend)
+    assert s.label == "periodic" and s.captures > 0 and s.dimension == 2
+
+
 def test_a_walk_error_is_never_a_root():
     assert ERR_WALK > MARCH_ROOT
+
+
+@pytest.mark.slow
+def test_where_the_kernels_do_not_apply_the_reference_walks_and_says_so():
+    """A double root of eq. (4) has no modal form: the reference walks (the matrix
+    exponential), the result says why."""
+    from impactdamper.studies.performance.hardcases import hard_cases
+
+    delta2 = {h.name: h for h in hard_cases()}["repeated_roots"].changes["delta2"]
+    p = idp.Parameters(N=0.9, delta2=delta2)
+    run = dict(periods=20, transient=20, warmup=10, blocks=2)
+    c = compiled(p, **run)
+    assert (c.backend, c.fallback) == ("python", "matrix_exponential")
+    np.testing.assert_array_equal(c.exponents, reference(p, **run).exponents)
+
+
+@pytest.mark.slow
+def test_the_work_bound_ends_a_compiled_walk_with_the_references_error():
+    """A motion far faster than the forcing (theta = 1e-7) reaches the event loop's work bound
+    within its first period: the compiled walk stops there with the reference's named error."""
+    from impactdamper.core.events import SearchLimitError
+
+    with pytest.raises(SearchLimitError, match=r"^`theta` = 1e-07 is beyond what the solver resolves"):
+        compiled(REF.replace(theta=1e-7), periods=10, transient=0, warmup=0, blocks=2)
+
+
+def test_free_scales_do_not_change_the_compiled_exponents():
+    """Other units, and units outside the kernels' native range (solved in the reference case's
+    units): the same exponents per period."""
+    run = dict(periods=100, transient=100, warmup=20)
+    r = compiled(REF, **run)
+    for q in (REF.replace(x_st=2.5, m1=3.0, omega=7.0), REF.replace(x_st=1e-40)):
+        s = compiled(q, **run)
+        assert s.backend == "compiled" and s.fallback == ""
+        np.testing.assert_allclose(s.exponents, r.exponents, rtol=0, atol=1e-9)
 
 
 # ----------------------------------------------------------------------------------------

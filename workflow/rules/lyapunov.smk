@@ -8,15 +8,9 @@
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
 
-def lyapunov_chunk_files(kind, ext="csv", folder="results/lyapunov"):
-    """The chunk outputs of the sweep's (kind "sweep") or the map's ("map") exponents."""
-    chunks = config["lyapunov"]["sweep_chunks" if kind == "sweep" else "map"]
-    chunks = chunks if kind == "sweep" else chunks["chunks"]
-    return expand(f"{folder}/{kind}_{{chunk}}.{ext}", chunk=range(chunks))
-
-
-def lyapunov_timings(kind):
-    return lyapunov_chunk_files(kind, "json", "results/benchmarks/lyapunov")
+# The chunks of the sweep's and the map's exponents.
+LYAPUNOV_SWEEP_CHUNKS = range(config["lyapunov"]["sweep_chunks"])
+LYAPUNOV_MAP_CHUNKS = range(config["lyapunov"]["map"]["chunks"])
 
 
 rule lyapunov_sweep_chunk:
@@ -45,7 +39,7 @@ rule lyapunov_sweep:
     input:
         script="workflow/scripts/gather_csv.py",
         library=library(REPORTING),
-        chunks=lyapunov_chunk_files("sweep"),
+        chunks=expand("results/lyapunov/sweep_{chunk}.csv", chunk=LYAPUNOV_SWEEP_CHUNKS),
     output:
         csv="figures/lyapunov_sweep.csv",
     log:
@@ -81,7 +75,7 @@ rule lyapunov_map:
     input:
         script="workflow/scripts/gather_csv.py",
         library=library(REPORTING),
-        chunks=lyapunov_chunk_files("map"),
+        chunks=expand("results/lyapunov/map_{chunk}.csv", chunk=LYAPUNOV_MAP_CHUNKS),
     output:
         csv="figures/lyapunov_map.csv",
     log:
@@ -134,8 +128,8 @@ rule lyapunov_report:
         map="figures/lyapunov_map.csv",
         checks="figures/lyapunov_checks.json",
         speed="results/benchmarks/lyapunov_speed.json",
-        sweep_timings=lyapunov_timings("sweep"),
-        map_timings=lyapunov_timings("map"),
+        sweep_timings=expand("results/benchmarks/lyapunov/sweep_{chunk}.json", chunk=LYAPUNOV_SWEEP_CHUNKS),
+        map_timings=expand("results/benchmarks/lyapunov/map_{chunk}.json", chunk=LYAPUNOV_MAP_CHUNKS),
     output:
         record="results/report/lyapunov.json",
         macros="paper/generated/lyapunov_macros.tex",

@@ -3,7 +3,7 @@
 The reference's :func:`impactdamper.core.tangent.tangent_walk` on arrays. The motion is the
 event loop of :mod:`~impactdamper.core.compiled.loop` (its ``init_solver`` and ``advance``,
 period by period, the clock re-based every ``REBASE_PERIODS`` as the settled-motion search
-does), with its work bound; this module adds no event search of its own. After each period
+does, at a safe restart point as the reference's walk), with its work bound; this module adds no event search of its own. After each period
 the walk reads that period's events from the loop's buffers (time, kind, state before) and
 carries an orthonormal frame of perturbations across them with the pieces of
 :mod:`impactdamper.core.tangent`, mirrored here on arrays: the modal transition matrix
@@ -41,6 +41,7 @@ from impactdamper.core.compiled.layout import (
     SI_REC,
     STICK,
     S_DELTA0,
+    S_GAP_EPS,
     S_M1,
     S_M2,
     S_OMEGA,
@@ -51,7 +52,7 @@ from impactdamper.core.compiled.layout import (
 from impactdamper.core.compiled.loop import advance, diagnose, init_solver, solver_buffers, solver_state
 from impactdamper.core.constants import STEPS_AT_START, STEPS_PER_PERIOD
 from impactdamper.core.steady import REBASE_PERIODS
-from impactdamper.core.tangent import GRAZING_VELOCITY
+from impactdamper.core.tangent import GRAZING_VELOCITY, REBASE_CLEARANCE
 
 # Events a period's buffers first hold (a periodic impacting motion has 1-4 a period, a chatter
 # cycle ~40; grown four-fold where a period needs more).
@@ -326,6 +327,13 @@ def _keep_last_event(ev_k, ev_f, si):
 
 
 @njit(cache=True)
+def _restartable(s, si, full):
+    """Whether the section state ``full`` is a safe restart point: in contact, or clear of the
+    stop by more than REBASE_CLEARANCE times the grazing resolution (core/tangent.py)."""
+    return si[SI_MODE] == MODE_STUCK or s[S_DELTA0] - (full[1] - full[0]) > REBASE_CLEARANCE * s[S_GAP_EPS]
+
+
+@njit(cache=True)
 def tangent_kernel(cm, fm, fc, fk, fg, s, t0, state, transient, warmup, periods, increments, sections, counts, diag):
     """The reference's tangent_walk: from (t0, state) the loop runs ``transient`` periods, then
     the frame is walked, ``warmup`` periods discarded and ``periods`` written into
@@ -354,8 +362,10 @@ def tangent_kernel(cm, fm, fc, fk, fg, s, t0, state, transient, warmup, periods,
         averaged, row = p >= transient + warmup, p - transient - warmup
         if averaged:
             solver_state(cm, s, sf, si, alpha, t0 + done * T, sections[row])
-        if done >= REBASE_PERIODS:  # (a restart's own events, such as a capture at t0, are this period's)
+        if done >= REBASE_PERIODS:
             solver_state(cm, s, sf, si, alpha, t0 + done * T, full)
+        if done >= REBASE_PERIODS and _restartable(s, si, full):
+            # (a restart's own events, such as a capture at t0, are this period's)
             init_solver(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t0, full.copy())
             done, first = 0, 0
         else:
