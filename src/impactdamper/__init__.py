@@ -14,6 +14,8 @@ steady_state(p)     the settled motion: period, impacts, regime (attractor=True:
                     orbit where it is an attractor, no transient)
 steady_states(base, names, values)  settled motions at many points: sweeps, grids, map rows,
                     random starts, many independent chains (chain_length=), in parallel (workers=)
+lyapunov_spectrum(p)  the Lyapunov spectrum of the motion: exponents with errors, its label
+                    (chaotic, quasi-periodic, periodic, not settled)
                     (each with backend="auto" | "compiled" | "python"; see analysis/solve.py)
 solve_orbit(p)      a periodic cycle solved directly: admissibility, Floquet multipliers
 continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings, grazing
@@ -25,7 +27,8 @@ from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Tra
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
 from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
 from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
-from impactdamper.analysis.solve import BACKENDS, simulate, steady_state, steady_states
+from impactdamper.analysis.lyapunov import LyapunovSpectrum
+from impactdamper.analysis.solve import BACKENDS, lyapunov_spectrum, simulate, steady_state, steady_states
 
 __version__ = "0.1.0"
 
@@ -43,6 +46,8 @@ __all__ = [
     "steady_state",
     "steady_states",
     "BACKENDS",
+    "lyapunov_spectrum",
+    "LyapunovSpectrum",
     "SteadyState",
     "CycleImpact",
     "REGIMES",

@@ -1,4 +1,4 @@
-"""Command line: ``impactdamper {steady,alg1,orbit,response,design} [--PARAM VALUE ...] [--json]``.
+"""Command line: ``impactdamper {steady,alg1,orbit,response,design,lyapunov} [--PARAM VALUE ...] [--json]``.
 
 The same as ``python -m impactdamper ...``; ``impactdamper`` is the console script the package
 installs (pyproject.toml, ``[project.scripts]``).
@@ -27,7 +27,8 @@ from impactdamper.analysis.response import MAX_POINTS, frequency_response
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, most_extreme
 from impactdamper.core.validation import MAX_PERIODS_LIMIT, Tolerances
-from impactdamper.analysis.solve import BACKENDS, steady_state
+from impactdamper.analysis import lyapunov
+from impactdamper.analysis.solve import BACKENDS, lyapunov_spectrum, steady_state
 from impactdamper.reporting.progress import progress_bar
 from impactdamper.reporting.records import clean
 
@@ -215,7 +216,50 @@ def build_parser() -> argparse.ArgumentParser:
     )
     design.add_argument("--json", action="store_true", help="print one JSON object")
     design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+
+    _add_lyapunov_command(sub, add_parameters)
     return parser
+
+
+def _add_lyapunov_command(sub, add_parameters) -> None:
+    """The ``lyapunov`` command: the parameters' flags, the run's lengths, a start, a backend."""
+    spectrum = sub.add_parser(
+        "lyapunov",
+        help="Lyapunov spectrum of the motion (exact tangent map, saltation matrices): exponents with "
+        "errors and a label (chaotic, quasi-periodic, periodic, not settled)",
+        epilog=LYAPUNOV_KEYS,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_parameters(spectrum)
+    ly = spectrum.add_argument_group("spectrum")
+    for name, default, text in (
+        ("periods", lyapunov.DEFAULT_PERIODS, f"forcing periods averaged, a multiple of {lyapunov.DEFAULT_BLOCKS}"),
+        ("transient", lyapunov.DEFAULT_TRANSIENT, "periods of motion discarded first"),
+        ("warmup", lyapunov.DEFAULT_WARMUP, "periods of the tangent walk discarded next"),
+    ):
+        ly.add_argument(_flag(name), type=int, default=default, metavar="N", help=f"{text} (default {default})")
+    ly.add_argument(
+        "--state",
+        type=float,
+        nargs=4,
+        metavar=("X1", "X2", "V1", "V2"),
+        help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)",
+    )
+    ly.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
+    ly.add_argument("--backend", choices=BACKENDS, default="auto", help="who walks (default auto: compiled)")
+
+
+LYAPUNOV_KEYS = """JSON keys (--json), exponents per forcing period T (log|mu|/k at a period-k orbit):
+  exponents, errors, spreads  four exponents, largest first (null: -inf, the directions a capture
+                  into persistent contact annihilates), their block standard errors and spreads
+  exponents_per_second        the same over T, 1/s
+  label           chaotic (largest > significance x error and > zero_band), periodic (largest
+                  < 0 likewise), quasi-periodic (largest within zero_band with its error, next
+                  negative) or not settled
+  significance, zero_band     the label's thresholds
+  dimension       4, or 2 once captured; periods, transient, warmup, blocks: the run
+  impacts, captures, liftoffs, grazing, contact_time   events and share of time in contact
+  method, backend, fallback, parameters"""
 
 
 DESIGN_DESCRIPTION = """Choose a suppressor for an object of mass ratio mu and damping delta1 over a band of
@@ -323,9 +367,13 @@ def main(argv: list[str] | None = None) -> int:
                 f"{sub.prog}: error: argument --theta: not allowed with response (the band "
                 "--theta-start .. --theta-stop sets theta)\n",
             )
-    printer = {"alg1": _print_alg1, "orbit": _print_orbit, "steady": _print_steady, "response": _print_response}[
-        args.command
-    ]
+    printer = {
+        "alg1": _print_alg1,
+        "orbit": _print_orbit,
+        "steady": _print_steady,
+        "response": _print_response,
+        "lyapunov": _print_lyapunov,
+    }[args.command]
     # A failed point shows as such in the output (label err); its warning is not printed too.
     logging.getLogger("impactdamper").addHandler(logging.NullHandler())
     try:
@@ -343,6 +391,9 @@ def main(argv: list[str] | None = None) -> int:
                 ).to_dict()
         elif args.command == "alg1":
             result = algorithm1(p).to_dict()
+        elif args.command == "lyapunov":
+            run = dict(periods=args.periods, transient=args.transient, warmup=args.warmup, t0=args.t0)
+            result = lyapunov_spectrum(p, **run, state=args.state, backend=args.backend).to_dict()
         else:
             solver = dict(
                 t0=0.0 if args.t0 is None else args.t0,
@@ -545,6 +596,17 @@ def _print_response(r: dict) -> None:
             f"{u['max_abs_x2']:9.5f}  {u['impacts_per_period']:9.4g}  {u['peak_impulse']:10.5g}  "
             f"{q['linear_max_abs_x1']:9.5f}{'  hysteresis' if q['hysteresis'] else ''}"
         )
+
+
+def _print_lyapunov(r: dict) -> None:
+    shown = ", ".join("-inf" if x is None else f"{x:.6g}" for x in r["exponents"])
+    errors = ", ".join("-" if x is None else f"{x:.2g}" for x in r["errors"])
+    print(f"{r['label']}: exponents per forcing period {shown} (standard errors {errors})")
+    print(
+        f"  {r['periods']} periods averaged after {r['transient']} + {r['warmup']}; {r['impacts']} impacts, "
+        f"{r['captures']} captures, {r['liftoffs']} lift-offs, contact {100 * r['contact_time']:.2f} % of the time "
+        f"({r['backend']}{', fallback ' + r['fallback'] if r['fallback'] else ''})"
+    )
 
 
 def _print_design(r: dict) -> None:

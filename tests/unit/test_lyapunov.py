@@ -21,18 +21,26 @@ import math
 import numpy as np
 import pytest
 
-from impactdamper.analysis.lyapunov import (
-    LABELS,
-    SIGNIFICANCE,
-    ZERO_BAND,
-    LyapunovSpectrum,
+from impactdamper.analysis.lyapunov import LABELS, SIGNIFICANCE, ZERO_BAND, LyapunovSpectrum, classify_spectrum
+from impactdamper.analysis.lyapunov import lyapunov_spectrum as any_backend_spectrum
+from lyapunov_checks import (
+    BENETTIN_FLOOR,
+    FLOQUET_TOL,
+    SAME_MOTION_TOL,
+    SUM_RULE_TOL,
+    benettin,
+    block_estimate,
+    check_sum_rule,
+    floquet_exponents,
+    run_state,
+    scale,
+)
+from impactdamper.core.tangent import (
     capture_saltation,
-    classify_spectrum,
     free_field,
     impact_jump,
     impact_saltation,
     liftoff_saltation,
-    lyapunov_spectrum,
     saltation,
 )
 from impactdamper.analysis.orbits import solve_orbit
@@ -42,43 +50,22 @@ from impactdamper.core.simulate import EventDrivenSolver, Tolerances, simulate
 from impactdamper.core.steady import steady_state
 
 REF = Parameters()
-# Tolerances, each with its reason:
-# - exponents against Floquet multipliers, absolute per forcing period (the brief's 1e-6; the
-#   weighted averages reach ~1e-10 at these orbits);
-FLOQUET_TOL = 1e-6
-# - the sum rule, relative (rounding of ~1e4 logarithms of 4 x 4 products is ~1e-13);
-SUM_RULE_TOL = 1e-8
+
+
+def lyapunov_spectrum(p: Parameters, **kwargs):
+    """The reference backend's spectrum (the compiled one's checks: test_lyapunov_compiled.py)."""
+    return any_backend_spectrum(p, backend="python", **kwargs)
+
+
+# Tolerances, each with its reason (those shared with the compiled path's checks: lyapunov_checks):
 # - a tangent map against central differences of the solver with relative step FD_STEP:
 #   truncation ~FD_STEP^2 times the curvature of the event time, rounding ~1e-15/FD_STEP, both
 #   times the map's norm (up to ~1e3 across an impact, 1/closing velocity);
 FD_STEP = 1e-6
 FD_TOL = 1e-6
-# - Benettin against the tangent along the same motion: the finite separation EPS (relative)
-#   adds a nonlinear term ~EPS times the map's second derivative per period (measured 1.3e-6
-#   to 8e-6 at the chaotic points; 1e-4 bounds it).
-EPS = 1e-7
-SAME_MOTION_TOL = 1e-4
 # - where the solver cuts a chatter sequence (chatter_tol) moves the motion after the capture
 #   by ~1.3e-12 (relative; measured from chatter_tol 1e-7 to 1e-12 at gap -25): bound 1e-11.
 CUT_EFFECT = 1e-11
-# - Benettin's estimate has a floor besides its statistical error: each period's separation is
-#   the difference of two solver states, each rounded to ~1e-15 (relative), so its log carries
-#   ~1e-15/EPS = 1e-8 (measured at gap -12.7: bias 3e-8 at EPS = 1e-7, 6e-7 at 1e-8, 5e-6 at
-#   1e-9, growing as 1/EPS); 1e-6 bounds it.
-BENETTIN_FLOOR = 1e-6
-
-
-def scale(p: Parameters, n: int = 4) -> np.ndarray:
-    """Relative units of a state: (x_st, x_st, x_st omega, x_st omega), or (x_st, x_st omega)."""
-    full = np.array([p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega])
-    return full if n == 4 else full[[0, 2]]
-
-
-def run_state(p: Parameters, t0: float, y: np.ndarray, t1: float) -> np.ndarray:
-    """(x1, x2, x1', x2') at t1 of the solver's motion from (t0, y): the solver alone."""
-    s = EventDrivenSolver(p, t0=t0, state=y)
-    s.advance(t1)
-    return s.state_at(t1)
 
 
 def fd_jacobian(p: Parameters, f, y: np.ndarray, n_in: int) -> np.ndarray:
@@ -96,20 +83,6 @@ def fd_jacobian(p: Parameters, f, y: np.ndarray, n_in: int) -> np.ndarray:
 
 def scaled(p: Parameters, A: np.ndarray) -> np.ndarray:
     return A * scale(p, A.shape[1])[None, :] / scale(p, A.shape[0])[:, None]
-
-
-def weighted_average(x: np.ndarray) -> np.ndarray:
-    """exp(-1/(s(1-s))) weighted average over the first axis (written here again, on purpose)."""
-    s = (np.arange(len(x)) + 0.5) / len(x)
-    w = np.exp(-1.0 / (s * (1.0 - s)))
-    return (w / w.sum()) @ x
-
-
-def floquet_exponents(p: Parameters) -> np.ndarray:
-    """log|mu| / k per forcing period from the orbit solver, largest first."""
-    o = solve_orbit(p)
-    assert o.solved and o.stable, (o.regime, o.reason)
-    return np.sort(np.log(np.abs(o.multipliers)) / o.period_multiple)[::-1]
 
 
 # ----------------------------------------------------------------------------------------
@@ -335,31 +308,6 @@ def test_chatter_cycles_match_the_simulated_map(gap, k):
 # ----------------------------------------------------------------------------------------
 # The sum rule
 # ----------------------------------------------------------------------------------------
-def free_trace_per_period(p: Parameters) -> float:
-    """Trace of the free mode's matrix times T: -(k1 + k2)/m1 - k2/m2 (eqs. 2, 9), closed form."""
-    return -((p.k1 + p.k2) / p.m1 + p.k2 / p.m2) * p.T
-
-
-def check_sum_rule(s: LyapunovSpectrum) -> tuple[float, float]:
-    """Per period, the sum of the increments against tr(M) T + 2 log R x (impacts in the period,
-    counted by re-simulating it from its section). Returns (largest per-period and total
-    relative residual)."""
-    p = s.p
-    assert s.dimension == 4 and s.captures == 0
-    closed = np.empty(s.periods)
-    for n, y in enumerate(s.sections):
-        events = simulate(p, s.t_section + p.T, s.t_section, y).events
-        assert all(e.kind == "impact" for e in events)
-        closed[n] = free_trace_per_period(p) + 2.0 * math.log(p.R) * len(events)
-    sums = s.increments.sum(axis=1)
-    per_period = np.max(np.abs(sums - closed) / np.abs(closed))
-    total = abs(sums.sum() - closed.sum()) / abs(closed.sum())
-    # The reported exponents are weighted averages of the increments: their sum is the same
-    # weighted average of the closed form.
-    assert abs(s.exponents.sum() - weighted_average(closed)) <= SUM_RULE_TOL * abs(weighted_average(closed))
-    return per_period, total
-
-
 def test_sum_rule_stated_case(stated):
     per_period, total = check_sum_rule(stated)
     assert per_period <= SUM_RULE_TOL and total <= SUM_RULE_TOL, (per_period, total)
@@ -368,34 +316,6 @@ def test_sum_rule_stated_case(stated):
 # ----------------------------------------------------------------------------------------
 # Benettin's two-trajectory estimate, from the solver alone
 # ----------------------------------------------------------------------------------------
-def benettin(p: Parameters, t0: float, y0: np.ndarray, periods: int, along: np.ndarray | None = None):
-    """Per-period log growth of a separation EPS (relative units) renormalised every period.
-
-    The reference motion is the solver's from (t0, y0), or, with ``along``, the given section
-    states (then y0 = along[0]). Returns the growth per period, shape (periods,)."""
-    D = scale(p)
-    d = np.full(4, 0.5)
-    y = np.array(y0, float)
-    out = np.empty(periods)
-    for n in range(periods):
-        for sign in (1.0, -1.0):  # a perturbation that keeps the gap >= 0 (a motion in contact)
-            yb = y + sign * EPS * D * d
-            if p.Delta0 - (yb[1] - yb[0]) >= -1e-12 * p.x_st:
-                break
-        y_next = along[n + 1] if along is not None else run_state(p, t0, y, t0 + p.T)
-        sep = (run_state(p, t0, yb, t0 + p.T) - y_next) / D
-        r = float(np.linalg.norm(sep))
-        out[n] = math.log(r / EPS)
-        d, y = sep / r, y_next
-    return out
-
-
-def block_estimate(x: np.ndarray, blocks: int = 10) -> tuple[float, float]:
-    """Weighted average and the standard error of its weighted block averages."""
-    b = np.array([weighted_average(c) for c in np.split(x, blocks)])
-    return float(weighted_average(x)), float(b.std(ddof=1) / math.sqrt(blocks))
-
-
 # Chaotic points of the gap sweep's np bands (figures/sweep_gap.csv: -19.312..-18.88,
 # -17.344..-15.856, -12.352..-11.632 upward), and one with captures (-17.0).
 CHAOTIC = [-19.0, -16.0, -12.0, -17.0]

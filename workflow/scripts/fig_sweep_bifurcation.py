@@ -10,8 +10,10 @@ stable, dotted where its gap goes negative). Dashed grey verticals: the analytic
 (lift-off of the persistent contact, Algorithm No. 1's orbit touching the stop between
 impacts, first contact of the free forced response U1), each named at the top of the upper
 panel; dash-dotted green verticals: the stated case (Delta0/x_st = -5.8) and the located case
-of the replication verdict, named above the upper panel. Every text is at least 7 pt at the
-report's text width.
+of the replication verdict, named above the upper panel. Lowest panel: the largest Lyapunov
+exponent lambda_1 T per forcing period of each point's motion (upward and downward sweep, each
+point run again from its start state in the sweep; the Lyapunov stage's table), zero marked:
+positive where the motion is chaotic. Every text is at least 7 pt at the report's text width.
 
 Deviations: velocities are the closing relative velocities x2' - x1' before each impact over
 x_st omega; for nonperiodic points they are the impacts of the last 8 periods simulated.
@@ -26,6 +28,8 @@ from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish
 
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
+# Height of the exponent panel relative to each of the two diagram panels.
+EXPONENT_PANEL = 0.75
 # The analytic transitions drawn as dashed verticals (sweep_checks.json names) and their labels.
 ANALYTIC = (("liftoff", "lift-off"), ("alg1_grazing", "Alg. 1 grazing"), ("first_contact", "$U_1$"))
 
@@ -39,14 +43,20 @@ def _scatter(rows):
     return np.array(xs), np.array(ys)
 
 
-def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap: float, out_pdf, out_png) -> None:
+def main(
+    sweep_csv, random_csv, alg1_csv, checks_json, located_json, lyapunov_csv, stated_gap: float, out_pdf, out_png
+) -> None:
     plt = use_style()
     rows = read_csv(sweep_csv)
     rnd = read_csv(random_csv)
     alg1 = read_csv(alg1_csv)
     checks = {c["name"]: c for c in read_json(checks_json)["checks"]}
     located = located_gap(located_json)
-    fig, axes = plt.subplots(2, 1, figsize=figure_size(4.8), sharex=True, sharey=True, layout="constrained")
+    fig, panels = plt.subplots(
+        3, 1, figsize=figure_size(6.4), sharex=True, height_ratios=(1.0, 1.0, EXPONENT_PANEL), layout="constrained"
+    )
+    axes, lower = panels[:2], panels[2]
+    axes[1].sharey(axes[0])
     xr, yr = _scatter(rnd)
     g = np.array([float(r["value"]) for r in alg1])
     v = np.array([float(r["velocity"]) if r["velocity"] else np.nan for r in alg1])
@@ -101,9 +111,10 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
             va="bottom",
             fontsize=ANNOTATION_SIZE,
         )
-        for ax in axes:
+        for ax in panels:
             ax.axvline(x, color="C2", lw=0.7, ls="-.", label="stated and located cases" if text == "stated" else None)
-    axes[1].set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    _exponent_panel(lower, read_csv(lyapunov_csv))
+    lower.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
     h0, l0 = axes[0].get_legend_handles_labels()
     h1, l1 = axes[1].get_legend_handles_labels()
     order = [
@@ -122,7 +133,26 @@ def main(sweep_csv, random_csv, alg1_csv, checks_json, located_json, stated_gap:
     finish_figure(fig, out_pdf, out_png)
 
 
-JOB = "input.sweep input.random input.alg1 input.checks input.located params.stated_gap:float output.pdf output.png"
+def _exponent_panel(ax, rows) -> None:
+    """The largest exponent along each sweep (the Lyapunov stage's table), zero marked."""
+    ax.axhline(0.0, color="0.3", lw=0.6)
+    for direction, color in (("up", "C0"), ("down", "C1")):
+        chosen = [r for r in rows if r["direction"] == direction and r["exponent"] not in ("", "nan")]
+        ax.scatter(
+            [float(r["value"]) for r in chosen],
+            [float(r["exponent"]) for r in chosen],
+            s=DOT,
+            color=color,
+            lw=0,
+            rasterized=True,
+        )
+    ax.set_ylabel("largest exponent $\\lambda_1 T$")
+
+
+JOB = (
+    "input.sweep input.random input.alg1 input.checks input.located input.lyapunov params.stated_gap:float "
+    "output.pdf output.png"
+)
 
 if __name__ == "__main__":
     run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -27,12 +27,20 @@ go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
 
 A point whose run reaches the solver's work bound is ``failed`` (method ``error``) in either
 backend, with the reference's line logged; the next point of its chain starts from its start.
+
+With ``settings.classify`` each point still ``nonperiodic`` after the rescue is labelled by its
+Lyapunov spectrum (:func:`~impactdamper.analysis.lyapunov.lyapunov_spectrum`, the same backend),
+from the section its run hands on: ``chaotic``, ``quasi-periodic``, ``periodic`` (a transient
+slower than the cap, every perturbation decaying) or ``not settled``
+(:func:`~impactdamper.analysis.lyapunov.classify_spectrum`), with its largest exponent and
+that exponent's error.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import functools
+import logging
 import math
 import multiprocessing
 import numbers
@@ -43,10 +51,12 @@ from collections.abc import Sequence
 import numpy as np
 
 from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.lyapunov import lyapunov_spectrum
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
 from impactdamper.analysis.sweeps import PSEUDO_PARAMETERS, random_start_states, swept_names, with_value
 from impactdamper.core.backends import RowArrays, get_backend, row_arrays
+from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.steady import REGIMES
@@ -69,6 +79,12 @@ BATCH_REGIMES = REGIMES + (FAILED,)
 MAX_REPORTED_IMPACTS = 16
 # The relative parameters, in the columns of the rows handed to a backend.
 COLUMNS = Parameters.names()
+# The arrays of a result that settle_row does not fill: the Lyapunov labels of the points left
+# nonperiodic (SweepSettings.classify).
+CLASSIFICATION_FIELDS = ("lyapunov_label", "lyapunov_exponent", "lyapunov_error")
+NONPERIODIC = BATCH_REGIMES.index("nonperiodic")
+
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -88,12 +104,21 @@ class BatchResult(RowArrays):
     backend : str
         ``compiled`` (the kernels, with the reference where ``fallback`` says) or ``python``
         (every point by the pure-Python reference).
+    lyapunov_label : ndarray of object, shape (P,)
+        With ``SweepSettings(classify=True)``: a nonperiodic point's label by its Lyapunov
+        spectrum (:data:`~impactdamper.analysis.lyapunov.LABELS`); "" elsewhere.
+    lyapunov_exponent, lyapunov_error : ndarray, shape (P,)
+        Its largest exponent per forcing period and that exponent's standard error (nan
+        elsewhere).
     """
 
     values: np.ndarray = None
     names: tuple = ()
     elapsed: float = field(default=0.0)
     backend: str = "compiled"
+    lyapunov_label: np.ndarray = None
+    lyapunov_exponent: np.ndarray = None
+    lyapunov_error: np.ndarray = None
 
     @property
     def regime(self) -> np.ndarray:
@@ -375,7 +400,8 @@ def steady_states(
             values=values,
             names=names,
             **{
-                f.name: np.concatenate([getattr(part, f.name) for part in parts]) for f in dataclasses.fields(RowArrays)
+                name: np.concatenate([getattr(part, name) for part in parts])
+                for name in [f.name for f in dataclasses.fields(RowArrays)] + list(CLASSIFICATION_FIELDS)
             },
         )
     else:
@@ -395,7 +421,13 @@ def _settle_job(job) -> BatchResult:
 def _settle(values, rows, given, settings: SweepSettings, chain: bool, length: int, run) -> BatchResult:
     """The points in this process: the backend's row, and here the points it hands back."""
     P = len(rows)
-    res = BatchResult(values=values, **vars(row_arrays(P, MAX_REPORTED_IMPACTS)))
+    res = BatchResult(
+        values=values,
+        **vars(row_arrays(P, MAX_REPORTED_IMPACTS)),
+        lyapunov_label=np.full(P, "", dtype=object),
+        lyapunov_exponent=np.full(P, np.nan),
+        lyapunov_error=np.full(P, np.nan),
+    )
     if not P:
         return res
     rescue_settings = dataclasses.replace(settings, continuation=False, backend=run.name)
@@ -441,7 +473,30 @@ def _settle(values, rows, given, settings: SweepSettings, chain: bool, length: i
             previous = _sweep_point(res, i - 1, _parameters(rows[i - 1])) if chained else None
             state = given[i].copy() if len(given) else None
             _store(res, i, solve_point(p, value, previous, state=state, settings=reference), reason)
+    if settings.classify:
+        _classify(res, rows, settings, run.name)
     return res
+
+
+def _classify(res: BatchResult, rows: np.ndarray, settings: SweepSettings, backend: str) -> None:
+    """The Lyapunov label of each point left nonperiodic, from the section its run hands on
+    (at a time of the forcing's phase 0: the runs start at t0 = 0), by the same backend."""
+    for i in np.flatnonzero(res.regime_code == NONPERIODIC):
+        p = _parameters(rows[i])
+        try:
+            s = lyapunov_spectrum(
+                p,
+                state=res.sections[i],
+                transient=0,
+                periods=settings.classify_periods,
+                tolerances=settings.tolerances,
+                backend=backend,
+            )
+        except SearchLimitError as err:  # (left unlabelled: the work bound, logged)
+            log.warning("point %d: no Lyapunov label: %s", i, err)
+            continue
+        res.lyapunov_label[i] = s.label
+        res.lyapunov_exponent[i], res.lyapunov_error[i] = s.exponents[0], s.errors[0]
 
 
 def sweep_points(res: BatchResult, base: Parameters) -> list[SweepPoint]:

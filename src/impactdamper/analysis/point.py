@@ -27,6 +27,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from impactdamper.analysis.lyapunov import DEFAULT_BLOCKS, DEFAULT_PERIODS
 from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle
 from impactdamper.core.backends import check_backend
 from impactdamper.core.model import FREE
@@ -89,6 +90,15 @@ class SweepSettings:
         Who runs each simulation and each stroboscopic map (:data:`~impactdamper.core.backends.BACKENDS`:
         ``"auto"``, ``"compiled"`` or ``"python"``, resolved by
         :func:`~impactdamper.core.backends.get_backend`): the same motion either way.
+    classify : bool
+        The many-point call (:func:`~impactdamper.analysis.batch.steady_states`) labels each
+        point left ``nonperiodic`` after the rescue by its Lyapunov spectrum
+        (:func:`~impactdamper.analysis.lyapunov.lyapunov_spectrum` from the section its run
+        hands on: chaotic, quasi-periodic, periodic or not settled). False (default): no
+        spectrum, the labels left empty.
+    classify_periods : int
+        Forcing periods the spectrum averages (a multiple of its 10 blocks), after its 200
+        periods of warm-up.
     """
 
     settle_tol: float = 1e-9
@@ -99,9 +109,11 @@ class SweepSettings:
     rescue: bool = True
     tolerances: Tolerances = field(default_factory=Tolerances)
     backend: str = "auto"
+    classify: bool = False
+    classify_periods: int = DEFAULT_PERIODS
 
     def __post_init__(self) -> None:
-        for name in ("continuation", "rescue"):
+        for name in ("continuation", "rescue", "classify"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"`{name}` = {getattr(self, name)!r} is not allowed: must be True or False")
         check_backend(self.backend)
@@ -126,6 +138,16 @@ class SweepSettings:
             raise ValueError(
                 f"`max_periods_after_nonperiodic` = {self.max_periods_after_nonperiodic!r} is not allowed: "
                 f"must be an integer in (2 max_period_multiple, max_periods]"
+            )
+        if not (
+            isinstance(self.classify_periods, int)
+            and not isinstance(self.classify_periods, bool)
+            and DEFAULT_BLOCKS <= self.classify_periods <= MAX_PERIODS_LIMIT
+            and self.classify_periods % DEFAULT_BLOCKS == 0
+        ):
+            raise ValueError(
+                f"`classify_periods` = {self.classify_periods!r} is not allowed: must be a multiple of "
+                f"{DEFAULT_BLOCKS} in [{DEFAULT_BLOCKS}, {MAX_PERIODS_LIMIT}]"
             )
 
 

@@ -7,7 +7,11 @@ the motion from a start                :func:`simulate` (:class:`~impactdamper.c
 the settled motion at one point        :func:`steady_state` (:class:`~impactdamper.core.steady.SteadyState`)
 settled motions at many points         :func:`steady_states` (:class:`~impactdamper.analysis.batch.BatchResult`):
                                        sweeps, grids, map rows, random starts; many independent
-                                       chains (``chain_length``) in parallel (``workers``)
+                                       chains (``chain_length``) in parallel (``workers``);
+                                       ``SweepSettings(classify=True)``: the points left
+                                       nonperiodic labelled by their Lyapunov spectrum
+the Lyapunov spectrum of a motion      :func:`lyapunov_spectrum` (:class:`~impactdamper.analysis.lyapunov.LyapunovSpectrum`):
+(chaotic, quasi-periodic, periodic?)   four exponents per forcing period with errors, a label
 =====================================  ==========================================================
 
 Each takes ``backend`` (:data:`~impactdamper.core.backends.BACKENDS`, resolved by
@@ -38,13 +42,14 @@ import dataclasses
 import numpy as np
 
 from impactdamper.analysis.batch import steady_states
+from impactdamper.analysis.lyapunov import lyapunov_spectrum
 from impactdamper.core.backends import BACKENDS, get_backend
 from impactdamper.core.parameters import ArgumentTypeError, Parameters
 from impactdamper.core.simulate import MAX_SIMULATE_PERIODS, Tolerances, Trajectory
 from impactdamper.core.steady import SteadyState
 from impactdamper.core.validation import check_run_call, check_settle_call
 
-__all__ = ["BACKENDS", "simulate", "steady_state", "steady_states"]
+__all__ = ["BACKENDS", "simulate", "steady_state", "steady_states", "lyapunov_spectrum"]
 
 
 def simulate(

@@ -10,8 +10,9 @@ stroboscopic period test of the settled motion -- runs in two implementations:
   it hands a point it does not cover to the reference and says why (``fallback``:
   ``matrix_exponential``, ``scales``, ``error``).
 
-A backend is an object with the four operations of :class:`Backend`; every caller (the front
-door, the sweeps' ladder and rescue, the batch) asks :func:`get_backend` for one by name.
+A backend is an object with the five operations of :class:`Backend`; every caller (the front
+door, the sweeps' ladder and rescue, the batch, the Lyapunov spectrum) asks :func:`get_backend`
+for one by name.
 ``"auto"`` is resolved here and only here: the compiled backend where numba imports, else the
 reference with the reason ``numba_unavailable``. A new backend is one module with an object of
 this protocol and one line of :data:`REGISTRY`.
@@ -32,6 +33,7 @@ import numpy as np
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import EventDrivenSolver, Trajectory, simulate
 from impactdamper.core.steady import SteadyState, steady_state
+from impactdamper.core.tangent import TangentRun, tangent_walk
 from impactdamper.core.validation import SettleOptions, Tolerances
 
 __all__ = [
@@ -134,6 +136,13 @@ class Backend(Protocol):
         ``"rescue"`` (nonperiodic within the cap; ``detail`` the run's last sections),
         ``"failed"`` (a work bound; ``detail`` the error's one line), else a fallback reason
         for the reference's ladder ("" where the backend settles no point itself).
+    ``lyapunov(p, t0, state, tolerances, periods, transient, warmup)``
+        The growth of an orthonormal frame of perturbations along the motion from ``state``
+        (None: step 1) at ``t0`` in [0, T), period by period: ``transient`` periods of motion,
+        ``warmup`` periods of the walk discarded, ``periods`` returned
+        (:class:`~impactdamper.core.tangent.TangentRun`, ``backend`` and ``fallback`` set;
+        ``p`` in the native scales). The reference is
+        :func:`~impactdamper.core.tangent.tangent_walk`.
     """
 
     name: str
@@ -147,6 +156,10 @@ class Backend(Protocol):
     def map_step(self, p: Parameters, tolerances: Tolerances) -> Callable | None: ...
 
     def settle_row(self, rows: np.ndarray, out: RowArrays, **options) -> Iterator[tuple[int, str, object]]: ...
+
+    def lyapunov(
+        self, p: Parameters, t0: float, state, tolerances: Tolerances, periods: int, transient: int, warmup: int
+    ) -> TangentRun: ...
 
 
 class PythonBackend:
@@ -180,6 +193,9 @@ class PythonBackend:
         """Every point to the caller's reference ladder (reason "")."""
         for i in range(len(rows)):
             yield i, "", None
+
+    def lyapunov(self, p, t0, state, tolerances, periods, transient, warmup):
+        return tangent_walk(p, t0, state, tolerances, periods, transient, warmup)
 
     def warm_up(self) -> None:
         """Nothing to compile."""

@@ -99,6 +99,14 @@ def _parameter_sets(config: dict):
             yield ("design", end), {"theta": design[end]}
         for value in design.get("second_values", ()):
             yield ("design", "second_values"), {design["second"]: value}
+    lmap = config.get("lyapunov", {}).get("map")
+    if lmap:
+        for end in ("start", "stop"):
+            value = lmap[end]
+            yield (
+                ("lyapunov", "map", end),
+                ({"theta": value} if lmap["parameter"] == "theta" else {"delta1": value, "delta2": value}),
+            )
     for name, m in config.get("maps", {}).items():
         if isinstance(m, dict):
             for end in ("start", "stop"):
@@ -147,6 +155,13 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
                     sweep_settings(config[section], solver)
                 except ValueError as err:
                     return (section,), ": " + str(err)
+        if "lyapunov" in config:
+            try:
+                sweep_settings(
+                    config["lyapunov"]["map"], solver, classify_periods=config["lyapunov"]["classify_periods"]
+                )
+            except ValueError as err:
+                return ("lyapunov", "map"), ": " + str(err)
     chunked = []
     maps = config.get("maps")
     if maps:
@@ -166,6 +181,14 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
                 "sweep points with random starts (points / random_every)",
             )
         )
+    lyapunov = config.get("lyapunov")
+    if lyapunov:
+        chunked.append(
+            (("lyapunov", "map", "chunks"), lyapunov["map"]["chunks"], lyapunov["map"]["points"], "map's rows")
+        )
+        if sweep:
+            rows = 2 * sweep["points"]
+            chunked.append((("lyapunov", "sweep_chunks"), lyapunov["sweep_chunks"], rows, "sweep's rows (2 points)"))
     for path, chunks, rows, what in chunked:
         if chunks > min(rows, MAX_CHUNKS):
             return path, (

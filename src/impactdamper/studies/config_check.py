@@ -421,11 +421,31 @@ def grid_sizes(config: dict) -> list[tuple[tuple, str, float, int, str]]:
         grids.append(_key(perf, path + ("compiled_speed_batch_points",), MAX_MAP_CELLS, "batch points"))
         for key in ("repeats", "reference_speed_repeats", "reference_speed_ivp_repeats", "compiled_speed_repeats"):
             grids.append(_key(perf, path + (key,), MAX_REPEATS, "timed repeats"))
+    if config.get("lyapunov"):
+        grids += _lyapunov_grids(config["lyapunov"])
     if config.get("orbits"):
         from impactdamper.analysis.continuation import MAX_BRANCH_POINTS
 
         path = ("orbits", "continuation", "max_points")
         grids.append(_key(config["orbits"]["continuation"], path, MAX_BRANCH_POINTS, "orbits per leg"))
+    return grids
+
+
+def _lyapunov_grids(ly: dict) -> list[tuple[tuple, str, float, int, str]]:
+    """The Lyapunov stage's grids (see :func:`grid_sizes`): the map's cells, rows and columns,
+    and every run's length (transient, warm-up and averaged periods together, a run's work)."""
+    m, path = ly["map"], ("lyapunov",)
+    counts = (m["points"], m["gap_points"])
+    grids = [
+        _product(path + ("map",), "points x gap_points", counts, MAX_MAP_CELLS, "map cells"),
+        _key(m, path + ("map", "points"), MAX_LINE_POINTS, "map rows"),
+        _key(m, path + ("map", "gap_points"), MAX_LINE_POINTS, "map columns"),
+    ]
+    for names in (("transient", "warmup", "periods"), ("transient", "classify_warmup", "classify_periods")):
+        counts = [ly[n] for n in names]
+        shown = f"{' + '.join(names)} = {' + '.join(str(c) for c in counts)}"
+        grids.append((path, shown, sum(counts), MAX_SIMULATE_PERIODS, "periods of a run"))
+    grids.append(_key(ly, path + ("speed_repeats",), MAX_REPEATS, "timed repeats"))
     return grids
 
 

@@ -40,6 +40,8 @@ The modules, each one idea:
 * :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law, the modes, the
   work bound and the recorded run;
 * :mod:`~impactdamper.core.compiled.settle` -- the settled motion, one point or a row of them;
+* :mod:`~impactdamper.core.compiled.tangent` -- the Lyapunov tangent walk on the event loop
+  (transition and saltation matrices, QR per event and period);
 * :mod:`~impactdamper.core.compiled.backend` -- the backend object (:data:`COMPILED`) that the
   registry (:mod:`impactdamper.core.backends`) hands out: the only entry point;
 * :mod:`~impactdamper.core.compiled.cache` -- numba's cache kept in step with the sources.

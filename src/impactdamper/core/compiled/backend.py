@@ -39,11 +39,13 @@ from impactdamper.core.compiled.pack import (
     packing_values,
 )
 from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel, steady_kernel
+from impactdamper.core.compiled.tangent import C_CAPTURES, C_GRAZING, C_IMPACTS, C_LIFTOFFS, tangent_kernel
 from impactdamper.core.events import SearchLimitError, Segment
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Trajectory, budget_exceeded, default_initial_state, degenerate_contact
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, describe_run, start_in_first_period
+from impactdamper.core.tangent import TangentRun
 from impactdamper.core.validation import SettleOptions, Tolerances, work_bound_message
 
 __all__ = ["CompiledBackend", "COMPILED"]
@@ -258,9 +260,45 @@ class CompiledBackend:
             prev[6] = 1.0 if out.regime_code[stop] < NONPERIODIC else 0.0
             i = stop + 1
 
+    def lyapunov(
+        self, p: Parameters, t0: float, state, tolerances: Tolerances, periods: int, transient: int, warmup: int
+    ) -> TangentRun:
+        """The reference's :func:`~impactdamper.core.tangent.tangent_walk` in the kernels
+        (:func:`~impactdamper.core.compiled.tangent.tangent_kernel`, on the kernels' own event
+        loop and its work bound); where they do not apply, or stop on an error other than the
+        work bound, the reference walks (``fallback``)."""
+        pack = pack_parameters(p, tolerances)
+        err = 0
+        if not pack.fallback:
+            full = default_initial_state(p) if state is None else np.asarray(state, float)
+            increments, sections = np.empty((periods, 4)), np.empty((periods, 4))
+            counts, diag = np.zeros(4, np.int64), np.zeros(N_DIAG)
+            args = (pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s)
+            err, dimension, contact = tangent_kernel(
+                *args, t0, full.copy(), transient, warmup, periods, increments, sections, counts, diag
+            )
+            if not err:
+                return TangentRun(
+                    increments=increments,
+                    sections=sections,
+                    dimension=int(dimension),
+                    impacts=int(counts[C_IMPACTS]),
+                    captures=int(counts[C_CAPTURES]),
+                    liftoffs=int(counts[C_LIFTOFFS]),
+                    grazing=int(counts[C_GRAZING]),
+                    contact_time=float(contact),
+                    backend="compiled",
+                )
+            if err in WORK_BOUND_ERRORS:
+                raise SearchLimitError(_work_bound(p, tolerances, diag))
+        run = PYTHON.lyapunov(p, t0, state, tolerances, periods, transient, warmup)  # (or its own error)
+        run.fallback = FALLBACK_REASONS[pack.fallback] if pack.fallback else "error"
+        return run
+
     def warm_up(self) -> None:
         """Every kernel run once on the reference case (compiled, or loaded from numba's cache)."""
         p, tol = Parameters(), Tolerances()
+        self.lyapunov(p, 0.0, None, tol, 2, 1, 1)
         self.settle(p, 0.0, None, tol, SettleOptions(max_periods=40))
         self.settle(Parameters(theta=0.8), 0.0, None, tol, SettleOptions(max_periods=40))  # (a contact cycle)
         self.run(p, 2 * p.T, 0.0, None, tol)

@@ -26,8 +26,10 @@ MARCH_NONE, MARCH_ROOT = 0, 1
 # step budget, which bounds the events and contact switches per period), a search that failed
 # (a step count or a bound beyond range), more than MAX_EVENTS_AT_ONE_TIME events at one time,
 # a resonance in contact, and a recorded run whose events outgrew the buffers the work bound
-# allows (never expected: every event costs a certified step, see loop.recorded_run).
-OK, ERR_BUDGET, ERR_SEARCH, ERR_DEGENERATE, ERR_STUCK_RESONANT, ERR_CAPACITY = 0, 2, 3, 4, 5, 6
+# allows (never expected: every event costs a certified step, see loop.recorded_run), and a
+# tangent walk whose contact mode disagrees with the loop's at a period's end (never expected,
+# see tangent.tangent_kernel).
+OK, ERR_BUDGET, ERR_SEARCH, ERR_DEGENERATE, ERR_STUCK_RESONANT, ERR_CAPACITY, ERR_WALK = 0, 2, 3, 4, 5, 6, 7
 # The errors of the work bound, which the backend reports with the reference's message (built
 # from the run's diagnostics, see DIAG_*) instead of running the reference to its bound.
 WORK_BOUND_ERRORS = (ERR_BUDGET, ERR_DEGENERATE)
