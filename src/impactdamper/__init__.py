@@ -24,7 +24,8 @@ from impactdamper.core.parameters import REFERENCE, Parameters
 from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
 from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
-from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
+from impactdamper.analysis.cycle import PeriodicOrbit
+from impactdamper.analysis.orbits import OrbitError, orbit_from_cycle, solve_orbit
 from impactdamper.analysis.solve import BACKENDS, simulate, steady_state, steady_states
 
 __version__ = "0.1.0"

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from impactdamper.analysis.orbits import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
+from impactdamper.analysis.cycle import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
 from impactdamper.core.parameters import Parameters, ScaleMap
 from impactdamper.core.simulate import Tolerances

@@ -27,7 +27,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle
+from impactdamper.analysis.cycle import PeriodicOrbit
+from impactdamper.analysis.orbits import OrbitError, orbit_from_cycle
 from impactdamper.core.backends import check_backend
 from impactdamper.core.model import FREE
 from impactdamper.core.parameters import Parameters, state_scale

@@ -57,6 +57,7 @@ from impactdamper.core.parameters import state_scale
 __all__ = [
     "Shooting",
     "OrbitError",
+    "impact_pulse",
     "impact_matrix",
     "saltation_matrix",
     "monodromy_matrix",
@@ -214,10 +215,15 @@ class Shooting:
         raise OrbitError(f"Newton did not converge in {max_iterations} iterations (residual {norm:.3g})")
 
 
+def impact_pulse(p: Parameters, v):
+    """The pulse S = m_red (1 + R) v of eq. (21), N s, for closing velocities v (m/s)."""
+    return p.reduced_mass * (1.0 + p.R) * v
+
+
 def impact_matrix(p: Parameters) -> np.ndarray:
     """J_R of eqs. (21)-(22): x1' += S/m1, x2' -= S/m2 with S = m_red (1 + R)(x2' - x1').
     Shape (4, 4), acting on (x1, x2, x1', x2') just before the impact."""
-    D = p.reduced_mass * (1.0 + p.R)
+    D = impact_pulse(p, 1.0)
     e = np.array([0.0, 0.0, 1.0 / p.m1, -1.0 / p.m2])
     w = np.array([0.0, 0.0, -1.0, 1.0])
     return np.eye(4) + D * np.outer(e, w)

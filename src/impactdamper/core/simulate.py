@@ -4,7 +4,7 @@ extended with persistent contact (stick), lift-off and grazing.
 The loop (eqs. 18-22): from the state after an event, the motion is the exact flow of the
 current mode (eq. 18 with alpha_j from eq. 19, see :mod:`impactdamper.core.linear`); the next event
 is the first root of the gap (eq. 20) or, in contact, of the contact force, found by
-:func:`impactdamper.core.events.first_root`, which never skips a root; at an impact the pulse of
+:func:`impactdamper.core.events.march`, which never skips a root; at an impact the pulse of
 eq. (21) updates the velocities, eq. (22), and the flow restarts.
 
 What the paper leaves out, decided here:
