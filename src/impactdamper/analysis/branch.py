@@ -108,13 +108,7 @@ class SpecialPoint:
     detail: str
 
     def to_dict(self) -> dict:
-        return {
-            "kind": self.kind,
-            "value": self.value,
-            "index": self.index,
-            "detail": self.detail,
-            "point": self.point.to_dict(),
-        }
+        return {**_fields(self, "kind", "value", "index", "detail"), "point": self.point.to_dict()}
 
 
 @dataclass(frozen=True)
@@ -152,14 +146,15 @@ class Branch:
 
     def to_dict(self) -> dict:
         return {
-            "parameter": self.parameter,
-            "period_multiple": self.period_multiple,
-            "impacts_per_cycle": self.impacts_per_cycle,
-            "end_reason": self.end_reason,
-            "end_value": self.end_value,
+            **_fields(self, "parameter", "period_multiple", "impacts_per_cycle", "end_reason", "end_value"),
             "special": [s.to_dict() for s in self.special],
             "points": [q.to_dict() for q in self.points],
         }
+
+
+def _fields(obj, *names: str) -> dict:
+    """The named fields of ``obj`` as a dict, in that order (a JSON object's plain keys)."""
+    return {name: getattr(obj, name) for name in names}
 
 
 def branch_point(value: float, o: PeriodicOrbit) -> BranchPoint:

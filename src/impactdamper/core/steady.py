@@ -59,8 +59,6 @@ __all__ = [
 ]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
-# Samples per forcing period when searching the object's largest excursion (then refined).
-EXCURSION_SAMPLES_PER_PERIOD = 256
 
 
 @dataclass(frozen=True)
@@ -529,6 +527,10 @@ def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, f
         if hi > lo:
             out.append((lo, hi))
     return out
+
+
+# Samples per forcing period when searching the object's largest excursion (then refined).
+EXCURSION_SAMPLES_PER_PERIOD = 256
 
 
 def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
