@@ -25,9 +25,9 @@ import math
 import numpy as np
 
 from impactdamper.analysis.branch import Branch, SpecialPoint, branch_point, rescale_branch
-from impactdamper.analysis.cycle import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
+from impactdamper.analysis.cycle import PeriodicOrbit, flight_scan, least_period, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
-from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
+from impactdamper.core.parameters import Parameters, ScaleMap
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.validation import check_tolerances, finite_argument, integer_argument
 
@@ -429,18 +429,9 @@ def _detect(cont, x, t, h, tests, tests_new, points, stable_after, special, seq,
 def _reduced(o: PeriodicOrbit, drop: int) -> tuple[int, int]:
     """(k, z) of the cycle left when impact ``drop`` vanishes, reduced to its least period
     (e.g. a 3/2 cycle whose middle impact vanishes may be a 1/1 cycle repeated)."""
-    k, T = o.period_multiple, o.p.T
     keep = [i for i in range(len(o.times)) if i != drop]
-    t = o.times[keep]
-    y = o.states_after[keep] / state_scale(o.p)
-    z = len(keep)
-    for d in range(1, k):
-        if k % d or (z * d) % k or z * d // k == 0:
-            continue
-        m = z * d // k
-        if np.all(np.abs(t[m:] - t[:-m] - d * T) < 1e-6 * T) and np.all(np.abs(y[m:] - y[:-m]) < 1e-6):
-            return d, m
-    return k, z
+    k = least_period(o.p, o.period_multiple, o.times[keep], o.states_after[keep], 1e-6)
+    return k, len(keep) * k // o.period_multiple
 
 
 def _flight_min(o: PeriodicOrbit, i: int) -> float:

@@ -42,7 +42,7 @@ import numpy as np
 from impactdamper.analysis.shooting import OrbitError, impact_matrix, impact_pulse, monodromy_matrix
 from impactdamper.core.events import SearchLimitError, Segment, march
 from impactdamper.core.model import FREE, STUCK, Model
-from impactdamper.core.parameters import Parameters, ScaleMap
+from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
 from impactdamper.core.simulate import Event, Trajectory
 from impactdamper.core.steady import CycleImpact, SteadyState, max_excursion, rescale_steady
 from impactdamper.core.validation import work_limit_message
@@ -54,6 +54,8 @@ __all__ = [
     "rescale_orbit",
     "flight_scan",
     "floquet_multipliers",
+    "least_period",
+    "impact_states",
 ]
 
 # Samples of the gap per forcing period when locating its interior minima (then refined).
@@ -452,3 +454,28 @@ def rescale_orbit(o: PeriodicOrbit, scales: ScaleMap) -> PeriodicOrbit:
         states_after=scales.full(o.states_after),
         states_before=scales.full(o.states_before),
     )
+
+
+def least_period(p: Parameters, k: int, times: np.ndarray, after: np.ndarray, tol: float) -> int:
+    """The least d | k such that the cycle of period k T with impacts at ``times`` (s) and states
+    just after them ``after`` is a cycle of period d T repeated: its impacts recur after d T to
+    ``tol`` (in units of T, and of x_st and x_st omega)."""
+    T, z = p.T, len(times)
+    for d in range(1, k):
+        m = z * d // k
+        if k % d or (z * d) % k or m == 0:
+            continue
+        dt = times[m:] - times[:-m] - d * T
+        dy = (after[m:] - after[:-m]) / state_scale(p)
+        if np.all(np.abs(dt) < tol * T) and np.all(np.abs(dy) < tol):
+            return d
+    return k
+
+
+def impact_states(s: SteadyState) -> tuple[np.ndarray, np.ndarray]:
+    """Times (s) and states (x1, x2, x1', x2') just after the impacts of a settled cycle, read
+    from its trajectory: a seed of the Newton shooting."""
+    T = s.p.T
+    events = s.trajectory.impacts(s.cycle_start - 1e-9 * T, s.cycle_start + max(s.period_multiple, 1) * T)
+    nearest = [min(events, key=lambda e: abs(e.t - imp.t)) for imp in s.impacts]
+    return np.array([e.t for e in nearest]), np.array([e.after for e in nearest])

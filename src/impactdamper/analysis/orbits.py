@@ -32,7 +32,13 @@ import math
 
 import numpy as np
 
-from impactdamper.analysis.cycle import PeriodicOrbit, closed_form_orbit, orbit_from_solution, rescale_orbit
+from impactdamper.analysis.cycle import (
+    PeriodicOrbit,
+    closed_form_orbit,
+    impact_states,
+    orbit_from_solution,
+    rescale_orbit,
+)
 from impactdamper.analysis.shooting import OrbitError, Shooting
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1, rescale_algorithm1
 from impactdamper.core.events import SearchLimitError
@@ -147,12 +153,7 @@ def _from_steady(steady: SteadyState, period_multiple: int | None, tolerances: T
                 f"`period_multiple` = {period_multiple!r} is not allowed: the {steady.regime} motion has period T"
             )
         return closed_form_orbit(p, steady.regime, steady.periods)
-    times, after = [], []
-    for imp in steady.impacts:
-        e = min(steady.trajectory.impacts(imp.t - 1e-9 * p.T, imp.t + 1e-9 * p.T), key=lambda e: abs(e.t - imp.t))
-        times.append(e.t)
-        after.append(e.after)
-    times, after = _repeat(np.array(times), np.array(after), k, m, p.T)
+    times, after = _repeat(*impact_states(steady), k, m, p.T)
     return orbit_from_cycle(p, k * m, times, after, seed="simulate", periods=steady.periods, tolerances=tolerances)
 
 
