@@ -74,18 +74,14 @@ class _Continuation:
         if not jacobian:
             return F, None
         h = PARAMETER_FD_STEP * max(1.0, abs(lam))
-        try:
-            Fp, _ = self.shooting(lam + h).residual(u, False)
-        except ValueError:
-            Fp, h_p = F, 0.0
-        else:
-            h_p = h
-        try:
-            Fm, _ = self.shooting(lam - h).residual(u, False)
-        except ValueError:
-            Fm, h_m = F, 0.0
-        else:
-            h_m = h
+
+        def side(lam_side: float):
+            try:
+                return self.shooting(lam_side).residual(u, False)[0], h
+            except ValueError:  # beyond the parameter's range: a one-sided difference
+                return F, 0.0
+
+        (Fp, h_p), (Fm, h_m) = side(lam + h), side(lam - h)
         if h_p + h_m == 0.0:
             raise OrbitError(f"cannot vary `{self.parameter}` at {lam!r}")
         dF = (Fp - Fm) / (h_p + h_m)

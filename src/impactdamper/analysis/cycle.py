@@ -22,13 +22,10 @@ flight's interior gap minima are also located, for grazing detection.
 Stability
 ---------
 The Floquet multipliers are the eigenvalues of the monodromy matrix of exact flows and
-saltation matrices (:func:`impactdamper.analysis.shooting.monodromy_matrix`); the orbit is
-stable when every multiplier has modulus < 1.
-:func:`impactdamper.analysis.strobe.stroboscopic_jacobian` is the independent check: the
-finite-difference Jacobian of the map y(t_s) -> y(t_s + k T) computed with the event-driven
-solver. The motion without contact and the motion with the bodies in contact all the time are
-the forced responses of one linear mode: their multipliers are the eigenvalues of e^{M T} (for
-``stuck`` those of the joined bodies, the relative motion being pressed back into contact).
+saltation matrices (:mod:`impactdamper.analysis.shooting` tells how, and its independent
+check); the orbit is stable when every multiplier has modulus < 1. The motions without impacts
+are the forced responses of one linear mode: their multipliers are the eigenvalues of e^{M T}
+(for ``stuck`` those of the joined bodies, the relative motion being pressed back into contact).
 """
 
 from __future__ import annotations

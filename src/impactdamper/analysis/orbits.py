@@ -231,15 +231,9 @@ def solve_orbit(
         # The same relative problem in the reference case's units, converted back.
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        if isinstance(seed, Algorithm1Result):
-            seed = rescale_algorithm1(seed, to_q)
-        elif isinstance(seed, PeriodicOrbit):
-            seed = rescale_orbit(seed, to_q)
-        elif isinstance(seed, SteadyState):
-            seed = rescale_steady(seed, to_q)
         o = solve_orbit(
             q,
-            seed,
+            _rescaled_seed(seed, to_q),
             period_multiple=period_multiple,
             t0=to_q.apply(start_in_first_period(p, t0), "time"),
             state=None if state is None else to_q.full(state),
@@ -277,6 +271,15 @@ def solve_orbit(
     raise ValueError(
         f"`seed` = {seed!r} is not allowed: must be one of {', '.join(SEEDS)}, a SteadyState or an Algorithm1Result"
     )
+
+
+def _rescaled_seed(seed, scales: ScaleMap):
+    """A computed seed in ``scales.target``'s units (a named seed as it is)."""
+    if isinstance(seed, Algorithm1Result):
+        return rescale_algorithm1(seed, scales)
+    if isinstance(seed, PeriodicOrbit):
+        return rescale_orbit(seed, scales)
+    return rescale_steady(seed, scales) if isinstance(seed, SteadyState) else seed
 
 
 def orbit_from_algorithm1(

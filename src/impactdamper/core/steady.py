@@ -31,7 +31,7 @@ from impactdamper.core.model import STUCK
 from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
 from impactdamper.core.periodicity import settled_period
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances, Trajectory, rescale_trajectory
-from impactdamper.core.validation import check_settle_call
+from impactdamper.core.validation import SettleOptions, check_settle_call
 
 # The period test's thresholds, read from here by the compiled kernels (core/compiled/settle.py)
 # until they import them from core/periodicity.py, where they are defined and explained.
@@ -56,6 +56,7 @@ __all__ = [
     "section_of",
     "start_in_first_period",
     "describe_run",
+    "settle",
 ]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
@@ -270,17 +271,21 @@ def steady_state(
         The motion needs more work than the event-driven solver's bound (see
         :meth:`impactdamper.EventDrivenSolver.advance`).
     """
-    p, t0, state, tolerances, opts = check_settle_call(
-        p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple
-    )
+    return settle(*check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple))
+
+
+def settle(p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions) -> SteadyState:
+    """:func:`steady_state` on arguments already checked (``check_settle_call`` of
+    :mod:`impactdamper.core.validation`): the reference backend's ``settle``."""
     start = start_in_first_period(p, t0)
-    args = (opts.settle_tol, opts.max_periods, opts.max_period_multiple)
     if not p.native_scales():
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        s = _steady_state(q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances, *args)
+        s = _steady_state(
+            q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances, options
+        )
         return rescale_steady(s, ScaleMap(q, p))
-    return _steady_state(p, start, state, tolerances, *args)
+    return _steady_state(p, start, state, tolerances, options)
 
 
 def rescale_steady(s: SteadyState, scales: ScaleMap) -> SteadyState:
@@ -331,15 +336,10 @@ def section_of(s: SteadyState) -> tuple[np.ndarray, str]:
 
 
 def _steady_state(
-    p: Parameters,
-    t0: float,
-    state: np.ndarray | None,
-    tolerances: Tolerances,
-    settle_tol: float,
-    max_periods: int,
-    max_period_multiple: int,
+    p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances, options: SettleOptions
 ) -> SteadyState:
     """steady_state on validated arguments, t0 in [0, T), in native scales."""
+    settle_tol, max_periods, max_period_multiple = options.settle_tol, options.max_periods, options.max_period_multiple
     T = p.T
     scale = state_scale(p)
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
