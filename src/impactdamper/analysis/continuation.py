@@ -315,7 +315,7 @@ def _locate_parameter(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h_gue
     return np.append(u, target)
 
 
-def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: str, f0: float, f1: float):
+def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: str, f0: float):
     """Zero of test function ``key`` between the arclength 0 and h from x0 (Brent's method)."""
     cache = {}
 
@@ -372,7 +372,7 @@ def _detect(cont, x, t, h, tests, tests_new, points, stable_after, special, seq,
         a, b = tests[key], tests_new[key]
         if not (math.isfinite(a) and math.isfinite(b)) or (a > 0) == (b > 0):
             continue
-        xs, o = _locate(cont, x, t, h, key, a, b)
+        xs, o = _locate(cont, x, t, h, key, a)
         if o is None or not _multiplier_check(key, o):
             continue
         found.append((key, xs, o))

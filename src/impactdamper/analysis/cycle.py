@@ -146,7 +146,7 @@ class PeriodicOrbit(SteadyState):
         Tc = self.cycle_duration
         if self.regime in ("no_contact", "stuck"):
             return model.mode(STUCK if self.regime == "stuck" else FREE).propagator(Tc)
-        return monodromy_matrix(model, self.times, self.states_after, self.states_before, Tc, t_section)
+        return monodromy_matrix(model, self.times, self.states_before, Tc, t_section)
 
     def to_dict(self) -> dict:
         """The JSON object of ``python -m impactdamper orbit --json``: the keys of
@@ -299,7 +299,7 @@ def orbit_from_solution(
     times, after, before = _from_longest_flight(model, times, after, Tc)
     velocities = before[:, 3] - before[:, 2]
     reasons, min_gap = _admissibility(model, times, after, velocities, Tc, gap_tol)
-    mult = floquet_multipliers(monodromy_matrix(model, times, after, before, Tc))
+    mult = floquet_multipliers(monodromy_matrix(model, times, before, Tc))
     traj = _two_cycles(model, times, after, before, velocities, Tc)
     impacts = tuple(
         CycleImpact(float(t), float((t - times[0]) / T), float((t / T) % 1.0), float(v), float(impact_pulse(p, v)))

@@ -240,7 +240,7 @@ def saltation_matrix(model: Model, t: float, before: np.ndarray) -> np.ndarray:
 
 
 def monodromy_matrix(
-    model: Model, times: np.ndarray, after: np.ndarray, before: np.ndarray, Tc: float, t_section: float | None = None
+    model: Model, times: np.ndarray, before: np.ndarray, Tc: float, t_section: float | None = None
 ) -> np.ndarray:
     """Monodromy matrix M_c of a cycle: the product of exact flows and saltation matrices
     around it from the section ``t_section`` (default: just after the first impact).
@@ -250,8 +250,8 @@ def monodromy_matrix(
     model : Model
     times : ndarray, shape (z,)
         Impact times, s, in cycle order.
-    after, before : ndarray, shape (z, 4)
-        States just after / before each impact.
+    before : ndarray, shape (z, 4)
+        States just before each impact (for the saltation matrices; the flows between are linear).
     Tc : float
         Cycle duration k T, s.
     t_section : float, optional
