@@ -48,6 +48,7 @@ __all__ = [
     "PeriodicOrbit",
     "orbit_from_solution",
     "closed_form_orbit",
+    "forced_response",
     "rescale_orbit",
     "flight_scan",
     "floquet_multipliers",
@@ -393,17 +394,22 @@ def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
     return mult[np.argsort(-np.abs(mult), kind="stable")]
 
 
+def forced_response(model: Model, regime: str):
+    """The linear mode of a cycle without impacts (``no_contact``: the free mode, ``stuck``: the
+    joined bodies), the functional that must stay positive on its forced response (the gap, the
+    contact force) and its scale. On the forced response the functional is g0 + Im(G e^{i w t}):
+    its least value is g0 - |G|."""
+    if regime == "no_contact":
+        return model.free, model.gap, model.p.x_st
+    return model.stuck, model.contact_force, model.force_scale
+
+
 def closed_form_orbit(p: Parameters, regime: str, periods: int = 0) -> PeriodicOrbit:
     """The no-contact or persistent-contact cycle: the forced response of one mode."""
     model = Model(p)
     T = p.T
-    if regime == "no_contact":
-        mode, fn, what = model.free, model.gap, "gap"
-        scale = p.x_st
-    else:
-        mode, fn, what = model.stuck, model.contact_force, "contact force"
-        scale = model.force_scale
-    # On the forced response the functional is g0 + Im(G e^{i w t}): its minimum is g0 - |G|.
+    mode, fn, scale = forced_response(model, regime)
+    what = "gap" if regime == "no_contact" else "contact force"
     least = (fn.g0 - abs(fn.G)) / scale
     # (Im(G e^{iwt}) = |G| sin(wt + arg G) is least where wt + arg G = -pi/2.)
     t_least = ((-0.5 * math.pi - math.atan2(fn.G.imag, fn.G.real)) / p.omega) % T
