@@ -4,9 +4,10 @@ A cycle of period T_c = k T with z impacts of the two-mass system of Timofeev et
 the solution of 5 z equations in 5 z unknowns, built from the exact flow between impacts
 (eq. 18, :mod:`impactdamper.core.linear`) and the impact law of eqs. (21)-(22). This module
 owns those equations (:class:`Shooting`, with exact Jacobian and damped Newton), the impact
-map, and the saltation and monodromy matrices that give the cycle's Floquet multipliers.
-:mod:`impactdamper.analysis.orbits` (one cycle, checked) and
-:mod:`impactdamper.analysis.continuation` (branches of cycles) both solve these equations.
+map and pulse, and the saltation and monodromy matrices that give the cycle's Floquet
+multipliers. :mod:`impactdamper.analysis.orbits` (one cycle from a seed) and
+:mod:`impactdamper.analysis.continuation` (branches of cycles) both solve these equations, and
+:mod:`impactdamper.analysis.cycle` checks a solution.
 
 Unknowns and equations (multiple shooting on the impact-to-impact map)
 ------------------------------------------------------------------------

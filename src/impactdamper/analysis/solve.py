@@ -116,7 +116,7 @@ def steady_state(
         True: Algorithm No. 1's closed-form one-impact orbit (eqs. (7)-(17)) where it exists,
         is admissible and its Newton-confirmed cycle is stable
         (:func:`~impactdamper.analysis.orbits.algorithm1_attractor`), without simulating a
-        transient (``method`` ``algorithm1``, a :class:`~impactdamper.analysis.orbits.PeriodicOrbit`);
+        transient (``method`` ``algorithm1``, a :class:`~impactdamper.analysis.cycle.PeriodicOrbit`);
         elsewhere the simulation. Where attractors coexist it may differ from the motion the
         simulation from ``state`` settles on (reference case, Delta0/x_st = -8.8). False
         (default): always the simulation.

@@ -13,7 +13,7 @@ This module holds (sections compared in the units of
 
 * :func:`stroboscopic_step` and :func:`stroboscopic_map`, the k-th iterate;
 * :func:`stroboscopic_jacobian`, its central finite-difference Jacobian (the independent
-  check of the saltation-matrix multipliers of :mod:`impactdamper.analysis.orbits`);
+  check of the saltation-matrix multipliers of :mod:`impactdamper.analysis.cycle`);
 * :func:`section_coordinates` / :func:`section_state`, Newton's unknowns on a section;
 * :func:`strobe_newton`, Newton's method for a fixed point of the k-th iterate with a
   Broyden-updated finite-difference Jacobian (the sweeps' accelerator for cycles the impact
