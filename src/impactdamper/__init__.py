@@ -25,8 +25,10 @@ from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1
 from impactdamper.core.parameters import REFERENCE, Parameters
 from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
-from impactdamper.analysis.continuation import Branch, BranchPoint, SpecialPoint, continue_orbit
-from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle, solve_orbit
+from impactdamper.analysis.branch import Branch, BranchPoint, SpecialPoint
+from impactdamper.analysis.continuation import continue_orbit
+from impactdamper.analysis.cycle import PeriodicOrbit
+from impactdamper.analysis.orbits import OrbitError, orbit_from_cycle, solve_orbit
 from impactdamper.analysis.lyapunov import LyapunovSpectrum
 from impactdamper.analysis.solve import BACKENDS, lyapunov_spectrum, simulate, steady_state, steady_states
 

@@ -4,7 +4,7 @@ the special points' descriptions. Hand-made rows (strings, as the committed CSVs
 
 import pytest
 
-from impactdamper.analysis.continuation import SPECIAL_KINDS
+from impactdamper.analysis.branch import SPECIAL_KINDS
 from impactdamper.studies.sweeps import branches as br
 
 

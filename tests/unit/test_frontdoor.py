@@ -13,7 +13,7 @@ import pytest
 
 import impactdamper as idp
 from impactdamper.analysis.point import SweepSettings
-from impactdamper.core.steady import CONVERGENCE_WINDOW
+from impactdamper.core.periodicity import CONVERGENCE_WINDOW
 
 CORE = Path(idp.__file__).resolve().parent / "core"
 # Impact phases (in T) and x1_max (in x_st) of the two backends' settled cycles agree to this

@@ -19,7 +19,8 @@ from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.backends import get_backend
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import Model
-from impactdamper.core.steady import X1_MAX_FACTOR, steady_state
+from impactdamper.core.periodicity import X1_MAX_FACTOR
+from impactdamper.core.steady import steady_state
 from impactdamper.core.validation import SETTLE_TOL_FLOOR, SettleOptions, check_settle_call
 
 

@@ -11,12 +11,12 @@ import pytest
 import impactdamper as idp
 from impactdamper.analysis.transitions import stuck_liftoff_gap
 from impactdamper.core.model import FREE, STUCK, Model
+from impactdamper.core.parameters import state_scale
 from impactdamper.analysis.strobe import (
     STROBE_FD_STEP,
     STROBE_TOL,
     section_coordinates,
     section_state,
-    state_scale,
     strobe_newton,
     stroboscopic_jacobian,
     stroboscopic_map,

@@ -288,11 +288,11 @@ def test_regression_newton_polish_overflow_on_an_inadmissible_flight():
     certified point) took a Newton step of ~1e14 s back and overflowed the exponentials
     (OverflowError: math range error) in the one-impact branch's continuation at
     Delta0/x_st = 8.2458 on its wrong-way (mirror) part."""
-    from impactdamper.core.events import Segment, first_root
+    from impactdamper.core.events import Segment, march
     from impactdamper.core.model import Model
 
     model = Model(REF.replace(gap=8.245772220993132))
     y0 = np.array([-6.3354571100981305, 1.9103151108950016, 9.162685774665176, 96.2287970472288])
     seg = Segment(model.free, 0.0762008458318722, y0)
-    root = first_root(seg, model.gap, 0.0762008458318722, 0.7045193765498308, 1e-12, (2, 1010.0878611289282))
+    root, _ = march(seg, model.gap, 0.0762008458318722, 0.7045193765498308, 1e-12, (2, 1010.0878611289282))
     assert root is not None and model.gap_of(seg.state(root[0])) < 0  # the search started past the stop

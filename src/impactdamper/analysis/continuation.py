@@ -14,32 +14,24 @@ modulus of complex multipliers minus one (Neimark-Sacker), the least closing vel
 (grazing impact: it vanishes) and the least interior gap minimum (grazing touch: a new impact).
 A located bifurcation is kept only if a multiplier is on the unit circle there. A grazing is
 where the branch's impact sequence stops describing the motion: the branch ends there
-(unless asked to go on) with the reason.
-
+(unless asked to go on) with the reason. The branch and its points are the types of
+:mod:`impactdamper.analysis.branch`.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from impactdamper.analysis.orbits import PeriodicOrbit, flight_scan, orbit_from_solution, rescale_orbit
+from impactdamper.analysis.branch import Branch, SpecialPoint, branch_point, rescale_branch
+from impactdamper.analysis.cycle import PeriodicOrbit, flight_scan, least_period, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
 from impactdamper.core.parameters import Parameters, ScaleMap
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.validation import check_tolerances, finite_argument, integer_argument
-from impactdamper.core.parameters import state_scale
 
-__all__ = [
-    "continue_orbit",
-    "Branch",
-    "BranchPoint",
-    "SpecialPoint",
-    "SPECIAL_KINDS",
-]
+__all__ = ["continue_orbit", "MAX_BRANCH_POINTS"]
 
 # Relative step of the finite-difference derivative in the continuation parameter.
 PARAMETER_FD_STEP = 1e-6
@@ -50,147 +42,6 @@ PARAMETER_DOMAIN = {name: (0.0, math.inf, False) for name in ("theta", "mu", "N"
 PARAMETER_DOMAIN.update(
     delta1=(0.0, math.inf, True), delta2=(0.0, math.inf, True), R=(0.0, 1.0, True), gap=(-math.inf, math.inf, True)
 )
-# Kinds of special point a branch reports (see SpecialPoint).
-SPECIAL_KINDS = ("fold", "period_doubling", "neimark_sacker", "grazing_velocity", "grazing_interior")
-
-
-@dataclass(frozen=True)
-class BranchPoint:
-    """One orbit on a branch.
-
-    Attributes
-    ----------
-    value : float
-        The continuation parameter's value.
-    phases : tuple of float
-        Impact times over T modulo 1, in cycle order.
-    t_over_T : tuple of float
-        Impact times since the cycle's first impact, over T.
-    velocities : tuple of float
-        Closing velocities over x_st omega.
-    multipliers : tuple of complex
-        Floquet multipliers, largest modulus first.
-    stable, admissible : bool
-    min_gap : float
-        Smallest interior gap minimum over x_st (inf if none).
-    x1_max : float
-        max |x1|/x_st over the cycle.
-    times : tuple of float
-        Absolute impact times, s (first in [0, T)).
-    states_after : tuple of tuple
-        (x1, x2, x1', x2') just after each impact: with ``times``, a seed for
-        :func:`orbit_from_cycle` or a start for the simulation.
-    """
-
-    value: float
-    phases: tuple
-    t_over_T: tuple
-    velocities: tuple
-    multipliers: tuple
-    stable: bool
-    admissible: bool
-    min_gap: float
-    x1_max: float
-    times: tuple = field(default=(), repr=False)
-    states_after: tuple = field(default=(), repr=False)
-
-    def to_dict(self) -> dict:
-        return {
-            "value": self.value,
-            "phases": list(self.phases),
-            "t_over_T": list(self.t_over_T),
-            "velocities_rel": list(self.velocities),
-            "multipliers": [abs(m) for m in self.multipliers],
-            "multipliers_complex": [[m.real, m.imag] for m in self.multipliers],
-            "stable": self.stable,
-            "admissible": self.admissible,
-            "min_gap": self.min_gap if math.isfinite(self.min_gap) else None,
-            "x1_max": self.x1_max,
-            "times": list(self.times),
-            "states_after": [list(y) for y in self.states_after],
-        }
-
-
-@dataclass(frozen=True)
-class SpecialPoint:
-    """A located bifurcation or grazing on a branch.
-
-    Attributes
-    ----------
-    kind : str
-        One of ``fold`` (turning point, a multiplier at +1), ``period_doubling`` (a multiplier
-        at -1), ``neimark_sacker`` (a complex pair on the unit circle), ``grazing_velocity`` (an
-        impact's closing velocity reaches zero: the impact disappears), ``grazing_interior``
-        (the gap's interior minimum reaches zero: a new impact appears).
-    value : float
-        Parameter value where it happens.
-    index : int
-        It lies between branch points ``index - 1`` and ``index``.
-    point : BranchPoint
-        The orbit there.
-    detail : str
-        What changes (e.g. which impact, the impact sequence before and after).
-    """
-
-    kind: str
-    value: float
-    index: int
-    point: BranchPoint
-    detail: str
-
-    def to_dict(self) -> dict:
-        return {
-            "kind": self.kind,
-            "value": self.value,
-            "index": self.index,
-            "detail": self.detail,
-            "point": self.point.to_dict(),
-        }
-
-
-@dataclass(frozen=True)
-class Branch:
-    """A followed branch of z-impact cycles of period k T.
-
-    Attributes
-    ----------
-    parameter : str
-        Name of the continuation parameter (a field of :class:`Parameters`).
-    period_multiple, impacts_per_cycle : int
-        k and z (Peterka's z/k label).
-    points : tuple of BranchPoint
-    special : tuple of SpecialPoint
-        Detected folds, period doublings, Neimark-Sacker points and grazings, in order.
-    end_reason : str
-        Why the branch ends: ``bound`` (the parameter range's end), ``grazing_velocity`` or
-        ``grazing_interior`` (the impact sequence changes there), ``newton_failure``,
-        ``max_points``.
-    end_value : float
-        The parameter where it ends.
-    """
-
-    parameter: str
-    period_multiple: int
-    impacts_per_cycle: int
-    points: tuple
-    special: tuple
-    end_reason: str
-    end_value: float
-
-    @property
-    def values(self) -> np.ndarray:
-        return np.array([q.value for q in self.points])
-
-    def to_dict(self) -> dict:
-        return {
-            "parameter": self.parameter,
-            "period_multiple": self.period_multiple,
-            "impacts_per_cycle": self.impacts_per_cycle,
-            "end_reason": self.end_reason,
-            "end_value": self.end_value,
-            "special": [s.to_dict() for s in self.special],
-            "points": [q.to_dict() for q in self.points],
-        }
 
 
 class _Continuation:
@@ -223,18 +74,14 @@ class _Continuation:
         if not jacobian:
             return F, None
         h = PARAMETER_FD_STEP * max(1.0, abs(lam))
-        try:
-            Fp, _ = self.shooting(lam + h).residual(u, False)
-        except ValueError:
-            Fp, h_p = F, 0.0
-        else:
-            h_p = h
-        try:
-            Fm, _ = self.shooting(lam - h).residual(u, False)
-        except ValueError:
-            Fm, h_m = F, 0.0
-        else:
-            h_m = h
+
+        def side(lam_side: float):
+            try:
+                return self.shooting(lam_side).residual(u, False)[0], h
+            except ValueError:  # beyond the parameter's range: a one-sided difference
+                return F, 0.0
+
+        (Fp, h_p), (Fm, h_m) = side(lam + h), side(lam - h)
         if h_p + h_m == 0.0:
             raise OrbitError(f"cannot vary `{self.parameter}` at {lam!r}")
         dF = (Fp - Fm) / (h_p + h_m)
@@ -280,22 +127,6 @@ class _Continuation:
         t, y = s.times_states(x[:-1])
         F, _ = s.residual(x[:-1], False)
         return orbit_from_solution(s.p, s.model, self.k, t, y, "orbit", 0, float(np.max(np.abs(F))), 0, self.gap_tol)
-
-
-def _point(value: float, o: PeriodicOrbit) -> BranchPoint:
-    return BranchPoint(
-        value=float(value),
-        phases=tuple(i.phase for i in o.impacts),
-        t_over_T=tuple(i.t_over_T for i in o.impacts),
-        velocities=tuple(i.velocity / (o.p.x_st * o.p.omega) for i in o.impacts),
-        multipliers=tuple(complex(m) for m in o.multipliers),
-        stable=bool(o.stable),
-        admissible=bool(o.admissible),
-        min_gap=float(o.min_gap),
-        x1_max=float(o.x1_max),
-        times=tuple(float(t) for t in o.times),
-        states_after=tuple(tuple(float(v) for v in y) for y in o.states_after),
-    )
 
 
 def _tests(o: PeriodicOrbit, tangent_lam: float) -> dict:
@@ -351,6 +182,44 @@ def continue_orbit(
     Branch
         Points, located special points and the reason the branch ends.
     """
+    lo, hi, step, min_step, max_step, max_points = _checked(
+        orbit, parameter, bounds, direction, step, min_step, max_step, max_points
+    )
+    tol = check_tolerances(tolerances)
+    if not orbit.p.native_scales() and parameter not in ("x_st", "m1", "omega"):
+        # The same relative problem in the reference case's units, converted back.
+        q = orbit.p.canonical()
+        branch = continue_orbit(
+            rescale_orbit(orbit, ScaleMap(orbit.p, q)),
+            parameter,
+            (lo, hi),
+            direction=direction,
+            step=step,
+            min_step=min_step,
+            max_step=max_step,
+            max_points=max_points,
+            stop_at_grazing=stop_at_grazing,
+            tolerances=tol,
+        )
+        return rescale_branch(branch, ScaleMap(q, orbit.p))
+    cont = _Continuation(orbit.p, parameter, orbit.period_multiple, orbit.impacts_per_cycle, tol.gap_tol)
+    points, special, end_reason, end_value = _follow(
+        cont, orbit, (lo, hi), direction, (step, min_step, max_step), max_points, stop_at_grazing
+    )
+    return Branch(
+        parameter=parameter,
+        period_multiple=orbit.period_multiple,
+        impacts_per_cycle=orbit.impacts_per_cycle,
+        points=tuple(points),
+        special=tuple(special),
+        end_reason=end_reason,
+        end_value=float(end_value),
+    )
+
+
+def _checked(orbit, parameter, bounds, direction, step, min_step, max_step, max_points):
+    """continue_orbit's arguments checked, in order: (low, high, step, min_step, max_step,
+    max_points), or a one-line error naming the first bad one."""
     if not (isinstance(parameter, str) and parameter in Parameters.names()):
         raise ValueError(f"`parameter` = {parameter!r} is not allowed: must be one of {', '.join(Parameters.names())}")
     if not isinstance(orbit, PeriodicOrbit) or not orbit.solved or not orbit.impacts:
@@ -379,115 +248,53 @@ def continue_orbit(
             f"`bounds` = {bounds!r} is not allowed: `{parameter}` must be "
             f"{allowed[(dom_lo, dom_hi, closed)]}, so must both bounds"
         )
-    tol = check_tolerances(tolerances)
-    if not orbit.p.native_scales() and parameter not in ("x_st", "m1", "omega"):
-        # The same relative problem in the reference case's units, converted back.
-        q = orbit.p.canonical()
-        branch = continue_orbit(
-            rescale_orbit(orbit, ScaleMap(orbit.p, q)),
-            parameter,
-            (lo, hi),
-            direction=direction,
-            step=step,
-            min_step=min_step,
-            max_step=max_step,
-            max_points=max_points,
-            stop_at_grazing=stop_at_grazing,
-            tolerances=tol,
-        )
-        return _rescale_branch(branch, ScaleMap(q, orbit.p))
-    cont = _Continuation(orbit.p, parameter, orbit.period_multiple, orbit.impacts_per_cycle, tol.gap_tol)
-    shoot = cont.shooting(lam0)
-    x = np.append(shoot.pack(orbit.times, orbit.states_after), lam0)
+    return lo, hi, step, min_step, max_step, max_points
+
+
+def _follow(cont: _Continuation, orbit: PeriodicOrbit, bounds, direction, steps, max_points, stop_at_grazing):
+    """The continuation loop from ``orbit``: predictor, corrector, adaptive step, a last point
+    exactly on a bound, the special points located between points. Returns (points, special
+    points, end reason, end value)."""
+    (lo, hi), (h, min_step, max_step) = bounds, steps
+    lam0 = float(getattr(orbit.p, cont.parameter))
+    x = np.append(cont.shooting(lam0).pack(orbit.times, orbit.states_after), lam0)
     e = np.zeros(len(x))
     e[-1] = float(direction)
     t = cont.tangent(x, e)
     if t[-1] * direction < 0:
         t = -t
     o = cont.orbit(x)
-    points = [_point(lam0, o)]
+    points = [branch_point(lam0, o)]
     tests = _tests(o, t[-1])
     special: list[SpecialPoint] = []
-    h = step
-    end_reason, end_value = "max_points", lam0
     seq = _sequence(orbit.period_multiple, orbit.impacts_per_cycle)
     while len(points) < max_points:
         x_new, its = cont.correct(x, t, h)
-        if x_new is not None:
-            lam_new = float(x_new[-1])
-            if lam_new > hi or lam_new < lo:
-                # Land exactly on the bound: secant in the step length.
-                edge = hi if lam_new > hi else lo
-                frac = (edge - float(x[-1])) / (lam_new - float(x[-1]))
-                x_edge = _locate_parameter(cont, x, t, h * frac, edge)
-                if x_edge is not None:
-                    x_new, lam_new = x_edge, edge
-                    o_new = cont.orbit(x_new)
-                    t_new = cont.tangent(x_new, t)
-                    tests_new = _tests(o_new, t_new[-1])
-                    stop = _detect(
-                        cont,
-                        x,
-                        t,
-                        h * frac,
-                        tests,
-                        tests_new,
-                        points,
-                        bool(o_new.stable),
-                        special,
-                        seq,
-                        stop_at_grazing,
-                    )
-                    if stop is None:
-                        points.append(_point(edge, o_new))
-                        end_reason, end_value = "bound", edge
-                    else:
-                        end_reason, end_value = stop
-                    break
-                x_new = None
+        h_taken, edge = h, None
+        if x_new is not None and not lo <= float(x_new[-1]) <= hi:
+            # Land exactly on the bound: secant in the step length.
+            edge = hi if float(x_new[-1]) > hi else lo
+            h_taken = h * ((edge - float(x[-1])) / (float(x_new[-1]) - float(x[-1])))
+            x_new = _locate_parameter(cont, x, t, h_taken, edge)
         if x_new is None:
             h *= 0.5
             if h < min_step:
-                end_reason, end_value = "newton_failure", float(x[-1])
-                break
+                return points, special, "newton_failure", float(x[-1])
             continue
+        lam_new = float(x_new[-1]) if edge is None else edge
         o_new = cont.orbit(x_new)
         t_new = cont.tangent(x_new, t)
         tests_new = _tests(o_new, t_new[-1])
-        stop = _detect(cont, x, t, h, tests, tests_new, points, bool(o_new.stable), special, seq, stop_at_grazing)
+        stop = _detect(cont, x, t, h_taken, tests, tests_new, points, bool(o_new.stable), special, seq, stop_at_grazing)
         if stop is not None:
-            end_reason, end_value = stop
-            break
-        points.append(_point(lam_new, o_new))
+            return points, special, *stop
+        points.append(branch_point(lam_new, o_new))
+        if edge is not None:
+            return points, special, "bound", edge
         x, t, tests = x_new, t_new, tests_new
         h = min(h * 1.5, max_step) if its <= 3 else (h * 0.7 if its >= 6 else h)
         h = max(h, min_step)
-    return Branch(
-        parameter=parameter,
-        period_multiple=orbit.period_multiple,
-        impacts_per_cycle=orbit.impacts_per_cycle,
-        points=tuple(points),
-        special=tuple(special),
-        end_reason=end_reason,
-        end_value=float(end_value),
-    )
-
-
-def _rescale_branch(branch: Branch, scales: ScaleMap) -> Branch:
-    """A branch's impact times and states in ``scales.target``'s units (all else is relative)."""
-
-    def point(q: BranchPoint) -> BranchPoint:
-        return dataclasses.replace(
-            q,
-            times=tuple(scales.apply(t, "time") for t in q.times),
-            states_after=tuple(tuple(float(v) for v in scales.full(np.array(y))) for y in q.states_after),
-        )
-
-    return dataclasses.replace(
-        branch,
-        points=tuple(point(q) for q in branch.points),
-        special=tuple(dataclasses.replace(sp, point=point(sp.point)) for sp in branch.special),
-    )
+    return points, special, "max_points", lam0
 
 
 def _sequence(k: int, z: int) -> str:
@@ -508,7 +315,7 @@ def _locate_parameter(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h_gue
     return np.append(u, target)
 
 
-def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: str, f0: float, f1: float):
+def _locate(cont: _Continuation, x0: np.ndarray, t0: np.ndarray, h: float, key: str, f0: float):
     """Zero of test function ``key`` between the arclength 0 and h from x0 (Brent's method)."""
     cache = {}
 
@@ -565,7 +372,7 @@ def _detect(cont, x, t, h, tests, tests_new, points, stable_after, special, seq,
         a, b = tests[key], tests_new[key]
         if not (math.isfinite(a) and math.isfinite(b)) or (a > 0) == (b > 0):
             continue
-        xs, o = _locate(cont, x, t, h, key, a, b)
+        xs, o = _locate(cont, x, t, h, key, a)
         if o is None or not _multiplier_check(key, o):
             continue
         found.append((key, xs, o))
@@ -607,7 +414,9 @@ def _detect(cont, x, t, h, tests, tests_new, points, stable_after, special, seq,
             detail = "a complex pair of multipliers crosses the unit circle" + stability
         else:
             detail = "turning point of the branch: a multiplier passes through +1" + stability
-        special.append(SpecialPoint(kind=key, value=value, index=len(points), point=_point(value, o), detail=detail))
+        special.append(
+            SpecialPoint(kind=key, value=value, index=len(points), point=branch_point(value, o), detail=detail)
+        )
         if stop is None and stop_at_grazing and key.startswith("grazing"):
             stop = (key, value)
     return stop
@@ -616,18 +425,9 @@ def _detect(cont, x, t, h, tests, tests_new, points, stable_after, special, seq,
 def _reduced(o: PeriodicOrbit, drop: int) -> tuple[int, int]:
     """(k, z) of the cycle left when impact ``drop`` vanishes, reduced to its least period
     (e.g. a 3/2 cycle whose middle impact vanishes may be a 1/1 cycle repeated)."""
-    k, T = o.period_multiple, o.p.T
     keep = [i for i in range(len(o.times)) if i != drop]
-    t = o.times[keep]
-    y = o.states_after[keep] / state_scale(o.p)
-    z = len(keep)
-    for d in range(1, k):
-        if k % d or (z * d) % k or z * d // k == 0:
-            continue
-        m = z * d // k
-        if np.all(np.abs(t[m:] - t[:-m] - d * T) < 1e-6 * T) and np.all(np.abs(y[m:] - y[:-m]) < 1e-6):
-            return d, m
-    return k, z
+    k = least_period(o.p, o.period_multiple, o.times[keep], o.states_after[keep], 1e-6)
+    return k, len(keep) * k // o.period_multiple
 
 
 def _flight_min(o: PeriodicOrbit, i: int) -> float:

@@ -65,6 +65,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from impactdamper.analysis.cycle import forced_response
 from impactdamper.analysis.point import (
     STABILITY_MARGIN,
     SweepPoint,
@@ -109,11 +110,7 @@ def carry_state(p: Parameters, state: np.ndarray, mode: str) -> tuple[np.ndarray
 def _closed_form(p: Parameters, value: float, regime: str, start: str, start_state: np.ndarray) -> SweepPoint | None:
     """The no-contact or persistent-contact forced response, if admissible at p."""
     model = Model(p)
-    if regime == "no_contact":
-        mode, fn, scale = model.free, model.gap, p.x_st
-    else:
-        mode, fn, scale = model.stuck, model.contact_force, model.force_scale
-    # On the forced response the functional is g0 + Im(G e^{i w t}): its least value g0 - |G|.
+    mode, fn, scale = forced_response(model, regime)
     if fn.g0 - abs(fn.G) <= CLOSED_FORM_MARGIN * scale:
         return None
     mult = float(np.max(np.abs(np.linalg.eigvals(mode.propagator(p.T)))))

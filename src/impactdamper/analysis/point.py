@@ -27,8 +27,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from impactdamper.analysis.cycle import PeriodicOrbit, impact_states, least_period
 from impactdamper.analysis.lyapunov import DEFAULT_BLOCKS, DEFAULT_PERIODS
-from impactdamper.analysis.orbits import OrbitError, PeriodicOrbit, orbit_from_cycle
+from impactdamper.analysis.orbits import OrbitError, orbit_from_cycle
 from impactdamper.core.backends import check_backend
 from impactdamper.core.model import FREE
 from impactdamper.core.parameters import Parameters, state_scale
@@ -305,20 +306,6 @@ def failed_point(
     )
 
 
-def _cycle_of(s: SteadyState) -> tuple:
-    """(times, states_after) of the reported cycle's impacts, from its trajectory."""
-    if not s.impacts:
-        return ()
-    T = s.p.T
-    events = s.trajectory.impacts(s.cycle_start - 1e-9 * T, s.cycle_start + max(s.period_multiple, 1) * T)
-    times, after = [], []
-    for imp in s.impacts:
-        e = min(events, key=lambda e: abs(e.t - imp.t))
-        times.append(e.t)
-        after.append(e.after)
-    return np.array(times), np.array(after)
-
-
 def point_from_steady(
     p: Parameters,
     value: float,
@@ -357,7 +344,7 @@ def point_from_steady(
         start_state=np.array(start_state, float),
         section=section,
         section_mode=mode,
-        cycle=_cycle_of(s) if s.regime in ("single_impact", "multi_impact") else (),
+        cycle=impact_states(s) if s.regime in ("single_impact", "multi_impact") else (),
     )
 
 
@@ -375,28 +362,13 @@ def shoot_cycle(p: Parameters, k: int, times: np.ndarray, after: np.ndarray, tol
         # Newton's line search may try far-off impact times: overflow there is a failed trial.
         with np.errstate(over="ignore", invalid="ignore"):
             o = orbit_from_cycle(p, k, times, after, seed="orbit", tolerances=tol)
-            d = _least_period(o)
+            d = least_period(p, k, o.times, o.states_after, 1e-8)
             if d < k:
                 zz = o.impacts_per_cycle * d // k
                 o = orbit_from_cycle(p, d, o.times[:zz], o.states_after[:zz], seed="orbit", tolerances=tol)
     except (OrbitError, ValueError, np.linalg.LinAlgError, RuntimeError):
         return None
     return o
-
-
-def _least_period(o) -> int:
-    """Least d | k such that the solved cycle is a cycle of period d T repeated."""
-    k, z, T = o.period_multiple, o.impacts_per_cycle, o.p.T
-    D = state_scale(o.p)
-    for d in range(1, k):
-        if k % d or (z * d) % k:
-            continue
-        zz = z * d // k
-        dt = o.times[zz:] - o.times[:-zz] - d * T
-        dy = (o.states_after[zz:] - o.states_after[:-zz]) / D
-        if np.all(np.abs(dt) < 1e-8 * T) and np.all(np.abs(dy) < 1e-8):
-            return d
-    return k
 
 
 def verify_cycle(

@@ -4,9 +4,10 @@ A cycle of period T_c = k T with z impacts of the two-mass system of Timofeev et
 the solution of 5 z equations in 5 z unknowns, built from the exact flow between impacts
 (eq. 18, :mod:`impactdamper.core.linear`) and the impact law of eqs. (21)-(22). This module
 owns those equations (:class:`Shooting`, with exact Jacobian and damped Newton), the impact
-map, and the saltation and monodromy matrices that give the cycle's Floquet multipliers.
-:mod:`impactdamper.analysis.orbits` (one cycle, checked) and
-:mod:`impactdamper.analysis.continuation` (branches of cycles) both solve these equations.
+map and pulse, and the saltation and monodromy matrices that give the cycle's Floquet
+multipliers. :mod:`impactdamper.analysis.orbits` (one cycle from a seed) and
+:mod:`impactdamper.analysis.continuation` (branches of cycles) both solve these equations, and
+:mod:`impactdamper.analysis.cycle` checks a solution.
 
 Unknowns and equations (multiple shooting on the impact-to-impact map)
 ------------------------------------------------------------------------
@@ -57,6 +58,7 @@ from impactdamper.core.parameters import state_scale
 __all__ = [
     "Shooting",
     "OrbitError",
+    "impact_pulse",
     "impact_matrix",
     "saltation_matrix",
     "monodromy_matrix",
@@ -214,10 +216,15 @@ class Shooting:
         raise OrbitError(f"Newton did not converge in {max_iterations} iterations (residual {norm:.3g})")
 
 
+def impact_pulse(p: Parameters, v):
+    """The pulse S = m_red (1 + R) v of eq. (21), N s, for closing velocities v (m/s)."""
+    return p.reduced_mass * (1.0 + p.R) * v
+
+
 def impact_matrix(p: Parameters) -> np.ndarray:
     """J_R of eqs. (21)-(22): x1' += S/m1, x2' -= S/m2 with S = m_red (1 + R)(x2' - x1').
     Shape (4, 4), acting on (x1, x2, x1', x2') just before the impact."""
-    D = p.reduced_mass * (1.0 + p.R)
+    D = impact_pulse(p, 1.0)
     e = np.array([0.0, 0.0, 1.0 / p.m1, -1.0 / p.m2])
     w = np.array([0.0, 0.0, -1.0, 1.0])
     return np.eye(4) + D * np.outer(e, w)
@@ -234,7 +241,7 @@ def saltation_matrix(model: Model, t: float, before: np.ndarray) -> np.ndarray:
 
 
 def monodromy_matrix(
-    model: Model, times: np.ndarray, after: np.ndarray, before: np.ndarray, Tc: float, t_section: float | None = None
+    model: Model, times: np.ndarray, before: np.ndarray, Tc: float, t_section: float | None = None
 ) -> np.ndarray:
     """Monodromy matrix M_c of a cycle: the product of exact flows and saltation matrices
     around it from the section ``t_section`` (default: just after the first impact).
@@ -244,8 +251,8 @@ def monodromy_matrix(
     model : Model
     times : ndarray, shape (z,)
         Impact times, s, in cycle order.
-    after, before : ndarray, shape (z, 4)
-        States just after / before each impact.
+    before : ndarray, shape (z, 4)
+        States just before each impact (for the saltation matrices; the flows between are linear).
     Tc : float
         Cycle duration k T, s.
     t_section : float, optional

@@ -120,8 +120,8 @@ def steady_state(
     attractor : bool
         True: Algorithm No. 1's closed-form one-impact orbit (eqs. (7)-(17)) where it exists,
         is admissible and its Newton-confirmed cycle is stable
-        (:func:`~impactdamper.analysis.orbits.stable_algorithm1_orbit`), without simulating a
-        transient (``method`` ``algorithm1``, a :class:`~impactdamper.analysis.orbits.PeriodicOrbit`);
+        (:func:`~impactdamper.analysis.orbits.algorithm1_attractor`), without simulating a
+        transient (``method`` ``algorithm1``, a :class:`~impactdamper.analysis.cycle.PeriodicOrbit`);
         elsewhere the simulation. Where attractors coexist it may differ from the motion the
         simulation from ``state`` settles on (reference case, Delta0/x_st = -8.8). False
         (default): always the simulation.
@@ -146,22 +146,10 @@ def steady_state(
         p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple
     )
     if attractor:
-        orbit = _algorithm1_attractor(p, tol)
+        from impactdamper.analysis.orbits import algorithm1_attractor  # (the orbits load on first use)
+
+        orbit = algorithm1_attractor(p, None, tol)
         if orbit is not None:
             return dataclasses.replace(orbit, method="algorithm1", backend="python")
     s = run.settle(p, t0, state, tol, options)
     return dataclasses.replace(s, fallback=s.fallback or why) if why else s
-
-
-def _algorithm1_attractor(p: Parameters, tol: Tolerances):
-    """Algorithm No. 1's stable one-impact orbit at ``p``, or None (no orbit, not admissible,
-    not stable)."""
-    from impactdamper.analysis.orbits import stable_algorithm1_orbit
-    from impactdamper.core.algorithm1 import algorithm1
-    from impactdamper.core.events import SearchLimitError
-
-    try:
-        a1 = algorithm1(p, gap_tol=tol.gap_tol)
-    except (ValueError, SearchLimitError):
-        return None  # no closed-form orbit here (a resonance of the impacts): simulate
-    return stable_algorithm1_orbit(a1, None, tol)

@@ -8,13 +8,12 @@ point are the cycle's Floquet multipliers. The map is evaluated here with the ev
 solver (Algorithm No. 2 of the paper, eqs. (18)-(22): exact flow, impacts and contact
 modes), so it covers every motion, chatter included.
 
-This module holds
+This module holds (sections compared in the units of
+:func:`~impactdamper.core.parameters.state_scale`, x_st and x_st omega)
 
-* :func:`~impactdamper.core.parameters.state_scale` (re-exported here), the units in which
-  sections are compared (x_st, x_st omega);
 * :func:`stroboscopic_step` and :func:`stroboscopic_map`, the k-th iterate;
 * :func:`stroboscopic_jacobian`, its central finite-difference Jacobian (the independent
-  check of the saltation-matrix multipliers of :mod:`impactdamper.analysis.orbits`);
+  check of the saltation-matrix multipliers of :mod:`impactdamper.analysis.cycle`);
 * :func:`section_coordinates` / :func:`section_state`, Newton's unknowns on a section;
 * :func:`strobe_newton`, Newton's method for a fixed point of the k-th iterate with a
   Broyden-updated finite-difference Jacobian (the sweeps' accelerator for cycles the impact
@@ -33,7 +32,6 @@ from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 
 __all__ = [
-    "state_scale",
     "stroboscopic_step",
     "stroboscopic_map",
     "stroboscopic_jacobian",
@@ -65,7 +63,7 @@ FRESH_JACOBIAN_ABOVE = 0.9
 
 
 def stroboscopic_step(
-    p: Parameters, t0: float, state: np.ndarray, periods: int, tolerances: Tolerances | None = None, step=None
+    p: Parameters, t0: float, state: np.ndarray, periods: int, tolerances: Tolerances | None = None
 ) -> tuple[np.ndarray, str]:
     """The state and contact mode at t0 + periods T from ``state`` at t0 (Algorithm No. 2).
 
@@ -80,12 +78,6 @@ def stroboscopic_step(
         k, the iterate of the map.
     tolerances : Tolerances, optional
         Event-solver tolerances.
-    step : callable, optional
-        ``step(p, t0, state, periods, tolerances)`` -> (state, mode), or None where it does not
-        apply: another backend of the same motion, tried first (a backend's map step,
-        :meth:`impactdamper.core.backends.Backend.map_step`, wrapped to this signature; this
-        module imports no backend, the caller injects it). Where it returns None, and without it, the
-        pure-Python solver.
 
     Returns
     -------
@@ -94,10 +86,6 @@ def stroboscopic_step(
     mode : str
         ``free`` or ``stuck`` there.
     """
-    if step is not None:
-        result = step(p, t0, state, periods, tolerances)
-        if result is not None:
-            return result
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     solver.advance(t0 + periods * p.T)
     return solver.state_at(t0 + periods * p.T), solver.mode

@@ -15,6 +15,7 @@ bracket are in :mod:`impactdamper.analysis.transitions`.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import multiprocessing
 import time
@@ -74,7 +75,6 @@ def sweep(
     values: Sequence[float],
     *,
     settings: SweepSettings | None = None,
-    previous: SweepPoint | None = None,
     progress: Callable[[int, int, SweepPoint], None] | None = None,
 ) -> list[SweepPoint]:
     """Sweep ``parameter`` over ``values`` in the given order, each point from its neighbour.
@@ -86,9 +86,8 @@ def sweep(
     parameter : str
         A field of :class:`Parameters` (``gap`` = Delta0/x_st).
     values : sequence of float
-        In sweep order (increasing for an upward sweep, decreasing for a downward one).
-    previous : SweepPoint, optional
-        Motion the first point starts from (default: Algorithm No. 2's step 1).
+        In sweep order (increasing for an upward sweep, decreasing for a downward one); the
+        first point starts from Algorithm No. 2's step 1.
     progress : callable(i, n, point), optional
         Called after each point.
 
@@ -101,7 +100,7 @@ def sweep(
     if not values:
         raise ValueError("`values` is not allowed: must hold at least one value")
     out: list[SweepPoint] = []
-    prev = previous
+    prev = None
     for i, v in enumerate(values):
         point = solve_point(with_value(base, parameter, v), v, prev, settings=settings)
         out.append(point)
@@ -236,7 +235,6 @@ def random_starts(
     *,
     indices: Sequence[int] | None = None,
     settings: SweepSettings | None = None,
-    progress: Callable[[int, int, SweepPoint], None] | None = None,
 ) -> list[list[SweepPoint]]:
     """``count`` random initial states per value (no neighbour), deterministic
     (:func:`random_start_states`).
@@ -251,13 +249,10 @@ def random_starts(
     list (per value) of list (per start) of SweepPoint.
     """
     settings = settings or SweepSettings()
-    out = []
-    plan = random_start_states(base, parameter, values, count, seed, indices)
-    for v, p, states in plan:
-        out.append([solve_point(p, v, state=state, settings=settings, start="random") for state in states])
-        if progress is not None:
-            progress(len(out) - 1, len(plan), out[-1][-1])
-    return out
+    return [
+        [solve_point(p, v, state=state, settings=settings, start="random") for state in states]
+        for v, p, states in random_start_states(base, parameter, values, count, seed, indices)
+    ]
 
 
 # ----------------------------------------------------------------------------------------
@@ -300,17 +295,8 @@ class Transition:
     one_sided: bool = False
 
     def row(self) -> dict:
-        return {
-            "direction": self.direction,
-            "value": self.value,
-            "lower": self.lower,
-            "upper": self.upper,
-            "before": self.before,
-            "after": self.after,
-            "evaluations": self.evaluations,
-            "stopped": int(self.stopped),
-            "one_sided": int(self.one_sided),
-        }
+        """A flat dict for a CSV row (the flags as 0 or 1)."""
+        return {**dataclasses.asdict(self), "stopped": int(self.stopped), "one_sided": int(self.one_sided)}
 
 
 def locate_transition(
@@ -394,7 +380,6 @@ def regime_map(
     *,
     direction: str = "up",
     settings: SweepSettings | None = None,
-    progress: Callable[[int, int, list[SweepPoint]], None] | None = None,
 ) -> list[list[SweepPoint]]:
     """A regime map: for each value of ``slow``, a one-way sweep of ``fast`` over its values.
 
@@ -414,10 +399,7 @@ def regime_map(
     fast_values = sorted(float(v) for v in fast_values)
     order = fast_values if direction == "up" else fast_values[::-1]
     rows = []
-    slow_values = [float(v) for v in slow_values]
-    for i, s in enumerate(slow_values):
-        row = sweep(with_value(base, slow, s), fast, order, settings=settings)
+    for s in slow_values:
+        row = sweep(with_value(base, slow, float(s)), fast, order, settings=settings)
         rows.append(row if direction == "up" else row[::-1])
-        if progress is not None:
-            progress(i, len(slow_values), rows[-1])
     return rows

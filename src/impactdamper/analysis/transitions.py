@@ -49,8 +49,7 @@ def stuck_liftoff_gap(p: Parameters) -> float:
 
     (k1 enters through x1'' of the joined bodies; delta2 does not enter.)
     """
-    X = 1.0 / abs(1.0 - (1.0 + p.mu) * p.theta**2 + 2j * p.delta1 * p.theta)
-    return -((p.theta / p.N) ** 2) * X
+    return -((p.theta / p.N) ** 2) * rigid_amplitude(p)
 
 
 def no_contact_gap(p: Parameters) -> float:

@@ -164,7 +164,9 @@ class Equations:
         return -p.m2 * (p.P0 * p.omega * math.cos(p.omega * t) - p.k1 * a - p.c1 * v1) / self.m
 
     def full(self, mode: str, y: np.ndarray) -> np.ndarray:
-        """(x1, x2, x1', x2') from a state of either mode, shape (..., 4)."""
+        """(x1, x2, x1', x2') from a state of either mode, shape (..., 4): ``Model.full_state``
+        written again, as the whole model is here (the cross-check uses nothing of the exact
+        solver's model)."""
         y = np.asarray(y, dtype=float)
         if mode == FREE:
             return y

@@ -97,33 +97,7 @@ def simulate_rk4(
         raise ValueError(f"`t_end` = {t_end!r} is not allowed: must be finite and > t0 = {t0!r}")
     if not (math.isfinite(bisect_tol) and 0 < bisect_tol < 1):
         raise ValueError(f"`bisect_tol` = {bisect_tol!r} is not allowed: must be in (0, 1)")
-    m1, m2, c1, c2, k1, k2 = p.m1, p.m2, p.c1, p.c2, p.k1, p.k2
-    P0, w, Delta0 = p.P0, p.omega, p.Delta0
-    m_red = p.reduced_mass
-    R = p.R
-    sin = math.sin
-
-    def rk4(t: float, y: tuple, h: float) -> tuple:
-        # eqs. (2), (9): m1 x1'' = P0 sin wt - k1 x1' - k2 (x1' - x2') - c1 x1 - c2 (x1 - x2)
-        #                m2 x2'' = -k2 (x2' - x1') - c2 (x2 - x1)
-        def f(t, x1, x2, v1, v2):
-            a1 = (P0 * sin(w * t) - k1 * v1 - k2 * (v1 - v2) - c1 * x1 - c2 * (x1 - x2)) / m1
-            a2 = (-k2 * (v2 - v1) - c2 * (x2 - x1)) / m2
-            return v1, v2, a1, a2
-
-        x1, x2, v1, v2 = y
-        a = f(t, x1, x2, v1, v2)
-        hh = 0.5 * h
-        b = f(t + hh, x1 + hh * a[0], x2 + hh * a[1], v1 + hh * a[2], v2 + hh * a[3])
-        c = f(t + hh, x1 + hh * b[0], x2 + hh * b[1], v1 + hh * b[2], v2 + hh * b[3])
-        d = f(t + h, x1 + h * c[0], x2 + h * c[1], v1 + h * c[2], v2 + h * c[3])
-        s = h / 6.0
-        return (
-            x1 + s * (a[0] + 2 * b[0] + 2 * c[0] + d[0]),
-            x2 + s * (a[1] + 2 * b[1] + 2 * c[1] + d[1]),
-            v1 + s * (a[2] + 2 * b[2] + 2 * c[2] + d[2]),
-            v2 + s * (a[3] + 2 * b[3] + 2 * c[3] + d[3]),
-        )
+    rk4, Delta0 = _rk4_step(p), p.Delta0
 
     def gap(y: tuple) -> float:
         return Delta0 - (y[1] - y[0])
@@ -160,19 +134,55 @@ def simulate_rk4(
             else:
                 hi, y_hi = mid, y_mid
         t_hit = t + hi
-        x1, x2, v1, v2 = y_hi
-        x2 = x1 + Delta0  # onto the stop
-        before = np.array([x1, x2, v1, v2])
-        v = max(v2 - v1, 0.0)
-        S = m_red * (1.0 + R) * v
-        v1, v2 = v1 + S / m1, v2 - S / m2
-        after = np.array([x1, x2, v1, v2])
-        out.events.append(Event(t_hit, "impact", v, S, before, after, t_hit))
+        event = _impact(p, t_hit, y_hi)
+        out.events.append(event)
         if len(out.events) > max_events:
             raise RuntimeError(f"more than `max_events` = {max_events} impacts before t = {t_hit!r}")
-        t, y = t_hit, (x1, x2, v1, v2)
+        t, y = t_hit, tuple(float(v) for v in event.after)
     out.t_end = t
     out.state = np.array(y)
     out.steps = steps
     out.nfev = 4 * steps
     return out
+
+
+def _rk4_step(p: Parameters):
+    """One classical RK4 step of the free mode, ``rk4(t, y, h)`` -> y(t + h), y = (x1, x2, x1', x2')."""
+    m1, m2, c1, c2, k1, k2 = p.m1, p.m2, p.c1, p.c2, p.k1, p.k2
+    P0, w = p.P0, p.omega
+    sin = math.sin
+
+    # eqs. (2), (9): m1 x1'' = P0 sin wt - k1 x1' - k2 (x1' - x2') - c1 x1 - c2 (x1 - x2)
+    #                m2 x2'' = -k2 (x2' - x1') - c2 (x2 - x1)
+    def f(t, x1, x2, v1, v2):
+        a1 = (P0 * sin(w * t) - k1 * v1 - k2 * (v1 - v2) - c1 * x1 - c2 * (x1 - x2)) / m1
+        a2 = (-k2 * (v2 - v1) - c2 * (x2 - x1)) / m2
+        return v1, v2, a1, a2
+
+    def rk4(t: float, y: tuple, h: float) -> tuple:
+        x1, x2, v1, v2 = y
+        a = f(t, x1, x2, v1, v2)
+        hh = 0.5 * h
+        b = f(t + hh, x1 + hh * a[0], x2 + hh * a[1], v1 + hh * a[2], v2 + hh * a[3])
+        c = f(t + hh, x1 + hh * b[0], x2 + hh * b[1], v1 + hh * b[2], v2 + hh * b[3])
+        d = f(t + h, x1 + h * c[0], x2 + h * c[1], v1 + h * c[2], v2 + h * c[3])
+        s = h / 6.0
+        return (
+            x1 + s * (a[0] + 2 * b[0] + 2 * c[0] + d[0]),
+            x2 + s * (a[1] + 2 * b[1] + 2 * c[1] + d[1]),
+            v1 + s * (a[2] + 2 * b[2] + 2 * c[2] + d[2]),
+            v2 + s * (a[3] + 2 * b[3] + 2 * c[3] + d[3]),
+        )
+
+    return rk4
+
+
+def _impact(p: Parameters, t: float, y: tuple) -> Event:
+    """The impact law of eqs. (21)-(22) on the state y found at the stop (put on it exactly)."""
+    x1, x2, v1, v2 = y
+    x2 = x1 + p.Delta0  # onto the stop
+    v = max(v2 - v1, 0.0)
+    S = p.reduced_mass * (1.0 + p.R) * v
+    before = np.array([x1, x2, v1, v2])
+    after = np.array([x1, x2, v1 + S / p.m1, v2 - S / p.m2])
+    return Event(t, "impact", v, S, before, after, t)

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, first_root
+from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
 from impactdamper.core.linear import characteristic_roots, forced_amplitudes, mode_shape_ratios
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, ScaleMap, most_extreme, require_parameters
@@ -331,7 +331,7 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
     end = t_imp + T * (1.0 - 1e-9)  # the next impact closes the period
     while True:
         try:
-            root = first_root(seg, fn, t, end, tol, departure, budget)
+            root, _ = march(seg, fn, t, end, tol, departure, budget)
         except SearchLimitError as err:
             if str(err).startswith("`"):  # the budget's message names a parameter already
                 raise

@@ -36,7 +36,7 @@ import numpy as np
 
 from impactdamper.core.linear import LinearMode
 
-__all__ = ["LinearFunctional", "Segment", "first_root", "march", "SearchLimitError", "StepBudget"]
+__all__ = ["LinearFunctional", "Segment", "march", "SearchLimitError", "StepBudget"]
 
 # Newton polishing after the certified march: the march already converges quadratically,
 # so a few iterations reach rounding level.
@@ -205,22 +205,6 @@ def _lower_bound_root(g: float, g1: float, K: float) -> float:
     return (g1 + disc) / K
 
 
-def first_root(
-    segment: Segment,
-    fn: LinearFunctional,
-    t_from: float,
-    t_to: float,
-    tol: float,
-    departure: tuple[int, float] | None = None,
-    budget: StepBudget | None = None,
-) -> tuple[float, float] | None:
-    """First t in (t_from, t_to] where g(t) <= tol with g'(t) <= 0, found without skipping any.
-
-    The same as :func:`march` without the certified horizon; see there.
-    """
-    return march(segment, fn, t_from, t_to, tol, departure, budget)[0]
-
-
 def march(
     segment: Segment,
     fn: LinearFunctional,
@@ -320,7 +304,11 @@ def _require_finite(value: float, t_from: float) -> None:
 
 def _polish(segment: Segment, fn: LinearFunctional, t: float, g: float, g1: float) -> tuple[float, float]:
     """Newton from the certified point (g <= tol, g' <= 0) to the root at rounding level;
-    stops where the slope vanishes (a grazing touch is kept at the certified point)."""
+    stops where the slope vanishes (a grazing touch is kept at the certified point).
+
+    The compiled kernels' march (``core/compiled/march.py``) repeats this polish line for line:
+    a deliberate mirror, the readable reference of the two (``tests/unit/test_compiled.py``
+    holds them to the same events)."""
     evaluate = segment.evaluator(fn)
     max_step = NEWTON_MAX_STEP * 2.0 * math.pi / fn.mode.omega
     for _ in range(NEWTON_ITERATIONS):

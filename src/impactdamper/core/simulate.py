@@ -4,7 +4,7 @@ extended with persistent contact (stick), lift-off and grazing.
 The loop (eqs. 18-22): from the state after an event, the motion is the exact flow of the
 current mode (eq. 18 with alpha_j from eq. 19, see :mod:`impactdamper.core.linear`); the next event
 is the first root of the gap (eq. 20) or, in contact, of the contact force, found by
-:func:`impactdamper.core.events.first_root`, which never skips a root; at an impact the pulse of
+:func:`impactdamper.core.events.march`, which never skips a root; at an impact the pulse of
 eq. (21) updates the velocities, eq. (22), and the flow restarts.
 
 What the paper leaves out, decided here:
@@ -384,18 +384,19 @@ class EventDrivenSolver:
         F = model.force_in_contact(t, full)
         a = F / p.reduced_mass  # relative acceleration pressing the bodies together
         if a > 0.0 and rebound * rebound <= 2.0 * a * self.tol.chatter_tol * model.length_scale:
-            stuck, S = model.stick(full)
-            t_inf = t + (2.0 * rebound / ((1.0 - p.R) * a) if p.R < 1.0 else 0.0)
-            self._record(Event(t, "stick", 0.0, S, full, model.full_state(STUCK, stuck), t_inf))
-            self._start(STUCK, t, stuck, departure=self._force_departure(t, stuck))
+            self._stick(t, full, t + (2.0 * rebound / ((1.0 - p.R) * a) if p.R < 1.0 else 0.0))
             return
         departure = self._gap_departure(t, full, rebound)
         if departure is None:  # nothing pulls the bodies apart: they stay together
-            stuck, S = model.stick(full)
-            self._record(Event(t, "stick", 0.0, S, full, model.full_state(STUCK, stuck), t))
-            self._start(STUCK, t, stuck, departure=self._force_departure(t, stuck))
-            return
-        self._start(FREE, t, full, departure)
+            self._stick(t, full, t)
+        else:
+            self._start(FREE, t, full, departure)
+
+    def _stick(self, t: float, full: np.ndarray, t_accumulation: float) -> None:
+        """Capture into persistent contact (the plastic pulse of :meth:`Model.stick`)."""
+        stuck, S = self.model.stick(full)
+        self._record(Event(t, "stick", 0.0, S, full, self.model.full_state(STUCK, stuck), t_accumulation))
+        self._start(STUCK, t, stuck, departure=self._force_departure(t, stuck))
 
     def _gap_departure(self, t: float, full: np.ndarray, rebound: float) -> tuple[int, float] | None:
         """Order and value of the gap's first non-zero derivative when leaving the stop."""

@@ -1,16 +1,8 @@
 """Established oscillations: run Algorithm No. 2 until the motion repeats, then read the cycle.
 
-The paper's step 6 says "calculations continue until established oscillations occur" without
-saying how that is recognised. Here: the state is sampled once per forcing period
-(stroboscopic section t_n = t0 + n T, the forcing's phase is then the same), and the motion is
-settled with period T_c = k T when, for the smallest k <= ``max_period_multiple``, the last k
-sections each match the section k periods earlier to ``settle_tol`` (relative to x_st and
-x_st omega) in the same mode. Matching a whole cycle of sections, not one, keeps a slow
-transient from passing for a period-k motion; and the section differences must have decayed
-over the last few periods (:func:`_converged`): a slowly decaying mode's difference from one
-period to the next is far smaller than its distance to the cycle, and without this check the
-test stopped at theta = 50 with x1_max 430 settle_tol off the settled motion's. A settled
-motion's x1_max is within ``X1_MAX_FACTOR`` settle_tol (in x_st) of the exactly settled one's.
+The run is settled with period T_c = k T when its stroboscopic sections (the state once per
+forcing period, t_n = t0 + n T) repeat after k periods and have converged to that cycle: the
+period test of :mod:`impactdamper.core.periodicity`, after every period.
 
 The settled cycle's events are those from its start impact to half its longest flight before
 the same impact one cycle later (:func:`_cycle_events`), never a window with a fixed margin: a
@@ -37,8 +29,21 @@ import numpy as np
 
 from impactdamper.core.model import STUCK
 from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
+from impactdamper.core.periodicity import settled_period
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances, Trajectory, rescale_trajectory
-from impactdamper.core.validation import check_settle_call
+from impactdamper.core.validation import SettleOptions, check_settle_call
+
+# The period test's thresholds, read from here by the compiled kernels (core/compiled/settle.py)
+# until they import them from core/periodicity.py, where they are defined and explained.
+from impactdamper.core.periodicity import (  # noqa: F401
+    CONVERGENCE_NOISE,
+    CONVERGENCE_WINDOW,
+    DIVISOR_DECAY,
+    DIVISOR_FLOOR_FACTOR,
+    DIVISOR_SUSPECT,
+    ROUNDING_FLOOR,
+    STALL_WINDOW,
+)
 
 __all__ = [
     "SteadyState",
@@ -51,11 +56,10 @@ __all__ = [
     "section_of",
     "start_in_first_period",
     "describe_run",
+    "settle",
 ]
 
 REGIMES = ("no_contact", "stuck", "chatter", "single_impact", "multi_impact", "nonperiodic")
-# Samples per forcing period when searching the object's largest excursion (then refined).
-EXCURSION_SAMPLES_PER_PERIOD = 256
 
 
 @dataclass(frozen=True)
@@ -244,13 +248,13 @@ def steady_state(
     settle_tol : float
         Section mismatch (relative) below which the motion counts as repeating, in
         [:data:`~impactdamper.core.validation.SETTLE_TOL_FLOOR`, 1): the
-        last sections' distance to the cycle they approach is below it (see
-        :func:`_converged`), and x1_max is within ``X1_MAX_FACTOR`` settle_tol of the exactly
-        settled motion's. The regime, k and the cycle's impacts do not depend on it.
+        last sections' distance to the cycle they approach is below it, and x1_max is within
+        :data:`~impactdamper.core.periodicity.X1_MAX_FACTOR` settle_tol of the exactly settled
+        motion's (:mod:`impactdamper.core.periodicity`). The regime, k and the cycle's impacts do not depend on it.
     max_periods : int
         Forcing periods after which an unsettled motion is called ``nonperiodic`` (at most
         :data:`~impactdamper.core.validation.MAX_PERIODS_LIMIT`; a motion needs at least
-        2 CONVERGENCE_WINDOW + k periods to settle).
+        2 :data:`~impactdamper.core.periodicity.CONVERGENCE_WINDOW` + k periods to settle).
     max_period_multiple : int
         Largest k tried for T_c = k T.
 
@@ -267,17 +271,21 @@ def steady_state(
         The motion needs more work than the event-driven solver's bound (see
         :meth:`impactdamper.EventDrivenSolver.advance`).
     """
-    p, t0, state, tolerances, opts = check_settle_call(
-        p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple
-    )
+    return settle(*check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple))
+
+
+def settle(p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions) -> SteadyState:
+    """:func:`steady_state` on arguments already checked (``check_settle_call`` of
+    :mod:`impactdamper.core.validation`): the reference backend's ``settle``."""
     start = start_in_first_period(p, t0)
-    args = (opts.settle_tol, opts.max_periods, opts.max_period_multiple)
     if not p.native_scales():
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        s = _steady_state(q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances, *args)
+        s = _steady_state(
+            q, to_q.apply(start, "time"), None if state is None else to_q.full(state), tolerances, options
+        )
         return rescale_steady(s, ScaleMap(q, p))
-    return _steady_state(p, start, state, tolerances, *args)
+    return _steady_state(p, start, state, tolerances, options)
 
 
 def rescale_steady(s: SteadyState, scales: ScaleMap) -> SteadyState:
@@ -328,15 +336,10 @@ def section_of(s: SteadyState) -> tuple[np.ndarray, str]:
 
 
 def _steady_state(
-    p: Parameters,
-    t0: float,
-    state: np.ndarray | None,
-    tolerances: Tolerances,
-    settle_tol: float,
-    max_periods: int,
-    max_period_multiple: int,
+    p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances, options: SettleOptions
 ) -> SteadyState:
     """steady_state on validated arguments, t0 in [0, T), in native scales."""
+    settle_tol, max_periods, max_period_multiple = options.settle_tol, options.max_periods, options.max_period_multiple
     T = p.T
     scale = state_scale(p)
     solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
@@ -355,20 +358,7 @@ def _steady_state(
         states[n - 1] = solver.state_at(t_n)
         sections[n - 1] = states[n - 1] / scale
         modes.append(solver.mode)
-        # Screen: a period k is possible only if this section repeats the one k periods back.
-        lags = min(max_period_multiple, (n - 1) // 2)
-        if lags == 0:
-            continue
-        latest = np.abs(sections[n - 1 - lags : n - 1][::-1] - sections[n - 1]).max(axis=1)
-        residual = float(latest.min())
-        if residual >= settle_tol:
-            found_k = 0
-            continue
-        found_k, residual = _period(sections[:n], modes, max_period_multiple, settle_tol)
-        if found_k:
-            found_k, residual = _least_period(sections[:n], modes, found_k, settle_tol)
-        if found_k and residual < settle_tol and not _converged(sections[:n], found_k, settle_tol):
-            found_k = 0  # a slow transient still on its way (see _converged)
+        found_k, residual = settled_period(sections[:n], modes, max_period_multiple, settle_tol)
         if found_k:
             break
     return describe_run(p, t0, states[:n], found_k, residual, start_state, tolerances)
@@ -416,116 +406,6 @@ def describe_run(
 REBASE_PERIODS = 100
 # Forcing periods (at least) that the reported trajectory holds before the cycle.
 PERIODS_BEFORE_CYCLE = 4
-
-
-def _mismatch(sections: np.ndarray, modes: list, k: int) -> float:
-    """Largest difference between each of the last k sections and the one k periods earlier."""
-    n = len(sections)
-    if n < 2 * k + 1:
-        return math.inf
-    if modes[n - k :] != modes[n - 2 * k : n - k]:
-        return math.inf
-    return float(np.abs(sections[n - k :] - sections[n - 2 * k : n - k]).max())
-
-
-def _period(sections: np.ndarray, modes: list, kmax: int, tol: float) -> tuple[int, float]:
-    """Smallest k whose last k sections repeat those k periods earlier, with the mismatch."""
-    best = math.inf
-    for k in range(1, kmax + 1):
-        worst = _mismatch(sections, modes, k)
-        best = min(best, worst)
-        if worst < tol:
-            return k, worst
-    return 0, best
-
-
-# A divisor d of a matched k whose mismatch is below this may be the true period still
-# converging (a transient with a Floquet multiplier near -1 repeats after 2 periods sooner
-# than after 1). Then the run goes on while that divisor's mismatch keeps falling: its
-# largest value over the last STALL_WINDOW periods (at least 2k) must stay below
-# DIVISOR_DECAY times its largest value over the window before. A genuine period-k motion
-# keeps the divisor's mismatch constant (its own transient is already below settle_tol);
-# a transient shrinks it by |multiplier| per cycle. Windowed maxima, not cycle-to-cycle
-# values, because two transient components beat (at gap -9.49 the divisor's mismatch
-# rises now and then while falling by 0.87 per window, and a cycle-to-cycle test gave the
-# 2T motion as T_c = 4T).
-DIVISOR_SUSPECT = 1e-3
-DIVISOR_DECAY = 0.95
-STALL_WINDOW = 20
-# A divisor whose mismatch stalls below this multiple of settle_tol is the period, stopped by
-# the run's noise floor (a genuine period-k motion has a divisor mismatch this small only at
-# its bifurcation point itself: the doubled orbit's offset grows like the square root of the
-# distance to it).
-DIVISOR_FLOOR_FACTOR = 1e3
-
-
-# The period test compares each section with the one k periods earlier, and a slowly decaying
-# transient passes it while still far from the cycle: its lag-k difference is (lambda^k - 1)
-# times its distance, small when a Floquet multiplier lambda is close to 1 (at theta = 50 the
-# stuck mode turns by 0.12 rad per period and decays by 0.6 %: the period test stopped with
-# x1 still 3.7e-8 x_st, 430 settle_tol, off the settled motion). So a period is accepted only
-# when, besides, over the last CONVERGENCE_WINDOW periods (at least 2k, a whole number of
-# cycles) every section stays within settle_tol of the latest cycle's section of the same
-# phase (the spread: a rotating slow mode shows its distance there) and the geometric tail
-# sum of the lag-k differences still to come, extrapolated from their decay between this
-# window and the one before, is below settle_tol too (a slow monotone decay shows its
-# distance there).
-CONVERGENCE_WINDOW = 12
-# Lag-k differences below CONVERGENCE_NOISE settle_tol (or below ROUNDING_FLOOR) have no tail
-# estimate: rounding noise does not decay, and a ratio of noise is no decay rate. The distance
-# is then below settle_tol for every multiplier with |lambda^k - 1| >= CONVERGENCE_NOISE.
-CONVERGENCE_NOISE = 0.05
-# The run's rounding noise in the relative sections: their lag-k differences level off at
-# 5e-13 to 2e-12 after the transient (reference case, gap -2, gap -10; re-based clock).
-ROUNDING_FLOOR = 5e-12
-# The stated accuracy of a settled motion's x1_max: within X1_MAX_FACTOR settle_tol (in x_st)
-# of the exactly settled motion's. Measured against the closed-form forced amplitudes, theta 5
-# to 50 stuck and 5 to 100 without contact, settle_tol 1e-4 to 1e-10, both backends: at most
-# 1.0 settle_tol (stuck) and 0.48 settle_tol (no contact); against the default tolerance's
-# answer over random parameters: tests/unit/test_settle_tolerance.py.
-X1_MAX_FACTOR = 10.0
-
-
-def _converged(sections: np.ndarray, k: int, settle_tol: float) -> bool:
-    """Whether the run's last sections are within settle_tol of the period-k cycle they
-    approach: the spread over the last window and the extrapolated tail both below settle_tol
-    (see CONVERGENCE_WINDOW). False while the run is shorter than two windows and a cycle."""
-    n = len(sections)
-    w = -(-max(CONVERGENCE_WINDOW, 2 * k) // k) * k
-    if n < 2 * w + k:
-        return False
-    spread = 0.0
-    for i in range(w):
-        spread = max(spread, float(np.abs(sections[n - 1 - i] - sections[n - 1 - i % k]).max()))
-    lag = np.abs(sections[n - 2 * w :] - sections[n - 2 * w - k : n - k]).max(axis=1)
-    older, recent = float(lag[:w].max()), float(lag[w:].max())
-    if recent < max(CONVERGENCE_NOISE * settle_tol, ROUNDING_FLOOR):
-        tail = 0.0
-    elif recent < older:
-        g = (recent / older) ** (k / w)  # the per-cycle decay
-        tail = recent * g / (1.0 - g)
-    else:
-        tail = math.inf
-    return max(spread, tail) < settle_tol
-
-
-def _least_period(sections: np.ndarray, modes: list, k: int, settle_tol: float) -> tuple[int, float]:
-    """The period to accept for a matched k: (k or a divisor of it, its mismatch), or (0, .)
-    while a divisor may still be converging."""
-    n = len(sections)
-    window = max(STALL_WINDOW, 2 * k)
-    for d in range(1, k):
-        m = _mismatch(sections, modes, d) if k % d == 0 else math.inf
-        if m >= DIVISOR_SUSPECT:
-            continue
-        if n < 2 * window + d:
-            return 0, m  # not enough history yet to tell
-        lagged = np.abs(sections[n - 2 * window :] - sections[n - 2 * window - d : n - d]).max(axis=1)
-        if lagged[window:].max() < DIVISOR_DECAY * lagged[:window].max():
-            return 0, m
-        if m < DIVISOR_FLOOR_FACTOR * settle_tol:
-            return d, m
-    return k, _mismatch(sections, modes, k)
 
 
 def describe_cycle(
@@ -649,6 +529,10 @@ def _contact_phases(traj: Trajectory, a: float, b: float) -> list[tuple[float, f
     return out
 
 
+# Samples per forcing period when searching the object's largest excursion (then refined).
+EXCURSION_SAMPLES_PER_PERIOD = 256
+
+
 def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
     """max |x1|/x_st on [a, b] of a trajectory: the object's amplitude, the quantity of the
     paper's Fig. 2 (x1_max) and of the suppression measure.
@@ -673,17 +557,8 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
     ts = np.linspace(a, b, n + 1)
     x1 = np.abs(traj.sample(ts)[0][:, 0])
     i = int(np.argmax(x1))
-    lo, hi = ts[max(i - 1, 0)], ts[min(i + 1, n)]
-    k = int(traj.segment_index(np.array([ts[i]]))[0])
-    seg = traj.segments[k][1]
-    seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
-    lo, hi = max(lo, seg.t0), min(hi, seg_end)  # x1 is the first state entry in both modes
-    import scipy.optimize  # (loaded on first use: the package import stays light)
-
-    res = scipy.optimize.minimize_scalar(
-        lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * p.T}
-    )
-    best = max(float(x1[i]), -float(res.fun))
+    seg, lo, hi = _segment_bracket(traj, ts[max(i - 1, 0)], ts[min(i + 1, n)], ts[i])
+    best = max(float(x1[i]), _segment_peak(p, seg, lo, hi))
     if i in (0, n):
         # The motion repeats: a peak just before the window's start shows as the largest sample
         # at its start and its end alike, and argmax takes the start, whose bracket does not
@@ -691,18 +566,26 @@ def max_excursion(p: Parameters, traj: Trajectory, a: float, b: float) -> float:
         # found by the start-time invariance test). Refine the other end's bracket too.
         j = n if i == 0 else 0
         lo, hi = ts[max(j - 1, 0)], ts[min(j + 1, n)]
-        k = int(traj.segment_index(np.array([0.5 * (lo + hi)]))[0])
-        seg = traj.segments[k][1]
-        seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
-        lo, hi = max(lo, seg.t0), min(hi, seg_end)
+        seg, lo, hi = _segment_bracket(traj, lo, hi, 0.5 * (lo + hi))
         if hi > lo:
-            import scipy.optimize  # (loaded on first use: the package import stays light)
-
-            res = scipy.optimize.minimize_scalar(
-                lambda t: -abs(float(seg.state(float(t))[0])),
-                bounds=(lo, hi),
-                method="bounded",
-                options={"xatol": 1e-12 * p.T},
-            )
-            best = max(best, -float(res.fun))
+            best = max(best, _segment_peak(p, seg, lo, hi))
     return best / p.x_st
+
+
+def _segment_bracket(traj: Trajectory, lo: float, hi: float, t: float):
+    """The segment that holds time t, and the bracket [lo, hi] cut to it."""
+    k = int(traj.segment_index(np.array([t]))[0])
+    seg = traj.segments[k][1]
+    seg_end = traj.segments[k + 1][1].t0 if k + 1 < len(traj.segments) else math.inf
+    return seg, max(lo, seg.t0), min(hi, seg_end)
+
+
+def _segment_peak(p: Parameters, seg, lo: float, hi: float) -> float:
+    """max |x1| on [lo, hi] of one segment (x1 is the first state entry in both modes), by
+    bounded minimisation to 1e-12 T."""
+    import scipy.optimize  # (loaded on first use: the package import stays light)
+
+    res = scipy.optimize.minimize_scalar(
+        lambda t: -abs(float(seg.state(float(t))[0])), bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * p.T}
+    )
+    return -float(res.fun)

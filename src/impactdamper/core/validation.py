@@ -65,16 +65,6 @@ __all__ = [
 ]
 
 
-# Largest |t| of the solver's clock, in forcing periods: one ulp of t is ~1e-10 T there, the
-# resolution event times need (at t0 = 1e16 s an ulp was 2 s, longer than T). The forcing is
-# T-periodic: a later start is the same motion from t0 modulo T (steady_state reduces it so).
-MAX_CLOCK_PERIODS = 1e6
-# Largest initial state, relative to x_st (positions) and x_st omega (velocities): a motion
-# 1e12 times the static deflection is far outside the model, and squares of much larger ones
-# (energies, derivative bounds) overflow.
-MAX_STATE = 1e12
-
-
 @dataclass(frozen=True)
 class Tolerances:
     """Solver tolerances, all relative (lengths to x_st, velocities to x_st omega).
@@ -119,6 +109,12 @@ def check_tolerances(tolerances: object) -> Tolerances:
     return tolerances
 
 
+# Largest initial state, relative to x_st (positions) and x_st omega (velocities): a motion
+# 1e12 times the static deflection is far outside the model, and squares of much larger ones
+# (energies, derivative bounds) overflow.
+MAX_STATE = 1e12
+
+
 def check_state(state: object, p: Parameters) -> np.ndarray | None:
     """``state`` as a float array (x1, x2, x1', x2') of finite values within MAX_STATE (relative),
     or None; else an error naming it."""
@@ -156,6 +152,12 @@ def check_start_state(state: object, p: Parameters, tolerances: Tolerances) -> n
         if gap < -tolerances.gap_tol * p.x_st:
             raise ValueError(f"`state` has gap Delta0 - (x2 - x1) = {gap:.6g} m < 0: the bodies would overlap")
     return full
+
+
+# Largest |t| of the solver's clock, in forcing periods: one ulp of t is ~1e-10 T there, the
+# resolution event times need (at t0 = 1e16 s an ulp was 2 s, longer than T). The forcing is
+# T-periodic: a later start is the same motion from t0 modulo T (steady_state reduces it so).
+MAX_CLOCK_PERIODS = 1e6
 
 
 def check_start_time(t0: object, p: Parameters, name: str = "t0") -> float:
@@ -311,14 +313,8 @@ class SettleOptions:
 
 def check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple):
     """A settled-motion call's arguments (:func:`impactdamper.core.steady.steady_state`, the
-    front door's ``steady_state``), checked once and in that order: (p, t0, state or None,
-    Tolerances, :class:`SettleOptions`).
-
-    Raises
-    ------
-    TypeError, ValueError
-        The first bad argument, named.
-    """
+    front door's ``steady_state``), checked once and in that order (the first bad one raises a
+    TypeError or ValueError naming it): (p, t0, state or None, Tolerances, :class:`SettleOptions`)."""
     p = require_parameters(p)
     t0 = finite_argument("t0", t0)
     tolerances = check_tolerances(tolerances)
@@ -328,14 +324,9 @@ def check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_per
 
 def check_run_call(p, t_end, t0, state, tolerances, max_periods: int):
     """A run's arguments (:func:`impactdamper.core.simulate.simulate`, the front door's
-    ``simulate``), checked once and in that order: (p, t_end, t0, state or None, Tolerances).
-    ``max_periods`` bounds the run's length (t_end - t0)/T, a bound on its work.
-
-    Raises
-    ------
-    TypeError, ValueError
-        The first bad argument, named.
-    """
+    ``simulate``), checked once and in that order (the first bad one raises a TypeError or
+    ValueError naming it): (p, t_end, t0, state or None, Tolerances). ``max_periods`` bounds the
+    run's length (t_end - t0)/T, a bound on its work."""
     p = require_parameters(p)
     t_end = finite_argument("t_end", t_end)
     if not math.isfinite(real_argument("t0", t0)):
