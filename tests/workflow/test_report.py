@@ -114,7 +114,9 @@ ASCII_MATH = re.compile(
 # A count of nothing written as a digit in a sentence ("0 give different verdicts"), and one
 # value said twice over ("satisfied and satisfied", "300 periods per cell (300 after ...").
 ZERO_COUNT = re.compile(r"(?:^|[;:,(]\s+|\band\s+|\bof\s+)0 [a-z]{2,}", re.M)
-SAID_TWICE = re.compile(r"(?<![/\d.])\b(\d[\d.]*|satisfied|missed|yes|no|none) and \1\b(?![/\d])|\b(\d+) periods per cell \(\2 after")
+SAID_TWICE = re.compile(
+    r"(?<![/\d.])\b(\d[\d.]*|satisfied|missed|yes|no|none) and \1\b(?![/\d])|\b(\d+) periods per cell \(\2 after"
+)
 # A caption names no script, rule or record: provenance is the appendix's (Table "Where each
 # figure and table comes from").
 CAPTION_PROVENANCE = re.compile(r"\b(Made|Written|Generated) by\b|workflow/|\.py\b|figures/|generated/", re.I)
