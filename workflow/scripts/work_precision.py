@@ -3,11 +3,11 @@ the paper): the work-precision study, data only (the figure is drawn by
 fig_work_precision.py).
 
 On the reference case, the first impacts from Algorithm No. 2's default start and the
-settled cycle, against the mpmath reference (src/impactdamper/highprecision.py): the exact
+settled cycle, against the mpmath reference (src/impactdamper/baselines/highprecision/): the exact
 event-driven solver across its gap tolerance, Algorithm No. 1, solve_ivp with events (RK45,
 DOP853, Radau, LSODA) across rtol, fixed-step RK4 with bisection across the step, and
 Siconos's Moreau-Jean time-stepping when its Python module is present (see
-src/impactdamper/workprecision.py for the definitions of error and cost).
+src/impactdamper/studies/performance/workprecision.py for the definitions of error and cost).
 
 Outputs: ``results/benchmarks/work_precision.json`` (everything, with the per-method summary
 and the speed-ups) and ``figures/work_precision.csv`` (one row per measured run). Timings are

@@ -33,18 +33,6 @@ from impactdamper.core.periodicity import settled_period
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances, Trajectory, rescale_trajectory
 from impactdamper.core.validation import SettleOptions, check_settle_call
 
-# The period test's thresholds, read from here by the compiled kernels (core/compiled/settle.py)
-# until they import them from core/periodicity.py, where they are defined and explained.
-from impactdamper.core.periodicity import (  # noqa: F401
-    CONVERGENCE_NOISE,
-    CONVERGENCE_WINDOW,
-    DIVISOR_DECAY,
-    DIVISOR_FLOOR_FACTOR,
-    DIVISOR_SUSPECT,
-    ROUNDING_FLOOR,
-    STALL_WINDOW,
-)
-
 __all__ = [
     "SteadyState",
     "CycleImpact",

@@ -37,18 +37,20 @@ from impactdamper.core.compiled.layout import (
 )
 from impactdamper.core.compiled.loop import advance, diagnose, init_solver, recorded_run, solver_buffers, solver_state
 from impactdamper.core.simulate import DEFAULT_KICK
-from impactdamper.core.steady import (
+from impactdamper.core.periodicity import (
     CONVERGENCE_NOISE,
     CONVERGENCE_WINDOW,
     DIVISOR_DECAY,
     DIVISOR_FLOOR_FACTOR,
     DIVISOR_SUSPECT,
+    ROUNDING_FLOOR,
+    STALL_WINDOW,
+)
+from impactdamper.core.steady import (
     EXCURSION_SAMPLES_PER_PERIOD,
     NONPERIODIC_WINDOW,
     PERIODS_BEFORE_CYCLE,
     REBASE_PERIODS,
-    ROUNDING_FLOOR,
-    STALL_WINDOW,
 )
 
 # Golden-section iterations of the x1_max refinement: 0.618^80 ~ 2e-17 of a bracket of 2/256 T,

@@ -80,7 +80,7 @@ SPECIAL_COLUMNS = [
 # test compares at a relative 1e-8; the continuation converges to 1e-12).
 JOINED_FORMAT = "{:.12g}"
 # The special points' vocabulary, once: each kind the continuation reports
-# (:data:`impactdamper.analysis.continuation.SPECIAL_KINDS`) with its short name in tables
+# (:data:`impactdamper.analysis.branch.SPECIAL_KINDS`) with its short name in tables
 # ("short"), its letter on the branches' figure ("mark"), its name in prose ("text") and its
 # part of a TeX macro name ("macro", letters only) and in the figure's legend ("legend", in
 # this order). The two grazings share names in prose and tables; the macros and the legend tell
