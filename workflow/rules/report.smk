@@ -1,3 +1,39 @@
+# The workflow's own cost: every job's benchmark gathered (the jobs of the latest run) into the
+# report's table of the costliest rules and the run's total. It takes every other stage's
+# products, so that it runs after their jobs; the report and the README summary read it, so
+# their cost cannot be in it.
+WORKFLOW_COST_TARGETS = ["paper/generated/workflow_cost_table.tex", "paper/generated/workflow_cost_macros.tex"]
+WORKFLOW_COST_EXCLUDED = ["workflow_cost", "report", "readme_summary"]
+
+
+rule workflow_cost:
+    input:
+        script="workflow/scripts/workflow_cost.py",
+        library=library(study("performance/cost", "performance/methods", "performance/record"), REPORTING),
+        stages=list(ALL_TARGETS),
+    output:
+        json="figures/workflow_cost.json",
+        table=WORKFLOW_COST_TARGETS[0],
+        macros=WORKFLOW_COST_TARGETS[1],
+        record="results/report/workflow_cost.json",
+    log:
+        "logs/workflow_cost.log",
+    benchmark:
+        benchmark_file("workflow_cost")
+    conda:
+        ENV
+    params:
+        benchmarks=BENCHMARK_DIR,
+        exclude=WORKFLOW_COST_EXCLUDED,
+        cores=workflow.cores,
+        top=10,
+    script:
+        "../scripts/workflow_cost.py"
+
+
+ALL_TARGETS.extend(["figures/workflow_cost.json", *WORKFLOW_COST_TARGETS])
+
+
 # The report: paper/report.tex compiled by latexmk into paper/report.pdf. Included last, so
 # that every figure and generated LaTeX file of the other stages is an input; notebooks are
 # not (they never produce a number the report depends on).
@@ -15,6 +51,8 @@ rule report:
         "paper/report.pdf",
     log:
         "logs/report.log",
+    benchmark:
+        benchmark_file("report")
     conda:
         ENV
     shell:
@@ -48,6 +86,8 @@ rule readme_summary:
         "figures/readme_summary.md",
     log:
         "logs/readme_summary.log",
+    benchmark:
+        benchmark_file("readme_summary")
     conda:
         ENV
     script:
