@@ -26,9 +26,9 @@ rule claims_parameter:
         benchmark_file("claims_parameter", "parameter")
     wildcard_constraints:
         parameter="|".join(CLAIMS_PARAMETERS),
+    priority: 20
     conda:
         ENV
-    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -93,6 +93,7 @@ rule claims_map:
         "logs/claims/claims_map.log",
     benchmark:
         benchmark_file("claims_map")
+    priority: 40
     conda:
         ENV
     threads: 2
@@ -124,6 +125,7 @@ rule claims_pair_map:
         benchmark_file("claims_pair_map", "name")
     wildcard_constraints:
         name="|".join(CLAIMS_PAIR_MAPS),
+    priority: 40
     conda:
         ENV
     threads: 2
@@ -236,6 +238,7 @@ rule claims_nearest:
         "logs/claims/claims_nearest.log",
     benchmark:
         benchmark_file("claims_nearest")
+    priority: 40
     conda:
         ENV
     threads: 2

@@ -24,6 +24,7 @@ rule performance_work_precision:
         "logs/performance/work_precision.log",
     benchmark:
         benchmark_file("performance_work_precision")
+    priority: 30
     conda:
         ENV
     params:

@@ -154,6 +154,7 @@ rule map_chunk:
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
         chunk=r"\d+",
+    priority: 30
     conda:
         ENV
     params:
