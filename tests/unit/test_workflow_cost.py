@@ -29,21 +29,26 @@ def test_the_latest_run_is_summed_by_rule_and_over_the_run(tmp_path):
         _bench(tmp_path, "fig2a-stated", 0.4, "NA", t + 91),  # too short for a sample
         _bench(tmp_path, "report", 20.0, 15.0, t + 120),
     ]
-    jobs = cost.run_jobs(paths, exclude=["report"])
+    exact = tmp_path / "jobs"
+    exact.mkdir()
+    (exact / "claims_pair_map-theta_N.json").write_text('{"cpu_s": 99.5, "end": %r}' % (t + 89.5))
+    (exact / "map_chunk-theta-1.json").write_text('{"cpu_s": 5.0, "end": %r}' % (t - 4000))  # another run's
+    jobs = cost.run_jobs(paths, exclude=["report"], exact_dir=exact)
     assert [j["rule"] for j in jobs] == ["compiled_warm_up", "map_chunk", "map_chunk", "claims_pair_map", "fig2a"]
     assert jobs[1]["wildcards"] == ["theta", "0"] and jobs[3]["wildcards"] == ["theta_N"]
     s = cost.summarize(jobs, top=2, cores=2)
+    assert [j["cpu_source"] for j in jobs] == ["sampled", "sampled", "sampled", "exact", "sampled"]
     assert [r["rule"] for r in s["top"]] == ["claims_pair_map", "map_chunk"]  # by CPU time
     assert s["top"][1] == {"rule": "map_chunk", "jobs": 2, "wall_s": 50.0, "cpu_s": 48.0, "longest_s": 30.0}
     assert s["wall_s"] == pytest.approx(91.0 - 0.0)  # warm-up start (t + 0) to the figure's end (t + 91)
-    assert s["cpu_s"] == pytest.approx(2.0 + 95.0 + 48.0) and s["unsampled_jobs"] == 1
+    assert s["cpu_s"] == pytest.approx(2.0 + 99.5 + 48.0) and s["unsampled_jobs"] == 1 and s["exact_jobs"] == 1
     assert s["busy"] == pytest.approx(s["cpu_s"] / (91.0 * 2))
     s["machine"] = {"load_average": [0.5, 0.4, 0.3], "cpu_count": 2}
     tex = cost_macros(s).tex()
     assert r"\newcommand{\CostWall}{1\,min 31\,s}" in tex and r"\newcommand{\CostJobs}{5}" in tex
     table = cost_table(s)
-    assert r"\texttt{claims\_pair\_map} & 1 & 50 & 95 \\" in table
-    assert r"whole run, first start to last end & 5 & 91 & 145 \\" in table
+    assert r"\texttt{claims\_pair\_map} & 1 & 50 & 100 \\" in table
+    assert r"whole run, first start to last end & 5 & 91 & 150 \\" in table
 
 
 def test_a_file_that_is_not_a_benchmark_is_named(tmp_path):

@@ -95,13 +95,25 @@ def parameters_json(section="reference"):
 
 # The workflow's own cost: every job's Snakemake benchmark (wall time, CPU time of the job's
 # processes), gathered by rule workflow_cost (report.smk) into the report's table of the costliest
-# rules. One file per job: the rule's name, then its wildcards' values, each after a "-".
+# rules, with each Python job's exact CPU time (impactdamper.reporting.records.JOB_COST_DIR). One
+# file per job, named as records.job_name names it: the rule's name, then its wildcards' values in
+# the order of their names, each after a "-".
 BENCHMARK_DIR = "results/benchmarks/rules"
+
+
+def planned_cores():
+    """The run's --cores (0 where none is given: a --dag, a --lint)."""
+    from snakemake.exceptions import WorkflowError
+
+    try:
+        return int(workflow.cores)
+    except (WorkflowError, TypeError):
+        return 0
 
 
 def benchmark_file(rule_name, *wildcards):
     """The benchmark file of a job of rule ``rule_name`` whose output has ``wildcards``."""
-    return f"{BENCHMARK_DIR}/{rule_name}" + "".join(f"-{{{w}}}" for w in wildcards) + ".tsv"
+    return f"{BENCHMARK_DIR}/{rule_name}" + "".join(f"-{{{w}}}" for w in sorted(wildcards)) + ".tsv"
 
 
 # Snakemake samples a job's processes for its CPU time every 0.5 s in the job's first 15 s, then

@@ -37,6 +37,7 @@ rule design_chart:
         "logs/design/chart.log",
     benchmark:
         benchmark_file("design_chart")
+    priority: 60
     conda:
         ENV
     params:
@@ -105,6 +106,7 @@ rule design_optimum:
         "logs/design/optimum.log",
     benchmark:
         benchmark_file("design_optimum")
+    priority: 60
     conda:
         ENV
     params:

@@ -25,7 +25,7 @@ rule workflow_cost:
     params:
         benchmarks=BENCHMARK_DIR,
         exclude=WORKFLOW_COST_EXCLUDED,
-        cores=workflow.cores,
+        cores=planned_cores(),
         top=10,
     script:
         "../scripts/workflow_cost.py"

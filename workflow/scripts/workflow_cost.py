@@ -1,6 +1,7 @@
-"""The workflow's own cost: every job's Snakemake benchmark (``results/benchmarks/rules/``)
-gathered into the rules' wall and CPU time (:mod:`impactdamper.studies.performance.cost`), for
-the report's table of the costliest rules and the run's total.
+"""The workflow's own cost: every job's Snakemake benchmark (``results/benchmarks/rules/``), with
+the exact CPU time each Python job recorded itself (``results/benchmarks/jobs/``), gathered into
+the rules' wall and CPU time (:mod:`impactdamper.studies.performance.cost`), for the report's
+table of the costliest rules and the run's total.
 
 The run is the jobs since the latest start of the kernels' warm-up (its first job). This job
 runs after every other job but the report and the README summary, which read its outputs: their
@@ -15,7 +16,7 @@ costliest rules and the run), ``paper/generated/workflow_cost_macros.tex`` and i
 from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
-from impactdamper.reporting.records import machine, run_stage, write_json
+from impactdamper.reporting.records import JOB_COST_DIR, machine, run_stage, write_json
 from impactdamper.studies.performance import cost
 from impactdamper.studies.performance.record import cost_macros, cost_table
 
@@ -26,8 +27,8 @@ def main(
     benchmarks: str, exclude: list, cores: int, top: int, out_json, out_table, out_macros, out_record, log=print
 ) -> dict:
     paths = sorted(Path(benchmarks).glob("*.tsv"))
-    jobs = cost.run_jobs(paths, exclude=exclude)
-    summary = cost.summarize(jobs, top=int(top), cores=int(cores))
+    jobs = cost.run_jobs(paths, exclude=exclude, exact_dir=JOB_COST_DIR)
+    summary = cost.summarize(jobs, top=int(top), cores=int(cores) or None)
     summary["machine"] = machine()
     summary["excluded"] = list(exclude)
     summary["benchmarks"] = str(benchmarks)

@@ -34,7 +34,9 @@ def _run_block(index: int) -> list:
     return list(function(blocks[index]))
 
 
-def map_blocks(function: Callable[[list], Sequence], items: Sequence, workers: int = 1, min_block: int = 1) -> list:
+def map_blocks(
+    function: Callable[[list], Sequence], items: Sequence, workers: int = 1, min_block: int = 1, dynamic: bool = False
+) -> list:
     """``function(block)`` over contiguous blocks of ``items``, concatenated in order.
 
     Parameters
@@ -48,6 +50,9 @@ def map_blocks(function: Callable[[list], Sequence], items: Sequence, workers: i
         serial call ``function(list(items))`` in this process.
     min_block : int
         Fewest items worth a process of their own.
+    dynamic : bool
+        Each item a block of its own, handed to whichever process is free (pieces of very
+        different cost: no process left with the costly ones); the result in the same order.
 
     Returns
     -------
@@ -60,12 +65,15 @@ def map_blocks(function: Callable[[list], Sequence], items: Sequence, workers: i
     blocks_count = min(workers, len(items) // max(int(min_block), 1))
     if blocks_count < 2 or "fork" not in multiprocessing.get_all_start_methods():
         return list(function(items))
-    cuts = [round(k * len(items) / blocks_count) for k in range(blocks_count + 1)]
-    blocks = [items[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
+    if dynamic:
+        blocks = [[item] for item in items]
+    else:
+        cuts = [round(k * len(items) / blocks_count) for k in range(blocks_count + 1)]
+        blocks = [items[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
     _JOB = (function, blocks)
     try:
         with multiprocessing.get_context("fork").Pool(blocks_count) as pool:
-            parts = pool.map(_run_block, range(blocks_count))
+            parts = pool.map(_run_block, range(len(blocks)), chunksize=1)
     finally:
         _JOB = None
     return [r for part in parts for r in part]
