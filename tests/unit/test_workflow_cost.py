@@ -47,7 +47,7 @@ def test_the_latest_run_is_summed_by_rule_and_over_the_run(tmp_path):
     tex = cost_macros(s).tex()
     assert r"\newcommand{\CostWall}{1\,min 31\,s}" in tex and r"\newcommand{\CostJobs}{5}" in tex
     table = cost_table(s)
-    assert r"\texttt{claims\_pair\_map} & 1 & 50 & 100 \\" in table
+    assert r"claims pair map & 1 & 50 & 100 \\" in table
     assert r"whole run, first start to last end & 5 & 91 & 150 \\" in table
 
 

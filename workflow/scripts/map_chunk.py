@@ -9,8 +9,9 @@ with the stroboscopic period test, ``solve_point`` without its accelerators; the
 cells that do not settle only with ``maps.rescue``), but computed where the labels change
 (:func:`impactdamper.analysis.adaptive.adaptive_regime_map`): every ``maps.coarse_step``-th cell
 of a row first, then the cells between two of different labels or an unsettled one, each from
-its nearest computed left neighbour, the rest filled. Rows every ``maps.check_every``-th (from
-the first) are swept cell by cell as well, the brute force, and the two compared
+its nearest computed left neighbour, the rest filled. About every ``maps.check_every``-th row
+(each chunk's every ``check_every / chunks``-th) is swept cell by cell as well, the brute force,
+and the two compared
 (:func:`impactdamper.analysis.adaptive.label_differences`). Cells the kernels cannot take go to
 the Python reference one by one; their count by reason is the chunk's ``fallbacks``. The rows
 are dealt to ``maps.chunks`` chunks in turn (chunk c takes rows c, c + chunks, ...: the costly
@@ -60,8 +61,10 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
     settings = sweep_settings(maps, solver, continuation=False, rescue=bool(maps["rescue"]))
     slow, slow_values, gaps = gs.map_axes(maps, name)
     rows_idx = chunk_rows(len(slow_values), int(maps["chunks"]), chunk)
+    # The brute force's rows, every check_every-th row of the map spread over the chunks (chunk c's
+    # every (check_every / chunks)-th row: rows c, c + check_every, ... when it divides).
     every = int(maps["check_every"])
-    check_idx = [n for n, i in enumerate(rows_idx) if every and i % every == 0]
+    check_idx = list(range(0, len(rows_idx), max(1, every // int(maps["chunks"])))) if every else []
     with Timer() as timer:
         m = adaptive_regime_map(
             base,

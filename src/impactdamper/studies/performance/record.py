@@ -293,6 +293,12 @@ def compiled_table(c: dict) -> str:
 
 
 # --- the workflow's own cost (studies/performance/cost.py) ------------------------------------
+def rule_words(name: str) -> str:
+    """A workflow rule's name as words for the report (``claims_pair_map`` -> claims pair map):
+    the text names no code."""
+    return name.replace("_", " ")
+
+
 def _duration(seconds: float) -> str:
     """A run's or a job's wall or CPU time in minutes and seconds (text mode)."""
     s = int(round(seconds))
@@ -318,8 +324,8 @@ COST = (
     Macro("CostLongestJob", lambda s: max((r["longest_s"] for r in s["rules"]), default=None), DURATION),
     Macro(
         "CostLongestRule",
-        lambda s: tex_escape(max(s["rules"], key=lambda r: r["longest_s"])["rule"]) if s["rules"] else None,
-        Format(lambda name: rf"\texttt{{{name}}}", "---"),
+        lambda s: rule_words(max(s["rules"], key=lambda r: r["longest_s"])["rule"]) if s["rules"] else None,
+        Format(str, "---"),
     ),
     Macro("CostLoad", lambda s: s["machine"]["load_average"][0], general("{:.1f}")),
 )
@@ -335,7 +341,7 @@ COST_TABLE = Table(
     colspec="lrrr",
     header="Rule & jobs & wall time, s & CPU time, s",
     columns=(
-        Column("rule", Format(lambda name: rf"\texttt{{{tex_escape(name)}}}")),
+        Column("rule", Format(rule_words)),
         Column("jobs", COUNT),
         Column("wall_s", general("{:.0f}")),
         Column("cpu_s", general("{:.0f}")),
