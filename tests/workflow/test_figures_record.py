@@ -423,3 +423,29 @@ def test_scan_grid_is_the_configured_one():
     with (FIGURES / "gap_scan.csv").open() as f:
         gaps = np.array([float(r["gap"]) for r in csv.DictReader(f)])
     np.testing.assert_allclose(gaps, rep.grid(cfg["gap_min"], cfg["gap_max"], cfg["gap_step"]), rtol=0, atol=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["theta", "damping"])
+def test_regime_map_rows_swept_cell_by_cell_match_the_record_but_next_to_changes(name):
+    """Three rows of each committed regime map (computed where its labels change) swept again
+    cell by cell, the brute force: the labels the record's but in at most 2 % of the cells, and
+    the record's settings say how many cells were computed and what its own check found."""
+    from impactdamper.analysis.adaptive import label_differences
+    from impactdamper.analysis.batch import regime_map_batch
+    from impactdamper.studies.config import sweep_settings
+    from impactdamper.studies.sweeps import gapsweep as gs
+
+    cfg = _config()
+    maps = cfg["maps"]
+    with (FIGURES / f"map_{name}.csv").open() as f:
+        record = np.array([r[1:] for r in list(csv.reader(f))[1:]], dtype=object)
+    settings = json.loads((FIGURES / f"map_{name}_settings.json").read_text())
+    assert settings["method"] == "adaptive_regime_map" and settings["cells"] == record.size
+    assert 0 < settings["computed"] < 0.5 * record.size and settings["check"]["share"] <= 0.01
+    slow, slow_values, gaps = gs.map_axes(maps, name)
+    rows = [5, 201, 377]  # (none of them a check row of the map's own)
+    st = sweep_settings(maps, cfg["solver"], continuation=False, rescue=bool(maps["rescue"]))
+    brute = regime_map_batch(rep.parameters(cfg["reference"]), "gap", gaps, slow, slow_values[rows], settings=st)
+    d = label_differences(record[rows], np.array([r.label for r in brute]), rows=range(len(rows)))
+    assert d["share"] <= 0.02, d

@@ -82,7 +82,7 @@ rule claims_map:
     input:
         script="workflow/scripts/claims_map.py",
         library=library(
-            study("claims/maps", "config", "replication/cases", "replication/claims"),
+            study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
             REPORTING,
         ),
     output:
@@ -112,7 +112,7 @@ rule claims_pair_map:
     input:
         script="workflow/scripts/claims_map.py",
         library=library(
-            study("claims/maps", "config", "replication/cases", "replication/claims"),
+            study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
             REPORTING,
         ),
     output:

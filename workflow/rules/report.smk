@@ -9,7 +9,7 @@ WORKFLOW_COST_EXCLUDED = ["workflow_cost", "report", "readme_summary"]
 rule workflow_cost:
     input:
         script="workflow/scripts/workflow_cost.py",
-        library=library(study("performance/cost", "performance/methods", "performance/record"), REPORTING),
+        library=library(BASELINES, study("performance/cost", "performance/methods", "performance/record"), REPORTING),
         stages=list(ALL_TARGETS),
     output:
         json="figures/workflow_cost.json",
