@@ -76,5 +76,19 @@ fi
 # sources (about a minute on two cores), as a C extension would be built at install: the
 # workflow's and the tests' first jobs then load them (about a second) instead of compiling.
 # The workflow's rule compiled_warm_up still compiles them where the cache is missing or stale.
-"$VENV/bin/python" -c "from impactdamper.analysis.batch import warm_up; print(f'setup: compiled kernels ready in {warm_up():.0f} s')"
+"$VENV/bin/python" -c "from impactdamper.core.backends import warm_up; print(f'setup: compiled kernels ready in {warm_up():.0f} s')"
+# Their compile time from scratch (into an empty cache of its own, then loaded from it), measured
+# once here for the report (results/setup/compile_time.json), not in every workflow run; measured
+# again only when the kernels' sources or numba changed since (another minute or two).
+"$VENV/bin/python" - <<'PY'
+from impactdamper.studies.performance.compile_record import current_compile_record, write_compile_record
+
+path = "results/setup/compile_time.json"
+if current_compile_record(path):
+    print(f"setup: the kernels' compile time is on record ({path})")
+else:
+    c = write_compile_record(path)["compile"]
+    print(f"setup: the kernels' compile time measured: {c['cold_compile_s']:.0f} s from scratch, "
+          f"{c['cached_load_s']:.1f} s from the cache ({path})")
+PY
 echo "setup: done; the project's interpreter is $VENV/bin/python"

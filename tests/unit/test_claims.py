@@ -12,6 +12,7 @@ must fail; fed the real located case it must agree to far below its tolerance.
 from __future__ import annotations
 
 import math
+import numpy as np
 
 import pytest
 
@@ -428,3 +429,32 @@ def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
         refine_claims_map(
             p, "theta", (x0, x1, 5), "N", (y0, y1, 5), levels=1, gap_tol=1e-9, settings=st, base=base[:-1]
         )
+
+
+@pytest.mark.slow
+def test_adaptive_claims_grid_is_the_brute_force_where_computed_and_its_check_counts_the_rest():
+    """theta 0.9-1.1 against N 0.45-0.65 (a 21 x 11 piece of the theta_N map's box): the grid
+    computed from every 4th point down, against every cell computed. Computed cells are the
+    brute force's (every cell is independent); every filled cell's block had agreeing corners;
+    the check rows count exactly the filled cells that differ there; fewer cells computed."""
+    from impactdamper.analysis.point import SweepSettings
+    from impactdamper.studies.claims.maps import CELL_KEY, adaptive_claims_map, claims_map
+
+    p = idp.Parameters()
+    st = SweepSettings(
+        settle_tol=1e-9, max_periods=1000, max_periods_after_nonperiodic=1000, max_period_multiple=8, rescue=False
+    )
+    xa, ya = (0.9, 1.1, 21), (0.45, 0.65, 11)
+    brute = claims_map(p, "theta", np.linspace(*xa), "N", np.linspace(*ya), gap_tol=1e-9, settings=st)
+    rows, stats = adaptive_claims_map(
+        p, "theta", xa, "N", ya, coarse_step=4, check_every=2, gap_tol=1e-9, settings=st, workers=2
+    )
+    assert [(r["x"], r["y"]) for r in rows] == [(r["x"], r["y"]) for r in brute]
+    computed = [r["periods"] is not None for r in rows]
+    assert sum(computed) == stats["computed"] < len(rows) and stats["filled"] == len(rows) - stats["computed"]
+    assert all(a == b for a, b, c in zip(rows, brute, computed) if c)
+    key = lambda r: tuple(str(r[k]) for k in CELL_KEY)  # noqa: E731
+    wrong = {(r["x"], r["y"]) for r, b in zip(rows, brute) if key(r) != key(b)}
+    on_check_rows = {(r["x"], r["y"]) for j, r in enumerate(rows) if (j // 21) % 2 == 0} & wrong
+    assert stats["check"]["differences"] == len(on_check_rows)
+    assert stats["check"]["cells"] == 6 * 21 and len(wrong) <= 0.02 * len(rows), sorted(wrong)

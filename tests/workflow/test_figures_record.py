@@ -394,7 +394,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
 
 @pytest.mark.slow
 def test_claims_map_sample_matches_record():
-    import claims_map_chunk
+    import claims_map
 
     cfg = _config()
     base = rep.parameters(cfg["reference"])
@@ -406,13 +406,16 @@ def test_claims_map_sample_matches_record():
     from impactdamper.studies.replication.claims import claim_a, claim_b
 
     # Recomputed cell by cell, by the single-point compiled solver with the map's period cap
-    # (the map ran them all in one batch call).
+    # (the map ran them all in one batch call): the cells the map computed (a filled cell has no
+    # periods; the map's own check compares those on its check rows).
     opts = dict(rep.solver_options(cfg["solver"]), max_periods=int(m["max_periods"]))
-    for r in rows[:: max(1, len(rows) // 12)]:
+    computed = [r for r in rows if r["periods"]]
+    assert len(computed) < len(rows)
+    for r in computed[:: max(1, len(computed) // 12)]:
         p = base.replace(**{m["x"]: float(r["x"]), m["y"]: float(r["y"])})
         a, b = claim_a(rep.run_alg1(p, cfg["solver"])), claim_b(steady_state(p, **opts, backend="compiled"))
         assert (r["claim_a"], r["claim_b"]) == (str(a).lower(), str(b).lower()), r
-    assert claims_map_chunk.COLUMNS == list(rows[0])
+    assert claims_map.MAP_COLUMNS == list(rows[0])
 
 
 def test_scan_grid_is_the_configured_one():
@@ -420,3 +423,29 @@ def test_scan_grid_is_the_configured_one():
     with (FIGURES / "gap_scan.csv").open() as f:
         gaps = np.array([float(r["gap"]) for r in csv.DictReader(f)])
     np.testing.assert_allclose(gaps, rep.grid(cfg["gap_min"], cfg["gap_max"], cfg["gap_step"]), rtol=0, atol=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["theta", "damping"])
+def test_regime_map_rows_swept_cell_by_cell_match_the_record_but_next_to_changes(name):
+    """Three rows of each committed regime map (computed where its labels change) swept again
+    cell by cell, the brute force: the labels the record's but in at most 2 % of the cells, and
+    the record's settings say how many cells were computed and what its own check found."""
+    from impactdamper.analysis.adaptive import label_differences
+    from impactdamper.analysis.batch import regime_map_batch
+    from impactdamper.studies.config import sweep_settings
+    from impactdamper.studies.sweeps import gapsweep as gs
+
+    cfg = _config()
+    maps = cfg["maps"]
+    with (FIGURES / f"map_{name}.csv").open() as f:
+        record = np.array([r[1:] for r in list(csv.reader(f))[1:]], dtype=object)
+    settings = json.loads((FIGURES / f"map_{name}_settings.json").read_text())
+    assert settings["method"] == "adaptive_regime_map" and settings["cells"] == record.size
+    assert 0 < settings["computed"] < 0.5 * record.size and settings["check"]["share"] <= 0.01
+    slow, slow_values, gaps = gs.map_axes(maps, name)
+    rows = [5, 206, 377]  # (none of them a check row of the map's own: rows c + 40 m of chunk c)
+    st = sweep_settings(maps, cfg["solver"], continuation=False, rescue=bool(maps["rescue"]))
+    brute = regime_map_batch(rep.parameters(cfg["reference"]), "gap", gaps, slow, slow_values[rows], settings=st)
+    d = label_differences(record[rows], np.array([r.label for r in brute]), rows=range(len(rows)))
+    assert d["share"] <= 0.02, d

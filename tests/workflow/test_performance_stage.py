@@ -3,8 +3,6 @@ CI config, no job executed. Every rule lists its script, the library and a log; 
 for the stage's products; the timed rules take both cores."""
 
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -19,7 +17,7 @@ RULES = (
     "fig_cost_growth",
     "performance_hardcases",
     "performance_reference_speed",
-    "performance_compile_time",
+    "performance_compiled_map",
     "performance_compiled_speed",
     "performance_report",
 )
@@ -40,29 +38,10 @@ TARGETS = (
 
 
 @pytest.fixture(scope="module")
-def jobs() -> dict:
-    out = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "snakemake",
-            "--nolock",
-            "-n",
-            "--cores",
-            "2",
-            "--forceall",
-            "-p",
-            "--configfile",
-            "config/ci.yaml",
-        ],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert out.returncode == 0, out.stdout + out.stderr
+def jobs(ci_dry_run) -> dict:
+    """Each rule's (fields, listing) in the session's dry run (tests/workflow/conftest.py)."""
     found = {}
-    for block in re.split(r"\n(?=(?:local)?rule \w+:)", out.stdout):
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", ci_dry_run):
         m = re.match(r"(?:local)?rule (\w+):", block)
         if m:
             found[m.group(1)] = (dict(re.findall(r"^\s+(input|output|log|threads): (.*)$", block, flags=re.M)), block)
@@ -92,16 +71,19 @@ def test_every_rule_lists_library_script_and_log(jobs):
 
 def test_timed_rules_take_one_core_but_the_map_benchmark_both_and_one_blas_thread(jobs):
     """The timed rules share the machine (CPU time, with the load recorded); the compiled
-    benchmark's map is timed in wall time on two processes, so that rule takes both cores."""
+    benchmark's map is timed in wall time on two processes, so that rule (and only it) takes
+    both cores, first of all."""
     for rule in (
         "performance_work_precision",
         "performance_cost_growth",
         "performance_hardcases",
         "performance_reference_speed",
+        "performance_compiled_speed",
     ):
         fields, block = jobs[rule]
         assert fields.get("threads") is None, rule
-    assert jobs["performance_compiled_speed"][0].get("threads") == "2"
+    assert jobs["performance_compiled_map"][0].get("threads") == "2"
+    assert "results/benchmarks/compiled_map.json" in jobs["performance_compiled_speed"][0]["input"]
     for script in ("work_precision", "cost_growth", "hardcases", "reference_speed", "compiled_speed"):
         text = (ROOT / "workflow" / "scripts" / f"{script}.py").read_text()
         assert text.index('os.environ[_var] = "1"') < text.index(
@@ -149,3 +131,27 @@ def test_compiled_speed_words_agree_with_the_benchmark(tmp_path):
         if "&" in ln and not ln.startswith("Measure")
     ]
     assert body and not any(ch.isdigit() for ln in body for ch in ln), body  # numbers only through macros
+
+
+# --- the compile time: measured once at set-up -----------------------------------------------------
+def test_compile_time_is_read_from_the_setup_record_while_it_is_current(tmp_path):
+    """tools/setup.sh measures it (the record's ``measured``: set-up); the workflow reads that
+    record while the kernels' sources and numba are the same, and measures it in the run
+    otherwise (rule performance_compile_time)."""
+    import json
+
+    from impactdamper.studies.performance import compile_record as cr
+
+    setup = (ROOT / "tools" / "setup.sh").read_text()
+    assert "write_compile_record" in setup and "results/setup/compile_time.json" in setup
+    path = tmp_path / "compile_time.json"
+    assert not cr.current_compile_record(path)  # missing
+    record = {"compile": {"cold_compile_s": 60.0, "cached_load_s": 1.0}, "measured": cr.MEASURED_AT_SETUP}
+    path.write_text(json.dumps({**record, "sources": cr.sources_fingerprint()}))
+    assert cr.current_compile_record(path)
+    path.write_text(json.dumps({**record, "sources": "another kernel"}))
+    assert not cr.current_compile_record(path)  # stale: measured again in the run
+    path.write_text("{")
+    assert not cr.current_compile_record(path)
+    text = (ROOT / "workflow" / "rules" / "performance.smk").read_text()
+    assert "current_compile_record(SETUP_COMPILE_RECORD)" in text and "compile_time=COMPILE_TIME" in text

@@ -214,3 +214,33 @@ def test_numeric_thresholds_match_the_closed_form():
     assert abs(transitions.least_contact_force(with_value(base, "gap", liftoff))) <= 1e-9
     assert transitions.least_contact_force(with_value(base, "gap", liftoff - 1.0)) > 1e-3  # pressed: F > 0
     assert abs(transitions.largest_relative_displacement(base) - no_contact_gap(base)) <= 1e-9
+
+
+def test_a_jobs_exact_cpu_time_is_recorded_when_its_script_ends(tmp_path, monkeypatch):
+    """A Snakemake job (an object with ``rule``) records its CPU time, its own and its waited-for
+    children's, under the job's name when the script ends (an atexit hook, not in a forked
+    worker); the tests' fake jobs (no ``rule``) record nothing."""
+    import atexit
+    import json
+    import subprocess
+    import sys
+
+    hooks = []
+    monkeypatch.setattr(atexit, "register", lambda f, *a: hooks.append((f, a)))
+    monkeypatch.chdir(tmp_path)
+    params = types.SimpleNamespace(items=lambda: [])
+    sm = types.SimpleNamespace(
+        log=[str(tmp_path / "x.log")], params=params, rule="map_chunk", wildcards={"map": "theta", "chunk": "3"}
+    )
+    records.start_stage(sm, "test_job_cost")
+    fake = types.SimpleNamespace(log=[str(tmp_path / "y.log")], params=params)
+    records.start_stage(fake, "test_job_cost_fake")
+    assert len(hooks) == 1 and records.job_name("map_chunk", {"map": "theta", "chunk": "3"}) == "map_chunk-3-theta"
+    before = records.job_cpu_seconds()
+    subprocess.run([sys.executable, "-c", "sum(range(3_000_000))"], check=True)  # a waited-for child
+    ((f, args),) = hooks
+    f(*args)
+    got = json.loads((tmp_path / records.JOB_COST_DIR / "map_chunk-3-theta.json").read_text())
+    assert got["children_s"] > before["children_s"] and got["cpu_s"] == got["self_s"] + got["children_s"]
+    for h in logging.getLogger("test_job_cost").handlers + logging.getLogger("test_job_cost_fake").handlers:
+        h.close()

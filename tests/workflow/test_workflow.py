@@ -134,12 +134,10 @@ def test_snakemake_stops_on_bad_value_naming_the_key(tmp_path):
 
 # --- the stage's DAG ---------------------------------------------------------------------------
 @pytest.fixture(scope="module")
-def forced_dry_run() -> str:
+def forced_dry_run(ci_dry_run) -> str:
     """The whole DAG (rule all), every job forced, with the CI config (also shows it is valid
-    end to end)."""
-    out = snakemake("-n", "--forceall", "--configfile", "config/ci.yaml")
-    assert out.returncode == 0, out.stdout + out.stderr
-    return out.stdout
+    end to end): the session's one dry run (tests/workflow/conftest.py)."""
+    return ci_dry_run
 
 
 def _jobs(text: str) -> list[tuple[str, dict]]:
@@ -294,35 +292,54 @@ def test_snakemake_reads_numbers_in_any_yaml_form(tmp_path):
 
 
 # --- values read as written, limits refused at validation -----------------------------------
-@pytest.mark.parametrize(
-    ("config", "message"),
-    [
-        # YAML 1.1 forms that --config's values were read in (gap 8, theta 90, gap 16, rescue True)
-        ("reference={gap: 010}", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
-        ("reference={theta: 1:30}", "['reference']['theta']: 1:30 is not allowed: YAML 1.1 reads it as 90"),
-        ("reference={gap: 0x10}", "['reference']['gap']: 0x10 is not allowed: YAML 1.1 reads it as 16"),
-        ("maps={rescue: on}", "['maps']['rescue']: on is not allowed: YAML 1.1 reads it as True"),
-        # documented limits that passed validation and failed only in the job
-        ("reference={mu: 1e-320}", "['reference']: `mu` = 1e-320 is not allowed with the other parameters"),
-        ("design={second: R, second_values: [0.5, 1.2]}", "['design']['second_values']: `R` = 1.2 is not allowed"),
-        (
-            "claims_search={parameters: {R: {start: 0.5, stop: 1.5, points: 3, alg1_points: 3}}}",
-            "['claims_search']['parameters']['R']['stop']: `R` = 1.5 is not allowed",
-        ),
-        (
-            "claims_search={parameters: {theta: {start: 0, stop: 2, points: 3, alg1_points: 3}}}",
-            "['claims_search']['parameters']['theta']['start']: `theta` = 0.0 is not allowed: must be > 0",
-        ),
-        ("claims_search={map: {x: R, x_stop: 1.2}}", "['claims_search']['map']['x_stop']: `R` = 1.2 is not allowed"),
-        # chunk counts: bounded, and never above the rows they split (a dry run spun on 100000)
-        ("maps={chunks: 100000}", "['maps']['chunks']: 100000 is greater than the maximum of 1000"),
-        ("maps={chunks: 500}", "['maps']['chunks']: 500 is not allowed: must be at most 400"),
-        (
-            "claims_search={map: {y_points: 5, chunks: 6}}",
-            "['claims_search']['map']['chunks']: 6 is not allowed: must be at most 5",
-        ),
-    ],
-)
+# Each case is a snakemake dry run (~4 s): the config checker's own tests (tests/unit/
+# test_config_check.py) hold every case in the library; here end to end, two in the quick tier
+# (a YAML 1.1 form and a limit the job would refuse), the others in the slow one.
+SLOW = pytest.mark.slow
+END_TO_END_REFUSALS = [
+    # YAML 1.1 forms that --config's values were read in (gap 8, theta 90, gap 16, rescue True)
+    ("reference={gap: 010}", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
+    pytest.param(
+        "reference={theta: 1:30}", "['reference']['theta']: 1:30 is not allowed: YAML 1.1 reads it as 90", marks=SLOW
+    ),
+    pytest.param(
+        "reference={gap: 0x10}", "['reference']['gap']: 0x10 is not allowed: YAML 1.1 reads it as 16", marks=SLOW
+    ),
+    pytest.param("maps={rescue: on}", "['maps']['rescue']: on is not allowed: YAML 1.1 reads it as True", marks=SLOW),
+    # documented limits that passed validation and failed only in the job
+    ("reference={mu: 1e-320}", "['reference']: `mu` = 1e-320 is not allowed with the other parameters"),
+    pytest.param(
+        "design={second: R, second_values: [0.5, 1.2]}",
+        "['design']['second_values']: `R` = 1.2 is not allowed",
+        marks=SLOW,
+    ),
+    pytest.param(
+        "claims_search={parameters: {R: {start: 0.5, stop: 1.5, points: 3, alg1_points: 3}}}",
+        "['claims_search']['parameters']['R']['stop']: `R` = 1.5 is not allowed",
+        marks=SLOW,
+    ),
+    pytest.param(
+        "claims_search={parameters: {theta: {start: 0, stop: 2, points: 3, alg1_points: 3}}}",
+        "['claims_search']['parameters']['theta']['start']: `theta` = 0.0 is not allowed: must be > 0",
+        marks=SLOW,
+    ),
+    pytest.param(
+        "claims_search={map: {x: R, x_stop: 1.2}}",
+        "['claims_search']['map']['x_stop']: `R` = 1.2 is not allowed",
+        marks=SLOW,
+    ),
+    # chunk counts: bounded, and never above the rows they split (a dry run spun on 100000)
+    pytest.param("maps={chunks: 100000}", "['maps']['chunks']: 100000 is greater than the maximum of 1000", marks=SLOW),
+    pytest.param("maps={chunks: 500}", "['maps']['chunks']: 500 is not allowed: must be at most 400", marks=SLOW),
+    pytest.param(
+        "claims_search={map: {coarse_step: 100}}",
+        "['claims_search']['map']['coarse_step']: 100 is greater than the maximum of 64",
+        marks=SLOW,
+    ),
+]
+
+
+@pytest.mark.parametrize(("config", "message"), END_TO_END_REFUSALS)
 def test_snakemake_stops_on_a_yaml11_number_or_a_limit_the_job_would_refuse(config, message):
     out = snakemake("-n", "reference", "--config", config)
     text = out.stdout + out.stderr
@@ -335,8 +352,12 @@ def test_snakemake_stops_on_a_yaml11_number_or_a_limit_the_job_would_refuse(conf
     ("override", "message"),
     [
         ("reference:\n  gap: -5.0\n  gap: -6.0\n", "['reference']['gap'] is given twice"),
-        ("reference:\n  gap: 010\n", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8"),
-        ("maps:\n  rescue: yes\n", "['maps']['rescue']: yes is not allowed: YAML 1.1 reads it as True"),
+        pytest.param(
+            "reference:\n  gap: 010\n", "['reference']['gap']: 010 is not allowed: YAML 1.1 reads it as 8", marks=SLOW
+        ),
+        pytest.param(
+            "maps:\n  rescue: yes\n", "['maps']['rescue']: yes is not allowed: YAML 1.1 reads it as True", marks=SLOW
+        ),
     ],
 )
 def test_snakemake_stops_on_a_repeated_key_or_yaml11_value_in_a_config_file(tmp_path, override, message):

@@ -22,8 +22,11 @@ rule claims_parameter:
         json="results/claims/{parameter}.json",
     log:
         "logs/claims/{parameter}.log",
+    benchmark:
+        benchmark_file("claims_parameter", "parameter")
     wildcard_constraints:
         parameter="|".join(CLAIMS_PARAMETERS),
+    priority: 20
     conda:
         ENV
     params:
@@ -61,6 +64,8 @@ rule claims_by_parameter:
         tex="paper/generated/claims_table.tex",
     log:
         "logs/claims/claims_by_parameter.log",
+    benchmark:
+        benchmark_file("claims_by_parameter")
     conda:
         ENV
     params:
@@ -71,100 +76,65 @@ rule claims_by_parameter:
         "../scripts/claims_gather.py"
 
 
-rule claims_map_chunk:
-    input:
-        script="workflow/scripts/claims_map_chunk.py",
-        library=library(study("claims/maps", "config", "replication/claims"), REPORTING),
-    output:
-        csv="results/claims/map_{chunk}.csv",
-    log:
-        "logs/claims/map_{chunk}.log",
-    wildcard_constraints:
-        chunk=r"\d+",
-    conda:
-        ENV
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        search=parameters_json("claims_search"),
-    script:
-        "../scripts/claims_map_chunk.py"
-
-
+# A claims map: the grid computed where its cells change, then refined beyond it; the batch
+# calls in the job's two threads.
 rule claims_map:
     input:
-        script="workflow/scripts/claims_map_gather.py",
-        helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
+        script="workflow/scripts/claims_map.py",
         library=library(
             study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
             REPORTING,
         ),
-        chunks=claims_map_chunk_files,
     output:
         csv="figures/claims_map.csv",
         json="figures/claims_map_settings.json",
         refined="figures/claims_map_refined.csv",
     log:
         "logs/claims/claims_map.log",
+    benchmark:
+        benchmark_file("claims_map")
+    priority: 40
     conda:
         ENV
+    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         search=parameters_json("claims_search"),
     script:
-        "../scripts/claims_map_gather.py"
+        "../scripts/claims_map.py"
 
 
 CLAIMS_PAIR_MAPS = list(config["claims_search"]["pair_maps"])
 
 
-rule claims_pair_map_chunk:
-    input:
-        script="workflow/scripts/claims_map_chunk.py",
-        library=library(study("claims/maps", "config", "replication/claims"), REPORTING),
-    output:
-        csv="results/claims/map_{name}_{chunk}.csv",
-    log:
-        "logs/claims/map_{name}_{chunk}.log",
-    wildcard_constraints:
-        name="|".join(CLAIMS_PAIR_MAPS),
-        chunk=r"\d+",
-    conda:
-        ENV
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        search=parameters_json("claims_search"),
-    script:
-        "../scripts/claims_map_chunk.py"
-
-
 rule claims_pair_map:
     input:
-        script="workflow/scripts/claims_map_gather.py",
-        helpers=["workflow/scripts/claims_map_chunk.py", "workflow/scripts/gather_csv.py"],
+        script="workflow/scripts/claims_map.py",
         library=library(
             study("claims/maps", "config", "intervals", "replication/cases", "replication/claims"),
             REPORTING,
         ),
-        chunks=claims_pair_map_chunk_files,
     output:
         csv="figures/claims_map_{name}.csv",
         json="figures/claims_map_{name}_settings.json",
         refined="figures/claims_map_{name}_refined.csv",
     log:
         "logs/claims/claims_map_{name}.log",
+    benchmark:
+        benchmark_file("claims_pair_map", "name")
     wildcard_constraints:
         name="|".join(CLAIMS_PAIR_MAPS),
+    priority: 40
     conda:
         ENV
+    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
         search=parameters_json("claims_search"),
     script:
-        "../scripts/claims_map_gather.py"
+        "../scripts/claims_map.py"
 
 
 rule fig_claims_maps:
@@ -183,6 +153,8 @@ rule fig_claims_maps:
         png="figures/claims_maps.png",
     log:
         "logs/claims/fig_claims_maps.log",
+    benchmark:
+        benchmark_file("fig_claims_maps")
     conda:
         ENV
     script:
@@ -201,6 +173,8 @@ rule fig_claims_by_parameter:
         png="figures/claims_by_parameter.png",
     log:
         "logs/claims/fig_claims_by_parameter.log",
+    benchmark:
+        benchmark_file("fig_claims_by_parameter")
     conda:
         ENV
     script:
@@ -221,6 +195,8 @@ rule fig_claims_map:
         png="figures/claims_map.png",
     log:
         "logs/claims/fig_claims_map.log",
+    benchmark:
+        benchmark_file("fig_claims_map")
     conda:
         ENV
     script:
@@ -261,8 +237,12 @@ rule claims_nearest:
         timing="results/benchmarks/claims_nearest_timing.json",
     log:
         "logs/claims/claims_nearest.log",
+    benchmark:
+        benchmark_file("claims_nearest")
+    priority: 40
     conda:
         ENV
+    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -297,12 +277,16 @@ rule claims_macros:
         nearest="figures/claims_nearest.json",
         search="figures/claims_by_parameter_settings.json",
         maps=["figures/claims_map.csv"] + expand("figures/claims_map_{name}.csv", name=CLAIMS_PAIR_MAPS),
+        map_settings=["figures/claims_map_settings.json"]
+        + expand("figures/claims_map_{name}_settings.json", name=CLAIMS_PAIR_MAPS),
         located="figures/located_case.json",
     output:
         record="results/report/claims.json",
         tex="paper/generated/claims_macros.tex",
     log:
         "logs/claims/claims_macros.log",
+    benchmark:
+        benchmark_file("claims_macros")
     conda:
         ENV
     params:

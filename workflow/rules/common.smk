@@ -93,6 +93,54 @@ def parameters_json(section="reference"):
     return json.dumps(config[section], sort_keys=True)
 
 
+# The workflow's own cost: every job's Snakemake benchmark (wall time, CPU time of the job's
+# processes), gathered by rule workflow_cost (report.smk) into the report's table of the costliest
+# rules, with each Python job's exact CPU time (impactdamper.reporting.records.JOB_COST_DIR). One
+# file per job, named as records.job_name names it: the rule's name, then its wildcards' values in
+# the order of their names, each after a "-".
+BENCHMARK_DIR = "results/benchmarks/rules"
+
+
+def planned_cores():
+    """The run's --cores (0 where none is given: a --dag, a --lint)."""
+    from snakemake.exceptions import WorkflowError
+
+    try:
+        return int(workflow.cores)
+    except (WorkflowError, TypeError):
+        return 0
+
+
+def benchmark_file(rule_name, *wildcards):
+    """The benchmark file of a job of rule ``rule_name`` whose output has ``wildcards``."""
+    return f"{BENCHMARK_DIR}/{rule_name}" + "".join(f"-{{{w}}}" for w in sorted(wildcards)) + ".tsv"
+
+
+# Snakemake samples a job's processes for its CPU time every 0.5 s in the job's first 15 s, then
+# every 30 s, and the benchmark keeps the last sample: a long job's last 30 s of CPU time were
+# missing. Sampled every BENCHMARK_SAMPLE_S seconds instead, a job's CPU time misses at most its
+# last second. (Snakemake 9's benchmark timer, requirements.txt pins it; where it is not there,
+# the benchmarks keep Snakemake's own sampling.)
+BENCHMARK_SAMPLE_S = 1
+
+
+def _sample_benchmarks_every(seconds):
+    import snakemake.benchmark as benchmark
+
+    timer = getattr(benchmark, "BenchmarkTimer", None)
+    if timer is None or getattr(timer, "sample_s", None) is not None:
+        return
+    init = timer.__init__
+
+    def sampled(self, pid, bench_record, interval=seconds):
+        init(self, pid, bench_record, seconds)
+
+    timer.__init__, timer.sample_s = sampled, seconds
+
+
+_sample_benchmarks_every(BENCHMARK_SAMPLE_S)
+
+
 # Sweeps stage: the chunk files a gather rule waits for.
 def map_chunk_files(wildcards, ext="csv"):
     """Chunk outputs of regime map `wildcards.map` (config maps.chunks jobs)."""
@@ -106,17 +154,6 @@ def map_chunk_files(wildcards, ext="csv"):
 
 def map_chunk_timings(wildcards):
     return map_chunk_files(wildcards, ext="json")
-
-
-def claims_map_chunk_files(wildcards):
-    """Chunk outputs of the claims map (config claims_search.map.chunks jobs)."""
-    return expand("results/claims/map_{chunk}.csv", chunk=range(config["claims_search"]["map"]["chunks"]))
-
-
-def claims_pair_map_chunk_files(wildcards):
-    """Chunk outputs of one pair map (config claims_search.pair_maps.{name}.chunks jobs)."""
-    chunks = config["claims_search"]["pair_maps"][wildcards.name]["chunks"]
-    return expand("results/claims/map_{name}_{chunk}.csv", name=wildcards.name, chunk=range(chunks))
 
 
 def random_chunk_files(wildcards):

@@ -15,6 +15,8 @@ rule design_baselines:
         json="figures/design_baselines.json",
     log:
         "logs/design/baselines.log",
+    benchmark:
+        benchmark_file("design_baselines")
     conda:
         ENV
     params:
@@ -33,6 +35,9 @@ rule design_chart:
         json="figures/design_chart.json",
     log:
         "logs/design/chart.log",
+    benchmark:
+        benchmark_file("design_chart")
+    priority: 60
     conda:
         ENV
     params:
@@ -53,6 +58,8 @@ rule design_chart_2d:
         json="figures/design_chart_2d.json",
     log:
         "logs/design/chart_2d.log",
+    benchmark:
+        benchmark_file("design_chart_2d")
     conda:
         ENV
     params:
@@ -74,6 +81,8 @@ rule design_response:
         json="figures/design_response.json",
     log:
         "logs/design/response.log",
+    benchmark:
+        benchmark_file("design_response")
     conda:
         ENV
     params:
@@ -95,6 +104,9 @@ rule design_optimum:
         csv="figures/design_optimum.csv",
     log:
         "logs/design/optimum.log",
+    benchmark:
+        benchmark_file("design_optimum")
+    priority: 60
     conda:
         ENV
     params:
@@ -123,6 +135,8 @@ rule design_report:
         design_table="paper/generated/design_table.tex",
     log:
         "logs/design/report.log",
+    benchmark:
+        benchmark_file("design_report")
     conda:
         ENV
     script:
@@ -142,6 +156,8 @@ rule fig_design_response:
         png="figures/design_response.png",
     log:
         "logs/design/fig_response.log",
+    benchmark:
+        benchmark_file("fig_design_response")
     conda:
         ENV
     script:
@@ -161,6 +177,8 @@ rule fig_design_chart:
         png="figures/design_chart.png",
     log:
         "logs/design/fig_chart.log",
+    benchmark:
+        benchmark_file("fig_design_chart")
     conda:
         ENV
     script:
@@ -180,6 +198,8 @@ rule fig_design_chart_2d:
         png="figures/design_chart_2d.png",
     log:
         "logs/design/fig_chart_2d.log",
+    benchmark:
+        benchmark_file("fig_design_chart_2d")
     conda:
         ENV
     script:

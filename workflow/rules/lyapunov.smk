@@ -23,6 +23,8 @@ rule lyapunov_sweep_chunk:
         json="results/benchmarks/lyapunov/sweep_{chunk}.json",
     log:
         "logs/lyapunov/sweep_{chunk}.log",
+    benchmark:
+        benchmark_file("lyapunov_sweep_chunk", "chunk")
     wildcard_constraints:
         chunk=r"\d+",
     conda:
@@ -44,6 +46,8 @@ rule lyapunov_sweep:
         csv="figures/lyapunov_sweep.csv",
     log:
         "logs/lyapunov/sweep_gather.log",
+    benchmark:
+        benchmark_file("lyapunov_sweep")
     conda:
         ENV
     script:
@@ -59,6 +63,8 @@ rule lyapunov_map_chunk:
         json="results/benchmarks/lyapunov/map_{chunk}.json",
     log:
         "logs/lyapunov/map_{chunk}.log",
+    benchmark:
+        benchmark_file("lyapunov_map_chunk", "chunk")
     wildcard_constraints:
         chunk=r"\d+",
     conda:
@@ -80,6 +86,8 @@ rule lyapunov_map:
         csv="figures/lyapunov_map.csv",
     log:
         "logs/lyapunov/map_gather.log",
+    benchmark:
+        benchmark_file("lyapunov_map")
     conda:
         ENV
     script:
@@ -95,6 +103,8 @@ rule lyapunov_checks:
         json="figures/lyapunov_checks.json",
     log:
         "logs/lyapunov/checks.log",
+    benchmark:
+        benchmark_file("lyapunov_checks")
     conda:
         ENV
     params:
@@ -112,6 +122,8 @@ rule lyapunov_speed:
         json="results/benchmarks/lyapunov_speed.json",
     log:
         "logs/lyapunov/speed.log",
+    benchmark:
+        benchmark_file("lyapunov_speed")
     conda:
         ENV
     params:
@@ -137,6 +149,8 @@ rule lyapunov_report:
         timing="paper/generated/lyapunov_timing.tex",
     log:
         "logs/lyapunov/report.log",
+    benchmark:
+        benchmark_file("lyapunov_report")
     conda:
         ENV
     params:
@@ -156,24 +170,14 @@ rule fig_lyapunov_map:
         png="figures/lyapunov_map.png",
     log:
         "logs/lyapunov/fig_map.log",
+    benchmark:
+        benchmark_file("fig_lyapunov_map")
     conda:
         ENV
     params:
         reference=parameters_json("reference"),
     script:
         "../scripts/fig_lyapunov_map.py"
-
-
-# The bifurcation diagram (sweeps.smk's rule) with its lowest panel, the largest exponent along
-# the sweep: the same rule with this stage's table as one more input, preferred where both
-# could make the figure. (To fold into sweeps.smk's rule as one input line.)
-use rule fig_sweep_bifurcation as fig_sweep_bifurcation_exponent with:
-    input:
-        **rules.fig_sweep_bifurcation.input,
-        lyapunov="figures/lyapunov_sweep.csv",
-
-
-ruleorder: fig_sweep_bifurcation_exponent > fig_sweep_bifurcation
 
 
 LYAPUNOV_TARGETS = [

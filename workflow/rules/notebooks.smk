@@ -16,6 +16,8 @@ rule notebook_reference_case:
         "results/notebooks/01_reference_case.ipynb",
     log:
         "logs/notebooks/01_reference_case.log",
+    benchmark:
+        benchmark_file("notebook_reference_case")
     conda:
         ENV
     shell:
@@ -31,6 +33,8 @@ rule notebook_gap_sweep:
         "results/notebooks/02_gap_sweep.ipynb",
     log:
         "logs/notebooks/02_gap_sweep.log",
+    benchmark:
+        benchmark_file("notebook_gap_sweep")
     conda:
         ENV
     shell:
@@ -46,6 +50,8 @@ rule notebook_your_own_damper:
         "results/notebooks/03_your_own_damper.ipynb",
     log:
         "logs/notebooks/03_your_own_damper.log",
+    benchmark:
+        benchmark_file("notebook_your_own_damper")
     conda:
         ENV
     shell:
@@ -61,6 +67,8 @@ rule notebook_choosing_a_suppressor:
         "results/notebooks/04_choosing_a_suppressor.ipynb",
     log:
         "logs/notebooks/04_choosing_a_suppressor.log",
+    benchmark:
+        benchmark_file("notebook_choosing_a_suppressor")
     conda:
         ENV
     shell:

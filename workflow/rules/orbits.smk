@@ -17,6 +17,8 @@ rule orbit_branches:
         summary="figures/orbit_summary.json",
     log:
         "logs/orbits/orbit_branches.log",
+    benchmark:
+        benchmark_file("orbit_branches")
     conda:
         ENV
     params:
@@ -40,6 +42,8 @@ rule fig_orbit_branches:
         png="figures/orbit_branches.png",
     log:
         "logs/orbits/fig_orbit_branches.log",
+    benchmark:
+        benchmark_file("fig_orbit_branches")
     conda:
         ENV
     script:
@@ -59,6 +63,8 @@ rule orbit_report:
         table="paper/generated/orbit_special_points_table.tex",
     log:
         "logs/orbits/orbit_report.log",
+    benchmark:
+        benchmark_file("orbit_report")
     conda:
         ENV
     script:

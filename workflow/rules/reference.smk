@@ -18,6 +18,8 @@ rule reference_case_stated:
         fig2b="figures/fig2b_stated.csv",
     log:
         "logs/reference/case_stated.log",
+    benchmark:
+        benchmark_file("reference_case_stated")
     conda:
         ENV
     params:
@@ -48,9 +50,12 @@ rule gap_scan:
         json="figures/located_case.json",
     log:
         "logs/reference/gap_scan.log",
+    benchmark:
+        benchmark_file("gap_scan")
     priority: 50
     conda:
         ENV
+    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -70,6 +75,8 @@ rule reference_case_located:
         fig2b="figures/fig2b_located.csv",
     log:
         "logs/reference/case_located.log",
+    benchmark:
+        benchmark_file("reference_case_located")
     conda:
         ENV
     params:
@@ -92,6 +99,8 @@ rule fig2a:
         png="figures/fig2a_{case}.png",
     log:
         "logs/reference/fig2a_{case}.log",
+    benchmark:
+        benchmark_file("fig2a", "case")
     wildcard_constraints:
         case="stated|located",
     conda:
@@ -112,6 +121,8 @@ rule fig2b:
         png="figures/fig2b_{case}.png",
     log:
         "logs/reference/fig2b_{case}.log",
+    benchmark:
+        benchmark_file("fig2b", "case")
     wildcard_constraints:
         case="stated|located",
     conda:
@@ -130,6 +141,8 @@ rule impact_table:
         tex="paper/generated/impacts_{case}.tex",
     log:
         "logs/reference/impact_table_{case}.log",
+    benchmark:
+        benchmark_file("impact_table", "case")
     wildcard_constraints:
         case="stated|located",
     conda:
@@ -151,6 +164,8 @@ rule crosscheck_case:
         json="figures/crosscheck_{case}.json",
     log:
         "logs/reference/crosscheck_{case}.log",
+    benchmark:
+        benchmark_file("crosscheck_case", "case")
     wildcard_constraints:
         case="stated|located",
     conda:
@@ -182,6 +197,8 @@ rule other_readings:
         json="figures/other_readings.json",
     log:
         "logs/reference/other_readings.log",
+    benchmark:
+        benchmark_file("other_readings")
     conda:
         ENV
     params:
@@ -204,6 +221,8 @@ rule fig_located_range:
         png="figures/located_range.png",
     log:
         "logs/reference/fig_located_range.log",
+    benchmark:
+        benchmark_file("fig_located_range")
     conda:
         ENV
     script:
@@ -240,6 +259,8 @@ rule verdict:
         tex="paper/generated/verdict_macros.tex",
     log:
         "logs/reference/verdict.log",
+    benchmark:
+        benchmark_file("verdict")
     conda:
         ENV
     script:

@@ -1,3 +1,39 @@
+# The workflow's own cost: every job's benchmark gathered (the jobs of the latest run) into the
+# report's table of the costliest rules and the run's total. It takes every other stage's
+# products, so that it runs after their jobs; the report and the README summary read it, so
+# their cost cannot be in it.
+WORKFLOW_COST_TARGETS = ["paper/generated/workflow_cost_table.tex", "paper/generated/workflow_cost_macros.tex"]
+WORKFLOW_COST_EXCLUDED = ["workflow_cost", "provenance", "report", "readme_summary"]
+
+
+rule workflow_cost:
+    input:
+        script="workflow/scripts/workflow_cost.py",
+        library=library(BASELINES, study("performance/cost", "performance/methods", "performance/record"), REPORTING),
+        stages=list(ALL_TARGETS),
+    output:
+        json="figures/workflow_cost.json",
+        table=WORKFLOW_COST_TARGETS[0],
+        macros=WORKFLOW_COST_TARGETS[1],
+        record="results/report/workflow_cost.json",
+    log:
+        "logs/workflow_cost.log",
+    benchmark:
+        benchmark_file("workflow_cost")
+    conda:
+        ENV
+    params:
+        benchmarks=BENCHMARK_DIR,
+        exclude=WORKFLOW_COST_EXCLUDED,
+        cores=planned_cores(),
+        top=10,
+    script:
+        "../scripts/workflow_cost.py"
+
+
+ALL_TARGETS.extend(["figures/workflow_cost.json", *WORKFLOW_COST_TARGETS])
+
+
 # The report's appendix of provenance: every figure, table and file of numbers of the report ->
 # the rule that writes it, its script and the committed records it reads, from the workflow's
 # own rules (workflow_rules, read when the job is planned, after every rules file is parsed);
@@ -17,6 +53,8 @@ rule provenance:
         citation="paper/generated/citation_macros.tex",
     log:
         "logs/report/provenance.log",
+    benchmark:
+        benchmark_file("provenance")
     conda:
         ENV
     params:
@@ -46,6 +84,8 @@ rule report:
         "paper/report.pdf",
     log:
         "logs/report.log",
+    benchmark:
+        benchmark_file("report")
     conda:
         ENV
     shell:
@@ -77,6 +117,8 @@ rule readme_summary:
         "figures/readme_summary.md",
     log:
         "logs/readme_summary.log",
+    benchmark:
+        benchmark_file("readme_summary")
     conda:
         ENV
     script:
@@ -97,6 +139,8 @@ rule benchmarks_doc:
         page="docs/BENCHMARKS.md",
     log:
         "logs/benchmarks_doc.log",
+    benchmark:
+        benchmark_file("benchmarks_doc")
     conda:
         ENV
     script:

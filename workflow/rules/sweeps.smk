@@ -2,10 +2,11 @@
 # every regime of the reference case (config: sweep), with random initial states, transitions
 # bisected and checked against analytic values; two-parameter maps (config: maps) run as
 # chunks, one job each (wildcards map, chunk), gathered afterwards, so the same DAG runs on a
-# cluster (profiles/slurm); the chunks run the compiled batch (after rule compiled_warm_up).
-# Benchmarks are timed inside the jobs (results/benchmarks/). The gap sweep and its transitions
-# head the longest chain of jobs (sweep, transitions, report): one core each, a high priority, so
-# that they start first and the other core takes the rest.
+# cluster (profiles/slurm); the chunks run the compiled batch (after rule compiled_warm_up), each
+# map computed where its labels change (impactdamper.analysis.adaptive). Benchmarks are timed
+# inside the jobs (results/benchmarks/). The gap sweep and its transitions head a long chain of
+# jobs (sweep, transitions, report): a high priority, so that they start first, and the two
+# directions each in its own process (threads: 2).
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
 SWEEP_MAPS = ["theta", "damping"]
@@ -22,6 +23,8 @@ rule compiled_warm_up:
         json=COMPILED_WARM_UP,
     log:
         "logs/compiled/warm_up.log",
+    benchmark:
+        benchmark_file("compiled_warm_up")
     conda:
         ENV
     script:
@@ -39,9 +42,12 @@ rule sweep_gap:
         timing="results/benchmarks/sweep_timing.json",
     log:
         "logs/sweeps/sweep_gap.log",
+    benchmark:
+        benchmark_file("sweep_gap")
     priority: 50
     conda:
         ENV
+    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -59,6 +65,8 @@ rule sweep_random_chunk:
         csv="results/sweeps/random_{chunk}.csv",
     log:
         "logs/sweeps/random_{chunk}.log",
+    benchmark:
+        benchmark_file("sweep_random_chunk", "chunk")
     wildcard_constraints:
         chunk=r"\d+",
     conda:
@@ -80,6 +88,8 @@ rule sweep_random:
         csv="figures/sweep_random.csv",
     log:
         "logs/sweeps/random_gather.log",
+    benchmark:
+        benchmark_file("sweep_random")
     conda:
         ENV
     script:
@@ -94,6 +104,8 @@ rule sweep_alg1:
         csv="figures/sweep_alg1.csv",
     log:
         "logs/sweeps/sweep_alg1.log",
+    benchmark:
+        benchmark_file("sweep_alg1")
     conda:
         ENV
     params:
@@ -114,9 +126,12 @@ rule sweep_transitions:
         json="figures/sweep_checks.json",
     log:
         "logs/sweeps/sweep_transitions.log",
+    benchmark:
+        benchmark_file("sweep_transitions")
     priority: 50
     conda:
         ENV
+    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -134,9 +149,12 @@ rule map_chunk:
         json="results/maps/{map}/chunk_{chunk}.json",
     log:
         "logs/maps/{map}_chunk_{chunk}.log",
+    benchmark:
+        benchmark_file("map_chunk", "map", "chunk")
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
         chunk=r"\d+",
+    priority: 30
     conda:
         ENV
     params:
@@ -159,6 +177,8 @@ rule map_gather:
         timing="results/benchmarks/map_{map}_timing.json",
     log:
         "logs/maps/{map}_gather.log",
+    benchmark:
+        benchmark_file("map_gather", "map")
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
     conda:
@@ -179,6 +199,8 @@ rule map_curves:
         csv="figures/map_{map}_curves.csv",
     log:
         "logs/maps/{map}_curves.log",
+    benchmark:
+        benchmark_file("map_curves", "map")
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
     conda:
@@ -200,11 +222,14 @@ rule fig_sweep_bifurcation:
         alg1="figures/sweep_alg1.csv",
         checks="figures/sweep_checks.json",
         located="figures/located_case.json",
+        lyapunov="figures/lyapunov_sweep.csv",
     output:
         pdf="figures/sweep_bifurcation.pdf",
         png="figures/sweep_bifurcation.png",
     log:
         "logs/sweeps/fig_sweep_bifurcation.log",
+    benchmark:
+        benchmark_file("fig_sweep_bifurcation")
     conda:
         ENV
     params:
@@ -225,6 +250,8 @@ rule fig_sweep_regimes:
         png="figures/sweep_regimes.png",
     log:
         "logs/sweeps/fig_sweep_regimes.log",
+    benchmark:
+        benchmark_file("fig_sweep_regimes")
     conda:
         ENV
     script:
@@ -243,6 +270,8 @@ rule fig_sweep_suppression:
         png="figures/sweep_suppression.png",
     log:
         "logs/sweeps/fig_sweep_suppression.log",
+    benchmark:
+        benchmark_file("fig_sweep_suppression")
     conda:
         ENV
     params:
@@ -267,6 +296,8 @@ rule fig_regime_map:
         png="figures/map_{map}.png",
     log:
         "logs/maps/fig_map_{map}.log",
+    benchmark:
+        benchmark_file("fig_regime_map", "map")
     wildcard_constraints:
         map=SWEEP_MAP_PATTERN,
     conda:
@@ -301,6 +332,8 @@ rule sweep_report:
         timing="paper/generated/sweep_timing.tex",
     log:
         "logs/sweeps/sweep_report.log",
+    benchmark:
+        benchmark_file("sweep_report")
     conda:
         ENV
     script:

@@ -1,7 +1,7 @@
 """The parameter set nearest to the stated one where both of the paper's Fig. 2 claims hold
 (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100), searched in all seven relative
-parameters at once (theta, mu, N, delta1, delta2, R, Delta0/x_st) on the compiled batch, with a
-margin, verified by the pure-Python reference and by solve_ivp; and the nearest set among round
+parameters at once (theta, mu, N, delta1, delta2, R, Delta0/x_st) on the compiled batch (both
+claims' evaluations in the job's threads), with a margin, verified by the pure-Python reference and by solve_ivp; and the nearest set among round
 values (:mod:`impactdamper.studies.claims.nearest`).
 
 Outputs: ``figures/claims_nearest.json``; its processor times (search, verification) in
@@ -17,7 +17,9 @@ from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.claims.nearest import NEAREST_NAMES, ClaimsEvaluator, nearest_set, round_values, verify_point
 
 
-def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, out_timing=None, log=print) -> dict:
+def main(
+    reference: dict, solver: dict, verdict: dict, search: dict, out_json, out_timing=None, log=print, workers: int = 1
+) -> dict:
     n = search["nearest"]
     base = parameters(reference)
     gap_tol = float(solver["gap_tol"])
@@ -34,7 +36,7 @@ def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, o
         continuation=False,
         rescue=False,
     )
-    ev, check = ClaimsEvaluator(base, gap_tol, screen), ClaimsEvaluator(base, gap_tol, full)
+    ev, check = ClaimsEvaluator(base, gap_tol, screen, workers), ClaimsEvaluator(base, gap_tol, full, workers)
     cpu = time.process_time()
     joint = nearest_set(
         ev,
@@ -97,7 +99,7 @@ def main(reference: dict, solver: dict, verdict: dict, search: dict, out_json, o
     return out
 
 
-JOB = "params.reference params.solver params.verdict params.search output.json output.timing log=say"
+JOB = "params.reference params.solver params.verdict params.search output.json output.timing log=say workers=threads"
 
 if __name__ == "__main__":
     run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

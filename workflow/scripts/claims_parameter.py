@@ -13,7 +13,8 @@ changes between neighbours or a value does not settle, halving the step
 Why: "not reproduced" at the stated point could come from a transcription slip or another
 normalisation of any parameter, not only of the gap.
 
-Algorithm No. 2 runs compiled; the pure-Python reference repeats it at every
+Algorithm No. 1's grid, each round of the refinement and the pure-Python check run in the
+job's threads. Algorithm No. 2 runs compiled; the pure-Python reference repeats it at every
 ``claims_search.reference_check_every``-th grid value and at both ends of every final
 bisection bracket, and the
 record says where the two agree.
@@ -31,7 +32,7 @@ from impactdamper.reporting.records import run_stage, write_json
 from impactdamper.studies.claims.search import check_rows, reference_check, search_parameter
 
 
-def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, log=print) -> dict:
+def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, log=print, workers: int = 1) -> dict:
     rng = search["parameters"][parameter]
     lo, hi = float(rng["start"]), float(rng["stop"])
     values = np.linspace(lo, hi, int(rng["points"]))
@@ -50,11 +51,12 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
         log=log,
         refine_floor=(hi - lo) / (int(rng["points"]) - 1) / 2 ** int(search["refine_levels"]),
         rescue=True,
+        workers=workers,
     )
     log(f"{parameter}: searched in {time.perf_counter() - t:.1f} s")
     t = time.perf_counter()
     every = int(search["reference_check_every"])
-    check = reference_check(p, parameter, check_rows(result, every), rep.solver_options(solver))
+    check = reference_check(p, parameter, check_rows(result, every), rep.solver_options(solver), workers)
     log(
         f"{parameter}: the pure-Python solver agrees at {check['agree']} of {check['points']} values "
         f"(every {every}th grid value and both ends of every final bracket), {time.perf_counter() - t:.1f} s"
@@ -67,4 +69,8 @@ def main(parameter: str, reference: dict, solver: dict, search: dict, out_json, 
 
 
 if __name__ == "__main__":
-    run_stage(snakemake, main, "wildcards.parameter params.reference params.solver params.search output.json log=say")  # noqa: F821 (injected by Snakemake's script: directive)
+    run_stage(
+        snakemake,  # noqa: F821 (injected by Snakemake's script: directive)
+        main,
+        "wildcards.parameter params.reference params.solver params.search output.json log=say workers=threads",
+    )

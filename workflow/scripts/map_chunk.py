@@ -3,90 +3,146 @@ two-parameter regime map (Peterka-style).
 
 A map has Delta0/x_st on one axis and a second parameter (theta = omega/omega1, or the damping
 ratio delta = delta1 = delta2) on the other. For each value of the second parameter the gap is
-swept one way (``maps.direction``), each point from its neighbour's settled motion, by the
-compiled batch (:func:`impactdamper.analysis.batch.regime_map_batch`): every point is simulated
-until it settles (Algorithm No. 2 with the stroboscopic period test, ``solve_point`` without
-its accelerators), the Newton rescue of points that do not settle only with ``maps.rescue``.
-Points the kernels cannot take go to the Python reference one by one; their count by reason is
-the chunk's ``fallbacks``. The values of the second parameter are split into ``maps.chunks``
-contiguous blocks, one Snakemake job each, so the map runs in parallel locally or as separate
-cluster jobs (profiles/slurm); the job logs its progress per map row.
+swept one way (``maps.direction``), each cell from its left neighbour's settled motion, as the
+compiled batch's :func:`impactdamper.analysis.batch.regime_map_batch` sweeps it (Algorithm No. 2
+with the stroboscopic period test, ``solve_point`` without its accelerators; the Newton rescue of
+cells that do not settle only with ``maps.rescue``), but computed where the labels change
+(:func:`impactdamper.analysis.adaptive.adaptive_regime_map`): every ``maps.coarse_step``-th cell
+of a row first, then the cells between two of different labels or an unsettled one, each from
+its nearest computed left neighbour, the rest filled. About every ``maps.check_every``-th row
+(each chunk's every ``check_every / chunks``-th) is swept cell by cell as well, the brute force,
+and the two compared
+(:func:`impactdamper.analysis.adaptive.label_differences`). Cells the kernels cannot take go to
+the Python reference one by one; their count by reason is the chunk's ``fallbacks``. The rows
+are dealt to ``maps.chunks`` chunks in turn (chunk c takes rows c, c + chunks, ...: the costly
+rows near resonance lie together), one Snakemake job each, so the map runs in parallel locally
+or as separate cluster jobs (profiles/slurm).
 
-Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell) and
-``results/maps/{map}/chunk_{chunk}.json`` (the chunk's fallback counts, wall and processor
-time, with start and end times so that the gather can compute the whole map's wall time).
+Outputs: ``results/maps/{map}/chunk_{chunk}.csv`` (one row per cell, ``computed`` false where
+filled) and ``results/maps/{map}/chunk_{chunk}.json`` (the chunk's cells computed, its check
+against the brute force, fallback counts, wall and processor time, with start and end times so
+that the gather can compute the whole map's wall time).
 """
 
-from impactdamper.studies.sweeps import gapsweep as gs
-from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
-from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
+import numpy as np
+
+from impactdamper.analysis.adaptive import adaptive_regime_map, label_differences
 from impactdamper.analysis.batch import regime_map_batch
+from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
+from impactdamper.studies.config import parameters, sweep_settings
+from impactdamper.studies.sweeps import gapsweep as gs
+
+COLUMNS = [
+    "i",
+    "j",
+    "slow",
+    "gap",
+    "label",
+    "regime",
+    "k",
+    "z",
+    "x1_max",
+    "method",
+    "periods",
+    "fallback",
+    "computed",
+]
 
 
-COLUMNS = ["i", "j", "slow", "gap", "label", "regime", "k", "z", "x1_max", "method", "periods", "fallback"]
+def chunk_rows(rows: int, chunks: int, chunk: int) -> np.ndarray:
+    """The rows of chunk ``chunk``: ``chunk``, ``chunk + chunks``, ... (dealt in turn)."""
+    if not (0 <= chunk < chunks):
+        raise ValueError(f"`chunk` = {chunk!r} is not allowed: must be in [0, {chunks})")
+    return np.arange(chunk, rows, chunks)
 
 
 def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_csv, out_json, log=None) -> dict:
     base = parameters(reference)
     settings = sweep_settings(maps, solver, continuation=False, rescue=bool(maps["rescue"]))
     slow, slow_values, gaps = gs.map_axes(maps, name)
-    rows_idx = chunk_indices(len(slow_values), int(maps["chunks"]), chunk)
-    out, fallbacks = [], {}
+    rows_idx = chunk_rows(len(slow_values), int(maps["chunks"]), chunk)
+    # The brute force's rows, every check_every-th row of the map spread over the chunks (chunk c's
+    # every (check_every / chunks)-th row: rows c, c + check_every, ... when it divides).
+    every = int(maps["check_every"])
+    check_idx = list(range(0, len(rows_idx), max(1, every // int(maps["chunks"])))) if every else []
     with Timer() as timer:
-        for n, i in enumerate(rows_idx):
-            row = regime_map_batch(
-                base, "gap", gaps, slow, [slow_values[i]], direction=maps["direction"], settings=settings
-            )[0]
-            for reason, count in row.fallbacks.items():
-                fallbacks[reason] = fallbacks.get(reason, 0) + count
-            for j, (value, label, regime, k, z, x1_max, method, periods, fallback) in enumerate(
-                zip(
-                    row.values[:, 0],
-                    row.label,
-                    row.regime,
-                    row.period_multiple,
-                    row.impacts_per_cycle,
-                    row.x1_max,
-                    row.method,
-                    row.periods,
-                    row.fallback,
-                )
-            ):
-                out.append(
-                    {
-                        "i": int(i),
-                        "j": j,
-                        "slow": float(slow_values[i]),
-                        "gap": float(value),
-                        "label": label,
-                        "regime": regime,
-                        "k": int(k),
-                        "z": int(z),
-                        "x1_max": float(x1_max),
-                        "method": method,
-                        "periods": int(periods),
-                        "fallback": fallback,
-                    }
-                )
-            if log is not None:
-                log.info(
-                    "map %s chunk %d: row %d/%d (%s = %.6g) done in %.2f s",
-                    name,
-                    chunk,
-                    n + 1,
-                    len(rows_idx),
-                    slow,
-                    slow_values[i],
-                    row.elapsed,
-                )
+        m = adaptive_regime_map(
+            base,
+            "gap",
+            gaps,
+            slow,
+            slow_values[rows_idx],
+            direction=maps["direction"],
+            settings=settings,
+            coarse_step=int(maps["coarse_step"]),
+        )
+    labels = m.label
+    if log is not None:
+        log.info(
+            "map %s chunk %d: %d rows, %d of %d cells computed (%d settlings in %d rounds), %.1f s",
+            name,
+            chunk,
+            len(rows_idx),
+            int(m.computed.sum()),
+            m.computed.size,
+            m.settlings,
+            len(m.points_per_round),
+            timer.wall,
+        )
+    with Timer() as check_timer:
+        brute = regime_map_batch(
+            base, "gap", gaps, slow, slow_values[rows_idx[check_idx]], direction=maps["direction"], settings=settings
+        )
+    reference_labels = labels.copy()
+    for n, row in zip(check_idx, brute):
+        reference_labels[n] = row.label
+    check = label_differences(labels, reference_labels, rows=check_idx)
+    check.update(rows=[int(rows_idx[n]) for n in check_idx], cpu_s=check_timer.cpu)
+    if log is not None:
+        log.info(
+            "map %s chunk %d: brute force on rows %s: %d of %d cells differ (distances to a change %s), %.1f s",
+            name,
+            chunk,
+            check["rows"],
+            check["differences"],
+            check["cells"],
+            check["distances"],
+            check_timer.wall,
+        )
+    out = []
+    for n, i in enumerate(rows_idx):
+        for j, gap in enumerate(m.fast_values):
+            out.append(
+                {
+                    "i": int(i),
+                    "j": j,
+                    "slow": float(slow_values[i]),
+                    "gap": float(gap),
+                    "label": labels[n, j],
+                    "regime": gs.regime_of_label(labels[n, j]),
+                    "k": int(m.period_multiple[n, j]),
+                    "z": int(m.impacts_per_cycle[n, j]),
+                    "x1_max": float(m.x1_max[n, j]),
+                    "method": m.method[n, j],
+                    "periods": int(m.periods[n, j]),
+                    "fallback": m.fallback[n, j],
+                    "computed": bool(m.computed[n, j]),
+                }
+            )
     write_csv(out_csv, COLUMNS, out, booleans="digits")
     timing = {
         "map": name,
         "chunk": chunk,
         "rows": len(rows_idx),
-        "cells": len(out),
+        "cells": int(m.computed.size),
+        "computed": int(m.computed.sum()),
+        "settlings": m.settlings,
+        "points_per_round": m.points_per_round,
+        "coarse_step": m.coarse_step,
         "rescue": settings.rescue,
-        "fallbacks": dict(sorted(fallbacks.items())),
+        "fallbacks": m.fallbacks,
+        "check": check,
+        "periods_simulated": int(m.periods.sum()),
         "wall_s": timer.wall,
         "cpu_s": timer.cpu,
         "start_epoch": timer.epoch0,
@@ -94,16 +150,6 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
         "machine": machine(),
     }
     write_json(out_json, timing, indent=2)
-    if log is not None:
-        log.info(
-            "map %s chunk %d: %d cells, fallbacks %s, wall %.1f s, cpu %.1f s",
-            name,
-            chunk,
-            len(out),
-            timing["fallbacks"],
-            timer.wall,
-            timer.cpu,
-        )
     return timing
 
 

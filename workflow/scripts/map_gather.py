@@ -2,7 +2,10 @@
 map's chunks into the committed label matrix and its benchmark.
 
 Outputs: ``figures/map_{map}_settings.json`` (the configuration, for the record test, with
-the method that computed the cells and the points the compiled kernels handed to the Python
+the method that computed the cells, the share of cells it computed (``computed``, the rest
+filled, see :mod:`impactdamper.analysis.adaptive`), its check against the brute force on the
+chunks' check rows (``check``: cells compared, differences and their distances to the nearest
+change of the brute force's labels) and the points the compiled kernels handed to the Python
 reference, by reason, summed over the chunks: ``fallbacks``, see
 :mod:`impactdamper.analysis.batch`),
 ``figures/map_{map}.csv`` -- the label matrix (first column the second parameter's
@@ -19,7 +22,7 @@ from impactdamper.reporting.records import read_csv, read_json, run_stage, write
 
 
 # How every cell was computed (map_chunk.py), for the record and the report.
-METHOD = "regime_map_batch"
+METHOD = "adaptive_regime_map"
 
 
 def fallback_counts(timings: list[dict]) -> dict:
@@ -29,6 +32,30 @@ def fallback_counts(timings: list[dict]) -> dict:
         for reason, count in t.get("fallbacks", {}).items():
             out[reason] = out.get(reason, 0) + int(count)
     return dict(sorted(out.items()))
+
+
+def computed_counts(timings: list[dict]) -> dict:
+    """The chunks' cells computed and their check against the brute force, summed."""
+    cells, computed = sum(int(t["cells"]) for t in timings), sum(int(t["computed"]) for t in timings)
+    checks = [t["check"] for t in timings]
+    distances = sorted(d for c in checks for d in c["distances"])
+    compared = sum(int(c["cells"]) for c in checks)
+    return {
+        "cells": cells,
+        "computed": computed,
+        "computed_share": computed / cells if cells else 0.0,
+        "settlings": sum(int(t["settlings"]) for t in timings),
+        "coarse_step": timings[0]["coarse_step"] if timings else None,
+        "check": {
+            "rows": sorted(r for c in checks for r in c["rows"]),
+            "cells": compared,
+            "differences": len(distances),
+            "share": len(distances) / compared if compared else 0.0,
+            "next_to_change": sum(d == 1 for d in distances),
+            "max_distance": max(distances, default=0),
+            "distances": distances,
+        },
+    }
 
 
 def main(
@@ -48,8 +75,9 @@ def main(
     Path(out_csv).write_text("\n".join(lines) + "\n")
     timings = [read_json(p) for p in chunk_jsons]
     fallbacks = fallback_counts(timings)
+    counts = computed_counts(timings)
     if out_settings is not None:
-        write_json(out_settings, dict(config or {}, map=name, method=METHOD, fallbacks=fallbacks), indent=2)
+        write_json(out_settings, dict(config or {}, map=name, method=METHOD, fallbacks=fallbacks, **counts), indent=2)
     methods: dict = {}
     for r in cells:
         methods[r["method"]] = methods.get(r["method"], 0) + 1
@@ -68,6 +96,8 @@ def main(
         "periods_simulated": sum(int(r["periods"]) for r in cells),
         "method": METHOD,
         "fallbacks": fallbacks,
+        "computed_share": counts["computed_share"],
+        "check_cpu_s": sum(t["check"]["cpu_s"] for t in timings),
     }
     write_json(out_timing, out, indent=2)
     return out

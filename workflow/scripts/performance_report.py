@@ -52,17 +52,23 @@ def main(
     out_compiled_table,
     out_summary,
     in_compile_time=None,
+    in_warm_up=None,
 ) -> dict:
     """Write the summary, the stage's record (``out_record``, JSON) and from it the macros
     (``out_macros``), the work-precision table and the compiled solver's table. The JIT compile
-    times come from ``in_compile_time`` (rule performance_compile_time: the benchmark's compile-only run) where the
-    benchmark's record has none."""
+    times come from ``in_compile_time`` (the set-up's record, or rule performance_compile_time's
+    in the run: its ``measured`` says which) where the benchmark's record has none; the run's own
+    warm-up (loading the kernels from numba's cache, or compiling them where it was stale) from
+    ``in_warm_up`` (rule compiled_warm_up's record)."""
     wp = read_json(in_wp)
     compiled = read_json(in_compiled)
     if compiled.get("compile") is None:
         if in_compile_time is None:
             raise ValueError("the compiled benchmark's record has no compile times: give `in_compile_time`")
-        compiled["compile"] = read_json(in_compile_time)["compile"]
+        record = read_json(in_compile_time)
+        compiled["compile"] = dict(record["compile"], measured=record.get("measured", "workflow"))
+    if in_warm_up is not None:
+        compiled["compile"] = dict(compiled["compile"], run_warm_up_s=read_json(in_warm_up)["seconds"])
     s = summarize(wp, read_json(in_growth), read_json(in_hard), read_json(in_ref), performance, compiled)
     write_json(out_summary, s)
     write_json(out_record, macros(s, performance, wp).record(RECORD_WHAT), sort_keys=False)
@@ -76,7 +82,7 @@ def main(
 JOB = (
     "params.performance input.work_precision input.cost_growth input.hardcases "
     "input.reference_speed input.compiled_speed output.record output.macros output.table "
-    "output.compiled_table output.summary in_compile_time=input.compile_time"
+    "output.compiled_table output.summary in_compile_time=input.compile_time in_warm_up=input.warm_up"
 )
 STAGE = {"logger": "performance_report"}
 

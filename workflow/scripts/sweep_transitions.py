@@ -3,7 +3,8 @@ changes along the gap sweep, located by bisection and checked against analytic v
 
 1. Every change of Peterka's label z/k between neighbouring sweep points is bisected
    (:func:`impactdamper.analysis.sweeps.find_transitions`; each midpoint starts from the motion on the
-   first label's side, as a finer sweep would) to ``transition_xtol``.
+   first label's side, as a finer sweep would) to ``transition_xtol``, each transition on its
+   own in the job's threads (:func:`impactdamper.studies.sweeps.transitions.find_all`).
 2. The three transitions with analytic values (lift-off of the persistent contact, first
    contact, Algorithm No. 1's grazing), each computed numerically a second way and located
    again by the sweep (:func:`impactdamper.studies.sweeps.transitions.checks`, whose module docstring
@@ -12,9 +13,6 @@ changes along the gap sweep, located by bisection and checked against analytic v
 Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 ``figures/sweep_checks.json`` (the three checks).
 """
-
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
 
 from impactdamper.reporting.records import Timer, clean, run_stage, write_csv, write_json
 from impactdamper.studies.sweeps import gapsweep as gs
@@ -33,14 +31,9 @@ def main(
     data = gs.read_points(points_npz)
     base, parameter, settings = parameters(reference), gs.SWEEP_PARAMETER, sweep_settings(sweep, solver)
     xtol = float(sweep["transition_xtol"])
-    jobs = [(base, parameter, data[d], d, settings, xtol) for d in ("up", "down")]
     with Timer() as timer:
-        if processes >= 2:
-            with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("fork")) as pool:
-                found = list(pool.map(tr.find_both, jobs))
-        else:
-            found = [tr.find_both(j) for j in jobs]
-    rows = [t.row() for ts in found for t in ts]
+        found = tr.find_all(base, parameter, data, settings, xtol, workers=processes)
+    rows = [t.row() for d in ("up", "down") for t in found[d]]
     write_csv(out_csv, TRANSITION_COLUMNS, rows, booleans="digits")
     if log is not None:
         log.info("%d transitions bisected to %g in %.1f s", len(rows), xtol, timer.wall)
@@ -55,10 +48,8 @@ def main(
     return result
 
 
-JOB = "input.points params.reference params.solver params.sweep output.csv output.json log=log"
+JOB = "input.points params.reference params.solver params.sweep output.csv output.json log=log processes=threads"
 STAGE = {"logger": "sweep_transitions", "timestamps": True, "library": True}
-# The two sweep directions, one process each (at most the job's threads).
-TWO_DIRECTIONS = lambda j: min(int(j.threads), 2)  # noqa: E731
 
 if __name__ == "__main__":
-    run_stage(snakemake, main, JOB, processes=TWO_DIRECTIONS, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)
+    run_stage(snakemake, main, JOB, **STAGE)  # noqa: F821 (injected by Snakemake's script: directive)

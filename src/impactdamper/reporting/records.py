@@ -35,6 +35,9 @@ __all__ = [
     "say",
     "machine",
     "Timer",
+    "JOB_COST_DIR",
+    "job_name",
+    "job_cpu_seconds",
 ]
 
 # Significant digits of floats in CSV records: far below any tolerance the record is compared
@@ -150,10 +153,43 @@ def stage_logger(log_path, name: str, *, timestamps: bool = False, library: bool
     return logging.getLogger(name)
 
 
+# Every workflow job's exact CPU time, written when its script ends (start_stage): Snakemake's
+# benchmark samples a job's processes once a second and never sees a worker process that starts
+# and ends between two samples (a pool of map_blocks or steady_states' workers), so the rules'
+# cost (impactdamper.studies.performance.cost) takes the job's own count where there is one.
+JOB_COST_DIR = "results/benchmarks/jobs"
+
+
+def job_name(rule: str, wildcards: dict) -> str:
+    """A job's name: its rule, then its wildcards' values in the order of their names, each after
+    a ``-`` (the workflow's benchmark files are named so too)."""
+    return rule + "".join(f"-{wildcards[k]}" for k in sorted(wildcards))
+
+
+def job_cpu_seconds() -> dict:
+    """This process's CPU time and its waited-for children's (pools joined, subprocesses
+    finished), user and system, s."""
+    import resource
+
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    self_s, children_s = own.ru_utime + own.ru_stime, children.ru_utime + children.ru_stime
+    return {"cpu_s": self_s + children_s, "self_s": self_s, "children_s": children_s}
+
+
+def _record_job_cost(rule: str, wildcards: dict, pid: int) -> None:
+    if os.getpid() != pid:  # (a forked worker that exits through atexit: not the job)
+        return
+    path = Path(JOB_COST_DIR) / f"{job_name(rule, wildcards)}.json"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps({**job_cpu_seconds(), "end": time.time()}) + "\n")
+
+
 def start_stage(sm, name: str | None = None, *, timestamps: bool = False, library: bool = False):
     """The start of every workflow script that Snakemake runs (``script:``): where it logs, and
     the rule's ``params`` with the config sections (JSON strings, the workflow's
-    ``parameters_json``) read back as dicts.
+    ``parameters_json``) read back as dicts. A Snakemake job's exact CPU time (this process and
+    its waited-for children) is written when the script ends, to
+    ``JOB_COST_DIR/<job_name>.json``.
 
     Parameters
     ----------
@@ -183,6 +219,10 @@ def start_stage(sm, name: str | None = None, *, timestamps: bool = False, librar
         if isinstance(value, str) and value.startswith("{"):
             value = json.loads(value)
         params[key] = value
+    if getattr(sm, "rule", None):  # a Snakemake job: its exact CPU time recorded when it ends
+        import atexit
+
+        atexit.register(_record_job_cost, sm.rule, dict(sm.wildcards.items()), os.getpid())
     return params, log
 
 

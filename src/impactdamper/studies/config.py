@@ -167,9 +167,6 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
     if maps:
         rows = min((m["points"] for m in maps.values() if isinstance(m, dict)), default=MAX_CHUNKS)
         chunked.append((("maps", "chunks"), maps["chunks"], rows, "rows of the smallest map (its points)"))
-    cmap = config.get("claims_search", {}).get("map")
-    if cmap:
-        chunked.append((("claims_search", "map", "chunks"), cmap["chunks"], cmap["y_points"], "rows (y_points)"))
     sweep = config.get("sweep")
     if sweep:
         starts = -(-sweep["points"] // sweep["random_every"])

@@ -419,7 +419,8 @@ def grid_sizes(config: dict) -> list[tuple[tuple, str, float, int, str]]:
         for i, n in enumerate(perf["compiled_speed_map_sizes"]):
             grids.append((path + ("compiled_speed_map_sizes", i), repr(n), n * n, MAX_MAP_CELLS, "map cells (n x n)"))
         grids.append(_key(perf, path + ("compiled_speed_batch_points",), MAX_MAP_CELLS, "batch points"))
-        for key in ("repeats", "reference_speed_repeats", "reference_speed_ivp_repeats", "compiled_speed_repeats"):
+        repeats = ("repeats", "reference_speed_repeats", "reference_speed_ivp_repeats", "compiled_speed_repeats")
+        for key in (*repeats, "compiled_speed_map_repeats"):
             grids.append(_key(perf, path + (key,), MAX_REPEATS, "timed repeats"))
     if config.get("lyapunov"):
         grids += _lyapunov_grids(config["lyapunov"])

@@ -3,21 +3,36 @@
 claim (b), Algorithm No. 2 settles with T_c = 2T and three impacts per cycle; maps of both and
 their adaptive refinement.
 
-The map starts as a uniform grid (:func:`claims_map`). A cell (the
-square between four neighbouring grid points) whose corners do not all carry the same label
-(:func:`map_label`: both claims, (a) only, (b) only, neither; or ``np`` when Algorithm No. 2
-did not settle) is split in four: its edge midpoints and its centre are evaluated (one batch
-call per level), a quadtree subdivision, at most ``levels`` times; the floor, the finest step,
-is the grid step / 2^levels. The same spirit as the one-parameter refinement
-(:func:`impactdamper.studies.claims.search.refine_grid`): a window wider than the floor that touches a
-grid point, or sits between points of different labels, is resolved to the floor; a window
-inside a cell whose four corners agree is not (nothing there asks for refinement).
+A map's uniform grid (the record's resolution) is computed where its picture changes
+(:func:`adaptive_claims_map`): every ``coarse_step``-th grid point first, then a block of the
+grid whose corners differ in what the record says of a cell (claim (a), whether Algorithm
+No. 1's orbit exists, the settled motion's regime, k and z: :data:`CELL_KEY`) or that has an
+unsettled corner is split at its edge midpoints and centre
+(:func:`impactdamper.analysis.adaptive.refine_lattice`), down to blocks one grid step wide; the
+grid points inside a block whose corners agree are filled from them (no periods: they were
+not simulated). Every cell is independent (Algorithm No. 2 from the paper's step 1), so a
+computed cell is the brute-force grid's; a filled cell differs only where a window narrower
+than the blocks lies inside a block whose corners agree (rows every ``check_every``-th are
+computed in full to measure it).
+
+Beyond the grid (:func:`refine_claims_map`), a grid cell whose corners do not all carry the
+same claims label (:func:`map_label`: both claims, (a) only, (b) only, neither; or ``np`` when
+Algorithm No. 2 did not settle) is split in four the same way, at most ``levels`` times; the
+floor, the finest step, is the grid step / 2^levels. The same spirit as the one-parameter
+refinement (:func:`impactdamper.studies.claims.search.refine_grid`): a window wider than the
+floor that touches a grid point, or sits between points of different labels, is resolved to
+the floor; a window inside a cell whose four corners agree is not (nothing there asks for
+refinement).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numpy as np
+
+from impactdamper.analysis.adaptive import coarse_indices, fill_blocks, refine_lattice
+from impactdamper.analysis.parallel import map_blocks
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, claim_a
 
@@ -36,11 +51,13 @@ MAP_COLUMNS = [
 ]
 
 
-def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings) -> list[dict]:
+def claims_map(
+    p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, gap_tol: float, settings, workers: int = 1
+) -> list[dict]:
     """Both claims at every cell of the grid ``xs`` x ``ys`` of parameters ``x`` and ``y`` (the
     others as in ``p``): Algorithm No. 1 (closed form, ``gap_tol``) and Algorithm No. 2 from the
     paper's step 1 on the compiled batch (:func:`impactdamper.steady_states`, each
-    cell alone, ``settings``), in one call for all cells.
+    cell alone, ``settings``), every cell (the brute force of :func:`adaptive_claims_map`).
 
     Returns
     -------
@@ -49,38 +66,51 @@ def claims_map(p, x: str, xs: Sequence[float], y: str, ys: Sequence[float], *, g
     """
     if x == y:
         raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
-    return claims_cells(p, x, y, [(float(a), float(b)) for b in ys for a in xs], gap_tol=gap_tol, settings=settings)
+    points = [(float(a), float(b)) for b in ys for a in xs]
+    return claims_cells(p, x, y, points, gap_tol=gap_tol, settings=settings, workers=workers)
 
 
-def claims_cells(p, x: str, y: str, points: Sequence[tuple[float, float]], *, gap_tol: float, settings) -> list[dict]:
+# Fewest cells a worker process is given (below, forking costs more than it saves).
+MIN_BLOCK = 32
+
+
+def claims_cells(
+    p, x: str, y: str, points: Sequence[tuple[float, float]], *, gap_tol: float, settings, workers: int = 1
+) -> list[dict]:
     """Both claims at each point ``(x value, y value)`` of ``points`` (any set, in the given
-    order), as :func:`claims_map` computes them at its cells (one batch call for all points).
+    order), as :func:`claims_map` computes them at its cells: the points in contiguous blocks,
+    one batch call each, in ``workers`` processes (:func:`impactdamper.analysis.parallel.map_blocks`;
+    every point is independent, so the result does not depend on ``workers``).
 
     Returns
     -------
     list of dict
         One per point, with :data:`MAP_COLUMNS`.
     """
-    import numpy as np
-
-    from impactdamper import steady_states
-
     if x == y:
         raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
-    if not len(points):
+    cells = [(float(a), float(b)) for a, b in points]
+    return map_blocks(lambda block: _claims_cells(p, x, y, block, gap_tol, settings), cells, workers, MIN_BLOCK)
+
+
+def _claims_cells(p, x: str, y: str, cells: list, gap_tol: float, settings) -> list[dict]:
+    """:func:`claims_cells` in this process: one batch call for all ``cells``."""
+    from impactdamper import steady_states
+
+    if not cells:
         return []
-    cells = np.array(points, float).reshape(-1, 2)
-    res = steady_states(p, (x, y), cells, settings=settings, chain=False)
+    res = steady_states(p, (x, y), np.array(cells, float).reshape(-1, 2), settings=settings, chain=False)
+    regimes, labels = res.regime, res.label  # (each property builds its array: once, not per cell)
     out = []
     for i, (a, b) in enumerate(cells):
-        alg1 = algorithm1(p.replace(**{x: float(a), y: float(b)}), gap_tol=gap_tol)
+        alg1 = algorithm1(p.replace(**{x: a, y: b}), gap_tol=gap_tol)
         ca = claim_a(alg1)
-        rg, k, z = str(res.regime[i]), int(res.period_multiple[i]), int(res.impacts_per_cycle[i])
+        rg, k, z = str(regimes[i]), int(res.period_multiple[i]), int(res.impacts_per_cycle[i])
         cb = rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS
         out.append(
             {
-                "x": float(a),
-                "y": float(b),
+                "x": a,
+                "y": b,
                 "claim_a": ca,
                 "claim_b": cb,
                 "both": ca and cb,
@@ -89,10 +119,114 @@ def claims_cells(p, x: str, y: str, points: Sequence[tuple[float, float]], *, ga
                 "period_multiple": k,
                 "impacts_per_cycle": z,
                 "periods": int(res.periods[i]),
-                "label": str(res.label[i]),
+                "label": str(labels[i]),
             }
         )
     return out
+
+
+# What the map's record says of a cell, but its periods: a filled grid cell takes these from
+# the corners of its block, which all agree on them (claim (b), both and the label follow).
+CELL_KEY = ("claim_a", "alg1_exists", "regime", "period_multiple", "impacts_per_cycle")
+# Regimes of a cell that did not settle: a block with such a corner is always split.
+UNSETTLED_REGIMES = ("nonperiodic", "failed")
+
+
+def _cell_key(row: dict) -> tuple:
+    return tuple(str(row[k]).lower() for k in CELL_KEY)
+
+
+def _split_cells(keys: list[tuple]) -> bool:
+    """A grid block is split where its corners' cells differ or one did not settle."""
+    return len(set(keys)) > 1 or any(k[CELL_KEY.index("regime")] in UNSETTLED_REGIMES for k in keys)
+
+
+def adaptive_claims_map(
+    p,
+    x: str,
+    x_axis: tuple[float, float, int],
+    y: str,
+    y_axis: tuple[float, float, int],
+    *,
+    coarse_step: int,
+    check_every: int,
+    gap_tol: float,
+    settings,
+    workers: int = 1,
+) -> tuple[list[dict], dict]:
+    """The uniform grid of :func:`claims_map` computed where its cells change (the module
+    docstring says how).
+
+    Parameters
+    ----------
+    p, x, y, gap_tol, settings, workers
+        As :func:`claims_map`.
+    x_axis, y_axis : (start, stop, points)
+        The grid (``numpy.linspace(start, stop, points)`` per axis).
+    coarse_step : int
+        Grid steps between the points computed first, per axis (1: every cell, the brute force).
+    check_every : int
+        Every ``check_every``-th row of y (from the first) is computed in full as well: the
+        filled cells there are compared with their computed values (0: no check).
+
+    Returns
+    -------
+    rows : list of dict
+        Every grid cell (:data:`MAP_COLUMNS`; ``periods`` None where filled), rows of y outer,
+        x inner.
+    stats : dict
+        ``grid_points``, ``computed`` (cells simulated), ``filled``, ``coarse_step``,
+        ``points_per_round``, ``check`` (``every``, ``rows``, ``cells`` compared, ``filled``
+        among them, ``differences`` in the record's cell, ``label_differences`` in the claims
+        label (:func:`map_label`), ``share``).
+    """
+    if x == y:
+        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    (x0, x1, nx), (y0, y1, ny) = x_axis, y_axis
+    _check_axis("x", x0, x1, nx)
+    _check_axis("y", y0, y1, ny)
+    xs, ys = np.linspace(float(x0), float(x1), nx), np.linspace(float(y0), float(y1), ny)
+    rows: dict[tuple[int, int], dict] = {}
+
+    def evaluate(points: list[tuple[int, int]]) -> list[tuple]:
+        out = claims_cells(
+            p, x, y, [(xs[i], ys[j]) for i, j in points], gap_tol=gap_tol, settings=settings, workers=workers
+        )
+        rows.update(zip(points, out))
+        return [_cell_key(r) for r in out]
+
+    ci, cj = coarse_indices(nx, int(coarse_step)), coarse_indices(ny, int(coarse_step))
+    first = sorted(((i, j) for i in ci for j in cj), key=lambda ij: (ij[1], ij[0]))
+    known = dict(zip(first, evaluate(first)))
+    blocks = [(a, b, c, d) for a, b in zip(ci, ci[1:]) for c, d in zip(cj, cj[1:])]
+    known, final, stats = refine_lattice(known, blocks, evaluate, _split_cells)
+    filled = fill_blocks(known, final)
+    corner = {ij: rows[(b[0], b[2])] for b in final for ij in fill_blocks(known, [b])}
+    computed = len(rows)
+    for i, j in filled:
+        rows[(i, j)] = dict(corner[(i, j)], x=float(xs[i]), y=float(ys[j]), periods=None)
+    check = {"every": int(check_every), "rows": 0, "cells": 0, "filled": 0, "differences": 0, "label_differences": 0}
+    if check_every:
+        check_rows = list(range(0, ny, int(check_every)))
+        todo = [(i, j) for j in check_rows for i in range(nx) if (i, j) in filled]
+        fresh = claims_cells(
+            p, x, y, [(xs[i], ys[j]) for i, j in todo], gap_tol=gap_tol, settings=settings, workers=workers
+        )
+        check.update(rows=len(check_rows), cells=len(check_rows) * nx, filled=len(todo))
+        for ij, r in zip(todo, fresh):
+            check["differences"] += _cell_key(r) != _cell_key(rows[ij])
+            check["label_differences"] += map_label(r) != map_label(rows[ij])
+        check["share"] = check["differences"] / check["cells"] if check["cells"] else 0.0
+    out = [rows[(i, j)] for j in range(ny) for i in range(nx)]
+    return out, {
+        "grid_points": nx * ny,
+        "computed": computed,
+        "filled": len(filled),
+        "computed_share": computed / (nx * ny),
+        "coarse_step": int(coarse_step),
+        "points_per_round": [len(first), *stats["points_per_round"]],
+        "check": check,
+    }
 
 
 # Columns of the refined points' record: the map's, then the refinement level of the point
@@ -162,6 +296,7 @@ def refine_claims_map(
     gap_tol: float,
     settings,
     base: Sequence[dict] | None = None,
+    workers: int = 1,
 ) -> tuple[list[dict], dict]:
     """Refines a uniform map of both claims where its labels change or a point does not settle.
 
@@ -180,8 +315,10 @@ def refine_claims_map(
     settings : SweepSettings
         The compiled batch's settings for the new points (those of the grid).
     base : sequence of dict, optional
-        The uniform grid's rows (from :func:`claims_map` or its CSV
-        record, any order); computed here when not given.
+        The uniform grid's rows (from :func:`claims_map`, :func:`adaptive_claims_map` or
+        their CSV record, any order); computed here when not given.
+    workers : int
+        Processes of each level's batch (:func:`claims_cells`).
 
     Returns
     -------
@@ -202,39 +339,26 @@ def refine_claims_map(
     s = 2**levels
     dx, dy = (x1 - x0) / (nx - 1), (y1 - y0) / (ny - 1)
     if base is None:
-        import numpy as np
-
         base = claims_map(p, x, np.linspace(x0, x1, nx), y, np.linspace(y0, y1, ny), gap_tol=gap_tol, settings=settings)
     label = _lattice_labels(base, x_axis, y_axis, s)
-    cells = [(i * s, j * s) for j in range(ny - 1) for i in range(nx - 1)]
+    blocks = [(i * s, (i + 1) * s, j * s, (j + 1) * s) for j in range(ny - 1) for i in range(nx - 1)]
     added: list[dict] = []
-    per_level, split_per_level = [], []
-    for level in range(1, levels + 1):
-        h = s >> (level - 1)
-        half = h // 2
-        split = [
-            (i, j)
-            for i, j in cells
-            if len({label[(i, j)], label[(i + h, j)], label[(i, j + h)], label[(i + h, j + h)]}) > 1
-            or "np" in (label[(i, j)], label[(i + h, j)], label[(i, j + h)], label[(i + h, j + h)])
-        ]
-        new = sorted(
-            {
-                (i + di, j + dj)
-                for i, j in split
-                for di, dj in ((half, 0), (0, half), (half, h), (h, half), (half, half))
-                if (i + di, j + dj) not in label
-            },
-            key=lambda k: (k[1], k[0]),
-        )
-        pts = [(_axis_value(x0, x1, nx, s, i), _axis_value(y0, y1, ny, s, j)) for i, j in new]
-        rows = claims_cells(p, x, y, pts, gap_tol=gap_tol, settings=settings)
-        for k, r in zip(new, rows):
-            label[k] = map_label(r)
-            added.append(dict(r, level=level))
-        per_level.append(len(new))
-        split_per_level.append(len(split))
-        cells = [(i + di, j + dj) for i, j in split for di in (0, half) for dj in (0, half)]
+
+    def evaluate(points: list[tuple[int, int]]) -> list[str]:
+        pts = [(_axis_value(x0, x1, nx, s, i), _axis_value(y0, y1, ny, s, j)) for i, j in points]
+        rows = claims_cells(p, x, y, pts, gap_tol=gap_tol, settings=settings, workers=workers)
+        level = len(per_level) + 1
+        per_level.append(len(points))
+        added.extend(dict(r, level=level) for r in rows)
+        return [map_label(r) for r in rows]
+
+    per_level: list[int] = []
+    _, _, rounds = refine_lattice(
+        label, blocks, evaluate, lambda labels: len(set(labels)) > 1 or "np" in labels, max_rounds=levels
+    )
+    # Every level listed, those where nothing was split too.
+    per_level += [0] * (levels - len(per_level))
+    split_per_level = rounds["blocks_split_per_round"] + [0] * (levels - len(rounds["blocks_split_per_round"]))
     added.sort(key=lambda r: (r["y"], r["x"]))
     stats = {
         "levels": levels,

@@ -49,6 +49,7 @@ from collections.abc import Callable
 import numpy as np
 
 from impactdamper import steady_states
+from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters
@@ -72,6 +73,8 @@ __all__ = [
     "tuning_condition",
 ]
 
+# Fewest points a worker process is given (a point costs one to a few milliseconds).
+MIN_BLOCK = 16
 # The seven relative parameters searched, in this order (u's components).
 NEAREST_NAMES = RELATIVE_PARAMETERS
 NORMS = ("max", "euclidean")
@@ -99,12 +102,15 @@ class ClaimsEvaluator:
 
     Claim (a) by Algorithm No. 1 (closed form, ``gap_tol``), claim (b) by the compiled batch
     with ``settings``, each point from the paper's step 1, evaluated only where (a) holds (both
-    are needed). ``points`` counts the points evaluated, ``batch_points`` those simulated.
+    are needed); both in ``workers`` processes (:func:`impactdamper.analysis.parallel.map_blocks`,
+    the batch's own workers: the same flags). ``points`` counts the points evaluated,
+    ``batch_points`` those simulated.
     """
 
     base: Parameters
     gap_tol: float
     settings: SweepSettings
+    workers: int = 1
     points: int = 0
     batch_points: int = 0
     _cache: dict = field(default_factory=dict)
@@ -131,13 +137,15 @@ class ClaimsEvaluator:
             X = self.values(np.array(todo))
             ok = self.valid(X)
             fa = np.zeros(len(todo), bool)
-            for i in np.flatnonzero(ok):
-                p = self.base.replace(**dict(zip(NEAREST_NAMES, map(float, X[i]))))
-                fa[i] = claim_a(algorithm1(p, gap_tol=self.gap_tol))
+            valid = np.flatnonzero(ok)
+            fa[valid] = map_blocks(self._claim_a, [X[i] for i in valid], self.workers, MIN_BLOCK)
             fb = np.zeros(len(todo), bool)
             idx = np.flatnonzero(fa)
             if len(idx):
-                res = steady_states(self.base, NEAREST_NAMES, X[idx], settings=self.settings, chain=False)
+                workers = self.workers if len(idx) >= 2 * MIN_BLOCK else 1
+                res = steady_states(
+                    self.base, NEAREST_NAMES, X[idx], settings=self.settings, chain=False, workers=workers
+                )
                 fb[idx] = (
                     (res.regime == "multi_impact")
                     & (res.period_multiple == CLAIM_B_PERIOD_MULTIPLE)
@@ -154,6 +162,14 @@ class ClaimsEvaluator:
     def both(self, U) -> np.ndarray:
         fa, fb = self(U)
         return fa & fb
+
+    def _claim_a(self, X: list) -> list[bool]:
+        """Claim (a) at absolute values ``X`` (rows of :data:`NEAREST_NAMES`)."""
+        out = []
+        for x in X:
+            p = self.base.replace(**dict(zip(NEAREST_NAMES, map(float, x))))
+            out.append(bool(claim_a(algorithm1(p, gap_tol=self.gap_tol))))
+        return out
 
 
 def ball_offsets(margin: float, which: str, random_points: int = 0, seed: int = 0) -> np.ndarray:

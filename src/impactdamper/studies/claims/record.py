@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import COUNT, YES_NO, Column, Format, Macro, Table, fixed, macro_lines, percent
-from impactdamper.reporting.texrecord import sci
+from impactdamper.reporting.texrecord import general, sci
 from impactdamper.studies.claims.nearest import NEAREST_NAMES
 from impactdamper.studies.claims.search import SEARCH_PARAMETERS
 from impactdamper.studies.replication.gapscan import count_end_checks
@@ -103,6 +103,16 @@ MAP = (
     Macro("Map{M}Cells", len, COUNT),
     Macro("Map{M}BothCells", lambda rows: sum(r["both"] == "true" for r in rows), COUNT),
 )
+# How a map's grid was computed (its settings' ``grid``, studies/claims/maps.adaptive_claims_map).
+GRID = (
+    Macro("Map{M}ComputedCells", "computed", COUNT),
+    Macro("Map{M}ComputedShare", lambda g: 100 * g["computed_share"], general(r"{:.1f}\,\%")),
+    Macro("Map{M}CoarseStep", "coarse_step", COUNT),
+    Macro("Map{M}CheckRows", "check.rows", COUNT),
+    Macro("Map{M}CheckFilled", "check.filled", COUNT),
+    Macro("Map{M}CheckDifferences", "check.differences", COUNT),
+    Macro("Map{M}CheckLabelDifferences", "check.label_differences", COUNT),
+)
 # The located range's end checks, by what they rest on (count_end_checks).
 END_CHECKS = (
     Macro("EndChecksTotal", "checks", COUNT),
@@ -119,7 +129,7 @@ def map_tag(name: str) -> str:
     return "".join(SPEC[p].macro for p in parts) if all(p in SPEC for p in parts) else name.replace("_", "")
 
 
-def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
+def macros(nearest: dict, search: dict, maps: dict, located: dict, grids: dict | None = None) -> MacroFile:
     """The macros of where the claims hold beyond the gap.
 
     Parameters
@@ -133,6 +143,8 @@ def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
         The pair maps' rows (figures/claims_map*.csv) by map name.
     located : dict
         figures/located_case.json: the located range's end checks.
+    grids : dict, optional
+        How each map's grid was computed (its settings' ``grid``) by map name.
 
     Returns
     -------
@@ -163,6 +175,8 @@ def macros(nearest: dict, search: dict, maps: dict, located: dict) -> MacroFile:
     m.extend(macro_lines(REFINEMENT, {"refine_levels": search["refine_levels"], "per": per, "dep": dep}))
     for name, map_rows in maps.items():
         m.extend(macro_lines(MAP, map_rows, M=map_tag(name)))
+        if grids and name in grids:
+            m.extend(macro_lines(GRID, grids[name], M=map_tag(name)))
     m.extend(macro_lines(END_CHECKS, count_end_checks(located["end_checks"])))
     return m
 

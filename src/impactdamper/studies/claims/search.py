@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 
+from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.solve import steady_state
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.parameters import RELATIVE_PARAMETERS
@@ -82,11 +83,12 @@ def refine_grid(
     return rows, rounds
 
 
-def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None) -> list[dict]:
+def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None, workers: int = 1) -> list[dict]:
     """Algorithm No. 2 from the paper's step 1 at each value of ``name`` (the others as in
     ``p``), on the compiled batch (:func:`impactdamper.steady_states`, each point
     alone, ``settings``: its ``rescue`` tries the Newton rescue on a point that did not
-    settle). A point still nonperiodic is run again with ``longer_periods`` (if given).
+    settle; in ``workers`` processes). A point still nonperiodic is run again with
+    ``longer_periods`` (if given).
 
     Returns
     -------
@@ -105,7 +107,8 @@ def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = No
         return []
 
     def run(values, st):
-        r = steady_states(p, (name,), np.array(values, float)[:, None], settings=st, chain=False)
+        r = steady_states(p, (name,), np.array(values, float)[:, None], settings=st, chain=False, workers=workers)
+        regimes, labels = r.regime, r.label  # (each property builds its array)
         return [
             {
                 "value": float(v),
@@ -118,7 +121,7 @@ def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = No
                 "claim_b": bool(rg == "multi_impact" and k == CLAIM_B_PERIOD_MULTIPLE and z == CLAIM_B_IMPACTS),
             }
             for v, rg, k, z, n, lb, m in zip(
-                values, r.regime, r.period_multiple, r.impacts_per_cycle, r.periods, r.label, r.method
+                values, regimes, r.period_multiple, r.impacts_per_cycle, r.periods, labels, r.method
             )
         ]
 
@@ -150,6 +153,7 @@ def search_parameter(
     refine_floor: float | None = None,
     rescue: bool = True,
     longer_periods: int | None = None,
+    workers: int = 1,
 ) -> dict:
     """Where the claims hold along parameter ``name`` (a field of
     :class:`~impactdamper.Parameters`), the others as in ``p``.
@@ -164,6 +168,8 @@ def search_parameter(
     ``longer_periods``) and is refined adaptively (:func:`refine_grid`) wherever the settled
     motion's label changes between neighbours or a point does not settle, down to
     ``refine_floor``; the ends are then bisected as above between the refined neighbours.
+    Algorithm No. 1's grid and each round of the refinement run in ``workers`` processes
+    (:func:`impactdamper.analysis.parallel.map_blocks`, the batch's own workers: the same result).
     """
     if name not in p.names():
         raise ValueError(f"`name` = {name!r} is not allowed: must be one of {', '.join(p.names())}")
@@ -182,6 +188,7 @@ def search_parameter(
             refine_floor=refine_floor,
             rescue=rescue,
             longer_periods=longer_periods,
+            workers=workers,
         )
 
     def pred_a(x: float) -> bool:
@@ -227,7 +234,20 @@ def search_parameter(
 
 
 def _search_refined(
-    p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel_tol, floor, say, refine_floor, rescue, longer_periods
+    p,
+    name,
+    values,
+    alg1_values,
+    *,
+    gap_tol,
+    steady_kwargs,
+    rel_tol,
+    floor,
+    say,
+    refine_floor,
+    rescue,
+    longer_periods,
+    workers=1,
 ) -> dict:
     """:func:`search_parameter` with claim (b)'s grid refined (see there)."""
     from impactdamper.analysis.point import SweepSettings
@@ -253,9 +273,11 @@ def _search_refined(
         bisected[float(x)] = dict(row, level=-1)
         return row["claim_b"]
 
-    flags_a = [pred_a(x) for x in alg1_values]
+    flags_a = map_blocks(lambda xs: [pred_a(x) for x in xs], list(alg1_values), workers, MIN_BLOCK)
     say(f"{name}: claim (a) on {len(alg1_values)} values, holds at {sum(flags_a)}")
-    grid_b, rounds = refine_grid(values, lambda xs: batch_rows(p, name, xs, settings, longer_periods), refine_floor)
+    grid_b, rounds = refine_grid(
+        values, lambda xs: batch_rows(p, name, xs, settings, longer_periods, workers), refine_floor
+    )
     xs = [r["value"] for r in grid_b]
     flags_b = [r["claim_b"] for r in grid_b]
     say(
@@ -293,11 +315,11 @@ def _search_refined(
     }
 
 
-def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> dict:
+def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict, workers: int = 1) -> dict:
     """Algorithm No. 2 at each row's value again, by the pure-Python reference
     :func:`impactdamper.steady_state` (the compiled solver's independent check): the settled
     regime, k, z (z not for a nonperiodic motion, whose final window is chaotic) and claim (b)
-    must be the same.
+    must be the same. The rows run in ``workers`` processes.
 
     Parameters
     ----------
@@ -315,15 +337,23 @@ def reference_check(p, name: str, rows: Sequence[dict], steady_kwargs: dict) -> 
         the cap follows the rounding of the arithmetic), and ``cycles``, where both settled, on
         different cycles (an error of one of them: none is expected).
     """
+
+    def reference(rows: list) -> list[dict]:
+        out = []
+        for row in rows:
+            s = steady_state(p.replace(**{name: float(row["value"])}), **steady_kwargs, backend="python")
+            out.append(
+                {
+                    "regime": s.regime,
+                    "period_multiple": int(s.period_multiple),
+                    "impacts_per_cycle": int(s.impacts_per_cycle),
+                    "claim_b": claim_b(s),
+                }
+            )
+        return out
+
     mismatches = []
-    for row in rows:
-        s = steady_state(p.replace(**{name: float(row["value"])}), **steady_kwargs, backend="python")
-        ref = {
-            "regime": s.regime,
-            "period_multiple": int(s.period_multiple),
-            "impacts_per_cycle": int(s.impacts_per_cycle),
-            "claim_b": claim_b(s),
-        }
+    for row, ref in zip(rows, map_blocks(reference, list(rows), workers)):
         mine = {key: row[key] for key in ref}
         if ref["period_multiple"] == 0 and mine["period_multiple"] == 0:
             # A motion that does not settle is chaotic: rounding differences between the two
@@ -358,6 +388,8 @@ def check_rows(result: dict, every: int) -> list[dict]:
     return [rows[x] for x in sorted(rows)]
 
 
+# Fewest values of Algorithm No. 1's grid a worker process is given (each costs about a millisecond).
+MIN_BLOCK = 200
 # The parameters the claims are searched along beyond the gap, each varied alone at the stated
 # Delta0/x_st (config claims_search), in the order of the report's table: every relative
 # parameter but the gap (the gap scan's, replication/gapscan.py).

@@ -14,7 +14,6 @@ import platform
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -31,12 +30,13 @@ from impactdamper.core.compiled.loop import count_kernel, pack_simulate_kernel, 
 from impactdamper.core.compiled.pack import pack_parameters, packing_values
 from impactdamper.core.compiled.settle import steady_kernel
 from impactdamper.core.steady import REGIMES
+from impactdamper.studies.performance.compile_record import compile_times
 
 # Batch points: gap x theta around the reference case (every cell a settled motion within the cap).
 BATCH_GAPS = (-9.0, -3.0)
 BATCH_THETAS = (0.8, 1.2)
 # Fresh processes timed for the command line's wall time (median taken).
-CLI_RUNS = 5
+CLI_RUNS = 3
 RTOL = ATOL = 1e-10  # DOP853's tolerances named by the issue
 # The full config's theta map (config/config.yaml, maps.theta); its settle settings (the
 # SweepSettings fields settle_tol, max_periods, max_periods_after_nonperiodic,
@@ -101,22 +101,6 @@ def run_packing(p, t_end: float, pack=None):
 
 def phase_error(phase: float, reference: float) -> float:
     return abs((phase - reference + 0.5) % 1.0 - 0.5)
-
-
-def compile_times() -> dict:
-    """Kernels compiled into an empty cache, then loaded from it, each in a fresh process."""
-    code = (
-        "import time; t = time.perf_counter(); from impactdamper.core.backends import warm_up; warm_up('compiled'); "
-        "print(time.perf_counter() - t)"
-    )
-    out = {}
-    with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-        for name in ("cold_compile_s", "cached_load_s"):
-            run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-            out[name] = float(run.stdout.strip().splitlines()[-1])
-    out["load_1min"] = load()
-    return out
 
 
 def per_impact(p, long_periods: int, ivp_periods: int, repeats: int, targets: dict) -> dict:
@@ -432,36 +416,15 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray, map
     }
 
 
-def run(
-    targets: dict,
-    map_settings: dict,
-    *,
-    repeats: int = 5,
-    map_repeats: int = 2,
-    long_periods: int = 10_000,
-    ivp_periods: int = 200,
-    workers: int = 2,
-    map_sizes=(200,),
-    batch_points: int = 10_000,
-    compile_time: bool = True,
-) -> dict:
-    """Every measurement of the benchmark, against ``targets`` (the config's
-    performance.compiled_speed_targets), the maps with ``map_settings`` (SweepSettings fields:
-    the config's maps caps); ``compile_time=False`` leaves the record's 'compile' null (timed
-    on its own by :func:`compile_times`)."""
-    p = idp.Parameters()
+def run_maps(targets: dict, map_settings: dict, *, map_repeats: int = 1, workers: int = 2, map_sizes=(200,)) -> dict:
+    """The regime maps of the benchmark (``map_sizes``, n x n), each timed on ``workers``
+    processes (``map_repeats`` times, without the rescue) and once more with the rescue: the
+    part of the benchmark that needs the machine's cores to itself. Each map's ``periods`` (its
+    cells' simulated periods, rows of theta) are kept for :func:`map_baselines`."""
     warm_up("compiled")
-    out = {"case": p.to_dict(), "compile": compile_times() if compile_time else None}
-    out["per_impact"] = per_impact(p, long_periods, ivp_periods, repeats, targets)
-    out["steady_state"] = steady(p, repeats * 10, targets)
-    out["first_10_impacts"] = first_impacts(p, repeats * 10, targets)
-    out["front_door"] = front_door(p, repeats * 10, batch_points, targets, map_settings)
     maps = {}
     for n in map_sizes:
-        m, periods, gaps, thetas = regime_map_timing(n, workers, map_repeats, rescue=False, map_settings=map_settings)
-        if n == map_sizes[0]:
-            m["baselines"] = map_baselines(periods, gaps, thetas, map_settings)
-            m["speedup_vs_dop853_estimate"] = m["baselines"]["dop853_map_estimate_s"] / m["cpu_total_min_s"]
+        m, periods, _, _ = regime_map_timing(n, workers, map_repeats, rescue=False, map_settings=map_settings)
         # The same map with the batch's Newton rescue of the cells not settled within the cap
         # (impactdamper.steady_states' default): how many of them were slow transients.
         r, _, _, _ = regime_map_timing(n, workers, 1, rescue=True, map_settings=map_settings)
@@ -475,7 +438,48 @@ def run(
         m["nonperiodic_share_rescued"] = r["regimes"].get("nonperiodic", 0) / m["points"]
         m["target_s"] = targets["map_s"] if n == 200 else None
         m["met"] = (m["wall_min_s"] <= targets["map_s"]) if n == 200 else None
+        m["periods"] = periods.tolist()
         maps[f"{n}x{n}"] = m
+    return maps
+
+
+def run(
+    targets: dict,
+    map_settings: dict,
+    *,
+    repeats: int = 5,
+    map_repeats: int = 1,
+    long_periods: int = 10_000,
+    ivp_periods: int = 200,
+    workers: int = 2,
+    map_sizes=(200,),
+    batch_points: int = 10_000,
+    compile_time: bool = True,
+    maps: dict | None = None,
+) -> dict:
+    """Every measurement of the benchmark, against ``targets`` (the config's
+    performance.compiled_speed_targets), the maps with ``map_settings`` (SweepSettings fields:
+    the config's maps caps): the maps of :func:`run_maps` (``maps``, timed on their own where
+    given) with their DOP853 and pure-Python estimates; ``compile_time=False`` leaves the
+    record's 'compile' null (timed on its own by :func:`compile_times`)."""
+    p = idp.Parameters()
+    warm_up("compiled")
+    out = {"case": p.to_dict(), "compile": compile_times() if compile_time else None}
+    out["per_impact"] = per_impact(p, long_periods, ivp_periods, repeats, targets)
+    out["steady_state"] = steady(p, repeats * 10, targets)
+    out["first_10_impacts"] = first_impacts(p, repeats * 10, targets)
+    out["front_door"] = front_door(p, repeats * 10, batch_points, targets, map_settings)
+    if maps is None:
+        maps = run_maps(targets, map_settings, map_repeats=map_repeats, workers=workers, map_sizes=map_sizes)
+    maps = {name: dict(m) for name, m in maps.items()}
+    for k, m in enumerate(maps.values()):
+        periods = np.array(m.pop("periods"))
+        if k == 0:
+            n = len(periods)
+            m["baselines"] = map_baselines(
+                periods, np.linspace(*MAP_GAPS, n), np.linspace(*MAP_THETAS, n), map_settings
+            )
+            m["speedup_vs_dop853_estimate"] = m["baselines"]["dop853_map_estimate_s"] / m["cpu_total_min_s"]
     out["maps"] = maps
     out["notes"] = [
         "maps run the batch entry point without the rescue (SweepSettings(rescue=False), the config's maps.rescue) "

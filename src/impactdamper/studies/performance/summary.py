@@ -189,6 +189,9 @@ def compiled_speed(cs: dict) -> dict:
     # (None where the record holds no compile times: main() adds rule performance_compile_time's.)
     out["compile_seconds"] = json_float(c["cold_compile_s"]) if c else None
     out["cache_load_seconds"] = json_float(c["cached_load_s"]) if c else None
+    # Where the compile time was measured (set-up or workflow), and the run's own warm-up.
+    out["compile_measured"] = c.get("measured", "workflow") if c else None
+    out["run_warm_up_seconds"] = json_float(c["run_warm_up_s"]) if c and "run_warm_up_s" in c else None
     return out
 
 

@@ -230,10 +230,11 @@ def measure(
     repeats: int = 5,
     min_time: float = 0.05,
     max_steps: int = DEFAULT_MAX_STEPS,
+    long_time: float = 1.0,
 ) -> list[Run]:
     """Runs of method ``name`` (:data:`impactdamper.studies.performance.methods.METHODS`) on one problem,
-    one per setting in ``values``, each timed (median CPU time, :func:`cpu_time`, unless the
-    method times itself) and its impacts and end state compared with the reference.
+    one per setting in ``values``, each timed (median CPU time, :func:`cpu_time`, a first call
+    of at least ``long_time`` s timed alone, unless the method times itself) and its impacts and end state compared with the reference.
 
     A method of the settled cycle only gives no runs on the first impacts; a method whose
     setting is steps per period skips the runs beyond ``max_steps`` steps; a run that ends in
@@ -249,7 +250,7 @@ def measure(
             continue
         solve = lambda: m.solve(ref.p, ref.t_end, ref.t0, ref.state, v, repeats)  # noqa: E731
         try:
-            cpu, sol = (math.nan, solve()) if m.times_itself else cpu_time(solve, repeats, min_time)
+            cpu, sol = (math.nan, solve()) if m.times_itself else cpu_time(solve, repeats, min_time, long_time)
         except m.catches as exc:  # a method that loops on chatter or fails to step
             out.append(
                 Run(
@@ -295,7 +296,7 @@ def run_study(p: Parameters, cfg: dict, log=print) -> dict:
 
     ``cfg`` keys (the workflow's ``performance`` section): n_impacts, settled_periods, digits,
     exact_gap_tols, ivp_methods, ivp_rtols, rk4_steps_per_period, siconos_steps_per_period,
-    repeats, min_time, max_steps.
+    repeats, min_time, long_time, max_steps.
     """
     refs = build_references(p, cfg["n_impacts"], cfg["settled_periods"], cfg["digits"])
     methods = selected(cfg)
@@ -309,7 +310,7 @@ def run_study(p: Parameters, cfg: dict, log=print) -> dict:
                 continue
             log(f"[{case}] {m.plot_label}")
             values = cfg[m.settings_key] if m.settings_key else (math.nan,)
-            runs += measure(ref, m.name, values, repeats, min_time, max_steps)
+            runs += measure(ref, m.name, values, repeats, min_time, max_steps, float(cfg.get("long_time", 1.0)))
     available, detail = status.get("Moreau-Jean", METHODS["Moreau-Jean"].status())
     import numpy
     import scipy

@@ -121,7 +121,8 @@ DIRECTIONS = (
 
 
 # Each regime map ({M}: Theta, Damping; maps: its settings' section; bistable: its bistable
-# rows, None where none).
+# rows, None where none; computed: how it was computed, the settings' counts of
+# impactdamper.analysis.adaptive, with check: its rows computed by the brute force as well).
 def cap_text(cap: int, after_nonperiodic: int) -> str:
     """A map's period cap per cell as a phrase: the cap after a nonperiodic neighbour named only
     where it differs."""
@@ -131,6 +132,17 @@ def cap_text(cap: int, after_nonperiodic: int) -> str:
 
 MAP = (
     Macro("Map{M}CapText", lambda m: cap_text(m["maps"]["max_periods"], m["maps"]["max_periods_after_nonperiodic"])),
+    Macro("Map{M}CoarseStep", "maps.coarse_step", COUNT),
+    Macro("Map{M}ComputedCells", "computed.computed", COUNT),
+    Macro("Map{M}ComputedShare", lambda m: 100 * m["computed"]["computed_share"], general(r"{:.1f}\,\%")),
+    Macro("Map{M}Settlings", "computed.settlings", COUNT),
+    Macro("Map{M}CheckRows", lambda m: len(m["computed"]["check"]["rows"]), COUNT),
+    Macro("Map{M}CheckEvery", "maps.check_every", COUNT),
+    Macro("Map{M}CheckCells", "computed.check.cells", COUNT),
+    Macro("Map{M}CheckDifferences", "computed.check.differences", COUNT),
+    Macro("Map{M}CheckShare", lambda m: 100 * m["computed"]["check"]["share"], general(r"{:.2f}\,\%")),
+    Macro("Map{M}CheckNextToChange", "computed.check.next_to_change", COUNT),
+    Macro("Map{M}CheckMaxDistance", "computed.check.max_distance", COUNT),
     Macro("Map{M}MaxPeriods", "maps.max_periods", COUNT),
     Macro("Map{M}MaxPeriodsAfterNonperiodic", "maps.max_periods_after_nonperiodic", COUNT),
     Macro("Map{M}BistableLabel", "bistable.label", Format(str, "--")),
@@ -156,7 +168,8 @@ def macros(rows, trans, checks_doc, settings, maps: dict) -> MacroFile:
     m.add("SweepLiftOffResolutionOffset", SCI3(eps))
     m.extend(macro_lines(DIRECTIONS, source))
     for name, (map_csv, curves_csv, map_settings) in maps.items():
-        source = {"maps": read_json(map_settings)["maps"], "bistable": bistable_rows(map_csv, curves_csv)}
+        record = read_json(map_settings)
+        source = {"maps": record["maps"], "bistable": bistable_rows(map_csv, curves_csv), "computed": record}
         m.extend(macro_lines(MAP, source, M=camel(name)))
     return m
 

@@ -38,8 +38,9 @@ import scipy.optimize
 from impactdamper import algorithm1
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import OrbitError, solve_orbit
+from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.ladder import solve_point
-from impactdamper.analysis.sweeps import find_transitions, locate_transition, with_value
+from impactdamper.analysis.sweeps import locate_transition, with_value
 from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap
 from impactdamper.core.linear import free_mode
 from impactdamper.core.model import Model
@@ -48,7 +49,7 @@ __all__ = [
     "EXTREMUM_SAMPLES",
     "SIMULATION_OFFSET",
     "FINITE_STEP_NOTE",
-    "find_both",
+    "find_all",
     "least_contact_force",
     "largest_relative_displacement",
     "liftoff_check",
@@ -61,11 +62,28 @@ __all__ = [
 EXTREMUM_SAMPLES = 2048
 
 
-def find_both(args):
-    """:func:`impactdamper.analysis.sweeps.find_transitions` of one direction, from one tuple
-    (base, parameter, points, direction, settings, xtol): a process pool's job."""
-    base, parameter, points, direction, settings, xtol = args
-    return find_transitions(base, parameter, points, direction, settings=settings, xtol=xtol)
+def find_all(base, parameter: str, points: dict, settings, xtol: float, workers: int = 1) -> dict:
+    """:func:`impactdamper.analysis.sweeps.find_transitions` of both directions of a two-way
+    sweep (``points``: ``{"up": [...], "down": [...]}``, increasing values), every transition
+    bisected on its own (:func:`impactdamper.analysis.sweeps.locate_transition`) in ``workers``
+    processes, each handed to whichever is free: the same transitions as one direction after the
+    other, in the same order.
+
+    Returns
+    -------
+    dict
+        direction -> list of Transition.
+    """
+    pairs = []
+    for direction in ("up", "down"):
+        order = list(points[direction]) if direction == "up" else list(points[direction])[::-1]
+        pairs += [(direction, a, b) for a, b in zip(order[:-1], order[1:]) if a.label != b.label]
+
+    def locate(items):
+        return [locate_transition(base, parameter, a, b, d, settings=settings, xtol=xtol) for d, a, b in items]
+
+    found = map_blocks(locate, pairs, workers, dynamic=True)
+    return {d: [t for (dd, _, _), t in zip(pairs, found) if dd == d] for d in ("up", "down")}
 
 
 def _extremum(f, T: float, sign: float) -> float:
