@@ -44,7 +44,7 @@ def main(
         read_json(x)
         for x in (baselines_json, chart_json, chart2d_json, response_json, optimum_json, checks_json, benchmark_json)
     )
-    m = design_macros(base, chart, chart2, resp, opt, checks)
+    m = design_macros(base, chart, chart2, resp, opt, checks, bench)
     write_json(out_record, m.record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))

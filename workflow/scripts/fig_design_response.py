@@ -54,10 +54,12 @@ def main(response_csv, response_json, baselines_csv, optimum_json, out_pdf, out_
     ax.set_ylabel("$\\max|x_1|/x_{\\mathrm{st}}$")
     ax.set_ylim(0.0, None)
     ax.legend(fontsize="small", loc="upper left")
+    tallest = 0.0
     for direction, ls in (("up", "-"), ("down", "--")):
         t, pulse = _curve(rows, "optimal", direction, "peak_impulse")
         ax2.plot(t, pulse * t, color="C0", ls=ls, lw=0.9, label=f"largest pulse, {direction}ward")
-    ax2.set_ylim(0.0, None)
+        tallest = max(tallest, float(np.nanmax(pulse * t)))
+    ax2.set_ylim(0.0, 1.8 * tallest if tallest > 0 else 1.0)  # (room above the curves for the legend)
     ax2.set_ylabel("pulse per impact ($P_0/\\omega_1$)")
     ax2.set_xlabel("forcing frequency " + SPEC["theta"].label)
     ax3 = ax2.twinx()
@@ -66,10 +68,10 @@ def main(response_csv, response_json, baselines_csv, optimum_json, out_pdf, out_
         ax3.step(t, z, where="mid", color="C1", ls=ls, lw=0.8, label=f"impacts per period, {direction}ward")
     ax3.set_ylabel("impacts per period")
     top = np.nanmax([cell_float(r["impacts_per_period"]) for r in rows if r["role"] == "optimal"])
-    ax3.set_ylim(0.0, max(2.0, 1.15 * top))
+    ax3.set_ylim(0.0, 1.8 * max(1.0, top))
     h1, l1 = ax2.get_legend_handles_labels()
     h2, l2 = ax3.get_legend_handles_labels()
-    ax2.legend(h1 + h2, l1 + l2, fontsize="small", loc="upper right", ncol=2)
+    ax2.legend(h1 + h2, l1 + l2, fontsize="small", loc="upper center", ncol=2)
     finish_figure(fig, out_pdf, out_png)
 
 

@@ -74,7 +74,7 @@ STEP = 0.02
 # A located peak's final bracket is at most this wide in theta ...
 THETA_TOL = 1e-6
 # ... and inside an optimiser's search (the answer it returns is located again to THETA_TOL).
-SEARCH_THETA_TOL = 1e-4
+SEARCH_THETA_TOL = 1e-3
 # Steps of one continuation across a bracket: the bracket shrinks by ZOOM_POINTS/2 each time.
 ZOOM_POINTS = 8
 # Brackets located per sweep path at most (the largest), and only those whose samples are

@@ -52,21 +52,21 @@ DEVICE_KEYS = {
     "StrokeTmd": "tmd_stroke",
     "StrokeImp": "impact_stroke",
 }
-# How the report names each row.
+# How the report names each row: the device and the criterion it is optimal for.
 NAMES = {
     "bare object": "bare object",
-    "tmd_peak": "TMD, optimal peak",
-    "impact_peak_reach": "impact, optimal peak",
-    "impact_peak": "impact, optimal peak, whole box",
-    "tmd_band_average": "TMD, optimal band average",
-    "impact_band_average_reach": "impact, optimal band average",
-    "impact_band_average": "impact, optimal band average, whole box",
-    "tmd_detuning": "TMD, robust to detuning",
-    "impact_detuning": "impact, robust to detuning",
-    "impact_force": "impact, robust to the force amplitude",
-    "impact_restitution": "impact, robust to restitution drift",
-    "tmd_stroke": "TMD, travel limited",
-    "impact_stroke": "impact, travel limited",
+    "tmd_peak": "TMD, peak",
+    "impact_peak_reach": "impact, peak",
+    "impact_peak": "impact, peak, whole box",
+    "tmd_band_average": "TMD, band average",
+    "impact_band_average_reach": "impact, band average",
+    "impact_band_average": "impact, band avg., whole box",
+    "tmd_detuning": "TMD, detuned",
+    "impact_detuning": "impact, detuned",
+    "impact_force": "impact, force",
+    "impact_restitution": "impact, $R$ drift",
+    "tmd_stroke": "TMD, travel limit",
+    "impact_stroke": "impact, travel limit",
 }
 
 
@@ -78,6 +78,18 @@ def device_name(d: dict) -> str:
     if d.get("feasible") is False:
         name += " (over the limit)"
     return name
+
+
+def branch_words(branch: str) -> str:
+    """A worst branch's description (``up, 1/1, branch end``; ``linear``) in words."""
+    if branch == "linear":
+        return "the linear response's resonance"
+    source, label, kind = (part.strip() for part in branch.split(","))
+    if source == "no contact":
+        return "the motion without contact" + (", where it first touches the stop" if kind == "first contact" else "")
+    where = {"maximum": "a smooth maximum", "branch end": "the end of its branch", "sample": "a sample"}[kind]
+    who = {"up": "the upward sweep's", "down": "the downward sweep's", "random": "a random start's"}[source]
+    return f"{who} {label} motion, {where}"
 
 
 def _ratio(a: str, b: str):
@@ -179,6 +191,7 @@ ROW = (
     Macro("Design{D}WorstRest", "worst.restitution", fixed(2)),
     Macro("Design{D}WorstAll", "worst.together", fixed(2)),
     Macro("Design{D}Stroke", "stroke", fixed(1)),
+    Macro("Design{D}Branch", "peak_branch", Format(branch_words)),
 )
 # An impact row's loads and search record.
 IMPACT_ROW = (
@@ -194,6 +207,54 @@ SEARCH = (
     Macro("Design{D}CheckGain", lambda d: max(d["search"]["check"]["largest_gain"], 0.0), tex_sci(1)),
     Macro("Design{D}AtBound", lambda d: _at_bound_text(d["search"]["at_bound"])),
 )
+
+
+def literature_verdict(s: dict) -> str:
+    """Whether this study's numbers bear out the impact dampers' credited robustness to
+    detuning, in one sentence (``s``: the rows by macro part under ``d``)."""
+    d = s["d"]
+    nominal = d["Hit"]["worst"]["detuning"] < d["TmdOpt"]["worst"]["detuning"]
+    robust = d["RobImp"]["worst"]["detuning"] < d["RobTmd"]["worst"]["detuning"]
+    force = d["ForceImp"]["worst"]["force"] < d["TmdOpt"]["peak"]
+    if robust and force:
+        return "In this study's numbers it holds: designed for the detuning or the force, the impact suppressor is the lower."
+    if robust:
+        return (
+            "In this study's numbers it holds for the detuning (designed for it, the impact suppressor is the lower), "
+            "but not for the force amplitude."
+        )
+    if nominal:
+        return (
+            "In this study's numbers it holds only between the nominal optima: a TMD designed for the detuning "
+            "reverses it, and a force that is not what was assumed costs the impact suppressor alone."
+        )
+    return "In this study's numbers it does not hold, not even between the nominal optima."
+
+
+def _lower(a: str, b: str):
+    """``lower`` where the value at path ``a`` is below the one at ``b``, else ``higher``."""
+    from impactdamper.reporting.texrecord import pick
+
+    return lambda s: "lower" if pick(s, a) < pick(s, b) else "higher"
+
+
+def _checks_text(searched: list) -> str:
+    """How the searches' 2 % checks ended, in words."""
+    failed = [d for d in searched if not d["search"]["check"]["passed"]]
+    if not failed:
+        return f"All {len(searched)} searches end on a passed check."
+    gain = max(d["search"]["check"]["largest_gain"] for d in failed)
+    return (
+        f"Of the {len(searched)} searches, {len(searched) - len(failed)} end on a passed check; in the others a "
+        f"move still lowers the answer by at most {tex_sci(1)(gain)} (relative) when the budget ends."
+    )
+
+
+def _bound_text(names) -> str:
+    """The parameters at a bound of the box, in words."""
+    if not names:
+        return "none of its parameters is at a bound"
+    return "at a bound: " + ", ".join(f"${SYMBOLS[n]}$" for n in names)
 
 
 def _at_bound_text(names) -> str:
@@ -236,8 +297,20 @@ SUMMARY = (
     Macro("DesignMaxPeriods", "opt.settings.max_periods", TEXT),
     Macro("DesignElapsed", "opt.elapsed", fixed(0)),
     Macro("DesignOptStopText", "d.Opt", Format(_stop_text)),
+    Macro(
+        "DesignStrokeImpStopText",
+        lambda s: (
+            "never reaches its stop: it is the TMD limit, its stop marking the limit"
+            if s["d"]["StrokeImp"].get("tmd_limit")
+            else f"reaches its stop, up to {fixed(1)(s['d']['StrokeImp']['impacts_per_period'])} impacts per period"
+        ),
+    ),
     Macro("DesignChecksPassed", lambda s: sum(bool(d["search"]["check"]["passed"]) for d in s["searched"]), TEXT),
     Macro("DesignChecksTotal", lambda s: len(s["searched"]), TEXT),
+    Macro("DesignChecksText", lambda s: _checks_text(s["searched"])),
+    Macro("DesignHitBoundText", lambda s: _bound_text(s["d"]["Hit"]["search"]["at_bound"])),
+    Macro("DesignOptForceMorePct", _pct_more("d.Opt.worst.force", "d.TmdOpt.peak"), fixed(0)),
+    Macro("DesignLoadAverage", lambda s: s["bench"]["machine"]["load_average"][0], fixed(1)),
     Macro(
         "DesignLargestGain",
         lambda s: max(max(d["search"]["check"]["largest_gain"], 0.0) for d in s["searched"]),
@@ -256,11 +329,16 @@ SUMMARY = (
     Macro("DesignTmdDetuneMorePct", _pct_more("d.TmdOpt.worst.detuning", "d.TmdOpt.peak"), fixed(0)),
     Macro("DesignOptDetuneMorePct", _pct_more("d.Opt.worst.detuning", "d.TmdOpt.worst.detuning"), fixed(0)),
     Macro("DesignGainBare", _ratio("d.BareDev.peak", "d.TmdOpt.peak"), fixed(2)),
+    Macro("DesignNominalDetuneWord", _lower("d.Hit.worst.detuning", "d.TmdOpt.worst.detuning")),
+    Macro("DesignRobDetuneWord", _lower("d.RobImp.worst.detuning", "d.RobTmd.worst.detuning")),
+    Macro("DesignForceWord", _lower("d.ForceImp.worst.force", "d.TmdOpt.peak")),
+    Macro("DesignLiteratureVerdict", literature_verdict),
     Macro("DesignSnubberLowPct", lambda s: 100 * (s["opt"]["snubber"][0]["ratio"] - 1), fixed(0)),
     Macro("DesignSnubberHighPct", lambda s: 100 * (s["opt"]["snubber"][-1]["ratio"] - 1), fixed(0)),
     Macro("DesignSnubberLowFraction", lambda s: s["opt"]["snubber"][0]["fraction"], fixed(2)),
     Macro("DesignSnubberHighFraction", lambda s: s["opt"]["snubber"][-1]["fraction"], fixed(2)),
     Macro("DesignSnubberR", lambda s: s["opt"]["snubber"][0]["parameters"]["R"], fixed(1)),
+    Macro("DesignAbstractAnswer", lambda s: abstract_answer(s["opt"])),
     Macro(
         "DesignRecommendation",
         lambda s: recommendation(s["opt"], pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{\\mathrm{st}}$"),
@@ -290,14 +368,14 @@ def abstract_answer(opt: dict) -> str:
         parts.append(
             f"{what[c['criterion']]} {verb[c['winner']]} (impact {fixed(2)(c['impact'])}, TMD {fixed(2)(c['tmd'])})"
         )
-    return f"{first[0].lower()}{first[1:]} (" + "; ".join(parts) + ")"
+    return f"{first[0].lower()}{first[1:]}, since " + "; ".join(parts)
 
 
 def _rows(opt: dict) -> dict[str, dict]:
     return {key: device(opt, name) for key, name in DEVICE_KEYS.items()}
 
 
-def optimum_macros(opt: dict) -> list:
+def optimum_macros(opt: dict, bench: dict) -> list:
     """The design table's macros: every row's parameters, criteria and stroke; the impact rows'
     loads and the searches' records; the comparisons and the recommendation."""
     d = _rows(opt)
@@ -312,18 +390,18 @@ def optimum_macros(opt: dict) -> list:
         if "search" in row:
             out += macro_lines(SEARCH, row, D=key)
     searched = [r for r in opt["devices"] if "search" in r]
-    return out + macro_lines(SUMMARY, {"d": d, "opt": opt, "searched": searched})
+    return out + macro_lines(SUMMARY, {"d": d, "opt": opt, "searched": searched, "bench": bench})
 
 
-def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, checks: dict) -> MacroFile:
+def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, checks: dict, bench: dict) -> MacroFile:
     """The design stage's macros (the record of ``paper/generated/design_macros.tex``).
 
     Parameters
     ----------
-    base, chart, chart2, resp, opt, checks : dict
+    base, chart, chart2, resp, opt, checks, bench : dict
         The records of the baselines, the 1-D and 2-D design charts, the responses, the design
-        table (:func:`~impactdamper.studies.design.optimum.design_optima`) and the located-peak
-        checks (figures/design_*.json).
+        table (:func:`~impactdamper.studies.design.optimum.design_optima`), the located-peak
+        checks and the benchmark (figures/design_*.json).
     """
     paper = next(r for r in resp["responses"] if r["role"] == "paper")
     source = {
@@ -342,24 +420,21 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, 
     m = MacroFile(["% Written by the design stage's report job; do not edit."])
     m.extend(macro_lines(CHART, source))
     m.extend(macro_lines(CHECKS, source))
-    m.extend(optimum_macros(opt))
+    m.extend(optimum_macros(opt, bench))
     return m
 
 
 # --- the tables -----------------------------------------------------------------------------
-def _parameters_text(parameters: dict) -> str:
-    """A device's designed parameters, ``$N=0.500$, ...`` (--- where it has none)."""
-    text = ", ".join(f"${SYMBOLS[k]}={fixed(DIGITS[k])(parameters[k])}$" for k in DIGITS if k in parameters)
-    return text or "---"
-
-
 DESIGN_TABLE = Table(
-    colspec="llrrrrrrr",
-    header=("device & parameters & peak & band avg. & detuned & force & $R$ drift & all & stroke"),
+    colspec="lrrrrrrrrrrr",
+    header=(
+        "device & $\\Delta_0/x_{\\mathrm{st}}$ & $N$ & $\\delta_2$ & $R$ & peak & band avg. & detuned & force "
+        "& $R$ drift & all & stroke"
+    ),
     comments=["Written by the design stage's report job; do not edit."],
     columns=[
         Column(lambda d: d, Format(device_name)),
-        Column("parameters", Format(_parameters_text)),
+        *(Column(lambda d, k=k: d["parameters"].get(k), fixed(DIGITS[k], "")) for k in DIGITS),
         Column("peak", fixed(3)),
         Column("band_average", fixed(3)),
         Column("worst.detuning", fixed(2)),
@@ -380,7 +455,7 @@ def design_table(opt: dict) -> str:
 
 LOADS_TABLE = Table(
     colspec="lrrrrr",
-    header="device & stroke & pulse & impacts per period & impacts per hour & contact force",
+    header="device & stroke & pulse & impacts/period & impacts/hour & contact force",
     comments=["Written by the design stage's report job; do not edit."],
     columns=[
         Column(lambda d: d, Format(device_name)),
