@@ -273,3 +273,22 @@ def test_design_command_at_the_papers_object_is_the_design_table():
     assert out["elapsed"] <= 600
     quiet = _run("--quiet", "--json", "--mu", "0.05", "--delta1", "0.05", "--theta-start", "0.8", "--theta-stop", "1.2")
     assert quiet.returncode == 0 and quiet.stderr == ""
+
+
+def test_an_infeasible_travel_limit_is_reported_infeasible():
+    """No TMD of the box keeps a travel of 0.001 x_st: the search's best still exceeds it, the
+    table marks the row infeasible (its stroke over the limit), and the recommendation says that
+    no design meets the limit instead of comparing two designs that break it."""
+    from impactdamper.studies.design.search import search
+
+    limit = 0.001
+    r = search(TmdCriterion(0.08, 0.05, BAND, "peak", Uncertainty(), max_stroke=limit), design_bounds(0.08, 9.5)["tmd"])
+    assert LinearDevice(0.08, r.x["N"], 0.05, r.x["delta2"]).stroke_peak(BAND)[1] > limit
+    pairs = dict(
+        peak=(3.7, 3.6), band_average=(2.3, 2.3), detuning=(5.0, 4.6), force=(4.6, 3.6), restitution=(4.1, 3.6)
+    )
+    record = _record({**pairs, "stroke": (8.0, 5.3)})
+    for d in record["devices"]:
+        if d["device"] in ("impact_stroke", "tmd_stroke"):
+            d["feasible"] = False
+    assert "with the travel limited to 6.65 x_st no design meets the limit" in recommendation(record)

@@ -250,6 +250,14 @@ def _checks_text(searched: list) -> str:
     )
 
 
+def _at_bound_list(searched: list) -> str:
+    """Every searched row with a parameter at a bound of its box, in words (``none`` if none)."""
+    parts = [
+        f"{device_name(d)} ({_at_bound_text(d['search']['at_bound'])})" for d in searched if d["search"]["at_bound"]
+    ]
+    return "; ".join(parts) or "none"
+
+
 def _bound_text(names) -> str:
     """The parameters at a bound of the box, in words."""
     if not names:
@@ -309,6 +317,7 @@ SUMMARY = (
     Macro("DesignChecksTotal", lambda s: len(s["searched"]), TEXT),
     Macro("DesignChecksText", lambda s: _checks_text(s["searched"])),
     Macro("DesignHitBoundText", lambda s: _bound_text(s["d"]["Hit"]["search"]["at_bound"])),
+    Macro("DesignAtBoundList", lambda s: _at_bound_list(s["searched"])),
     Macro("DesignOptForceMorePct", _pct_more("d.Opt.worst.force", "d.TmdOpt.peak"), fixed(0)),
     Macro("DesignLoadAverage", lambda s: s["bench"]["machine"]["load_average"][0], fixed(1)),
     Macro(
