@@ -27,7 +27,9 @@ average, worst peaks over each uncertainty and over all together, stroke and loa
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
+import multiprocessing
 import os
 import time
 from collections.abc import Callable
@@ -80,7 +82,9 @@ BUDGET = Budget(
 ROBUST_BUDGET = Budget(
     samples=0, starts=0, polls=6, first_step=1 / 16, last_step=1 / 128, coarse_above=1 / 32, polish=20, checks=6
 )
-# The robust criteria searched (the others are evaluated for every design: the table's columns).
+# The nominal criteria, and the robust criteria searched (the others are evaluated for every
+# design: the table's columns).
+CRITERIA_NOMINAL = ("peak", "band_average")
 ROBUST_SEARCHED = ("detuning", "force", "restitution")
 # Processes of the batch calls (the results do not depend on it).
 WORKERS = 2
@@ -177,10 +181,11 @@ def _tmd_searches(mu, delta1, band, unc, budgets, seed, say) -> dict:
 
 def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say) -> dict:
     """The impact suppressor's searches (module docstring): one shared global sample over the
-    whole box; the nominal criteria searched with the stop within reach, then over the whole box
-    from the TMD limit and the best samples outside the first box, never worse than the first;
-    the robust ones from the nominal peak's optimum; the stroke-limited one with the gap at most
-    the limit."""
+    whole box (one batch on ``workers`` processes); then, ``workers`` searches at a time (each in
+    its own process: a search's answer does not depend on where it runs), the nominal criteria
+    with the stop within reach; the nominal criteria over the whole box from the TMD limit and
+    the best samples outside the first box, never worse than the first; the robust ones from the
+    nominal peak's optimum; the travel-limited one with the gap at most the limit."""
     names = list(IMPACT_NAMES)
     lo = np.array([bounds["impact"][n][0] for n in names])
     hi = np.array([bounds["impact"][n][1] for n in names])
@@ -193,47 +198,65 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
         "band_average": np.array([w.band_average for w, _ in sample]),
     }
     say(f"global stage: {len(X)} designs, best peak {np.min(values['peak']):.5g}")
+    task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
+    reach = bounds["impact_reach"]
+    first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
+    out = _in_parallel(first, workers)
     limit = {"gap": bounds["impact"]["gap"][1], **tmd.x, "R": 0.5}
-    common = dict(seed=seed, workers=workers, say=say)
-    out = {}
-    for c in ("peak", "band_average"):
-        reach = _search(mu, delta1, band, c, unc, bounds["impact_reach"], budget, (X, values[c]), **common)
-        out[f"{c}_reach"] = reach
+    second = {}
+    for c in CRITERIA_NOMINAL:
+        r = out[f"{c}_reach"]
         # The whole box from its TMD limit, the sub-box's answer where it stops at the sub-box's
         # gap bound (it may go on beyond it), and the best samples outside the sub-box.
-        seeds = [limit] + ([reach.x] if "gap" in reach.at_bound else [])
-        out[c] = _search(
-            mu,
-            delta1,
-            band,
+        seeds = [limit] + ([r.x] if "gap" in r.at_bound else [])
+        second[c] = functools.partial(
+            task,
             c,
             unc,
             bounds["impact"],
             budget,
             (X, values[c]),
             seeds=seeds,
-            incumbents=[(reach.x, reach.value)],
-            searched=bounds["impact_reach"],
-            **common,
+            incumbents=[(r.x, r.value)],
+            searched=reach,
         )
     for c in ROBUST_SEARCHED:
-        out[c] = _search(
-            mu, delta1, band, c, unc, bounds["impact_reach"], robust, None, seeds=[out["peak_reach"].x], **common
-        )
+        second[c] = functools.partial(task, c, unc, reach, robust, None, seeds=[out["peak_reach"].x])
     # The travel limit: the gap at most the limit (an impacting device travels the gap towards
     # its stop); a local search from the travel-limited TMD with its stop at the limit (it never
     # reaches it: a feasible start) and from the best sample inside the box (its stroke is read
     # at the search's finer fidelities only: each evaluation runs the band's cycles again).
-    gap = bounds["impact_reach"]["gap"]
-    box = {**bounds["impact_reach"], "gap": (gap[0], min(max_stroke, gap[1]))}
+    box = {**reach, "gap": (reach["gap"][0], min(max_stroke, reach["gap"][1]))}
     inside = np.flatnonzero(X[:, 0] <= box["gap"][1])
     seeds = [{"gap": box["gap"][1], **stroke_tmd.x, "R": 0.5}]
     if len(inside):
         seeds.append(dict(zip(names, X[inside[int(np.argmin(values["peak"][inside]))]])))
-    out["stroke"] = _search(
-        mu, delta1, band, "peak", unc, box, robust, None, seeds=seeds, max_stroke=max_stroke, **common
-    )
-    return out
+    second["stroke"] = functools.partial(task, "peak", unc, box, robust, None, seeds=seeds, max_stroke=max_stroke)
+    return {**out, **_in_parallel(second, workers)}
+
+
+# The tasks of _in_parallel's pool, by index (the forked workers inherit them: a task holds
+# closures, which cannot be sent through a pipe).
+_TASKS: list = []
+
+
+def _run_task(i: int):
+    return _TASKS[i]()
+
+
+def _in_parallel(tasks: dict, workers: int) -> dict:
+    """{key: task()} of independent tasks, ``workers`` at a time in forked processes (in this
+    one with a single worker), the answers in the tasks' order whatever ran where."""
+    keys = list(tasks)
+    if workers <= 1 or len(keys) <= 1 or "fork" not in multiprocessing.get_all_start_methods():
+        return {k: tasks[k]() for k in keys}
+    _TASKS[:] = [tasks[k] for k in keys]
+    try:
+        with multiprocessing.get_context("fork").Pool(min(workers, len(keys))) as pool:
+            results = pool.map(_run_task, range(len(keys)), chunksize=1)
+    finally:
+        _TASKS.clear()
+    return dict(zip(keys, results))
 
 
 def _search(
