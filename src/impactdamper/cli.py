@@ -179,46 +179,108 @@ def build_parser() -> argparse.ArgumentParser:
     )
     add_quiet_flag(response)
 
+    _add_design(sub, defaults)
+    _add_lyapunov_command(sub, add_parameters)
+    return parser
+
+
+def _add_design(sub, defaults: Parameters) -> None:
+    """The ``design`` command's flags: the object and band, the uncertainties, the limits and
+    loads, each with its documented range."""
     design = sub.add_parser(
         "design",
         help="choose a suppressor: the impact suppressor (gap, N, delta2, R) and the "
-        "linear TMD (N, delta2) optimised for one object and band, with worst "
-        "cases, strokes and loads",
+        "linear TMD (N, delta2) optimised for one object and band, their worst cases "
+        "(detuning, force amplitude, restitution), strokes and loads",
         description=DESIGN_DESCRIPTION,
         epilog=DESIGN_KEYS,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    from impactdamper.studies.design.devices import NATURAL_FREQUENCY, RANGES, STOP_STIFFNESS, Uncertainty
+
+    def span(name: str) -> str:
+        lo, hi = RANGES[name]
+        return f"in [{lo:g}, {hi:g}]"
+
+    u = Uncertainty()
     d = design.add_argument_group("object and band")
-    d.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
-    d.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
-    d.add_argument("--mu", type=float, default=defaults.mu, help=f"{PARAMETER_HELP['mu']} (default {defaults.mu})")
     d.add_argument(
-        "--delta1", type=float, default=defaults.delta1, help=f"{PARAMETER_HELP['delta1']} (default {defaults.delta1})"
+        "--theta-start",
+        type=float,
+        default=0.5,
+        help=f"lowest theta = omega/omega1, {span('theta_start')} (default 0.5)",
     )
     d.add_argument(
+        "--theta-stop",
+        type=float,
+        default=1.5,
+        help=f"highest theta, {span('theta_stop')}, the band {span('band_width')} wide (default 1.5)",
+    )
+    d.add_argument(
+        "--mu", type=float, default=defaults.mu, help=f"{PARAMETER_HELP['mu']}, {span('mu')} (default {defaults.mu})"
+    )
+    d.add_argument(
+        "--delta1",
+        type=float,
+        default=defaults.delta1,
+        help=f"{PARAMETER_HELP['delta1']}, {span('delta1')} (default {defaults.delta1})",
+    )
+    r = design.add_argument_group("what the designer does not know exactly")
+    r.add_argument(
         "--detuning",
         type=float,
-        default=0.1,
-        help="the object's natural frequency uncertain by +- this fraction, in [0, 0.5] (default 0.1)",
+        default=u.detuning,
+        help=f"the object's natural frequency uncertain by +- this fraction, {span('detuning')} (default {u.detuning})",
     )
-    d.add_argument(
+    r.add_argument(
+        "--force-low",
+        type=float,
+        default=u.force[0],
+        help=f"lowest force amplitude over the design force, {span('force_low')} (default {u.force[0]})",
+    )
+    r.add_argument(
+        "--force-high",
+        type=float,
+        default=u.force[1],
+        help=f"highest force amplitude over the design force, {span('force_high')} (default {u.force[1]})",
+    )
+    r.add_argument(
+        "--restitution-drift",
+        type=float,
+        default=u.restitution,
+        help=f"R uncertain by +- this, {span('restitution_drift')} (default {u.restitution})",
+    )
+    o = design.add_argument_group("limits and loads")
+    o.add_argument(
         "--max-stroke",
         type=float,
         default=None,
         metavar="S",
-        help="stroke limit max|x2 - x1|/x_st of the equal-stroke TMD (default: the impact suppressor's)",
+        help="travel limit max|x2 - x1|/x_st of the stroke-limited designs, both devices (default: 0.7 times "
+        "the optimal TMD's stroke)",
     )
-    d.add_argument(
+    o.add_argument(
+        "--stop-stiffness",
+        type=float,
+        default=STOP_STIFFNESS,
+        help=f"the stop's stiffness over the object's spring c1, for the contact force, {span('stop_stiffness')} "
+        f"(default {STOP_STIFFNESS:g})",
+    )
+    o.add_argument(
+        "--natural-frequency",
+        type=float,
+        default=NATURAL_FREQUENCY,
+        help=f"the object's natural frequency f1 in Hz, for impacts per hour, {span('natural_frequency')} "
+        f"(default {NATURAL_FREQUENCY:g})",
+    )
+    o.add_argument(
         "--criterion",
-        choices=("peak", "band_average"),
+        choices=("peak", "band_average", "detuning", "force", "restitution"),
         default="peak",
-        help="what is minimised over the band (default peak)",
+        help="which optima the keys impact, tmd and ratio report (default peak; every criterion's are in devices)",
     )
     design.add_argument("--json", action="store_true", help="print one JSON object")
     design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
-
-    _add_lyapunov_command(sub, add_parameters)
-    return parser
 
 
 def _add_lyapunov_command(sub, add_parameters) -> None:
@@ -263,30 +325,38 @@ LYAPUNOV_KEYS = """JSON keys (--json), exponents per forcing period T (log|mu|/k
 
 
 DESIGN_DESCRIPTION = """Choose a suppressor for an object of mass ratio mu and damping delta1 over a band of
-forcing frequencies: the impact suppressor optimised in gap, N, delta2 and R, and the linear
-tuned-mass damper (TMD) in N and delta2, by the same optimiser and criterion (a Sobol sample,
-then Nelder-Mead), peaks located (not sampled). About half a minute on two cores; progress
-lines go to stderr."""
+forcing frequencies: the impact suppressor optimised in gap, N, delta2 and R and the linear
+tuned-mass damper (TMD) in N and delta2, by one global search with one budget for both (a
+Sobol sample, compass searches, a Nelder-Mead polish, a check that no 2 % move along any axis
+lowers the answer), for the nominal peak, the band average, the worst case with the object
+detuned, with the force amplitude off its design value, with the restitution drifting, and
+under a travel limit. Peaks are the worst branch over the band, located. At most a minute on
+two cores within the ranges below; progress lines go to stderr (none with --quiet)."""
 
-DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, detuning, criterion, elapsed (s); ratio: impact over TMD of
-peak, band_average, worst_case; impact, tmd, tmd_equal_stroke (the best TMD whose stroke does not
-exceed --max-stroke or the impact suppressor's), each with (the impact suppressor's gap is
-searched in [-8, 8], a stop within reach: with a gap past its travel it would be the TMD):
+DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, uncertainty {detuning, force, restitution}, detuning,
+criterion, budget, robust_budget, bounds, tmd_stroke, max_stroke, stop_stiffness,
+natural_frequency, settings, elapsed (s), recommendation; devices: every row of the design table,
+each with
+  device          bare object, tmd_peak, impact_peak_reach (its stop within reach),
+                  impact_peak (the whole box), tmd_band_average, impact_band_average_reach,
+                  impact_band_average, tmd_detuning, impact_detuning, impact_force,
+                  impact_restitution, tmd_stroke, impact_stroke
   parameters      {gap, N, delta2, R} (impact) or {N, delta2} (TMD), relative
-  peak            located peak of max|x1|/x_st over the band (worse sweep direction)
-  peak_theta      where it is
-  band_average    mean of max|x1|/x_st over the band grid (step 0.01)
-  worst_case      largest peak with the object's frequency detuned by up to +-detuning, over
-                  the nominal x_st
+  peak            the worst branch's peak of max|x1|/x_st over the band, located
+  peak_theta, peak_branch   where, and on which branch
+  band_average    mean over the band of the worst motion at each theta
+  worst           {detuning, force, restitution, together}: the largest peak over each
+                  uncertainty's scenarios and over all together, over the nominal x_st
   stroke          max|x2 - x1|/x_st over the band
-  at_bound        parameters at a bound of the search box
- and for the impact suppressor also:
-  impulse_per_impact   largest pulse per impact over P0/omega1
-  impacts_per_second   most impacts per second over f1 = omega1/(2 pi)
-  mean_force           largest mean force the impacts transmit, over P0 (the stereomechanical
-                       impact gives no contact force peak)
-  clearance            the gap Delta0 in units of P0/c1 (optimal at the design force P0 only)
-  worst_case_detunings, worst_case_peaks   the peaks behind worst_case"""
+  impacts         whether the stop is ever reached (false: the TMD limit, tmd_limit true)
+  search          the search's record: value, evaluations, at_bound, check (the 2 % moves)
+ and for the impact suppressor also pulse (largest pulse per impact over P0/omega1),
+ mean_force (P0), impacts_per_period, impacts_per_hour (at natural_frequency), contact_force
+ (peak force over P0 of a linear spring stop of stop_stiffness c1), no_contact_floor;
+ stroke-limited rows: max_stroke, feasible.
+impact, tmd, tmd_equal_stroke: the rows --criterion picks; ratio: impact over TMD of the
+criterion, peak, band_average, worst_case (detuning); snubber: the optimal TMD with a stop within
+its travel (fraction of its stroke, peak, ratio to the TMD's)."""
 
 
 def _parameters(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Parameters:
@@ -434,23 +504,35 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
-    """``design``: both devices' optima (:func:`impactdamper.studies.design.optimum.design_optima`)."""
+    """``design``: the design table (:func:`impactdamper.studies.design.optimum.design_optima`);
+    progress on stderr at least every 10 s (none with --quiet), one line for a bad value."""
+    import time
+    import warnings
+
+    from impactdamper.studies.design.devices import Uncertainty
     from impactdamper.studies.design.optimum import design_optima
+
+    start = time.perf_counter()
 
     def progress(message: str) -> None:
         if not args.quiet:
-            print(f"{sub.prog}: {message}", file=sys.stderr, flush=True)
+            print(f"{sub.prog}: [{time.perf_counter() - start:5.1f} s] {message}", file=sys.stderr, flush=True)
 
+    logging.getLogger("impactdamper").addHandler(logging.NullHandler())
     try:
-        result = design_optima(
-            (args.theta_start, args.theta_stop),
-            args.mu,
-            args.delta1,
-            detuning=args.detuning,
-            max_stroke=args.max_stroke,
-            criterion=args.criterion,
-            progress=progress,
-        )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # (a failed point shows in the answer, not as a warning)
+            result = design_optima(
+                (args.theta_start, args.theta_stop),
+                args.mu,
+                args.delta1,
+                uncertainty=Uncertainty(args.detuning, (args.force_low, args.force_high), args.restitution_drift),
+                max_stroke=args.max_stroke,
+                criterion=args.criterion,
+                stop_stiffness=args.stop_stiffness,
+                natural_frequency=args.natural_frequency,
+                progress=progress,
+            )
     except (ValueError, RuntimeError, ArithmeticError) as err:
         _fail(sub, err)
     if args.json:
@@ -460,6 +542,8 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
         with contextlib.redirect_stdout(buffer):
             _print_design(result)
         text = buffer.getvalue()
+    if sys.stdout is None:  # started with stdout closed (``>&-``): nowhere to write
+        return _output_failed(OSError(9, "standard output is closed"))
     try:
         sys.stdout.write(text)
         sys.stdout.flush()
@@ -584,9 +668,10 @@ def _print_orbit(r: dict) -> None:
 
 def _print_response(r: dict) -> None:
     print(
-        f"peak max|x1|/x_st over the band {r['peak_max_abs_x1']:.6f}, band average {r['band_average_max_abs_x1']:.6f}, "
-        f"largest pulse {r['peak_impulse']:.6g} m1 x_st omega, at most {r['impacts_per_period']:g} impacts per "
-        f"period, {r['hysteresis_points']} theta values with hysteresis"
+        f"peak max|x1|/x_st over the band {r['peak_max_abs_x1']:.6f} at theta {r['peak_theta']:.6f} "
+        f"({r['peak_branch']}; the grid's largest sample {r['grid_peak_max_abs_x1']:.6f}), band average "
+        f"{r['band_average_max_abs_x1']:.6f}, largest pulse {r['peak_impulse']:.6g} m1 x_st omega, at most "
+        f"{r['impacts_per_period']:g} impacts per period, {r['hysteresis_points']} theta values with hysteresis"
     )
     print("   theta   up     down   max|x1| up/down       max|x2| up   impacts/T  peak pulse  linear |x1|")
     for q in r["points"]:
@@ -610,30 +695,38 @@ def _print_lyapunov(r: dict) -> None:
 
 
 def _print_design(r: dict) -> None:
+    u = r["uncertainty"]
     print(
         f"object: mu = {r['mu']:g}, delta1 = {r['delta1']:g}; band theta {r['band'][0]:g} to {r['band'][1]:g}; "
-        f"criterion {r['criterion']}; worst case over +-{100 * r['detuning']:g} % of omega1"
+        f"worst cases over +-{100 * u['detuning']:g} % of omega1, force {u['force'][0]:g} to {u['force'][1]:g} "
+        f"times the design force, R +-{u['restitution']:g}; travel limit {r['max_stroke']:.3g} x_st"
     )
-    for key, name in (
-        ("impact", "impact suppressor"),
-        ("tmd", "linear TMD"),
-        ("tmd_equal_stroke", "TMD, equal stroke"),
-    ):
-        d = r[key]
-        pars = ", ".join(f"{k} = {v:.4g}" for k, v in d["parameters"].items())
+    print(
+        f"{'device':28s} {'parameters':44s} {'peak':>7s} {'avg':>6s} {'detune':>7s} {'force':>7s} "
+        f"{'R':>7s} {'all':>7s} {'stroke':>7s}"
+    )
+    for d in r["devices"]:
+        pars = ", ".join(f"{k} {v:.4g}" for k, v in d["parameters"].items())
+        w = d["worst"]
+        note = " (TMD limit: never reaches its stop)" if d.get("tmd_limit") else ""
+        if d.get("feasible") is False:
+            note += " (infeasible: over the travel limit)"
+        if d.get("at_bound"):
+            note += f" (at a bound: {', '.join(d['at_bound'])})"
         print(
-            f"{name:18s} {pars}: peak {d['peak']:.4f} at theta {d['peak_theta']:.4f}, band average "
-            f"{d['band_average']:.4f}, worst case {d['worst_case']:.4f}, stroke {d['stroke']:.3f}"
-            + (f" (at_bound: {', '.join(d['at_bound'])})" if d["at_bound"] else "")
+            f"{d['device']:28s} {pars:44s} {d['peak']:7.4f} {d['band_average']:6.3f} {w['detuning']:7.3f} "
+            f"{w['force']:7.3f} {w['restitution']:7.3f} {w['together']:7.3f} {d['stroke']:7.2f}{note}"
         )
     d = r["impact"]
     print(
-        f"impact loads: largest pulse {d['impulse_per_impact']:.4g} P0/omega1, at most {d['impacts_per_second']:.4g} "
-        f"impacts per 1/f1, mean impact force up to {d['mean_force']:.4g} P0 (no contact force peak: the impact "
-        f"is instantaneous); clearance Delta0 = {d['clearance']:.4g} P0/c1"
+        f"impact loads ({d['device']}): largest pulse {d['pulse']:.4g} P0/omega1, up to {d['impacts_per_period']:.3g} "
+        f"impacts per period ({d['impacts_per_hour']:.4g} per hour at f1 = {r['natural_frequency']:g} Hz), mean "
+        f"force {d['mean_force']:.4g} P0, peak contact force {d['contact_force']:.4g} P0 on a stop "
+        f"{r['stop_stiffness']:g} times stiffer than c1"
     )
-    q = r["ratio"]
-    print(
-        f"impact over TMD: peak {q['peak']:.4f}, band average {q['band_average']:.4f}, worst case "
-        f"{q['worst_case']:.4f} ({r['elapsed']:.1f} s)"
-    )
+    for s in r["snubber"]:
+        print(
+            f"snubber: a stop at {s['fraction']:g} of the TMD's stroke raises its peak to {s['peak']:.4f} "
+            f"({100 * (s['ratio'] - 1):.0f} % more)"
+        )
+    print(r["recommendation"] + f" ({r['elapsed']:.1f} s)")

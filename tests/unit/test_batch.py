@@ -89,6 +89,32 @@ def test_chains_are_independent():
         assert np.array_equal(getattr(both, name), np.concatenate([getattr(r, name) for r in alone])), name
 
 
+@pytest.mark.parametrize("backend", ["compiled", "python"])
+def test_a_chain_starts_from_its_given_state(backend):
+    """With ``states`` a chain's first point starts from its row (one per chain), the others from
+    their neighbours: the first point is the independent point from that state, the second the
+    independent point from the first's settled section."""
+    start = idp.steady_states(REF, ("gap",), [[-6.0]], settings=SETTINGS).sections[0]
+    chained = idp.steady_states(
+        REF,
+        ("gap",),
+        [[-6.0], [-5.8], [-6.0], [-5.8]],
+        settings=SETTINGS,
+        chain_length=2,
+        states=[start, start],
+        backend=backend,
+    )
+    first = idp.steady_states(REF, ("gap",), [[-6.0]], settings=SETTINGS, chain=False, states=[start], backend=backend)
+    assert np.array_equal(chained.start_states[0], start) and chained.x1_max[0] == first.x1_max[0]
+    assert np.array_equal(chained.start_states[2], start) and chained.x1_max[2] == chained.x1_max[0]
+    second = idp.steady_states(
+        REF, ("gap",), [[-5.8]], settings=SETTINGS, chain=False, states=[chained.sections[0]], backend=backend
+    )
+    assert chained.x1_max[1] == pytest.approx(second.x1_max[0], rel=1e-12)
+    with pytest.raises(ValueError, match=r"^`states` of shape \(4, 4\) is not allowed: .* one start .* per chain"):
+        idp.steady_states(REF, ("gap",), [[-6.0]] * 4, chain_length=2, states=[start] * 4)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("backend", ["compiled", "python"])
 def test_workers_give_the_serial_result_bit_for_bit(backend):

@@ -298,7 +298,7 @@ def test_two_chains_are_the_reference_sweeps_both_ways():
 @pytest.mark.parametrize(
     "kwargs",
     [
-        dict(chain=True, states=[[0.0, -5.8, 0.0, 0.0]]),
+        dict(chain=True, states=[[0.0, -5.8, 0.0, 0.0]] * 2),  # one start per chain: here one chain
         dict(chain=False, states=[[0.0, -5.8, 0.0]]),
         dict(chain=False, states=[[0.0, -5.8, 0.0, 0.0], [0.0, -5.8, 0.0, 0.0]]),
         dict(chain=False, states=[[0.0, -5.0, 0.0, 0.0]]),  # x2 - x1 > Delta0: the bodies overlap

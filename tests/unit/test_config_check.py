@@ -224,7 +224,7 @@ def test_an_output_root_in_the_scratch_or_the_record_run_passes(root):
             "['claims_search']['map']: x_points x y_points = 2000 x 81 is not allowed: 162000 map cells; at most 100000",
         ),
         (("design", "band_step"), 1e-9, "['design']['band_step']: 1e-09 is not allowed: 1000000001 theta values"),
-        (("design", "theta_points"), 1001, "['design']['theta_points']: 1001 is not allowed: 1001 theta values"),
+        (("design", "response_points"), 1001, "['design']['response_points']: 1001 is not allowed: 1001 theta values"),
         (
             ("claims_search", "nearest", "ray_step"),
             1e-9,
@@ -274,19 +274,19 @@ def test_a_claims_map_of_a_parameter_against_itself_is_refused():
 
 
 def test_a_design_grid_without_the_reference_theta_is_refused_with_ones_that_hold_it():
-    config = _set(_shipped(), ("design", "theta_points"), 4)
+    config = _set(_shipped(), ("design", "band_step"), 0.4)
     assert _refused(config).endswith(
-        "['design']['theta_points']: 4 is not allowed: the theta grid from 0.5 to 1.5 must contain the reference "
-        "theta = 1 (such as 3, 5, 7)"
+        "['design']['band_step']: 0.4 is not allowed: the theta grid from 0.5 to 1.5 must contain the reference "
+        "theta = 1 (such as 0.05, 0.025, 0.02)"
     )
     config = _set(_shipped(), ("design", "theta_start"), 1.2)
     assert "['design']: theta_start = 1.2, theta_stop = 1.5 is not allowed: the band must contain" in _refused(config)
-    config = _set(_shipped(), ("reference", "theta"), 1.1)  # 0.5 to 1.5 in 21 points holds 1.1 (step 0.05)
+    config = _set(_shipped(), ("reference", "theta"), 1.1)  # 0.5 to 1.5 in steps of 0.02 holds 1.1
     assert cc.check(config, SCHEMA)["reference"]["theta"] == 1.1
 
 
-@pytest.mark.parametrize("points", [2, 3, 4, 5, 7, 11, 20, 21, 22, 41])
-def test_the_reference_theta_check_agrees_with_the_design_job(monkeypatch, tmp_path, points):
+@pytest.mark.parametrize("step", [1.0, 0.5, 0.3, 0.25, 0.15, 0.1, 0.06, 0.05, 0.045, 0.025])
+def test_the_reference_theta_check_agrees_with_the_design_job(monkeypatch, tmp_path, step):
     """The design chart's job (workflow/scripts/design_chart.py) refuses a grid without the
     reference theta before its sweeps; the config check refuses exactly the same grids."""
     import design_chart
@@ -298,11 +298,9 @@ def test_the_reference_theta_check_agrees_with_the_design_job(monkeypatch, tmp_p
         raise Started
 
     monkeypatch.setattr(design_chart, "gap_chart", started)
-    config = _set(_shipped(), ("design", "theta_points"), points)
+    config = _set(_shipped(), ("design", "band_step"), step)
     filled = cc._with_defaults(config, SCHEMA)
     with pytest.raises((ValueError, Started)) as job:
-        design_chart.main(
-            filled["reference"], filled["solver"], filled["sweep"], filled["design"], tmp_path / "a", tmp_path / "b"
-        )
+        design_chart.main(filled["reference"], filled["design"], tmp_path / "a", tmp_path / "b")
     accepted = cc.problem(config, SCHEMA) is None
-    assert accepted == (job.type is Started), (points, str(job.value))
+    assert accepted == (job.type is Started), (step, str(job.value))

@@ -1,15 +1,17 @@
-# Stage: choosing a suppressor. Frequency responses (upward and downward theta sweeps), the
-# linear references (bare object, absorber without a stop, optimal tuned-mass damper), and the
-# design charts over the gap and a second parameter, and the design table: both devices optimised
-# jointly with located peaks, worst cases under detuning, strokes and loads (config: design). The sweeps' caps are the
-# sweep stage's (config: sweep), the solver's tolerances config: solver. The design parameters,
-# the band and the gap grids come from the config through impactdamper.studies.design.
+# Stage: choosing a suppressor. The linear references (bare object, absorber without a stop,
+# optimal tuned-mass damper) with the design search's check against Den Hartog's closed form; the
+# design charts of the paper's suppressor over the gap and a second parameter (worst branches
+# located, best gaps located); the design table (both devices optimised by one global search
+# for every criterion, under every uncertainty, with strokes and loads: the call behind
+# `python -m impactdamper design`); the located worst branch checked three ways; the frequency
+# responses of the optimal devices; the design command's benchmark (config: design). Every
+# motion is settled as the design command settles it (impactdamper.studies.design.devices).
 
 
 rule design_baselines:
     input:
         script="workflow/scripts/design_baselines.py",
-        library=library(study("design/design"), REPORTING),
+        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
     output:
         csv="figures/design_baselines.csv",
         json="figures/design_baselines.json",
@@ -29,7 +31,7 @@ rule design_baselines:
 rule design_chart:
     input:
         script="workflow/scripts/design_chart.py",
-        library=library(study("config", "design/design"), REPORTING),
+        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
     output:
         csv="figures/design_chart.csv",
         json="figures/design_chart.json",
@@ -42,8 +44,6 @@ rule design_chart:
         ENV
     params:
         reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        sweep=parameters_json("sweep"),
         design=parameters_json("design"),
     script:
         "../scripts/design_chart.py"
@@ -52,7 +52,7 @@ rule design_chart:
 rule design_chart_2d:
     input:
         script="workflow/scripts/design_chart_2d.py",
-        library=library(study("config", "design/design"), REPORTING),
+        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
     output:
         csv="figures/design_chart_2d.csv",
         json="figures/design_chart_2d.json",
@@ -64,41 +64,15 @@ rule design_chart_2d:
         ENV
     params:
         reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        sweep=parameters_json("sweep"),
         design=parameters_json("design"),
     script:
         "../scripts/design_chart_2d.py"
 
 
-rule design_response:
-    input:
-        script="workflow/scripts/design_response.py",
-        library=library(study("config", "design/design"), REPORTING),
-        chart="figures/design_chart.json",
-    output:
-        csv="figures/design_response.csv",
-        json="figures/design_response.json",
-    log:
-        "logs/design/response.log",
-    benchmark:
-        benchmark_file("design_response")
-    conda:
-        ENV
-    params:
-        reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        sweep=parameters_json("sweep"),
-        design=parameters_json("design"),
-    script:
-        "../scripts/design_response.py"
-
-
 rule design_optimum:
     input:
         script="workflow/scripts/design_optimum.py",
-        library=library(study("config", "design/design", "design/optimum"), REPORTING),
-        chart="figures/design_chart.json",
+        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
     output:
         json="figures/design_optimum.json",
         csv="figures/design_optimum.csv",
@@ -111,28 +85,99 @@ rule design_optimum:
         ENV
     params:
         reference=parameters_json("reference"),
-        solver=parameters_json("solver"),
-        sweep=parameters_json("sweep"),
         design=parameters_json("design"),
     script:
         "../scripts/design_optimum.py"
 
 
+rule design_checks:
+    input:
+        script="workflow/scripts/design_checks.py",
+        library=library(
+            study("design/checks", "design/design", "design/devices", "design/optimum", "design/search"),
+            BASELINES,
+            REPORTING,
+        ),
+        optimum="figures/design_optimum.json",
+    output:
+        json="figures/design_checks.json",
+    log:
+        "logs/design/checks.log",
+    benchmark:
+        benchmark_file("design_checks")
+    conda:
+        ENV
+    params:
+        reference=parameters_json("reference"),
+        design=parameters_json("design"),
+    script:
+        "../scripts/design_checks.py"
+
+
+rule design_benchmark:
+    input:
+        script="workflow/scripts/design_benchmark.py",
+        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        cli="src/impactdamper/cli.py",
+        optimum="figures/design_optimum.json",
+    output:
+        json="figures/design_benchmark.json",
+    log:
+        "logs/design/benchmark.log",
+    benchmark:
+        benchmark_file("design_benchmark")
+    conda:
+        ENV
+    params:
+        reference=parameters_json("reference"),
+        design=parameters_json("design"),
+    script:
+        "../scripts/design_benchmark.py"
+
+
+rule design_response:
+    input:
+        script="workflow/scripts/design_response.py",
+        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        chart="figures/design_chart.json",
+        optimum="figures/design_optimum.json",
+    output:
+        csv="figures/design_response.csv",
+        json="figures/design_response.json",
+    log:
+        "logs/design/response.log",
+    benchmark:
+        benchmark_file("design_response")
+    conda:
+        ENV
+    params:
+        reference=parameters_json("reference"),
+        design=parameters_json("design"),
+    script:
+        "../scripts/design_response.py"
+
+
 rule design_report:
     input:
         script="workflow/scripts/design_report.py",
-        library=library(study("design/design", "design/optimum", "design/record", "vocabulary"), REPORTING),
-        optimum="figures/design_optimum.json",
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/record", "vocabulary"),
+            REPORTING,
+        ),
         baselines="figures/design_baselines.json",
         chart="figures/design_chart.json",
         chart2d="figures/design_chart_2d.json",
         response="figures/design_response.json",
-        response_csv="figures/design_response.csv",
+        optimum="figures/design_optimum.json",
+        checks="figures/design_checks.json",
+        benchmark="figures/design_benchmark.json",
     output:
         record="results/report/design.json",
         macros="paper/generated/design_macros.tex",
         table="paper/generated/design_second_table.tex",
         design_table="paper/generated/design_table.tex",
+        loads_table="paper/generated/design_loads_table.tex",
+        benchmark_table="paper/generated/design_benchmark_table.tex",
     log:
         "logs/design/report.log",
     benchmark:
@@ -151,6 +196,7 @@ rule fig_design_response:
         response="figures/design_response.csv",
         summary="figures/design_response.json",
         baselines="figures/design_baselines.csv",
+        optimum="figures/design_optimum.json",
     output:
         pdf="figures/design_response.pdf",
         png="figures/design_response.png",
@@ -172,6 +218,7 @@ rule fig_design_chart:
         chart="figures/design_chart.csv",
         best="figures/design_chart.json",
         baselines="figures/design_baselines.json",
+        optimum="figures/design_optimum.json",
     output:
         pdf="figures/design_chart.pdf",
         png="figures/design_chart.png",
@@ -217,6 +264,8 @@ DESIGN_TARGETS = [
     "figures/design_response.json",
     "figures/design_optimum.json",
     "figures/design_optimum.csv",
+    "figures/design_checks.json",
+    "figures/design_benchmark.json",
     "figures/design_response.pdf",
     "figures/design_response.png",
     "figures/design_chart.pdf",
@@ -226,5 +275,7 @@ DESIGN_TARGETS = [
     "paper/generated/design_macros.tex",
     "paper/generated/design_second_table.tex",
     "paper/generated/design_table.tex",
+    "paper/generated/design_loads_table.tex",
+    "paper/generated/design_benchmark_table.tex",
 ]
 ALL_TARGETS.extend(DESIGN_TARGETS)

@@ -1,30 +1,32 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the design chart against
 a second parameter (config ``design.second``: N or R). At each of its values the gap chart of
-``design_chart.py`` on a coarser gap grid.
+``design_chart.py`` (the worst branch located at each gap) on a coarser gap grid.
 
 Outputs ``figures/design_chart_2d.csv`` (one row per value and gap) and
-``figures/design_chart_2d.json`` (the best gap for each value and criterion).
+``figures/design_chart_2d.json`` (the best gap of the grid for each value and criterion).
 """
 
 import logging
 
 from impactdamper.reporting.records import run_stage, write_csv, write_json
-from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
+from impactdamper.studies.design.devices import DESIGN_SETTINGS
+from impactdamper.studies.design.optimum import WORKERS
 
 
 COLUMNS = [
     "value",
     "gap",
     "peak_max_abs_x1",
+    "peak_theta",
     "band_average_max_abs_x1",
+    "no_contact_floor",
     "peak_impulse",
     "impacts_per_period",
-    "hysteresis_points",
 ]
 
 
-def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_json, log=None) -> None:
+def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
     log = log if log is not None else logging.getLogger("design_chart_2d")
     p = design_parameters(reference, design)
     name = design["second"]
@@ -34,8 +36,9 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
         [float(v) for v in design["second_values"]],
         design_gaps(design, second=True),
         design_band(design),
-        int(design["theta_points"]),
-        settings=sweep_settings(sweep, solver),
+        float(design["band_step"]),
+        settings=DESIGN_SETTINGS,
+        workers=WORKERS,
         progress=log.info,
     )
     rows, best = [], []
@@ -43,13 +46,14 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, out_csv, out_
         rows.extend({"value": value, **r} for r in chart.rows())
         for c in CRITERIA:
             b = chart.best(c, float(design["tolerance"]))
+            b["peak_theta"] = float(chart.branches[b["index"]].peak_theta)
             best.append({"second": value, **b})
             log.info("%s = %g, best gap (%s): %g, %.4g", name, value, c, b["gap"], b["value"])
     write_csv(out_csv, COLUMNS, rows)
     write_json(out_json, {"parameter": name, "best": best, "parameters": p.to_dict()})
 
 
-JOB = "params.reference params.solver params.sweep params.design output.csv output.json log=log"
+JOB = "params.reference params.design output.csv output.json log=log"
 STAGE = {"logger": "design_chart_2d", "timestamps": True, "library": True}
 
 if __name__ == "__main__":

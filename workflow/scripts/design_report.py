@@ -1,19 +1,26 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the design stage's numbers
-for the report's section "Choosing a suppressor", as LaTeX macros and a booktabs table (no
+for the report's section "Choosing a suppressor", as LaTeX macros and booktabs tables (no
 number is typed by hand).
 
 Outputs ``results/report/design.json`` (the stage's record, from which the macros and the
-README's lines are rendered), ``paper/generated/design_macros.tex`` (the design table's optima,
-located peaks, worst cases, strokes, loads and the recommendation; the chart's best gap, good
-band, loads, checks), ``paper/generated/design_table.tex`` (the design table: one row per
-device) and ``paper/generated/design_second_table.tex`` (best gap against the second parameter).
+README's lines are rendered), ``paper/generated/design_macros.tex``, and the tables
+``paper/generated/design_table.tex`` (one row per device), ``design_loads_table.tex`` (the impact
+suppressors' loads), ``design_second_table.tex`` (best gap against the second parameter) and
+``design_benchmark_table.tex`` (the design command's times).
 """
 
 from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_json, run_stage, write_json
-from impactdamper.studies.design.record import RECORD_WHAT, design_macros, design_table, second_table
+from impactdamper.studies.design.record import (
+    RECORD_WHAT,
+    benchmark_table,
+    design_macros,
+    design_table,
+    loads_table,
+    second_table,
+)
 
 
 def main(
@@ -21,28 +28,35 @@ def main(
     chart_json,
     chart2d_json,
     response_json,
-    response_csv,
     optimum_json,
+    checks_json,
+    benchmark_json,
     out_record,
     out_macros,
     out_table,
     out_design_table,
+    out_loads_table,
+    out_benchmark_table,
 ) -> None:
-    """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), the
-    second-parameter table (``out_table``) and the design table (``out_design_table``)."""
-    base, chart, chart2, resp = (read_json(x) for x in (baselines_json, chart_json, chart2d_json, response_json))
-    optimum = read_json(optimum_json)
-    m = design_macros(base, chart, chart2, resp, optimum, response_csv)
+    """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), and
+    the tables."""
+    base, chart, chart2, resp, opt, checks, bench = (
+        read_json(x)
+        for x in (baselines_json, chart_json, chart2d_json, response_json, optimum_json, checks_json, benchmark_json)
+    )
+    m = design_macros(base, chart, chart2, resp, opt, checks, bench)
     write_json(out_record, m.record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))
     Path(out_table).write_text(second_table(chart2))
-    Path(out_design_table).write_text(design_table(optimum))
+    Path(out_design_table).write_text(design_table(opt))
+    Path(out_loads_table).write_text(loads_table(opt))
+    Path(out_benchmark_table).write_text(benchmark_table(bench))
 
 
 JOB = (
-    "input.baselines input.chart input.chart2d input.response input.response_csv input.optimum "
-    "output.record output.macros output.table output.design_table"
+    "input.baselines input.chart input.chart2d input.response input.optimum input.checks input.benchmark "
+    "output.record output.macros output.table output.design_table output.loads_table output.benchmark_table"
 )
 
 if __name__ == "__main__":

@@ -1,11 +1,14 @@
-"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the frequency response of
-the impact suppressor (upward and downward theta sweeps) at the best gap of the design chart
-and at the gaps the config names (the paper's -5.8 among them), with the exact linear response
-without a stop beside it.
+"""Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the frequency response
+(upward and downward theta sweeps, each point from its neighbour's settled motion) of the
+optimal impact suppressor of the design table (optimal for the peak, its stop within reach), of
+the paper's suppressor at the design chart's located best gap and at the gaps the config names
+(the paper's -5.8), with the exact linear response without a stop beside each, and each one's
+worst branch located.
 
-Outputs ``figures/design_response.csv`` (per gap, theta and direction: regime, max|x1|, max|x2|,
-impacts per period, pulses, energies, hysteresis) and ``figures/design_response.json`` (per gap:
-peak, band average, loads, hysteresis count, the energy balance's largest mismatch).
+Outputs ``figures/design_response.csv`` (per device, theta and direction: regime, max|x1|,
+max|x2|, impacts per period, pulses, energies, hysteresis) and ``figures/design_response.json``
+(per device: its parameters, located peak, band average, loads, hysteresis count, the energy
+balance's largest mismatch).
 """
 
 import logging
@@ -13,14 +16,18 @@ import logging
 import numpy as np
 
 from impactdamper.analysis.response import frequency_response
-from impactdamper.analysis.sweeps import with_value
 from impactdamper.reporting.records import read_json, run_stage, write_csv, write_json
-from impactdamper.studies.config import sweep_settings
 from impactdamper.studies.design.design import design_band, design_parameters, response_gaps
+from impactdamper.studies.design.devices import DESIGN_SETTINGS
+from impactdamper.studies.design.optimum import device
 
 
 COLUMNS = [
+    "role",
     "gap",
+    "N",
+    "delta2",
+    "R",
     "theta",
     "direction",
     "regime",
@@ -42,33 +49,38 @@ COLUMNS = [
 ]
 
 
-def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, out_csv, out_json, log=None) -> None:
+def devices(p, chart: dict, optimum: dict, gaps) -> list[tuple[str, object]]:
+    """(role, suppressor): the optimal one, the paper's at the chart's located best gap, and the
+    paper's at each further gap of the config."""
+    x = device(optimum, "impact_peak_reach")["parameters"]
+    best = chart["located"]["peak"]["gap"]
+    out = [("optimal", p.replace(**x)), ("best", p.replace(gap=best))]
+    out += [("paper", p.replace(gap=g)) for g in response_gaps(best, gaps)[1:]]
+    return out
+
+
+def main(reference: dict, design: dict, chart_json, optimum_json, out_csv, out_json, log=None) -> None:
     log = log if log is not None else logging.getLogger("design_response")
     p = design_parameters(reference, design)
     band = design_band(design)
-    # The best gap (peak criterion) of the design chart first, then the config's.
-    gaps = response_gaps(read_json(chart_json)["best"]["peak"]["gap"], design["response_gaps"])
     rows, summary = [], []
-    for role, g in zip(["best"] + ["config"] * (len(gaps) - 1), gaps):
-        log.info("frequency response at Delta0/x_st = %g (%s)", g, role)
-        r = frequency_response(
-            with_value(p, "gap", g),
-            *band,
-            int(design["response_points"]),
-            settings=sweep_settings(sweep, solver),
-            progress=log.info,
-        )
-        rows.extend({"gap": g, **row} for row in r.rows())
-        ms = [m for q in r.points for m in (q.up, q.down)]
+    for role, q in devices(p, read_json(chart_json), read_json(optimum_json), design["response_gaps"]):
+        log.info("frequency response of %s (%s)", role, q)
+        r = frequency_response(q, *band, int(design["response_points"]), settings=DESIGN_SETTINGS, progress=log.info)
+        extra = {"role": role, "gap": q.gap, "N": q.N, "delta2": q.delta2, "R": q.R}
+        rows.extend({**extra, **row} for row in r.rows())
+        ms = [m for pt in r.points for m in (pt.up, pt.down)]
+        theta, branch = r.peak_where()
         summary.append(
             {
-                "gap": g,
-                "role": role,
+                **extra,
                 "peak": r.peak(),
+                "peak_theta": theta,
+                "peak_branch": branch,
+                "grid_peak": r.grid_peak(),
                 "band_average": r.band_average(),
                 **r.loads(),
-                "hysteresis_points": int(sum(q.hysteresis for q in r.points)),
-                "hysteresis_thetas": [q.theta for q in r.points if q.hysteresis],
+                "hysteresis_points": int(sum(pt.hysteresis for pt in r.points)),
                 "largest_balance": float(np.nanmax([m.balance for m in ms])),
                 "largest_drift_settled": float(
                     np.nanmax([abs(m.drift) for m in ms if m.regime not in ("nonperiodic", "failed")])
@@ -79,7 +91,7 @@ def main(reference: dict, solver: dict, sweep: dict, design: dict, chart_json, o
     write_json(out_json, {"responses": summary, "band": list(band), "points": int(design["response_points"])})
 
 
-JOB = "params.reference params.solver params.sweep params.design input.chart output.csv output.json log=log"
+JOB = "params.reference params.design input.chart input.optimum output.csv output.json log=log"
 STAGE = {"logger": "design_response", "timestamps": True, "library": True}
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 """Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100: the design chart against a
-second parameter (N or R, config ``design.second``): the peak over the band of max|x1|/x_st
-against Delta0/x_st, one curve per value, each curve's best gap marked; the optimal linear TMD
-of the same mu as a horizontal line.
+second parameter (N or R, config ``design.second``) of the paper's suppressor: the worst
+branch's peak over the band of max|x1|/x_st against Delta0/x_st, one curve per value, each
+curve's best gap of the grid marked; the optimal linear TMD of the same mu as a horizontal
+line.
 
 Deviations: none (the paper has no such figure).
 """

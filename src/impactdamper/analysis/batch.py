@@ -265,30 +265,36 @@ def _store(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> None:
     res.fallback[i], res.method[i] = reason, pt.method
 
 
-def _start_states(states, chain: bool, rows: np.ndarray, gap_tol: float) -> np.ndarray:
-    """The batch's given start states, checked: shape (P, 4) finite with a non-negative gap at
-    every point (within the solver's ``gap_tol``), or shape (0, 4) when none are given. ``rows``:
-    the points' parameters (_point_values)."""
+def _start_states(states, chain: bool, length: int, rows: np.ndarray, gap_tol: float) -> np.ndarray:
+    """The batch's given start states, checked: finite with a non-negative gap (within the
+    solver's ``gap_tol``) at the point each starts, shape (P, 4) (``chain`` False: one per
+    point; ``chain`` True: one per chain of ``length`` points, put on the chain's first row and
+    read there only), or shape (0, 4) when none are given. ``rows``: the points' parameters
+    (_point_values)."""
     if states is None:
         return np.zeros((0, 4))
-    if chain:
-        raise ValueError("`states` is not allowed with `chain=True`: a chained point starts from its neighbour")
-    allowed = f"must be finite numbers of shape ({len(rows)}, 4), one start (x1, x2, x1', x2') per point"
+    starts = np.arange(0, len(rows), length) if chain else np.arange(len(rows))
+    what = "chain" if chain else "point"
+    allowed = f"must be finite numbers of shape ({len(starts)}, 4), one start (x1, x2, x1', x2') per {what}"
     try:
         given = np.array(states, dtype=float)
     except (TypeError, ValueError):
         raise ArgumentTypeError(f"`states` is not allowed: {allowed}") from None
-    if given.shape != (len(rows), 4) or not np.all(np.isfinite(given)):
+    if given.shape != (len(starts), 4) or not np.all(np.isfinite(given)):
         raise ValueError(f"`states` of shape {given.shape} is not allowed: {allowed}")
-    delta0 = rows[:, COLUMNS.index("gap")] * rows[:, COLUMNS.index("x_st")]
+    delta0 = rows[starts, COLUMNS.index("gap")] * rows[starts, COLUMNS.index("x_st")]
     gap = delta0 - (given[:, 1] - given[:, 0])
-    bad = np.flatnonzero(gap < -gap_tol * rows[:, COLUMNS.index("x_st")])
+    bad = np.flatnonzero(gap < -gap_tol * rows[starts, COLUMNS.index("x_st")])
     if len(bad):
         raise ValueError(
             f"`states` row {int(bad[0])} is not allowed: its gap Delta0 - (x2 - x1) = {gap[bad[0]]:.6g} m "
             "is negative (the bodies would overlap); allowed are states with x2 - x1 <= Delta0"
         )
-    return given
+    if not chain:
+        return given
+    out = np.zeros((len(rows), 4))
+    out[starts] = given
+    return out
 
 
 def _checked_count(name: str, value, low: int = 1) -> int:
@@ -336,9 +342,11 @@ def steady_states(
         With ``chain``: the points are independent chains of this many consecutive points each
         (the first of each from Algorithm No. 2's step 1); P must be a multiple. Default: one
         chain of all P points.
-    states : array_like, shape (P, 4), optional
-        Start states (x1, x2, x1', x2') at t0 = 0, one per point, each with a non-negative gap
-        (the reference's ``solve_point(p, state=...)``, random starts); only with ``chain=False``.
+    states : array_like, optional
+        Start states (x1, x2, x1', x2') at t0 = 0, each with a non-negative gap (the reference's
+        ``solve_point(p, state=...)``): with ``chain=False`` shape (P, 4), one per point (random
+        starts); with ``chain=True`` shape (P / chain_length, 4), one per chain, its first point's
+        start instead of Algorithm No. 2's step 1 (a branch continued from a known motion).
     backend : {"auto", "compiled", "python"}
         Who settles the points (:mod:`impactdamper.analysis.solve`); ``python``: every point
         by the reference's ladder, the same motions point by point.
@@ -384,8 +392,8 @@ def steady_states(
     if workers > 1 and "fork" not in multiprocessing.get_all_start_methods():
         raise ValueError(f"`workers` = {workers} is not allowed here: parallel points need the 'fork' start method")
     rows = _point_values(base, names, values)
-    given = _start_states(states, chain, rows, settings.tolerances.gap_tol)
     length = (chain_length or max(P, 1)) if chain else 1  # points per independent block unit
+    given = _start_states(states, chain, length, rows, settings.tolerances.gap_tol)
     units = P // length if P else 0
     if workers > 1 and units > 1:
         run.warm_up()  # (the kernels loaded once, here: the forked workers inherit them)
@@ -471,7 +479,7 @@ def _settle(values, rows, given, settings: SweepSettings, chain: bool, length: i
         else:  # the reference's ladder, from the same neighbour or start
             chained = chain and i % length != 0
             previous = _sweep_point(res, i - 1, _parameters(rows[i - 1])) if chained else None
-            state = given[i].copy() if len(given) else None
+            state = given[i].copy() if len(given) and not chained else None
             _store(res, i, solve_point(p, value, previous, state=state, settings=reference), reason)
     if settings.classify:
         _classify(res, rows, settings, run.name)

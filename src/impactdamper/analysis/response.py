@@ -19,7 +19,11 @@ by what a designer needs:
   energy over the window, which a settled cycle leaves at the settle tolerance;
 * whether the upward and downward sweeps settle on different motions (hysteresis).
 
-The exact linear response without a stop (eq. 10) is given beside it, in closed form.
+The exact linear response without a stop (eq. 10) is given beside it, in closed form. The peak
+over the band is not the grid's largest sample but the worst branch located
+(:func:`impactdamper.analysis.peaks.worst_branch`: every branch a slow sweep in either
+direction follows, jumps bracketed, the no-contact floor in closed form, random starts at the
+peaks), to 1e-6 in theta.
 
 The cycle is read from a fresh event-driven run of one cycle from the sweep point's section
 state (t = n T, forcing phase zero): the sweep point keeps that state, not the trajectory.
@@ -181,10 +185,13 @@ class FrequencyResponse:
         The other parameters (its theta is not used).
     points : tuple of ResponsePoint
         In increasing theta.
+    located : WorstBranch or None
+        The worst branch over the band, located (None for a band of one theta).
     """
 
     p: Parameters = field(repr=False)
     points: tuple
+    located: object = field(default=None, repr=False)
 
     @property
     def thetas(self) -> np.ndarray:
@@ -194,9 +201,26 @@ class FrequencyResponse:
         """max|x1|/x_st, the larger of the two directions, per theta. Shape (points,)."""
         return np.array([q.worst_x1 for q in self.points])
 
-    def peak(self) -> float:
+    def grid_peak(self) -> float:
         """Largest max|x1|/x_st over the grid and both directions."""
         return float(np.nanmax(self.worst_x1()))
+
+    def peak(self) -> float:
+        """The worst branch's peak over the band, located (never below the grid's largest
+        sample; the grid's alone for a band of one theta)."""
+        if self.located is None:
+            return self.grid_peak()
+        return max(self.located.peak, self.grid_peak())
+
+    def peak_where(self) -> tuple[float, str]:
+        """(theta, branch in words) of :meth:`peak`."""
+        if self.located is not None and self.located.peak >= self.grid_peak():
+            return self.located.peak_theta, self.located.branch()
+        i = int(np.nanargmax(self.worst_x1()))
+        q = self.points[i]
+        up = not q.down.max_abs_x1 > q.up.max_abs_x1
+        label = (q.up if up else q.down).label
+        return q.theta, ("up" if up else "down") + f", {label}, sample"
 
     def band_average(self) -> float:
         """Trapezoidal mean over theta of the worst max|x1|/x_st (the grid's first point alone
@@ -216,9 +240,14 @@ class FrequencyResponse:
 
     def to_dict(self) -> dict:
         """The JSON object of ``python -m impactdamper response --json``."""
+        theta, branch = self.peak_where()
         return {
             "parameters": self.p.to_dict(),
             "peak_max_abs_x1": self.peak(),
+            "peak_theta": theta,
+            "peak_branch": branch,
+            "grid_peak_max_abs_x1": self.grid_peak(),
+            "no_contact_floor": None if self.located is None else self.located.floor.value,
             "band_average_max_abs_x1": self.band_average(),
             **self.loads(),
             "hysteresis_points": int(sum(q.hysteresis for q in self.points)),
@@ -421,6 +450,7 @@ def frequency_response(
     hysteresis_tol: float = HYSTERESIS_TOL,
     progress: Callable[[str], None] | None = None,
     on_point: Callable[[], None] | None = None,
+    locate: bool = True,
 ) -> FrequencyResponse:
     """Settled motion against theta, by an upward and a downward sweep, with its metrics.
 
@@ -441,6 +471,9 @@ def frequency_response(
     on_point : callable(), optional
         Called after each settled point of the two sweeps (``2 points`` calls in all), for a
         progress bar (:mod:`impactdamper.reporting.progress`).
+    locate : bool
+        Locate the worst branch over the band (:func:`impactdamper.analysis.peaks.worst_branch`,
+        with the same settings); False: the grid's largest sample is the peak.
 
     Returns
     -------
@@ -485,4 +518,13 @@ def frequency_response(
                 f"metrics {i + 1}/{len(thetas)}: theta = {theta:.4g}, {up.label}/{down.label}, "
                 f"max|x1|/x_st = {mu.max_abs_x1:.4g}/{md.max_abs_x1:.4g}"
             )
-    return FrequencyResponse(p, tuple(out))
+    located = None
+    if locate and len(thetas) > 1:
+        from impactdamper.analysis.peaks import worst_branch
+
+        located = worst_branch(p, (float(thetas[0]), float(thetas[-1])), settings=settings)
+        if progress is not None:
+            progress(
+                f"worst branch located: {located.peak:.8g} at theta = {located.peak_theta:.8g} ({located.branch()})"
+            )
+    return FrequencyResponse(p, tuple(out), located)

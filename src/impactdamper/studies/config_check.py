@@ -453,21 +453,20 @@ def _lyapunov_grids(ly: dict) -> list[tuple[tuple, str, float, int, str]]:
 def _design_grids(d: dict) -> list[tuple[tuple, str, float, int, str]]:
     """The design stage's grids (see :func:`grid_sizes`)."""
     band = "theta values of the band"
-    grids = [_key(d, ("design", key), MAX_POINTS, band) for key in ("theta_points", "response_points")]
-    for key in ("band_step", "coarse_step"):
-        n = math.ceil((d["theta_stop"] - d["theta_start"]) / d[key] - 1e-9) + 1
-        grids.append(_key(d, ("design", key), MAX_POINTS, band, n))
+    grids = [_key(d, ("design", "response_points"), MAX_POINTS, band)]
+    n = math.ceil((d["theta_stop"] - d["theta_start"]) / d["band_step"] - 1e-9) + 1
+    grids.append(_key(d, ("design", "band_step"), MAX_POINTS, band, n))
     grids.append(_key(d, ("design", "baseline_points"), MAX_CLOSED_FORM_POINTS, "theta values of the linear curves"))
     grids += [_key(d, ("design", key), MAX_LINE_POINTS, "gap values") for key in ("gap_points", "second_gap_points")]
-    counts = (d["gap_points"], d["theta_points"])
-    grids.append(_product(("design",), "gap_points x theta_points", counts, MAX_SETTLED_POINTS, "chart points"))
-    counts = (len(d["second_values"]), d["second_gap_points"], d["theta_points"])
-    names = "second_values x second_gap_points x theta_points"
+    counts = (d["gap_points"], n)
+    grids.append(_product(("design",), "gap_points x band points", counts, MAX_SETTLED_POINTS, "chart points"))
+    counts = (len(d["second_values"]), d["second_gap_points"], n)
+    names = "second_values x second_gap_points x band points"
     grids.append(_product(("design",), names, counts, MAX_SETTLED_POINTS, "chart points"))
-    for key in ("optimum_starts", "polish_evaluations", "robust_evaluations"):
+    for key in ("search_samples", "search_polls", "search_polish", "robust_polls", "robust_polish", "search_checks"):
         grids.append(_key(d, ("design", key), MAX_LINE_POINTS, "evaluations"))
-    counts = (d["optimum_keep"], d["optimum_evaluations"])
-    grids.append(_product(("design",), "optimum_keep x optimum_evaluations", counts, MAX_LINE_POINTS, "evaluations"))
+    grids.append(_key(d, ("design", "search_starts"), MAX_REPEATS, "searches"))
+    grids.append(_key(d, ("design", "benchmark_objects"), MAX_REPEATS, "timed objects", len(d["benchmark_objects"])))
     return grids
 
 
@@ -482,29 +481,53 @@ def _too_large(config: dict) -> Problem | None:
 
 def _reference_theta_off_the_design_grid(config: dict) -> Problem | None:
     """The design chart reads each gap at the reference theta too: it must be a point of the
-    chart's theta grid (``theta_points`` from ``theta_start`` to ``theta_stop``), within the
-    1e-9 relative the chart's job allows (workflow/scripts/design_chart.py)."""
+    chart's theta grid (steps of at most ``band_step`` from ``theta_start`` to ``theta_stop``),
+    within the 1e-9 relative the chart's job allows (workflow/scripts/design_chart.py)."""
     d = config.get("design")
     if not d:
         return None
     theta = float(config["reference"]["theta"])
-    a, b, n = float(d["theta_start"]), float(d["theta_stop"]), int(d["theta_points"])
+    a, b, step = float(d["theta_start"]), float(d["theta_stop"]), float(d["band_step"])
 
-    def on_grid(points: int) -> bool:
+    def on_grid(s: float) -> bool:
+        from impactdamper.analysis.peaks import band_points
+
+        points = band_points([(a, b)], s)
         return bool(np.any(np.abs(np.linspace(a, b, points) - theta) <= 1e-9 * max(abs(theta), 1.0)))
 
-    if on_grid(n):
+    if on_grid(step):
         return None
     if not a <= theta <= b:
         return ("design",), (
             f": theta_start = {a!r}, theta_stop = {b!r} is not allowed: the band must contain the reference "
             f"theta = {theta:g} (the chart reads each gap there)"
         )
-    fits = [m for m in range(2, MAX_POINTS + 1) if on_grid(m)][:3]
+    fits = [s for s in (0.05, 0.025, 0.02, 0.01, 0.005) if on_grid(s)][:3]
     hint = f" (such as {', '.join(map(str, fits))})" if fits else ""
-    return ("design", "theta_points"), (
-        f": {n!r} is not allowed: the theta grid from {a:g} to {b:g} must contain the reference theta = {theta:g}{hint}"
+    return ("design", "band_step"), (
+        f": {step!r} is not allowed: the theta grid from {a:g} to {b:g} must contain the reference theta = {theta:g}{hint}"
     )
+
+
+def _design_object_out_of_range(config: dict) -> Problem | None:
+    """The design table's object (the reference mu and delta1, the band, the uncertainties)
+    must be within the design command's documented ranges (its job would refuse it)."""
+    d = config.get("design")
+    if not d:
+        return None
+    from impactdamper.studies.design.devices import Uncertainty
+    from impactdamper.studies.design.optimum import check_object
+
+    r = config["reference"]
+    unc = Uncertainty(float(d["detuning"]), tuple(float(x) for x in d["force_band"]), float(d["restitution_drift"]))
+    try:
+        check_object((d["theta_start"], d["theta_stop"]), r["mu"], r["delta1"], unc, None, 1e3, 10.0)
+    except ValueError as err:
+        name = str(err).split("`")[1]
+        keys = {"force_low": "force_band", "force_high": "force_band", "restitution_drift": "restitution_drift"}
+        section = "reference" if name in ("mu", "delta1") else "design"
+        return (section, keys.get(name, name)), f": {err}"
+    return None
 
 
 def problem(config: dict, schema: dict) -> Problem | None:
@@ -527,7 +550,7 @@ def problem(config: dict, schema: dict) -> Problem | None:
         if found is not None:
             return found
     filled = _with_defaults(config, schema)
-    for check_one in (config_problem, _too_large, _reference_theta_off_the_design_grid):
+    for check_one in (config_problem, _too_large, _reference_theta_off_the_design_grid, _design_object_out_of_range):
         found = check_one(filled)
         if found is not None:
             return found

@@ -1,10 +1,9 @@
-"""Choosing a suppressor: linear baselines and design charts over the gap.
+"""Choosing a suppressor: the linear baselines and the design charts over the gap.
 
 Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100, compute the suppressor's motion
 for a given gap; a designer wants the gap (and spring, restitution) that keeps the object's
-amplitude lowest over the band of forcing frequencies it will meet. This module answers that
-by simulation (:func:`impactdamper.analysis.response.frequency_response` at each gap) and sets
-the answer beside three linear references, each computed here:
+amplitude lowest over the band of forcing frequencies it will meet. This module sets the
+paper's suppressor, over a range of gaps, beside three linear references, each computed here:
 
 * the bare object (no suppressor): |x1|/x_st = 1/|1 - theta^2 + 2 i delta1 theta|;
 * the absorber without a stop: the same mu, N, delta2 (eq. 10 with no contact);
@@ -19,11 +18,12 @@ two-mass system has
 
     x1_hat/x_st = (B - theta^2) / ((1 - theta^2 + 2 i delta1 theta)(B - theta^2) - mu B theta^2),
 
-the relative form of eq. (10).
+the relative form of eq. (10) (:mod:`impactdamper.analysis.linear_device`).
 
-The design criterion of an impact suppressor at one gap is the worse of the upward and downward
-sweeps at each theta (a designer cannot choose the branch), then its maximum over the band
-(peak) or its trapezoidal mean (band average).
+The design chart (:func:`gap_chart`) judges the impact suppressor at each gap on its worst
+branch over the band (:func:`impactdamper.analysis.peaks.worst_branches`: both sweep
+directions, peaks located, the no-contact floor, random starts): its peak and its band average;
+the best gap of the chart is then located (:func:`best_gap`), not read off the chart's grid.
 """
 
 from __future__ import annotations
@@ -35,7 +35,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import scipy.optimize
 
-from impactdamper.analysis.response import frequency_response, theta_grid
+from impactdamper.analysis.linear_device import LinearDevice, check_band, linear_maxima, linear_peak
+from impactdamper.analysis.peaks import RANDOM_COUNT, SEARCH_THETA_TOL, THETA_TOL, WorstBranch, worst_branches
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, finite_argument, require_parameters
@@ -50,6 +51,7 @@ __all__ = [
     "band_mean",
     "GapChart",
     "gap_chart",
+    "best_gap",
     "good_band",
     "design_chart_2d",
     "CRITERIA",
@@ -61,16 +63,11 @@ __all__ = [
     "design_gaps",
     "response_gaps",
     "runs_where",
-    "BAND_STEP",
-    "THETA_TOL",
-    "AMPLITUDE_RTOL",
-    "band_grid",
-    "LocatedPeak",
-    "BandResponse",
-    "impact_band_response",
+    "pulse_unit",
     "LinearDevice",
     "linear_maxima",
     "linear_peak",
+    "GAP_XTOL",
 ]
 
 CRITERIA = ("peak", "band_average")
@@ -239,13 +236,7 @@ class TunedMassDamper:
         return d
 
 
-def _check_band(band: object) -> tuple[float, float]:
-    try:
-        a, b = band  # type: ignore[misc]
-    except (TypeError, ValueError):
-        raise ValueError(f"`band` = {band!r} is not allowed: must be two numbers (theta_start, theta_stop)") from None
-    theta_grid(a, b, 2)
-    return float(a), float(b)
+_check_band = check_band
 
 
 def optimal_tmd(
@@ -317,9 +308,26 @@ def optimal_tmd(
     )
 
 
+# The best gap of a chart is located to this (Delta0/x_st) by Brent's method between the chart's
+# neighbours of its best grid gap.
+GAP_XTOL = 1e-3
+
+
+def pulse_unit(p: Parameters, thetas: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """The pulse of eq. (21) over P0/omega1, from closing velocities v over x_st omega at each
+    theta: the model's impact law (:meth:`impactdamper.core.model.Model.impact`, linear in v)
+    applied to a unit closing velocity, times v, over m1 x_st omega1 (= P0/omega1)."""
+    from impactdamper.core.model import Model
+
+    contact = np.array([0.0, p.Delta0, 0.0, 1.0])  # at the stop, closing at 1 m/s
+    per_velocity = Model(p).impact(contact)[2]  # N s per m/s
+    # S = per_velocity v x_st omega, and P0/omega1 = m1 x_st omega1 = m1 x_st omega/theta.
+    return per_velocity * np.asarray(velocity) * np.asarray(thetas) / p.m1
+
+
 @dataclass(frozen=True)
 class GapChart:
-    """The frequency response at each gap, and the design criteria it gives.
+    """The worst branch at each gap, and the design criteria it gives.
 
     Attributes
     ----------
@@ -327,44 +335,50 @@ class GapChart:
         The other parameters.
     gaps : ndarray, shape (n,)
         Delta0/x_st, increasing.
-    responses : tuple of FrequencyResponse
-        One per gap, over the same theta grid.
+    branches : tuple of WorstBranch
+        One per gap, over the same band.
     """
 
     p: Parameters = field(repr=False)
     gaps: np.ndarray
-    responses: tuple = field(repr=False)
+    branches: tuple = field(repr=False)
 
     def criterion(self, name: str) -> np.ndarray:
-        """``peak`` or ``band_average`` of the worse direction's max|x1|/x_st, per gap."""
+        """``peak`` (the worst branch's located peak) or ``band_average``, per gap."""
         if name not in CRITERIA:
             raise ValueError(f"`criterion` = {name!r} is not allowed: must be one of {', '.join(CRITERIA)}")
-        return np.array([r.peak() if name == "peak" else r.band_average() for r in self.responses])
+        return np.array([w.peak if name == "peak" else w.band_average for w in self.branches])
 
     def at_theta(self, theta: float) -> np.ndarray:
-        """The worse direction's max|x1|/x_st at one theta of the grid, per gap (the gap sweep of
+        """The worst motion's max|x1|/x_st at one theta of the grid, per gap (the gap sweep of
         the sweeps stage reads the gap at the reference theta = 1 only)."""
         theta = finite_argument("theta", theta)
-        thetas = self.responses[0].thetas
+        thetas = self.branches[0].thetas
         i = int(np.argmin(np.abs(thetas - theta)))
         if abs(thetas[i] - theta) > 1e-9 * max(abs(theta), 1.0):
             raise ValueError(
                 f"`theta` = {theta!r} is not allowed: must be on the chart's theta grid "
                 f"({thetas[0]:g} to {thetas[-1]:g} in {len(thetas)} points)"
             )
-        return np.array([r.points[i].worst_x1 for r in self.responses])
+        return np.array([w.worst_sample[i] for w in self.branches])
 
     def loads(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per gap: largest peak pulse (over m1 x_st omega) and impacts per period over the band."""
-        ls = [r.loads() for r in self.responses]
-        return np.array([x["peak_impulse"] for x in ls]), np.array([x["impacts_per_period"] for x in ls])
+        """Per gap over the grid and both sweeps: the largest pulse per impact over P0/omega1
+        and the most impacts per period (settled motions)."""
+        pulse, impacts = [], []
+        for w in self.branches:
+            v = np.fmax(pulse_unit(w.p, w.thetas, w.up_velocity), pulse_unit(w.p, w.thetas, w.down_velocity))
+            pulse.append(float(np.nanmax(v)))
+            impacts.append(float(np.nanmax(np.r_[w.up_impacts, w.down_impacts, 0.0])))
+        return np.array(pulse), np.array(impacts)
 
     def best(self, name: str, tolerance: float = GOOD_GAP_TOLERANCE) -> dict:
-        """The gap minimising criterion ``name`` and its band of good gaps (see :func:`good_band`)."""
+        """The chart's gap minimising criterion ``name`` and its band of good gaps (see
+        :func:`good_band`)."""
         values = self.criterion(name)
         i = int(np.nanargmin(values))
         lo, hi = good_band(self.gaps, values, tolerance)
-        impulse, impacts = self.loads()
+        pulse, impacts = self.loads()
         return {
             "criterion": name,
             "gap": float(self.gaps[i]),
@@ -372,7 +386,7 @@ class GapChart:
             "tolerance": tolerance,
             "good_from": lo,
             "good_to": hi,
-            "peak_impulse": float(impulse[i]),
+            "peak_impulse": float(pulse[i]),
             "impacts_per_period": float(impacts[i]),
             "index": i,
         }
@@ -380,17 +394,18 @@ class GapChart:
     def rows(self, theta: float | None = None) -> list[dict]:
         """One dict per gap; with ``theta``, also ``max_abs_x1_at_theta`` (see :meth:`at_theta`)."""
         peak, mean = self.criterion("peak"), self.criterion("band_average")
-        impulse, impacts = self.loads()
+        pulse, impacts = self.loads()
         at = self.at_theta(theta) if theta is not None else [None] * len(self.gaps)
         out = []
-        for g, a, b, s, z, r, x in zip(self.gaps, peak, mean, impulse, impacts, self.responses, at):
+        for g, w, a, b, s, z, x in zip(self.gaps, self.branches, peak, mean, pulse, impacts, at):
             row = {
                 "gap": float(g),
                 "peak_max_abs_x1": float(a),
+                "peak_theta": float(w.peak_theta),
                 "band_average_max_abs_x1": float(b),
+                "no_contact_floor": float(w.floor.value),
                 "peak_impulse": float(s),
                 "impacts_per_period": float(z),
-                "hysteresis_points": int(sum(q.hysteresis for q in r.points)),
             }
             if theta is not None:
                 row["max_abs_x1_at_theta"] = float(x)
@@ -421,12 +436,16 @@ def gap_chart(
     p: Parameters,
     gaps: Sequence[float],
     band: tuple[float, float] = (0.5, 1.5),
-    points: int = 21,
+    step: float = 0.02,
     *,
+    theta_tol: float = SEARCH_THETA_TOL,
     settings: SweepSettings | None = None,
+    workers: int = 1,
     progress: Callable[[str], None] | None = None,
 ) -> GapChart:
-    """The two-way frequency response over ``band`` (``points`` thetas) at each gap.
+    """The worst branch over ``band`` at each gap (one batch of all gaps,
+    :func:`~impactdamper.analysis.peaks.worst_branches`: grid steps of at most ``step``, peaks
+    located to ``theta_tol``, no random starts).
 
     Parameters
     ----------
@@ -435,27 +454,83 @@ def gap_chart(
     gaps : sequence of float
         Delta0/x_st values (sorted here).
     band : (float, float)
-    points : int
+    step, theta_tol : float
     settings : SweepSettings, optional
+    workers : int
     progress : callable(str), optional
-        Called with a one-line message after each gap.
+        Called with a one-line summary.
     """
     p = require_parameters(p)
-    band = _check_band(band)
-    theta_grid(band[0], band[1], points)
+    band = check_band(band)
     gaps = np.array(sorted(finite_argument("gaps", g) for g in gaps))
     if len(gaps) == 0:
         raise ValueError("`gaps` = [] is not allowed: must hold at least one value")
-    out = []
-    for j, g in enumerate(gaps):
-        r = frequency_response(with_value(p, "gap", float(g)), band[0], band[1], points, settings=settings)
-        out.append(r)
-        if progress is not None:
-            progress(
-                f"gap {j + 1}/{len(gaps)}: Delta0/x_st = {g:.4g}, peak max|x1|/x_st = {r.peak():.4g}, "
-                f"band average {r.band_average():.4g}"
-            )
-    return GapChart(p, gaps, tuple(out))
+    cases = [with_value(p, "gap", float(g)) for g in gaps]
+    ws = worst_branches(
+        cases, [band] * len(cases), step=step, theta_tol=theta_tol, random_count=0, settings=settings, workers=workers
+    )
+    if progress is not None:
+        i = int(np.argmin([w.peak for w in ws]))
+        progress(f"{len(gaps)} gaps from {gaps[0]:g} to {gaps[-1]:g}: lowest peak {ws[i].peak:.4g} at {gaps[i]:g}")
+    return GapChart(p, gaps, tuple(ws))
+
+
+def best_gap(
+    chart: GapChart,
+    name: str = "peak",
+    *,
+    step: float = 0.02,
+    settings: SweepSettings | None = None,
+    workers: int = 1,
+    xtol: float = GAP_XTOL,
+) -> dict:
+    """The gap minimising criterion ``name`` of the chart's suppressor, located: Brent's method
+    between the chart's neighbours of its best grid gap (to ``xtol``), each value the worst
+    branch located to THETA_TOL with the random starts. Returns {gap, value, peak_theta,
+    branch, evaluations, bracket}."""
+    values = chart.criterion(name)
+    i = int(np.nanargmin(values))
+    lo, hi = chart.gaps[max(i - 1, 0)], chart.gaps[min(i + 1, len(chart.gaps) - 1)]
+    band = chart.branches[0].band
+    seen: dict = {}
+
+    def located(g: float) -> WorstBranch:
+        if g not in seen:
+            q = with_value(chart.p, "gap", float(g))
+            seen[g] = worst_branches(
+                [q],
+                [band],
+                step=step,
+                theta_tol=THETA_TOL,
+                random_count=RANDOM_COUNT,
+                settings=settings,
+                workers=workers,
+            )[0]
+        return seen[g]
+
+    def f(g: float) -> float:
+        w = located(g)
+        return w.peak if name == "peak" else w.band_average
+
+    if hi > lo:
+        res = scipy.optimize.minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": xtol})
+        g = float(res.x)
+    else:
+        g = float(lo)
+    candidates = [g, float(chart.gaps[i])]
+    g = min(candidates, key=f)
+    w = located(g)
+    return {
+        "gap": g,
+        "value": f(g),
+        "peak": w.peak,
+        "band_average": w.band_average,
+        "peak_theta": w.peak_theta,
+        "peak_branch": w.branch(),
+        "evaluations": len(seen),
+        "bracket": [float(lo), float(hi)],
+        "xtol": xtol,
+    }
 
 
 def design_chart_2d(
@@ -464,9 +539,10 @@ def design_chart_2d(
     values: Sequence[float],
     gaps: Sequence[float],
     band: tuple[float, float] = (0.5, 1.5),
-    points: int = 21,
+    step: float = 0.02,
     *,
     settings: SweepSettings | None = None,
+    workers: int = 1,
     progress: Callable[[str], None] | None = None,
 ) -> dict[float, GapChart]:
     """:func:`gap_chart` at each value of a second parameter ``name`` (``N`` or ``R``, or any
@@ -479,447 +555,5 @@ def design_chart_2d(
         q = with_value(require_parameters(p), name, finite_argument("values", v))
         if progress is not None:
             progress(f"{name} = {v:.4g}")
-        out[float(v)] = gap_chart(q, gaps, band, points, settings=settings, progress=progress)
+        out[float(v)] = gap_chart(q, gaps, band, step, settings=settings, workers=workers, progress=progress)
     return out
-
-
-# ---------------------------------------------------------------------------------------------
-# Peaks located, not sampled.
-#
-# One grid policy for every device: the band is sampled at theta steps of at most BAND_STEP
-# (band_grid); the band average of every device is the trapezoidal mean on that grid; the peak
-# of every device is located, not read off the grid: the linear devices' in closed form (the
-# real roots of the derivative of |x1|^2, a rational function of theta), the impact
-# suppressor's by zooming on every local maximum of both sweep directions (continuation from
-# the neighbour, the bracket shrunk until it is THETA_TOL wide and the value changes by less
-# than AMPLITUDE_RTOL from one zoom to the next).
-# ---------------------------------------------------------------------------------------------
-
-# The band grid's largest theta step: the impact suppressor's resonance peaks are ~0.05 wide in
-# theta at mu = 0.08, so 0.01 puts ~5 samples on each, enough to see every local maximum the
-# zoom then locates; the band average's trapezoidal error on that grid is ~1e-3 relative.
-BAND_STEP = 0.01
-# A located peak's final theta bracket is at most this wide (the maximum lies in it) ...
-THETA_TOL = 1e-4
-# ... and its value changed by less than this (relative) in the last zoom.
-AMPLITUDE_RTOL = 1e-4
-# Points per zoom: the bracket shrinks by ZOOM_POINTS/2 each zoom.
-ZOOM_POINTS = 8
-# Zooms at most: 0.02 * 4^-14 ~ 7e-11 in theta; near a jump (a fold, where the branch's amplitude
-# behaves like sqrt(theta* - theta)) each zoom halves the amplitude error.
-MAX_ZOOMS = 14
-# Local maxima of one direction refined at most (the largest ones): a chaotic stretch of the band
-# has a local maximum at nearly every grid point, and only the largest decide the peak.
-MAX_LOCAL_MAXIMA = 6
-# A drop by more than this fraction between the located maximum and its next zoom point (in the
-# sweep's direction) marks the maximum as the end of a branch (a jump).
-JUMP_DROP = 1e-2
-
-
-def band_grid(band: tuple[float, float], step: float = BAND_STEP) -> np.ndarray:
-    """The band's grid, for every device: equally spaced, from ``band[0]`` to ``band[1]``, with
-    steps of at most ``step`` (ceil((b - a)/step) + 1 points). Shape (points,)."""
-    a, b = _check_band(band)
-    step = finite_argument("step", step)
-    if not step > 0:
-        raise ValueError(f"`step` = {step!r} is not allowed: must be > 0")
-    n = int(math.ceil((b - a) / step - 1e-9)) + 1
-    return theta_grid(a, b, max(n, 2))
-
-
-@dataclass(frozen=True)
-class LocatedPeak:
-    """One local maximum of max|x1|/x_st over theta, located.
-
-    Attributes
-    ----------
-    theta, value : float
-        Where and how high (value over x_st).
-    direction : str
-        ``up`` or ``down``: the sweep (continuation) direction whose branch it is on.
-    jump : bool
-        The maximum is the end of a branch (the next point in the sweep's direction, within the
-        final bracket, is more than ``JUMP_DROP`` lower): located by bisection of the jump.
-    periodic : bool
-        The motion there settled on a cycle. False: nonperiodic (a chaotic stretch), where
-        max|x1| is the largest over the settle window and no tolerance applies.
-    bracket : float
-        Width of the final theta bracket (the maximum lies in it).
-    change : float
-        Relative change of the value in the last zoom.
-    evaluations : int
-        Settled motions the zoom took.
-    """
-
-    theta: float
-    value: float
-    direction: str
-    jump: bool
-    periodic: bool
-    bracket: float
-    change: float
-    evaluations: int
-
-    def to_dict(self) -> dict:
-        return {name: getattr(self, name) for name in self.__dataclass_fields__}
-
-
-@dataclass(frozen=True)
-class BandResponse:
-    """max|x1|/x_st of an impact suppressor over the band grid, both sweep directions, and its
-    located local maxima (see :func:`impact_band_response`).
-
-    Attributes
-    ----------
-    p : Parameters
-    thetas : ndarray, shape (n,)
-        The band grid (:func:`band_grid`).
-    up, down : ndarray, shape (n,)
-        max|x1|/x_st of the upward and the downward sweep.
-    peaks : tuple of LocatedPeak
-        Located local maxima (empty when ``locate`` was False), largest first.
-    up_sections, down_sections : ndarray, shape (n, 4)
-        The settled section states (for the cycles' loads).
-    up_k, down_k : ndarray of int, shape (n,)
-        Period multiples (0: nonperiodic).
-    evaluations : int
-        Settled motions in all.
-    """
-
-    p: Parameters = field(repr=False)
-    thetas: np.ndarray
-    up: np.ndarray
-    down: np.ndarray
-    peaks: tuple
-    up_sections: np.ndarray = field(repr=False)
-    down_sections: np.ndarray = field(repr=False)
-    up_k: np.ndarray = field(repr=False)
-    down_k: np.ndarray = field(repr=False)
-    evaluations: int = 0
-
-    def worst(self) -> np.ndarray:
-        """The worse direction at each grid theta. Shape (n,)."""
-        return np.fmax(self.up, self.down)
-
-    def grid_peak(self) -> float:
-        return float(np.nanmax(self.worst()))
-
-    def interpolated_peak(self) -> float:
-        """The grid's peak refined at no cost: at each interior local maximum of each direction
-        the vertex of the parabola through it and its two neighbours (where it curves down),
-        never below the grid's own value. Between the grid peak and the located one: the
-        optimiser's local stage reads it, as a peak between two grid points otherwise hides."""
-        best = self.grid_peak()
-        for y in (self.up, self.down):
-            y0, y1, y2 = y[:-2], y[1:-1], y[2:]
-            curve = y0 - 2.0 * y1 + y2
-            ok = (y1 >= y0) & (y1 >= y2) & (curve < 0) & np.isfinite(curve)
-            if np.any(ok):
-                vertex = y1[ok] - (y0[ok] - y2[ok]) ** 2 / (8.0 * curve[ok])
-                best = max(best, float(np.max(vertex)))
-        return best
-
-    @property
-    def peak(self) -> float:
-        """The located peak: the largest located maximum (never below the grid's largest)."""
-        return max([self.grid_peak()] + [q.value for q in self.peaks])
-
-    @property
-    def peak_theta(self) -> float:
-        if self.peaks and self.peaks[0].value >= self.grid_peak():
-            return self.peaks[0].theta
-        return float(self.thetas[int(np.nanargmax(self.worst()))])
-
-    @property
-    def band_average(self) -> float:
-        """Trapezoidal mean of the worse direction over the band grid."""
-        x, y = self.thetas, self.worst()
-        return float(np.trapezoid(y, x) / (x[-1] - x[0]))
-
-
-def _settle_from(p: Parameters, thetas: Sequence[float], start: np.ndarray, settings) -> tuple:
-    """Settle the thetas in order, each from the previous one's section (the first from
-    ``start``): continuation, as a sweep. Returns (values, sections, period multiples), shapes
-    (m,), (m, 4), (m,) (k = 0: nonperiodic)."""
-    from impactdamper import steady_states
-
-    values, sections, ks = [], [], []
-    state = np.asarray(start, float)
-    for t in thetas:
-        r = steady_states(p, ("theta",), np.array([[float(t)]]), settings=settings, chain=False, states=state[None, :])
-        values.append(float(r.x1_max[0]))
-        ks.append(int(r.period_multiple[0]))
-        state = r.sections[0].copy()
-        sections.append(state)
-    return np.array(values), np.array(sections), np.array(ks)
-
-
-def _zoom(
-    p: Parameters,
-    a: float,
-    b: float,
-    y_a: float,
-    s_a: np.ndarray,
-    k_a: int,
-    direction: str,
-    settings,
-    theta_tol: float,
-    rtol: float,
-) -> LocatedPeak:
-    """The largest max|x1| on the branch continued from (a, y_a, s_a) towards b (b < a for the
-    downward direction): zoom on the largest of ZOOM_POINTS continued points, from the point
-    before it, until the bracket is theta_tol wide and the value changes by less than rtol."""
-    best_t, best_y, best_k = a, y_a, k_a
-    evaluations, change, jump = 0, math.inf, False
-    for _ in range(MAX_ZOOMS):
-        ts = a + (b - a) * np.arange(1, ZOOM_POINTS + 1) / ZOOM_POINTS
-        ys, ss, ks = _settle_from(p, ts, s_a, settings)
-        evaluations += len(ts)
-        all_t = np.concatenate([[a], ts])
-        all_y = np.concatenate([[y_a], ys])
-        all_s = np.vstack([s_a[None, :], ss])
-        all_k = np.concatenate([[k_a], ks])
-        j = int(np.nanargmax(all_y))
-        previous = best_y
-        if all_y[j] >= best_y:
-            best_t, best_y, best_k = float(all_t[j]), float(all_y[j]), int(all_k[j])
-        change = abs(best_y - previous) / max(abs(best_y), 1e-300)
-        jump = j + 1 < len(all_y) and all_y[j + 1] < (1.0 - JUMP_DROP) * all_y[j]
-        lo = max(j - 1, 0)
-        a, y_a, s_a, k_a = float(all_t[lo]), float(all_y[lo]), all_s[lo], int(all_k[lo])
-        b = float(all_t[min(j + 1, len(all_t) - 1)])
-        if abs(b - a) <= theta_tol and change <= rtol:
-            break
-    return LocatedPeak(
-        theta=best_t,
-        value=best_y,
-        direction=direction,
-        jump=bool(jump),
-        periodic=best_k > 0,
-        bracket=abs(b - a),
-        change=float(change),
-        evaluations=evaluations,
-    )
-
-
-def _local_maxima(y: np.ndarray) -> list[int]:
-    """Indices of the local maxima of a sampled curve (ends included), largest first."""
-    n = len(y)
-    out = [
-        i
-        for i in range(n)
-        if np.isfinite(y[i]) and (i == 0 or not y[i - 1] > y[i]) and (i == n - 1 or not y[i + 1] > y[i])
-    ]
-    return sorted(out, key=lambda i: -y[i])
-
-
-def impact_band_response(
-    p: Parameters,
-    band: tuple[float, float] = (0.5, 1.5),
-    step: float = BAND_STEP,
-    *,
-    locate: bool = True,
-    settings: SweepSettings | None = None,
-    theta_tol: float = THETA_TOL,
-    rtol: float = AMPLITUDE_RTOL,
-    peaks: int = MAX_LOCAL_MAXIMA,
-) -> BandResponse:
-    """max|x1|/x_st of an impact suppressor over a band, both sweep directions, peaks located.
-
-    The band grid (:func:`band_grid`) is swept upward and downward by the compiled batch engine
-    (:func:`impactdamper.steady_states`, each point from its neighbour's settled
-    motion, Algorithm No. 2 of Timofeev et al. 2019 with eqs. 21-22 at the impacts). Then every
-    local maximum of each direction's samples (the ``peaks`` largest) is located: the branch is
-    continued from the grid point before it (in the sweep's direction) through ZOOM_POINTS
-    points to the grid point after it, and the bracket around the largest is zoomed the same
-    way until it is at most ``theta_tol`` wide and the value changed by less than ``rtol``
-    (relative) in the last zoom. Where the maximum ends a branch (a jump to another motion),
-    the zoom closes on the jump from the branch's side: a bisection of the jump, and the value
-    is the branch's end, the worse side. The peak is the largest over both directions.
-
-    Parameters
-    ----------
-    p : Parameters
-        The suppressor (its theta is not used).
-    band : (float, float)
-    step : float
-        Largest grid step.
-    locate : bool
-        False: the grid alone (no zoom).
-    settings : SweepSettings, optional
-    theta_tol, rtol : float
-    peaks : int
-        Local maxima located per direction, at most.
-
-    Returns
-    -------
-    BandResponse
-    """
-    from impactdamper import steady_states
-
-    p = require_parameters(p)
-    th = band_grid(band, step)
-    settings = settings or SweepSettings()
-    up = steady_states(p, ("theta",), th[:, None], settings=settings)
-    down = steady_states(p, ("theta",), th[::-1, None], settings=settings)
-    located = []
-    evaluations = 2 * len(th)
-    if locate:
-        for direction, res, order in (("up", up, th), ("down", down, th[::-1])):
-            y = np.asarray(res.x1_max, float)
-            for i in _local_maxima(y)[: int(peaks)]:
-                f = max(i - 1, 0)
-                nxt = min(i + 1, len(order) - 1)
-                if i == len(order) - 1 and i > 0:
-                    nxt = i
-                q = _zoom(
-                    p,
-                    float(order[f]),
-                    float(order[nxt]),
-                    float(y[f]),
-                    res.sections[f],
-                    int(res.period_multiple[f]),
-                    direction,
-                    settings,
-                    theta_tol,
-                    rtol,
-                )
-                if y[i] > q.value:  # the grid's own sample is higher (the zoom never lowers it)
-                    q = LocatedPeak(
-                        float(order[i]),
-                        float(y[i]),
-                        direction,
-                        q.jump,
-                        bool(res.period_multiple[i] > 0),
-                        q.bracket,
-                        q.change,
-                        q.evaluations,
-                    )
-                located.append(q)
-                evaluations += q.evaluations
-    located.sort(key=lambda q: -q.value)
-    return BandResponse(
-        p=p,
-        thetas=th,
-        up=np.asarray(up.x1_max, float),
-        down=np.asarray(down.x1_max, float)[::-1],
-        peaks=tuple(located),
-        up_sections=up.sections.copy(),
-        down_sections=down.sections[::-1].copy(),
-        up_k=up.period_multiple.copy(),
-        down_k=down.period_multiple[::-1].copy(),
-        evaluations=evaluations,
-    )
-
-
-# ---------------------------------------------------------------------------------------------
-# Linear devices in closed form.
-# ---------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class LinearDevice:
-    """A linear device on the object: the bare object (``mu`` = 0), the absorber without a stop
-    or a TMD, as polynomials in theta (relative form of eq. 10, see the module docstring).
-
-    x1_hat/x_st = (B - theta^2)/D(theta), (x2_hat - x1_hat)/x_st = theta^2/D(theta), with
-    B = N^2 + 2 i delta2 theta and D = (1 - theta^2 + 2 i delta1 theta)(B - theta^2) - mu B theta^2.
-    """
-
-    mu: float
-    N: float
-    delta1: float
-    delta2: float
-
-    def _polys(self) -> tuple:
-        P = np.polynomial.polynomial
-        obj = np.array([1.0, 2j * self.delta1, -1.0])
-        if self.mu == 0.0:
-            return np.array([1.0 + 0j]), obj, np.array([0.0j])
-        b = np.array([self.N**2, 2j * self.delta2, -1.0])
-        den = P.polysub(P.polymul(obj, b), self.mu * np.array([0.0, 0.0, self.N**2, 2j * self.delta2]))
-        return b, den, np.array([0.0, 0.0, 1.0 + 0j])
-
-    def amplitude(self, thetas: Sequence[float]) -> np.ndarray:
-        """|x1|/x_st. Shape (len(thetas),)."""
-        num, den, _ = self._polys()
-        th = np.asarray(thetas, float)
-        P = np.polynomial.polynomial
-        return np.abs(P.polyval(th, num) / P.polyval(th, den))
-
-    def stroke(self, thetas: Sequence[float]) -> np.ndarray:
-        """|x2 - x1|/x_st (0 for the bare object). Shape (len(thetas),)."""
-        _, den, st = self._polys()
-        th = np.asarray(thetas, float)
-        P = np.polynomial.polynomial
-        return np.abs(P.polyval(th, st) / P.polyval(th, den))
-
-    def peak(self, band: tuple[float, float]) -> tuple[float, float]:
-        """(theta, value) of the largest |x1|/x_st over the band, in closed form."""
-        num, den, _ = self._polys()
-        return linear_peak(num, den, band)
-
-    def stroke_peak(self, band: tuple[float, float]) -> tuple[float, float]:
-        """(theta, value) of the largest |x2 - x1|/x_st over the band, in closed form."""
-        _, den, st = self._polys()
-        if self.mu == 0.0:
-            return float(band[0]), 0.0
-        return linear_peak(st, den, band)
-
-    def band_average(self, band: tuple[float, float], step: float = BAND_STEP) -> float:
-        """Trapezoidal mean of |x1|/x_st on the band grid (:func:`band_grid`, as every device)."""
-        th = band_grid(band, step)
-        return float(np.trapezoid(self.amplitude(th), th) / (th[-1] - th[0]))
-
-
-def linear_maxima(num: np.ndarray, den: np.ndarray, band: tuple[float, float]) -> list[tuple[float, float]]:
-    """Every local maximum over ``band`` of |num(theta)/den(theta)|, num and den polynomials in
-    theta with complex coefficients (ascending order), in closed form: the stationary points
-    are the real roots of f' = 0 with f = |num|^2/|den|^2, i.e. of the real polynomial
-    (|num|^2)' |den|^2 - |num|^2 (|den|^2)', polished by Newton's method; the band's ends count
-    where the function falls away from them.
-
-    Returns
-    -------
-    list of (theta, value), largest first.
-    """
-    a, b = _check_band(band)
-    P = np.polynomial.polynomial
-    n2 = np.real(P.polymul(num, np.conj(num)))
-    d2 = np.real(P.polymul(den, np.conj(den)))
-    g = P.polysub(P.polymul(P.polyder(n2), d2), P.polymul(n2, P.polyder(d2)))
-    g = np.trim_zeros(g, "b")
-    value = lambda t: float(np.sqrt(P.polyval(t, n2) / P.polyval(t, d2)))  # noqa: E731
-    candidates = []
-    if len(g) > 1:
-        for r in P.polyroots(g):
-            if abs(r.imag) <= 1e-6 * max(1.0, abs(r.real)) and a - 1e-9 <= r.real <= b + 1e-9:
-                t = float(r.real)
-                dg = P.polyder(g)
-                for _ in range(3):  # Newton polish of the real root
-                    d = P.polyval(t, dg)
-                    if d == 0:
-                        break
-                    t -= P.polyval(t, g) / d
-                candidates.append(min(max(t, a), b))
-    candidates += [a, b]
-    out = []
-    # Neighbours 1e-5 of the band away: on a resonance of half-width >= 1e-3 of the band the
-    # function changes there by >= ~1e-4 relative, far above the rounding that 1e-12 allows.
-    h = 1e-5 * (b - a)
-    values = {t: value(t) for t in sorted(set(candidates))}
-    for t, v in values.items():
-        left = value(t - h) if t - h >= a else -math.inf
-        right = value(t + h) if t + h <= b else -math.inf
-        # A flat maximum's neighbours may exceed it by rounding: 1e-12 relative is allowed.
-        if v >= (1.0 - 1e-12) * left and v >= (1.0 - 1e-12) * right:
-            out.append((t, v))
-    top = max(values.items(), key=lambda x: x[1])  # the largest stationary point or end: always a maximum
-    if top not in out:
-        out.append(top)
-    return sorted(out, key=lambda x: -x[1])
-
-
-def linear_peak(num: np.ndarray, den: np.ndarray, band: tuple[float, float]) -> tuple[float, float]:
-    """(theta, value) of the largest |num/den| over ``band`` (see :func:`linear_maxima`)."""
-    return linear_maxima(num, den, band)[0]

@@ -1,564 +1,330 @@
-"""Choosing a suppressor, answered: both devices optimised by one optimiser on one criterion,
-their robustness to a detuned object, their stroke and their loads.
+"""Choosing a suppressor, answered: the design table of one object, what ``python -m
+impactdamper design`` prints and what the report's design table shows (one call,
+:func:`design_optima`).
 
-The two devices on an object of mass ratio mu and damping delta1 (Timofeev et al. 2019, DOI
-10.18698/0236-3941-2019-1-90-100, eqs. 1-2 and 9-10 in relative form):
+Both devices (:mod:`impactdamper.studies.design.devices`) on the object of mass ratio mu and
+damping delta1 over a band of forcing frequencies (Timofeev et al. 2019, DOI
+10.18698/0236-3941-2019-1-90-100, eqs. 1-2 and 9-10 in relative form) are optimised by one
+global search (:func:`impactdamper.studies.design.search.search`, the same budget for both) for
+each criterion: the nominal peak, the band average, the worst peak with the object detuned,
+with the force amplitude off its design value, with the restitution drifting; and under a
+stroke limit. The boxes are derived from the object: with s_T the stroke of its optimal TMD,
 
-* the **impact suppressor**: a spring-damper absorber (N, delta2) whose travel x2 - x1 is stopped
-  at the gap Delta0 (eq. 9), impacts by Newton's law with restitution R (eqs. 21-22); its
-  max|x1|/x_st over the band is the worse of the upward and downward sweeps
-  (:func:`impactdamper.studies.design.design.impact_band_response`), its peak located;
-* the **linear TMD** (N, delta2), no stop, in closed form (:class:`~impactdamper.studies.design.design.LinearDevice`).
+* the impact suppressor's gap Delta0/x_st in [-s_T, 1.5 s_T] (a stop preloaded by the TMD's
+  own travel to one beyond it: there the device is a TMD that never reaches its stop, the
+  *TMD limit*), and, *with its stop within reach*, in [-s_T, s_T];
+* N in [N_LOW, N_HIGH] times Den Hartog's 1/(1 + mu); delta2 in [0, DELTA2_HIGH times his
+  sqrt(3 mu/(8 (1 + mu)^3))] (the TMD's delta2 from DELTA2_LOW of that); R in [0.2, 0.95]
+  (a polymer pad to hardened steel);
+* under the stroke limit S (default half the optimal TMD's stroke) the impact suppressor's gap
+  at most S (its travel towards the stop is the gap).
 
-**Optimiser** (:func:`minimise`, the same for both): a scrambled Sobol sample of the parameter
-box (seeded: deterministic), the criterion at every sample on a coarse grid, then Nelder-Mead
-(in the box scaled to the unit cube, bounded) from the best few samples on the finer criterion.
-For the TMD both stages are the exact located peak; for the impact suppressor the coarse stage
-is the peak on a band grid of step ``COARSE_STEP`` and the local stage the peak on the band grid
-(step :data:`~impactdamper.studies.design.design.BAND_STEP`) refined by a parabola through each local
-maximum (:meth:`~impactdamper.studies.design.design.BandResponse.interpolated_peak`); with a
-``polish_evaluations`` budget a last Nelder-Mead runs on the located peak itself; the optimum's
-peak is then located.
-
-**Detuning** (:func:`detuned`): the object's natural frequency omega1 is uncertain by a factor
-f = 1 + e (its stiffness c1 by f^2; the masses, the suppressor and the force are what was
-built). In the relative parameters theta = omega/omega1 -> theta/f (the physical band of
-forcing frequencies maps to band/f), N = omega2/omega1 -> N/f, delta1 = k1/(2 m1 omega1) ->
-delta1/f, delta2 = k2/(2 m2 omega1) -> delta2/f, x_st = P0/c1 -> x_st/f^2, so the gap
-Delta0/x_st -> gap f^2, and an amplitude over the detuned x_st is divided by f^2 to be over the
-nominal x_st (the unit every result is in). mu and R are unchanged. The worst case of a design
-is the largest located peak over e on a grid of ``DETUNING_POINTS`` values in [-d, d].
+The answer over the whole box is seeded with, and never worse than, the one with the stop
+within reach. Every row of the table is then evaluated alike: located worst branch, band
+average, worst peaks over each uncertainty and over all together, stroke and loads.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
+import multiprocessing
+import os
 import time
-from dataclasses import dataclass
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import numpy as np
-import scipy.optimize
 import scipy.stats
 
-from impactdamper.analysis.point import SweepSettings
-from impactdamper.core.parameters import Parameters, finite_argument
-from impactdamper.core.simulate import EventDrivenSolver
-from impactdamper.studies.design.design import (
-    BAND_STEP,
-    CRITERIA,
-    BandResponse,
-    LinearDevice,
-    _check_band,
-    den_hartog,
-    impact_band_response,
+from impactdamper.analysis.linear_device import LinearDevice, check_band
+from impactdamper.core.validation import finite_argument
+from impactdamper.studies.design.devices import (
+    DESIGN_SETTINGS,
+    IMPACT_NAMES,
+    NATURAL_FREQUENCY,
+    RANGES,
+    STOP_STIFFNESS,
+    ImpactCriterion,
+    Scenario,
+    TmdCriterion,
+    Uncertainty,
+    impact_rows,
+    tmd_row,
 )
+from impactdamper.studies.design.search import Budget, SearchResult, search
 
 __all__ = [
-    "TIE",
-    "impacting",
-    "design_study",
-    "robust_impact",
-    "worst_within",
+    "RANGES",
+    "BUDGET",
+    "WORKERS",
+    "check_object",
+    "design_bounds",
+    "design_optima",
     "device",
     "recommendation",
-    "IMPACT_BOUNDS",
-    "TMD_BOUNDS",
-    "COARSE_STEP",
-    "DETUNING_POINTS",
-    "SENSITIVITY_WORSE",
-    "Optimum",
-    "minimise",
-    "optimise_tmd",
-    "optimise_impact",
-    "detuned",
-    "worst_case_tmd",
-    "worst_case_impact",
-    "sensitivity",
-    "impact_stroke_and_loads",
-    "tmd_at_stroke",
-    "design_optima",
-    "Budget",
-    "CLI_BUDGET",
-    "STAGE_BUDGET",
+    "SNUBBER_FRACTIONS",
+    "SNUBBER_R",
+    "STROKE_FRACTION",
+    "TIE",
+    "design_options",
+    "comparisons",
+    "headline",
+    "ROBUST_BUDGET",
 ]
 
-# The impact suppressor's box (relative units):
-# * gap Delta0/x_st in [-8, 16]: at -8 the stop is preloaded so far (spring force mu N^2 |gap| P0)
-#   that over most of the band the suppressor rides on the stop, a rigidly added mass; at +16 the
-#   stop lies beyond the travel of a tuned absorber (the optimal TMD's stroke is ~9.5 x_st at
-#   mu = 0.08): a linear absorber. Both ends are devices of their own, so the optimum lies
-#   inside (checked: ``at_bound``; with +8 the band-average optimum ran to 7.98).
-# * N in [0.2, 1.5]: from a nearly free impact mass (the classic impact damper) to a spring
-#   stiffer than the tuned one (1/(1 + mu)) by half.
-# * delta2 in [0, 0.3]: from no damper at all (the impacts alone dissipate; the optimum of the
-#   reference object runs there when the box stops at 0.005) to heavy viscous damping (zeta2 =
-#   delta2/N of 0.3 at N = 1).
-# * R in [0.2, 0.95]: what real stops give, a polymer pad (~0.2-0.5) to hardened steel (~0.9);
-#   0 and 1 are idealisations no buffer reaches.
-IMPACT_BOUNDS = {"gap": (-8.0, 16.0), "N": (0.2, 1.5), "delta2": (0.0, 0.3), "R": (0.2, 0.95)}
-# The impact suppressor's gap bound of the design table's row whose stop is within reach: the
-# optimal TMD's stroke is ~9.5 x_st, so a gap up to 8 meets the stop near resonance.
-STOP_GAP = 8.0
-# The TMD's box: the same N range, delta2 from nearly undamped to heavy (Den Hartog's optimum at
-# mu = 0.08 is N = 0.93, delta2 = 0.15).
-TMD_BOUNDS = {"N": (0.2, 1.5), "delta2": (0.001, 0.3)}
-# The coarse stage's band grid step for the impact suppressor: twice the band grid's, enough to
-# rank designs (the peaks are ~0.05 wide), at half the cost.
-COARSE_STEP = 0.02
-# Detuning values e in [-d, d] of a worst case (and of a robust optimum's criterion): 9 put
-# +-d/2 on the grid, so that one grid over +-10 % gives the +-5 % worst case too.
-DETUNING_POINTS = 9
-# A parameter's sensitivity: how far it may move (the others at the optimum) before the peak is
-# this much worse.
-SENSITIVITY_WORSE = 0.05
-# Bisection steps of a sensitivity: the move is known to 2^-12 of the box side.
-SENSITIVITY_STEPS = 12
-# Samples per forcing period of the stroke max|x2 - x1| (between the events, where it is
-# smooth: 512 samples leave ~2e-5 relative).
-STROKE_SAMPLES = 512
-# Forcing periods read for a cycle that did not settle.
-NONPERIODIC_PERIODS = 8
+# The search's budget, the same for both devices and every criterion (what a minute on two
+# cores buys: see the design benchmark).
+BUDGET = Budget(
+    samples=128, starts=2, polls=10, first_step=1 / 8, last_step=1 / 128, coarse_above=1 / 32, polish=30, checks=6
+)
+# The robust searches' budget (both devices): a local search from the nominal peak's optimum.
+ROBUST_BUDGET = Budget(
+    samples=0, starts=0, polls=6, first_step=1 / 16, last_step=1 / 128, coarse_above=1 / 32, polish=20, checks=6
+)
+# The nominal criteria, and the robust criteria searched (the others are evaluated for every
+# design: the table's columns).
+CRITERIA_NOMINAL = ("peak", "band_average")
+ROBUST_SEARCHED = ("detuning", "force", "restitution")
+# Processes of the batch calls (the results do not depend on it).
+WORKERS = 2
+# The box's sides relative to Den Hartog's optimum (module docstring).
+N_LOW, N_HIGH = 0.2, 1.5
+DELTA2_LOW, DELTA2_HIGH = 0.01, 3.0
+R_BOX = (0.2, 0.95)
+GAP_FULL = 1.5
+# The stroke limit of the stroke-limited rows, by default: this fraction of the optimal TMD's.
+STROKE_FRACTION = 0.7
+# The snubber: a stop put within the optimal TMD's own travel, at these fractions of its stroke,
+# with this restitution.
+SNUBBER_FRACTIONS = (0.5, 0.75, 0.9)
+SNUBBER_R = 0.5
+# Two devices whose criteria differ by less than this (relative) are equal for a designer.
+TIE = 0.02
 
 
-@dataclass(frozen=True)
-class Budget:
-    """How hard :func:`minimise` works: Sobol samples (a power of 2), local runs from the best
-    of them, Nelder-Mead evaluations per local run, and (impact suppressor, peak criterion)
-    Nelder-Mead evaluations of a final polish on the located peak itself (0: none)."""
-
-    starts: int = 32
-    keep: int = 2
-    local_evaluations: int = 80
-    polish_evaluations: int = 0
+def _in_range(name: str, value: object, unit: str = "") -> float:
+    lo, hi = RANGES[name]
+    v = finite_argument(name, value)
+    if not lo <= v <= hi:
+        raise ValueError(f"`{name}` = {v!r} is not allowed: must be in [{lo:g}, {hi:g}]{unit}")
+    return v
 
 
-# The command's budget: a minute on two cores (one Nelder-Mead evaluation of the impact
-# suppressor is a two-way sweep of ~100 points, ~0.15 s).
-CLI_BUDGET = Budget(starts=32, keep=2, local_evaluations=70, polish_evaluations=10)
-# The design stage's: a few minutes.
-STAGE_BUDGET = Budget(starts=64, keep=3, local_evaluations=120, polish_evaluations=30)
-
-
-@dataclass(frozen=True)
-class Optimum:
-    """A device's optimum.
-
-    Attributes
-    ----------
-    device : str
-        ``impact`` or ``tmd``.
-    criterion : str
-        ``peak`` or ``band_average`` (of max|x1|/x_st over the band, the worse sweep direction).
-    parameters : dict
-        The optimised parameters by name.
-    peak, peak_theta : float
-        The located peak of max|x1|/x_st and where.
-    band_average : float
-        Trapezoidal mean on the band grid.
-    evaluations : int
-        Criterion evaluations of the optimiser.
-    at_bound : tuple of str
-        Parameters within 1e-3 of the box side from a bound.
-    grid_peak : float
-        The peak on the band grid (the impact suppressor's local stage's criterion; equal to
-        ``peak`` for the TMD).
-    """
-
-    device: str
-    criterion: str
-    parameters: dict
-    peak: float
-    peak_theta: float
-    band_average: float
-    evaluations: int
-    at_bound: tuple = ()
-    grid_peak: float = math.nan
-
-    def to_dict(self) -> dict:
-        d = {name: getattr(self, name) for name in self.__dataclass_fields__}
-        d["at_bound"] = list(self.at_bound)
-        return d
-
-
-def _unit(bounds: dict) -> tuple[list, np.ndarray, np.ndarray]:
-    names = list(bounds)
-    lo = np.array([bounds[n][0] for n in names], float)
-    hi = np.array([bounds[n][1] for n in names], float)
-    return names, lo, hi
-
-
-def minimise(
-    coarse: Callable[[dict], float],
-    fine: Callable[[dict], float],
-    bounds: dict,
-    *,
-    budget: Budget = Budget(),
-    seed: int = 0,
-    guesses: Sequence[dict] = (),
-    progress: Callable[[str], None] | None = None,
-) -> tuple[dict, float, int]:
-    """Global minimum of ``fine`` over the box ``bounds`` ({name: (low, high)}).
-
-    A scrambled Sobol sample (``budget.starts`` points, ``seed``) and ``guesses`` evaluated by
-    ``coarse``; Nelder-Mead (bounded, in the unit cube, initial simplex 10 % of each side,
-    stopping at 1e-4 of the side and 1e-6 in the criterion) on ``fine`` from the
-    ``budget.keep`` best. Returns (best parameters, fine value, evaluations).
-    """
-    names, lo, hi = _unit(bounds)
-    d = len(names)
-    to_dict = lambda u: {n: float(v) for n, v in zip(names, lo + np.clip(u, 0.0, 1.0) * (hi - lo))}  # noqa: E731
-    sample = scipy.stats.qmc.Sobol(d, scramble=True, seed=seed).random(int(budget.starts))
-    extra = [np.array([(g[n] - lo[i]) / (hi[i] - lo[i]) for i, n in enumerate(names)]) for g in guesses]
-    points = np.vstack([sample] + [e[None, :] for e in extra]) if extra else sample
-    values = []
-    for j, u in enumerate(points):
-        values.append(coarse(to_dict(u)))
-        if progress is not None and (j + 1) % 16 == 0:
-            progress(f"global stage {j + 1}/{len(points)}: best so far {np.nanmin(values):.4g}")
-    order = np.argsort(np.where(np.isfinite(values), values, np.inf), kind="stable")
-    evaluations = len(points)
-    best_u, best_v = None, math.inf
-    for rank, j in enumerate(order[: int(budget.keep)]):
-        u0 = points[j]
-        simplex = np.vstack(
-            [u0] + [np.clip(u0 + 0.1 * np.eye(d)[i] * (1 if u0[i] < 0.5 else -1), 0, 1) for i in range(d)]
+def check_object(band, mu, delta1, uncertainty: Uncertainty, max_stroke, stop_stiffness, natural_frequency) -> tuple:
+    """The command's inputs within :data:`RANGES` (one-line errors naming the input and its
+    range). Returns (band, mu, delta1)."""
+    try:
+        a, b = band
+    except (TypeError, ValueError):
+        raise ValueError(f"`band` = {band!r} is not allowed: must be (theta_start, theta_stop)") from None
+    a, b = _in_range("theta_start", a), _in_range("theta_stop", b)
+    if not RANGES["band_width"][0] <= b - a <= RANGES["band_width"][1]:
+        lo, hi = RANGES["band_width"]
+        raise ValueError(
+            f"`theta_stop` = {b!r} is not allowed: the band theta_stop - theta_start must be in [{lo:g}, {hi:g}] "
+            f"(theta_start = {a!r})"
         )
-        res = scipy.optimize.minimize(
-            lambda u: fine(to_dict(u)),
-            u0,
-            method="Nelder-Mead",
-            bounds=[(0.0, 1.0)] * d,
-            options={"maxfev": int(budget.local_evaluations), "xatol": 1e-4, "fatol": 1e-6, "initial_simplex": simplex},
-        )
-        evaluations += int(res.nfev)
-        if res.fun < best_v:
-            best_u, best_v = np.clip(res.x, 0.0, 1.0), float(res.fun)
-        if progress is not None:
-            progress(
-                f"local stage {rank + 1}/{min(int(budget.keep), len(order))}: {float(res.fun):.5g} "
-                f"({int(res.nfev)} evaluations)"
-            )
-    return to_dict(best_u), best_v, evaluations
+    mu, delta1 = _in_range("mu", mu), _in_range("delta1", delta1)
+    _in_range("detuning", uncertainty.detuning)
+    _in_range("force_low", uncertainty.force[0])
+    _in_range("force_high", uncertainty.force[1])
+    _in_range("restitution_drift", uncertainty.restitution)
+    _in_range("stop_stiffness", stop_stiffness, " (times the object's spring c1)")
+    _in_range("natural_frequency", natural_frequency, " Hz")
+    if max_stroke is not None:
+        s = finite_argument("max_stroke", max_stroke)
+        if not s > 0:
+            raise ValueError(f"`max_stroke` = {s!r} is not allowed: must be > 0 (x_st)")
+    return check_band((a, b)), mu, delta1
 
 
-def _at_bound(x: dict, bounds: dict) -> tuple:
-    return tuple(n for n, (a, b) in bounds.items() if min(x[n] - a, b - x[n]) <= 1e-3 * (b - a))
-
-
-def _check(mu: float, delta1: float, band, criterion: str) -> tuple:
-    mu = finite_argument("mu", mu)
-    delta1 = finite_argument("delta1", delta1)
-    if not mu > 0:
-        raise ValueError(f"`mu` = {mu!r} is not allowed: must be > 0")
-    if not delta1 >= 0:
-        raise ValueError(f"`delta1` = {delta1!r} is not allowed: must be >= 0")
-    if criterion not in CRITERIA:
-        raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(CRITERIA)}")
-    return mu, delta1, _check_band(band)
-
-
-def _tmd_criterion(mu, delta1, band, criterion, detuning: float = 0.0) -> Callable[[dict], float]:
-    def f(x: dict) -> float:
-        if detuning > 0:
-            return worst_case_tmd(mu, delta1, x["N"], x["delta2"], band, detuning)
-        d = LinearDevice(mu, x["N"], delta1, x["delta2"])
-        return d.peak(band)[1] if criterion == "peak" else d.band_average(band)
-
-    return f
-
-
-def _tmd_optimum(mu, delta1, band, criterion, x, evaluations, bounds) -> Optimum:
-    d = LinearDevice(mu, x["N"], delta1, x["delta2"])
-    t, v = d.peak(band)
-    return Optimum(
-        "tmd", criterion, dict(x), float(v), float(t), d.band_average(band), evaluations, _at_bound(x, bounds), float(v)
-    )
-
-
-def optimise_tmd(
-    mu: float,
-    delta1: float,
-    band: tuple[float, float] = (0.5, 1.5),
-    criterion: str = "peak",
-    *,
-    bounds: dict | None = None,
-    budget: Budget = STAGE_BUDGET,
-    detuning: float = 0.0,
-    seed: int = 0,
-) -> Optimum:
-    """The linear TMD (N, delta2) minimising ``criterion`` over ``band``, by :func:`minimise`
-    (the impact suppressor's optimiser) on the exact located peak (closed form). With
-    ``detuning`` d > 0 the criterion is the worst-case peak over the object's frequency
-    uncertain by +-d (the robust optimum; :func:`worst_case_tmd`)."""
-    mu, delta1, band = _check(mu, delta1, band, criterion)
-    bounds = dict(TMD_BOUNDS if bounds is None else bounds)
-    f = _tmd_criterion(mu, delta1, band, criterion, detuning)
-    dh = den_hartog(mu)
-    guess = [
-        {
-            "N": min(max(dh["N"], bounds["N"][0]), bounds["N"][1]),
-            "delta2": min(max(dh["delta2"], bounds["delta2"][0]), bounds["delta2"][1]),
-        }
-    ]
-    x, _, n = minimise(f, f, bounds, budget=budget, seed=seed, guesses=guess)
-    return _tmd_optimum(mu, delta1, band, criterion, x, n, bounds)
-
-
-def _impact_parameters(mu: float, delta1: float, x: dict) -> Parameters:
-    return Parameters(mu=mu, delta1=delta1, N=x["N"], delta2=x["delta2"], R=x["R"], gap=x["gap"])
-
-
-def _impact_value(mu, delta1, band, criterion, step, settings, locate=False) -> Callable[[dict], float]:
-    def f(x: dict) -> float:
-        try:
-            r = impact_band_response(_impact_parameters(mu, delta1, x), band, step, locate=locate, settings=settings)
-        except (ValueError, RuntimeError, ArithmeticError):
-            return math.inf  # a design the solver cannot settle is not a design to recommend
-        if criterion == "peak":
-            return r.peak if locate else r.interpolated_peak()
-        return r.band_average
-
-    return f
-
-
-def optimise_impact(
-    mu: float,
-    delta1: float,
-    band: tuple[float, float] = (0.5, 1.5),
-    criterion: str = "peak",
-    *,
-    bounds: dict | None = None,
-    budget: Budget = STAGE_BUDGET,
-    settings: SweepSettings | None = None,
-    seed: int = 0,
-    guesses: Sequence[dict] = (),
-    step: float = BAND_STEP,
-    coarse_step: float = COARSE_STEP,
-    progress: Callable[[str], None] | None = None,
-) -> tuple[Optimum, BandResponse]:
-    """The impact suppressor (gap, N, delta2, R) minimising ``criterion`` over ``band`` at the
-    given ``mu`` and ``delta1``, by :func:`minimise`: the coarse stage on the band grid of step
-    ``coarse_step``, the local stage on the band grid of step ``step`` (peaks sampled there),
-    then the optimum's peak located (:func:`~impactdamper.studies.design.design.impact_band_response`).
-
-    Returns
-    -------
-    (Optimum, BandResponse)
-        The optimum and its located band response.
-    """
-    mu, delta1, band = _check(mu, delta1, band, criterion)
-    bounds = dict(IMPACT_BOUNDS if bounds is None else bounds)
-    settings = settings or SweepSettings()
-    coarse = _impact_value(mu, delta1, band, criterion, coarse_step, settings)
-    fine = _impact_value(mu, delta1, band, criterion, step, settings)
-    x, _, n = minimise(coarse, fine, bounds, budget=budget, seed=seed, guesses=guesses, progress=progress)
-    if criterion == "peak" and budget.polish_evaluations > 0:
-        # The polish: Nelder-Mead on the located peak from the local stage's optimum, a simplex of
-        # 2 % of each side (the local stage's peak is the grid's, interpolated).
-        located = _impact_value(mu, delta1, band, criterion, step, settings, locate=True)
-        names, lo, hi = _unit(bounds)
-        u0 = np.array([(x[k] - lo[i]) / (hi[i] - lo[i]) for i, k in enumerate(names)])
-        simplex = np.vstack(
-            [u0]
-            + [np.clip(u0 + 0.02 * np.eye(len(names))[i] * (1 if u0[i] < 0.5 else -1), 0, 1) for i in range(len(names))]
-        )
-        to_dict = lambda u: {k: float(v) for k, v in zip(names, lo + np.clip(u, 0.0, 1.0) * (hi - lo))}  # noqa: E731
-        res = scipy.optimize.minimize(
-            lambda u: located(to_dict(u)),
-            u0,
-            method="Nelder-Mead",
-            bounds=[(0.0, 1.0)] * len(names),
-            options={
-                "maxfev": int(budget.polish_evaluations),
-                "xatol": 1e-4,
-                "fatol": 1e-6,
-                "initial_simplex": simplex,
-            },
-        )
-        n += int(res.nfev)
-        x = to_dict(res.x)
-        if progress is not None:
-            progress(f"polish on the located peak: {float(res.fun):.5g} ({int(res.nfev)} evaluations)")
-    r = impact_band_response(_impact_parameters(mu, delta1, x), band, step, settings=settings)
-    return Optimum(
-        "impact", criterion, dict(x), r.peak, r.peak_theta, r.band_average, n, _at_bound(x, bounds), r.grid_peak()
-    ), r
-
-
-def detuned(p: Parameters, band: tuple[float, float], e: float) -> tuple[Parameters, tuple, float]:
-    """The system whose object's natural frequency is (1 + e) omega1 (module docstring).
-
-    Returns
-    -------
-    (Parameters, band, scale)
-        The detuned relative parameters, the physical band in the detuned theta, and the factor
-        1/(1 + e)^2 that puts an amplitude over the detuned x_st into the nominal x_st.
-    """
-    f = 1.0 + finite_argument("detuning", e)
-    if not f > 0:
-        raise ValueError(f"`detuning` = {e!r} is not allowed: must be > -1")
-    q = p.replace(N=p.N / f, delta1=p.delta1 / f, delta2=p.delta2 / f, gap=p.gap * f * f)
-    return q, (band[0] / f, band[1] / f), 1.0 / (f * f)
-
-
-def _detunings(d: float) -> np.ndarray:
-    return np.linspace(-d, d, DETUNING_POINTS)
-
-
-def worst_case_tmd(mu: float, delta1: float, N: float, delta2: float, band, d: float) -> float:
-    """The TMD's largest located peak over the object's frequency detuned by e in [-d, d]
-    (``DETUNING_POINTS`` values), over the nominal x_st."""
-    out = 0.0
-    for e in _detunings(d):
-        f = 1.0 + e
-        dev = LinearDevice(mu, N / f, delta1 / f, delta2 / f)
-        out = max(out, float(dev.peak((band[0] / f, band[1] / f))[1]) / (f * f))
-    return float(out)
-
-
-def worst_case_impact(
-    p: Parameters,
-    band,
-    d: float,
-    *,
-    settings: SweepSettings | None = None,
-    locate: bool = True,
-    step: float = BAND_STEP,
-) -> dict:
-    """The impact suppressor's located peak at each detuning e in [-d, d] (``DETUNING_POINTS``
-    values), over the nominal x_st. Returns {"detunings": [...], "peaks": [...], "worst": max}."""
-    peaks = []
-    es = _detunings(d)
-    for e in es:
-        q, b, scale = detuned(p, band, float(e))
-        r = impact_band_response(q, b, step, locate=locate, settings=settings)
-        peaks.append(scale * (r.peak if locate else r.grid_peak()))
-    return {"detunings": [float(e) for e in es], "peaks": peaks, "worst": float(max(peaks))}
-
-
-def worst_within(case: dict, d: float) -> float:
-    """The worst peak of a :func:`worst_case_impact` result over |e| <= d."""
-    return float(max(v for e, v in zip(case["detunings"], case["peaks"]) if abs(e) <= d + 1e-12))
-
-
-def sensitivity(value: Callable[[dict], float], x: dict, bounds: dict, worse: float = SENSITIVITY_WORSE) -> dict:
-    """How far each parameter of the optimum ``x`` may move, the others fixed, before
-    ``value`` is ``worse`` (fraction) above its value at ``x``: per name and side, the move
-    located by bisection (SENSITIVITY_STEPS steps) between x and the bound, or None when even
-    the bound is not that much worse. Returns {name: {"down": move or None, "up": move or None}}."""
-    limit = (1.0 + worse) * value(x)
-    out = {}
-    for n, (a, b) in bounds.items():
-        out[n] = {}
-        for side, end in (("down", a), ("up", b)):
-            if abs(end - x[n]) <= 0:
-                out[n][side] = 0.0
-                continue
-            if value({**x, n: end}) <= limit:
-                out[n][side] = None
-                continue
-            lo, hi = x[n], end
-            for _ in range(SENSITIVITY_STEPS):
-                mid = 0.5 * (lo + hi)
-                if value({**x, n: mid}) <= limit:
-                    lo = mid
-                else:
-                    hi = mid
-            out[n][side] = float(abs(0.5 * (lo + hi) - x[n]))
-    return out
-
-
-def _cycle(p: Parameters, theta: float, section: np.ndarray, k: int) -> dict:
-    """One settled cycle from its section: stroke max|x2 - x1|/x_st and the pulses."""
-    q = p.replace(theta=float(theta))
-    periods = k if k > 0 else NONPERIODIC_PERIODS
-    solver = EventDrivenSolver(q, t0=0.0, state=np.array(section, float))
-    end = periods * q.T
-    solver.advance(end)
-    traj = solver.trajectory
-    ts = np.linspace(0.0, end, STROKE_SAMPLES * periods + 1)
-    full, _ = traj.sample(ts)
-    stroke = float(np.max(np.abs(full[:, 1] - full[:, 0]))) / q.x_st
-    events = [e for e in traj.events if e.t < end and e.kind in ("impact", "stick")]
-    pulses = np.array([abs(e.impulse) for e in events])
-    impacts = sum(1 for e in events if e.kind == "impact")
-    omega1 = q.omega / q.theta
-    P0 = q.m1 * omega1 * omega1 * q.x_st
+def design_bounds(mu: float, tmd_stroke: float) -> dict:
+    """The boxes of the search (module docstring): ``tmd``, ``impact`` (the whole box) and
+    ``impact_reach`` (the stop within reach), from the object's mass ratio and its optimal TMD's
+    stroke."""
+    n_dh = 1.0 / (1.0 + mu)
+    d_dh = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
+    N = (N_LOW * n_dh, N_HIGH * n_dh)
+    impact = {"gap": (-tmd_stroke, GAP_FULL * tmd_stroke), "N": N, "delta2": (0.0, DELTA2_HIGH * d_dh), "R": R_BOX}
     return {
-        "stroke": stroke,
-        "impacts_per_period": impacts / periods,
-        "impulse": float(pulses.max()) * omega1 / P0 if len(pulses) else 0.0,
-        "mean_force": float(pulses.sum()) / end / P0,
+        "tmd": {"N": N, "delta2": (DELTA2_LOW * d_dh, DELTA2_HIGH * d_dh)},
+        "impact": impact,
+        "impact_reach": {**impact, "gap": (-tmd_stroke, tmd_stroke)},
     }
 
 
-def impact_stroke_and_loads(r: BandResponse) -> dict:
-    """Stroke and loads of an impact suppressor over its band grid, both directions (each
-    grid point's settled cycle run afresh from its section, stroke sampled STROKE_SAMPLES per
-    period).
-
-    Returns
-    -------
-    dict
-        ``stroke``: max|x2 - x1|/x_st; ``impulse_per_impact``: the largest pulse S over P0/omega1;
-        ``impacts_per_second``: the most impacts per second over f1 = omega1/(2 pi) (impacts
-        per period times theta); ``mean_force``: the largest mean force the impacts (and
-        captures) transmit, sum of S over the cycle's duration, over P0; each with its theta.
-        The stereomechanical impact (eqs. 21-22) is instantaneous: it gives pulses, no contact
-        force peak (that needs the stop's stiffness, which the model does not have).
-    """
-    best = {
-        "stroke": (0.0, math.nan),
-        "impulse_per_impact": (0.0, math.nan),
-        "impacts_per_second": (0.0, math.nan),
-        "mean_force": (0.0, math.nan),
-    }
-    for sections, ks in ((r.up_sections, r.up_k), (r.down_sections, r.down_k)):
-        for t, s, k in zip(r.thetas, sections, ks):
-            c = _cycle(r.p, float(t), s, int(k))
-            for key, v in (
-                ("stroke", c["stroke"]),
-                ("impulse_per_impact", c["impulse"]),
-                ("impacts_per_second", c["impacts_per_period"] * float(t)),
-                ("mean_force", c["mean_force"]),
-            ):
-                if v > best[key][0]:
-                    best[key] = (float(v), float(t))
-    out = {k: v for k, (v, _) in best.items()}
-    out.update({f"{k}_theta": t for k, (_, t) in best.items()})
+def _record(kind: str, criterion: str, name: str, row: dict, result: SearchResult | None) -> dict:
+    out = {"device": name, "criterion": criterion, **row}
+    if result is not None:
+        out["search"] = result.to_dict()
+        out["at_bound"] = list(result.at_bound)
+    if kind == "impact" and not row["impacts"]:
+        out["tmd_limit"] = True  # never reaches its stop over the band: a TMD
     return out
 
 
-def tmd_at_stroke(
-    mu: float,
-    delta1: float,
+def _tmd_searches(mu, delta1, band, unc, budgets, seed, say) -> dict:
+    """The TMD's searches, with the impact suppressor's budgets: the nominal criteria, then the
+    robust one from the nominal peak's optimum (the force and the restitution leave it as it is)."""
+    bounds = design_bounds(mu, 1.0)["tmd"]
+    out = {}
+    for c in ("peak", "band_average", "detuning"):
+        crit = TmdCriterion(mu, delta1, band, c, unc)
+        if c in ROBUST_SEARCHED:
+            out[c] = search(crit, bounds, budget=budgets[1], seeds=[out["peak"].x], seed=seed)
+        else:
+            out[c] = search(crit, bounds, budget=budgets[0], seed=seed)
+        say(f"TMD, {c}: N = {out[c].x['N']:.4f}, delta2 = {out[c].x['delta2']:.4f}, {out[c].value:.6g}")
+    return out
+
+
+def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say) -> dict:
+    """The impact suppressor's searches (module docstring): one shared global sample over the
+    whole box (one batch on ``workers`` processes); then, ``workers`` searches at a time (each in
+    its own process: a search's answer does not depend on where it runs), the nominal criteria
+    with the stop within reach; the nominal criteria over the whole box from the TMD limit and
+    the best samples outside the first box, never worse than the first; the robust ones from the
+    nominal peak's optimum; the travel-limited one with the gap at most the limit."""
+    names = list(IMPACT_NAMES)
+    lo = np.array([bounds["impact"][n][0] for n in names])
+    hi = np.array([bounds["impact"][n][1] for n in names])
+    budget, robust = budgets
+    X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
+    nominal = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
+    sample = nominal.branches([dict(zip(names, x)) for x in X], [Scenario()], "coarse")
+    values = {
+        "peak": np.array([w.peak for w, _ in sample]),
+        "band_average": np.array([w.band_average for w, _ in sample]),
+    }
+    say(f"global stage: {len(X)} designs, best peak {np.min(values['peak']):.5g}")
+    task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
+    reach = bounds["impact_reach"]
+    first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
+    out = _in_parallel(first, workers)
+    limit = {"gap": bounds["impact"]["gap"][1], **tmd.x, "R": 0.5}
+    second = {}
+    for c in CRITERIA_NOMINAL:
+        r = out[f"{c}_reach"]
+        # The whole box from its TMD limit, the sub-box's answer where it stops at the sub-box's
+        # gap bound (it may go on beyond it), and the best samples outside the sub-box.
+        seeds = [limit] + ([r.x] if "gap" in r.at_bound else [])
+        second[c] = functools.partial(
+            task,
+            c,
+            unc,
+            bounds["impact"],
+            budget,
+            (X, values[c]),
+            seeds=seeds,
+            incumbents=[(r.x, r.value)],
+            searched=reach,
+        )
+    for c in ROBUST_SEARCHED:
+        second[c] = functools.partial(task, c, unc, reach, robust, None, seeds=[out["peak_reach"].x])
+    # The travel limit: the gap at most the limit (an impacting device travels the gap towards
+    # its stop); a local search from the travel-limited TMD with its stop at the limit (it never
+    # reaches it: a feasible start) and from the best sample inside the box (its stroke is read
+    # at the search's finer fidelities only: each evaluation runs the band's cycles again).
+    box = {**reach, "gap": (reach["gap"][0], min(max_stroke, reach["gap"][1]))}
+    inside = np.flatnonzero(X[:, 0] <= box["gap"][1])
+    seeds = [{"gap": box["gap"][1], **stroke_tmd.x, "R": 0.5}]
+    if len(inside):
+        seeds.append(dict(zip(names, X[inside[int(np.argmin(values["peak"][inside]))]])))
+    second["stroke"] = functools.partial(task, "peak", unc, box, robust, None, seeds=seeds, max_stroke=max_stroke)
+    return {**out, **_in_parallel(second, workers)}
+
+
+# The tasks of _in_parallel's pool, by index (the forked workers inherit them: a task holds
+# closures, which cannot be sent through a pipe).
+_TASKS: list = []
+
+
+def _run_task(i: int):
+    return _TASKS[i]()
+
+
+def _in_parallel(tasks: dict, workers: int) -> dict:
+    """{key: task()} of independent tasks, ``workers`` at a time in forked processes (in this
+    one with a single worker), the answers in the tasks' order whatever ran where."""
+    keys = list(tasks)
+    if workers <= 1 or len(keys) <= 1 or "fork" not in multiprocessing.get_all_start_methods():
+        return {k: tasks[k]() for k in keys}
+    _TASKS[:] = [tasks[k] for k in keys]
+    try:
+        with multiprocessing.get_context("fork").Pool(min(workers, len(keys))) as pool:
+            results = pool.map(_run_task, range(len(keys)), chunksize=1)
+    finally:
+        _TASKS.clear()
+    return dict(zip(keys, results))
+
+
+def _search(
+    mu,
+    delta1,
     band,
-    max_stroke: float,
-    criterion: str = "peak",
+    criterion,
+    unc,
+    box,
+    budget,
+    sample,
     *,
-    budget: Budget = STAGE_BUDGET,
-    seed: int = 0,
-) -> Optimum:
-    """The best TMD whose stroke max|x2 - x1|/x_st over the band does not exceed ``max_stroke``
-    (closed form), by :func:`minimise` with the excess stroke as a penalty (a design over the
-    limit scores 1e3 per unit of relative excess above any within it)."""
-    mu, delta1, band = _check(mu, delta1, band, criterion)
-    max_stroke = finite_argument("max_stroke", max_stroke)
-    if not max_stroke > 0:
-        raise ValueError(f"`max_stroke` = {max_stroke!r} is not allowed: must be > 0")
-    plain = _tmd_criterion(mu, delta1, band, criterion)
+    seeds=(),
+    incumbents=(),
+    searched=None,
+    max_stroke=None,
+    seed=0,
+    workers=1,
+    say=None,
+):
+    """One search of the impact suppressor (:func:`~impactdamper.studies.design.search.search`)."""
+    crit = ImpactCriterion(
+        mu, delta1, band, criterion, unc, max_stroke=max_stroke, settings=DESIGN_SETTINGS, workers=workers
+    )
+    tag = criterion if max_stroke is None else f"stroke <= {max_stroke:.3g}"
+    r = search(
+        crit,
+        box,
+        budget=budget,
+        sample=sample,
+        seeds=seeds,
+        incumbents=incumbents,
+        searched=searched,
+        seed=seed,
+        progress=lambda m: say(f"impact, {tag}: {m}"),
+    )
+    say(f"impact, {tag}: {', '.join(f'{k} = {v:.4g}' for k, v in r.x.items())}: {r.value:.6g}")
+    return r
 
-    def f(x: dict) -> float:
-        s = LinearDevice(mu, x["N"], delta1, x["delta2"]).stroke_peak(band)[1]
-        return plain(x) + 1e3 * max(0.0, s / max_stroke - 1.0)
 
-    x, _, n = minimise(f, f, TMD_BOUNDS, budget=budget, seed=seed)
-    return _tmd_optimum(mu, delta1, band, criterion, x, n, TMD_BOUNDS)
+def _snubber(mu, delta1, band, tmd: dict, tmd_stroke: float, tmd_peak: float, workers: int) -> list[dict]:
+    """The optimal TMD with a stop put within its own travel (at SNUBBER_FRACTIONS of its
+    stroke, restitution SNUBBER_R): its worst branch against the TMD's peak."""
+    crit = ImpactCriterion(mu, delta1, band, "peak", Uncertainty(), settings=DESIGN_SETTINGS, workers=workers)
+    designs = [{"gap": f * tmd_stroke, **tmd, "R": SNUBBER_R} for f in SNUBBER_FRACTIONS]
+    out = []
+    for f, x, (w, _) in zip(SNUBBER_FRACTIONS, designs, crit.branches(designs, [Scenario()], "final")):
+        out.append(
+            {"fraction": f, "parameters": x, "peak": w.peak, "peak_theta": w.peak_theta, "ratio": w.peak / tmd_peak}
+        )
+    return out
 
 
-def _device_summary(opt: Optimum, worst: dict, stroke_loads: dict) -> dict:
-    return {**opt.to_dict(), "worst_case": worst, **stroke_loads}
+# The design table's rows: (key, device, criterion, the searches' key), in the table's order.
+ROWS = (
+    ("tmd_peak", "tmd", "peak", "peak"),
+    ("impact_peak_reach", "impact", "peak", "peak_reach"),
+    ("impact_peak", "impact", "peak", "peak"),
+    ("tmd_band_average", "tmd", "band_average", "band_average"),
+    ("impact_band_average_reach", "impact", "band_average", "band_average_reach"),
+    ("impact_band_average", "impact", "band_average", "band_average"),
+    ("tmd_detuning", "tmd", "detuning", "detuning"),
+    ("impact_detuning", "impact", "detuning", "detuning"),
+    ("impact_force", "impact", "force", "force"),
+    ("impact_restitution", "impact", "restitution", "restitution"),
+    ("tmd_stroke", "tmd", "stroke", "stroke"),
+    ("impact_stroke", "impact", "stroke", "stroke"),
+)
 
 
 def design_optima(
@@ -566,402 +332,279 @@ def design_optima(
     mu: float,
     delta1: float,
     *,
-    detuning: float = 0.1,
+    uncertainty: Uncertainty | None = None,
     max_stroke: float | None = None,
     criterion: str = "peak",
-    budget: Budget = CLI_BUDGET,
-    settings: SweepSettings | None = None,
+    stop_stiffness: float = STOP_STIFFNESS,
+    natural_frequency: float = NATURAL_FREQUENCY,
+    budget: Budget = BUDGET,
+    robust_budget: Budget = ROBUST_BUDGET,
+    workers: int = WORKERS,
     seed: int = 0,
     progress: Callable[[str], None] | None = None,
 ) -> dict:
-    """Both devices optimised for one object and band: what ``python -m impactdamper design``
-    prints.
+    """The design table of one object (module docstring): what ``python -m impactdamper
+    design --json`` prints and the report's design table shows.
 
     Parameters
     ----------
     band : (float, float)
-        theta = omega/omega1 band (the object's nominal omega1).
+        theta = omega/omega1 band (the object's nominal omega1), within :data:`RANGES`.
     mu, delta1 : float
-        Mass ratio (> 0) and the object's damping (>= 0).
-    detuning : float
-        The object's natural frequency uncertain by +-detuning (in [0, 0.5]).
+        Mass ratio and the object's damping, within :data:`RANGES`.
+    uncertainty : Uncertainty, optional
+        Detuning, force band and restitution drift of the robust criteria (default
+        :class:`Uncertainty`'s).
     max_stroke : float, optional
-        The equal-stroke TMD's limit of max|x2 - x1|/x_st (default: the impact suppressor's).
+        The stroke limit of the stroke-limited rows, over x_st (default STROKE_FRACTION of the
+        optimal TMD's stroke).
     criterion : str
-        ``peak`` or ``band_average``.
-    budget : Budget
-    settings : SweepSettings, optional
+        Which rows ``impact`` and ``tmd`` (and ``ratio``) report: ``peak``, ``band_average``,
+        ``detuning``, ``force``, ``restitution`` (the others are in ``devices``).
+    stop_stiffness, natural_frequency : float
+        The contact model's stop stiffness over c1; the object's natural frequency (Hz) at which
+        impacts are counted per hour.
+    budget, robust_budget : Budget
+        The searches' budgets: of the nominal criteria and the stroke limit, and of the robust
+        criteria (the same for both devices).
+    workers : int
     seed : int
     progress : callable(str), optional
 
     Returns
     -------
     dict
-        ``band``, ``mu``, ``delta1``, ``detuning``, ``criterion``; ``impact`` (its gap at most
-        STOP_GAP, the stop within reach: with a gap past its travel the optimum is the TMD),
-        ``tmd`` and
-        ``tmd_equal_stroke``, each: ``parameters``, ``peak``, ``peak_theta``, ``band_average``,
-        ``worst_case`` (its peak at the worst detuning within +-detuning), ``stroke``, and for the
-        impact suppressor the loads ``impulse_per_impact`` (P0/omega1), ``impacts_per_second``
-        (f1), ``mean_force`` (P0) and ``clearance`` (Delta0 over P0/c1, = the gap); ``ratio``:
-        impact over TMD of peak, band average and worst case; ``elapsed`` (s).
+        ``band``, ``mu``, ``delta1``, ``uncertainty``, ``detuning`` (its part), ``criterion``,
+        ``budget``, ``bounds``, ``max_stroke``; ``devices`` (every row: ``device``,
+        ``criterion``, ``kind``, ``parameters``, ``peak``, ``peak_theta``, ``peak_branch``,
+        ``band_average``, ``worst`` (per uncertainty and ``together``), ``stroke``, the loads,
+        ``impacts``, ``tmd_limit``, ``feasible``, ``search`` (the search's record: its check,
+        ``at_bound``, evaluations)); ``impact``, ``tmd``, ``tmd_equal_stroke`` (rows); ``ratio``;
+        ``snubber``; ``recommendation``; ``elapsed`` (s, wall) and ``cpu`` (s, processor time of
+        the call and its workers).
     """
-    t0 = time.perf_counter()
-    mu, delta1, band = _check(mu, delta1, band, criterion)
-    detuning = finite_argument("detuning", detuning)
-    if not 0.0 <= detuning <= 0.5:
-        raise ValueError(f"`detuning` = {detuning!r} is not allowed: must be in [0, 0.5]")
-    if max_stroke is not None:
-        max_stroke = finite_argument("max_stroke", max_stroke)
-        if not max_stroke > 0:
-            raise ValueError(f"`max_stroke` = {max_stroke!r} is not allowed: must be > 0")
-    say = progress or (lambda s: None)
-    say("optimising the TMD")
-    tmd = optimise_tmd(mu, delta1, band, criterion, budget=budget, seed=seed)
-    say(
-        f"TMD: N = {tmd.parameters['N']:.4f}, delta2 = {tmd.parameters['delta2']:.4f}, peak {tmd.peak:.4f}; "
-        "optimising the impact suppressor"
+    t0, c0 = time.perf_counter(), _processor_time()
+    uncertainty = Uncertainty() if uncertainty is None else uncertainty
+    band, mu, delta1 = check_object(band, mu, delta1, uncertainty, max_stroke, stop_stiffness, natural_frequency)
+    choices = ("peak", "band_average", "detuning", "force", "restitution")
+    if criterion not in choices:
+        raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
+    say = progress or (lambda m: None)
+    budgets = (budget, robust_budget)
+    tmd = _tmd_searches(mu, delta1, band, uncertainty, budgets, seed, say)
+    s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
+    S = STROKE_FRACTION * s_T if max_stroke is None else float(max_stroke)
+    bounds = design_bounds(mu, s_T)
+    crit = TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S)
+    tmd["stroke"] = search(crit, bounds["tmd"], budget=budget, seed=seed)
+    say(f"TMD's stroke {s_T:.4g} x_st; the stroke limit {S:.4g}")
+    imp = _impact_searches(
+        mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say
     )
-    # The stop within reach (gap <= STOP_GAP): with a gap past its travel the optimum is a TMD.
-    imp, resp = optimise_impact(
-        mu,
-        delta1,
-        band,
-        criterion,
-        bounds=dict(IMPACT_BOUNDS, gap=(IMPACT_BOUNDS["gap"][0], STOP_GAP)),
-        budget=budget,
-        settings=settings,
-        seed=seed,
-        progress=say,
-    )
-    say(f"impact: {imp.parameters}, located peak {imp.peak:.4f}; worst cases over +-{detuning:g}")
-    imp_worst = (
-        worst_case_impact(resp.p, band, detuning, settings=settings)
-        if detuning > 0
-        else {"detunings": [0.0], "peaks": [imp.peak], "worst": imp.peak}
-    )
-    tmd_worst = worst_case_tmd(mu, delta1, tmd.parameters["N"], tmd.parameters["delta2"], band, detuning)
-    say("stroke and loads")
-    loads = impact_stroke_and_loads(resp)
-    tmd_stroke = LinearDevice(mu, tmd.parameters["N"], delta1, tmd.parameters["delta2"]).stroke_peak(band)[1]
-    limit = loads["stroke"] if max_stroke is None else max_stroke
-    eq = tmd_at_stroke(mu, delta1, band, limit, criterion, budget=budget, seed=seed)
-    eq_stroke = LinearDevice(mu, eq.parameters["N"], delta1, eq.parameters["delta2"]).stroke_peak(band)[1]
-    eq_worst = worst_case_tmd(mu, delta1, eq.parameters["N"], eq.parameters["delta2"], band, detuning)
+    say("the table's impact suppressors under every uncertainty")
+    loads = dict(stop_stiffness=stop_stiffness, natural_frequency=natural_frequency)
+    devices = _devices(mu, delta1, band, uncertainty, {"tmd": tmd, "impact": imp}, S, workers, loads)
+    say("the snubber")
+    snubber = _snubber(mu, delta1, band, tmd["peak"].x, s_T, device({"devices": devices}, "tmd_peak")["peak"], workers)
     out = {
         "band": list(band),
         "mu": mu,
         "delta1": delta1,
-        "detuning": detuning,
+        "uncertainty": uncertainty.to_dict(),
+        "detuning": uncertainty.detuning,
         "criterion": criterion,
-        "impact": {
-            **imp.to_dict(),
-            "worst_case": imp_worst["worst"],
-            "worst_case_detunings": imp_worst["detunings"],
-            "worst_case_peaks": imp_worst["peaks"],
-            **loads,
-            "clearance": imp.parameters["gap"],
-        },
-        "tmd": {**tmd.to_dict(), "worst_case": tmd_worst, "stroke": tmd_stroke},
-        "tmd_equal_stroke": {**eq.to_dict(), "worst_case": eq_worst, "stroke": eq_stroke, "max_stroke": limit},
+        **_settings(budget, robust_budget, workers, bounds),
+        "tmd_stroke": s_T,
+        "max_stroke": S,
+        **loads,
+        "devices": devices,
+        "snubber": snubber,
     }
-    out["ratio"] = {
-        "peak": imp.peak / tmd.peak,
-        "band_average": imp.band_average / tmd.band_average,
-        "worst_case": imp_worst["worst"] / tmd_worst,
-    }
+    out.update(headline(out, criterion))
+    out["recommendation"] = recommendation(out)
     out["elapsed"] = time.perf_counter() - t0
+    out["cpu"] = _processor_time() - c0
     return out
 
 
-def robust_impact(
-    mu: float,
-    delta1: float,
-    band,
-    d: float,
-    start: dict,
-    *,
-    evaluations: int = 40,
-    settings: SweepSettings | None = None,
-    step: float = COARSE_STEP,
-    bounds: dict | None = None,
-) -> dict:
-    """The impact suppressor's robust optimum near ``start``: Nelder-Mead (the optimiser's local
-    stage, ``evaluations`` at most) on the worst grid peak (step ``step``) over the detunings
-    -d, -d/2, 0, d/2, d, within ``bounds`` (default IMPACT_BOUNDS). Returns the parameters (a
-    local answer: no global stage, for cost)."""
-    bounds = IMPACT_BOUNDS if bounds is None else bounds
-
-    def f(x: dict) -> float:
-        worst = 0.0
-        for e in np.linspace(-d, d, 5):
-            try:
-                q, b, scale = detuned(_impact_parameters(mu, delta1, x), band, float(e))
-                r = impact_band_response(q, b, step, locate=False, settings=settings)
-                worst = max(worst, scale * r.grid_peak())
-            except (ValueError, RuntimeError, ArithmeticError):
-                return math.inf
-        return worst
-
-    x, _, _ = minimise(f, f, bounds, budget=Budget(starts=1, keep=1, local_evaluations=evaluations), guesses=[start])
-    return x
+def _processor_time() -> float:
+    """Processor time of this process and its finished children (the batch calls' workers), s."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
 
 
-def design_study(
-    band,
-    mu: float,
-    delta1: float,
-    paper: Parameters,
-    detunings: Sequence[float] = (0.05, 0.1),
-    *,
-    budget: Budget = STAGE_BUDGET,
-    step: float = BAND_STEP,
-    coarse_step: float = COARSE_STEP,
-    robust_evaluations: int = 40,
-    settings: SweepSettings | None = None,
-    seed: int = 0,
-    progress: Callable[[str], None] | None = None,
-) -> dict:
-    """The design stage's record: every device of the design table, each with its parameters,
-    located peak, band average, worst case at each detuning, stroke and (impact) loads.
-
-    Devices: the bare object; the absorber without a stop and the impact suppressor with the
-    paper's N, delta2, R at ``paper.gap`` (``paper``); the optimal TMD and the impact suppressor
-    optimised jointly (gap, N, delta2, R), each for the peak and for the band average; the best
-    TMD with the impact optimum's stroke; each device's robust optimum for the largest
-    detuning (the TMD's global, the impact suppressor's local from its nominal optimum:
-    :func:`robust_impact`, from the impact suppressor that meets its stop, gap <= STOP_GAP); and
-    the sensitivity of the TMD's and that impact suppressor's peak optima (SENSITIVITY_WORSE).
-    """
-    say = progress or (lambda m: None)
-    mu, delta1, band = _check(mu, delta1, band, "peak")
-    settings = settings or SweepSettings()
-    dmax = max(detunings)
-    rows = []
-
-    def linear_row(name: str, N: float, delta2: float, bare: bool = False, extra: dict | None = None) -> dict:
-        dev = LinearDevice(0.0 if bare else mu, N, delta1, delta2)
-        t, v = dev.peak(band)
-        worst = {}
-        for d in detunings:
-            w = 0.0
-            for e in _detunings(d):
-                f = 1.0 + e
-                de = LinearDevice(0.0 if bare else mu, N / f, delta1 / f, delta2 / f)
-                w = max(w, de.peak((band[0] / f, band[1] / f))[1] / (f * f))
-            worst[f"{d:g}"] = w
-        return {
-            "device": name,
-            "kind": "linear",
-            "parameters": {} if bare else {"N": N, "delta2": delta2},
-            "peak": v,
-            "peak_theta": t,
-            "band_average": dev.band_average(band, step),
-            "worst_case": worst,
-            "stroke": 0.0 if bare else dev.stroke_peak(band)[1],
-            **(extra or {}),
-        }
-
-    def impact_row(name: str, x: dict, extra: dict | None = None) -> dict:
-        p = _impact_parameters(mu, delta1, x)
-        r = impact_band_response(p, band, step, settings=settings)
-        case = worst_case_impact(p, band, dmax, settings=settings, step=step)
-        loads = impact_stroke_and_loads(r)
-        say(
-            f"{name}: peak {r.peak:.4f} at theta {r.peak_theta:.4f}, band average {r.band_average:.4f}, "
-            f"worst case {case['worst']:.4f}, stroke {loads['stroke']:.3f}"
-        )
-        return {
-            "device": name,
-            "kind": "impact",
-            "parameters": dict(x),
-            "peak": r.peak,
-            "peak_theta": r.peak_theta,
-            "grid_peak": r.grid_peak(),
-            "band_average": r.band_average,
-            "worst_case": {f"{d:g}": worst_within(case, d) for d in detunings},
-            "detuned_peaks": {"detunings": case["detunings"], "peaks": case["peaks"]},
-            "located_peaks": [q.to_dict() for q in r.peaks],
-            **loads,
-            "clearance": x["gap"],
-            **(extra or {}),
-        }
-
-    say("linear references")
-    rows.append(linear_row("bare object", 1.0, 0.0, bare=True))
-    rows.append(linear_row("absorber without a stop", paper.N, paper.delta2))
-    paper_x = {"gap": paper.gap, "N": paper.N, "delta2": paper.delta2, "R": paper.R}
-    rows.append(impact_row("impact, paper's N, delta2, R", paper_x))
-    optima = {}
-    # The impact suppressor whose stop must be within reach: its gap at most STOP_GAP (the full
-    # box lets the gap run past the travel, where the device is a TMD that never impacts; and the
-    # two boxes' searches check each other, the optimiser being global in intent, not proven).
-    near = dict(IMPACT_BOUNDS, gap=(IMPACT_BOUNDS["gap"][0], STOP_GAP))
-    for criterion in CRITERIA:
-        text = criterion.replace("_", " ")
-        t = optimise_tmd(mu, delta1, band, criterion, budget=budget, seed=seed)
-        say(f"TMD ({criterion}): {t.parameters}")
-        rows.append(
-            linear_row(
-                f"TMD, optimal {text}",
-                t.parameters["N"],
-                t.parameters["delta2"],
-                extra={"evaluations": t.evaluations, "at_bound": list(t.at_bound)},
-            )
-        )
-        for box, suffix in ((IMPACT_BOUNDS, ""), (near, f", gap <= {STOP_GAP:g}")):
-            o, _ = optimise_impact(
-                mu,
-                delta1,
-                band,
-                criterion,
-                bounds=box,
-                budget=budget,
-                settings=settings,
-                seed=seed,
-                guesses=[paper_x],
-                step=step,
-                coarse_step=coarse_step,
-                progress=say,
-            )
-            say(f"impact ({criterion}{suffix}): {o.parameters}")
-            rows.append(
-                impact_row(
-                    f"impact, optimal {text}{suffix}",
-                    o.parameters,
-                    {"evaluations": o.evaluations, "at_bound": list(o.at_bound)},
-                )
-            )
-            if not suffix:
-                optima[criterion] = (t, o)
-    tmd, imp = optima["peak"]
-    imp_row = impacting(rows)
-    eq = tmd_at_stroke(mu, delta1, band, imp_row["stroke"], budget=budget, seed=seed)
-    rows.append(
-        linear_row(
-            "TMD, impact's stroke", eq.parameters["N"], eq.parameters["delta2"], extra={"max_stroke": imp_row["stroke"]}
-        )
-    )
-    say(f"robust optima (+-{dmax:g})")
-    rt = optimise_tmd(mu, delta1, band, "peak", budget=budget, seed=seed, detuning=dmax)
-    rows.append(linear_row(f"TMD, robust +-{100 * dmax:g} %", rt.parameters["N"], rt.parameters["delta2"]))
-    # From the impact suppressor that meets its stop, with the stop kept within reach (from the
-    # full box's optimum, a TMD when its gap is past its travel, the search stays a TMD).
-    rx = robust_impact(
-        mu,
-        delta1,
-        band,
-        dmax,
-        imp_row["parameters"],
-        evaluations=robust_evaluations,
-        settings=settings,
-        step=coarse_step,
-        bounds=near,
-    )
-    rows.append(impact_row(f"impact, robust +-{100 * dmax:g} %", rx))
-    say("sensitivity")
-    tmd_value = _tmd_criterion(mu, delta1, band, "peak")
-    imp_value = _impact_value(mu, delta1, band, "peak", step, settings)
-    sens = {
-        "tmd": sensitivity(tmd_value, tmd.parameters, TMD_BOUNDS),
-        "impact": sensitivity(imp_value, imp_row["parameters"], near),
-    }
+def _settings(budget: Budget, robust_budget: Budget, workers: int, bounds: dict) -> dict:
+    """How a design record was searched: budgets, workers, boxes, the settled motions' settings."""
     return {
-        "band": list(band),
-        "mu": mu,
-        "delta1": delta1,
-        "detunings": list(detunings),
-        "step": step,
-        "coarse_step": coarse_step,
-        "budget": {
-            "starts": budget.starts,
-            "keep": budget.keep,
-            "local_evaluations": budget.local_evaluations,
-            "polish_evaluations": budget.polish_evaluations,
-            "robust_evaluations": robust_evaluations,
-        },
-        "bounds": {"impact": IMPACT_BOUNDS, "tmd": TMD_BOUNDS},
-        "devices": rows,
-        "sensitivity": sens,
-        "sensitivity_worse": SENSITIVITY_WORSE,
+        "budget": budget.to_dict(),
+        "robust_budget": robust_budget.to_dict(),
+        "workers": workers,
+        "bounds": {k: {n: list(v) for n, v in b.items()} for k, b in bounds.items()},
+        "settings": {"settle_tol": DESIGN_SETTINGS.settle_tol, "max_periods": DESIGN_SETTINGS.max_periods},
     }
 
 
-def device(record: dict, name: str) -> dict:
-    """The row ``name`` of a :func:`design_study` record's devices (ValueError naming it if absent)."""
+def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: int, loads: dict) -> list[dict]:
+    """The design table's rows (:data:`ROWS`, after the bare object) from the searches'
+    ``results`` ({"tmd": {key: SearchResult}, "impact": {...}}): the linear ones in closed form,
+    the impact suppressors in one batch (:func:`~impactdamper.studies.design.devices.impact_rows`);
+    the travel-limited rows with their limit ``S`` and whether they keep it."""
+    impact_keys = [r for r in ROWS if r[1] == "impact"]
+    xs = [results["impact"][k].x for _, _, _, k in impact_keys]
+    rows_i = dict(
+        zip([r[0] for r in impact_keys], impact_rows(mu, delta1, band, xs, uncertainty, workers=workers, **loads))
+    )
+    devices = [_record("linear", "reference", "bare object", tmd_row(mu, delta1, band, {}, uncertainty), None)]
+    for key, kind, crit_name, k in ROWS:
+        r = results[kind][k]
+        row = tmd_row(mu, delta1, band, r.x, uncertainty) if kind == "tmd" else rows_i[key]
+        rec = _record(kind, crit_name, key, row, r)
+        if crit_name == "stroke":
+            rec["max_stroke"] = S
+            rec["feasible"] = bool(row["stroke"] <= S * (1.0 + 1e-6))
+        devices.append(rec)
+    return devices
+
+
+def device(record: dict, key: str) -> dict:
+    """The row ``key`` of a :func:`design_optima` record (ValueError naming it if absent)."""
     for d in record["devices"]:
-        if d["device"] == name:
+        if d["device"] == key:
             return d
-    raise ValueError(
-        f"`device` = {name!r} is not allowed: must be one of {', '.join(repr(d['device']) for d in record['devices'])}"
+    keys = ", ".join(repr(d["device"]) for d in record["devices"])
+    raise ValueError(f"`device` = {key!r} is not allowed: must be one of {keys}")
+
+
+def _value(row: dict, criterion: str) -> float:
+    """A row's value of ``criterion``: its peak, band average or worst peak."""
+    if criterion in ("peak", "stroke"):
+        return row["peak"]
+    if criterion == "band_average":
+        return row["band_average"]
+    return row["worst"][criterion]
+
+
+def headline(record: dict, criterion: str) -> dict:
+    """``impact`` (the impact suppressor with its stop within reach, optimal for ``criterion``),
+    ``tmd`` (the TMD optimal for it: for the force and restitution, the nominal one, which
+    they leave unchanged), ``tmd_equal_stroke`` and ``ratio`` (impact over TMD)."""
+    key_i = {"peak": "impact_peak_reach", "band_average": "impact_band_average_reach"}.get(
+        criterion, f"impact_{criterion}"
     )
+    key_t = {"band_average": "tmd_band_average", "detuning": "tmd_detuning"}.get(criterion, "tmd_peak")
+    imp, tmd = device(record, key_i), device(record, key_t)
+    return {
+        "impact": imp,
+        "tmd": tmd,
+        "tmd_equal_stroke": device(record, "tmd_stroke"),
+        "ratio": {
+            "criterion": _value(imp, criterion) / _value(tmd, criterion),
+            "peak": imp["peak"] / tmd["peak"],
+            "band_average": imp["band_average"] / tmd["band_average"],
+            "worst_case": imp["worst"]["detuning"] / tmd["worst"]["detuning"],
+        },
+    }
 
 
-# Two devices whose criteria differ by less than this (relative) are equal for a designer: the
-# worst case is sampled at DETUNING_POINTS detunings, and the optimiser's optimum is not proven
-# global; a 2 % difference is within what a second run with another seed may change.
-TIE = 0.02
+def _compare(imp: float, tmd: float) -> str:
+    if abs(imp - tmd) <= TIE * min(imp, tmd):
+        return "tie"
+    return "TMD" if tmd < imp else "impact"
 
 
-def _compare(impact: float, tmd: float, what: str, xst: str, pct: str) -> tuple[str, str]:
-    """(winner or "tie", clause) for one criterion."""
-    if abs(impact - tmd) <= TIE * min(impact, tmd):
-        return "tie", f"{what} they are equal within {100 * TIE:g}{pct} (impact {impact:.2f}, TMD {tmd:.2f}{xst})"
-    if tmd < impact:
-        return "TMD", f"{what} the TMD is lower ({tmd:.2f} against {impact:.2f}{xst})"
-    return "impact", f"{what} the impact suppressor is lower ({impact:.2f} against {tmd:.2f}{xst})"
-
-
-def impacting(devices: Sequence[dict], criterion: str = "peak") -> dict:
-    """The impact suppressor of a design table that a recommendation weighs for ``criterion``:
-    the lower criterion of the optima whose stop is reached somewhere in the band (impacts > 0);
-    the full box's optimum may put its gap beyond its travel and so be a TMD that never impacts."""
-    rows = [d for d in devices if d["device"].startswith(f"impact, optimal {criterion.replace('_', ' ')}")]
-    hitting = [d for d in rows if d.get("impacts_per_second", 0) > 0]
-    return min(hitting or rows, key=lambda d: d[criterion])
-
-
-def recommendation(
-    record: dict,
-    pm: str = "+-",
-    pct: str = " %",
-    xst: str = " x_st",
-    clearance: str = "Delta0 = {gap:.2f} P0/c1",
-    force: str = "P0",
-) -> str:
-    """One plain recommendation from a :func:`design_study` record: which device to build, on
-    the nominal optima's located peaks, the robust optima's worst cases at the largest detuning,
-    the band-average optima and the strokes; differences within TIE count as equal (``pm``,
-    ``pct``, ``xst``, ``clearance``, ``force``: how to write plus-minus, per cent, the unit x_st,
-    the clearance with its ``{gap}`` and the force amplitude)."""
-    imp, tmd = impacting(record["devices"]), device(record, "TMD, optimal peak")
-    impa, tmda = impacting(record["devices"], "band_average"), device(record, "TMD, optimal band average")
-    dmax = max(record["detunings"])
-    key = f"{dmax:g}"
-    rob_i = next(d for d in record["devices"] if d["device"].startswith("impact, robust"))
-    rob_t = next(d for d in record["devices"] if d["device"].startswith("TMD, robust"))
-    d = f"{100 * dmax:g}"
-    peak = _compare(imp["peak"], tmd["peak"], "tuned to a known frequency, at the peak", xst, pct)
-    worst = _compare(
-        rob_i["worst_case"][key],
-        rob_t["worst_case"][key],
-        f"designed for a frequency off by up to {pm}{d}{pct}, in the worst case",
-        xst,
-        pct,
+def comparisons(record: dict) -> list[dict]:
+    """The recommendation's comparisons, one per criterion: the impact suppressor with its stop
+    within reach against the TMD, each optimal for that criterion (for the force and the
+    restitution the TMD is its nominal optimum, unchanged by them), their values and the winner
+    (``tie`` within TIE)."""
+    pairs = (
+        ("peak", "impact_peak_reach", "tmd_peak"),
+        ("band_average", "impact_band_average_reach", "tmd_band_average"),
+        ("detuning", "impact_detuning", "tmd_detuning"),
+        ("force", "impact_force", "tmd_peak"),
+        ("restitution", "impact_restitution", "tmd_peak"),
+        ("stroke", "impact_stroke", "tmd_stroke"),
     )
-    avg = _compare(impa["band_average"], tmda["band_average"], "optimised for the band average", xst, pct)
-    choice = worst[0] if worst[0] != "tie" else peak[0]
-    first = {"TMD": "Build the linear TMD", "impact": "Build the impact suppressor", "tie": "Either device does"}[
-        choice
-    ]
-    stroke = f"The TMD's stroke is {tmd['stroke']:.1f}{xst} against the impact suppressor's {imp['stroke']:.1f}: " + (
-        "the stop does not shorten the travel here"
-        if tmd["stroke"] <= imp["stroke"]
-        else "the stop shortens the travel"
+    out = []
+    for c, ki, kt in pairs:
+        i, t = device(record, ki), device(record, kt)
+        vi, vt = _value(i, c), _value(t, c)
+        feasible = c != "stroke" or (i["feasible"] and t["feasible"])
+        out.append({"criterion": c, "impact": vi, "tmd": vt, "winner": _compare(vi, vt) if feasible else "infeasible"})
+    return out
+
+
+WHAT = {
+    "peak": "tuned to a known frequency, at the peak",
+    "band_average": "on the band average",
+    "detuning": "with the object's frequency off by up to {pm}{d}{pct}, in the worst case",
+    "force": "with the force between {a0} and {a1} times the design force, in the worst case",
+    "restitution": "with the restitution drifting by up to {pm}{r}, in the worst case",
+    "stroke": "with the travel limited to {S}{xst}",
+}
+
+
+def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x_st") -> str:
+    """One plain recommendation from a :func:`design_optima` record: which device to build, on
+    each criterion's pair of optima (:func:`comparisons`), differences within TIE counted as
+    equal (``pm``, ``pct``, ``xst``: how to write plus-minus, per cent and the unit x_st)."""
+    u = record["uncertainty"]
+    fmt = dict(
+        pm=pm,
+        pct=pct,
+        d=f"{100 * u['detuning']:g}",
+        a0=f"{u['force'][0]:g}",
+        a1=f"{u['force'][1]:g}",
+        r=f"{u['restitution']:g}",
+        S=f"{record['max_stroke']:.2f}",
+        xst=xst,
     )
-    if "impact" not in (peak[0], worst[0], avg[0]):
-        avg = (avg[0], avg[1] + f"; no criterion favours the impact suppressor by more than {100 * TIE:g}{pct}")
-    return (
-        f"{first}: {peak[1]}; {worst[1]}; {avg[1]}. {stroke}, and the impact suppressor's gap, a clearance "
-        f"{clearance.format(gap=imp['parameters']['gap'])}, is optimal only at the design force amplitude {force}."
+    cs = comparisons(record)
+    wins = {c["criterion"]: c["winner"] for c in cs}
+    robust = [wins[c] for c in ("detuning", "force", "restitution")]
+    if wins["peak"] != "impact" and "impact" not in robust:
+        first = "Build the linear TMD"
+    elif wins["peak"] == "impact" and "TMD" not in robust:
+        first = "Build the impact suppressor"
+    else:
+        first = "Neither device wins everywhere"
+    parts = []
+    for c in cs:
+        what = WHAT[c["criterion"]].format(**fmt)
+        if c["winner"] == "infeasible":
+            parts.append(f"{what} no design meets the limit")
+        elif c["winner"] == "tie":
+            parts.append(
+                f"{what} they are equal within {100 * TIE:g}{pct} (impact {c['impact']:.2f}, TMD {c['tmd']:.2f})"
+            )
+        else:
+            lo, hi = (c["tmd"], c["impact"]) if c["winner"] == "TMD" else (c["impact"], c["tmd"])
+            parts.append(
+                f"{what} the {'TMD' if c['winner'] == 'TMD' else 'impact suppressor'} is lower ({lo:.2f} against {hi:.2f})"
+            )
+    return f"{first}: " + "; ".join(parts) + "."
+
+
+def design_options(design: dict) -> dict:
+    """:func:`design_optima`'s options from the config's ``design`` section: the uncertainties
+    (``detuning``, ``force_band``, ``restitution_drift``) and the budgets (``search_samples``,
+    ``search_starts``, ``search_polls``, ``search_polish``, ``robust_polls``,
+    ``robust_polish``, ``search_checks``; the steps are :data:`BUDGET`'s). With the shipped config they
+    are the command's defaults, so that the design table is what ``design --json`` prints."""
+    budget = dataclasses.replace(
+        BUDGET,
+        samples=int(design["search_samples"]),
+        starts=int(design["search_starts"]),
+        polls=int(design["search_polls"]),
+        polish=int(design["search_polish"]),
+        checks=int(design["search_checks"]),
     )
+    robust = dataclasses.replace(
+        ROBUST_BUDGET,
+        polls=int(design["robust_polls"]),
+        polish=int(design["robust_polish"]),
+        checks=int(design["search_checks"]),
+    )
+    low, high = (float(x) for x in design["force_band"])
+    unc = Uncertainty(float(design["detuning"]), (low, high), float(design["restitution_drift"]))
+    return {"uncertainty": unc, "budget": budget, "robust_budget": robust}

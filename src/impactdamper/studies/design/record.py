@@ -1,6 +1,6 @@
 """The design stage's record for the report's section "Choosing a suppressor", declared for
-:mod:`impactdamper.reporting.texrecord`: its macros, the design table and the table of the best
-gap against the second parameter.
+:mod:`impactdamper.reporting.texrecord`: its macros, the design table, the loads table, the
+table of the best gap against the second parameter and the benchmark table.
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in the
 paper): the numbers come from the design stage's records (figures/design_*.json), no number is
@@ -11,55 +11,122 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
 from impactdamper.reporting.latex import MacroFile
-from impactdamper.reporting.records import read_csv
-from impactdamper.reporting.texrecord import TEXT, Column, Format, Macro, Table, fixed, macro_lines, percent, pick
-from impactdamper.reporting.texrecord import bound, tex_sci
-from impactdamper.studies.design.design import bare_object_amplitude, runs_where, two_mass_amplitude
-from impactdamper.studies.design.optimum import IMPACT_BOUNDS, device, impacting, recommendation
+from impactdamper.reporting.texrecord import TEXT, Column, Format, Macro, Table, fixed, macro_lines, percent, tex_sci
+from impactdamper.studies.design.design import bare_object_amplitude
+from impactdamper.studies.design.optimum import comparisons, device, recommendation
 from impactdamper.studies.vocabulary import SPEC
+
+__all__ = [
+    "RECORD_WHAT",
+    "DEVICE_KEYS",
+    "design_macros",
+    "design_table",
+    "loads_table",
+    "second_table",
+    "benchmark_table",
+    "device_name",
+]
 
 # What the stage's record holds (results/report/design.json).
 RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design stage)"
 
-# The impact suppressor's designed parameters (the optimiser's, in its order), their decimals,
-# and their symbols (the report's: x_{\mathrm{st}}, as in the text).
+# The impact suppressor's designed parameters, their decimals, and their symbols as the design
+# section writes them.
 DIGITS = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
-SYMBOLS = {k: SPEC[k].symbol for k in IMPACT_BOUNDS}
+SYMBOLS = {k: SPEC[k].symbol for k in DIGITS}
+
+# The design table's rows by their macro part (the record's ``device`` keys).
+DEVICE_KEYS = {
+    "BareDev": "bare object",
+    "TmdOpt": "tmd_peak",
+    "Hit": "impact_peak_reach",
+    "Opt": "impact_peak",
+    "TmdAvgOpt": "tmd_band_average",
+    "HitAvg": "impact_band_average_reach",
+    "OptAvg": "impact_band_average",
+    "RobTmd": "tmd_detuning",
+    "RobImp": "impact_detuning",
+    "ForceImp": "impact_force",
+    "RestImp": "impact_restitution",
+    "StrokeTmd": "tmd_stroke",
+    "StrokeImp": "impact_stroke",
+}
+# How the report names each row: the device and the criterion it is optimal for.
+NAMES = {
+    "bare object": "bare object",
+    "tmd_peak": "TMD, peak",
+    "impact_peak_reach": "impact, peak",
+    "impact_peak": "impact, peak, whole box",
+    "tmd_band_average": "TMD, band average",
+    "impact_band_average_reach": "impact, band average",
+    "impact_band_average": "impact, band avg., whole box",
+    "tmd_detuning": "TMD, detuned",
+    "impact_detuning": "impact, detuned",
+    "impact_force": "impact, force",
+    "impact_restitution": "impact, $R$ drift",
+    "tmd_stroke": "TMD, travel limit",
+    "impact_stroke": "impact, travel limit",
+}
 
 
-def impact_better(response_csv, gap: float, tmd: dict) -> tuple[float, list]:
-    """Share of the theta grid (and its runs) where the impact design at ``gap`` (worse direction)
-    keeps max|x1| below the optimal TMD's."""
-    rows = [r for r in read_csv(response_csv) if abs(float(r["gap"]) - gap) < 1e-12]
-    thetas = sorted({float(r["theta"]) for r in rows})
-    worst = np.array([max(float(r["max_abs_x1"]) for r in rows if float(r["theta"]) == t) for t in thetas])
-    lin = two_mass_amplitude(tmd["mu"], tmd["N"], tmd["delta1"], tmd["delta2"], thetas)
-    better = worst < lin
-    return float(better.mean()), runs_where(thetas, better)
+def device_name(d: dict) -> str:
+    """A row's name in the report: a row that never reaches its stop is the TMD limit."""
+    name = NAMES[d["device"]]
+    if d.get("tmd_limit"):
+        name += ": TMD limit"
+    if d.get("feasible") is False:
+        name += " (over the limit)"
+    return name
+
+
+def branch_words(branch: str) -> str:
+    """A worst branch's description (``up, 1/1, branch end``; ``linear``) in words."""
+    if branch == "linear":
+        return "the linear response's resonance"
+    source, label, kind = (part.strip() for part in branch.split(","))
+    if source == "no contact":
+        return "the motion without contact" + (", where it first touches the stop" if kind == "first contact" else "")
+    where = {"maximum": "a smooth maximum", "branch end": "the end of its branch", "sample": "a sample"}[kind]
+    who = {"up": "the upward sweep's", "down": "the downward sweep's", "random": "a random start's"}[source]
+    return f"{who} {label} motion, {where}"
 
 
 def _ratio(a: str, b: str):
     """The value at path ``a`` over the value at path ``b`` of the source."""
+    from impactdamper.reporting.texrecord import pick
+
     return lambda s: pick(s, a) / pick(s, b)
 
 
-# The charts, the baselines, the responses and the Den Hartog check (bp, ba: the chart's best
-# gaps by peak and band average; best: the response at the best gap; paper: at the paper's gap).
+def _pct_more(a: str, b: str):
+    """100 (a/b - 1): how much more the value at ``a`` is than the one at ``b``, per cent."""
+    from impactdamper.reporting.texrecord import pick
+
+    return lambda s: 100.0 * (pick(s, a) / pick(s, b) - 1.0)
+
+
+# The baselines, the chart, the responses, the Den Hartog check and the located-peak checks.
 CHART = (
     Macro("DesignBandStart", "base.band.0", fixed(2)),
     Macro("DesignBandStop", "base.band.1", fixed(2)),
-    Macro("DesignThetaPoints", "chart.theta_points", TEXT),
+    Macro("DesignStep", "chart.step", fixed(2)),
+    Macro("DesignGapStart", "chart.gaps.0", fixed(1)),
+    Macro("DesignGapStop", "chart.gaps.-1", fixed(1)),
     Macro("DesignGapStep", "chart.gap_step", fixed(2)),
     Macro("DesignTolerancePct", "bp.tolerance", percent(0)),
-    Macro("DesignBestGap", "bp.gap", fixed(2)),
-    Macro("DesignBestPeak", "bp.value", fixed(2)),
+    Macro("DesignBestGap", "located.peak.gap", fixed(3)),
+    Macro("DesignBestPeak", "located.peak.value", fixed(3)),
+    Macro("DesignBestTheta", "located.peak.peak_theta", fixed(3)),
+    Macro("DesignBestGridGap", "bp.gap", fixed(2)),
     Macro("DesignGoodFrom", "bp.good_from", fixed(2)),
     Macro("DesignGoodTo", "bp.good_to", fixed(2)),
     Macro("DesignBestImpulse", "bp.peak_impulse", fixed(2)),
-    Macro("DesignBestImpacts", "bp.impacts_per_period", fixed(0)),
+    Macro("DesignAvgBestGap", "located.band_average.gap", fixed(3)),
+    Macro("DesignAvgBest", "located.band_average.value", fixed(3)),
+    Macro("DesignAvgGoodFrom", "ba.good_from", fixed(2)),
+    Macro("DesignAvgGoodTo", "ba.good_to", fixed(2)),
+    Macro("DesignGapXtol", "located.peak.xtol", tex_sci(1)),
     Macro("DesignRefTheta", "one.theta", fixed(2)),
     Macro("DesignRefThetaGap", "one.gap", fixed(2)),
     Macro("DesignRefThetaValue", "one.value", fixed(2)),
@@ -68,335 +135,365 @@ CHART = (
         lambda s: float(bare_object_amplitude(s["base"]["parameters"]["delta1"], [s["one"]["theta"]])[0]),
         fixed(2),
     ),
-    Macro("DesignAvgBestGap", "ba.gap", fixed(2)),
-    Macro("DesignAvgBest", "ba.value", fixed(3)),
-    Macro("DesignAvgGoodFrom", "ba.good_from", fixed(2)),
-    Macro("DesignAvgGoodTo", "ba.good_to", fixed(2)),
-    Macro("DesignBestGapAvg", "best.band_average", fixed(3)),
-    Macro("DesignBarePeak", "bare.peak", fixed(2)),
-    Macro("DesignBareAvg", "bare.band_average", fixed(3)),
-    Macro("DesignAbsorberPeak", "absorber.peak", fixed(2)),
-    Macro("DesignAbsorberAvg", "absorber.band_average", fixed(3)),
-    Macro("DesignTmdPeak", "tmd.peak", fixed(2)),
-    Macro("DesignTmdAvg", "tmd.band_average", fixed(3)),
-    Macro("DesignTmdN", "tmd.N", fixed(4)),
-    Macro("DesignTmdDeltaTwo", "tmd.delta2", fixed(4)),
-    Macro("DesignTmdAvgOptAvg", "tmd_avg.band_average", fixed(3)),
-    Macro("DesignTmdAvgOptN", "tmd_avg.N", fixed(4)),
-    Macro("DesignTmdAvgOptDeltaTwo", "tmd_avg.delta2", fixed(4)),
-    Macro("DesignGainBare", _ratio("bare.peak", "bp.value"), fixed(2)),
-    Macro("DesignGainAbsorber", _ratio("absorber.peak", "bp.value"), fixed(2)),
-    Macro("DesignRatioTmd", _ratio("bp.value", "tmd.peak"), fixed(2)),
-    Macro("DesignRatioTmdAvg", _ratio("best.band_average", "tmd.band_average"), fixed(2)),
-    Macro("DesignImpactBetterPct", "share", percent(0)),
-    Macro(
-        "DesignImpactBetterRuns",
-        lambda s: (
-            ", ".join(f"${fixed(2)(a)}$--${fixed(2)(b)}$" if b > a else f"${fixed(2)(a)}$" for a, b in s["runs"])
-            or "none"
-        ),
-    ),
-    Macro("DesignPaperGap", "paper_gap", fixed(1)),
+    Macro("DesignPaperN", "base.parameters.N", fixed(2)),
+    Macro("DesignPaperDeltaTwo", "base.parameters.delta2", fixed(2)),
+    Macro("DesignPaperR", "base.parameters.R", fixed(2)),
+    Macro("DesignPaperMu", "base.parameters.mu", fixed(2)),
+    Macro("DesignPaperDeltaOne", "base.parameters.delta1", fixed(2)),
+    Macro("DesignPaperGap", "paper.gap", fixed(1)),
     Macro("DesignPaperPeak", "paper.peak", fixed(2)),
-    Macro("DesignPaperImpulse", "paper.peak_impulse", fixed(2)),
     Macro("DesignPaperImpacts", "paper.impacts_per_period", fixed(0)),
-    Macro("DesignBestHysteresis", "best.hysteresis_points", TEXT),
     Macro("DesignResponsePoints", "resp.points", TEXT),
-    # Bounds the text states ("to within", "at most"): rounded up, never below the data.
-    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), bound(2)),
-    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), bound(2)),
+    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), tex_sci(1)),
+    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), tex_sci(1)),
     Macro("DesignDHPeak", "dh.closed_form.peak", fixed(4)),
-    Macro("DesignDHPeakAtDH", "dh.peak_at_closed_form", fixed(4)),
-    Macro("DesignDHOptPeak", "dh.optimiser.peak", fixed(4)),
-    Macro("DesignDHExcessPct", "dh.peak_relative_excess", percent(2)),
+    Macro("DesignDHOptPeak", "dh.search.value", fixed(4)),
+    Macro("DesignDHPeakDiff", lambda s: abs(s["dh"]["peak_relative_difference"]), tex_sci(1)),
     Macro("DesignDHN", "dh.closed_form.N", fixed(4)),
-    Macro("DesignDHOptN", "dh.optimiser.N", fixed(4)),
+    Macro("DesignDHOptN", "dh.search.parameters.N", fixed(4)),
     Macro("DesignDHNDiff", lambda s: abs(s["dh"]["N_relative_difference"]), tex_sci(1)),
     Macro("DesignDHDeltaTwo", "dh.closed_form.delta2", fixed(4)),
-    Macro("DesignDHOptDeltaTwo", "dh.optimiser.delta2", fixed(4)),
-    Macro("DesignSecondName", "chart2.parameter", TEXT),
+    Macro("DesignDHOptDeltaTwo", "dh.search.parameters.delta2", fixed(4)),
+    Macro("DesignDHDeltaTwoDiff", lambda s: abs(s["dh"]["delta2_relative_difference"]), tex_sci(1)),
+    Macro("DesignSecondName", lambda s: f"${SPEC[s['chart2']['parameter']].symbol}$"),
 )
 
-# The design table's devices by their macro part and their names in the record (a name ending in
-# "..." is the start of one): the impact suppressors, the linear ones, the references.
-DEVICE_NAMES = {
-    "Opt": "impact, optimal peak",
-    "OptAvgCrit": "impact, optimal band average",
-    "Chart": "impact, paper...",
-    "RobImp": "impact, robust...",
-    "Near": "impact, optimal peak, gap...",
-    "TmdOpt": "TMD, optimal peak",
-    "TmdOptAvgCrit": "TMD, optimal band average",
-    "Eq": "TMD, impact's stroke",
-    "RobTmd": "TMD, robust...",
-    "BareDev": "bare object",
-    "AbsorberDev": "absorber without a stop",
-}
-IMPACT_DEVICES = ("Opt", "OptAvgCrit", "Chart", "RobImp", "Near")
-TMD_DEVICES = ("TmdOpt", "TmdOptAvgCrit", "Eq", "RobTmd")
-# A device's designed parameter ({D}: the device, {P}: the parameter's macro part).
+# The located-peak checks (figures/design_checks.json).
+CHECKS = (
+    Macro("DesignCheckCases", "checks.cases_count", TEXT),
+    Macro("DesignCheckFineStep", "checks.fine_step", fixed(3)),
+    Macro("DesignCheckFineMax", "checks.fine_largest_excess", tex_sci(1)),
+    Macro(
+        "DesignCheckGapTwoFine",
+        lambda s: 1.0 - s["checks"]["gap_two"]["fine"]["largest"] / s["checks"]["gap_two"]["peak"],
+        tex_sci(1),
+    ),
+    Macro("DesignCheckFloorDiff", "checks.floor_largest_difference", tex_sci(1)),
+    Macro("DesignCheckIvpDiff", "checks.ivp_largest_difference", tex_sci(1)),
+    Macro("DesignCheckIvpCount", "checks.ivp_count", TEXT),
+    Macro("DesignCheckThetaTol", "checks.theta_tol", tex_sci(1)),
+    Macro("DesignCheckGapTwoPeak", "checks.gap_two.peak", fixed(4)),
+    Macro("DesignCheckGapTwoTheta", "checks.gap_two.peak_theta", fixed(4)),
+    Macro("DesignCheckGapTwoGrid", "checks.gap_two.grid_peak", fixed(4)),
+    Macro("DesignCheckIssueFloor", "checks.branch_end.no_contact_floor", fixed(4)),
+    Macro("DesignCheckIssueTheta", "checks.branch_end.peak_theta", fixed(4)),
+    Macro("DesignCheckIssueGrid", "checks.branch_end.grid_peak", fixed(4)),
+)
+
+# A row's macros ({D}: the row's macro part): designed parameters, criteria, stroke.
 PARAMETER = {k: Macro("Design{D}{P}", f"parameters.{k}", fixed(d)) for k, d in DIGITS.items()}
-# A device's located peak, band average, worst cases at the two detunings and stroke.
-DEVICE = (
+ROW = (
     Macro("Design{D}LocPeak", "peak", fixed(3)),
     Macro("Design{D}LocTheta", "peak_theta", fixed(3)),
     Macro("Design{D}Avg", "band_average", fixed(3)),
-    Macro("Design{D}WorstSmall", "worst_small", fixed(2)),
-    Macro("Design{D}WorstLarge", "worst_large", fixed(2)),
+    Macro("Design{D}WorstLarge", "worst.detuning", fixed(2)),
+    Macro("Design{D}WorstForce", "worst.force", fixed(2)),
+    Macro("Design{D}WorstRest", "worst.restitution", fixed(2)),
+    Macro("Design{D}WorstAll", "worst.together", fixed(2)),
     Macro("Design{D}Stroke", "stroke", fixed(1)),
+    Macro("Design{D}Branch", "peak_branch", Format(branch_words)),
+)
+# An impact row's loads and search record.
+IMPACT_ROW = (
+    Macro("Design{D}Pulse", "pulse", fixed(2)),
+    Macro("Design{D}ImpactsPerPeriod", "impacts_per_period", fixed(1)),
+    Macro("Design{D}ImpactsPerHour", "impacts_per_hour", Format(lambda v: f"{v:,.0f}".replace(",", "\\,"))),
+    Macro("Design{D}ContactForce", "contact_force", fixed(0)),
+    Macro("Design{D}MeanForce", "mean_force", fixed(2)),
+    Macro("Design{D}Floor", "no_contact_floor", fixed(3)),
+)
+SEARCH = (
+    Macro("Design{D}Evaluations", lambda d: sum(d["search"]["evaluations"].values()), TEXT),
+    Macro("Design{D}CheckGain", lambda d: max(d["search"]["check"]["largest_gain"], 0.0), tex_sci(1)),
+    Macro("Design{D}AtBound", lambda d: _at_bound_text(d["search"]["at_bound"])),
 )
 
 
-def _sensitivity_text(sens: dict) -> str:
-    """``$N$ down by $0.012$, up by $0.020$; ...``: each parameter's move down and up for a 5 %
-    worse peak ("to its bound" where even the box's bound is not that much worse)."""
-    parts = []
-    for n in [k for k in SYMBOLS if k in sens]:
-        moves = [
-            f"{side} " + ("to its bound" if v is None else f"by ${fixed(3)(abs(v))}$")
-            for side, v in (("down", sens[n]["down"]), ("up", sens[n]["up"]))
-        ]
-        parts.append(f"${SYMBOLS[n]}$ " + ", ".join(moves))
-    return "; ".join(parts)
-
-
-def _at_bound_text(names: list[str]) -> str:
-    """Which of the impact optimum's parameters lie at a bound of the optimiser's box, as a clause."""
-    symbols = [f"${SYMBOLS[k]}$" for k in names if k in SYMBOLS]
-    if not symbols:
-        return "no parameter of the impact optimum lies at a bound of its box"
-    listed = symbols[0] if len(symbols) == 1 else ", ".join(symbols[:-1]) + " and " + symbols[-1]
-    return f"the impact optimum's {listed} {'lies' if len(symbols) == 1 else 'lie'} at a bound of its box"
-
-
-def _stop_text(imp: dict) -> str:
-    """Whether the optimal impact suppressor reaches its stop, in words."""
-    if imp["impacts_per_second"] == 0:
+def literature_verdict(s: dict) -> str:
+    """Whether this study's numbers bear out the impact dampers' credited robustness to
+    detuning, in one sentence (``s``: the rows by macro part under ``d``)."""
+    d = s["d"]
+    nominal = d["Hit"]["worst"]["detuning"] < d["TmdOpt"]["worst"]["detuning"]
+    robust = d["RobImp"]["worst"]["detuning"] < d["RobTmd"]["worst"]["detuning"]
+    force = d["ForceImp"]["worst"]["force"] < d["TmdOpt"]["peak"]
+    if robust and force:
+        return "In this study's numbers it holds: designed for the detuning or the force, the impact suppressor is the lower."
+    if robust:
         return (
-            f"its gap lies beyond its own travel (stroke {fixed(1)(imp['stroke'])}), so that the "
-            "stop is never reached: allowed that, the optimiser makes the impact suppressor a TMD"
+            "In this study's numbers it holds for the detuning (designed for it, the impact suppressor is the lower), "
+            "but not for the force amplitude."
         )
-    return f"its stop is reached, up to {fixed(2)(imp['impacts_per_second'])} impacts per natural period"
+    if nominal:
+        return (
+            "In this study's numbers it holds only between the nominal optima: a TMD designed for the detuning "
+            "reverses it, and a force that is not what was assumed costs the impact suppressor alone."
+        )
+    return "In this study's numbers it does not hold, not even between the nominal optima."
 
 
-# The comparisons between devices (d: the devices by macro part; hit, hita: the impacting optima
-# by peak and band average; large: the largest detuning's key).
-COMPARISONS = (
+def _lower(a: str, b: str):
+    """``lower`` where the value at path ``a`` is below the one at ``b``, else ``higher``."""
+    from impactdamper.reporting.texrecord import pick
+
+    return lambda s: "lower" if pick(s, a) < pick(s, b) else "higher"
+
+
+def _checks_text(searched: list) -> str:
+    """How the searches' 2 % checks ended, in words."""
+    failed = [d for d in searched if not d["search"]["check"]["passed"]]
+    if not failed:
+        return f"All {len(searched)} searches end on a passed check."
+    gain = max(d["search"]["check"]["largest_gain"] for d in failed)
+    return (
+        f"Of the {len(searched)} searches, {len(searched) - len(failed)} end on a passed check; in the others a "
+        f"move still lowers the answer by at most {tex_sci(1)(gain)} (relative) when the budget ends."
+    )
+
+
+def _at_bound_list(searched: list) -> str:
+    """Every searched row with a parameter at a bound of its box, in words (``none`` if none)."""
+    parts = [
+        f"{device_name(d)} ({_at_bound_text(d['search']['at_bound'])})" for d in searched if d["search"]["at_bound"]
+    ]
+    return "; ".join(parts) or "none"
+
+
+def _bound_text(names) -> str:
+    """The parameters at a bound of the box, in words."""
+    if not names:
+        return "none of its parameters is at a bound"
+    return "at a bound: " + ", ".join(f"${SYMBOLS[n]}$" for n in names)
+
+
+def _at_bound_text(names) -> str:
+    return ", ".join(f"${SYMBOLS[n]}$" for n in names) or "none"
+
+
+def _stop_text(d: dict) -> str:
+    """Whether the whole box's peak optimum reaches its stop, in words."""
+    if d.get("tmd_limit"):
+        return "its stop lies beyond its own travel and is never reached: it is the TMD limit"
+    return f"its stop is reached, up to {fixed(1)(d['impacts_per_period'])} impacts per period"
+
+
+# The record's comparisons and settings.
+SUMMARY = (
+    Macro("DesignDetuneLargePct", "opt.uncertainty.detuning", percent(0)),
+    Macro("DesignForceLow", "opt.uncertainty.force.0", fixed(1)),
+    Macro("DesignForceHigh", "opt.uncertainty.force.1", fixed(0)),
+    Macro("DesignRestDrift", "opt.uncertainty.restitution", fixed(2)),
+    Macro("DesignTmdStrokeBound", "opt.tmd_stroke", fixed(2)),
+    Macro("DesignMaxStroke", "opt.max_stroke", fixed(2)),
+    Macro("DesignStopStiffness", "opt.stop_stiffness", fixed(0)),
+    Macro("DesignNaturalFrequency", "opt.natural_frequency", fixed(0)),
+    Macro("DesignGapLow", "opt.bounds.impact.gap.0", fixed(2)),
+    Macro("DesignGapHigh", "opt.bounds.impact.gap.1", fixed(2)),
+    Macro("DesignGapReach", "opt.bounds.impact_reach.gap.1", fixed(2)),
+    Macro("DesignNLow", "opt.bounds.impact.N.0", fixed(2)),
+    Macro("DesignNHigh", "opt.bounds.impact.N.1", fixed(2)),
+    Macro("DesignDeltaTwoHigh", "opt.bounds.impact.delta2.1", fixed(2)),
+    Macro("DesignRLow", "opt.bounds.impact.R.0", fixed(2)),
+    Macro("DesignRHigh", "opt.bounds.impact.R.1", fixed(2)),
+    Macro("DesignSamples", "opt.budget.samples", TEXT),
+    Macro("DesignStarts", "opt.budget.starts", TEXT),
+    Macro("DesignPolls", "opt.budget.polls", TEXT),
+    Macro("DesignPolish", "opt.budget.polish", TEXT),
+    Macro("DesignRobustPolls", "opt.robust_budget.polls", TEXT),
+    Macro("DesignRobustPolish", "opt.robust_budget.polish", TEXT),
+    Macro("DesignCheckMovePct", lambda s: 100 * s["d"]["Hit"]["search"]["check"]["move"], fixed(0)),
+    Macro("DesignSettleTol", "opt.settings.settle_tol", tex_sci(1)),
+    Macro("DesignMaxPeriods", "opt.settings.max_periods", TEXT),
+    Macro("DesignElapsed", "opt.elapsed", fixed(0)),
+    Macro("DesignOptStopText", "d.Opt", Format(_stop_text)),
     Macro(
-        "DesignRobTmdDampingWord",
+        "DesignStrokeImpStopText",
         lambda s: (
-            "more" if s["d"]["RobTmd"]["parameters"]["delta2"] > s["d"]["TmdOpt"]["parameters"]["delta2"] else "less"
+            "never reaches its stop: it is the TMD limit, its stop marking the limit"
+            if s["d"]["StrokeImp"].get("tmd_limit")
+            else f"reaches its stop, up to {fixed(1)(s['d']['StrokeImp']['impacts_per_period'])} impacts per period"
         ),
     ),
-    Macro("DesignChartGainBare", _ratio("d.BareDev.peak", "d.Chart.peak"), fixed(2)),
-    Macro("DesignChartGainAbsorber", _ratio("d.AbsorberDev.peak", "d.Chart.peak"), fixed(2)),
-    Macro("DesignChartRatioTmd", _ratio("d.Chart.peak", "d.TmdOpt.peak"), fixed(2)),
-    Macro("DesignOptRatioTmd", _ratio("d.Opt.peak", "d.TmdOpt.peak"), fixed(3)),
-    Macro("DesignOptRatioTmdAvg", _ratio("d.OptAvgCrit.band_average", "d.TmdOptAvgCrit.band_average"), fixed(3)),
-    Macro("DesignOptRatioWorstLarge", _ratio("d.Opt.worst_large", "d.TmdOpt.worst_large"), fixed(3)),
-    Macro("DesignOptGainBare", _ratio("d.BareDev.peak", "d.Opt.peak"), fixed(2)),
-    Macro("DesignNearRatioTmd", _ratio("d.Near.peak", "d.TmdOpt.peak"), fixed(3)),
-    Macro("DesignNearImpulse", "d.Near.impulse_per_impact", fixed(2)),
-    Macro("DesignNearImpactsPerSecond", "d.Near.impacts_per_second", fixed(2)),
-    Macro("DesignNearMeanForce", "d.Near.mean_force", fixed(3)),
-    Macro("DesignOptStopText", "d.Opt", Format(_stop_text)),
-)
-HIT = (
-    Macro("DesignHitLocPeak", "hit.peak", fixed(3)),
-    Macro("DesignHitStroke", "hit.stroke", fixed(1)),
-    Macro("DesignHitImpulse", "hit.impulse_per_impact", fixed(2)),
-    Macro("DesignHitImpactsPerSecond", "hit.impacts_per_second", fixed(2)),
-    Macro("DesignHitMeanForce", "hit.mean_force", fixed(3)),
-    Macro("DesignHitWorstLarge", "hit.worst_large", fixed(2)),
-    Macro("DesignHitAvgCritGap", "hita.parameters.gap", fixed(2)),
-    Macro("DesignHitAvgCritAvg", "hita.band_average", fixed(3)),
-    Macro("DesignHitRatioTmdAvg", _ratio("hita.band_average", "d.TmdOptAvgCrit.band_average"), fixed(3)),
-    Macro("DesignHitRatioTmd", _ratio("hit.peak", "d.TmdOpt.peak"), fixed(3)),
-    Macro("DesignHitRatioWorstLarge", _ratio("hit.worst_large", "d.TmdOpt.worst_large"), fixed(3)),
-    Macro("DesignOptImpulse", "d.Opt.impulse_per_impact", fixed(2)),
-    Macro("DesignOptImpactsPerSecond", "d.Opt.impacts_per_second", fixed(2)),
-    Macro("DesignOptMeanForce", "d.Opt.mean_force", fixed(3)),
-    Macro("DesignOptGridPeak", "d.Opt.grid_peak", fixed(3)),
-    Macro("DesignChartGridPeak", "d.Chart.grid_peak", fixed(3)),
-    Macro("DesignOptAtBound", lambda s: _at_bound_text(s["d"]["Opt"]["at_bound"])),
-    Macro("DesignStarts", "optimum.budget.starts", TEXT),
-    Macro("DesignKeep", "optimum.budget.keep", TEXT),
-    Macro("DesignLocalEvaluations", "optimum.budget.local_evaluations", TEXT),
-    Macro("DesignSensImpact", "optimum.sensitivity.impact", Format(_sensitivity_text)),
-    Macro("DesignSensTmd", "optimum.sensitivity.tmd", Format(_sensitivity_text)),
-    Macro("DesignSensWorsePct", "optimum.sensitivity_worse", percent(0)),
+    Macro("DesignChecksPassed", lambda s: sum(bool(d["search"]["check"]["passed"]) for d in s["searched"]), TEXT),
+    Macro("DesignChecksTotal", lambda s: len(s["searched"]), TEXT),
+    Macro("DesignChecksText", lambda s: _checks_text(s["searched"])),
+    Macro("DesignHitBoundText", lambda s: _bound_text(s["d"]["Hit"]["search"]["at_bound"])),
+    Macro("DesignAtBoundList", lambda s: _at_bound_list(s["searched"])),
+    Macro("DesignOptForceMorePct", _pct_more("d.Opt.worst.force", "d.TmdOpt.peak"), fixed(0)),
+    Macro("DesignLoadAverage", lambda s: s["bench"]["machine"]["load_average"][0], fixed(1)),
+    Macro(
+        "DesignLargestGain",
+        lambda s: max(max(d["search"]["check"]["largest_gain"], 0.0) for d in s["searched"]),
+        tex_sci(1),
+    ),
+    Macro("DesignAtBoundRows", lambda s: sum(bool(d["search"]["at_bound"]) for d in s["searched"]), TEXT),
+    Macro("DesignHitRatioTmd", _ratio("d.Hit.peak", "d.TmdOpt.peak"), fixed(3)),
+    Macro("DesignHitAvgRatioTmd", _ratio("d.HitAvg.band_average", "d.TmdAvgOpt.band_average"), fixed(3)),
+    Macro("DesignRobRatio", _ratio("d.RobImp.worst.detuning", "d.RobTmd.worst.detuning"), fixed(3)),
+    Macro("DesignForceRatio", _ratio("d.ForceImp.worst.force", "d.TmdOpt.peak"), fixed(3)),
+    Macro("DesignRestRatio", _ratio("d.RestImp.worst.restitution", "d.TmdOpt.peak"), fixed(3)),
+    Macro("DesignStrokeRatio", _ratio("d.StrokeImp.peak", "d.StrokeTmd.peak"), fixed(3)),
+    Macro("DesignHitForceMorePct", _pct_more("d.Hit.worst.force", "d.Hit.peak"), fixed(0)),
+    Macro("DesignHitRestMorePct", _pct_more("d.Hit.worst.restitution", "d.Hit.peak"), fixed(0)),
+    Macro("DesignHitDetuneMorePct", _pct_more("d.Hit.worst.detuning", "d.Hit.peak"), fixed(0)),
+    Macro("DesignTmdDetuneMorePct", _pct_more("d.TmdOpt.worst.detuning", "d.TmdOpt.peak"), fixed(0)),
+    Macro("DesignOptDetuneMorePct", _pct_more("d.Opt.worst.detuning", "d.TmdOpt.worst.detuning"), fixed(0)),
+    Macro("DesignGainBare", _ratio("d.BareDev.peak", "d.TmdOpt.peak"), fixed(2)),
+    Macro("DesignNominalDetuneWord", _lower("d.Hit.worst.detuning", "d.TmdOpt.worst.detuning")),
+    Macro("DesignRobDetuneWord", _lower("d.RobImp.worst.detuning", "d.RobTmd.worst.detuning")),
+    Macro("DesignForceWord", _lower("d.ForceImp.worst.force", "d.TmdOpt.peak")),
+    Macro("DesignLiteratureVerdict", literature_verdict),
+    Macro("DesignSnubberLowPct", lambda s: 100 * (s["opt"]["snubber"][0]["ratio"] - 1), fixed(0)),
+    Macro("DesignSnubberHighPct", lambda s: 100 * (s["opt"]["snubber"][-1]["ratio"] - 1), fixed(0)),
+    Macro("DesignSnubberLowFraction", lambda s: s["opt"]["snubber"][0]["fraction"], fixed(2)),
+    Macro("DesignSnubberHighFraction", lambda s: s["opt"]["snubber"][-1]["fraction"], fixed(2)),
+    Macro("DesignSnubberR", lambda s: s["opt"]["snubber"][0]["parameters"]["R"], fixed(1)),
+    Macro("DesignAbstractAnswer", lambda s: abstract_answer(s["opt"])),
     Macro(
         "DesignRecommendation",
-        lambda s: recommendation(
-            s["optimum"],
-            pm="$\\pm$",
-            pct="\\,\\%",
-            xst="\\,$x_{\\mathrm{st}}$",
-            clearance="$\\Delta_0={gap:.2f}\\,P_0/c_1$",
-            force="$P_0$",
-        ),
+        lambda s: recommendation(s["opt"], pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{\\mathrm{st}}$"),
     ),
-    # For the README (never expanded in TeX, where its x_st would fail; no "%", which would end the
-    # TeX line of its definition).
-    Macro("DesignRecommendationPlain", lambda s: recommendation(s["optimum"], pct=" per cent")),
+    # For the README (never expanded in TeX; no "%", which would end the TeX line of its definition).
+    Macro("DesignRecommendationPlain", lambda s: recommendation(s["opt"], pct=" per cent")),
 )
 
 
-def _devices(optimum: dict) -> dict[str, dict]:
-    """The design table's devices by macro part (:data:`DEVICE_NAMES`), each with its worst cases
-    at the smallest and largest detuning (``worst_small``, ``worst_large``)."""
-    out = {}
-    for key, name in DEVICE_NAMES.items():
-        if name.endswith("..."):
-            d = next(d for d in optimum["devices"] if d["device"].startswith(name.removesuffix("...")))
-        else:
-            d = device(optimum, name)
-        out[key] = _with_worst(d, optimum)
-    return out
+def abstract_answer(opt: dict) -> str:
+    """The abstract's answer (TeX): which device, and the comparisons behind it in brief."""
+    u = opt["uncertainty"]
+    what = {
+        "peak": "at the nominal peak",
+        "band_average": "on the band average",
+        "detuning": f"with the object's natural frequency off by $\\pm{100 * u['detuning']:g}\\,\\%$",
+        "force": f"with the force between {u['force'][0]:g} and {u['force'][1]:g} times its design value",
+        "restitution": f"with the stop's restitution drifting by $\\pm{u['restitution']:g}$",
+        "stroke": "with the travel limited",
+    }
+    first = recommendation(opt).split(":")[0]
+    parts = []
+    for c in comparisons(opt):
+        if c["winner"] == "infeasible":
+            continue
+        verb = {"tie": "they are equal", "TMD": "the TMD is lower", "impact": "the impact suppressor is lower"}
+        parts.append(
+            f"{what[c['criterion']]} {verb[c['winner']]} (impact {fixed(2)(c['impact'])}, TMD {fixed(2)(c['tmd'])})"
+        )
+    return f"{first[0].lower()}{first[1:]}, since " + "; ".join(parts)
 
 
-def _with_worst(d: dict, optimum: dict) -> dict:
-    """``d`` with its worst cases at the smallest and largest detuning."""
-    small, large = (f"{f(optimum['detunings']):g}" for f in (min, max))
-    return {**d, "worst_small": d["worst_case"][small], "worst_large": d["worst_case"][large]}
+def _rows(opt: dict) -> dict[str, dict]:
+    return {key: device(opt, name) for key, name in DEVICE_KEYS.items()}
 
 
-def optimum_macros(optimum: dict) -> list:
-    """The design table's macros."""
-    d = _devices(optimum)
-    out = [
-        ("DesignStep", fixed(2)(optimum["step"])),
-        ("DesignDetuneSmallPct", percent(0)(min(optimum["detunings"]))),
-        ("DesignDetuneLargePct", percent(0)(max(optimum["detunings"]))),
-    ]
-    for key in IMPACT_DEVICES:
-        out += [line for k in DIGITS for line in macro_lines([PARAMETER[k]], d[key], D=key, P=SPEC[k].macro)]
-    for key in TMD_DEVICES:
-        out += [line for k in ("N", "delta2") for line in macro_lines([PARAMETER[k]], d[key], D=key, P=SPEC[k].macro)]
-    for key in d:
-        out += macro_lines(DEVICE, d[key], D=key)
-    hit = _with_worst(impacting(optimum["devices"]), optimum)
-    source = {"d": d, "hit": hit, "hita": impacting(optimum["devices"], "band_average"), "optimum": optimum}
-    out += macro_lines(COMPARISONS, source)
-    out += [line for k in DIGITS for line in macro_lines([PARAMETER[k]], hit, D="Hit", P=SPEC[k].macro)]
-    return out + macro_lines(HIT, source)
+def optimum_macros(opt: dict, bench: dict) -> list:
+    """The design table's macros: every row's parameters, criteria and stroke; the impact rows'
+    loads and the searches' records; the comparisons and the recommendation."""
+    d = _rows(opt)
+    out = []
+    for key, row in d.items():
+        for k in DIGITS:
+            if k in row["parameters"]:
+                out += macro_lines([PARAMETER[k]], row, D=key, P=SPEC[k].macro)
+        out += macro_lines(ROW, row, D=key)
+        if row["kind"] == "impact":
+            out += macro_lines(IMPACT_ROW, row, D=key)
+        if "search" in row:
+            out += macro_lines(SEARCH, row, D=key)
+    searched = [r for r in opt["devices"] if "search" in r]
+    return out + macro_lines(SUMMARY, {"d": d, "opt": opt, "searched": searched, "bench": bench})
 
 
-def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, optimum: dict, response_csv) -> MacroFile:
+def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, checks: dict, bench: dict) -> MacroFile:
     """The design stage's macros (the record of ``paper/generated/design_macros.tex``).
 
     Parameters
     ----------
-    base, chart, chart2, resp, optimum : dict
-        The records of the baselines, the 1-D and 2-D design charts, the responses and the
-        optimum (figures/design_*.json).
-    response_csv : path
-        The responses' table (the impact design's max|x1| on the theta grid).
-
-    Returns
-    -------
-    MacroFile
-        The macros, in the order the report's record lists them.
+    base, chart, chart2, resp, opt, checks, bench : dict
+        The records of the baselines, the 1-D and 2-D design charts, the responses, the design
+        table (:func:`~impactdamper.studies.design.optimum.design_optima`), the located-peak
+        checks and the benchmark (figures/design_*.json).
     """
-    bp, tmd = chart["best"]["peak"], base["tmd"]["peak"]
-    paper = {r["gap"]: r for r in resp["responses"]}
-    paper_gap = -5.8 if -5.8 in paper else resp["responses"][-1]["gap"]
-    share, runs = impact_better(response_csv, bp["gap"], tmd)
+    paper = next(r for r in resp["responses"] if r["role"] == "paper")
     source = {
         "base": base,
         "chart": chart,
         "chart2": chart2,
         "resp": resp,
-        "bp": bp,
+        "bp": chart["best"]["peak"],
         "ba": chart["best"]["band_average"],
+        "located": chart["located"],
         "one": chart["at_reference_theta"],
-        "best": next(r for r in resp["responses"] if r["role"] == "best"),
-        "paper": paper[paper_gap],
-        "paper_gap": paper_gap,
-        "tmd": tmd,
-        "tmd_avg": base["tmd"]["band_average"],
-        "bare": base["references"]["bare"],
-        "absorber": base["references"]["absorber"],
-        "share": share,
-        "runs": runs,
+        "paper": paper,
         "dh": base["den_hartog_check"],
+        "checks": checks,
     }
-    m = MacroFile(["% Written by workflow/scripts/design_report.py; do not edit."])
+    m = MacroFile(["% Written by the design stage's report job; do not edit."])
     m.extend(macro_lines(CHART, source))
-    m.extend(optimum_macros(optimum))
+    m.extend(macro_lines(CHECKS, source))
+    m.extend(optimum_macros(opt, bench))
     return m
 
 
 # --- the tables -----------------------------------------------------------------------------
-def tex_device(name: str) -> str:
-    """A device's name of the record as TeX."""
-    for plain, tex in (
-        ("<=", "$\\le$"),
-        ("+-", "$\\pm$"),
-        (" %", "\\,\\%"),
-        ("delta2", "$\\delta_2$"),
-        ("paper's N", "paper's $N$"),
-        (", R", ", $R$"),
-    ):
-        name = name.replace(plain, tex)
-    return name
+DESIGN_TABLE = Table(
+    colspec="lrrrrrrrrrrr",
+    header=(
+        "device & $\\Delta_0/x_{\\mathrm{st}}$ & $N$ & $\\delta_2$ & $R$ & peak & band avg. & detuned & force "
+        "& $R$ drift & all & stroke"
+    ),
+    comments=["Written by the design stage's report job; do not edit."],
+    columns=[
+        Column(lambda d: d, Format(device_name)),
+        *(Column(lambda d, k=k: d["parameters"].get(k), fixed(DIGITS[k], "")) for k in DIGITS),
+        Column("peak", fixed(3)),
+        Column("band_average", fixed(3)),
+        Column("worst.detuning", fixed(2)),
+        Column("worst.force", fixed(2)),
+        Column("worst.restitution", fixed(2)),
+        Column("worst.together", fixed(2)),
+        Column(lambda d: None if d["device"] == "bare object" else d["stroke"], fixed(1, "---")),
+    ],
+)
 
 
-def _parameters_text(parameters: dict) -> str:
-    """A device's designed parameters, ``$N=0.500$, ...`` (--- where it has none)."""
-    text = ", ".join(f"${SYMBOLS[k]}={fixed(DIGITS[k])(parameters[k])}$" for k in SYMBOLS if k in parameters)
-    return text or "---"
+def design_table(opt: dict) -> str:
+    """The design table (booktabs): each row's name, parameters, located peak, band average,
+    worst peaks over each uncertainty and over all together, and stroke (the order of
+    :data:`DEVICE_KEYS`)."""
+    return DESIGN_TABLE.render([device(opt, name) for name in DEVICE_KEYS.values()])
 
 
-def _loads_text(d: dict) -> str:
-    """An impact suppressor's pulse, impacts and mean force (--- for a linear device)."""
-    if d["kind"] != "impact":
-        return "---"
-    return f"{fixed(2)(d['impulse_per_impact'])}, {fixed(2)(d['impacts_per_second'])}, {fixed(3)(d['mean_force'])}"
+LOADS_TABLE = Table(
+    colspec="lrrrrr",
+    header="device & stroke & pulse & impacts/period & impacts/hour & contact force",
+    comments=["Written by the design stage's report job; do not edit."],
+    columns=[
+        Column(lambda d: d, Format(device_name)),
+        Column("stroke", fixed(1)),
+        Column("pulse", fixed(2)),
+        Column("impacts_per_period", fixed(1)),
+        Column("impacts_per_hour", Format(lambda v: f"{v:,.0f}".replace(",", "\\,"))),
+        Column("contact_force", fixed(0)),
+    ],
+)
 
 
-def design_table(optimum: dict) -> str:
-    """The design table (booktabs): device; parameters; located peak; band average; worst case
-    at each detuning; stroke; loads (impact suppressors)."""
-    detunings = optimum["detunings"]
-    worst = [Column(lambda d, k=f"{x:g}": d["worst_case"][k], fixed(2)) for x in detunings]
-    table = Table(
-        # Text columns that wrap, so that the table fits the text width at the caption's size.
-        colspec=r">{\raggedright\arraybackslash}p{0.17\linewidth}>{\raggedright\arraybackslash}p{0.2\linewidth}"
-        + "r" * (3 + len(detunings))
-        + r">{\raggedright\arraybackslash}p{0.1\linewidth}",
-        header="device & parameters & peak & band avg. & "
-        + " & ".join(f"worst $\\pm{100 * x:g}\\,\\%$" for x in detunings)
-        + " & stroke & pulse, impacts, force",
-        comments=["Written by workflow/scripts/design_report.py; do not edit."],
-        columns=[
-            Column("device", Format(tex_device)),
-            Column("parameters", Format(_parameters_text)),
-            Column("peak", fixed(3)),
-            Column("band_average", fixed(3)),
-            *worst,
-            # The bare object has no suppressor, hence no stroke.
-            Column(lambda d: None if not d["parameters"] else d["stroke"], fixed(1, missing="---")),
-            Column(lambda d: d, Format(_loads_text)),
-        ],
-    )
-    return table.render(optimum["devices"])
+def loads_table(opt: dict) -> str:
+    """The impact suppressors' loads (booktabs): stroke, largest pulse (P0/omega1), impacts per
+    period and per hour, peak contact force (P0)."""
+    return LOADS_TABLE.render([d for d in opt["devices"] if d["kind"] == "impact"])
 
 
-# A table's number in math mode (a true minus sign).
-MATH2 = Format(lambda x: f"${fixed(2)(x)}$")
 SECOND_TABLE = Table(
     colspec="rrrrrr",
-    header="{} & best $\\Delta_0/x_{{\\mathrm{{st}}}}$ & peak $\\max|x_1|/x_{{\\mathrm{{st}}}}$ & good gaps & peak pulse & "
-    "impacts/$T$",
-    comments=["Written by workflow/scripts/design_report.py; do not edit."],
+    header="{} & best $\\Delta_0/x_{{\\mathrm{{st}}}}$ & peak & $\\theta$ of the peak & good gaps & pulse",
+    comments=["Written by the design stage's report job; do not edit."],
     columns=[
-        Column("second", MATH2),
-        Column("gap", MATH2),
-        Column("value", MATH2),
-        Column(lambda b: f"{MATH2(b['good_from'])} to {MATH2(b['good_to'])}"),
-        Column("peak_impulse", MATH2),
-        Column("impacts_per_period", Format(lambda x: f"${fixed(0)(x)}$")),
+        Column("second", fixed(2)),
+        Column("gap", fixed(2)),
+        Column("value", fixed(2)),
+        Column("peak_theta", fixed(3)),
+        Column(lambda b: f"{fixed(2)(b['good_from'])} to {fixed(2)(b['good_to'])}"),
+        Column("peak_impulse", fixed(2)),
     ],
 )
 
@@ -407,3 +504,28 @@ def second_table(chart2: dict) -> str:
     symbol = f"${SPEC[name].symbol}$" if name in SPEC else name
     table = dataclasses.replace(SECOND_TABLE, header=SECOND_TABLE.header.format(symbol))
     return table.render([b for b in chart2["best"] if b["criterion"] == "peak"])
+
+
+BENCHMARK_TABLE = Table(
+    colspec="rrrrrl",
+    header="$\\mu$ & $\\delta_1$ & wall time (s) & processor time (s) & evaluations & recommendation",
+    comments=["Written by the design stage's report job; do not edit."],
+    columns=[
+        Column("mu", fixed(2)),
+        Column("delta1", fixed(2)),
+        Column("elapsed", fixed(0)),
+        Column("cpu", fixed(0, "---")),
+        Column("evaluations", TEXT),
+        Column("first", TEXT),
+    ],
+)
+
+
+def benchmark_table(bench: dict) -> str:
+    """The design command's times at the benchmark's objects (booktabs)."""
+    return BENCHMARK_TABLE.render(bench["objects"])
+
+
+def comparisons_of(opt: dict) -> list[dict]:
+    """The recommendation's comparisons (re-exported for the scripts)."""
+    return comparisons(opt)

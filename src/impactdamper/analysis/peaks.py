@@ -1,0 +1,543 @@
+"""The worst branch of an impact suppressor over a band of forcing frequencies, located.
+
+A designer cannot choose which motion the object settles on: as the forcing frequency theta =
+omega/omega1 drifts slowly up or down, the motion follows a branch until it ends (a fold, a
+grazing) and jumps to another. The peak a designer must expect is the largest max|x1|/x_st over
+every branch such a slow sweep can follow, in either direction, and over the motions a
+disturbance can put it on. :func:`worst_branches` finds it, for many suppressors at once
+(Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100: Algorithm No. 2 with the impact law
+of eqs. 21-22 settles every motion, through :func:`impactdamper.steady_states`):
+
+1. **Sweeps.** Each suppressor's band is swept upward and downward on a grid of steps of at
+   most ``step``, each point from its neighbour's settled motion (one batch call for all
+   suppressors: independent chains, on ``workers`` processes, the serial result bit for bit).
+2. **Candidates.** Along each sweep's path: every local maximum of the samples, and every pair
+   of neighbours between which the motion changes (its label z/k, or a jump in max|x1| far
+   larger than its neighbours' steps): a branch that ends between a lower and a higher sample
+   is bracketed there. The ``candidates`` largest per path within ``CANDIDATE_MARGIN`` of the
+   path's largest sample are located.
+3. **Location.** A bracket is continued from its first point's settled motion (a slow sweep,
+   ``ZOOM_POINTS`` steps across it), and the bracket shrinks to the steps around the largest
+   value of that continuation, until it is at most ``theta_tol`` wide. At a smooth maximum the
+   value then holds to ~(curvature x theta_tol^2); where the maximum ends a branch, the value is
+   the branch's last point inside the final bracket (the branch's side of the jump, the worse
+   side), and ``change`` (the value's change over the last shrink) measures how far it still
+   moves.
+4. **No-contact floor.** Wherever the motion without contact exists (its relative amplitude
+   below the gap) it is a stable steady state: its largest |x1|/x_st there, up to the first
+   contact, is exact (:func:`impactdamper.analysis.linear_device.no_contact_floor`) and a lower
+   bound of the worst branch.
+5. **Random starts.** At the located peaks' frequencies, ``random_count`` random starts each
+   (deterministic): an attractor no sweep follows counts if it is higher.
+
+The worst branch is the largest of 3-5 (never below the largest grid sample); the band average
+is the trapezoidal mean over the grid of the worst motion at each theta (the two sweeps and the
+motion without contact where it exists).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from collections.abc import Sequence
+
+import numpy as np
+
+from impactdamper.analysis.linear_device import NoContactFloor, check_band, no_contact_floor
+from impactdamper.analysis.point import SweepSettings, label_of
+from impactdamper.analysis.sweeps import random_initial_state
+from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, require_parameters
+from impactdamper.core.steady import REGIMES
+from impactdamper.core.validation import finite_argument, integer_argument
+
+__all__ = [
+    "BranchPeak",
+    "WorstBranch",
+    "worst_branches",
+    "worst_branch",
+    "band_points",
+    "STEP",
+    "THETA_TOL",
+    "SEARCH_THETA_TOL",
+    "ZOOM_POINTS",
+    "CANDIDATES",
+    "CANDIDATE_MARGIN",
+    "RANDOM_COUNT",
+    "RANDOM_THETAS",
+    "MIN_CHAINS_PER_WORKER",
+]
+
+# Largest theta step of the sweeps' grid: a resonance peak of the suppressors studied is
+# >= 0.05 wide in theta, so 0.02 puts >= 2 samples on it, enough to bracket it (the location
+# does the rest; a slow test compares with sweeps of step 0.002).
+STEP = 0.02
+# A located peak's final bracket is at most this wide in theta ...
+THETA_TOL = 1e-6
+# ... and inside an optimiser's search (the answer it returns is located again to THETA_TOL).
+SEARCH_THETA_TOL = 1e-3
+# Steps of one continuation across a bracket: the bracket shrinks by ZOOM_POINTS/2 each time.
+ZOOM_POINTS = 8
+# Brackets located per sweep path at most (the largest), and only those whose samples are
+# within this fraction of the path's largest sample: a branch end can rise above its bracket's
+# samples by ~(slope x step), far less than 30 % at these steps.
+CANDIDATES = 6
+CANDIDATE_MARGIN = 0.3
+# A jump between neighbours with the same label: their max|x1| differs by more than this
+# (relative) and by more than JUMP_RATIO times the neighbouring steps.
+JUMP_RTOL = 1e-3
+# A bracket keeps shrinking while its best value is within PRUNE_MARGIN / 4^level of its case's
+# best so far: near a resonance max|x1| changes by <~ its own value per 0.04 of theta (the
+# peaks are >= 0.05 wide), and a bracket of the first continuation is 0.04/4 wide.
+PRUNE_MARGIN = 1.0
+JUMP_RATIO = 3.0
+# Random starts per located peak's theta, at the RANDOM_THETAS highest located peaks.
+RANDOM_COUNT = 3
+RANDOM_THETAS = 2
+# Chains per worker below which a batch call runs in this process (a fork costs more).
+MIN_CHAINS_PER_WORKER = 8
+# The parameters of a suppressor a batch row sets (its scales are the base's).
+NAMES = tuple(RELATIVE_PARAMETERS)
+FAILED_CODE = len(REGIMES)
+
+
+@dataclass(frozen=True)
+class BranchPeak:
+    """One located maximum of max|x1|/x_st along a branch.
+
+    Attributes
+    ----------
+    theta, value : float
+        Where and how high (over x_st).
+    source : str
+        ``up`` or ``down`` (the sweep whose path it is on), ``no contact`` (the closed form)
+        or ``random`` (an attractor from a random start).
+    label : str
+        The motion there, z/k (``0/1`` without contact).
+    kind : str
+        ``maximum`` (a smooth maximum), ``branch end`` (the branch ends there: the motion
+        changes in the next step of the final bracket), ``first contact`` (the motion without
+        contact first touches the stop there), ``sample`` (a grid sample or a random start,
+        not refined).
+    bracket : float
+        Width of the final theta bracket (0 for the closed form).
+    change : float
+        Relative change of the value over the last shrink of the bracket.
+    """
+
+    theta: float
+    value: float
+    source: str
+    label: str
+    kind: str
+    bracket: float = 0.0
+    change: float = 0.0
+
+    def to_dict(self) -> dict:
+        return {name: getattr(self, name) for name in self.__dataclass_fields__}
+
+
+@dataclass(frozen=True)
+class WorstBranch:
+    """The worst branch of one suppressor over a band (see :func:`worst_branches`).
+
+    Attributes
+    ----------
+    p : Parameters
+    band : (float, float)
+    thetas : ndarray, shape (n,)
+        The sweeps' grid.
+    up, down : ndarray, shape (n,)
+        max|x1|/x_st of the upward and downward sweep at each grid theta (nan: failed).
+    up_k, down_k : ndarray of int
+        Period multiples (0: nonperiodic or failed).
+    up_sections, down_sections : ndarray, shape (n, 4)
+        Settled section states, for the cycles' loads.
+    up_impacts, down_impacts : ndarray, shape (n,)
+        Impacts per forcing period z/k (nan where the motion did not settle).
+    up_velocity, down_velocity : ndarray, shape (n,)
+        The largest closing velocity of the cycle's first impacts (the batch keeps 16), over
+        x_st omega (0 without impacts).
+    peaks : tuple of BranchPeak
+        Located maxima of the sweeps, the floor and the random starts, largest first.
+    floor : NoContactFloor
+    failed : int
+        Grid points whose run reached the solver's work bound.
+    """
+
+    p: Parameters = field(repr=False)
+    band: tuple
+    thetas: np.ndarray = field(repr=False)
+    up: np.ndarray = field(repr=False)
+    down: np.ndarray = field(repr=False)
+    up_k: np.ndarray = field(repr=False)
+    down_k: np.ndarray = field(repr=False)
+    up_sections: np.ndarray = field(repr=False)
+    down_sections: np.ndarray = field(repr=False)
+    up_impacts: np.ndarray = field(repr=False)
+    down_impacts: np.ndarray = field(repr=False)
+    up_velocity: np.ndarray = field(repr=False)
+    down_velocity: np.ndarray = field(repr=False)
+    peaks: tuple
+    floor: NoContactFloor = field(repr=False)
+    failed: int = 0
+
+    @property
+    def worst_sample(self) -> np.ndarray:
+        """The worst motion at each grid theta: the two sweeps and, where it exists, the
+        motion without contact (closed form). Shape (n,)."""
+        linear = np.where(self.floor.admissible(self.thetas), _linear_amplitude(self.p, self.thetas), np.nan)
+        return np.fmax(np.fmax(self.up, self.down), linear)
+
+    @property
+    def grid_peak(self) -> float:
+        """The largest grid sample of the two sweeps."""
+        return float(np.nanmax(np.fmax(self.up, self.down)))
+
+    @property
+    def top(self) -> BranchPeak:
+        return self.peaks[0]
+
+    @property
+    def peak(self) -> float:
+        """The worst branch's max|x1|/x_st (never below the largest grid sample)."""
+        return max(self.top.value, self.grid_peak)
+
+    @property
+    def peak_theta(self) -> float:
+        return self.top.theta
+
+    @property
+    def band_average(self) -> float:
+        """Trapezoidal mean over the grid of :attr:`worst_sample`."""
+        x, y = self.thetas, self.worst_sample
+        return float(np.trapezoid(y, x) / (x[-1] - x[0]))
+
+    def branch(self) -> str:
+        """The worst branch in words: ``up, 1/1, branch end`` and the like."""
+        t = self.top
+        return f"{t.source}, {t.label}, {t.kind}"
+
+    def to_dict(self) -> dict:
+        return {
+            "peak": self.peak,
+            "peak_theta": self.peak_theta,
+            "peak_branch": self.branch(),
+            "grid_peak": self.grid_peak,
+            "band_average": self.band_average,
+            "no_contact_floor": self.floor.value,
+            "no_contact_floor_theta": self.floor.theta,
+            "peaks": [q.to_dict() for q in self.peaks],
+            "failed": self.failed,
+        }
+
+
+def _linear_amplitude(p: Parameters, thetas: np.ndarray) -> np.ndarray:
+    from impactdamper.analysis.linear_device import LinearDevice
+
+    return LinearDevice.of(p).amplitude(thetas)
+
+
+def band_points(bands: Sequence[tuple[float, float]], step: float) -> int:
+    """Grid points per band, the same for every band of one call: the widest band's steps of
+    at most ``step``, ceil(width/step) + 1 (at least 3)."""
+    width = max(b - a for a, b in bands)
+    return max(int(math.ceil(width / step - 1e-9)) + 1, 3)
+
+
+def _row(p: Parameters, theta: float) -> list[float]:
+    return [float(theta) if n == "theta" else float(getattr(p, n)) for n in NAMES]
+
+
+def _batch(base: Parameters, rows: list, settings, chain_length: int, states=None, workers: int = 1, chain=True):
+    """One :func:`impactdamper.steady_states` call on ``rows`` (NAMES columns), on up to
+    ``workers`` processes when there are chains enough to share."""
+    from impactdamper.analysis.batch import steady_states
+
+    chains = len(rows) // chain_length if chain else len(rows)
+    w = max(1, min(int(workers), chains // MIN_CHAINS_PER_WORKER))
+    kw = dict(chain_length=chain_length) if chain else dict(chain=False)
+    return steady_states(base, NAMES, np.array(rows, float), settings=settings, states=states, workers=w, **kw)
+
+
+def _labels(res, sl: slice) -> list[str]:
+    codes, ks, zs = res.regime_code[sl], res.period_multiple[sl], res.impacts_per_cycle[sl]
+    return ["failed" if c == FAILED_CODE else label_of(REGIMES[c], int(k), int(z)) for c, k, z in zip(codes, ks, zs)]
+
+
+@dataclass
+class _Path:
+    """One sweep's path through a band: theta, max|x1|, labels and sections in the sweep's order."""
+
+    case: int
+    direction: str
+    t: np.ndarray
+    y: np.ndarray
+    labels: list
+    sections: np.ndarray
+
+
+@dataclass
+class _Bracket:
+    case: int
+    direction: str
+    t_a: float
+    y_a: float
+    label_a: str
+    s_a: np.ndarray
+    t_b: float
+    best_t: float
+    best_y: float
+    best_label: str
+    kind: str = "sample"
+    change: float = math.inf
+    p: Parameters | None = None
+
+
+def _candidates(path: _Path, limit: int) -> list[_Bracket]:
+    """The brackets of a path (module docstring, 2), the ``limit`` largest within the margin."""
+    t, y, lab, n = path.t, np.nan_to_num(path.y, nan=-np.inf), path.labels, len(path.t)
+    spans = {}
+    for i in range(n):
+        if np.isfinite(y[i]) and (i == 0 or y[i] >= y[i - 1]) and (i == n - 1 or y[i] >= y[i + 1]):
+            spans[(max(i - 1, 0), min(i + 1, n - 1))] = y[i]
+    d = np.nan_to_num(np.abs(np.diff(path.y)), nan=0.0)
+    for i in range(n - 1):
+        near = max(d[i - 1] if i > 0 else 0.0, d[i + 1] if i + 1 < n - 1 else 0.0)
+        jump = lab[i] != lab[i + 1] or (d[i] > JUMP_RTOL * abs(y[i]) and d[i] > JUMP_RATIO * near)
+        if jump and np.isfinite(y[i]) and not any(a <= i and i + 1 <= b for a, b in spans):
+            spans[(i, i + 1)] = max(y[i], y[i + 1])
+    top = max(spans.values(), default=-np.inf)
+    keep = sorted((k for k, v in spans.items() if v >= (1.0 - CANDIDATE_MARGIN) * top), key=lambda k: -spans[k])
+    out = []
+    for a, b in keep[:limit]:
+        j = a + int(np.argmax(y[a : b + 1]))
+        out.append(_Bracket(path.case, path.direction, t[a], y[a], lab[a], path.sections[a], t[b], t[j], y[j], lab[j]))
+    return out
+
+
+def _prune(active: list[_Bracket], floors: list[float], level: int) -> list[_Bracket]:
+    """The brackets still worth shrinking after ``level`` shrinks: those within PRUNE_MARGIN /
+    4^level of their case's best value so far (a branch end rises above its bracket's best by
+    at most ~slope x width, and the width shrinks fourfold per level)."""
+    best = {}
+    for b in active:
+        best[b.case] = max(best.get(b.case, floors[b.case]), b.best_y)
+    margin = PRUNE_MARGIN / 4.0**level
+    return [b for b in active if b.best_y >= (1.0 - margin) * best[b.case]]
+
+
+def _zoom(base, brackets: list[_Bracket], floors: list[float], settings, theta_tol: float, workers: int) -> None:
+    """Shrink the brackets to ``theta_tol`` (module docstring, 3), all in one batch call per
+    shrink; brackets that cannot hold the case's largest value any more stop early
+    (:func:`_prune`)."""
+    m = ZOOM_POINTS
+    active = [b for b in brackets if abs(b.t_b - b.t_a) > theta_tol]
+    level = 0
+    while active:
+        rows, states = [], []
+        for b in active:
+            ts = b.t_a + (b.t_b - b.t_a) * np.arange(1, m + 1) / m
+            rows += [_row(b.p, t) for t in ts]
+            states.append(b.s_a)
+        res = _batch(base, rows, settings, m, np.array(states), workers)
+        for j, b in enumerate(active):
+            sl = slice(j * m, (j + 1) * m)
+            ts = np.concatenate([[b.t_a], res.values[sl, 0]])
+            ys = np.concatenate([[b.y_a], np.asarray(res.x1_max[sl], float)])
+            labs = [b.label_a] + _labels(res, sl)
+            secs = np.vstack([b.s_a[None, :], res.sections[sl]])
+            k = int(np.nanargmax(np.nan_to_num(ys, nan=-np.inf)))
+            previous = b.best_y
+            if ys[k] >= b.best_y:
+                b.best_t, b.best_y, b.best_label = float(ts[k]), float(ys[k]), labs[k]
+            b.change = abs(b.best_y - previous) / max(abs(b.best_y), 1e-300)
+            nxt = min(k + 1, m)
+            ends = nxt > k and (labs[nxt] != labs[k] or ys[nxt] < (1.0 - 1e-2) * ys[k])
+            b.kind = "branch end" if ends else "maximum"
+            lo = max(k - 1, 0)
+            b.t_a, b.y_a, b.label_a, b.s_a = float(ts[lo]), float(ys[lo]), labs[lo], secs[lo].copy()
+            b.t_b = float(ts[nxt])
+        level += 1
+        active = _prune([b for b in active if abs(b.t_b - b.t_a) > theta_tol], floors, level)
+
+
+def _key(p: Parameters) -> list[int]:
+    """The suppressor's relative parameters as integers (their bits): its random starts' seed,
+    so that they do not depend on which other suppressors share the call."""
+    return [int(x) for x in np.array([getattr(p, n) for n in NAMES], float).view(np.uint64)]
+
+
+def _random_peaks(base, cases, tops: list[list[float]], settings, count: int, seed: int, workers: int) -> list:
+    """The largest attractor from ``count`` random starts at each theta of ``tops[c]`` (per
+    case): a BranchPeak per case, or None."""
+    rows, states, owner = [], [], []
+    for c, (p, thetas) in enumerate(zip(cases, tops)):
+        for i, t in enumerate(thetas):
+            q = p.replace(theta=float(t))
+            for j in range(count):
+                rows.append(_row(p, t))
+                states.append(random_initial_state(q, np.random.default_rng([int(seed), *_key(p), i, j])))
+                owner.append(c)
+    out = [None] * len(cases)
+    if not rows:
+        return out
+    res = _batch(base, rows, settings, 1, np.array(states), workers, chain=False)
+    labs = _labels(res, slice(None))
+    for r, c in enumerate(owner):
+        y = float(res.x1_max[r])
+        if np.isfinite(y) and (out[c] is None or y > out[c].value):
+            out[c] = BranchPeak(float(res.values[r, 0]), y, "random", labs[r], "sample")
+    return out
+
+
+def _impacts(res, sl: slice) -> tuple[np.ndarray, np.ndarray]:
+    """(impacts per period z/k, the largest closing velocity of the first impacts) of the points
+    ``sl`` of a batch result (nan where the motion did not settle; 0 without impacts)."""
+    k = res.period_multiple[sl].astype(float)
+    z = res.impacts_per_cycle[sl].astype(float)
+    per = np.where(k > 0, z / np.where(k > 0, k, 1.0), np.nan)
+    v = np.abs(res.velocities[sl])
+    top = np.where(np.all(np.isnan(v), axis=1), 0.0, np.nanmax(np.where(np.isnan(v), -np.inf, v), axis=1))
+    return per, top
+
+
+def worst_branches(
+    cases: Sequence[Parameters],
+    bands: Sequence[tuple[float, float]],
+    *,
+    step: float = STEP,
+    theta_tol: float = THETA_TOL,
+    candidates: int = CANDIDATES,
+    random_count: int = RANDOM_COUNT,
+    settings: SweepSettings | None = None,
+    workers: int = 1,
+    seed: int = 0,
+) -> list[WorstBranch]:
+    """The worst branch of each suppressor over its band, located (module docstring).
+
+    Parameters
+    ----------
+    cases : sequence of Parameters
+        The suppressors (their theta is not used).
+    bands : sequence of (float, float)
+        Each one's band (one per case).
+    step : float
+        Largest theta step of the sweeps' grid (every band gets the widest band's number of
+        points, :func:`band_points`).
+    theta_tol : float
+        Width of a located peak's final bracket.
+    candidates : int
+        Brackets located per sweep path at most.
+    random_count : int
+        Random starts at each of the RANDOM_THETAS highest located peaks (0: none).
+    settings : SweepSettings, optional
+        How each point settles.
+    workers : int
+        Processes of the batch calls (the result is the same for any number).
+    seed : int
+        Of the random starts.
+
+    Returns
+    -------
+    list of WorstBranch
+        One per case, in order.
+    """
+    cases = [require_parameters(p, "cases") for p in cases]
+    bands = [check_band(b) for b in bands]
+    if len(bands) != len(cases):
+        raise ValueError(f"`bands` is not allowed: {len(bands)} bands for {len(cases)} cases (one each)")
+    step, theta_tol = finite_argument("step", step), finite_argument("theta_tol", theta_tol)
+    if not step > 0 or not theta_tol > 0:
+        raise ValueError(f"`step` = {step!r}, `theta_tol` = {theta_tol!r} are not allowed: both must be > 0")
+    candidates = integer_argument("candidates", candidates, 1, 100)
+    random_count = integer_argument("random_count", random_count, 0, 100)
+    settings = settings or SweepSettings()
+    if not cases:
+        return []
+    base = cases[0]
+    n = band_points(bands, step)
+    grids = [np.linspace(a, b, n) for a, b in bands]
+    res, paths = _sweeps(base, cases, grids, settings, workers)
+    brackets = []
+    for path in paths:
+        for b in _candidates(path, candidates):
+            b.p = cases[path.case]
+            brackets.append(b)
+    floors = [no_contact_floor(p, band) for p, band in zip(cases, bands)]
+    _zoom(base, brackets, [f.value for f in floors], settings, theta_tol, workers)
+    located = [[] for _ in cases]
+    for b in brackets:
+        located[b.case].append(
+            BranchPeak(b.best_t, b.best_y, b.direction, b.best_label, b.kind, abs(b.t_b - b.t_a), b.change)
+        )
+    tops = [_distinct_thetas(peaks, RANDOM_THETAS) if random_count else [] for peaks in located]
+    randoms = _random_peaks(base, cases, tops, settings, random_count, seed, workers)
+    out = []
+    for c, (p, band) in enumerate(zip(cases, bands)):
+        peaks = list(located[c])
+        fl = floors[c]
+        if fl.value > 0:
+            kind = "first contact" if fl.first_contact else "maximum"
+            peaks.append(BranchPeak(fl.theta, fl.value, "no contact", "0/1", kind))
+        if randoms[c] is not None:
+            peaks.append(randoms[c])
+        if not any(np.isfinite(q.value) for q in peaks):
+            raise ValueError(f"`cases` item {c} is not allowed: no motion settled over its band {band}")
+        out.append(_worst(p, band, res, paths[2 * c], paths[2 * c + 1], c, n, tuple(peaks), fl))
+    return out
+
+
+def _sweeps(base, cases, grids, settings, workers) -> tuple:
+    """Both sweeps of every case on its grid, in one batch call (module docstring, 1). Returns
+    (the batch result, the paths: case by case, up then down)."""
+    n = len(grids[0])
+    rows = []
+    for p, th in zip(cases, grids):
+        rows += [_row(p, t) for t in th] + [_row(p, t) for t in th[::-1]]
+    res = _batch(base, rows, settings, n, workers=workers)
+    paths = []
+    for c, th in enumerate(grids):
+        for d, direction in enumerate(("up", "down")):
+            sl = slice((2 * c + d) * n, (2 * c + d + 1) * n)
+            t = th if d == 0 else th[::-1]
+            paths.append(_Path(c, direction, t, np.asarray(res.x1_max[sl], float), _labels(res, sl), res.sections[sl]))
+    return res, paths
+
+
+def _distinct_thetas(peaks: list, count: int) -> list[float]:
+    """The thetas of the ``count`` highest of ``peaks``, each more than 1e-3 from the others."""
+    out = []
+    for q in sorted(peaks, key=lambda q: -q.value):
+        if all(abs(q.theta - t) > 1e-3 for t in out):
+            out.append(q.theta)
+    return out[:count]
+
+
+def _worst(p, band, res, up: _Path, down: _Path, c: int, n: int, peaks: tuple, fl: NoContactFloor) -> WorstBranch:
+    """Case ``c``'s WorstBranch from its sweeps (points 2 c n to 2 (c + 1) n of ``res``)."""
+    sl_up, sl_down = slice(2 * c * n, (2 * c + 1) * n), slice((2 * c + 1) * n, (2 * c + 2) * n)
+    (up_z, up_v), (down_z, down_v) = _impacts(res, sl_up), _impacts(res, sl_down)
+    failed = int(np.sum(res.regime_code[sl_up] == FAILED_CODE) + np.sum(res.regime_code[sl_down] == FAILED_CODE))
+    return WorstBranch(
+        p=p,
+        band=band,
+        thetas=up.t,
+        up=up.y,
+        down=down.y[::-1].copy(),
+        up_k=res.period_multiple[sl_up].copy(),
+        down_k=res.period_multiple[sl_down][::-1].copy(),
+        up_sections=up.sections.copy(),
+        down_sections=down.sections[::-1].copy(),
+        up_impacts=up_z,
+        down_impacts=down_z[::-1],
+        up_velocity=up_v,
+        down_velocity=down_v[::-1],
+        peaks=tuple(sorted(peaks, key=lambda q: -q.value)),
+        floor=fl,
+        failed=failed,
+    )
+
+
+def worst_branch(p: Parameters, band: tuple[float, float] = (0.5, 1.5), **options) -> WorstBranch:
+    """The worst branch of one suppressor over ``band`` (:func:`worst_branches`' options)."""
+    return worst_branches([p], [band], **options)[0]
