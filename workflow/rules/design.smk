@@ -118,7 +118,7 @@ rule design_benchmark:
     input:
         script="workflow/scripts/design_benchmark.py",
         library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
-        cli="src/impactdamper/cli.py",
+        cli=library_files("cli"),
         optimum="figures/design_optimum.json",
     output:
         json="figures/design_benchmark.json",
