@@ -124,11 +124,15 @@ def check_no_penetration(
     return float(g.min())
 
 
-# The library's modules (every .py file of src/impactdamper but the command line, cli.py and
-# __main__.py, which the package does not import and no rule runs).
+# The library's modules (every .py file of src/impactdamper but the command line, the cli/
+# package and __main__.py, which the package does not import and no rule runs).
 _SRC = Path(__file__).resolve().parents[1] / "src" / "impactdamper"
 _ROOT = _SRC.parents[1]
-LIBRARY = sorted(str(p.relative_to(_ROOT)) for p in _SRC.rglob("*.py") if p.name not in ("cli.py", "__main__.py"))
+LIBRARY = sorted(
+    str(p.relative_to(_ROOT))
+    for p in _SRC.rglob("*.py")
+    if p.name != "__main__.py" and p.relative_to(_SRC).parts[0] != "cli"
+)
 
 
 def _module_file(name: str):

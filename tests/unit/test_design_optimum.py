@@ -1,5 +1,5 @@
-"""Choosing a suppressor, answered (impactdamper.studies.design.devices and .optimum; the
-``design`` command).
+"""Choosing a suppressor, answered (impactdamper.studies.design.devices, .optimum and
+.verdict; the ``design`` command).
 
 * The uncertainties map the relative parameters as the physics says: a TMD on a detuned object
   computed two ways; a force amplitude a divides the gap by a; a restitution drift is clipped to
@@ -34,15 +34,8 @@ from impactdamper.studies.design.devices import (
     impact_parameters,
     scenario_case,
 )
-from impactdamper.studies.design.optimum import (
-    BUDGET,
-    ROBUST_BUDGET,
-    TIE,
-    check_object,
-    design_bounds,
-    design_options,
-    recommendation,
-)
+from impactdamper.studies.design.optimum import BUDGET, ROBUST_BUDGET, check_object, design_bounds, design_options
+from impactdamper.studies.design.verdict import TIE, recommendation
 
 ROOT = Path(__file__).resolve().parents[2]
 BAND = (0.5, 1.5)

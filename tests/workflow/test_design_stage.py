@@ -30,7 +30,7 @@ from impactdamper.analysis.linear_device import LinearDevice, no_contact_floor
 from impactdamper.reporting.records import cell_float, read_csv, read_json
 from impactdamper.studies.design.design import CRITERIA, good_band
 from impactdamper.studies.design.devices import impact_parameters
-from impactdamper.studies.design.optimum import device
+from impactdamper.studies.design.verdict import device
 
 ROOT = Path(__file__).resolve().parents[2]
 FIGURES = ROOT / "figures"

@@ -29,7 +29,7 @@ for _name, _directory in (
 # The library's source, part by part: every rule lists as inputs the parts its script imports
 # (tests/helpers.py's library_imports follows the imports and tests/workflow checks every rule),
 # so that a change reruns what it affects and nothing else (Snakemake does not follow Python
-# imports by itself). The command line (cli.py, __main__.py) is no part: no rule runs it and
+# imports by itself). The command line (cli/, __main__.py) is no part: no rule runs it and
 # the package does not import it.
 def library_files(part):
     """The .py files of library part ``part``: a subpackage (``core``, with its own

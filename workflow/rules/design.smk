@@ -11,7 +11,9 @@
 rule design_baselines:
     input:
         script="workflow/scripts/design_baselines.py",
-        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+        ),
     output:
         csv="figures/design_baselines.csv",
         json="figures/design_baselines.json",
@@ -31,7 +33,9 @@ rule design_baselines:
 rule design_chart:
     input:
         script="workflow/scripts/design_chart.py",
-        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+        ),
     output:
         csv="figures/design_chart.csv",
         json="figures/design_chart.json",
@@ -52,7 +56,9 @@ rule design_chart:
 rule design_chart_2d:
     input:
         script="workflow/scripts/design_chart_2d.py",
-        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+        ),
     output:
         csv="figures/design_chart_2d.csv",
         json="figures/design_chart_2d.json",
@@ -72,7 +78,9 @@ rule design_chart_2d:
 rule design_optimum:
     input:
         script="workflow/scripts/design_optimum.py",
-        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+        ),
     output:
         json="figures/design_optimum.json",
         csv="figures/design_optimum.csv",
@@ -94,7 +102,7 @@ rule design_checks:
     input:
         script="workflow/scripts/design_checks.py",
         library=library(
-            study("design/checks", "design/design", "design/devices", "design/optimum", "design/search"),
+            study("design/checks", "design/design", "design/devices", "design/verdict"),
             BASELINES,
             REPORTING,
         ),
@@ -117,8 +125,10 @@ rule design_checks:
 rule design_benchmark:
     input:
         script="workflow/scripts/design_benchmark.py",
-        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
-        cli="src/impactdamper/cli.py",
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+        ),
+        cli=library_files("cli"),
         optimum="figures/design_optimum.json",
     output:
         json="figures/design_benchmark.json",
@@ -138,7 +148,7 @@ rule design_benchmark:
 rule design_response:
     input:
         script="workflow/scripts/design_response.py",
-        library=library(study("design/design", "design/devices", "design/optimum", "design/search"), REPORTING),
+        library=library(study("design/design", "design/devices", "design/verdict"), REPORTING),
         chart="figures/design_chart.json",
         optimum="figures/design_optimum.json",
     output:
@@ -161,7 +171,7 @@ rule design_report:
     input:
         script="workflow/scripts/design_report.py",
         library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/record", "vocabulary"),
+            study("design/design", "design/record", "design/verdict", "vocabulary"),
             REPORTING,
         ),
         baselines="figures/design_baselines.json",

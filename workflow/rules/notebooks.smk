@@ -61,7 +61,9 @@ rule notebook_your_own_damper:
 rule notebook_choosing_a_suppressor:
     input:
         notebook="notebooks/04_choosing_a_suppressor.py",
-        library=library(study("design/design", "design/optimum"), REPORTING),
+        library=library(
+            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+        ),
         style=STYLE,
     output:
         "results/notebooks/04_choosing_a_suppressor.ipynb",

@@ -16,7 +16,7 @@ from impactdamper.reporting.records import Timer, read_json, run_stage, write_js
 from impactdamper.studies.design.checks import located_peak_checks
 from impactdamper.studies.design.design import design_band, design_parameters
 from impactdamper.studies.design.devices import DESIGN_SETTINGS, impact_parameters
-from impactdamper.studies.design.optimum import device
+from impactdamper.studies.design.verdict import device
 
 # A suppressor on the reference object whose worst branch is the motion without contact up to
 # its first contact (found by the design search of an earlier version; the sweeps' samples jump

@@ -19,7 +19,7 @@ from impactdamper.analysis.response import frequency_response
 from impactdamper.reporting.records import read_json, run_stage, write_csv, write_json
 from impactdamper.studies.design.design import design_band, design_parameters, response_gaps
 from impactdamper.studies.design.devices import DESIGN_SETTINGS
-from impactdamper.studies.design.optimum import device
+from impactdamper.studies.design.verdict import device
 
 
 COLUMNS = [

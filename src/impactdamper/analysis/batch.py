@@ -39,28 +39,34 @@ that exponent's error.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import logging
 import math
 import multiprocessing
-import numbers
 import time
 from dataclasses import dataclass, field
 from collections.abc import Sequence
 
 import numpy as np
 
+from impactdamper.analysis.batch_input import (
+    COLUMNS,
+    checked_chain_length,
+    checked_names,
+    checked_start_states,
+    checked_values,
+    checked_workers,
+    point_values,
+)
 from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.lyapunov import lyapunov_spectrum
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
-from impactdamper.analysis.sweeps import PSEUDO_PARAMETERS, random_start_states, swept_names, with_value
+from impactdamper.analysis.sweeps import random_start_states, with_value
 from impactdamper.core.backends import RowArrays, get_backend, row_arrays
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
 from impactdamper.core.steady import REGIMES
-from impactdamper.core.validation import show_value
 
 __all__ = [
     "BatchResult",
@@ -77,8 +83,6 @@ BATCH_REGIMES = REGIMES + (FAILED,)
 # Impacts per cycle whose phase and velocity are kept per point (a map reads k, z and x1_max;
 # a sweep's table the first few impacts); z itself is always exact.
 MAX_REPORTED_IMPACTS = 16
-# The relative parameters, in the columns of the rows handed to a backend.
-COLUMNS = Parameters.names()
 # The arrays of a result that settle_row does not fill: the Lyapunov labels of the points left
 # nonperiodic (SweepSettings.classify).
 CLASSIFICATION_FIELDS = ("lyapunov_label", "lyapunov_exponent", "lyapunov_error")
@@ -143,86 +147,6 @@ class BatchResult(RowArrays):
         return {str(r): int(c) for r, c in zip(reasons, counts)}
 
 
-@functools.lru_cache(maxsize=4096)
-def _changed_columns(base: Parameters, name: str, value: float) -> tuple:
-    """((column index, value), ...) where ``with_value(base, name, value)`` differs from base;
-    raises its named error for a bad value. Cached: a map's rows repeat the same values of
-    their fast parameter, and constructing Parameters was a third of a cheap row's time."""
-    q = with_value(base, name, value)
-    return tuple((c, getattr(q, col)) for c, col in enumerate(COLUMNS) if getattr(q, col) != getattr(base, col))
-
-
-def _checked_names(names) -> tuple:
-    """The varied parameters: a sequence of known names, none given twice (``delta`` sets
-    delta1 and delta2, so it goes with neither)."""
-    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
-        raise ArgumentTypeError(f"`names` = {names!r} is not allowed: must be a sequence of parameter names")
-    names = tuple(names)
-    if not names:
-        raise ValueError("`names` = () is not allowed: must name at least one parameter")
-    fields = {}
-    for n in names:
-        if n not in swept_names():
-            raise ValueError(f"`names` = {names!r} is not allowed: {n!r} is not one of {', '.join(swept_names())}")
-        for f in PSEUDO_PARAMETERS.get(n, (n,)):
-            if f in fields:
-                raise ValueError(
-                    f"`names` = {names!r} is not allowed: {fields[f]!r} and {n!r} both set {f} (each parameter once)"
-                )
-            fields[f] = n
-    return names
-
-
-def _checked_values(values, names: tuple) -> np.ndarray:
-    """``values`` as a float array of shape (P, len(names)): one row per point, one real number
-    per name (a bool, a string or a complex number is refused as Parameters refuses it; nothing
-    is reshaped). The message names the point and the name."""
-    allowed = f"must be finite real numbers of shape (P, {len(names)}): one row per point, one column per name {names}"
-    if isinstance(values, np.ndarray) and values.dtype.kind in "iuf":
-        arr = values
-    else:
-        try:
-            arr = np.array(values, dtype=object)
-        except (TypeError, ValueError):
-            raise ArgumentTypeError(f"`values` = {show_value(values)} is not allowed: {allowed}") from None
-    if arr.ndim != 2 or arr.shape[1] != len(names):
-        raise ValueError(f"`values` of shape {arr.shape} is not allowed: {allowed}")
-    if arr.dtype == object:
-        for (i, j), x in np.ndenumerate(arr):
-            if isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real):
-                raise ArgumentTypeError(
-                    f"`values` point {i}, `{names[j]}` = {show_value(x)} is not allowed: must be a real number"
-                )
-        try:
-            arr = arr.astype(float)
-        except OverflowError:
-            raise ValueError(f"`values` is not allowed: {allowed} (an integer overflows a float)") from None
-    arr = np.array(arr, dtype=float)
-    bad = np.argwhere(~np.isfinite(arr))
-    if len(bad):
-        i, j = (int(x) for x in bad[0])
-        raise ValueError(
-            f"`values` point {i}, `{names[j]}` = {float(arr[i, j])!r} is not allowed: must be a finite number"
-        )
-    return arr
-
-
-def _point_values(base: Parameters, names: tuple, values: np.ndarray) -> np.ndarray:
-    """(P, len(COLUMNS)) relative parameters, validated: every distinct value of each name goes
-    through Parameters once (its named error, with the first point that has it)."""
-    out = np.tile(np.array([getattr(base, c) for c in COLUMNS], float), (len(values), 1))
-    for j, name in enumerate(names):
-        for v in np.unique(values[:, j]):
-            rows = values[:, j] == v
-            try:
-                changed = _changed_columns(base, name, float(v))
-            except ValueError as err:  # (ArgumentTypeError too)
-                raise ValueError(f"`values` point {int(np.argmax(rows))} ({name}): {err}") from None
-            for c, x in changed:
-                out[rows, c] = x
-    return out
-
-
 def _parameters(row: np.ndarray) -> Parameters:
     return Parameters(**{c: float(x) for c, x in zip(COLUMNS, row)})
 
@@ -263,44 +187,6 @@ def _store(res: BatchResult, i: int, pt: SweepPoint, reason: str) -> None:
     res.start_states[i], res.sections[i] = pt.start_state, pt.section
     res.section_modes[i] = 1 if pt.section_mode == STUCK else 0
     res.fallback[i], res.method[i] = reason, pt.method
-
-
-def _start_states(states, chain: bool, length: int, rows: np.ndarray, gap_tol: float) -> np.ndarray:
-    """The batch's given start states, checked: finite with a non-negative gap (within the
-    solver's ``gap_tol``) at the point each starts, shape (P, 4) (``chain`` False: one per
-    point; ``chain`` True: one per chain of ``length`` points, put on the chain's first row and
-    read there only), or shape (0, 4) when none are given. ``rows``: the points' parameters
-    (_point_values)."""
-    if states is None:
-        return np.zeros((0, 4))
-    starts = np.arange(0, len(rows), length) if chain else np.arange(len(rows))
-    what = "chain" if chain else "point"
-    allowed = f"must be finite numbers of shape ({len(starts)}, 4), one start (x1, x2, x1', x2') per {what}"
-    try:
-        given = np.array(states, dtype=float)
-    except (TypeError, ValueError):
-        raise ArgumentTypeError(f"`states` is not allowed: {allowed}") from None
-    if given.shape != (len(starts), 4) or not np.all(np.isfinite(given)):
-        raise ValueError(f"`states` of shape {given.shape} is not allowed: {allowed}")
-    delta0 = rows[starts, COLUMNS.index("gap")] * rows[starts, COLUMNS.index("x_st")]
-    gap = delta0 - (given[:, 1] - given[:, 0])
-    bad = np.flatnonzero(gap < -gap_tol * rows[starts, COLUMNS.index("x_st")])
-    if len(bad):
-        raise ValueError(
-            f"`states` row {int(bad[0])} is not allowed: its gap Delta0 - (x2 - x1) = {gap[bad[0]]:.6g} m "
-            "is negative (the bodies would overlap); allowed are states with x2 - x1 <= Delta0"
-        )
-    if not chain:
-        return given
-    out = np.zeros((len(rows), 4))
-    out[starts] = given
-    return out
-
-
-def _checked_count(name: str, value, low: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
-        raise ArgumentTypeError(f"`{name}` = {show_value(value)} is not allowed: must be an integer >= {low}")
-    return int(value)
 
 
 def steady_states(
@@ -371,47 +257,22 @@ def steady_states(
     t_begin = time.perf_counter()
     run, why = get_backend(backend)
     base = require_parameters(base, "base")
-    names = _checked_names(names)
-    values = _checked_values(values, names)
+    names = checked_names(names)
+    values = checked_values(values, names)
     if not isinstance(chain, bool):
         raise ArgumentTypeError(f"`chain` = {chain!r} is not allowed: must be True or False")
     settings = settings or SweepSettings()
     if not isinstance(settings, SweepSettings):
         raise ArgumentTypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings or None")
     P = len(values)
-    if chain_length is not None:
-        chain_length = _checked_count("chain_length", chain_length)
-        if not chain:
-            raise ValueError("`chain_length` is not allowed with `chain=False`: the points are independent")
-        if P % chain_length:
-            raise ValueError(
-                f"`chain_length` = {chain_length} is not allowed: the {P} points must form whole chains "
-                "(P a multiple of chain_length)"
-            )
-    workers = _checked_count("workers", workers)
-    if workers > 1 and "fork" not in multiprocessing.get_all_start_methods():
-        raise ValueError(f"`workers` = {workers} is not allowed here: parallel points need the 'fork' start method")
-    rows = _point_values(base, names, values)
+    chain_length = checked_chain_length(chain_length, chain, P)
+    workers = checked_workers(workers)
+    rows = point_values(base, names, values)
     length = (chain_length or max(P, 1)) if chain else 1  # points per independent block unit
-    given = _start_states(states, chain, length, rows, settings.tolerances.gap_tol)
+    given = checked_start_states(states, chain, length, rows, settings.tolerances.gap_tol)
     units = P // length if P else 0
     if workers > 1 and units > 1:
-        run.warm_up()  # (the kernels loaded once, here: the forked workers inherit them)
-        cuts = [length * int(u) for u in np.linspace(0, units, min(workers, units) + 1).round()]
-        jobs = [
-            (values[a:b], rows[a:b], given[a:b] if len(given) else given, settings, chain, length, run.name)
-            for a, b in zip(cuts[:-1], cuts[1:])
-        ]
-        with multiprocessing.get_context("fork").Pool(len(jobs)) as pool:
-            parts = pool.map(_settle_job, jobs)
-        res = BatchResult(
-            values=values,
-            names=names,
-            **{
-                name: np.concatenate([getattr(part, name) for part in parts])
-                for name in [f.name for f in dataclasses.fields(RowArrays)] + list(CLASSIFICATION_FIELDS)
-            },
-        )
+        res = _settle_in_workers(values, names, rows, given, settings, chain, length, run, min(workers, units))
     else:
         res = _settle(values, rows, given, settings, chain, length, run)
     res.names, res.backend = names, run.name
@@ -419,6 +280,29 @@ def steady_states(
         res.fallback[:] = why
     res.elapsed = time.perf_counter() - t_begin
     return res
+
+
+def _settle_in_workers(values, names, rows, given, settings, chain: bool, length: int, run, blocks: int) -> BatchResult:
+    """The points in ``blocks`` forked processes, each a run of whole blocks of ``length`` points
+    (chains, or single points) settled as the serial call settles them, joined in order: the
+    serial call's result, bit for bit."""
+    run.warm_up()  # (the kernels loaded once, here: the forked workers inherit them)
+    units = len(values) // length
+    cuts = [length * int(u) for u in np.linspace(0, units, blocks + 1).round()]
+    jobs = [
+        (values[a:b], rows[a:b], given[a:b] if len(given) else given, settings, chain, length, run.name)
+        for a, b in zip(cuts[:-1], cuts[1:])
+    ]
+    with multiprocessing.get_context("fork").Pool(len(jobs)) as pool:
+        parts = pool.map(_settle_job, jobs)
+    return BatchResult(
+        values=values,
+        names=names,
+        **{
+            name: np.concatenate([getattr(part, name) for part in parts])
+            for name in [f.name for f in dataclasses.fields(RowArrays)] + list(CLASSIFICATION_FIELDS)
+        },
+    )
 
 
 def _settle_job(job) -> BatchResult:

@@ -349,6 +349,32 @@ def _failed(err, n, residual, states, section):
 
 
 @njit(cache=True)
+def _settled_period(sections, modes, n, kmax, settle_tol):
+    """The reference's settling test after ``n`` sections: (k, residual), k the cycle's least
+    period in forcing periods once the motion has settled (0 before), residual the sections'
+    mismatch (inf before two sections can be compared). A quick look first: the smallest
+    mismatch of the last section with one up to ``kmax`` periods back; only below
+    ``settle_tol`` are the period, its least divisor and the convergence checked."""
+    lags = min(kmax, (n - 1) // 2)
+    if lags == 0:
+        return 0, math.inf
+    residual = math.inf
+    for j in range(1, lags + 1):
+        worst = 0.0
+        for c in range(4):
+            worst = max(worst, abs(sections[n - 1 - j, c] - sections[n - 1, c]))
+        residual = min(residual, worst)
+    if residual >= settle_tol:
+        return 0, residual
+    k, residual = _period(sections, modes, n, kmax, settle_tol)
+    if k:
+        k, residual = _least_period(sections, modes, n, k, settle_tol)
+    if k and residual < settle_tol and not _converged(sections, n, k, settle_tol):
+        k = 0
+    return k, residual
+
+
+@njit(cache=True)
 def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, max_periods, kmax, diag):
     """The reference's _steady_state and describe_cycle. Returns (error, regime, k, cycle start,
     contact fraction, x1_max, periods, residual, section states (periods, 4), impacts (z, 5):
@@ -387,23 +413,7 @@ def steady_kernel(cm, fm, fc, fk, fg, s, t0, state, default_start, settle_tol, m
         for c in range(4):
             sections[n - 1, c] = states[n - 1, c] / scale[c]
         modes[n - 1] = si[SI_MODE]
-        lags = min(kmax, (n - 1) // 2)
-        if lags == 0:
-            continue
-        residual = math.inf
-        for j in range(1, lags + 1):
-            worst = 0.0
-            for c in range(4):
-                worst = max(worst, abs(sections[n - 1 - j, c] - sections[n - 1, c]))
-            residual = min(residual, worst)
-        if residual >= settle_tol:
-            found_k = 0
-            continue
-        found_k, residual = _period(sections, modes, n, kmax, settle_tol)
-        if found_k:
-            found_k, residual = _least_period(sections, modes, n, found_k, settle_tol)
-        if found_k and residual < settle_tol and not _converged(sections, n, found_k, settle_tol):
-            found_k = 0
+        found_k, residual = _settled_period(sections, modes, n, kmax, settle_tol)
         if found_k:
             break
     # The describing run (the reference's describe_run): from a section one cycle (and

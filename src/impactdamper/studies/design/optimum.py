@@ -53,6 +53,7 @@ from impactdamper.studies.design.devices import (
     tmd_row,
 )
 from impactdamper.studies.design.search import Budget, SearchResult, search
+from impactdamper.studies.design.verdict import device, headline, recommendation
 
 __all__ = [
     "RANGES",
@@ -61,15 +62,10 @@ __all__ = [
     "check_object",
     "design_bounds",
     "design_optima",
-    "device",
-    "recommendation",
     "SNUBBER_FRACTIONS",
     "SNUBBER_R",
     "STROKE_FRACTION",
-    "TIE",
     "design_options",
-    "comparisons",
-    "headline",
     "ROBUST_BUDGET",
 ]
 
@@ -99,8 +95,6 @@ STROKE_FRACTION = 0.7
 # with this restitution.
 SNUBBER_FRACTIONS = (0.5, 0.75, 0.9)
 SNUBBER_R = 0.5
-# Two devices whose criteria differ by less than this (relative) are equal for a designer.
-TIE = 0.02
 
 
 def _in_range(name: str, value: object, unit: str = "") -> float:
@@ -464,125 +458,6 @@ def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: in
             rec["feasible"] = bool(row["stroke"] <= S * (1.0 + 1e-6))
         devices.append(rec)
     return devices
-
-
-def device(record: dict, key: str) -> dict:
-    """The row ``key`` of a :func:`design_optima` record (ValueError naming it if absent)."""
-    for d in record["devices"]:
-        if d["device"] == key:
-            return d
-    keys = ", ".join(repr(d["device"]) for d in record["devices"])
-    raise ValueError(f"`device` = {key!r} is not allowed: must be one of {keys}")
-
-
-def _value(row: dict, criterion: str) -> float:
-    """A row's value of ``criterion``: its peak, band average or worst peak."""
-    if criterion in ("peak", "stroke"):
-        return row["peak"]
-    if criterion == "band_average":
-        return row["band_average"]
-    return row["worst"][criterion]
-
-
-def headline(record: dict, criterion: str) -> dict:
-    """``impact`` (the impact suppressor with its stop within reach, optimal for ``criterion``),
-    ``tmd`` (the TMD optimal for it: for the force and restitution, the nominal one, which
-    they leave unchanged), ``tmd_equal_stroke`` and ``ratio`` (impact over TMD)."""
-    key_i = {"peak": "impact_peak_reach", "band_average": "impact_band_average_reach"}.get(
-        criterion, f"impact_{criterion}"
-    )
-    key_t = {"band_average": "tmd_band_average", "detuning": "tmd_detuning"}.get(criterion, "tmd_peak")
-    imp, tmd = device(record, key_i), device(record, key_t)
-    return {
-        "impact": imp,
-        "tmd": tmd,
-        "tmd_equal_stroke": device(record, "tmd_stroke"),
-        "ratio": {
-            "criterion": _value(imp, criterion) / _value(tmd, criterion),
-            "peak": imp["peak"] / tmd["peak"],
-            "band_average": imp["band_average"] / tmd["band_average"],
-            "worst_case": imp["worst"]["detuning"] / tmd["worst"]["detuning"],
-        },
-    }
-
-
-def _compare(imp: float, tmd: float) -> str:
-    if abs(imp - tmd) <= TIE * min(imp, tmd):
-        return "tie"
-    return "TMD" if tmd < imp else "impact"
-
-
-def comparisons(record: dict) -> list[dict]:
-    """The recommendation's comparisons, one per criterion: the impact suppressor with its stop
-    within reach against the TMD, each optimal for that criterion (for the force and the
-    restitution the TMD is its nominal optimum, unchanged by them), their values and the winner
-    (``tie`` within TIE)."""
-    pairs = (
-        ("peak", "impact_peak_reach", "tmd_peak"),
-        ("band_average", "impact_band_average_reach", "tmd_band_average"),
-        ("detuning", "impact_detuning", "tmd_detuning"),
-        ("force", "impact_force", "tmd_peak"),
-        ("restitution", "impact_restitution", "tmd_peak"),
-        ("stroke", "impact_stroke", "tmd_stroke"),
-    )
-    out = []
-    for c, ki, kt in pairs:
-        i, t = device(record, ki), device(record, kt)
-        vi, vt = _value(i, c), _value(t, c)
-        feasible = c != "stroke" or (i["feasible"] and t["feasible"])
-        out.append({"criterion": c, "impact": vi, "tmd": vt, "winner": _compare(vi, vt) if feasible else "infeasible"})
-    return out
-
-
-WHAT = {
-    "peak": "tuned to a known frequency, at the peak",
-    "band_average": "on the band average",
-    "detuning": "with the object's frequency off by up to {pm}{d}{pct}, in the worst case",
-    "force": "with the force between {a0} and {a1} times the design force, in the worst case",
-    "restitution": "with the restitution drifting by up to {pm}{r}, in the worst case",
-    "stroke": "with the travel limited to {S}{xst}",
-}
-
-
-def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x_st") -> str:
-    """One plain recommendation from a :func:`design_optima` record: which device to build, on
-    each criterion's pair of optima (:func:`comparisons`), differences within TIE counted as
-    equal (``pm``, ``pct``, ``xst``: how to write plus-minus, per cent and the unit x_st)."""
-    u = record["uncertainty"]
-    fmt = dict(
-        pm=pm,
-        pct=pct,
-        d=f"{100 * u['detuning']:g}",
-        a0=f"{u['force'][0]:g}",
-        a1=f"{u['force'][1]:g}",
-        r=f"{u['restitution']:g}",
-        S=f"{record['max_stroke']:.2f}",
-        xst=xst,
-    )
-    cs = comparisons(record)
-    wins = {c["criterion"]: c["winner"] for c in cs}
-    robust = [wins[c] for c in ("detuning", "force", "restitution")]
-    if wins["peak"] != "impact" and "impact" not in robust:
-        first = "Build the linear TMD"
-    elif wins["peak"] == "impact" and "TMD" not in robust:
-        first = "Build the impact suppressor"
-    else:
-        first = "Neither device wins everywhere"
-    parts = []
-    for c in cs:
-        what = WHAT[c["criterion"]].format(**fmt)
-        if c["winner"] == "infeasible":
-            parts.append(f"{what} no design meets the limit")
-        elif c["winner"] == "tie":
-            parts.append(
-                f"{what} they are equal within {100 * TIE:g}{pct} (impact {c['impact']:.2f}, TMD {c['tmd']:.2f})"
-            )
-        else:
-            lo, hi = (c["tmd"], c["impact"]) if c["winner"] == "TMD" else (c["impact"], c["tmd"])
-            parts.append(
-                f"{what} the {'TMD' if c['winner'] == 'TMD' else 'impact suppressor'} is lower ({lo:.2f} against {hi:.2f})"
-            )
-    return f"{first}: " + "; ".join(parts) + "."
 
 
 def design_options(design: dict) -> dict:

@@ -14,7 +14,7 @@ import dataclasses
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import TEXT, Column, Format, Macro, Table, fixed, macro_lines, percent, tex_sci
 from impactdamper.studies.design.design import bare_object_amplitude
-from impactdamper.studies.design.optimum import comparisons, device, recommendation
+from impactdamper.studies.design.verdict import comparisons, device, recommendation
 from impactdamper.studies.vocabulary import SPEC
 
 __all__ = [
