@@ -18,7 +18,6 @@ from impactdamper import Parameters, Tolerances
 from impactdamper import algorithm1
 from impactdamper.core.linear import forced_amplitudes, free_mode, stuck_mode
 from impactdamper.core.model import Model
-from impactdamper.analysis.batch import regime_map_batch
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import solve_orbit
 from impactdamper.analysis.ladder import carry_state, solve_point
@@ -225,14 +224,9 @@ def test_bad_parameter_name():
 # --- the record: committed data recomputed on a documented subset ---------------------------
 # Sweep: in each direction, every RECORD_SWEEP_EVERY-th row with a periodic label is
 # recomputed by plain simulation from the state it started from (stored in the row), so the
-# check also tests the accelerators against simulation. Maps: rows RECORD_MAP_ROWS of each map
-# are recomputed as in the workflow (the compiled batch, regime_map_batch: one-way sweep, cell
-# from cell, no accelerators, the rescue as the map's settings say) and compared cell by cell;
-# cells labelled np or err on either side are allowed to differ (chaotic motion amplifies
-# rounding) up to RECORD_MAP_NONPERIODIC_SHARE of the row.
+# check also tests the accelerators against simulation. (The regime maps' rows are swept again
+# cell by cell in tests/workflow/test_figures_record.py.)
 RECORD_SWEEP_EVERY = 100
-RECORD_MAP_ROWS = {"theta": (0, 100, 200, 300, -1), "damping": (60, 120, 240, -1)}
-RECORD_MAP_NONPERIODIC_SHARE = 0.05
 
 
 def _settings(section: dict, solver: dict, **changes) -> SweepSettings:
@@ -275,34 +269,3 @@ def test_committed_sweep_reproduces_on_a_subset():
         assert pt.x1_max == pytest.approx(float(r["x1_max"]), rel=1e-6)
         checked += 1
     assert checked >= 4
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("name", sorted(RECORD_MAP_ROWS))
-def test_committed_map_reproduces_on_a_subset(name):
-    cfg = json.loads((ROOT / "figures" / f"map_{name}_settings.json").read_text())
-    base = Parameters(**{k: float(cfg["reference"][k]) for k in Parameters.names()})
-    assert cfg.get("method") == "regime_map_batch", (
-        f"figures/map_{name}.csv was made by {cfg.get('method', 'regime_map')}: rerun the maps (snakemake --cores 2 sweeps)"
-    )
-    settings = _settings(cfg["maps"], cfg["solver"], continuation=False, rescue=bool(cfg["maps"]["rescue"]))
-    lines = [ln.split(",") for ln in (ROOT / "figures" / f"map_{name}.csv").read_text().splitlines()]
-    gaps = [float(x) for x in lines[0][1:]]
-    for i in RECORD_MAP_ROWS[name]:
-        row = lines[1:][i]
-        computed = regime_map_batch(
-            base,
-            "gap",
-            gaps,
-            cfg["maps"][name]["parameter"],
-            [float(row[0])],
-            direction=cfg["maps"]["direction"],
-            settings=settings,
-        )[0]
-        labels = list(computed.label)
-        differ = [j for j, (a, b) in enumerate(zip(labels, row[1:])) if a != b]
-        loose = {"np", "err"}
-        assert all(labels[j] in loose or row[1 + j] in loose for j in differ), (
-            f"map {name} row {i}: cells {[(gaps[j], labels[j], row[1 + j]) for j in differ][:5]}"
-        )
-        assert len(differ) <= RECORD_MAP_NONPERIODIC_SHARE * len(gaps)

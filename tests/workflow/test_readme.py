@@ -108,5 +108,6 @@ def test_the_closed_form_checks_and_the_design_are_their_records():
     assert _row(table, "Three transitions")["verdict or answer"].startswith(f"{within} of {len(doc['checks'])} within")
     devices = {d["device"]: d for d in _json("design_optimum.json")["devices"]}
     evidence = _row(table, "Impact suppressor or tuned-mass damper")["evidence"]
-    assert f"the TMD {devices['TMD, optimal peak']['peak']:.3f}" in evidence
+    assert f"the TMD {devices['tmd_peak']['peak']:.3f}" in evidence
+    assert f"in reach {devices['impact_peak_reach']['peak']:.3f}" in evidence
     assert f"bare object {devices['bare object']['peak']:.3f}" in evidence

@@ -190,6 +190,10 @@ def test_every_job_lists_the_library_parts_it_imports_and_no_other(forced_dry_ru
         if not scripts:
             continue
         needed = set().union(*(library_imports(ROOT / s) for s in scripts))
+        if any('"-m", "impactdamper"' in (ROOT / s).read_text() for s in scripts):
+            # A script that runs the command as a user does (a fresh process, the design
+            # benchmark) depends on what the command imports.
+            needed |= set(library_imports(ROOT / "src" / "impactdamper" / "cli" / "commands.py")) & set(LIBRARY)
         listed = set(inputs) & set(LIBRARY)
         assert needed <= listed, (rule, sorted(needed - listed))
         assert library_parts(listed) == library_parts(needed), (rule, library_parts(listed) - library_parts(needed))
@@ -389,9 +393,9 @@ def test_config_problem_finds_nothing_in_the_shipped_configs():
     ("override", "message"),
     [
         (
-            "design: {theta_points: 4}",
-            "['design']['theta_points']: 4 is not allowed: the theta grid from 0.5 to 1.5 must contain the reference "
-            "theta = 1 (such as 3, 5, 7)",
+            "design: {band_step: 0.4}",
+            "['design']['band_step']: 0.4 is not allowed: the theta grid from 0.5 to 1.5 must contain the reference "
+            "theta = 1 (such as 0.05, 0.025, 0.02)",
         ),
         ("sweep: {points: 1000000000}", "['sweep']['points']: 1000000000 is not allowed: 1000000000 sweep values"),
         (

@@ -116,29 +116,10 @@ def benchmark_file(rule_name, *wildcards):
     return f"{BENCHMARK_DIR}/{rule_name}" + "".join(f"-{{{w}}}" for w in sorted(wildcards)) + ".tsv"
 
 
-# Snakemake samples a job's processes for its CPU time every 0.5 s in the job's first 15 s, then
-# every 30 s, and the benchmark keeps the last sample: a long job's last 30 s of CPU time were
-# missing. Sampled every BENCHMARK_SAMPLE_S seconds instead, a job's CPU time misses at most its
-# last second. (Snakemake 9's benchmark timer, requirements.txt pins it; where it is not there,
-# the benchmarks keep Snakemake's own sampling.)
-BENCHMARK_SAMPLE_S = 1
-
-
-def _sample_benchmarks_every(seconds):
-    import snakemake.benchmark as benchmark
-
-    timer = getattr(benchmark, "BenchmarkTimer", None)
-    if timer is None or getattr(timer, "sample_s", None) is not None:
-        return
-    init = timer.__init__
-
-    def sampled(self, pid, bench_record, interval=seconds):
-        init(self, pid, bench_record, seconds)
-
-    timer.__init__, timer.sample_s = sampled, seconds
-
-
-_sample_benchmarks_every(BENCHMARK_SAMPLE_S)
+# A job's CPU time: Snakemake samples its processes (every 0.5 s in its first 15 s, then every
+# 30 s) into the benchmark file; every Python job also writes its exact CPU time when it ends
+# (reporting.records.start_stage), which the cost table prefers. Sampling more often cost the
+# scheduler a sixth of a core.
 
 
 # Sweeps stage: the chunk files a gather rule waits for.

@@ -201,7 +201,7 @@ rule design_report:
 rule fig_design_response:
     input:
         script="workflow/scripts/fig_design_response.py",
-        library=library(study("vocabulary"), REPORTING),
+        library=library(study("design/design", "vocabulary"), REPORTING),
         style=STYLE,
         response="figures/design_response.csv",
         summary="figures/design_response.json",

@@ -251,6 +251,8 @@ class FrequencyResponse:
             "band_average_max_abs_x1": self.band_average(),
             **self.loads(),
             "hysteresis_points": int(sum(q.hysteresis for q in self.points)),
+            # theta values where a sweep direction failed: the peak and loads are over the others
+            "failed_points": int(sum(q.up.regime == FAILED or q.down.regime == FAILED for q in self.points)),
             "points": [q.to_dict() for q in self.points],
         }
 

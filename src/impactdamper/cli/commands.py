@@ -79,6 +79,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     sub = parser._subparsers._group_actions[0].choices[args.command]  # for error messages
+    if sys.stdout is None:  # started with stdout closed (``>&-``): say so before any work
+        return write_answer({}, PRINTERS[args.command], True)
     if args.command == "design":
         return _design(args, sub)
     p = _parameters(args, sub)

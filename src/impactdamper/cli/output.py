@@ -107,6 +107,12 @@ def _print_response(r: dict) -> None:
         f"({r['peak_branch']}; the grid's largest sample {r['grid_peak_max_abs_x1']:.6f}), band average "
         f"{r['band_average_max_abs_x1']:.6f}, largest pulse {r['peak_impulse']:.6g} m1 x_st omega, at most "
         f"{r['impacts_per_period']:g} impacts per period, {r['hysteresis_points']} theta values with hysteresis"
+        + (
+            f"; {r['failed_points']} of {len(r['points'])} theta values failed (err): the peak and the loads are over "
+            "the others only"
+            if r["failed_points"]
+            else ""
+        )
     )
     print("   theta   up     down   max|x1| up/down       max|x2| up   impacts/T  peak pulse  linear |x1|")
     for q in r["points"]:

@@ -93,13 +93,18 @@ def _period(sections: np.ndarray, modes: list, kmax: int, tol: float) -> tuple[i
 # values, because two transient components beat (at gap -9.49 the divisor's mismatch
 # rises now and then while falling by 0.87 per window, and a cycle-to-cycle test gave the
 # 2T motion as T_c = 4T).
+# With a loose settle_tol the matched k's own mismatch may be near DIVISOR_SUSPECT while the
+# divisor's is still above it (a multiplier of -0.99 leaves the lag-1 difference 100 times the
+# lag-2 one): a divisor is then suspect below DIVISOR_FLOOR_FACTOR settle_tol too (settle_tol
+# 9e-4 settled a transient of a 1T cycle as T_c = 2T; tests/unit/test_settle_tolerance.py).
 DIVISOR_SUSPECT = 1e-3
 DIVISOR_DECAY = 0.95
 STALL_WINDOW = 20
 # A divisor whose mismatch stalls below this multiple of settle_tol is the period, stopped by
 # the run's noise floor (a genuine period-k motion has a divisor mismatch this small only at
 # its bifurcation point itself: the doubled orbit's offset grows like the square root of the
-# distance to it).
+# distance to it). Never above DIVISOR_SUSPECT: with a loose settle_tol a genuine period-k
+# motion's divisor mismatch can be below DIVISOR_FLOOR_FACTOR settle_tol.
 DIVISOR_FLOOR_FACTOR = 1e3
 
 
@@ -160,13 +165,13 @@ def _least_period(sections: np.ndarray, modes: list, k: int, settle_tol: float) 
     window = max(STALL_WINDOW, 2 * k)
     for d in range(1, k):
         m = _mismatch(sections, modes, d) if k % d == 0 else math.inf
-        if m >= DIVISOR_SUSPECT:
+        if m >= max(DIVISOR_SUSPECT, DIVISOR_FLOOR_FACTOR * settle_tol):
             continue
         if n < 2 * window + d:
             return 0, m  # not enough history yet to tell
         lagged = np.abs(sections[n - 2 * window :] - sections[n - 2 * window - d : n - d]).max(axis=1)
         if lagged[window:].max() < DIVISOR_DECAY * lagged[:window].max():
             return 0, m
-        if m < DIVISOR_FLOOR_FACTOR * settle_tol:
+        if m < min(DIVISOR_FLOOR_FACTOR * settle_tol, DIVISOR_SUSPECT):
             return d, m
     return k, _mismatch(sections, modes, k)

@@ -89,7 +89,7 @@ def _least_period(sections, modes, n, k, settle_tol):
     window = max(STALL_WINDOW, 2 * k)
     for d in range(1, k):
         m = _mismatch(sections, modes, n, d) if k % d == 0 else math.inf
-        if m >= DIVISOR_SUSPECT:
+        if m >= max(DIVISOR_SUSPECT, DIVISOR_FLOOR_FACTOR * settle_tol):
             continue
         if n < 2 * window + d:
             return 0, m
@@ -106,7 +106,7 @@ def _least_period(sections, modes, n, k, settle_tol):
                 second = max(second, worst)
         if second < DIVISOR_DECAY * first:
             return 0, m
-        if m < DIVISOR_FLOOR_FACTOR * settle_tol:
+        if m < min(DIVISOR_FLOOR_FACTOR * settle_tol, DIVISOR_SUSPECT):
             return d, m
     return k, _mismatch(sections, modes, n, k)
 
