@@ -172,7 +172,16 @@ def workflow_rules(wildcards):
         script = None
         if r.script:
             script = os.path.relpath(os.path.normpath(Path(r.snakefile).parent / r.script), repo)
-        inputs = [str(i) for i in r.input if isinstance(i, str) and not str(i).startswith(("src/", "workflow/"))]
+        # (an input named `stages` only orders the rule after every other job: not read)
+        order_only = set()
+        if "stages" in r.input._names:
+            start, end = r.input._names["stages"]
+            order_only = set(range(start, start + 1 if end is None else end))
+        inputs = [
+            str(i)
+            for k, i in enumerate(r.input)
+            if k not in order_only and isinstance(i, str) and not str(i).startswith(("src/", "workflow/"))
+        ]
         rules.append({"name": r.name, "script": script, "outputs": [str(o) for o in r.output], "inputs": inputs})
     return json.dumps({"rules": rules})
 
