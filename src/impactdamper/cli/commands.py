@@ -79,12 +79,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     sub = parser._subparsers._group_actions[0].choices[args.command]  # for error messages
-    if sys.stdout is None:  # started with stdout closed (``>&-``): say so before any work
-        return write_answer({}, PRINTERS[args.command], True)
     if args.command == "design":
         return _design(args, sub)
     p = _parameters(args, sub)
     _check_combinations(sub, args, sys.argv[1:] if argv is None else argv)
+    if sys.stdout is None:  # started with stdout closed (``>&-``): said before any work
+        return write_answer({}, PRINTERS[args.command], True)
     # A failed point shows as such in the output (label err); its warning is not printed too.
     logging.getLogger("impactdamper").addHandler(logging.NullHandler())
     try:
@@ -164,7 +164,7 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
     import warnings
 
     from impactdamper.studies.design.devices import Uncertainty
-    from impactdamper.studies.design.optimum import design_optima
+    from impactdamper.studies.design.optimum import check_object, design_optima
 
     start = time.perf_counter()
 
@@ -174,13 +174,20 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
 
     logging.getLogger("impactdamper").addHandler(logging.NullHandler())
     try:
+        uncertainty = Uncertainty(args.detuning, (args.force_low, args.force_high), args.restitution_drift)
+        band = (args.theta_start, args.theta_stop)
+        check_object(
+            band, args.mu, args.delta1, uncertainty, args.max_stroke, args.stop_stiffness, args.natural_frequency
+        )
+        if sys.stdout is None:  # started with stdout closed (``>&-``): said before any work
+            return write_answer({}, PRINTERS["design"], True)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # (a failed point shows in the answer, not as a warning)
             result = design_optima(
-                (args.theta_start, args.theta_stop),
+                band,
                 args.mu,
                 args.delta1,
-                uncertainty=Uncertainty(args.detuning, (args.force_low, args.force_high), args.restitution_drift),
+                uncertainty=uncertainty,
                 max_stroke=args.max_stroke,
                 criterion=args.criterion,
                 stop_stiffness=args.stop_stiffness,
