@@ -172,7 +172,7 @@ def workflow_rules(wildcards):
         script = None
         if r.script:
             script = os.path.relpath(os.path.normpath(Path(r.snakefile).parent / r.script), repo)
-        # (an input named `stages` only orders the rule after every other job: not read)
+        # (an input named `stages` only orders a job after all the others, and is not read)
         order_only = set()
         if "stages" in r.input._names:
             start, end = r.input._names["stages"]
