@@ -246,7 +246,7 @@ def _checks_text(searched: list) -> str:
     gain = max(d["search"]["check"]["largest_gain"] for d in failed)
     return (
         f"Of the {len(searched)} searches, {len(searched) - len(failed)} end on a passed check; in the others a "
-        f"move still lowers the answer by at most {tex_sci(1)(gain)} (relative) when the budget ends."
+        f"move still lowers the answer by at most ${tex_sci(1)(gain)}$ (relative) when the budget ends."
     )
 
 
