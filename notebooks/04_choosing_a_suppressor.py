@@ -27,6 +27,8 @@
 # parameters are the paper's relative ones; lengths are in units of $x_{st} = P_0/c_1$.
 
 # %% tags=["parameters"]
+import os
+
 # ---- your object and suppressor: change these, then run all cells -----------------------
 mu = 0.08  # suppressor's mass over the object's, m2/m1 (0.01 to 0.25)
 delta1 = 0.05  # object's relative damping, k1/(2 m1 omega1) (0.005 to 0.2)
@@ -39,6 +41,9 @@ N = 0.5  # suppressor's partial frequency over the object's, omega2/omega1
 delta2 = 0.05  # suppressor's relative damping, k2/(2 m2 omega1)
 R = 0.7  # coefficient of restitution: 0 plastic ... 1 elastic
 gap = 2.0  # initial gap Delta0/x_st
+# a design table saved for this same object, band and uncertainty, shown instead of searching
+# again (the workflow names its own, figures/design_optimum.json); None: always search
+saved = os.environ.get("IMPACTDAMPER_DESIGN_RECORD")
 
 # %%
 import matplotlib.pyplot as plt
@@ -62,7 +67,8 @@ plt.style.use(plotting.STYLE_FILE)
 
 # %%
 uncertainty = optimum.Uncertainty(detuning, force, restitution)
-result = optimum.design_optima(band, mu, delta1, uncertainty=uncertainty, progress=print)
+result, source = optimum.saved_or_searched(saved, band, mu, delta1, uncertainty=uncertainty, progress=print)
+print(f"the design table: {source}")
 print(f"{'device':26s} {'peak':>7s} {'avg':>6s} {'detuned':>8s} {'force':>7s} {'R drift':>8s} {'stroke':>7s}")
 for d in result["devices"]:
     w = d["worst"]

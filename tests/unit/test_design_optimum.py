@@ -285,3 +285,30 @@ def test_an_infeasible_travel_limit_is_reported_infeasible():
         if d["device"] in ("impact_stroke", "tmd_stroke"):
             d["feasible"] = False
     assert "with the travel limited to 6.65 x_st no design meets the limit" in recommendation(record)
+
+
+def test_a_saved_table_is_shown_only_for_the_same_object(tmp_path, monkeypatch):
+    """The guided notebook reads the workflow's design table instead of searching again, but only
+    when the table is of the notebook's object, band and uncertainty; any other searches."""
+    from impactdamper.studies.design import optimum
+
+    unc = Uncertainty(0.1, (0.5, 2.0), 0.15)
+    saved = tmp_path / "design_optimum.json"
+    saved.write_text(
+        json.dumps({"band": [0.5, 1.5], "mu": 0.08, "delta1": 0.05, "uncertainty": unc.to_dict(), "peak": 1.0})
+    )
+    searched = []
+    monkeypatch.setattr(optimum, "design_optima", lambda *a, **k: searched.append(a) or {"peak": 2.0})
+    record, source = optimum.saved_or_searched(saved, (0.5, 1.5), 0.08, 0.05, uncertainty=unc)
+    assert (record["peak"], source, searched) == (1.0, f"read from {saved}", [])
+    for band, mu, delta1, u in (
+        ((0.5, 1.4), 0.08, 0.05, unc),
+        ((0.5, 1.5), 0.05, 0.05, unc),
+        ((0.5, 1.5), 0.08, 0.02, unc),
+        ((0.5, 1.5), 0.08, 0.05, Uncertainty(0.05, (0.5, 2.0), 0.15)),
+    ):
+        record, source = optimum.saved_or_searched(saved, band, mu, delta1, uncertainty=u)
+        assert (record["peak"], source) == (2.0, "searched")
+    record, source = optimum.saved_or_searched(tmp_path / "absent.json", (0.5, 1.5), 0.08, 0.05, uncertainty=unc)
+    assert (record["peak"], source) == (2.0, "searched")
+    assert len(searched) == 5

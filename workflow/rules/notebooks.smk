@@ -65,6 +65,8 @@ rule notebook_choosing_a_suppressor:
             study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
         ),
         style=STYLE,
+        # the design table of the same object: the notebook shows it rather than searching again
+        design="figures/design_optimum.json",
     output:
         "results/notebooks/04_choosing_a_suppressor.ipynb",
     log:
@@ -74,6 +76,7 @@ rule notebook_choosing_a_suppressor:
     conda:
         ENV
     shell:
+        'IMPACTDAMPER_DESIGN_RECORD="$PWD/{input.design}" '
         "jupytext --to ipynb --execute {input.notebook} --output {output} > {log} 2>&1"
 
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import json
 import math
 import multiprocessing
 import os
@@ -62,6 +63,7 @@ __all__ = [
     "check_object",
     "design_bounds",
     "design_optima",
+    "saved_or_searched",
     "SNUBBER_FRACTIONS",
     "SNUBBER_R",
     "STROKE_FRACTION",
@@ -419,6 +421,39 @@ def design_optima(
     out["elapsed"] = time.perf_counter() - t0
     out["cpu"] = _processor_time() - c0
     return out
+
+
+def saved_or_searched(
+    saved: str | os.PathLike | None,
+    band: tuple[float, float],
+    mu: float,
+    delta1: float,
+    *,
+    uncertainty: Uncertainty | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[dict, str]:
+    """The design table of one object read from a saved record when it is of this same object,
+    band and uncertainty (the workflow saves its own as ``figures/design_optimum.json``: the
+    guided notebook shows it instead of searching again), otherwise :func:`design_optima`'s.
+
+    Returns
+    -------
+    (dict, str)
+        The table, and where it came from (the record's path and budget, or "searched").
+    """
+    uncertainty = Uncertainty() if uncertainty is None else uncertainty
+    if saved is not None and os.path.isfile(saved):
+        with open(saved, encoding="utf-8") as f:
+            record = json.load(f)
+        same = (
+            np.allclose(record.get("band", ()), band, rtol=1e-12, atol=0.0)
+            and math.isclose(record.get("mu", math.nan), mu, rel_tol=1e-12)
+            and math.isclose(record.get("delta1", math.nan), delta1, rel_tol=1e-12)
+            and record.get("uncertainty") == json.loads(json.dumps(uncertainty.to_dict()))
+        )
+        if same:
+            return record, f"read from {os.fspath(saved)}"
+    return design_optima(band, mu, delta1, uncertainty=uncertainty, progress=progress), "searched"
 
 
 def _processor_time() -> float:
