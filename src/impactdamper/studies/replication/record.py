@@ -311,6 +311,10 @@ RANDOM_STATES = (
     Macro("RandomStatesSeed", "seed", TEXT),
     Macro("RandomStatesMotions", lambda rs: len(rs["motions"]), COUNT),
     Macro("RandomStatesClaimB", "claim_b_found", YES_NO),
+    # solve_ivp from the same starts (independent): how many agree, the largest impact-time gap
+    Macro("RandomStatesIvpAgree", "ivp_agree", COUNT),
+    Macro("RandomStatesIvpTimeDiff", "ivp_max_time_difference_over_T", sci()),
+    Macro("RandomStatesIvpTimeTol", "ivp_time_tol", sci(0)),
 )
 PRINTED_VELOCITIES = (
     Macro("PrintedVelocitiesRegime", "alg2_regime", WORDS),
