@@ -136,6 +136,12 @@ def finish_figure(fig, *paths: str | Path, log=None) -> list[Path]:
     return written
 
 
+def dots(ax, x, y, **kwargs):
+    """Points of a sweep or of random starts: a scatter without marker edges, rasterized (a
+    figure of thousands of points stays light in the PDF). ``kwargs`` as ``Axes.scatter``."""
+    return ax.scatter(x, y, lw=0, rasterized=True, **kwargs)
+
+
 def legend_in_rows(fig, rows: list[list], **kwargs):
     """A figure legend written row by row (matplotlib fills a legend column by column): each
     of ``rows`` is a list of handles, shorter rows padded with blank entries. ``kwargs`` go to

@@ -315,3 +315,23 @@ class Timer:
         self.cpu = time.process_time() - self.cpu0
         self.epoch1 = time.time()
         return False
+
+
+def write_chunk(
+    out_csv, columns, rows, out_json, timer: Timer, *, epochs: bool = False, booleans: str = "words", **counts
+):
+    """The two records of a job that computes one chunk of a stage's rows: the rows (CSV, as
+    :func:`write_csv`) and the chunk's timing (JSON: ``counts``, the :class:`Timer`'s wall and
+    processor time, with ``epochs`` its start and end times, and the :func:`machine`).
+
+    Returns
+    -------
+    dict
+        The timing record.
+    """
+    write_csv(out_csv, columns, rows, booleans=booleans)
+    timing = {**counts, "wall_s": timer.wall, "cpu_s": timer.cpu, "machine": machine()}
+    if epochs:
+        timing.update(start_epoch=timer.epoch0, end_epoch=timer.epoch1)
+    write_json(out_json, timing, indent=2)
+    return timing
