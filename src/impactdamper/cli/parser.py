@@ -16,7 +16,7 @@ from impactdamper.analysis.solve import BACKENDS
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters
 from impactdamper.core.validation import Tolerances
 
-__all__ = ["PROG", "PARAMETER_HELP", "DESCRIPTION", "build_parser", "add_quiet_flag", "flag"]
+__all__ = ["PROG", "PARAMETER_HELP", "DESCRIPTION", "build_parser", "add_quiet_flag", "add_state_flag", "flag"]
 
 # The program's name in --help and in error messages: the console script.
 PROG = "impactdamper"

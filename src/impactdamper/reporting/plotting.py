@@ -24,6 +24,7 @@ __all__ = [
     "use_style",
     "save_figure",
     "finish_figure",
+    "dots",
     "figure_size",
     "STYLE_FILE",
     "TEXT_WIDTH",

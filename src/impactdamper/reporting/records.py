@@ -35,6 +35,7 @@ __all__ = [
     "say",
     "machine",
     "Timer",
+    "write_chunk",
     "JOB_COST_DIR",
     "job_name",
     "job_cpu_seconds",
