@@ -319,11 +319,12 @@ class Timer:
 
 
 def write_chunk(
-    out_csv, columns, rows, out_json, timer: Timer, *, epochs: bool = False, booleans: str = "words", **counts
+    out_csv, columns, rows, out_json, timer: Timer, /, *, epochs: bool = False, booleans: str = "words", **counts
 ):
     """The two records of a job that computes one chunk of a stage's rows: the rows (CSV, as
     :func:`write_csv`) and the chunk's timing (JSON: ``counts``, the :class:`Timer`'s wall and
-    processor time, with ``epochs`` its start and end times, and the :func:`machine`).
+    processor time, with ``epochs`` its start and end times, and the :func:`machine`). The
+    records are positional only, so that a count may be named ``rows`` or ``columns``.
 
     Returns
     -------
