@@ -53,17 +53,11 @@ def main(
     p, settings, gap_tol = parameters(reference), map_settings(m, solver), float(solver["gap_tol"])
     x_axis = (float(m["x_start"]), float(m["x_stop"]), int(m["x_points"]))
     y_axis = (float(m["y_start"]), float(m["y_stop"]), int(m["y_points"]))
+    # Both calls read the same grid (x, its axis, y, its axis) with the same settings.
+    grid_args = (p, m["x"], x_axis, m["y"], y_axis)
+    common = {"gap_tol": gap_tol, "settings": settings, "workers": workers}
     rows, grid = adaptive_claims_map(
-        p,
-        m["x"],
-        x_axis,
-        m["y"],
-        y_axis,
-        coarse_step=int(m["coarse_step"]),
-        check_every=int(m["check_every"]),
-        gap_tol=gap_tol,
-        settings=settings,
-        workers=workers,
+        *grid_args, coarse_step=int(m["coarse_step"]), check_every=int(m["check_every"]), **common
     )
     write_csv(out_csv, MAP_COLUMNS, rows)
     check = grid["check"]
@@ -72,18 +66,7 @@ def main(
         f"({100 * grid['computed_share']:.1f} %); check on {check['rows']} rows: {check['differences']} of "
         f"{check['filled']} filled cells differ; both claims at {sum(r['both'] for r in rows)}"
     )
-    refined, stats = refine_claims_map(
-        p,
-        m["x"],
-        x_axis,
-        m["y"],
-        y_axis,
-        levels=int(m["refine_levels"]),
-        gap_tol=gap_tol,
-        settings=settings,
-        base=rows,
-        workers=workers,
-    )
+    refined, stats = refine_claims_map(*grid_args, levels=int(m["refine_levels"]), base=rows, **common)
     log(f"{name or 'R_gap'}: {stats['refined_points']} points refined (per level {stats['points_per_level']})")
     write_csv(out_refined, REFINED_COLUMNS, refined)
     settings_record = {
@@ -107,10 +90,7 @@ def main(
     return settings_record
 
 
-JOB = (
-    "params.reference params.solver params.search output.csv output.json output.refined "
-    "name=wildcards.name? workers=threads log=say"
-)
+JOB = "params.reference params.solver params.search output.csv output.json output.refined"
 
 if __name__ == "__main__":
-    run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)
+    run_stage(snakemake, main, JOB, name="wildcards.name?", workers="threads", log="say")  # noqa: F821 (injected by Snakemake's script: directive)

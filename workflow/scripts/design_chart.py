@@ -18,6 +18,8 @@ import numpy as np
 from impactdamper.analysis.peaks import band_points
 from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
 from impactdamper.studies.design.design import (
+    AT_THETA_COLUMN,
+    CHART_COLUMNS,
     CRITERIA,
     best_gap,
     design_band,
@@ -29,16 +31,7 @@ from impactdamper.studies.design.devices import DESIGN_SETTINGS
 from impactdamper.studies.design.optimum import WORKERS
 
 
-COLUMNS = [
-    "gap",
-    "peak_max_abs_x1",
-    "peak_theta",
-    "band_average_max_abs_x1",
-    "no_contact_floor",
-    "peak_impulse",
-    "impacts_per_period",
-    "max_abs_x1_at_theta",
-]
+COLUMNS = [*CHART_COLUMNS, AT_THETA_COLUMN]
 
 
 def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:

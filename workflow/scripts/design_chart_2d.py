@@ -9,21 +9,19 @@ Outputs ``figures/design_chart_2d.csv`` (one row per value and gap) and
 import logging
 
 from impactdamper.reporting.records import run_stage, write_csv, write_json
-from impactdamper.studies.design.design import CRITERIA, design_band, design_chart_2d, design_gaps, design_parameters
+from impactdamper.studies.design.design import (
+    CHART_COLUMNS,
+    CRITERIA,
+    design_band,
+    design_chart_2d,
+    design_gaps,
+    design_parameters,
+)
 from impactdamper.studies.design.devices import DESIGN_SETTINGS
 from impactdamper.studies.design.optimum import WORKERS
 
 
-COLUMNS = [
-    "value",
-    "gap",
-    "peak_max_abs_x1",
-    "peak_theta",
-    "band_average_max_abs_x1",
-    "no_contact_floor",
-    "peak_impulse",
-    "impacts_per_period",
-]
+COLUMNS = ["value", *CHART_COLUMNS]
 
 
 def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:

@@ -24,7 +24,7 @@ import numpy as np
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.records import read_csv, read_json, run_stage, split_floats
 from impactdamper.reporting.figures import outside_legend
-from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, use_style
+from impactdamper.reporting.plotting import ANNOTATION_SIZE, dots, figure_size, finish_figure, use_style
 
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
@@ -62,17 +62,9 @@ def main(
     v = np.array([float(r["velocity"]) if r["velocity"] else np.nan for r in alg1])
     good = np.array([r["admissible"] == "1" and r["stable"] == "1" for r in alg1])
     for ax, direction, color in ((axes[0], "up", "C0"), (axes[1], "down", "C1")):
-        ax.scatter(xr, yr, s=DOT, color="0.75", lw=0, rasterized=True, label="random starts")
+        dots(ax, xr, yr, s=DOT, color="0.75", label="random starts")
         x, y = _scatter([r for r in rows if r["direction"] == direction])
-        ax.scatter(
-            x,
-            y,
-            s=DOT,
-            color=color,
-            lw=0,
-            rasterized=True,
-            label=f"{'upward' if direction == 'up' else 'downward'} sweep",
-        )
+        dots(ax, x, y, s=DOT, color=color, label=f"{'upward' if direction == 'up' else 'downward'} sweep")
         ax.plot(g, np.where(good, v, np.nan), color="k", lw=0.8, label="Alg. No. 1 orbit")
         ax.plot(g, np.where(~good, v, np.nan), color="k", lw=0.8, ls=":", label="same, gap $<0$ between impacts")
         for name, text in ANALYTIC:
@@ -138,14 +130,7 @@ def _exponent_panel(ax, rows) -> None:
     ax.axhline(0.0, color="0.3", lw=0.6)
     for direction, color in (("up", "C0"), ("down", "C1")):
         chosen = [r for r in rows if r["direction"] == direction and r["exponent"] not in ("", "nan")]
-        ax.scatter(
-            [float(r["value"]) for r in chosen],
-            [float(r["exponent"]) for r in chosen],
-            s=DOT,
-            color=color,
-            lw=0,
-            rasterized=True,
-        )
+        dots(ax, [float(r["value"]) for r in chosen], [float(r["exponent"]) for r in chosen], s=DOT, color=color)
     ax.set_ylabel("largest exponent $\\lambda_1 T$")
 
 

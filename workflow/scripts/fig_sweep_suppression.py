@@ -15,7 +15,7 @@ Deviations: none (the paper has no such figure).
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import cell_float, read_csv, run_stage
 from impactdamper.core.linear import forced_amplitudes
-from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
+from impactdamper.reporting.plotting import dots, figure_size, finish_figure, use_style
 from impactdamper.analysis.transitions import object_alone_amplitude, rigid_amplitude
 
 
@@ -25,13 +25,12 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     rows = read_csv(sweep_csv)
     rnd = read_csv(random_csv)
     fig, ax = plt.subplots(figsize=figure_size(3.0), layout="constrained")
-    ax.scatter(
+    dots(
+        ax,
         [float(r["value"]) for r in rnd],
         [cell_float(r["x1_max"]) for r in rnd],
         s=1.5,
         color="0.7",
-        lw=0,
-        rasterized=True,
         label="random initial states",
     )
     for direction, color, ls in (("up", "C0", "-"), ("down", "C1", "--")):

@@ -32,36 +32,6 @@ from impactdamper.reporting.texrecord import Column, Format, Table, time
 from impactdamper.studies.performance import hardcases as hc
 
 
-CSV_COLUMNS = [
-    "case",
-    "label",
-    "stresses",
-    "regime",
-    "k",
-    "z",
-    "periods",
-    "events",
-    "touches",
-    "did",
-    "cpu_seconds",
-    "terminated",
-    "gap_nonnegative",
-    "impact_law",
-    "reference",
-    "passed",
-    "reference_kind",
-    # the measured numbers behind the flags, each with its tolerance
-    "min_gap_relative",
-    "gap_tol",
-    "max_law_residual",
-    "law_tol",
-    "ivp_event_time_diff",
-    "ivp_time_tol",
-    "ivp_state_diff",
-    "ivp_state_tol",
-    "mp_diff",
-    "mp_tol",
-]
 CHECK_NAMES = {"terminated": "ends", "gap_nonnegative": "gap", "impact_law": "law", "reference": "ref."}
 
 
@@ -113,7 +83,7 @@ def main(reference: dict, out_csv, out_json, out_tex, log=print) -> list[dict]:
     base = parameters(reference)
     results = hc.run_suite(base, log=log)
     rows = [r.row() for r in results]
-    write_csv(out_csv, CSV_COLUMNS, rows, booleans="python", float_format=None)
+    write_csv(out_csv, hc.ROW_COLUMNS, rows, booleans="python", float_format=None)
     write_json(
         out_json,
         {

@@ -12,7 +12,7 @@ Outputs: ``results/lyapunov/map_{chunk}.csv`` (one row per cell) and
 ``results/benchmarks/lyapunov_map_{chunk}.json`` (the chunk's wall and processor time).
 """
 
-from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, run_stage, write_chunk
 from impactdamper.studies.config import chunk_indices, parameters, sweep_settings
 from impactdamper.studies.lyapunov.exponent_map import COLUMNS, map_axes, map_rows
 from impactdamper.studies.lyapunov.sweep import RunLengths
@@ -23,21 +23,10 @@ def main(reference: dict, solver: dict, lyapunov: dict, chunk: int, out_csv, out
     settings = sweep_settings(section, solver, continuation=False, rescue=bool(section["rescue"]))
     slow, slow_values, gaps = map_axes(section)
     rows = chunk_indices(len(slow_values), int(section["chunks"]), chunk)
+    p, lengths = parameters(reference), RunLengths.from_config(lyapunov)
     with Timer() as timer:
-        out = map_rows(
-            parameters(reference),
-            slow,
-            slow_values,
-            gaps,
-            rows,
-            settings,
-            RunLengths.from_config(lyapunov),
-            say=None if log is None else log.info,
-        )
-    write_csv(out_csv, COLUMNS, out)
-    timing = {"chunk": chunk, "cells": len(out), "wall_s": timer.wall, "cpu_s": timer.cpu, "machine": machine()}
-    write_json(out_json, timing, indent=2)
-    return timing
+        out = map_rows(p, slow, slow_values, gaps, rows, settings, lengths, say=None if log is None else log.info)
+    return write_chunk(out_csv, COLUMNS, out, out_json, timer, chunk=chunk, cells=len(out))
 
 
 JOB = "params.reference params.solver params.lyapunov wildcards.chunk:int output.csv output.json log=log"

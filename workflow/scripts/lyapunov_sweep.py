@@ -12,7 +12,7 @@ Outputs: ``results/lyapunov/sweep_{chunk}.csv`` (one row per sweep row) and
 ``results/benchmarks/lyapunov_sweep_{chunk}.json`` (the chunk's wall and processor time).
 """
 
-from impactdamper.reporting.records import Timer, machine, read_csv, run_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, read_csv, run_stage, write_chunk
 from impactdamper.studies.config import chunk_indices, parameters, tolerances
 from impactdamper.studies.lyapunov.sweep import COLUMNS, RunLengths, sweep_exponents
 
@@ -28,10 +28,7 @@ def main(reference: dict, solver: dict, lyapunov: dict, sweep_csv, chunk: int, o
             tolerances(solver),
             say=None if log is None else log.info,
         )
-    write_csv(out_csv, COLUMNS, out)
-    timing = {"chunk": chunk, "rows": len(out), "wall_s": timer.wall, "cpu_s": timer.cpu, "machine": machine()}
-    write_json(out_json, timing, indent=2)
-    return timing
+    return write_chunk(out_csv, COLUMNS, out, out_json, timer, chunk=chunk, rows=len(out))
 
 
 JOB = "params.reference params.solver params.lyapunov input.sweep wildcards.chunk:int output.csv output.json log=log"

@@ -28,7 +28,7 @@ import numpy as np
 
 from impactdamper.analysis.adaptive import adaptive_regime_map, label_differences
 from impactdamper.analysis.batch import regime_map_batch
-from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
+from impactdamper.reporting.records import Timer, run_stage, write_chunk
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.sweeps import gapsweep as gs
 
@@ -129,28 +129,27 @@ def main(reference: dict, solver: dict, maps: dict, name: str, chunk: int, out_c
                     "computed": bool(m.computed[n, j]),
                 }
             )
-    write_csv(out_csv, COLUMNS, out, booleans="digits")
-    timing = {
-        "map": name,
-        "chunk": chunk,
-        "rows": len(rows_idx),
-        "cells": int(m.computed.size),
-        "computed": int(m.computed.sum()),
-        "settlings": m.settlings,
-        "points_per_round": m.points_per_round,
-        "coarse_step": m.coarse_step,
-        "rescue": settings.rescue,
-        "fallbacks": m.fallbacks,
-        "check": check,
-        "periods_simulated": int(m.periods.sum()),
-        "wall_s": timer.wall,
-        "cpu_s": timer.cpu,
-        "start_epoch": timer.epoch0,
-        "end_epoch": timer.epoch1,
-        "machine": machine(),
-    }
-    write_json(out_json, timing, indent=2)
-    return timing
+    return write_chunk(
+        out_csv,
+        COLUMNS,
+        out,
+        out_json,
+        timer,
+        epochs=True,
+        booleans="digits",
+        map=name,
+        chunk=chunk,
+        rows=len(rows_idx),
+        cells=int(m.computed.size),
+        computed=int(m.computed.sum()),
+        settlings=m.settlings,
+        points_per_round=m.points_per_round,
+        coarse_step=m.coarse_step,
+        rescue=settings.rescue,
+        fallbacks=m.fallbacks,
+        check=check,
+        periods_simulated=int(m.periods.sum()),
+    )
 
 
 JOB = "params.reference params.solver params.maps wildcards.map wildcards.chunk:int output.csv output.json log=log"

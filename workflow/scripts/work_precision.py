@@ -26,28 +26,12 @@ from impactdamper.reporting.records import run_stage, write_csv, write_json
 from impactdamper.studies.performance import workprecision as wp
 
 
-CSV_COLUMNS = [
-    "case",
-    "family",
-    "setting",
-    "value",
-    "cpu_seconds",
-    "error",
-    "phase_error",
-    "state_error",
-    "impacts_found",
-    "impacts_expected",
-    "nfev",
-    "note",
-]
-
-
 def main(reference: dict, performance: dict, out_json, out_csv, log=print) -> dict:
     p = parameters(reference)
     study = wp.run_study(p, performance, log=log)
     study["summary"] = wp.summarize(study, tuple(performance["targets"]))
     write_json(out_json, study)
-    write_csv(out_csv, CSV_COLUMNS, study["runs"], booleans="python", float_format=None)
+    write_csv(out_csv, wp.RUN_COLUMNS, study["runs"], booleans="python", float_format=None)
     log(f"siconos: {study['siconos']['detail']}")
     return study
 

@@ -156,13 +156,12 @@ def _sweep_point(res: BatchResult, i: int, p: Parameters) -> SweepPoint:
     rg = BATCH_REGIMES[res.regime_code[i]]
     z = int(res.impacts_per_cycle[i])
     m = min(z, MAX_REPORTED_IMPACTS)
-    return SweepPoint(
-        p=p,
-        value=float(res.values[i, 0]),
-        regime=rg,
-        period_multiple=int(res.period_multiple[i]),
-        impacts_per_cycle=z,
-        label=label_of(rg, int(res.period_multiple[i]), z),
+    return SweepPoint.labelled(
+        p,
+        float(res.values[i, 0]),
+        rg,
+        int(res.period_multiple[i]),
+        z,
         stable=None,
         multiplier=math.nan,
         x1_max=float(res.x1_max[i]),

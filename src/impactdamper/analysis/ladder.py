@@ -71,7 +71,6 @@ from impactdamper.analysis.point import (
     SweepPoint,
     SweepSettings,
     failed_point,
-    label_of,
     point_from_steady,
     shoot_cycle,
     verify_cycle,
@@ -115,13 +114,12 @@ def _closed_form(p: Parameters, value: float, regime: str, start: str, start_sta
         return None
     mult = float(np.max(np.abs(np.linalg.eigvals(mode.propagator(p.T)))))
     section = model.full_state(FREE if regime == "no_contact" else STUCK, mode.forced(0.0))
-    return SweepPoint(
-        p=p,
-        value=value,
-        regime=regime,
-        period_multiple=1,
-        impacts_per_cycle=0,
-        label=label_of(regime, 1, 0),
+    return SweepPoint.labelled(
+        p,
+        value,
+        regime,
+        1,
+        0,
         stable=mult < 1.0,
         multiplier=mult,
         x1_max=float(abs(mode.Yhat[0])) / p.x_st,

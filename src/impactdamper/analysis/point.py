@@ -231,6 +231,13 @@ class SweepPoint:
     elapsed: float = field(repr=False, default=0.0, compare=False)
     error: str = field(repr=False, default="", compare=False)
 
+    @classmethod
+    def labelled(cls, p: Parameters, value: float, regime: str, k: int, z: int, **fields) -> SweepPoint:
+        """The point of a motion of ``regime`` with k = ``k``, z = ``z``, its ``label`` theirs
+        (:func:`label_of`); ``fields`` the other attributes."""
+        label = label_of(regime, k, z)
+        return cls(p=p, value=value, regime=regime, period_multiple=k, impacts_per_cycle=z, label=label, **fields)
+
     @property
     def periodic(self) -> bool:
         return self.regime not in ("nonperiodic", FAILED)
@@ -283,13 +290,12 @@ def failed_point(
     The error's line is logged as a warning."""
     log.warning("the simulation failed at value %r (%s): %s", value, p, error)
     full = np.array(start_state, float)
-    return SweepPoint(
-        p=p,
-        value=value,
-        regime=FAILED,
-        period_multiple=0,
-        impacts_per_cycle=0,
-        label=label_of(FAILED, 0, 0),
+    return SweepPoint.labelled(
+        p,
+        value,
+        FAILED,
+        0,
+        0,
         stable=None,
         multiplier=math.nan,
         x1_max=math.nan,
@@ -325,13 +331,12 @@ def point_from_steady(
         section, mode = orbit_section(s)
     else:
         section, mode = section_of(s)
-    return SweepPoint(
-        p=p,
-        value=value,
-        regime=s.regime,
-        period_multiple=s.period_multiple,
-        impacts_per_cycle=s.impacts_per_cycle,
-        label=label_of(s.regime, s.period_multiple, s.impacts_per_cycle),
+    return SweepPoint.labelled(
+        p,
+        value,
+        s.regime,
+        s.period_multiple,
+        s.impacts_per_cycle,
         stable=stable,
         multiplier=multiplier,
         x1_max=s.x1_max,

@@ -16,7 +16,7 @@ from impactdamper.analysis.solve import BACKENDS
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters
 from impactdamper.core.validation import Tolerances
 
-__all__ = ["PROG", "PARAMETER_HELP", "DESCRIPTION", "build_parser", "add_quiet_flag", "flag"]
+__all__ = ["PROG", "PARAMETER_HELP", "DESCRIPTION", "build_parser", "add_quiet_flag", "add_state_flag", "flag"]
 
 # The program's name in --help and in error messages: the console script.
 PROG = "impactdamper"
@@ -66,6 +66,17 @@ def add_quiet_flag(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_state_flag(parser) -> None:
+    """The start ``--state`` (x1, x2, x1', x2'), by default the paper's step 1."""
+    parser.add_argument(
+        "--state",
+        type=float,
+        nargs=4,
+        metavar=("X1", "X2", "V1", "V2"),
+        help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of every command (``steady``, ``alg1``, ``orbit``, ``response``, ``design``,
     ``lyapunov``), in that order in --help."""
@@ -111,13 +122,7 @@ def _add_parameters(p: argparse.ArgumentParser, defaults: Parameters) -> None:
 
 def _add_solver_flags(s) -> None:
     """The event-driven solver's start and tolerances (``steady``, and ``orbit``'s seed)."""
-    s.add_argument(
-        "--state",
-        type=float,
-        nargs=4,
-        metavar=("X1", "X2", "V1", "V2"),
-        help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)",
-    )
+    add_state_flag(s)
     s.add_argument("--t0", type=float, default=None, help="start time, s (default 0)")
     s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
     s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
@@ -205,54 +210,27 @@ def _add_design(sub, defaults: Parameters) -> None:
         lo, hi = RANGES[name]
         return f"in [{lo:g}, {hi:g}]"
 
+    def ranged(group, flag: str, default: float, what: str) -> None:
+        """A float flag whose help says what it is, its documented range and its default."""
+        help_text = f"{what}, {span(flag[2:].replace('-', '_'))} (default {default})"
+        group.add_argument(flag, type=float, default=default, help=help_text)
+
     u = Uncertainty()
     d = design.add_argument_group("object and band")
-    d.add_argument(
-        "--theta-start",
-        type=float,
-        default=0.5,
-        help=f"lowest theta = omega/omega1, {span('theta_start')} (default 0.5)",
-    )
+    ranged(d, "--theta-start", 0.5, "lowest theta = omega/omega1")
     d.add_argument(
         "--theta-stop",
         type=float,
         default=1.5,
         help=f"highest theta, {span('theta_stop')}, the band {span('band_width')} wide (default 1.5)",
     )
-    d.add_argument(
-        "--mu", type=float, default=defaults.mu, help=f"{PARAMETER_HELP['mu']}, {span('mu')} (default {defaults.mu})"
-    )
-    d.add_argument(
-        "--delta1",
-        type=float,
-        default=defaults.delta1,
-        help=f"{PARAMETER_HELP['delta1']}, {span('delta1')} (default {defaults.delta1})",
-    )
+    ranged(d, "--mu", defaults.mu, PARAMETER_HELP["mu"])
+    ranged(d, "--delta1", defaults.delta1, PARAMETER_HELP["delta1"])
     r = design.add_argument_group("what the designer does not know exactly")
-    r.add_argument(
-        "--detuning",
-        type=float,
-        default=u.detuning,
-        help=f"the object's natural frequency uncertain by +- this fraction, {span('detuning')} (default {u.detuning})",
-    )
-    r.add_argument(
-        "--force-low",
-        type=float,
-        default=u.force[0],
-        help=f"lowest force amplitude over the design force, {span('force_low')} (default {u.force[0]})",
-    )
-    r.add_argument(
-        "--force-high",
-        type=float,
-        default=u.force[1],
-        help=f"highest force amplitude over the design force, {span('force_high')} (default {u.force[1]})",
-    )
-    r.add_argument(
-        "--restitution-drift",
-        type=float,
-        default=u.restitution,
-        help=f"R uncertain by +- this, {span('restitution_drift')} (default {u.restitution})",
-    )
+    ranged(r, "--detuning", u.detuning, "the object's natural frequency uncertain by +- this fraction")
+    ranged(r, "--force-low", u.force[0], "lowest force amplitude over the design force")
+    ranged(r, "--force-high", u.force[1], "highest force amplitude over the design force")
+    ranged(r, "--restitution-drift", u.restitution, "R uncertain by +- this")
     o = design.add_argument_group("limits and loads")
     o.add_argument(
         "--max-stroke",
@@ -303,13 +281,7 @@ def _add_lyapunov_command(sub, defaults: Parameters) -> None:
         ("warmup", lyapunov.DEFAULT_WARMUP, "periods of the tangent walk discarded next"),
     ):
         ly.add_argument(flag(name), type=int, default=default, metavar="N", help=f"{text} (default {default})")
-    ly.add_argument(
-        "--state",
-        type=float,
-        nargs=4,
-        metavar=("X1", "X2", "V1", "V2"),
-        help="initial (x1, x2, x1', x2') in m, m/s (default: the paper's step 1)",
-    )
+    add_state_flag(ly)
     ly.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
     ly.add_argument("--backend", choices=BACKENDS, default="auto", help="who walks (default auto: compiled)")
 

@@ -24,6 +24,7 @@ __all__ = [
     "use_style",
     "save_figure",
     "finish_figure",
+    "dots",
     "figure_size",
     "STYLE_FILE",
     "TEXT_WIDTH",
@@ -134,6 +135,12 @@ def finish_figure(fig, *paths: str | Path, log=None) -> list[Path]:
     if log is not None:
         log("wrote " + ", ".join(str(p) for p in written))
     return written
+
+
+def dots(ax, x, y, **kwargs):
+    """Points of a sweep or of random starts: a scatter without marker edges, rasterized (a
+    figure of thousands of points stays light in the PDF). ``kwargs`` as ``Axes.scatter``."""
+    return ax.scatter(x, y, lw=0, rasterized=True, **kwargs)
 
 
 def legend_in_rows(fig, rows: list[list], **kwargs):

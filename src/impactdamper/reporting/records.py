@@ -35,6 +35,7 @@ __all__ = [
     "say",
     "machine",
     "Timer",
+    "write_chunk",
     "JOB_COST_DIR",
     "job_name",
     "job_cpu_seconds",
@@ -315,3 +316,24 @@ class Timer:
         self.cpu = time.process_time() - self.cpu0
         self.epoch1 = time.time()
         return False
+
+
+def write_chunk(
+    out_csv, columns, rows, out_json, timer: Timer, /, *, epochs: bool = False, booleans: str = "words", **counts
+):
+    """The two records of a job that computes one chunk of a stage's rows: the rows (CSV, as
+    :func:`write_csv`) and the chunk's timing (JSON: ``counts``, the :class:`Timer`'s wall and
+    processor time, with ``epochs`` its start and end times, and the :func:`machine`). The
+    records are positional only, so that a count may be named ``rows`` or ``columns``.
+
+    Returns
+    -------
+    dict
+        The timing record.
+    """
+    write_csv(out_csv, columns, rows, booleans=booleans)
+    timing = {**counts, "wall_s": timer.wall, "cpu_s": timer.cpu, "machine": machine()}
+    if epochs:
+        timing.update(start_epoch=timer.epoch0, end_epoch=timer.epoch1)
+    write_json(out_json, timing, indent=2)
+    return timing

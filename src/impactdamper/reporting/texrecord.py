@@ -42,6 +42,7 @@ __all__ = [
     "Macro",
     "macro_lines",
     "Column",
+    "fixed_columns",
     "Table",
     "MIDRULE",
 ]
@@ -193,6 +194,12 @@ class Column:
 
     value: Getter
     format: Callable[[Any], str] = TEXT
+
+
+def fixed_columns(digits: dict[str, int]) -> list[Column]:
+    """A :class:`Column` per key of ``digits`` (where its value is in the row, :func:`pick`),
+    its number in :func:`fixed` point with the key's digits."""
+    return [Column(key, fixed(d)) for key, d in digits.items()]
 
 
 # A rule between rows of a table's body.

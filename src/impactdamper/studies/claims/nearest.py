@@ -499,25 +499,13 @@ def verify_point(p: Parameters, solver: dict, verdict: dict) -> dict:
     from impactdamper.studies.replication import cases as rep
     from impactdamper.studies.replication import crosscheck as xc
 
-    kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
     time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
     a = rep.run_alg1(p, solver)
-    a_ivp = xc.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "negative_gap_intervals": []}
+    a_ivp = xc.alg1_ivp(a, **xc.ivp_options(verdict)) if a.exists else {"claim_a": False, "negative_gap_intervals": []}
     a_cmp = xc.compare_alg1(a, a_ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
     s = rep.run_steady(p, solver)
     c = steady_state(p, **rep.solver_options(solver), backend="compiled")
-    kmax = int(solver["max_period_multiple"])
-    b_ivp = xc.alg2_ivp(
-        p,
-        s.periods + kmax,
-        kmax,
-        section_tol=float(verdict["ivp_section_tol"]),
-        tolerances=rep.solver_options(solver)["tolerances"],
-        exact=s,
-        time_tol=time_tol,
-        velocity_tol=velocity_tol,
-        **kw,
-    )
+    b_ivp = xc.alg2_crosscheck(p, s, verdict, solver)
     cc = b_ivp.get("cycle_comparison", {})
     out = {
         "claim_a": {

@@ -220,6 +220,13 @@ def search_parameter(
     ia = true_intervals(alg1_values, flags_a, pred_a, rel_tol, floor)
     ib = true_intervals(values, flags_b, pred_b, rel_tol, floor)
     say(f"{name}: {len(ia)} interval(s) of (a), {len(ib)} of (b) after bisection")
+    bisected = [r for x, r in rows.items() if x not in set(map(float, values))]
+    return _searched(p, name, alg1_values, flags_a, grid_b, ia, ib, bisected)
+
+
+def _searched(p, name: str, alg1_values, flags_a: list, grid_b: list, ia: list, ib: list, bisected) -> dict:
+    """The record of :func:`search_parameter`: the grids, their flags, the intervals of claims
+    (a), (b) and both, and the points the bisection added (in increasing value)."""
     return {
         "parameter": name,
         "stated": float(getattr(p, name)),
@@ -227,9 +234,7 @@ def search_parameter(
         "claim_a_flags": flags_a,
         "grid_b": grid_b,
         "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
-        "bisection_points": sorted(
-            (r for x, r in rows.items() if x not in set(map(float, values))), key=lambda r: r["value"]
-        ),
+        "bisection_points": sorted(bisected, key=lambda r: r["value"]),
     }
 
 
@@ -290,13 +295,7 @@ def _search_refined(
     say(f"{name}: {len(ia)} interval(s) of (a), {len(ib)} of (b) after bisection")
     step = (float(values[-1]) - float(values[0])) / (len(values) - 1) if len(values) > 1 else 0.0
     return {
-        "parameter": name,
-        "stated": float(getattr(p, name)),
-        "alg1_values": [float(x) for x in alg1_values],
-        "claim_a_flags": flags_a,
-        "grid_b": grid_b,
-        "intervals": {"a": ia, "b": ib, "both": intersect(ia, ib)},
-        "bisection_points": sorted(bisected.values(), key=lambda r: r["value"]),
+        **_searched(p, name, alg1_values, flags_a, grid_b, ia, ib, bisected.values()),
         "refinement": {
             "step": step,
             "alg1_step": (float(alg1_values[-1]) - float(alg1_values[0])) / (len(alg1_values) - 1)

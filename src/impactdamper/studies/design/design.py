@@ -50,6 +50,8 @@ __all__ = [
     "band_peak",
     "band_mean",
     "GapChart",
+    "CHART_COLUMNS",
+    "AT_THETA_COLUMN",
     "gap_chart",
     "best_gap",
     "good_band",
@@ -88,6 +90,18 @@ DESIGN_FIELDS = tuple(n for n in RELATIVE_PARAMETERS if n not in ("theta", "gap"
 # Two gaps closer than this (Delta0/x_st) are one gap of the frequency responses: far below the
 # design chart's step.
 SAME_GAP = 1e-12
+# The columns of :meth:`GapChart.rows`, in the order the chart's CSV records write them; with a
+# theta, the rows also hold the worst motion's max|x1|/x_st at it.
+CHART_COLUMNS = (
+    "gap",
+    "peak_max_abs_x1",
+    "peak_theta",
+    "band_average_max_abs_x1",
+    "no_contact_floor",
+    "peak_impulse",
+    "impacts_per_period",
+)
+AT_THETA_COLUMN = "max_abs_x1_at_theta"
 
 
 def design_parameters(reference: dict, design: dict) -> Parameters:
@@ -408,7 +422,7 @@ class GapChart:
                 "impacts_per_period": float(z),
             }
             if theta is not None:
-                row["max_abs_x1_at_theta"] = float(x)
+                row[AT_THETA_COLUMN] = float(x)
             out.append(row)
         return out
 

@@ -12,7 +12,18 @@ from __future__ import annotations
 import dataclasses
 
 from impactdamper.reporting.latex import MacroFile
-from impactdamper.reporting.texrecord import TEXT, Column, Format, Macro, Table, fixed, macro_lines, percent, tex_sci
+from impactdamper.reporting.texrecord import (
+    TEXT,
+    Column,
+    Format,
+    Macro,
+    Table,
+    fixed,
+    fixed_columns,
+    macro_lines,
+    percent,
+    tex_sci,
+)
 from impactdamper.studies.design.design import bare_object_amplitude
 from impactdamper.studies.design.verdict import comparisons, device, recommendation
 from impactdamper.studies.vocabulary import SPEC
@@ -434,22 +445,19 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, 
 
 
 # --- the tables -----------------------------------------------------------------------------
+TABLE_COMMENTS = ["Written by the design stage's report job; do not edit."]
 DESIGN_TABLE = Table(
     colspec="lrrrrrrrrrrr",
     header=(
         "device & $\\Delta_0/x_{\\mathrm{st}}$ & $N$ & $\\delta_2$ & $R$ & peak & band avg. & detuned & force "
         "& $R$ drift & all & stroke"
     ),
-    comments=["Written by the design stage's report job; do not edit."],
+    comments=TABLE_COMMENTS,
     columns=[
         Column(lambda d: d, Format(device_name)),
         *(Column(lambda d, k=k: d["parameters"].get(k), fixed(DIGITS[k], "")) for k in DIGITS),
-        Column("peak", fixed(3)),
-        Column("band_average", fixed(3)),
-        Column("worst.detuning", fixed(2)),
-        Column("worst.force", fixed(2)),
-        Column("worst.restitution", fixed(2)),
-        Column("worst.together", fixed(2)),
+        *fixed_columns({"peak": 3, "band_average": 3}),
+        *fixed_columns({f"worst.{w}": 2 for w in ("detuning", "force", "restitution", "together")}),
         Column(lambda d: None if d["device"] == "bare object" else d["stroke"], fixed(1, "---")),
     ],
 )
@@ -465,12 +473,10 @@ def design_table(opt: dict) -> str:
 LOADS_TABLE = Table(
     colspec="lrrrrr",
     header="device & stroke & pulse & impacts/period & impacts/hour & contact force",
-    comments=["Written by the design stage's report job; do not edit."],
+    comments=TABLE_COMMENTS,
     columns=[
         Column(lambda d: d, Format(device_name)),
-        Column("stroke", fixed(1)),
-        Column("pulse", fixed(2)),
-        Column("impacts_per_period", fixed(1)),
+        *fixed_columns({"stroke": 1, "pulse": 2, "impacts_per_period": 1}),
         Column("impacts_per_hour", Format(lambda v: f"{v:,.0f}".replace(",", "\\,"))),
         Column("contact_force", fixed(0)),
     ],
@@ -486,12 +492,9 @@ def loads_table(opt: dict) -> str:
 SECOND_TABLE = Table(
     colspec="rrrrrr",
     header="{} & best $\\Delta_0/x_{{\\mathrm{{st}}}}$ & peak & $\\theta$ of the peak & good gaps & pulse",
-    comments=["Written by the design stage's report job; do not edit."],
+    comments=TABLE_COMMENTS,
     columns=[
-        Column("second", fixed(2)),
-        Column("gap", fixed(2)),
-        Column("value", fixed(2)),
-        Column("peak_theta", fixed(3)),
+        *fixed_columns({"second": 2, "gap": 2, "value": 2, "peak_theta": 3}),
         Column(lambda b: f"{fixed(2)(b['good_from'])} to {fixed(2)(b['good_to'])}"),
         Column("peak_impulse", fixed(2)),
     ],
@@ -509,11 +512,9 @@ def second_table(chart2: dict) -> str:
 BENCHMARK_TABLE = Table(
     colspec="rrrrrl",
     header="$\\mu$ & $\\delta_1$ & wall time (s) & processor time (s) & evaluations & recommendation",
-    comments=["Written by the design stage's report job; do not edit."],
+    comments=TABLE_COMMENTS,
     columns=[
-        Column("mu", fixed(2)),
-        Column("delta1", fixed(2)),
-        Column("elapsed", fixed(0)),
+        *fixed_columns({"mu": 2, "delta1": 2, "elapsed": 0}),
         Column("cpu", fixed(0, "---")),
         Column("evaluations", TEXT),
         Column("first", TEXT),

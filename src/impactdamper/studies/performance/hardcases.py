@@ -60,9 +60,17 @@ __all__ = [
     "check_gap_nonnegative",
     "check_impact_law",
     "CHECKS",
+    "ROW_COLUMNS",
 ]
 
 CHECKS = ("terminated", "gap_nonnegative", "impact_law", "reference")
+# The keys of :meth:`CaseResult.row` in the suite's CSV record: the case and what the solver did,
+# the checks' flags, then the measured numbers behind the flags, each beside its tolerance.
+ROW_COLUMNS = (
+    *("case", "label", "stresses", "regime", "k", "z", "periods", "events", "touches", "did", "cpu_seconds"),
+    *(*CHECKS, "passed", "reference_kind", "min_gap_relative", "gap_tol", "max_law_residual", "law_tol"),
+    *("ivp_event_time_diff", "ivp_time_tol", "ivp_state_diff", "ivp_state_tol", "mp_diff", "mp_tol"),
+)
 # Gap overlap tolerated by the check, relative to x_st + |Delta0|: the solver's grazing
 # resolution is 1e-12 x_st, and rounding of x2 - x1 grows with |Delta0|.
 GAP_CHECK_TOL = 1e-9

@@ -36,7 +36,7 @@ import math
 import platform
 import statistics
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
@@ -49,6 +49,7 @@ __all__ = [
     "CASES",
     "Reference",
     "Run",
+    "RUN_COLUMNS",
     "build_references",
     "cpu_time",
     "measure",
@@ -170,6 +171,10 @@ class Run:
     @property
     def ok(self) -> bool:
         return math.isfinite(self.error)
+
+
+# The columns of the study's CSV record, one row per run: the fields of :class:`Run`.
+RUN_COLUMNS = tuple(f.name for f in fields(Run))
 
 
 def cpu_time(fn, repeats: int = 5, min_time: float = 0.05, long_time: float = 1.0):

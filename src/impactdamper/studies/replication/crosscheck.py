@@ -19,6 +19,7 @@ from impactdamper import Parameters, Tolerances
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import state_scale
+from impactdamper.studies.config import steady_options
 from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PERIOD_MULTIPLE, compare_cycles
 
 __all__ = [
@@ -28,6 +29,8 @@ __all__ = [
     "gap_sign_scan",
     "alg1_ivp",
     "alg2_ivp",
+    "ivp_options",
+    "alg2_crosscheck",
     "compare_alg1",
 ]
 
@@ -217,6 +220,34 @@ def alg2_ivp(
         out["max_velocity_difference_rel"] = cmp.max_velocity_difference_rel
         out["agree"] = cmp.agree
     return out
+
+
+def ivp_options(verdict: dict) -> dict:
+    """The ``solve_ivp`` method and tolerances of the verdict's cross-checks (config ``verdict``:
+    ``ivp_method``, ``ivp_rtol``, ``ivp_atol``), as :func:`alg1_ivp` and :func:`alg2_ivp` take them."""
+    return dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
+
+
+def alg2_crosscheck(p: Parameters, exact, verdict: dict, solver: dict, *, state=None, t0: float = 0.0) -> dict:
+    """:func:`alg2_ivp` as the verdict's cross-check runs it against the exact settled motion
+    ``exact`` of the same start (``state`` at ``t0``; default the paper's step 1): the verdict's
+    ``solve_ivp`` options (:func:`ivp_options`), section tolerance and cycle tolerances
+    (``crosscheck_time_tol``, ``crosscheck_velocity_tol``), the solver's tolerances and
+    ``max_period_multiple`` (kmax), over the exact run's periods and kmax more."""
+    kmax = int(solver["max_period_multiple"])
+    return alg2_ivp(
+        p,
+        exact.periods + kmax,
+        kmax,
+        section_tol=float(verdict["ivp_section_tol"]),
+        exact=exact,
+        state=state,
+        t0=t0,
+        tolerances=steady_options(solver)["tolerances"],
+        time_tol=float(verdict["crosscheck_time_tol"]),
+        velocity_tol=float(verdict["crosscheck_velocity_tol"]),
+        **ivp_options(verdict),
+    )
 
 
 def compare_alg1(a, ivp: dict, time_tol: float, residual_tol: float) -> dict:

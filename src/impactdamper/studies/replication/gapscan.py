@@ -245,13 +245,10 @@ def end_check(args) -> dict:
     """One check of :func:`end_checks` (for the process pool): (base, solver, verdict, claim
     ``a`` or ``b``, side, role, gap)."""
     base, solver, verdict, claim, side, role, g = args
-    kmax = int(solver["max_period_multiple"])
-    kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
-    time_tol, velocity_tol = float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_velocity_tol"])
     if claim == "a":
         a = rep.run_alg1(parameters(dict(base, gap=g)), solver)
-        ivp = xc.alg1_ivp(a, **kw) if a.exists else {"claim_a": False, "reason": "no orbit"}
-        cmp = xc.compare_alg1(a, ivp, time_tol, float(verdict["crosscheck_residual_tol"]))
+        ivp = xc.alg1_ivp(a, **xc.ivp_options(verdict)) if a.exists else {"claim_a": False, "reason": "no orbit"}
+        cmp = xc.compare_alg1(a, ivp, float(verdict["crosscheck_time_tol"]), float(verdict["crosscheck_residual_tol"]))
         return {
             "claim": "a",
             "end": side,
@@ -265,17 +262,7 @@ def end_check(args) -> dict:
         }
     p = parameters(dict(base, gap=g))
     s = rep.run_steady(p, solver)
-    ivp = xc.alg2_ivp(
-        p,
-        s.periods + kmax,
-        kmax,
-        section_tol=float(verdict["ivp_section_tol"]),
-        tolerances=rep.solver_options(solver)["tolerances"],
-        exact=s,
-        time_tol=time_tol,
-        velocity_tol=velocity_tol,
-        **kw,
-    )
+    ivp = xc.alg2_crosscheck(p, s, verdict, solver)
     return {
         "claim": "b",
         "end": side,

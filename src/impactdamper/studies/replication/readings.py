@@ -159,27 +159,14 @@ def readings(base: dict) -> list[dict]:
 
 def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, dict]:
     p = parameters(dict(base, **r["changes"]))
-    kmax = int(solver["max_period_multiple"])
-    ivp_kw = dict(method=verdict["ivp_method"], rtol=float(verdict["ivp_rtol"]), atol=float(verdict["ivp_atol"]))
     if r.get("eq13_printed"):
         a = alg1_eq13_as_printed(p)
     else:
         a = rep.run_alg1(p, solver)
     state = np.array(r["state"]) if "state" in r else None
     s = rep.run_steady(p, solver, state=state)
-    ivp_a = xc.alg1_ivp(a, **ivp_kw) if a.exists else {"claim_a": False}
-    ivp_b = xc.alg2_ivp(
-        p,
-        s.periods + kmax,
-        kmax,
-        section_tol=float(verdict["ivp_section_tol"]),
-        exact=s,
-        state=state,
-        tolerances=rep.solver_options(solver)["tolerances"],
-        time_tol=float(verdict["crosscheck_time_tol"]),
-        velocity_tol=float(verdict["crosscheck_velocity_tol"]),
-        **ivp_kw,
-    )
+    ivp_a = xc.alg1_ivp(a, **xc.ivp_options(verdict)) if a.exists else {"claim_a": False}
+    ivp_b = xc.alg2_crosscheck(p, s, verdict, solver, state=state)
     iv = a.negative_gap_intervals[0] if a.negative_gap_intervals else (None, None)
     row = {
         "id": r["id"],
@@ -211,7 +198,6 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
     """Settled motions from seeded random initial states at the stated parameters."""
     p = parameters(base)
     rng = np.random.default_rng(int(verdict["seed"]))
-    kmax = int(solver["max_period_multiple"])
     motions, agree, worst_time = Counter(), 0, 0.0
     n = int(verdict["random_states"])
     for _ in range(n):
@@ -221,21 +207,7 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
         t0 = float(rng.uniform(0.0, p.T))
         state = np.array([x1, x1 + p.Delta0 - gap, v1, v2])
         s = rep.run_steady(p, solver, t0=t0, state=state)
-        ivp = xc.alg2_ivp(
-            p,
-            s.periods + kmax,
-            kmax,
-            verdict["ivp_method"],
-            float(verdict["ivp_rtol"]),
-            float(verdict["ivp_atol"]),
-            float(verdict["ivp_section_tol"]),
-            exact=s,
-            state=state,
-            t0=t0,
-            tolerances=rep.solver_options(solver)["tolerances"],
-            time_tol=float(verdict["crosscheck_time_tol"]),
-            velocity_tol=float(verdict["crosscheck_velocity_tol"]),
-        )
+        ivp = xc.alg2_crosscheck(p, s, verdict, solver, state=state, t0=t0)
         # Agreement is measured: the aligned cycles within tolerance (both settled), or both
         # unsettled within the cap.
         both_unsettled = ivp["period_multiple"] == 0 and s.period_multiple == 0

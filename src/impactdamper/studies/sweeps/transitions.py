@@ -133,6 +133,19 @@ def _settles_on_alg1(base, gap: float, settings) -> str:
     return solve_point(p, gap, state=state, settings=replace(settings, continuation=False)).label
 
 
+# The record's words for each check: what the transition is, and how the sweep locates it.
+DESCRIPTION = {
+    "liftoff": "persistent contact lifts off (upward sweep leaves stuck)",
+    "first_contact": "free forced response reaches the stop (downward sweep leaves 0/1)",
+    "alg1_grazing": "Algorithm No. 1's orbit starts to cross the stop between impacts (downward sweep's 1/1 ends)",
+}
+LOCATED_BY = {
+    "liftoff": "simulation bisection from the stuck motion",
+    "first_contact": "simulation bisection from the no-contact motion",
+    "alg1_grazing": "sweep bisection (orbit continuation) from the one-impact motion",
+}
+
+
 def _run(points, label_ok, after: bool):
     """Index pairs (i, i+1) in sweep order where a run of labels satisfying label_ok ends."""
     for i in range(len(points) - 1):
@@ -141,16 +154,16 @@ def _run(points, label_ok, after: bool):
     return None
 
 
-def _check(name, description, analytic, numeric, located, bracket, method):
+def _check(name, analytic, numeric, located, bracket):
     """One check; ``located_bracket`` is [lower, upper, label before, label after, stopped early]."""
     return {
         "name": name,
-        "description": description,
+        "description": DESCRIPTION[name],
         "analytic": analytic,
         "numeric": numeric,
         "located": located,
         "located_bracket": bracket,
-        "located_method": method,
+        "located_method": LOCATED_BY[name],
         "analytic_minus_numeric": None if numeric is None else analytic - numeric,
         "analytic_minus_located": None if located is None else analytic - located,
     }
@@ -159,6 +172,17 @@ def _check(name, description, analytic, numeric, located, bracket, method):
 def _bracket(tr) -> list:
     """A located transition's bisection bracket, as a check records it."""
     return [tr.lower, tr.upper, tr.before, tr.after, tr.stopped]
+
+
+def _run_end(base, parameter: str, points, label: str, direction: str, settings, xtol: float):
+    """Where the first run of motions labelled ``label`` ends along ``points`` (in the sweep's
+    ``direction``), bisected by simulation: (located value, :func:`_bracket`), or (None, None)
+    where no such run ends."""
+    i = _run(points, lambda p: p.label == label, True)
+    if i is None:
+        return None, None
+    tr = locate_transition(base, parameter, points[i], points[i + 1], direction, settings=settings, xtol=xtol)
+    return tr.value, _bracket(tr)
 
 
 def liftoff_check(base, parameter: str, up, settings, xtol: float) -> dict:
@@ -172,20 +196,7 @@ def liftoff_check(base, parameter: str, up, settings, xtol: float) -> dict:
         xtol=1e-14,
         rtol=1e-15,
     )
-    i = _run(up, lambda p: p.label == "stuck", True)
-    located = bracket = None
-    if i is not None:
-        tr = locate_transition(base, parameter, up[i], up[i + 1], "up", settings=settings, xtol=xtol)
-        located, bracket = tr.value, _bracket(tr)
-    return _check(
-        "liftoff",
-        "persistent contact lifts off (upward sweep leaves stuck)",
-        analytic,
-        numeric,
-        located,
-        bracket,
-        "simulation bisection from the stuck motion",
-    )
+    return _check("liftoff", analytic, numeric, *_run_end(base, parameter, up, "stuck", "up", settings, xtol))
 
 
 def first_contact_check(base, parameter: str, down, settings, xtol: float) -> dict:
@@ -193,21 +204,8 @@ def first_contact_check(base, parameter: str, down, settings, xtol: float) -> di
     response's largest relative displacement, and the sweep's simulation bisection."""
     analytic = no_contact_gap(base)
     numeric = largest_relative_displacement(base)
-    rdown = down[::-1]
-    i = _run(rdown, lambda p: p.label == "0/1", True)
-    located = bracket = None
-    if i is not None:
-        tr = locate_transition(base, parameter, rdown[i], rdown[i + 1], "down", settings=settings, xtol=xtol)
-        located, bracket = tr.value, _bracket(tr)
-    return _check(
-        "first_contact",
-        "free forced response reaches the stop (downward sweep leaves 0/1)",
-        analytic,
-        numeric,
-        located,
-        bracket,
-        "simulation bisection from the no-contact motion",
-    )
+    located = _run_end(base, parameter, down[::-1], "0/1", "down", settings, xtol)
+    return _check("first_contact", analytic, numeric, *located)
 
 
 def alg1_grazing_check(base, parameter: str, down, settings, xtol: float) -> dict:
@@ -259,15 +257,7 @@ def alg1_grazing_check(base, parameter: str, down, settings, xtol: float) -> dic
         # above the grazing it settles on 1/1; just below, the orbit crosses the stop.
         extra["simulation_above"] = _settles_on_alg1(base, analytic + SIMULATION_OFFSET, settings)
         extra["simulation_below"] = _settles_on_alg1(base, analytic - SIMULATION_OFFSET, settings)
-    c = _check(
-        "alg1_grazing",
-        "Algorithm No. 1's orbit starts to cross the stop between impacts (downward sweep's 1/1 ends)",
-        analytic,
-        numeric,
-        located,
-        bracket,
-        "sweep bisection (orbit continuation) from the one-impact motion",
-    )
+    c = _check("alg1_grazing", analytic, numeric, located, bracket)
     c.update(extra)
     c["note"] = FINITE_STEP_NOTE
     return c
