@@ -52,9 +52,13 @@ def timed(command: str, cwd: Path, log: Path) -> dict:
     with open(log, "w") as f:
         done = subprocess.run(["bash", "-c", command], cwd=cwd, stdout=f, stderr=subprocess.STDOUT)
     wall, cpu = time.perf_counter() - t, _children_cpu() - c
-    if done.returncode != 0:
-        sys.exit(f"time_commands: `{command}` exited {done.returncode}; its output is in {log}")
-    return {"command": command, "wall_s": round(wall, 1), "cpu_s": round(cpu, 1), "load_before": round(load, 2)}
+    return {
+        "command": command,
+        "exit_code": done.returncode,
+        "wall_s": round(wall, 1),
+        "cpu_s": round(cpu, 1),
+        "load_before": round(load, 2),
+    }
 
 
 def main() -> None:
@@ -83,9 +87,11 @@ def main() -> None:
     }
     for name, command, what in COMMANDS:
         print(f"time_commands: {what}: {command}", flush=True)
-        record["commands"][name] = {"what": what, **timed(command, clone, scratch / f"{name}.log")}
-        print(f"time_commands: {record['commands'][name]['wall_s']} s wall", flush=True)
-    OUT.write_text(json.dumps(record, indent=1) + "\n")
+        done = record["commands"][name] = {"what": what, **timed(command, clone, scratch / f"{name}.log")}
+        OUT.write_text(json.dumps(record, indent=1) + "\n")  # what is measured so far
+        print(f"time_commands: {done['wall_s']} s wall", flush=True)
+        if done["exit_code"] != 0:
+            sys.exit(f"time_commands: `{command}` exited {done['exit_code']}; its output is in {scratch / name}.log")
     if args.keep is None:
         shutil.rmtree(scratch, ignore_errors=True)
     else:
