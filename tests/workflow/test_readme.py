@@ -111,3 +111,21 @@ def test_the_closed_form_checks_and_the_design_are_their_records():
     assert f"the TMD {devices['tmd_peak']['peak']:.3f}" in evidence
     assert f"in reach {devices['impact_peak_reach']['peak']:.3f}" in evidence
     assert f"bare object {devices['bare object']['peak']:.3f}" in evidence
+
+
+# --- How long the commands take: the timed run's record (tools/time_commands.py) -----------------
+def _duration(seconds: float) -> str:
+    s = int(round(seconds))
+    return f"{s // 60} min {s % 60} s" if s >= 60 else f"{s} s"
+
+
+def test_the_readme_says_how_long_the_commands_took_in_the_timed_run():
+    """The README's times are those of figures/command_times.json, and the commands timed there
+    are the ones the README shows."""
+    times = _json("command_times.json")["commands"]
+    readme = (ROOT / "README.md").read_text()
+    said = " ".join(readme.split("How long they take")[1].split("\n\n")[0].split())
+    for name in ("setup", "workflow", "coarse", "quick_tests"):
+        assert times[name]["command"] in readme.replace("  ", " ") and times[name]["exit_code"] == 0, name
+        assert f"{times[name]['what']} {_duration(times[name]['wall_s'])}" in said, (name, said)
+    assert f"{_duration(times['workflow']['cpu_s'])} of processor time" in said, said
