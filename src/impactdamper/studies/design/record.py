@@ -525,8 +525,3 @@ BENCHMARK_TABLE = Table(
 def benchmark_table(bench: dict) -> str:
     """The design command's times at the benchmark's objects (booktabs)."""
     return BENCHMARK_TABLE.render(bench["objects"])
-
-
-def comparisons_of(opt: dict) -> list[dict]:
-    """The recommendation's comparisons (re-exported for the scripts)."""
-    return comparisons(opt)
