@@ -26,7 +26,7 @@ rule claims_parameter:
         benchmark_file("claims_parameter", "parameter")
     wildcard_constraints:
         parameter="|".join(CLAIMS_PARAMETERS),
-    priority: 20
+    priority: 40
     conda:
         ENV
     params:
@@ -76,8 +76,9 @@ rule claims_by_parameter:
         "../scripts/claims_gather.py"
 
 
-# A claims map: the grid computed where its cells change, then refined beyond it; the batch
-# calls in the job's two threads.
+# A claims map: the grid computed where its cells change, then refined beyond it. One core per
+# job (the batch's workers = threads): on two processes a map used 1.5 of two cores and, as a
+# two-core job, waited for every one-core job and ran alone; one process each, they pack in pairs.
 rule claims_map:
     input:
         script="workflow/scripts/claims_map.py",
@@ -96,7 +97,6 @@ rule claims_map:
     priority: 40
     conda:
         ENV
-    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -128,7 +128,6 @@ rule claims_pair_map:
     priority: 40
     conda:
         ENV
-    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
@@ -242,7 +241,6 @@ rule claims_nearest:
     priority: 40
     conda:
         ENV
-    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),

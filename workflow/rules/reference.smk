@@ -55,7 +55,6 @@ rule gap_scan:
     priority: 50
     conda:
         ENV
-    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),
