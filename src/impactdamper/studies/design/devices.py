@@ -37,6 +37,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from impactdamper.analysis.linear_device import LinearDevice
+from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.peaks import SEARCH_THETA_TOL, STEP, THETA_TOL, RANDOM_COUNT, band_points, worst_branches
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.parameters import Parameters
@@ -321,14 +322,21 @@ def impact_rows(
     scen = crit.scenarios
     distinct = list({tuple(x[n] for n in IMPACT_NAMES): x for x in designs}.values())
     out = crit.branches(distinct, scen, "final")
+    mines = [dict(zip(scen, out[i * len(scen) : (i + 1) * len(scen)])) for i in range(len(distinct))]
+    # Each design's loads run its grid's cycles afresh (pure Python, about a second each): one
+    # design per process, whichever is free (the same numbers as one after the other).
+    all_loads = map_blocks(
+        lambda ws: [impact_loads(w, stop_stiffness=stop_stiffness, natural_frequency=natural_frequency) for w in ws],
+        [mine[Scenario()][0] for mine in mines],
+        workers,
+        dynamic=True,
+    )
     rows = {}
-    for i, x in enumerate(distinct):
-        mine = dict(zip(scen, out[i * len(scen) : (i + 1) * len(scen)]))
+    for x, mine, loads in zip(distinct, mines, all_loads):
         w = mine[Scenario()][0]
         worst = {}
         for name in ROBUST:
             worst[name] = max(scale * v.peak for s, (v, scale) in mine.items() if s in uncertainty.scenarios(name))
-        loads = impact_loads(w, stop_stiffness=stop_stiffness, natural_frequency=natural_frequency)
         rows[tuple(x[n] for n in IMPACT_NAMES)] = {
             "kind": "impact",
             "parameters": dict(x),
