@@ -136,6 +136,7 @@ rule design_benchmark:
         "logs/design/benchmark.log",
     benchmark:
         benchmark_file("design_benchmark")
+    priority: 60
     conda:
         ENV
     params:
