@@ -196,6 +196,17 @@ def test_undamped_resonance_is_one_line_naming_theta(capsys):
     assert err.count("\n") == 1 and "argument --theta:" in err and "undamped resonance" in err
 
 
+@pytest.mark.parametrize("N", ["1e-12", "1e-6"])
+def test_a_suppressor_spring_too_soft_for_algorithm1_names_N(N, capsys):
+    # A root of the free motion at zero (no spring brings the suppressor back): the message named
+    # theta, which the user had not changed.
+    with pytest.raises(SystemExit) as info:
+        main(["alg1", "--N", N])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"argument --N: `N` = {float(N)!r} is not allowed" in err and "raise N" in err
+
+
 class _Closed(io.StringIO):
     def write(self, text):
         raise BrokenPipeError(32, "Broken pipe")

@@ -277,6 +277,13 @@ def _check_pulse_resonance(p: Parameters, model: Model) -> None:
     j = int(np.argmin(closeness))
     if closeness[j] <= 1.0 / FORCED_AMPLITUDE_LIMIT:
         k = abs(lam[j].imag) / p.omega
+        if round(k) == 0:  # a root at zero: the suppressor's spring too soft to bring it back
+            raise ValueError(
+                f"`N` = {p.N!r} is not allowed with theta = {p.theta!r}: the free suppressor's spring is so soft "
+                f"that a root of the free motion is {abs(lam[j]) / p.omega1:.3g} omega1, nearly zero, where the "
+                "T-periodic pulse response of Algorithm No. 1 (eq. 8) is unbounded (nothing brings the suppressor "
+                "back between impacts); raise N"
+            )
         raise ValueError(
             f"`theta` = {p.theta!r} is not allowed with delta1 = {p.delta1!r}, delta2 = {p.delta2!r}: a (nearly) undamped "
             f"natural frequency of the free suppressor, {abs(lam[j].imag) / p.omega1:.9g} omega1, is {k:.6g} times the "
