@@ -44,7 +44,7 @@ import numpy as np
 from impactdamper.analysis.batch import BATCH_REGIMES, steady_states
 from impactdamper.analysis.ladder import carry_state
 from impactdamper.analysis.point import SweepSettings, label_of
-from impactdamper.analysis.sweeps import with_value
+from impactdamper.analysis.sweeps import check_direction, with_value
 from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import Parameters, require_parameters
 
@@ -182,8 +182,7 @@ def adaptive_regime_map(
     -------
     AdaptiveMap
     """
-    if direction not in ("up", "down"):
-        raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
+    check_direction(direction)
     base = require_parameters(base, "base")
     settings = settings or SweepSettings()
     fast_sorted = np.array(sorted(float(v) for v in fast_values))

@@ -58,10 +58,10 @@ from impactdamper.analysis.batch_input import (
     point_values,
 )
 from impactdamper.analysis.ladder import solve_point
-from impactdamper.analysis.lyapunov import lyapunov_spectrum
+from impactdamper.analysis.lyapunov import settled_spectrum
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
-from impactdamper.analysis.sweeps import random_start_states, with_value
+from impactdamper.analysis.sweeps import check_direction, random_start_states, with_value
 from impactdamper.core.backends import RowArrays, get_backend, row_arrays
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK
@@ -375,13 +375,8 @@ def _classify(res: BatchResult, rows: np.ndarray, settings: SweepSettings, backe
     for i in np.flatnonzero(res.regime_code == NONPERIODIC):
         p = _parameters(rows[i])
         try:
-            s = lyapunov_spectrum(
-                p,
-                state=res.sections[i],
-                transient=0,
-                periods=settings.classify_periods,
-                tolerances=settings.tolerances,
-                backend=backend,
+            s = settled_spectrum(
+                p, res.sections[i], periods=settings.classify_periods, tolerances=settings.tolerances, backend=backend
             )
         except SearchLimitError as err:  # (left unlabelled: the work bound, logged)
             log.warning("point %d: no Lyapunov label: %s", i, err)
@@ -422,8 +417,7 @@ def regime_map_batch(
     list of BatchResult
         One per slow value, its points in increasing ``fast`` (whatever the direction).
     """
-    if direction not in ("up", "down"):
-        raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
+    check_direction(direction)
     fast_sorted = np.array(sorted(float(v) for v in fast_values))
     order = fast_sorted if direction == "up" else fast_sorted[::-1]
     out = []

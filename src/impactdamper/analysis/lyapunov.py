@@ -54,6 +54,7 @@ from impactdamper.core.validation import (
 __all__ = [
     "LyapunovSpectrum",
     "lyapunov_spectrum",
+    "settled_spectrum",
     "classify_spectrum",
     "birkhoff_weights",
     "LABELS",
@@ -320,6 +321,31 @@ def lyapunov_spectrum(
         return _replace_scales(_summarise(q, walk, t_q, transient, warmup, blocks, why), p, to_p)
     walk = run.lyapunov(p, t_start, state, tolerances, periods, transient, warmup)
     return _summarise(p, walk, t_start, transient, warmup, blocks, why)
+
+
+def settled_spectrum(
+    p: Parameters,
+    section: np.ndarray,
+    *,
+    periods: int,
+    tolerances: Tolerances,
+    backend: str,
+    warmup: int = DEFAULT_WARMUP,
+    blocks: int = DEFAULT_BLOCKS,
+) -> LyapunovSpectrum:
+    """:func:`lyapunov_spectrum` of a settled point from the section its many-point run hands on
+    (:func:`impactdamper.analysis.batch.steady_states`): that section is at the forcing's phase
+    0 (the runs start at t0 = 0) and on the settled motion already, so no transient is run."""
+    return lyapunov_spectrum(
+        p,
+        state=section,
+        transient=0,
+        warmup=warmup,
+        periods=periods,
+        blocks=blocks,
+        tolerances=tolerances,
+        backend=backend,
+    )
 
 
 def _replace_scales(s: LyapunovSpectrum, p: Parameters, scales: ScaleMap) -> LyapunovSpectrum:

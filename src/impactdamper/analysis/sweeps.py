@@ -42,6 +42,7 @@ __all__ = [
     "find_transitions",
     "regime_map",
     "swept_names",
+    "check_direction",
     "with_value",
     "PSEUDO_PARAMETERS",
 ]
@@ -53,6 +54,12 @@ __all__ = [
 # Swept names beyond the fields of Parameters: "delta" sets delta1 = delta2 (Peterka-style
 # damping maps with one damping ratio).
 PSEUDO_PARAMETERS = {"delta": ("delta1", "delta2")}
+
+
+def check_direction(direction: str) -> None:
+    """A one-way sweep's ``direction``: ``up`` or ``down`` (else the one-line error naming it)."""
+    if direction not in ("up", "down"):
+        raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
 
 
 def swept_names() -> tuple[str, ...]:
@@ -316,8 +323,7 @@ def locate_transition(
     ``first`` stops being that motion.
     """
     settings = settings or SweepSettings()
-    if direction not in ("up", "down"):
-        raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
+    check_direction(direction)
     a, b = first, second
     n, stopped, b_moves = 0, False, 0
     while abs(b.value - a.value) > xtol:
@@ -394,8 +400,7 @@ def regime_map(
     -------
     list (per slow value) of list (per fast value, increasing) of SweepPoint.
     """
-    if direction not in ("up", "down"):
-        raise ValueError(f"`direction` = {direction!r} is not allowed: must be 'up' or 'down'")
+    check_direction(direction)
     fast_values = sorted(float(v) for v in fast_values)
     order = fast_values if direction == "up" else fast_values[::-1]
     rows = []

@@ -85,6 +85,25 @@ def _period(sections, modes, n, kmax, tol):
 
 
 @njit(cache=True)
+def _lag_windows(sections, n, lag, window):
+    """The largest change over ``lag`` periods in each of the two last windows of ``window``
+    sections before n: (the older window's, the recent one's). Whether it decays from one to
+    the next tells a transient from a settled motion (the divisor rule, the convergence test)."""
+    older = 0.0
+    recent = 0.0
+    for r in range(2 * window):
+        row = n - 2 * window + r
+        worst = 0.0
+        for c in range(4):
+            worst = max(worst, abs(sections[row, c] - sections[row - lag, c]))
+        if r < window:
+            older = max(older, worst)
+        else:
+            recent = max(recent, worst)
+    return older, recent
+
+
+@njit(cache=True)
 def _least_period(sections, modes, n, k, settle_tol):
     window = max(STALL_WINDOW, 2 * k)
     for d in range(1, k):
@@ -93,17 +112,7 @@ def _least_period(sections, modes, n, k, settle_tol):
             continue
         if n < 2 * window + d:
             return 0, m
-        first = 0.0
-        second = 0.0
-        for r in range(2 * window):
-            row = n - 2 * window + r
-            worst = 0.0
-            for c in range(4):
-                worst = max(worst, abs(sections[row, c] - sections[row - d, c]))
-            if r < window:
-                first = max(first, worst)
-            else:
-                second = max(second, worst)
+        first, second = _lag_windows(sections, n, d, window)
         if second < DIVISOR_DECAY * first:
             return 0, m
         if m < min(DIVISOR_FLOOR_FACTOR * settle_tol, DIVISOR_SUSPECT):
@@ -121,17 +130,7 @@ def _converged(sections, n, k, settle_tol):
     for i in range(w):
         for c in range(4):
             spread = max(spread, abs(sections[n - 1 - i, c] - sections[n - 1 - i % k, c]))
-    older = 0.0
-    recent = 0.0
-    for r in range(2 * w):
-        row = n - 2 * w + r
-        worst = 0.0
-        for c in range(4):
-            worst = max(worst, abs(sections[row, c] - sections[row - k, c]))
-        if r < w:
-            older = max(older, worst)
-        else:
-            recent = max(recent, worst)
+    older, recent = _lag_windows(sections, n, k, w)
     if recent < max(CONVERGENCE_NOISE * settle_tol, ROUNDING_FLOOR):
         tail = 0.0
     elif recent < older:

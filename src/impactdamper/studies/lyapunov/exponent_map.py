@@ -17,7 +17,7 @@ import dataclasses
 import numpy as np
 
 from impactdamper.analysis.batch import BATCH_REGIMES, steady_states
-from impactdamper.analysis.lyapunov import DEFAULT_BLOCKS, lyapunov_spectrum
+from impactdamper.analysis.lyapunov import settled_spectrum
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.events import SearchLimitError
@@ -75,13 +75,11 @@ def map_rows(
             if res.regime_code[j] != NONPERIODIC and res.regime[j] != "failed":
                 p = with_value(with_value(base, "gap", float(gap)), slow, float(slow_values[i]))
                 try:
-                    s = lyapunov_spectrum(
+                    s = settled_spectrum(
                         p,
-                        state=res.sections[j],
-                        transient=0,
+                        res.sections[j],
                         warmup=run.warmup,
                         periods=run.periods,
-                        blocks=DEFAULT_BLOCKS,
                         tolerances=settings.tolerances,
                         backend=backend,
                     )
