@@ -6,7 +6,10 @@ from pathlib import Path
 
 # The solver's matrices are 4 x 4: BLAS threads never help them, and on a loaded machine
 # OpenBLAS's thread hand-offs slow the matrix-exponential path by up to ~90x (see
-# tests/conftest.py). Every job inherits one BLAS thread (an explicit setting wins).
+# tests/conftest.py). Snakemake sets a job's BLAS threads to the job's threads, which a job
+# spends on worker processes instead: every script's start (reporting/records.py's
+# start_stage) sets one BLAS thread again (impactdamper.core.blas). This is the default for
+# Snakemake itself and the notebooks' kernels.
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 

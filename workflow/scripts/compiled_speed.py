@@ -36,13 +36,6 @@ Outputs: ``figures/compiled_speed.json`` (its 'compile' null) or, with ``compile
 ``results/benchmarks/compile_time.json`` ({'compile': ...}). Timings are not deterministic.
 """
 
-import os
-
-# One BLAS thread, whatever Snakemake sets from the rule's threads: BLAS threads only slow the solver's 4 x 4
-# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"
-
 from impactdamper.reporting.records import read_json, start_stage, write_json
 from impactdamper.studies.performance.compile_record import MEASURED_IN_RUN, compile_record
 from impactdamper.studies.performance.compiled_speed import run, run_maps, summary

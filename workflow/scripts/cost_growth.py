@@ -13,14 +13,7 @@ Outputs: ``results/benchmarks/cost_growth.json`` and ``figures/cost_growth.csv``
 are CPU time and not deterministic.
 """
 
-import os
-
-# One BLAS thread, whatever Snakemake sets from the rule's threads: BLAS threads only slow the solver's 4 x 4
-# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"
-
-import numpy as np  # noqa: E402 (after the BLAS threads are set)
+import numpy as np
 
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import run_stage, write_csv, write_json

@@ -15,13 +15,6 @@ booktabs table ``paper/generated/hardcases_table.tex``. The CPU time column is n
 deterministic.
 """
 
-import os
-
-# One BLAS thread, whatever Snakemake sets from the rule's threads: BLAS threads only slow the solver's 4 x 4
-# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"
-
 from pathlib import Path
 
 from impactdamper.analysis.point import label_of

@@ -19,11 +19,6 @@ import platform
 import statistics
 import time
 
-# One BLAS thread, whatever Snakemake sets from the rule's threads: BLAS threads only slow the solver's 4 x 4
-# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"
-
 import numpy as np
 import scipy
 

@@ -14,13 +14,6 @@ and the speed-ups) and ``figures/work_precision.csv`` (one row per measured run)
 CPU time and not deterministic.
 """
 
-import os
-
-# One BLAS thread, whatever Snakemake sets from the rule's threads: BLAS threads only slow the solver's 4 x 4
-# matrices (up to ~90x on a loaded machine, see tests/conftest.py). Before numpy loads:
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ[_var] = "1"
-
 from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import run_stage, write_csv, write_json
 from impactdamper.studies.performance import workprecision as wp

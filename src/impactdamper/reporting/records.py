@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from impactdamper.core.blas import one_blas_thread
+
 __all__ = [
     "CSV_FLOAT",
     "BOOLEAN_CELLS",
@@ -188,7 +190,8 @@ def _record_job_cost(rule: str, wildcards: dict, pid: int) -> None:
 def start_stage(sm, name: str | None = None, *, timestamps: bool = False, library: bool = False):
     """The start of every workflow script that Snakemake runs (``script:``): where it logs, and
     the rule's ``params`` with the config sections (JSON strings, the workflow's
-    ``parameters_json``) read back as dicts. A Snakemake job's exact CPU time (this process and
+    ``parameters_json``) read back as dicts; one BLAS thread in the job (:mod:`impactdamper.core.blas`).
+    A Snakemake job's exact CPU time (this process and
     its waited-for children) is written when the script ends, to
     ``JOB_COST_DIR/<job_name>.json``.
 
@@ -208,6 +211,9 @@ def start_stage(sm, name: str | None = None, *, timestamps: bool = False, librar
     log : logging.Logger or None
         The logger, if ``name`` was given.
     """
+    # One BLAS thread: Snakemake sets a job's BLAS thread counts to its threads, which the job
+    # spends on worker processes instead (core/blas.py says why).
+    one_blas_thread(force=True)
     log = None
     if name is None:
         import sys
