@@ -58,7 +58,7 @@ from impactdamper.analysis.batch_input import (
     point_values,
 )
 from impactdamper.analysis.ladder import solve_point
-from impactdamper.analysis.lyapunov import settled_spectrum
+from impactdamper.analysis.lyapunov import spectrum_from_section
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
 from impactdamper.analysis.sweeps import check_direction, random_start_states, with_value
@@ -375,7 +375,7 @@ def _classify(res: BatchResult, rows: np.ndarray, settings: SweepSettings, backe
     for i in np.flatnonzero(res.regime_code == NONPERIODIC):
         p = _parameters(rows[i])
         try:
-            s = settled_spectrum(
+            s = spectrum_from_section(
                 p, res.sections[i], periods=settings.classify_periods, tolerances=settings.tolerances, backend=backend
             )
         except SearchLimitError as err:  # (left unlabelled: the work bound, logged)

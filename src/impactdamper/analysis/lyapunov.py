@@ -54,7 +54,7 @@ from impactdamper.core.validation import (
 __all__ = [
     "LyapunovSpectrum",
     "lyapunov_spectrum",
-    "settled_spectrum",
+    "spectrum_from_section",
     "classify_spectrum",
     "birkhoff_weights",
     "LABELS",
@@ -323,7 +323,7 @@ def lyapunov_spectrum(
     return _summarise(p, walk, t_start, transient, warmup, blocks, why)
 
 
-def settled_spectrum(
+def spectrum_from_section(
     p: Parameters,
     section: np.ndarray,
     *,
@@ -333,9 +333,10 @@ def settled_spectrum(
     warmup: int = DEFAULT_WARMUP,
     blocks: int = DEFAULT_BLOCKS,
 ) -> LyapunovSpectrum:
-    """:func:`lyapunov_spectrum` of a settled point from the section its many-point run hands on
-    (:func:`impactdamper.analysis.batch.steady_states`): that section is at the forcing's phase
-    0 (the runs start at t0 = 0) and on the settled motion already, so no transient is run."""
+    """:func:`lyapunov_spectrum` of a point of a many-point run
+    (:func:`impactdamper.analysis.batch.steady_states`) from the section its run hands on: at the
+    forcing's phase 0 (the runs start at t0 = 0) and after the run's periods (a point left
+    nonperiodic at its cap, or a periodic one), so no transient is run again."""
     return lyapunov_spectrum(
         p,
         state=section,

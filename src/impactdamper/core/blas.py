@@ -57,18 +57,17 @@ def one_blas_thread(force: bool = False) -> None:
     if force:
         os.environ.update(dict.fromkeys(BLAS_THREAD_VARIABLES, "1"))
     for lib in _openblas_libraries():
-        for symbol in _SET:
-            if hasattr(lib, symbol):
-                getattr(lib, symbol)(1)
-                break
+        _call(lib, _SET, 1)
 
 
 def blas_threads() -> list[int]:
     """The thread count of each OpenBLAS loaded (for the tests)."""
-    out = []
-    for lib in _openblas_libraries():
-        for symbol in _GET:
-            if hasattr(lib, symbol):
-                out.append(int(getattr(lib, symbol)()))
-                break
-    return out
+    return [int(_call(lib, _GET)) for lib in _openblas_libraries() if any(hasattr(lib, s) for s in _GET)]
+
+
+def _call(lib, symbols: tuple, *args):
+    """The first of ``symbols`` that ``lib`` exports, called (the names differ between builds)."""
+    for symbol in symbols:
+        if hasattr(lib, symbol):
+            return getattr(lib, symbol)(*args)
+    return None

@@ -190,10 +190,9 @@ def _record_job_cost(rule: str, wildcards: dict, pid: int) -> None:
 def start_stage(sm, name: str | None = None, *, timestamps: bool = False, library: bool = False):
     """The start of every workflow script that Snakemake runs (``script:``): where it logs, and
     the rule's ``params`` with the config sections (JSON strings, the workflow's
-    ``parameters_json``) read back as dicts; one BLAS thread in the job (:mod:`impactdamper.core.blas`).
-    A Snakemake job's exact CPU time (this process and
-    its waited-for children) is written when the script ends, to
-    ``JOB_COST_DIR/<job_name>.json``.
+    ``parameters_json``) read back as dicts; one BLAS thread in the job
+    (:mod:`impactdamper.core.blas`). A Snakemake job's exact CPU time (this process and its
+    waited-for children) is written when the script ends, to ``JOB_COST_DIR/<job_name>.json``.
 
     Parameters
     ----------

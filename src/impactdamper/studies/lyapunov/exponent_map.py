@@ -17,7 +17,7 @@ import dataclasses
 import numpy as np
 
 from impactdamper.analysis.batch import BATCH_REGIMES, steady_states
-from impactdamper.analysis.lyapunov import settled_spectrum
+from impactdamper.analysis.lyapunov import spectrum_from_section
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.events import SearchLimitError
@@ -75,7 +75,7 @@ def map_rows(
             if res.regime_code[j] != NONPERIODIC and res.regime[j] != "failed":
                 p = with_value(with_value(base, "gap", float(gap)), slow, float(slow_values[i]))
                 try:
-                    s = settled_spectrum(
+                    s = spectrum_from_section(
                         p,
                         res.sections[j],
                         warmup=run.warmup,
