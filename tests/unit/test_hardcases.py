@@ -1,4 +1,4 @@
-"""The hard-case suite (src/impactdamper/hardcases.py): every case passes its checks, and the
+"""The hard-case suite (src/impactdamper/studies/performance/hardcases.py): every case passes its checks, and the
 checks themselves catch what they are meant to catch (an overlap, a wrong impact law, a hang).
 
 The solver's behaviour in hard cases is tested in test_steady.py; here the subject is the

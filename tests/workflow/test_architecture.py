@@ -2,7 +2,8 @@
 exist (and every module of studies/ and reporting/), the public names it quotes are the
 package's, each stage has the room the page names and its scripts use it, the files that state
 the impact law are the ones the source states it in, and a new parameter's plumbing is the
-files that list the parameters."""
+files that list the parameters. Beyond the page: every library file, workflow script and
+library module the project's text names still exists."""
 
 import ast
 import re
@@ -161,3 +162,54 @@ def test_a_new_parameter_is_three_files_of_plumbing():
     }
     assert listing == {"config/config.yaml", "workflow/schemas/config.schema.yaml"}, listing
     assert "plumbing is 3 files" in " ".join(DOC.split())
+
+
+# Where the project's own text (code, comments, docs, config, report sources) names a file of the
+# library, a workflow script or a library module, the name must still point at something: a
+# module moved into a room leaves no pointer to its old home behind.
+TEXT_FOLDERS = ("src", "workflow", "docs", "config", "notebooks", "tools", "profiles", "paper/sections")
+TEXT_SUFFIXES = {".py", ".md", ".yaml", ".smk", ".tex", ".sh", ".cff", ""}
+
+
+def _project_text() -> dict[str, str]:
+    files = [ROOT / "README.md", ROOT / "Snakefile", ROOT / "paper" / "report.tex"]
+    for folder in TEXT_FOLDERS:
+        files += [p for p in (ROOT / folder).rglob("*") if p.is_file() and p.suffix in TEXT_SUFFIXES]
+    return {str(p.relative_to(ROOT)): p.read_text(errors="replace") for p in files if "__pycache__" not in p.parts}
+
+
+def test_paths_the_project_names_exist():
+    missing = []
+    for name, text in _project_text().items():
+        for path in re.findall(
+            r"\b(?:src/)?impactdamper/[\w/]+\.py|\bworkflow/(?:scripts|rules)/\w+\.(?:py|smk)", text
+        ):
+            full = path if path.startswith(("src/", "workflow/")) else f"src/{path}"
+            if not (ROOT / full).exists():
+                missing.append((name, path))
+    assert not missing, missing
+
+
+def test_dotted_names_the_project_names_resolve():
+    import importlib
+
+    def resolves(dotted: str) -> bool:
+        parts = dotted.split(".")
+        for i in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:i]))
+            except ImportError:
+                continue
+            for attribute in parts[i:]:
+                if not hasattr(obj, attribute):
+                    return False
+                obj = getattr(obj, attribute)
+            return True
+        return False
+
+    # (a path such as envs/impactdamper.yaml is not a dotted name)
+    names = {
+        (f, n) for f, text in _project_text().items() for n in re.findall(r"(?<![/\w])impactdamper(?:\.\w+)+", text)
+    }
+    unresolved = sorted((f, n) for f, n in names if not resolves(n.removesuffix(".py")))
+    assert not unresolved, unresolved

@@ -3,7 +3,7 @@
 In one run, on the paper's reference case (Timofeev et al. 2019, DOI
 10.18698/0236-3941-2019-1-90-100, Fig. 2: theta = 1, mu = 0.08, N = 0.5,
 delta1 = delta2 = 0.05, R = 0.7, Delta0/x_st = -5.8, omega = 10 rad/s), with the measurement
-functions of ``impactdamper.studies.compiled_speed``:
+functions of ``impactdamper.studies.performance.compiled_speed``:
 
 * JIT compile time (rule performance_compile_time, ``compile_only``, where the set-up's record of
   it is missing or stale: :mod:`impactdamper.studies.performance.compile_record`): the kernels
