@@ -215,3 +215,16 @@ def test_repeated_roots_use_the_matrix_form():
     s = idp.steady_state(p, backend="python")
     assert s.regime == "single_impact"
     assert abs(phase_difference(s.impacts[0].phase, r.impact_phase)) <= 1e-9
+
+
+def test_undamped_algorithm1_denominator_is_half_of_one_minus_R():
+    """Undamped, the T-periodic pulse response is time-symmetric: the denominator of eq. (15) is
+    (1 - R)/2 at every theta, so R = 1 without damping is singular everywhere (the CLI names R)."""
+    from impactdamper import Parameters
+    from impactdamper.core.algorithm1 import Model, unit_pulse_response
+
+    for R, theta in ((0.0, 0.7), (0.5, 1.1), (0.9, 1.37)):
+        p = Parameters(R=R, delta1=0.0, delta2=0.0, theta=theta)
+        model = Model(p)
+        zT = model.free.free(p.T, unit_pulse_response(p, model))
+        assert 1.0 - p.reduced_mass * (1.0 + R) * (zT[3] - zT[2]) == pytest.approx((1.0 - R) / 2.0, abs=1e-12)

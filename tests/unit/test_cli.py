@@ -207,6 +207,17 @@ def test_a_suppressor_spring_too_soft_for_algorithm1_names_N(N, capsys):
     assert err.count("\n") == 1 and f"argument --N: `N` = {float(N)!r} is not allowed" in err and "raise N" in err
 
 
+@pytest.mark.parametrize("R", ["1", "0.99999999999"])
+def test_no_loss_at_all_names_R_not_theta(R, capsys):
+    # Undamped, Algorithm No. 1's denominator (eq. 15) is (1 - R)/2 at every theta: the message
+    # said "move theta", which cannot help.
+    with pytest.raises(SystemExit) as info:
+        main(["alg1", "--R", R, "--delta1", "0", "--delta2", "0", "--theta", "1.37"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"argument --R: `R` = {float(R)!r} is not allowed" in err and "lower R" in err
+
+
 class _Closed(io.StringIO):
     def write(self, text):
         raise BrokenPipeError(32, "Broken pipe")
