@@ -5,10 +5,11 @@
 # cluster (profiles/slurm); the chunks run the compiled batch (after rule compiled_warm_up), each
 # map computed where its labels change (impactdamper.analysis.adaptive). Benchmarks are timed
 # inside the jobs (results/benchmarks/). The gap sweep and its transitions head a long chain of
-# jobs (sweep, transitions, report): a high priority, so that they start first. The sweep's two
-# directions run each in its own process (threads: 2; the sweep's benchmark times them), above
-# the design jobs' priority: a two-core job waits until no one-core job is left. The transitions
-# take one core: a job on two processes used 1.7 of two cores, and ran alone.
+# jobs (sweep, transitions, report): a high priority, so that they start first. The sweep and
+# the transitions take one core each (the sweep's two directions one after the other; a job's
+# processes are its threads, two where a profile sets them, as the Slurm one does): a two-core
+# job waits until no one-core job is left, and then runs alone (the sweep ran at the end and
+# the transitions after it, on one core).
 # Convention: every script runs through `script:` and has a main() the tests call directly.
 
 SWEEP_MAPS = ["theta", "damping"]
@@ -49,7 +50,6 @@ rule sweep_gap:
     priority: 70
     conda:
         ENV
-    threads: 2
     params:
         reference=parameters_json("reference"),
         solver=parameters_json("solver"),

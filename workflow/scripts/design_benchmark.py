@@ -5,7 +5,7 @@ but the reference object, whose time is the design table's own run (the same cal
 
 Outputs ``figures/design_benchmark.json``: per object its wall time, the processor time of the
 command and its workers, the search's evaluations and the recommendation's first words; the
-machine and its load (other jobs share it).
+machine and its load (the job holds both cores: threads 2 in workflow/rules/design.smk).
 """
 
 import json

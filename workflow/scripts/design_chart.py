@@ -28,13 +28,12 @@ from impactdamper.studies.design.design import (
     gap_chart,
 )
 from impactdamper.studies.design.devices import DESIGN_SETTINGS
-from impactdamper.studies.design.optimum import WORKERS
 
 
 COLUMNS = [*CHART_COLUMNS, AT_THETA_COLUMN]
 
 
-def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
+def main(reference: dict, design: dict, out_csv, out_json, log=None, workers: int = 1) -> None:
     log = log if log is not None else logging.getLogger("design_chart")
     p = design_parameters(reference, design)
     gaps, band, step = design_gaps(design), design_band(design), float(design["band_step"])
@@ -50,8 +49,8 @@ def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
         )
     log.info("design chart: %d gaps from %g to %g, theta band %s, step %g", len(gaps), gaps[0], gaps[-1], band, step)
     with Timer() as t:
-        chart = gap_chart(p, gaps, band, step, settings=settings, workers=WORKERS, progress=log.info)
-        located = {c: best_gap(chart, c, step=step, settings=settings, workers=WORKERS) for c in CRITERIA}
+        chart = gap_chart(p, gaps, band, step, settings=settings, workers=workers, progress=log.info)
+        located = {c: best_gap(chart, c, step=step, settings=settings, workers=workers) for c in CRITERIA}
     write_csv(out_csv, COLUMNS, chart.rows(theta))
     at = chart.at_theta(theta)
     i = int(np.nanargmin(at))
@@ -76,7 +75,7 @@ def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
 
 
-JOB = "params.reference params.design output.csv output.json log=log"
+JOB = "params.reference params.design output.csv output.json log=log workers=threads"
 STAGE = {"logger": "design_chart", "timestamps": True, "library": True}
 
 if __name__ == "__main__":

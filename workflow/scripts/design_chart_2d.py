@@ -18,13 +18,12 @@ from impactdamper.studies.design.design import (
     design_parameters,
 )
 from impactdamper.studies.design.devices import DESIGN_SETTINGS
-from impactdamper.studies.design.optimum import WORKERS
 
 
 COLUMNS = ["value", *CHART_COLUMNS]
 
 
-def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
+def main(reference: dict, design: dict, out_csv, out_json, log=None, workers: int = 1) -> None:
     log = log if log is not None else logging.getLogger("design_chart_2d")
     p = design_parameters(reference, design)
     name = design["second"]
@@ -36,7 +35,7 @@ def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
         design_band(design),
         float(design["band_step"]),
         settings=DESIGN_SETTINGS,
-        workers=WORKERS,
+        workers=workers,
         progress=log.info,
     )
     rows, best = [], []
@@ -51,7 +50,7 @@ def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
     write_json(out_json, {"parameter": name, "best": best, "parameters": p.to_dict()})
 
 
-JOB = "params.reference params.design output.csv output.json log=log"
+JOB = "params.reference params.design output.csv output.json log=log workers=threads"
 STAGE = {"logger": "design_chart_2d", "timestamps": True, "library": True}
 
 if __name__ == "__main__":

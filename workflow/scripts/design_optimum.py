@@ -56,17 +56,19 @@ def table_rows(record: dict) -> list[dict]:
     return out
 
 
-def main(reference: dict, design: dict, out_json, out_csv, log=None) -> None:
+def main(reference: dict, design: dict, out_json, out_csv, log=None, workers: int = 2) -> None:
     log = log if log is not None else logging.getLogger("design_optimum")
     p = design_parameters(reference, design)
     with Timer() as t:
-        record = design_optima(design_band(design), p.mu, p.delta1, **design_options(design), progress=log.info)
+        record = design_optima(
+            design_band(design), p.mu, p.delta1, **design_options(design), workers=workers, progress=log.info
+        )
     write_json(out_json, record)
     write_csv(out_csv, COLUMNS, table_rows(record))
     log.info("timing: %.1f s wall, %.1f s processor, machine %s", t.wall, t.cpu, machine())
 
 
-JOB = "params.reference params.design output.json output.csv log=log"
+JOB = "params.reference params.design output.json output.csv log=log workers=threads"
 STAGE = {"logger": "design_optimum", "timestamps": True, "library": True}
 
 if __name__ == "__main__":
