@@ -228,6 +228,31 @@ def test_every_job_running_compiled_code_waits_for_the_warm_up(forced_dry_run):
     assert {"map_chunk", "performance_compiled_speed", "claims_parameter", "design_chart"} <= users
 
 
+def test_a_jobs_worker_processes_are_its_threads(forced_dry_run):
+    """No script starts more worker processes than its job's threads (Snakemake counts a job's
+    cores by them): scripts take their workers from the job (``workers=threads``), never from
+    the library's default, and the design table and the design command's benchmark, which run
+    the design command's two workers, hold two cores (declared as one, each ran a third process
+    beside another job and measured its time on a shared core)."""
+    from impactdamper.studies.design.optimum import WORKERS
+
+    for script in (ROOT / "workflow" / "scripts").glob("*.py"):
+        assert not re.search(r"\bWORKERS\b", script.read_text()), script.name
+    threads = {}
+    for block in re.split(r"\n(?=(?:local)?rule \w+:)", forced_dry_run):
+        m = re.match(r"(?:local)?rule (\w+):", block)
+        if m:
+            found = re.search(r"^\s+threads: (\d+)$", block, flags=re.M)
+            threads[m.group(1)] = int(found.group(1)) if found else 1
+    assert threads["design_optimum"] == threads["design_benchmark"] == WORKERS == 2
+    assert "workers=threads" in (ROOT / "workflow" / "scripts" / "design_optimum.py").read_text()
+    assert {rule for rule, n in threads.items() if n > 1} == {
+        "performance_compiled_map",
+        "design_optimum",
+        "design_benchmark",
+    }
+
+
 def test_figure_jobs_list_the_style(forced_dry_run):
     for rule, fields in _jobs(forced_dry_run):
         if rule in ("fig2a", "fig2b", "fig_located_range"):
