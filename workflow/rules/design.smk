@@ -41,9 +41,7 @@ rule design_baselines:
 rule design_chart:
     input:
         script="workflow/scripts/design_chart.py",
-        library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
-        ),
+        library=library(study("design/design", "design/devices"), REPORTING),
     output:
         csv="figures/design_chart.csv",
         json="figures/design_chart.json",
@@ -64,9 +62,7 @@ rule design_chart:
 rule design_chart_2d:
     input:
         script="workflow/scripts/design_chart_2d.py",
-        library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
-        ),
+        library=library(study("design/design", "design/devices"), REPORTING),
     output:
         csv="figures/design_chart_2d.csv",
         json="figures/design_chart_2d.json",
