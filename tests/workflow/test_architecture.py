@@ -6,6 +6,7 @@ files that list the parameters. Beyond the page: every library file, workflow sc
 library module the project's text names still exists."""
 
 import ast
+import functools
 import re
 import sys
 from pathlib import Path
@@ -171,6 +172,7 @@ TEXT_FOLDERS = ("src", "workflow", "docs", "config", "notebooks", "tools", "prof
 TEXT_SUFFIXES = {".py", ".md", ".yaml", ".smk", ".tex", ".sh", ".cff", ""}
 
 
+@functools.cache
 def _project_text() -> dict[str, str]:
     files = [ROOT / "README.md", ROOT / "Snakefile", ROOT / "paper" / "report.tex"]
     for folder in TEXT_FOLDERS:

@@ -221,15 +221,15 @@ def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
     eps21 = math.atan2((x2p - x1p).imag, (x2p - x1p).real)
     D = p.reduced_mass * (1.0 + p.R)
     denom = 1.0 - D * dx21s_T
-    if not abs(denom) > 1.0 / FORCED_AMPLITUDE_LIMIT and p.delta1 == 0.0 and p.delta2 == 0.0:
-        # Undamped, the T-periodic pulse response is time-symmetric: D x21s'(T) = (1 + R)/2 and the
-        # denominator is (1 - R)/2 at every theta, so no theta helps.
-        raise ValueError(
-            f"`R` = {p.R!r} is not allowed with delta1 = delta2 = 0: without damping the denominator "
-            f"1 - D x21s'(T) of eq. 15 is (1 - R)/2 = {denom:.3g} at every theta, so Algorithm No. 1's closed form "
-            "is singular (no energy is lost anywhere); lower R or add damping (delta1 or delta2 > 0)"
-        )
     if not abs(denom) > 1.0 / FORCED_AMPLITUDE_LIMIT:
+        if p.delta1 == 0.0 and p.delta2 == 0.0:
+            # Undamped, the T-periodic pulse response is time-symmetric: D x21s'(T) = (1 + R)/2
+            # and the denominator is (1 - R)/2 at every theta, so no theta helps.
+            raise ValueError(
+                f"`R` = {p.R!r} is not allowed with delta1 = delta2 = 0: without damping the denominator "
+                f"1 - D x21s'(T) of eq. 15 is (1 - R)/2 = {denom:.3g} at every theta, so Algorithm No. 1's closed "
+                "form is singular (no energy is lost anywhere); lower R or add damping (delta1 or delta2 > 0)"
+            )
         raise ValueError(
             f"`theta` = {p.theta!r} is not allowed with these parameters: Algorithm No. 1's closed form is "
             f"singular there (the denominator 1 - D x21s'(T) of eq. 15 is {denom:.3g}): move theta"

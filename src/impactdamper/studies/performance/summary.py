@@ -196,6 +196,6 @@ def compiled_speed(cs: dict) -> dict:
 
 
 def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict, cs: dict) -> dict:
-    """The stage's summary (:func:`report_summary`) and the
-    compiled solver's benchmark judged against its targets (:func:`compiled_speed`)."""
+    """The stage's summary (:func:`report_summary`) and the compiled solver's benchmark judged
+    against its targets (:func:`compiled_speed`)."""
     return {**report_summary(wp, growth, hard, ref, perf), "compiled_speed": compiled_speed(cs)}
