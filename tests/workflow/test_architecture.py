@@ -215,3 +215,16 @@ def test_dotted_names_the_project_names_resolve():
     }
     unresolved = sorted((f, n) for f, n in names if not resolves(n.removesuffix(".py")))
     assert not unresolved, unresolved
+
+
+# The sizes the page states: a thin script, a module that owns one idea.
+SCRIPT_LINES, MODULE_LINES = 150, 600
+
+
+def test_scripts_are_thin_and_modules_small():
+    assert f"at most {SCRIPT_LINES} lines" in DOC and f"library module at most {MODULE_LINES}" in DOC
+    scripts = {p.name: len(p.read_text().splitlines()) for p in (ROOT / "workflow" / "scripts").glob("*.py")}
+    modules = {str(p.relative_to(SRC)): len(p.read_text().splitlines()) for p in SRC.rglob("*.py")}
+    assert len(scripts) > 50 and len(modules) > 100  # (the globs found the trees)
+    assert {n: k for n, k in scripts.items() if k > SCRIPT_LINES} == {}
+    assert {n: k for n, k in modules.items() if k > MODULE_LINES} == {}

@@ -144,7 +144,7 @@ rule sweep_transitions:
 rule map_chunk:
     input:
         script="workflow/scripts/map_chunk.py",
-        library=library(study("config", "sweeps/gapsweep"), REPORTING),
+        library=library(study("config", "sweeps/gapsweep", "sweeps/mapchunk"), REPORTING),
     output:
         csv="results/maps/{map}/chunk_{chunk}.csv",
         json="results/maps/{map}/chunk_{chunk}.json",

@@ -32,7 +32,7 @@ from impactdamper.studies.sweeps.branches import KIND_LEGEND, KIND_MARK, multi_i
 from impactdamper.reporting.branch_figure import (
     RADIUS_LIMITS,
     STYLE,
-    ZOOM_SHADE,
+    column_ranges,
     label_point,
     legend_rows,
     mark_case,
@@ -44,6 +44,7 @@ from impactdamper.reporting.plotting import figure_size, finish_figure, legend_i
 
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
 ZOOM_MARGIN = 0.25
+FULL_RANGE_MARGIN = 0.8  # the left column's, either side of the branches' gaps
 # Label offsets (points) of the special points, by (branch, kind) or, where one branch has two
 # points of a kind, (branch, kind, leg), so that labels where branches meet do not overlap and
 # each label sits beside its own marker; default above the marker.
@@ -127,14 +128,8 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                 continue
             named = col == 1 or not zoom[0] <= g <= zoom[1]  # each case named once, along its vertical
             mark_case(ax_x, ax_r, g, c["x1_max"], c["multipliers"][0], f"{case} case {g:g}" if named else None)
-    # The zoom's own y range (autoscaling would include the 1/1 branch outside the window).
-    ys = [cell_float(r["x1_max"]) for r in rows if zoom[0] <= cell_float(r["gap"]) <= zoom[1]]
-    pad = 0.06 * (max(ys) - min(ys))
-    axes[0, 1].set(xlim=zoom, ylim=(min(ys) - 2 * pad, max(ys) + pad))
-    gaps = [cell_float(r["gap"]) for r in rows]
-    axes[0, 0].set_xlim(min(gaps) - 0.8, max(gaps) + 0.8)
-    for ax in axes[:, 0]:
-        ax.axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)
+    gaps, x1_max = [cell_float(r["gap"]) for r in rows], [cell_float(r["x1_max"]) for r in rows]
+    column_ranges(axes, gaps, x1_max, zoom, FULL_RANGE_MARGIN)
     axes[0, 0].set_ylabel("max $|x_1|/x_{\\mathrm{st}}$")
     axes[1, 0].set_ylabel("spectral radius $\\max|\\rho|$")
     axes[0, 0].set_title("full range", loc="left")

@@ -132,3 +132,15 @@ def legend_rows(branches: list[tuple[str, str]], kind_legend: dict) -> list[list
             line(color="0.2", lw=0.7, ls="--", label="$|\\rho| = 1$"),
         ],
     ]
+
+
+def column_ranges(axes, gaps: list[float], x1_max: list[float], zoom: tuple[float, float], margin: float) -> None:
+    """The two columns' ranges: the left one over every gap with ``margin`` either side, the
+    window ``zoom`` shaded there; the right one over the window, its y range the branches'
+    values inside it (autoscaling would include the 1/1 branch outside the window)."""
+    ys = [y for g, y in zip(gaps, x1_max) if zoom[0] <= g <= zoom[1]]
+    pad = 0.06 * (max(ys) - min(ys))
+    axes[0, 1].set(xlim=zoom, ylim=(min(ys) - 2 * pad, max(ys) + pad))
+    axes[0, 0].set_xlim(min(gaps) - margin, max(gaps) + margin)
+    for ax in axes[:, 0]:
+        ax.axvspan(*zoom, color=ZOOM_SHADE, lw=0, zorder=0)

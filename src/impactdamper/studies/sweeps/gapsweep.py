@@ -50,19 +50,9 @@ POINT_COLUMNS = [
     "v2_0",
     "velocities",
 ]
-RANDOM_COLUMNS = [
-    "index",
-    "start_index",
-    "value",
-    "label",
-    "regime",
-    "k",
-    "z",
-    "x1_max",
-    "method",
-    "periods",
-    "velocities",
-]
+# What a table says of one settled point, wherever the point comes from.
+SETTLED_COLUMNS = ["label", "regime", "k", "z", "x1_max", "method", "periods"]
+RANDOM_COLUMNS = ["index", "start_index", "value", *SETTLED_COLUMNS, "velocities"]
 # Digits of the impact velocities in the committed tables (plots need ~3); every other float
 # has the records' 12 significant digits (a row recomputed from its start state agrees to
 # ~1e-9, and the committed files stay small).
