@@ -220,6 +220,8 @@ def _run(*args, **kwargs):
         (["--max-stroke", "0"], "--max-stroke"),
         (["--stop-stiffness", "1e9"], "--stop-stiffness"),
         (["--mu", "x"], "--mu"),
+        (["--workers", "0"], "--workers"),
+        (["--workers", "1.5"], "--workers"),
     ],
 )
 def test_design_command_bad_input_is_one_line(args, flag):
@@ -266,6 +268,20 @@ def test_design_command_at_the_papers_object_is_the_design_table():
     assert out["elapsed"] <= 600
     quiet = _run("--quiet", "--json", "--mu", "0.05", "--delta1", "0.05", "--theta-start", "0.8", "--theta-stop", "1.2")
     assert quiet.returncode == 0 and quiet.stderr == ""
+
+
+@pytest.mark.slow  # about a minute on one core
+def test_the_design_answer_does_not_depend_on_the_workers():
+    """``design --workers 1`` at the paper's object: the design table (the workflow's, on two
+    workers), key for key, but the workers and the times."""
+    r = _run("--json", "--quiet", "--workers", "1")
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    out = json.loads(r.stdout)
+    record = json.loads((ROOT / "figures" / "design_optimum.json").read_text())
+    assert (out["workers"], record["workers"]) == (1, 2)
+    assert {k: v for k, v in out.items() if k not in ("workers", "elapsed", "cpu")} == {
+        k: v for k, v in record.items() if k not in ("workers", "elapsed", "cpu")
+    }
 
 
 def test_an_infeasible_travel_limit_is_reported_infeasible():

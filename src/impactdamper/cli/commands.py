@@ -192,6 +192,7 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
                 criterion=args.criterion,
                 stop_stiffness=args.stop_stiffness,
                 natural_frequency=args.natural_frequency,
+                workers=args.workers,
                 progress=progress,
             )
     except (ValueError, RuntimeError, ArithmeticError) as err:

@@ -205,6 +205,7 @@ def _add_design(sub, defaults: Parameters) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     from impactdamper.studies.design.devices import NATURAL_FREQUENCY, RANGES, STOP_STIFFNESS, Uncertainty
+    from impactdamper.studies.design.optimum import WORKERS
 
     def span(name: str) -> str:
         lo, hi = RANGES[name]
@@ -259,6 +260,13 @@ def _add_design(sub, defaults: Parameters) -> None:
         choices=("peak", "band_average", "detuning", "force", "restitution"),
         default="peak",
         help="which optima the keys impact, tmd and ratio report (default peak; every criterion's are in devices)",
+    )
+    design.add_argument(
+        "--workers",
+        type=int,
+        default=WORKERS,
+        help=f"worker processes, an integer >= 1 (default {WORKERS}, the cores the minute above is "
+        "quoted for); the answer does not depend on them",
     )
     design.add_argument("--json", action="store_true", help="print one JSON object")
     design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")

@@ -39,6 +39,7 @@ import numpy as np
 import scipy.stats
 
 from impactdamper.analysis.linear_device import LinearDevice, check_band
+from impactdamper.analysis.parallel import check_workers
 from impactdamper.core.validation import finite_argument
 from impactdamper.studies.design.devices import (
     DESIGN_SETTINGS,
@@ -364,6 +365,8 @@ def design_optima(
         The searches' budgets: of the nominal criteria and the stroke limit, and of the robust
         criteria (the same for both devices).
     workers : int
+        Processes (>= 1): the answer does not depend on them (its ``workers``, ``elapsed`` and
+        ``cpu`` do).
     seed : int
     progress : callable(str), optional
 
@@ -382,6 +385,7 @@ def design_optima(
     t0, c0 = time.perf_counter(), _processor_time()
     uncertainty = Uncertainty() if uncertainty is None else uncertainty
     band, mu, delta1 = check_object(band, mu, delta1, uncertainty, max_stroke, stop_stiffness, natural_frequency)
+    workers = check_workers(workers)
     choices = ("peak", "band_average", "detuning", "force", "restitution")
     if criterion not in choices:
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
