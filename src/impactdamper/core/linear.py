@@ -31,7 +31,6 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from impactdamper.core.parameters import Parameters
 
@@ -192,6 +191,8 @@ class LinearMode:
             V, Vinv = self.eigenvectors, self.eigenvectors_inv
             e = np.exp(self.roots * tau[..., None])
             return np.real(np.einsum("ij,...j,jk->...ik", V, e, Vinv))
+        import scipy.linalg  # (loaded on first use: the package import stays light)
+
         return scipy.linalg.expm(self.M * tau[..., None, None])
 
     def free(self, tau: np.ndarray | float, z0: np.ndarray) -> np.ndarray:
