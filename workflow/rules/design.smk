@@ -9,7 +9,7 @@
 # Every script's worker processes are its job's threads. The design table and the command's
 # benchmark run on two (the design command's own two workers, whose wall time the report gives
 # as the command's on a two-core machine), so each holds both cores: declared as one core, each
-# ran a third process beside another job (the command at mu 0.02 took 83 s there, 52 s alone).
+# ran a third process beside another job (the command at mu 0.02 took 83 s there, under a minute alone).
 # Their priorities pass any two one-core jobs' together (Snakemake picks the jobs of the largest
 # total priority that fit), so that they run right after the compiled solver's benchmark, when
 # both cores are free: otherwise a two-core job waits until no one-core job is left. The charts
