@@ -192,8 +192,8 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
                 criterion=args.criterion,
                 stop_stiffness=args.stop_stiffness,
                 natural_frequency=args.natural_frequency,
-                workers=args.workers,
                 progress=progress,
+                workers=args.workers,
             )
     except (ValueError, RuntimeError, ArithmeticError) as err:
         _fail(sub, err)
