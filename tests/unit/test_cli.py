@@ -323,3 +323,16 @@ def test_closed_stdout_is_one_line():
     )
     assert proc.returncode == 1
     assert proc.stderr == "impactdamper: error: cannot write the output: standard output is closed\n"
+
+
+def test_building_the_parser_imports_no_solver():
+    """Every command builds the whole parser first: it must not pay for scipy, numba or the
+    design search (the design flags' defaults once imported the search, scipy.stats with it,
+    and made `steady --json` 0.6 s slower)."""
+    code = (
+        "import sys; from impactdamper.cli.parser import build_parser; build_parser(); "
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in ('scipy', 'numba', 'mpmath') "
+        "or m == 'impactdamper.studies.design.optimum'))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"

@@ -204,8 +204,7 @@ def _add_design(sub, defaults: Parameters) -> None:
         epilog=DESIGN_KEYS,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    from impactdamper.studies.design.devices import NATURAL_FREQUENCY, RANGES, STOP_STIFFNESS, Uncertainty
-    from impactdamper.studies.design.optimum import WORKERS
+    from impactdamper.studies.design.devices import NATURAL_FREQUENCY, RANGES, STOP_STIFFNESS, WORKERS, Uncertainty
 
     def span(name: str) -> str:
         lo, hi = RANGES[name]

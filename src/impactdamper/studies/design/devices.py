@@ -60,6 +60,7 @@ __all__ = [
     "R_HIGH",
     "STOP_STIFFNESS",
     "NATURAL_FREQUENCY",
+    "WORKERS",
     "STROKE_PENALTY",
     "DESIGN_SETTINGS",
     "RANGES",
@@ -77,6 +78,10 @@ R_LOW, R_HIGH = 0.05, 0.98
 STOP_STIFFNESS = 1000.0
 # The object's natural frequency f1 = omega1/(2 pi) at which impacts are counted per hour, Hz.
 NATURAL_FREQUENCY = 10.0
+# Processes of the design command's batch calls and searches (the answer does not depend on
+# them): the two cores its time is quoted for. Here, not in optimum.py, so that the command
+# line's parser reads it without importing the search (scipy.stats: 0.5 s on every command).
+WORKERS = 2
 # A design over its stroke limit scores its criterion times (1 + STROKE_PENALTY x the relative
 # excess): 1 % over the limit doubles it, and the search still sees which way the limit lies.
 STROKE_PENALTY = 100.0

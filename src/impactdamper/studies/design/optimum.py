@@ -49,6 +49,7 @@ from impactdamper.studies.design.devices import (
     STOP_STIFFNESS,
     ImpactCriterion,
     Scenario,
+    WORKERS,
     TmdCriterion,
     Uncertainty,
     impact_rows,
@@ -85,8 +86,6 @@ ROBUST_BUDGET = Budget(
 # design: the table's columns).
 CRITERIA_NOMINAL = ("peak", "band_average")
 ROBUST_SEARCHED = ("detuning", "force", "restitution")
-# Processes of the batch calls (the results do not depend on it).
-WORKERS = 2
 # The box's sides relative to Den Hartog's optimum (module docstring).
 N_LOW, N_HIGH = 0.2, 1.5
 DELTA2_LOW, DELTA2_HIGH = 0.01, 3.0
