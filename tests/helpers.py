@@ -4,7 +4,10 @@ the library's matrices, and the physical checks every trajectory must pass."""
 
 from __future__ import annotations
 
+import ast
 import math
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -213,3 +216,19 @@ def shipped_config(name: str = "config.yaml") -> dict:
         config = copy.deepcopy(config)
         update_config(config, yaml.safe_load((_ROOT / "config" / name).read_text()))
     return config
+
+
+# What a light start must not load: the heavy dependencies, which the solvers import on first use.
+HEAVY_PACKAGES = ("scipy", "numba", "mpmath")
+
+
+def heavy_modules_after(statement: str, also: tuple[str, ...] = ()) -> list[str]:
+    """The modules of HEAVY_PACKAGES, and those starting with one of ``also``, that a fresh
+    interpreter has loaded after running ``statement``."""
+    code = (
+        f"import sys; {statement}; "
+        f"print(sorted(m for m in sys.modules if m.split('.')[0] in {HEAVY_PACKAGES!r} "
+        f"or m.startswith({tuple(also)!r})))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return ast.literal_eval(out.stdout)

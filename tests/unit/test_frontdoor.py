@@ -4,14 +4,13 @@ compiled backend, and both backends give the same motion."""
 
 import ast
 import pickle
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import impactdamper as idp
+from helpers import heavy_modules_after
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.periodicity import CONVERGENCE_WINDOW
 
@@ -27,13 +26,7 @@ STATE_TOL = 1e-9
 def test_import_loads_no_numba_nor_scipy():
     """The package's import stays light: every job of the workflow and every command pays it
     (scipy alone took 0.2 of its 0.3 s; the solvers load it on first use)."""
-    code = (
-        "import sys, impactdamper; "
-        "print(sorted(m for m in sys.modules if m in ('numba', 'scipy', 'mpmath') "
-        "or m.startswith('impactdamper.core.compiled')))"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "[]"
+    assert heavy_modules_after("import impactdamper", also=("impactdamper.core.compiled",)) == []
 
 
 def _imported_modules(path: Path) -> set[str]:
