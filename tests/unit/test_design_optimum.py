@@ -244,12 +244,19 @@ def test_design_command_with_stdout_closed():
 def test_design_command_at_the_papers_object_is_the_design_table():
     """``design --json`` at the paper's object (the defaults): the design stage's record row for
     row; its impact answer at least its own design's closed-form floor; its 2 % check passed;
-    progress on stderr at least every 10 s; nothing on stderr under --quiet."""
+    progress lines on stderr, the longest wait for one in the answer (``longest_silence``, which
+    the design benchmark reports against the promised 10 s: a time, so not held here); nothing
+    on stderr under --quiet."""
     r = _run("--json")
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
     stamps = [float(m) for m in re.findall(r"^impactdamper design: \[\s*([\d.]+) s\]", r.stderr, re.M)]
-    assert stamps and max(np.diff([0.0, *stamps, out["elapsed"]])) <= 10.0, stamps
+    assert len(stamps) >= 10, r.stderr[-2000:]
+    # The waits between lines that stderr shows are waits the command measured (both clocks read
+    # at the same message); its longest may be longer (before the first line, after the last).
+    assert 0.0 < out["longest_silence"] <= out["elapsed"]
+    # (stderr's stamps are rounded to 0.1 s)
+    assert max(np.diff(sorted(stamps))) <= out["longest_silence"] + 0.11, (out["longest_silence"], stamps)
     record = json.loads((ROOT / "figures" / "design_optimum.json").read_text())
     assert [d["device"] for d in out["devices"]] == [d["device"] for d in record["devices"]]
     for mine, theirs in zip(out["devices"], record["devices"]):
@@ -265,23 +272,48 @@ def test_design_command_at_the_papers_object_is_the_design_table():
         for side in ("down", "up"):
             v = imp["search"]["check"][name][side]
             assert v is None or v >= imp["search"]["value"] * (1 - 1e-6)
-    assert out["elapsed"] <= 600, out["elapsed"]
     quiet = _run("--quiet", "--json", "--mu", "0.05", "--delta1", "0.05", "--theta-start", "0.8", "--theta-stop", "1.2")
     assert quiet.returncode == 0 and quiet.stderr == "", quiet.stderr[-2000:]
+
+
+@pytest.mark.parametrize("shared", [False, True])
+def test_the_longest_silence_counts_every_process_message(shared):
+    """The design call's wait for a progress message: each message is passed on, and one said in
+    a forked worker (``shared``) counts as the parent's; the wait before the first message, and
+    the one since the last, count too (lower bounds only: a slow machine waits longer)."""
+    import multiprocessing
+    import time
+
+    from impactdamper.studies.design.optimum import _Silences
+
+    said, start = [], time.monotonic()
+    silences = _Silences(said.append, shared=shared)
+    time.sleep(0.2)
+    if shared:
+        worker = multiprocessing.get_context("fork").Process(target=silences, args=("from a worker",))
+        worker.start()
+        worker.join()
+        assert worker.exitcode == 0 and said == []  # (the worker passed it on to its own copy)
+    else:
+        silences("here")
+        assert said == ["here"]
+    last, longest = silences._times  # (the message's time and the wait before it)
+    assert last >= start + 0.2 and longest >= 0.2
+    time.sleep(0.3)
+    assert silences.longest() >= max(0.3, longest)
 
 
 @pytest.mark.slow  # about a minute on one core
 def test_the_design_answer_does_not_depend_on_the_workers():
     """``design --workers 1`` at the paper's object: the design table (the workflow's, on two
     workers), key for key, but the workers and the times."""
+    times = ("workers", "elapsed", "cpu", "longest_silence")
     r = _run("--json", "--quiet", "--workers", "1")
     assert r.returncode == 0 and r.stderr == "", r.stderr
     out = json.loads(r.stdout)
     record = json.loads((ROOT / "figures" / "design_optimum.json").read_text())
     assert (out["workers"], record["workers"]) == (1, 2)
-    assert {k: v for k, v in out.items() if k not in ("workers", "elapsed", "cpu")} == {
-        k: v for k, v in record.items() if k not in ("workers", "elapsed", "cpu")
-    }
+    assert {k: v for k, v in out.items() if k not in times} == {k: v for k, v in record.items() if k not in times}
 
 
 def test_an_infeasible_travel_limit_is_reported_infeasible():

@@ -317,7 +317,8 @@ two cores within the ranges below; progress lines go to stderr (none with --quie
 
 DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, uncertainty {detuning, force, restitution}, detuning,
 criterion, budget, robust_budget, bounds, tmd_stroke, max_stroke, stop_stiffness,
-natural_frequency, settings, elapsed (s), recommendation; devices: every row of the design table,
+natural_frequency, settings, elapsed (s), longest_silence (s between two progress lines),
+recommendation; devices: every row of the design table,
 each with
   device          bare object, tmd_peak, impact_peak_reach (its stop within reach),
                   impact_peak (the whole box), tmd_band_average, impact_band_average_reach,

@@ -32,6 +32,7 @@ import json
 import math
 import multiprocessing
 import os
+import threading
 import time
 from collections.abc import Callable
 
@@ -364,8 +365,8 @@ def design_optima(
         The searches' budgets: of the nominal criteria and the stroke limit, and of the robust
         criteria (the same for both devices).
     workers : int
-        Processes (>= 1): the answer does not depend on them (its ``workers``, ``elapsed`` and
-        ``cpu`` do).
+        Processes (>= 1): the answer does not depend on them (its ``workers``, ``elapsed``,
+        ``cpu`` and ``longest_silence`` do).
     seed : int
     progress : callable(str), optional
 
@@ -378,8 +379,9 @@ def design_optima(
         ``band_average``, ``worst`` (per uncertainty and ``together``), ``stroke``, the loads,
         ``impacts``, ``tmd_limit``, ``feasible``, ``search`` (the search's record: its check,
         ``at_bound``, evaluations)); ``impact``, ``tmd``, ``tmd_equal_stroke`` (rows); ``ratio``;
-        ``snubber``; ``recommendation``; ``elapsed`` (s, wall) and ``cpu`` (s, processor time of
-        the call and its workers).
+        ``snubber``; ``recommendation``; ``elapsed`` (s, wall), ``cpu`` (s, processor time of
+        the call and its workers) and ``longest_silence`` (s, wall: the longest wait for a
+        ``progress`` message, the call's start and end counting as messages).
     """
     t0, c0 = time.perf_counter(), _processor_time()
     uncertainty = Uncertainty() if uncertainty is None else uncertainty
@@ -388,7 +390,7 @@ def design_optima(
     choices = ("peak", "band_average", "detuning", "force", "restitution")
     if criterion not in choices:
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
-    say = progress or (lambda m: None)
+    say = _Silences(progress or (lambda m: None), shared=workers > 1)
     budgets = (budget, robust_budget)
     tmd = _tmd_searches(mu, delta1, band, uncertainty, budgets, seed, say)
     s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
@@ -423,6 +425,7 @@ def design_optima(
     out["recommendation"] = recommendation(out)
     out["elapsed"] = time.perf_counter() - t0
     out["cpu"] = _processor_time() - c0
+    out["longest_silence"] = say.longest()
     return out
 
 
@@ -457,6 +460,31 @@ def saved_or_searched(
         if same:
             return record, f"read from {os.fspath(saved)}"
     return design_optima(band, mu, delta1, uncertainty=uncertainty, progress=progress), "searched"
+
+
+class _Silences:
+    """Progress messages, passed on, and the longest wait for one: from the call's start to its
+    first message, between two messages (whichever process said them), and from the last to the
+    end. The last message's time and the longest wait live in memory that forked workers share
+    (with ``shared``), so a worker's message counts as the parent's does."""
+
+    def __init__(self, say: Callable[[str], None], shared: bool):
+        self._say = say
+        self._lock = multiprocessing.Lock() if shared else threading.Lock()
+        start = [time.monotonic(), 0.0]  # (the last message's time, the longest wait)
+        self._times = multiprocessing.RawArray("d", start) if shared else start
+
+    def __call__(self, message: str) -> None:
+        with self._lock:
+            now = time.monotonic()
+            self._times[1] = max(self._times[1], now - self._times[0])
+            self._times[0] = now
+        self._say(message)
+
+    def longest(self) -> float:
+        """The longest wait so far, the one since the last message included, s."""
+        with self._lock:
+            return max(self._times[1], time.monotonic() - self._times[0])
 
 
 def _processor_time() -> float:

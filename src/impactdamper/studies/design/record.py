@@ -510,12 +510,14 @@ def second_table(chart2: dict) -> str:
 
 
 BENCHMARK_TABLE = Table(
-    colspec="rrrrrl",
-    header="$\\mu$ & $\\delta_1$ & wall time (s) & processor time (s) & evaluations & recommendation",
+    colspec="rrrrrrl",
+    header="$\\mu$ & $\\delta_1$ & wall time (s) & processor time (s) & longest silence (s) & evaluations & "
+    "recommendation",
     comments=TABLE_COMMENTS,
     columns=[
         *fixed_columns({"mu": 2, "delta1": 2, "elapsed": 0}),
         Column("cpu", fixed(0, "---")),
+        Column("longest_silence", fixed(1, "---")),
         Column("evaluations", TEXT),
         Column("first", TEXT),
     ],
