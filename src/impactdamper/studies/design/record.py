@@ -511,8 +511,7 @@ def second_table(chart2: dict) -> str:
 
 BENCHMARK_TABLE = Table(
     colspec="rrrrrrl",
-    header="$\\mu$ & $\\delta_1$ & wall time (s) & processor time (s) & longest silence (s) & evaluations & "
-    "recommendation",
+    header="$\\mu$ & $\\delta_1$ & wall (s) & processor (s) & longest silence (s) & evaluations & recommendation",
     comments=TABLE_COMMENTS,
     columns=[
         *fixed_columns({"mu": 2, "delta1": 2, "elapsed": 0}),
