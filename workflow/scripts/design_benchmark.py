@@ -5,8 +5,9 @@ but the reference object, whose time is the design table's own run (the same cal
 
 Outputs ``figures/design_benchmark.json``: per object its wall time, the processor time of the
 command and its workers, the longest wait for a progress line (the command's
-``longest_silence``: its documented cadence is a line at least every 10 s), the search's evaluations and the recommendation's first words; the
-machine and its load (the job holds both cores: threads 2 in workflow/rules/design.smk).
+``longest_silence``: its documented cadence is a line at least every 10 s), the search's
+evaluations and the recommendation's first words; the machine and its load (the job holds both
+cores: threads 2 in workflow/rules/design.smk).
 """
 
 import json
@@ -28,7 +29,7 @@ def _summary(record: dict, elapsed: float, how: str, cpu: float | None = None) -
         "delta1": record["delta1"],
         "elapsed": elapsed,
         "cpu": cpu,
-        "longest_silence": record.get("longest_silence"),
+        "longest_silence": record["longest_silence"],
         "evaluations": evaluations,
         "first": record["recommendation"].split(":")[0],
         "how": how,
