@@ -51,6 +51,8 @@ def real_argument(name: str, value: object) -> float:
     ValueError
         An integer too large for a float.
     """
+    if type(value) is float:  # (the solver's own calls: no abstract-class check on its hot path)
+        return value
     if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
         raise ArgumentTypeError(f"`{name}` = {show_value(value)} is not allowed: must be a real number")
     try:

@@ -152,7 +152,19 @@ class Segment:
 
     def state(self, t: np.ndarray | float) -> np.ndarray:
         """State y(t), shape t.shape + (n,)."""
-        return self.mode.state(t, self.t0, self.y0)
+        if self._alpha is None:
+            return self.mode.state(t, self.t0, self.y0)
+        # LinearMode.state's own operations, with its z0 and alpha_j (eq. 19) taken from this
+        # segment instead of computed again: the same numbers to the bit.
+        mode = self.mode
+        if type(t) is float:  # the solver's scalar hot path: forced() and free_modal() below,
+            # operation for operation (numpy's complex products, which may fuse a multiply-add,
+            # in the same operand order; cmath's exponential of an imaginary number is numpy's),
+            # without their array set-up; tests/unit/test_fast_paths.py holds the two to the bit
+            e = np.exp(mode.roots * (t - self.t0)) * self._alpha
+            return (mode.Yhat_state * cmath.exp(1j * mode.omega * t)).imag + (e @ mode.eigenvectors.T).real
+        t = np.asarray(t, dtype=float)
+        return mode.forced(t) + mode.free_modal(t - self.t0, self._alpha)
 
     def evaluator(self, fn: LinearFunctional):
         """A function t -> (g(t), g'(t)) for this motion, the event search's hot path.
@@ -160,19 +172,30 @@ class Segment:
         In modal form c.z(tau) = Re sum_j beta_j e^{lambda_j tau} with beta_j = (c.V_j) alpha_j,
         so an evaluation is four complex exponentials in plain Python (no array overhead)."""
         cached = self._evaluators.get(id(fn))
-        if cached is not None:
-            return cached
+        if cached is None:  # (made apart: a closure's cells cost every call of the maker, hit or miss)
+            cached = self._evaluators[id(fn)] = self._new_evaluator(fn)
+        return cached
+
+    def _new_evaluator(self, fn: LinearFunctional):
         w, G, g0, t0 = self.mode.omega, fn.G, fn.g0, self.t0
         exp = cmath.exp
         if self._alpha is not None:
             # M is real, so its complex roots come in conjugate pairs with conjugate
             # coefficients: each pair contributes 2 Re(beta e^{lambda tau}); keep one of each.
-            beta, roots = fn.cV * self._alpha, self.mode.roots
-            terms = [
-                (2.0 * b if lam.imag > 0.0 else b, lam)
-                for b, lam in zip(beta.tolist(), roots.tolist())
-                if lam.imag >= 0.0
-            ]
+            beta = (fn.cV * self._alpha).tolist()
+            terms = [(2.0 * beta[j] if pair else beta[j], lam) for j, lam, pair in self.mode.pair_roots]
+
+            if len(terms) == 2:  # (a complex pair per body, the free mode: the loop below unrolled)
+                (b1, lam1), (b2, lam2) = terms
+
+                def evaluate(t: float) -> tuple[float, float]:
+                    tau = t - t0
+                    e1, e2 = b1 * exp(lam1 * tau), b2 * exp(lam2 * tau)
+                    rot = exp(1j * w * t) * G
+                    # (summed as the loop sums, from 0j: the same numbers to the bit)
+                    return g0 + rot.imag + (0j + e1 + e2).real, w * rot.real + (0j + lam1 * e1 + lam2 * e2).real
+
+                return evaluate
 
             def evaluate(t: float) -> tuple[float, float]:
                 tau = t - t0
@@ -191,7 +214,6 @@ class Segment:
                 rot = exp(1j * w * t) * G
                 return g0 + rot.imag + float(cM0 @ z), w * rot.real + float(cM1 @ z)
 
-        self._evaluators[id(fn)] = evaluate
         return evaluate
 
 
@@ -252,9 +274,7 @@ def march(
     mode = fn.mode
     w = mode.omega
     # The free motion's energy never grows, so its value at t_from bounds the whole search.
-    z = segment.free(float(t_from))
-    with np.errstate(over="ignore", invalid="ignore"):  # (an overflow is refused below, by name)
-        energy = math.sqrt(max(float(z @ mode.energy_weight @ z), 0.0))
+    energy = math.sqrt(max(_energy_form(segment.free(float(t_from)), mode.energy_weight), 0.0))
     Gabs = abs(fn.G)
     a = float(t_from)
     if departure is not None:
@@ -292,6 +312,13 @@ def march(
     if budget is not None and limit < MAX_STEPS:
         raise SearchLimitError(budget.message(a))
     raise SearchLimitError(f"event search took more than {MAX_STEPS} steps from t = {t_from!r}")
+
+
+@np.errstate(over="ignore", invalid="ignore")  # (an overflow is refused in march, by name)
+def _energy_form(z: np.ndarray, weight: np.ndarray) -> float:
+    """z^T W z, twice the free motion's energy (numpy's errstate as a decorator: per call, and
+    cheaper than entering a new context on the march's hot path)."""
+    return float(z @ weight @ z)
 
 
 def _require_finite(value: float, t_from: float) -> None:

@@ -150,10 +150,18 @@ class LinearMode:
         L = np.linalg.cholesky(np.asarray(self.energy_weight, dtype=float))
         object.__setattr__(self, "M", M)
         object.__setattr__(self, "roots", lam)
+        # One root of each conjugate pair (and each real root), with whether it stands for a
+        # pair: the terms of the event search's modal sums (events.Segment.evaluator).
+        object.__setattr__(
+            self, "pair_roots", tuple((j, r, r.imag > 0.0) for j, r in enumerate(lam.tolist()) if r.imag >= 0.0)
+        )
         object.__setattr__(self, "modal", modal)
         object.__setattr__(self, "eigenvectors", V)
         object.__setattr__(self, "eigenvectors_inv", Vinv)
         object.__setattr__(self, "Yhat", Yhat)
+        # forced()'s first product for the state itself (derivative 0), kept for
+        # Segment.state's scalar path, which must give forced()'s numbers to the bit.
+        object.__setattr__(self, "Yhat_state", (1j * self.omega) ** 0 * Yhat)
         object.__setattr__(self, "forced_amplitude", float(np.max(np.abs(Yhat[: n // 2]))))
         object.__setattr__(self, "L_inv_T", np.linalg.inv(L).T)
         powers = [np.eye(n)]
@@ -199,10 +207,14 @@ class LinearMode:
         """Free response z(tau) = Phi(tau) z0, shape tau.shape + (n,)."""
         tau = np.asarray(tau, dtype=float)
         if self.modal:
-            coef = self.eigenvectors_inv @ z0  # the paper's alpha_j (eq. 19)
-            e = np.exp(self.roots * tau[..., None]) * coef
-            return np.real(e @ self.eigenvectors.T)
+            return self.free_modal(tau, self.eigenvectors_inv @ z0)  # the paper's alpha_j (eq. 19)
         return np.einsum("...ij,j->...i", self.propagator(tau), z0)
+
+    def free_modal(self, tau: np.ndarray | float, alpha: np.ndarray) -> np.ndarray:
+        """Free response Re V (alpha e^{lambda tau}) from the modal coefficients alpha_j of
+        eq. (19), shape tau.shape + (n,) (a modal mode only)."""
+        e = np.exp(self.roots * np.asarray(tau, dtype=float)[..., None]) * alpha
+        return np.real(e @ self.eigenvectors.T)
 
     # --- the exact flow -------------------------------------------------------------
     def state(self, t: np.ndarray | float, t0: float, y0: np.ndarray) -> np.ndarray:

@@ -24,15 +24,16 @@ x1' by +S/m1 and x2' by -S/m2, so the relative velocity becomes -R v and momentu
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
 from impactdamper.core.events import LinearFunctional
-from impactdamper.core.linear import LinearMode, free_mode, stuck_mode
+from impactdamper.core.linear import MODE_CACHE_SIZE, LinearMode, free_mode, stuck_mode
 from impactdamper.core.parameters import LINEAR_PARAMETERS, Parameters, most_extreme
 
-__all__ = ["Model", "FREE", "STUCK"]
+__all__ = ["Model", "model_of", "FREE", "STUCK"]
 
 FREE = "free"
 STUCK = "stuck"
@@ -177,3 +178,13 @@ class Model:
         p = self.p
         x1, x2, v1, v2 = (full[..., i] for i in range(4))
         return 0.5 * (p.m1 * v1**2 + p.m2 * v2**2 + p.c1 * x1**2 + p.c2 * (x2 - x1) ** 2)
+
+
+@functools.lru_cache(maxsize=MODE_CACHE_SIZE)
+def model_of(p: Parameters) -> Model:
+    """``Model(p)``, built once per parameter set and shared: every run of the solvers starts by
+    building its model (its modes are cached already, its functionals' derivative bounds are
+    not), and a short run spent a tenth of its time there. A Model is never changed after
+    ``__init__`` (its modes, functionals and scales are read only), so sharing it is safe; a
+    refused parameter set raises each time (lru_cache keeps no exception)."""
+    return Model(p)

@@ -50,8 +50,10 @@ def settled_period(sections: np.ndarray, modes: list, max_period_multiple: int, 
     lags = min(max_period_multiple, (n - 1) // 2)
     if lags == 0:
         return 0, math.inf
-    latest = np.abs(sections[n - 1 - lags : n - 1][::-1] - sections[n - 1]).max(axis=1)
-    residual = float(latest.min())
+    # (the ufuncs' reductions themselves, without ndarray.max's Python wrapper: once a period)
+    residual = float(
+        np.minimum.reduce(np.maximum.reduce(np.abs(sections[n - 1 - lags : n - 1] - sections[n - 1]), axis=1))
+    )
     if residual >= settle_tol:
         return 0, residual
     found_k, residual = _period(sections, modes, max_period_multiple, settle_tol)

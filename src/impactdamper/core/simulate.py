@@ -35,7 +35,7 @@ import numpy as np
 from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
 from impactdamper.core.constants import STEPS_AT_START, STEPS_PER_PERIOD  # (the work bound)
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
-from impactdamper.core.model import FREE, STUCK, Model
+from impactdamper.core.model import FREE, STUCK, Model, model_of
 from impactdamper.core.parameters import NATIVE_SCALES, Parameters, ScaleMap, require_parameters
 
 from impactdamper.core.validation import (
@@ -259,10 +259,23 @@ class EventDrivenSolver:
                 f"given units, where {name} must be in [{lo:g}, {hi:g}]; simulate, steady_state and "
                 "solve_orbit rescale such cases (relative results do not depend on x_st, m1, omega)"
             )
+        tolerances = check_tolerances(tolerances)
+        self._begin(p, t0, check_state(state, p), tolerances)
+
+    @classmethod
+    def checked(cls, p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances) -> EventDrivenSolver:
+        """The solver of ``EventDrivenSolver(p, t0, state, tolerances)`` for arguments the caller
+        has checked already as the constructor does (:func:`simulate` and :func:`steady_state`
+        check theirs once per call; a short run spent a tenth of its time checking them twice)."""
+        solver = cls.__new__(cls)
+        solver._begin(p, float(t0), None if state is None else np.array(state, dtype=float), tolerances)
+        return solver
+
+    def _begin(self, p: Parameters, t0: float, full: np.ndarray | None, tolerances: Tolerances) -> None:
+        """The constructor on checked arguments: the model, the first segment or event."""
         self.p = p
-        self.tol = check_tolerances(tolerances)
-        full = check_state(state, p)
-        self.model = Model(p)
+        self.tol = tolerances
+        self.model = model_of(p)
         self.trajectory = Trajectory(self.model)
         self.budget = StepBudget(STEPS_AT_START, self._budget_message)
         self._t_start = t0
@@ -523,7 +536,7 @@ def simulate(
             max_periods=max_periods,
         )
         return rescale_trajectory(traj, to_p)
-    solver = EventDrivenSolver(p, t0=t0, state=full, tolerances=tolerances)
+    solver = EventDrivenSolver.checked(p, t0, full, tolerances)
     solver.advance(t_end)
     return solver.trajectory
 

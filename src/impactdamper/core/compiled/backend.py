@@ -41,7 +41,7 @@ from impactdamper.core.compiled.pack import (
 from impactdamper.core.compiled.settle import ROW_DONE, ROW_ERROR, ROW_FLAGGED, ROW_RESCUE, row_kernel, steady_kernel
 from impactdamper.core.compiled.tangent import C_CAPTURES, C_GRAZING, C_IMPACTS, C_LIFTOFFS, tangent_kernel
 from impactdamper.core.events import SearchLimitError, Segment
-from impactdamper.core.model import FREE, STUCK, Model
+from impactdamper.core.model import FREE, STUCK, model_of
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Trajectory, budget_exceeded, default_initial_state, degenerate_contact
 from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, describe_run, start_in_first_period
@@ -91,7 +91,7 @@ class CompiledBackend:
             traj = PYTHON.run(p, t_end, t0, state, tolerances)  # the reference's own error, or its run
             traj.fallback = FALLBACK_REASONS[flag] if flag else "error"
             return traj
-        return Trajectory.from_arrays(Model(p), ev_k, ev_f, seg_m, seg_f)
+        return Trajectory.from_arrays(model_of(p), ev_k, ev_f, seg_m, seg_f)
 
     def settle(self, p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions) -> SteadyState:
         """:func:`impactdamper.core.steady.steady_state`'s result: the period loop and the
@@ -130,7 +130,7 @@ class CompiledBackend:
                 raise SearchLimitError(_work_bound(p, tolerances, diag))
             # The reference's own error, or its result.
             return dataclasses.replace(PYTHON.settle(p, t0, state, tolerances, options), fallback="error")
-        trajectory = Trajectory.from_arrays(Model(p), ev_k, ev_f, seg_m, seg_f)
+        trajectory = Trajectory.from_arrays(model_of(p), ev_k, ev_f, seg_m, seg_f)
         if frac > 0.0 or options.describe == "reference":  # (contact phases: as the reference does)
             s = describe_run(p, start, states, int(k), float(residual), full, tolerances, trajectory=trajectory)
             return dataclasses.replace(s, backend="compiled")
@@ -159,7 +159,7 @@ class CompiledBackend:
         pack = pack_parameters(p, tolerances)
         if pack.fallback:
             return None
-        model = Model(p)
+        model = model_of(p)
         diag = np.zeros(N_DIAG)
 
         def step(state, k):
