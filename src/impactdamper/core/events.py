@@ -154,17 +154,7 @@ class Segment:
         """State y(t), shape t.shape + (n,)."""
         if self._alpha is None:
             return self.mode.state(t, self.t0, self.y0)
-        # LinearMode.state's own operations, with its z0 and alpha_j (eq. 19) taken from this
-        # segment instead of computed again: the same numbers to the bit.
-        mode = self.mode
-        if type(t) is float:  # the solver's scalar hot path: forced() and free_modal() below,
-            # operation for operation (numpy's complex products, which may fuse a multiply-add,
-            # in the same operand order; cmath's exponential of an imaginary number is numpy's),
-            # without their array set-up; tests/unit/test_fast_paths.py holds the two to the bit
-            e = np.exp(mode.roots * (t - self.t0)) * self._alpha
-            return (mode.Yhat_state * cmath.exp(1j * mode.omega * t)).imag + (e @ mode.eigenvectors.T).real
-        t = np.asarray(t, dtype=float)
-        return mode.forced(t) + mode.free_modal(t - self.t0, self._alpha)
+        return self.mode.state_modal(t, self.t0, self._alpha)  # (LinearMode.state's numbers, to the bit)
 
     def evaluator(self, fn: LinearFunctional):
         """A function t -> (g(t), g'(t)) for this motion, the event search's hot path.

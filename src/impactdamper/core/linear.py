@@ -216,6 +216,18 @@ class LinearMode:
         e = np.exp(self.roots * np.asarray(tau, dtype=float)[..., None]) * alpha
         return np.real(e @ self.eigenvectors.T)
 
+    def state_modal(self, t: np.ndarray | float, t0: float, alpha: np.ndarray) -> np.ndarray:
+        """:meth:`state` from the modal coefficients alpha_j of eq. (19) at t0 (a modal mode
+        only), shape t.shape + (n,): a segment's state, its alpha_j computed once."""
+        if type(t) is float:  # the event loop's scalar hot path: forced() and free_modal() below,
+            # operation for operation (numpy's complex products, which may fuse a multiply-add,
+            # in the same operand order; cmath's exponential of an imaginary number is numpy's),
+            # without their array set-up; tests/unit/test_fast_paths.py holds the two to the bit
+            e = np.exp(self.roots * (t - t0)) * alpha
+            return (self.Yhat_state * cmath.exp(1j * self.omega * t)).imag + (e @ self.eigenvectors.T).real
+        t = np.asarray(t, dtype=float)
+        return self.forced(t) + self.free_modal(t - t0, alpha)
+
     # --- the exact flow -------------------------------------------------------------
     def state(self, t: np.ndarray | float, t0: float, y0: np.ndarray) -> np.ndarray:
         """Exact state at time(s) t from state y0 at t0, shape t.shape + (n,)."""

@@ -266,7 +266,7 @@ class EventDrivenSolver:
     def checked(cls, p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances) -> EventDrivenSolver:
         """The solver of ``EventDrivenSolver(p, t0, state, tolerances)`` for arguments the caller
         has checked already as the constructor does (:func:`simulate` and :func:`steady_state`
-        check theirs once per call; a short run spent a tenth of its time checking them twice)."""
+        check theirs once per call, not again here)."""
         solver = cls.__new__(cls)
         solver._begin(p, float(t0), None if state is None else np.array(state, dtype=float), tolerances)
         return solver
@@ -544,7 +544,7 @@ def simulate(
 def rescale_trajectory(traj: Trajectory, scales: ScaleMap) -> Trajectory:
     """The same motion in ``scales.target``'s units (a new Trajectory; segments and events
     converted by :class:`ScaleMap`)."""
-    model = Model(scales.target)
+    model = model_of(scales.target)
     out = Trajectory(model)
     for name, seg in traj.segments:
         y = scales.full(seg.y0) if name == FREE else scales.stuck(seg.y0)
