@@ -2,9 +2,9 @@
 
 The reference solver (core/simulate.py, core/events.py) takes shortcuts on its hot path: a
 segment's state at one time from its own modal coefficients, the event search's modal sums
-unrolled for the free mode's two pairs of roots, a model built once per parameter set, the
-run's arguments checked once. Each shortcut must leave every number as it was (the workflow's
-record is compared byte for byte), so each is held here to the general code, bit for bit."""
+unrolled for the free mode's two pairs of roots, and a model built once per parameter set.
+Each shortcut must leave every number as it was (the workflow's record is compared byte for
+byte), so each is held here to the general code, bit for bit."""
 
 import cmath
 
@@ -15,7 +15,6 @@ from helpers import REF
 
 from impactdamper.core.events import Segment
 from impactdamper.core.model import Model, model_of
-from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 
 
 # Parameter ranges of the random cases: wide, damping down to none, gaps from deep contact to none.
@@ -85,25 +84,3 @@ def test_one_model_per_parameter_set_and_a_refused_set_refused_every_time():
     for _ in range(2):
         with pytest.raises(ValueError, match="`theta`"):
             model_of(resonant)
-
-
-@pytest.mark.parametrize(
-    "gap_value, state", [(-5.8, None), (-20.0, [0.1, -20.0 + 0.1, 0.0, 0.0]), (3.0, [0.0, 1.0, 2.0, -1.0])]
-)
-def test_a_solver_on_checked_arguments_is_the_constructors(gap_value, state):
-    p = REF.replace(gap=gap_value)
-    tol = Tolerances(gap_tol=1e-8)
-    a = EventDrivenSolver(p, 0.25, None if state is None else np.array(state), tol)
-    b = EventDrivenSolver.checked(p, 0.25, None if state is None else np.array(state), tol)
-    a.advance(25 * p.T)
-    b.advance(25 * p.T)
-    assert len(a.trajectory.events) == len(b.trajectory.events) > 0
-    for x, y in zip(a.trajectory.events, b.trajectory.events):
-        assert (x.kind, x.t, x.velocity, x.impulse, x.t_accumulation) == (
-            y.kind,
-            y.t,
-            y.velocity,
-            y.impulse,
-            y.t_accumulation,
-        )
-        assert x.before.tobytes() == y.before.tobytes() and x.after.tobytes() == y.after.tobytes()

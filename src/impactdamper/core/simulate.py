@@ -259,22 +259,9 @@ class EventDrivenSolver:
                 f"given units, where {name} must be in [{lo:g}, {hi:g}]; simulate, steady_state and "
                 "solve_orbit rescale such cases (relative results do not depend on x_st, m1, omega)"
             )
-        tolerances = check_tolerances(tolerances)
-        self._begin(p, t0, check_state(state, p), tolerances)
-
-    @classmethod
-    def checked(cls, p: Parameters, t0: float, state: np.ndarray | None, tolerances: Tolerances) -> EventDrivenSolver:
-        """The solver of ``EventDrivenSolver(p, t0, state, tolerances)`` for arguments the caller
-        has checked already as the constructor does (:func:`simulate` and :func:`steady_state`
-        check theirs once per call, not again here)."""
-        solver = cls.__new__(cls)
-        solver._begin(p, float(t0), None if state is None else np.array(state, dtype=float), tolerances)
-        return solver
-
-    def _begin(self, p: Parameters, t0: float, full: np.ndarray | None, tolerances: Tolerances) -> None:
-        """The constructor on checked arguments: the model, the first segment or event."""
         self.p = p
-        self.tol = tolerances
+        self.tol = check_tolerances(tolerances)
+        full = check_state(state, p)
         self.model = model_of(p)
         self.trajectory = Trajectory(self.model)
         self.budget = StepBudget(STEPS_AT_START, self._budget_message)
@@ -536,7 +523,7 @@ def simulate(
             max_periods=max_periods,
         )
         return rescale_trajectory(traj, to_p)
-    solver = EventDrivenSolver.checked(p, t0, full, tolerances)
+    solver = EventDrivenSolver(p, t0=t0, state=full, tolerances=tolerances)
     solver.advance(t_end)
     return solver.trajectory
 

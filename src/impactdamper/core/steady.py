@@ -330,7 +330,7 @@ def _steady_state(
     settle_tol, max_periods, max_period_multiple = options.settle_tol, options.max_periods, options.max_period_multiple
     T = p.T
     scale = state_scale(p)
-    solver = EventDrivenSolver.checked(p, t0, state, tolerances)
+    solver = EventDrivenSolver(p, t0=t0, state=state, tolerances=tolerances)
     start_state = solver.state_at(t0) if state is None else np.asarray(state, dtype=float)
     states = np.empty((max_periods, 4))  # the section states, (x1, x2, x1', x2')
     sections = np.empty((max_periods, 4))  # the same, scaled by x_st and x_st omega
