@@ -11,6 +11,7 @@ import json
 import logging
 import math
 import os
+import statistics
 import time
 from pathlib import Path
 
@@ -37,6 +38,7 @@ __all__ = [
     "say",
     "machine",
     "Timer",
+    "paired_cpu_ratios",
     "write_chunk",
     "JOB_COST_DIR",
     "job_name",
@@ -321,6 +323,44 @@ class Timer:
         self.cpu = time.process_time() - self.cpu0
         self.epoch1 = time.time()
         return False
+
+
+def paired_cpu_ratios(base, other, repeats: int, clock=time.process_time) -> dict:
+    """How many times ``other`` costs ``base``, measured in pairs: each call of ``other`` between
+    two calls of ``base``, its CPU time over the mean of theirs, after one warm-up call of each.
+
+    On a shared machine a process's CPU time per call moves with the load beside it (caches, the
+    other hyperthread); two blocks timed one after the other can meet different loads (the
+    reference-speed benchmark's ratio of two blocks' medians read 23.9 and 13.6 in two runs of
+    the same code). A pair's calls are adjacent in time, so they meet the same load.
+
+    Returns
+    -------
+    dict
+        ``ratios`` (one per pair), ``median`` (their median), ``other_cpu_s`` and ``base_cpu_s``
+        (the calls' times: one of ``other``, two of ``base`` per pair), ``result`` (``other``'s
+        last result).
+    """
+    if not (isinstance(repeats, int) and not isinstance(repeats, bool) and repeats >= 1):
+        raise ValueError(f"`repeats` = {repeats!r} is not allowed: must be an integer >= 1")
+
+    def cpu(fn):
+        start = clock()
+        result = fn()
+        return clock() - start, result
+
+    base()
+    result = other()
+    ratios, other_times, base_times = [], [], []
+    for _ in range(repeats):
+        before, _ = cpu(base)
+        spent, result = cpu(other)
+        after, _ = cpu(base)
+        ratios.append(spent / (0.5 * (before + after)))
+        other_times.append(spent)
+        base_times += [before, after]
+    median = statistics.median(ratios)
+    return {"ratios": ratios, "median": median, "other_cpu_s": other_times, "base_cpu_s": base_times, "result": result}
 
 
 def write_chunk(
