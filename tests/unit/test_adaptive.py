@@ -133,6 +133,18 @@ def test_label_differences_measures_the_distance_to_the_nearest_change():
         label_differences(got[:1], ref)
 
 
+def test_label_differences_split_filled_cells_from_computed_ones():
+    # A filled cell that differs is the fill's error; a computed one, history (another start).
+    ref = np.array([["a"] * 5 + ["b"] * 5, ["a"] * 10], dtype=object)
+    got = ref.copy()
+    got[0, 4], got[1, 9], got[1, 2] = "b", "c", "c"
+    computed = np.zeros(ref.shape, dtype=bool)
+    computed[:, ::4] = True  # cells 0, 4, 8 computed: (0, 4) is computed, (1, 9) and (1, 2) filled
+    d = label_differences(got, ref, rows=[0, 1], computed=computed)
+    assert (d["differences"], d["computed_differences"], d["filled_differences"]) == (3, 1, 2)
+    assert "filled_differences" not in label_differences(got, ref, rows=[0, 1])
+
+
 # --- independent pieces of work in forked processes -----------------------------------------------
 def test_map_blocks_gives_the_serial_result_in_order_with_a_closure():
     offset = 7  # (a closure: inherited by the forked workers, never pickled)

@@ -120,3 +120,69 @@ def test_a_captioned_table_labels_its_first_page_only():
     tex = pv.appendix_table([pv.Row("Fig.~1", "fig2a", "workflow/scripts/fig2a.py", ())], "f", "Where.", "tab:x")
     assert tex.count(r"\label{tab:x}") == 1 and tex.index(r"\label{tab:x}") < tex.index(r"\endfirsthead")
     assert r"\caption[]{(continued)}" in tex and r"& \path{fig2a} & \path{workflow/scripts/fig2a.py} & --- \\" in tex
+
+
+def test_the_compact_table_gathers_each_rules_parts_and_flags_uncommitted_timings():
+    rules = pv.rules_from_data(
+        [
+            {"name": "fig2a", "script": "workflow/scripts/fig2a.py", "outputs": ["figures/fig2a.pdf"], "inputs": []},
+            {
+                "name": "claims_by_parameter",
+                "script": "workflow/scripts/claims_gather.py",
+                "outputs": ["paper/generated/claims_table.tex"],
+                "inputs": ["figures/claims.csv"],
+            },
+            {
+                "name": "performance_report",
+                "script": "workflow/scripts/performance_report.py",
+                "outputs": ["paper/generated/performance_macros.tex"],
+                "inputs": ["results/benchmarks/work_precision.json", "figures/compiled_speed.json"],
+            },
+        ]
+    )
+    rows = [
+        pv.Row("Fig.~1", "fig2a", None, ()),
+        pv.Row("Table~2", "performance_report", None, ()),
+        pv.Row("Fig.~3", "fig2a", None, ()),
+        pv.Row(r"\path{paper/generated/performance_macros.tex}", "performance_report", None, ()),
+        pv.Row("Table~4", "claims_by_parameter", None, ()),
+        pv.Row("Fig.~5", None, None, ()),
+    ]
+    compact = pv.compact_rows(rules, rows)
+    assert [(r.rule, r.parts, r.uncommitted) for r in compact] == [
+        ("fig2a", ("Fig.~1", "Fig.~3"), False),
+        ("performance_report", ("Table~2", r"\path{paper/generated/performance_macros.tex}"), True),
+        ("claims_by_parameter", ("Table~4",), False),
+    ]
+    tex = pv.compact_table(compact, "Where.", "tab:p")
+    assert r"\path{fig2a} & Fig.~1, Fig.~3 \\" in tex
+    # the dagger on a rule reading timings; the script named where it is not the rule's own
+    assert r"\path{performance_report}$^\dagger$ & Table~2, \path{performance_macros.tex} \\" in tex
+    assert r"\path{claims_by_parameter} (\path{workflow/scripts/claims_gather.py}) & Table~4" in tex
+    assert tex.count(r"\label{tab:p}") == 1
+
+
+def test_the_commit_is_read_from_git_and_a_changed_source_is_said(tmp_path):
+    import subprocess
+
+    def git(*args):
+        subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
+
+    assert pv.source_commit(tmp_path) == {"commit": None, "dirty": False}  # not a checkout
+    git("init", "-q")
+    (tmp_path / "src").mkdir()
+    (tmp_path / "src" / "a.py").write_text("x = 1\n")
+    (tmp_path / "paper" / "generated").mkdir(parents=True)
+    (tmp_path / "paper" / "generated" / "m.tex").write_text("1\n")
+    git("add", ".")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "c")
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=tmp_path, capture_output=True, text=True).stdout.strip()
+    assert pv.source_commit(tmp_path) == {"commit": head, "dirty": False}
+    (tmp_path / "paper" / "generated" / "m.tex").write_text("2\n")  # a generated file: not a source
+    assert pv.source_commit(tmp_path)["dirty"] is False
+    (tmp_path / "src" / "a.py").write_text("x = 2\n")
+    assert pv.source_commit(tmp_path) == {"commit": head, "dirty": True}
+    tex = pv.citation_macros({"authors": [{"name": "P"}], "version": "0.1.0"}, {"commit": head, "dirty": True})
+    assert rf"\newcommand{{\ReportCommit}}{{{head[:12]}}}" in tex
+    assert "with changes to its sources not yet committed" in tex
+    assert "commit unknown" in pv.citation_macros({"authors": [{"name": "P"}], "version": "0.1.0"})

@@ -135,3 +135,13 @@ def test_algorithm1_grazing_gaps_are_where_admissibility_changes():
     # The same gaps as the single bracket's bisection, and in increasing order.
     assert found == sorted(found)
     assert found[0] == pytest.approx(algorithm1_grazing_gap(p, (found[0] - 0.1, found[0] + 0.1), xtol=1e-9), abs=2e-9)
+
+
+def test_the_checked_rows_are_described_as_drawn():
+    from impactdamper.studies.sweeps.record import row_runs, row_runs_text
+
+    rows = [r for b in range(0, 400, 40) for r in range(b, b + 4)]
+    assert len(row_runs(rows)) == 10
+    assert row_runs_text(rows) == r"rows 0--3, 40--43, \dots, 360--363 (4 adjacent rows in every 40)"
+    assert row_runs_text(range(0, 400, 40)) == r"rows 0, 40, \dots, 360 (every 40th row)"
+    assert row_runs_text([1, 5, 6]) == "rows 1, 5--6"

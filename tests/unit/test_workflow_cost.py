@@ -6,7 +6,7 @@ import os
 import pytest
 
 from impactdamper.studies.performance import cost
-from impactdamper.studies.performance.record import cost_macros, cost_table
+from impactdamper.studies.performance.record import cost_macros, cost_page, cost_table
 
 HEADER = "s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
 
@@ -56,3 +56,23 @@ def test_a_file_that_is_not_a_benchmark_is_named(tmp_path):
     bad.write_text("a\tb\n1\t2\n")
     with pytest.raises(ValueError, match="not a Snakemake benchmark file"):
         cost.read_benchmark(bad)
+
+
+def test_the_cost_page_lists_every_rule_costliest_first_with_its_definitions():
+    summary = {
+        "jobs": 3,
+        "cores": 2,
+        "wall_s": 75.0,
+        "cpu_s": 130.0,
+        "busy": 0.87,
+        "machine": {"load_average": [1.5, 1.0, 0.5]},
+        "excluded": ["report"],
+        "rules": [
+            {"rule": "b", "jobs": 1, "cpu_s": 10.0, "longest_s": 12.0, "wall_s": 12.0},
+            {"rule": "a", "jobs": 2, "cpu_s": 120.0, "longest_s": 40.0, "wall_s": 70.0},
+        ],
+    }
+    page = cost_page(summary)
+    assert page.index("| `a` | 2 | 120.0 | 40.0 |") < page.index("| `b` | 1 | 10.0 | 12.0 |")
+    assert "1 min 15 s (75 s)" in page and "2 min 10 s (130 s)" in page and "87 %" in page
+    assert "`report`" in page and "\\," not in page

@@ -16,6 +16,7 @@ rule workflow_cost:
         table=WORKFLOW_COST_TARGETS[0],
         macros=WORKFLOW_COST_TARGETS[1],
         record="results/report/workflow_cost.json",
+        page="docs/WORKFLOW_COST.md",
     log:
         "logs/workflow_cost.log",
     benchmark:
@@ -31,7 +32,7 @@ rule workflow_cost:
         "../scripts/workflow_cost.py"
 
 
-ALL_TARGETS.extend(["figures/workflow_cost.json", *WORKFLOW_COST_TARGETS])
+ALL_TARGETS.extend(["figures/workflow_cost.json", "docs/WORKFLOW_COST.md", *WORKFLOW_COST_TARGETS])
 
 
 # The report's appendix of provenance: every figure, table and file of numbers of the report ->

@@ -53,6 +53,9 @@ def computed_counts(timings: list[dict]) -> dict:
             "share": len(distances) / compared if compared else 0.0,
             "next_to_change": sum(d == 1 for d in distances),
             "max_distance": max(distances, default=0),
+            # the differences at filled cells and at computed ones (history), where the chunks split them
+            "filled_differences": sum(int(c.get("filled_differences", 0)) for c in checks),
+            "computed_differences": sum(int(c.get("computed_differences", 0)) for c in checks),
             "distances": distances,
         },
     }

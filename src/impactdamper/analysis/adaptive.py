@@ -425,7 +425,9 @@ def fill_blocks(known: dict[tuple[int, int], Hashable], final: Sequence[Block]) 
     return filled
 
 
-def label_differences(labels: np.ndarray, reference: np.ndarray, rows: Sequence[int] | None = None) -> dict:
+def label_differences(
+    labels: np.ndarray, reference: np.ndarray, rows: Sequence[int] | None = None, computed: np.ndarray | None = None
+) -> dict:
     """Where a map's labels differ from a reference (a brute-force map) and how far each
     difference is from a change of the reference's labels.
 
@@ -436,6 +438,11 @@ def label_differences(labels: np.ndarray, reference: np.ndarray, rows: Sequence[
     rows : sequence of int, optional
         The rows to compare (default: all); a difference's distance is measured along its row
         (one-parameter chains) when rows are given, else in both directions (Chebyshev).
+    computed : ndarray of bool, shape (R, n), optional
+        Which cells of ``labels`` were computed (the rest filled, :class:`AdaptiveMap`); with it
+        the differences are split into filled cells (the fill's error, or a history effect) and
+        computed cells (a computed cell that reached another motion than the reference's from
+        another start: history, where motions coexist).
 
     Returns
     -------
@@ -443,16 +450,18 @@ def label_differences(labels: np.ndarray, reference: np.ndarray, rows: Sequence[
         ``cells`` compared, ``differences``, ``share`` (differences / cells), ``distances``: per
         difference, the number of cells to the nearest cell whose reference label differs from
         the reference label at the difference (1: next to a boundary), ``max_distance`` (0
-        without differences).
+        without differences); with ``computed``, also ``filled_differences`` and
+        ``computed_differences``.
     """
     labels, reference = np.asarray(labels, dtype=object), np.asarray(reference, dtype=object)
     if labels.shape != reference.shape:
         raise ValueError(f"`labels` of shape {labels.shape} is not allowed: the reference's is {reference.shape}")
     along_rows = rows is not None
     rows = list(range(labels.shape[0])) if rows is None else [int(r) for r in rows]
-    distances = []
+    distances, at_computed = [], 0
     for r in rows:
         for c in np.flatnonzero(labels[r] != reference[r]):
+            at_computed += bool(computed[r, c]) if computed is not None else 0
             if along_rows:
                 other = np.flatnonzero(reference[r] != reference[r, c])
                 d = int(np.min(np.abs(other - c))) if len(other) else labels.shape[1]
@@ -461,10 +470,13 @@ def label_differences(labels: np.ndarray, reference: np.ndarray, rows: Sequence[
                 d = int(np.min(np.maximum(np.abs(other[:, 0] - r), np.abs(other[:, 1] - c)))) if len(other) else 0
             distances.append(d)
     cells = len(rows) * labels.shape[1]
-    return {
+    out = {
         "cells": cells,
         "differences": len(distances),
         "share": len(distances) / cells if cells else 0.0,
         "distances": sorted(distances),
         "max_distance": max(distances, default=0),
     }
+    if computed is not None:
+        out.update(filled_differences=len(distances) - at_computed, computed_differences=at_computed)
+    return out

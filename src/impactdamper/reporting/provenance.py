@@ -14,6 +14,7 @@ Replication and extension of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019
 from __future__ import annotations
 
 import re
+import subprocess
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import PurePosixPath
@@ -31,6 +32,9 @@ __all__ = [
     "float_rows",
     "number_rows",
     "appendix_table",
+    "compact_rows",
+    "compact_table",
+    "source_commit",
     "citation_macros",
     "ARCHIVE",
 ]
@@ -38,6 +42,8 @@ __all__ = [
 # Records a reader of the archive can open: committed data files (results/ is not committed).
 RECORD_PREFIX = "figures/"
 RECORD_SUFFIXES = (".json", ".csv", ".npz")
+# Records the workflow writes but the repository does not commit (timings change from run to run).
+UNCOMMITTED_PREFIX = "results/benchmarks/"
 # Where the report is not located by a URL in the citation metadata.
 ARCHIVE = "the archive accompanying this report"
 
@@ -274,16 +280,103 @@ def appendix_table(rows: Sequence[Row], first: str, caption: str = "", label: st
     return "\n".join(lines) + "\n"
 
 
+@dataclass(frozen=True)
+class RuleRow:
+    """A line of the compact appendix: a rule, its script, what of the report it writes (TeX:
+    floats' references and files of macros) and whether it reads uncommitted records."""
+
+    rule: str
+    script: str | None
+    parts: tuple[str, ...]
+    uncommitted: bool
+
+
+def compact_rows(rules: Sequence[Rule], rows: Iterable[Row]) -> list[RuleRow]:
+    """The appendix's rows (:func:`float_rows`, :func:`number_rows`) gathered by rule, in order of
+    first appearance: each rule once, with every part of the report it writes, flagged where the
+    rule reads timing records under ``results/benchmarks/`` (not committed)."""
+    by_name = {r.name: r for r in rules}
+    parts: dict[str, list[str]] = {}
+    for row in rows:
+        if row.rule is not None:
+            parts.setdefault(row.rule, []).append(row.what)
+    return [
+        RuleRow(
+            name,
+            by_name[name].script,
+            tuple(dict.fromkeys(whats)),
+            any(i.startswith(UNCOMMITTED_PREFIX) for i in by_name[name].inputs),
+        )
+        for name, whats in parts.items()
+    ]
+
+
+def compact_table(rows: Sequence[RuleRow], caption: str, label: str) -> str:
+    """A table of ``rows``: rule (its script where it is not ``workflow/scripts/<rule>.py``; a
+    dagger where it reads uncommitted timing records) -> what of the report it writes."""
+    lines = [
+        r"\begin{longtable}{@{}>{\raggedright\arraybackslash}p{0.3\linewidth}"
+        r">{\raggedright\arraybackslash}p{0.66\linewidth}@{}}",
+        rf"\caption{{{caption}}}\label{{{label}}}\\",
+        r"\toprule",
+        r"rule & what of this report it writes \\",
+        r"\midrule",
+        r"\endfirsthead",
+        r"\caption[]{(continued)}\\",
+        r"\toprule",
+        r"rule & what of this report it writes \\",
+        r"\midrule",
+        r"\endhead",
+        r"\bottomrule",
+        r"\endfoot",
+    ]
+    for r in rows:
+        name = _path(r.rule) + (r"$^\dagger$" if r.uncommitted else "")
+        if r.script and r.script != f"workflow/scripts/{r.rule}.py":
+            name += rf" ({_path(r.script)})"
+        whats = [w.replace(r"\path{paper/generated/", r"\path{") for w in r.parts]
+        lines.append(rf"{name} & {', '.join(whats)} \\")
+    lines.append(r"\end{longtable}")
+    return "\n".join(lines) + "\n"
+
+
+def source_commit(
+    root: str = ".", sources: Sequence[str] = ("src", "workflow", "config", "paper", "CITATION.cff")
+) -> dict:
+    """The git commit the sources at ``root`` are checked out at, and whether ``sources`` differ
+    from it (the generated files under ``paper/generated/`` and the PDF left out): ``commit``
+    (None outside a git checkout), ``dirty``."""
+    try:
+        head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, check=True)
+        status = subprocess.run(
+            ["git", "status", "--porcelain", "--untracked-files=no", "--", *sources],
+            cwd=root,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    except (OSError, subprocess.CalledProcessError):
+        return {"commit": None, "dirty": False}
+    changed = [
+        line[3:]
+        for line in status.stdout.splitlines()
+        if not line[3:].startswith(("paper/generated/", "paper/report.pdf"))
+    ]
+    return {"commit": head.stdout.strip(), "dirty": bool(changed)}
+
+
 def _tex_text(text: str) -> str:
     """Plain text in TeX (the specials of names and URLs escaped)."""
     return re.sub(r"([&%#_$])", r"\\\1", str(text))
 
 
-def citation_macros(cff: Mapping) -> str:
+def citation_macros(cff: Mapping, source: Mapping | None = None) -> str:
     """The report's author line, version and locator from the project's citation metadata
     (CITATION.cff read as a mapping): ``\\ReportAuthors``, ``\\ReportVersion``,
     ``\\ReportLocator`` (the repository's URL where the metadata gives one, else "the archive
-    accompanying this report")."""
+    accompanying this report"); and the commit the report was built from (``source``, of
+    :func:`source_commit`): ``\\ReportCommit`` (12 digits) and ``\\ReportCommitText`` (the
+    commit, "with changes to its sources" where they differ from it)."""
 
     def name(a: Mapping) -> str:
         if "name" in a:
@@ -300,4 +393,10 @@ def citation_macros(cff: Mapping) -> str:
         rf"\newcommand{{\ReportVersion}}{{{_tex_text(cff.get('version', ''))}}}",
         rf"\newcommand{{\ReportLocator}}{{{locator}}}",
     ]
+    commit = (source or {}).get("commit")
+    short = commit[:12] if commit else "unknown"
+    text = rf"commit \texttt{{{short}}}" if commit else "a copy outside version control, commit unknown"
+    if commit and source.get("dirty"):
+        text += " with changes to its sources not yet committed"
+    lines += [rf"\newcommand{{\ReportCommit}}{{{short}}}", rf"\newcommand{{\ReportCommitText}}{{{text}}}"]
     return "\n".join(lines) + "\n"

@@ -81,7 +81,8 @@ ROUND = (
     ),
     Macro("RoundAgreeCount", lambda rv: sum(r["verification"]["agree"] for r in rv["rows"]), COUNT),
     Macro("RoundOffList", lambda rv: round_text(rv["off"], True) if rv["off"] else "none"),
-    Macro("RoundOffVelocityDiff", "off.0?.verification.claim_b.max_velocity_difference_rel", sci()),
+    # compared with a tolerance: three digits, so that a value just above it never prints as it
+    Macro("RoundOffVelocityDiff", "off.0?.verification.claim_b.max_velocity_difference_rel", sci(2)),
 )
 # The one-parameter search's refinement (per: its parameters' records; dep: the solver-dependent
 # ends as (name, value)).

@@ -99,7 +99,7 @@ def regime_map_chunk(
     reference_labels = labels.copy()
     for n, row in zip(check_idx, brute):
         reference_labels[n] = row.label
-    check = label_differences(labels, reference_labels, rows=check_idx)
+    check = label_differences(labels, reference_labels, rows=check_idx, computed=m.computed)
     check.update(rows=[int(rows_idx[n]) for n in check_idx], cpu_s=check_timer.cpu)
     if log is not None:
         log.info(

@@ -130,6 +130,30 @@ def cap_text(cap: int, after_nonperiodic: int) -> str:
     return text if after_nonperiodic == cap else text + f" (${after_nonperiodic}$ after a nonperiodic neighbour)"
 
 
+def row_runs(rows) -> list[list[int]]:
+    """The rows a map's check swept, as runs of adjacent rows."""
+    runs: list[list[int]] = []
+    for r in sorted(int(r) for r in rows):
+        if runs and r == runs[-1][-1] + 1:
+            runs[-1].append(r)
+        else:
+            runs.append([r])
+    return runs
+
+
+def row_runs_text(rows) -> str:
+    """The rows a map's check swept, as drawn: "rows 0--3, 40--43, \\dots, 360--363 (4 adjacent
+    rows in every 40)" where they come in equal runs at a constant spacing, else listed."""
+    runs = row_runs(rows)
+    spans = [f"{u[0]}--{u[-1]}" if len(u) > 1 else f"{u[0]}" for u in runs]
+    spacing = {b[0] - a[0] for a, b in zip(runs, runs[1:])}
+    if len(runs) > 3 and len({len(u) for u in runs}) == 1 and len(spacing) == 1:
+        every = spacing.pop()
+        what = f"{len(runs[0])} adjacent rows in every {every}" if len(runs[0]) > 1 else f"every {every}th row"
+        return f"rows {spans[0]}, {spans[1]}, \\dots, {spans[-1]} ({what})"
+    return "rows " + ", ".join(spans)
+
+
 MAP = (
     Macro("Map{M}CapText", lambda m: cap_text(m["maps"]["max_periods"], m["maps"]["max_periods_after_nonperiodic"])),
     Macro("Map{M}CoarseStep", "maps.coarse_step", COUNT),
@@ -141,6 +165,10 @@ MAP = (
     Macro("Map{M}CheckCells", "computed.check.cells", COUNT),
     Macro("Map{M}CheckDifferences", "computed.check.differences", COUNT),
     Macro("Map{M}CheckShare", lambda m: 100 * m["computed"]["check"]["share"], general(r"{:.2f}\,\%")),
+    Macro("Map{M}CheckRowsText", lambda m: row_runs_text(m["computed"]["check"]["rows"])),
+    Macro("Map{M}CheckBlocks", lambda m: len(row_runs(m["computed"]["check"]["rows"])), COUNT),
+    Macro("Map{M}CheckFilledDifferences", "computed.check.filled_differences?", COUNT),
+    Macro("Map{M}CheckComputedDifferences", "computed.check.computed_differences?", COUNT),
     Macro("Map{M}CheckNextToChange", "computed.check.next_to_change", COUNT),
     Macro("Map{M}CheckMaxDistance", "computed.check.max_distance", COUNT),
     Macro("Map{M}MaxPeriods", "maps.max_periods", COUNT),
