@@ -90,7 +90,18 @@ def test_read_map_and_bistable_rows(tmp_path):
     s, g, lab = sr.read_map(tmp_path / "map.csv")
     assert lab.shape == (len(slow), len(gaps)) and list(g) == gaps and s[3] == pytest.approx(0.3)
     b = sr.bistable_rows(tmp_path / "map.csv", tmp_path / "curves.csv")
-    assert b == {"label": "1/2", "lo": pytest.approx(0.1), "hi": pytest.approx(0.5), "on": 3, "off": 2}
+    assert b == {
+        "label": "1/2",
+        "lo": pytest.approx(0.1),
+        "hi": pytest.approx(0.5),
+        "on": 3,
+        "off": 2,
+        "first": pytest.approx(0.1),
+    }
+    # Rows off it, then on it for good: no alternation, the label and its first row kept.
+    _write_map(tmp_path / "steady.csv", slow, gaps, [off] * 3 + [on] * (len(slow) - 3))
+    b = sr.bistable_rows(tmp_path / "steady.csv", tmp_path / "curves.csv")
+    assert (b["label"], b["lo"], b["on"], b["off"], b["first"]) == ("1/2", None, 0, 0, pytest.approx(0.3))
     _write_map(tmp_path / "plain.csv", slow, gaps, [off] * len(slow))
     assert sr.bistable_rows(tmp_path / "plain.csv", tmp_path / "curves.csv") is None
 
@@ -145,3 +156,16 @@ def test_the_checked_rows_are_described_as_drawn():
     assert row_runs_text(rows) == r"rows 0--3, 40--43, \dots, 360--363 (4 adjacent rows in every 40)"
     assert row_runs_text(range(0, 400, 40)) == r"rows 0, 40, \dots, 360 (every 40th row)"
     assert row_runs_text([1, 5, 6]) == "rows 1, 5--6"
+
+
+def test_the_check_split_is_said_in_words():
+    from impactdamper.studies.sweeps.record import check_split_text
+
+    assert check_split_text({"filled_differences": 0, "computed_differences": 31}) == (
+        "all $31$ are computed cells (the fill changed none)"
+    )
+    assert check_split_text({"filled_differences": 2, "computed_differences": 29}) == (
+        "$2$ are filled cells and $29$ computed ones"
+    )
+    assert check_split_text({"filled_differences": 3, "computed_differences": 0}) == "all $3$ are filled cells"
+    assert check_split_text({"differences": 4}) == "not split in this record"

@@ -21,11 +21,11 @@ from impactdamper.reporting.records import run_stage
 
 CAPTION = (
     r"Which workflow rule writes each figure, table and file of numbers of this report (files of "
-    r"numbers: macros under \path{paper/generated/}). A rule's script is \path{workflow/scripts/}"
-    r"\emph{rule}\path{.py} unless named; its inputs, the committed records it reads and writes "
-    r"(under \path{figures/}) and its log are declared in the rules files \path{workflow/rules/*.smk}. "
-    r"$^\dagger$: the rule also reads timing records under \path{results/benchmarks/}, which are "
-    r"not committed (timings change from run to run)."
+    r"numbers: macros under \texttt{paper/generated/}). A rule's script is "
+    r"\texttt{workflow/scripts/\emph{rule}.py} unless named; its inputs, the committed records it reads "
+    r"and writes (under \texttt{figures/}) and its log are declared in the rules files "
+    r"\texttt{workflow/rules/*.smk}. $^\dagger$: the rule also reads timing records under "
+    r"\texttt{results/benchmarks/}, which are not committed (timings change from run to run)."
 )
 
 

@@ -154,6 +154,45 @@ def row_runs_text(rows) -> str:
     return "rows " + ", ".join(spans)
 
 
+def check_split_text(check: dict) -> str:
+    """A map check's differences split into filled and computed cells, as words: "all $31$ are
+    computed cells (the fill changed none)", "$2$ are filled cells and $29$ computed ones"."""
+    filled, computed = check.get("filled_differences"), check.get("computed_differences")
+    if filled is None or computed is None:
+        return "not split in this record"
+    if not filled and not computed:
+        return "there are none"
+    if not filled:
+        return rf"all ${computed}$ are computed cells (the fill changed none)"
+    if not computed:
+        return rf"all ${filled}$ are filled cells"
+    return rf"${filled}$ are filled cells and ${computed}$ computed ones"
+
+
+def bistable_text(b: dict | None, symbol: str = r"\theta") -> str:
+    """Which rows beyond first contact reach the impacting motion (:func:`bistable_rows`), as a
+    sentence: the alternating stretch where there is one, else the row from which all do."""
+    if not b:
+        return "No row reaches an impacting motion beyond first contact."
+    lab = b["label"]
+    if b["lo"] is None:
+        return (
+            rf"In this map no row alternates: beyond first contact every row from ${symbol}={b['first']:.3f}$ up "
+            rf"reaches {lab}, and no row below it does in more than a few cells."
+        )
+    return (
+        rf"The rows from ${symbol}={b['lo']:.3f}$ to ${b['hi']:.3f}$ reach {lab} in ${b['on']}$ of them and "
+        rf"0/1 in ${b['off']}$; above ${symbol}={b['hi']:.3f}$ every row stays on {lab}."
+    )
+
+
+def bistable_caption(b: dict | None, symbol: str = r"\theta") -> str:
+    """The map caption's clause on the rows that land on either motion (text: :func:`bistable_text`)."""
+    if not b or b["lo"] is None:
+        return "which one, row by row, is in the text"
+    return rf"the rows from ${symbol}={b['lo']:.3f}$ to ${b['hi']:.3f}$ land on either (text)"
+
+
 MAP = (
     Macro("Map{M}CapText", lambda m: cap_text(m["maps"]["max_periods"], m["maps"]["max_periods_after_nonperiodic"])),
     Macro("Map{M}CoarseStep", "maps.coarse_step", COUNT),
@@ -167,6 +206,7 @@ MAP = (
     Macro("Map{M}CheckShare", lambda m: 100 * m["computed"]["check"]["share"], general(r"{:.2f}\,\%")),
     Macro("Map{M}CheckRowsText", lambda m: row_runs_text(m["computed"]["check"]["rows"])),
     Macro("Map{M}CheckBlocks", lambda m: len(row_runs(m["computed"]["check"]["rows"])), COUNT),
+    Macro("Map{M}CheckSplitText", lambda m: check_split_text(m["computed"]["check"])),
     Macro("Map{M}CheckFilledDifferences", "computed.check.filled_differences?", COUNT),
     Macro("Map{M}CheckComputedDifferences", "computed.check.computed_differences?", COUNT),
     Macro("Map{M}CheckNextToChange", "computed.check.next_to_change", COUNT),
@@ -178,6 +218,8 @@ MAP = (
     Macro("Map{M}BistableHigh", "bistable.hi", general("{:.3f}", missing="--")),
     Macro("Map{M}BistableRowsOn", lambda m: m["bistable"]["on"] if m["bistable"] else 0, COUNT),
     Macro("Map{M}BistableRowsOff", lambda m: m["bistable"]["off"] if m["bistable"] else 0, COUNT),
+    Macro("Map{M}BistableText", lambda m: bistable_text(m["bistable"])),
+    Macro("Map{M}BistableCaption", lambda m: bistable_caption(m["bistable"])),
 )
 
 

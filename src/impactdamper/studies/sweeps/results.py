@@ -243,7 +243,8 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
     The impacting label is the one (other than 0/1, np, err) with most cells beyond U1. A row is
     on it with at least BISTABLE_MIN_CELLS such cells. The alternating stretch runs from the
     first row on it to the last row off it before BISTABLE_STEADY_ROWS rows in a row are on it.
-    Returns {"label", "lo", "hi", "on", "off"} (slow-parameter values, row counts) or None.
+    Returns {"label", "lo", "hi", "on", "off", "first"} (slow-parameter values, row counts; "first"
+    the first row on the label; "lo" and "hi" None where no row after it is off it) or None.
     """
     slow, gaps, labels = read_map(map_csv)
     u1 = np.array([float(r["first_contact"]) for r in read_csv(curves_csv)])
@@ -267,8 +268,8 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
             last_off = i
         if steady >= BISTABLE_STEADY_ROWS and last_off is not None:
             break
-    if last_off is None:
-        return None
+    if last_off is None:  # no row off it after the first on it: no alternation
+        return {"label": lab, "lo": None, "hi": None, "on": 0, "off": 0, "first": float(slow[first])}
     stretch = on[first : last_off + 1]
     return {
         "label": lab,
@@ -276,6 +277,7 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
         "hi": float(slow[last_off]),
         "on": sum(stretch),
         "off": len(stretch) - sum(stretch),
+        "first": float(slow[first]),
     }
 
 
