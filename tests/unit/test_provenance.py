@@ -102,6 +102,21 @@ def test_inline_sections_follows_inputs_of_sections_only():
     )
 
 
+def test_inline_sections_follows_optional_inputs_where_the_file_exists():
+    files = {"sections/a.tex": "A", "sections/b.tex": r"B \input{sections/a.tex}"}
+    tex = r"\InputIfFileExists{sections/b}{}{} \InputIfFileExists{sections/missing}{}{}."
+    assert pv.inline_sections(tex, _reader(files)) == "B A ."
+
+
+def _reader(files):
+    def read(name):
+        if name not in files:
+            raise FileNotFoundError(name)
+        return files[name]
+
+    return read
+
+
 def test_the_author_line_and_locator_come_from_the_citation_metadata():
     tex = pv.citation_macros({"authors": [{"name": "The impactdamper project"}], "version": "0.1.0"})
     assert r"\newcommand{\ReportAuthors}{The impactdamper project}" in tex

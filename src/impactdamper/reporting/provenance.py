@@ -134,7 +134,17 @@ class Float:
 
 def inline_sections(tex: str, read) -> str:
     """The report's source with each ``\\input{sections/...}`` replaced by the file's text
-    (``read(path)``, a path relative to the report's folder)."""
+    (``read(path)``, a path relative to the report's folder), and each
+    ``\\InputIfFileExists{sections/...}{}{}`` likewise where the file exists (``.tex`` added
+    where the name has no suffix; nothing where ``read`` raises FileNotFoundError)."""
+
+    def optional(name: str) -> str:
+        try:
+            return inline_sections(read(name if PurePosixPath(name).suffix else name + ".tex"), read)
+        except FileNotFoundError:
+            return ""
+
+    tex = re.sub(r"\\InputIfFileExists\{(sections/[^}]*)\}\{\}\{\}", lambda m: optional(m.group(1)), tex)
     return re.sub(r"\\input\{(sections/[^}]*)\}", lambda m: inline_sections(read(m.group(1)), read), tex)
 
 
