@@ -170,10 +170,12 @@ def test_the_compact_table_gathers_each_rules_parts_and_flags_uncommitted_timing
         ("claims_by_parameter", ("Table~4",), False),
     ]
     tex = pv.compact_table(compact, "Where.", "tab:p")
-    assert r"\path{fig2a} & Fig.~1, Fig.~3 \\" in tex
+    # two halves side by side: rows 1 and 3 on the first line, row 2 alone on the second;
     # the dagger on a rule reading timings; the script named where it is not the rule's own
-    assert r"\path{performance_report}$^\dagger$ & Table~2, \path{performance_macros.tex} \\" in tex
-    assert r"\path{claims_by_parameter} (\path{workflow/scripts/claims_gather.py}) & Table~4" in tex
+    assert (
+        r"\path{fig2a} & Fig.~1, Fig.~3 & \path{claims_by_parameter} & Table~4 (script \path{claims_gather.py}) \\"
+    ) in tex
+    assert r"\path{performance_report}$^\dagger$ & Table~2, \path{performance_macros.tex} & & \\" in tex
     assert tex.count(r"\label{tab:p}") == 1
 
 

@@ -322,30 +322,28 @@ def compact_rows(rules: Sequence[Rule], rows: Iterable[Row]) -> list[RuleRow]:
 
 
 def compact_table(rows: Sequence[RuleRow], caption: str, label: str) -> str:
-    """A table of ``rows``: rule (its script where it is not ``workflow/scripts/<rule>.py``; a
-    dagger where it reads uncommitted timing records) -> what of the report it writes."""
-    lines = [
-        r"\begin{longtable}{@{}>{\raggedright\arraybackslash}p{0.3\linewidth}"
-        r">{\raggedright\arraybackslash}p{0.66\linewidth}@{}}",
-        rf"\caption{{{caption}}}\label{{{label}}}\\",
-        r"\toprule",
-        r"rule & what of this report it writes \\",
-        r"\midrule",
-        r"\endfirsthead",
-        r"\caption[]{(continued)}\\",
-        r"\toprule",
-        r"rule & what of this report it writes \\",
-        r"\midrule",
-        r"\endhead",
-        r"\bottomrule",
-        r"\endfoot",
-    ]
-    for r in rows:
+    """A table of ``rows`` in two halves side by side: rule (a dagger where it reads uncommitted
+    timing records) -> what of the report it writes (and the rule's script where it is not
+    ``workflow/scripts/<rule>.py``)."""
+    col = r">{\raggedright\arraybackslash}p{%s\linewidth}"
+    spec = "@{}" + col % "0.2" + col % "0.27" + "@{\\hspace{0.03\\linewidth}}" + col % "0.2" + col % "0.27" + "@{}"
+    head = [r"\toprule", r"rule & what it writes & rule & what it writes \\", r"\midrule"]
+    lines = [rf"\begin{{longtable}}{{{spec}}}", rf"\caption{{{caption}}}\label{{{label}}}\\", *head]
+    lines += [r"\endfirsthead", r"\caption[]{(continued)}\\", *head, r"\endhead", r"\bottomrule", r"\endfoot"]
+
+    def cells(r: RuleRow | None) -> str:
+        if r is None:
+            return "&"
         name = _path(r.rule) + (r"$^\dagger$" if r.uncommitted else "")
+        whats = ", ".join(w.replace(r"\path{paper/generated/", r"\path{") for w in r.parts)
         if r.script and r.script != f"workflow/scripts/{r.rule}.py":
-            name += rf" ({_path(r.script)})"
-        whats = [w.replace(r"\path{paper/generated/", r"\path{") for w in r.parts]
-        lines.append(rf"{name} & {', '.join(whats)} \\")
+            whats += rf" (script {_path(PurePosixPath(r.script).name)})"
+        return f"{name} & {whats}"
+
+    half = (len(rows) + 1) // 2
+    for i in range(half):
+        right = rows[half + i] if half + i < len(rows) else None
+        lines.append(rf"{cells(rows[i])} & {cells(right)} \\")
     lines.append(r"\end{longtable}")
     return "\n".join(lines) + "\n"
 
