@@ -326,7 +326,7 @@ def compact_table(rows: Sequence[RuleRow], caption: str, label: str) -> str:
     timing records) -> what of the report it writes (and the rule's script where it is not
     ``workflow/scripts/<rule>.py``)."""
     col = r">{\raggedright\arraybackslash}p{%s\linewidth}"
-    spec = "@{}" + col % "0.2" + col % "0.27" + "@{\\hspace{0.03\\linewidth}}" + col % "0.2" + col % "0.27" + "@{}"
+    spec = "@{}" + col % "0.21" + col % "0.24" + "@{\\hspace{0.03\\linewidth}}" + col % "0.21" + col % "0.24" + "@{}"
     head = [r"\toprule", r"rule & what it writes & rule & what it writes \\", r"\midrule"]
     lines = [rf"\begin{{longtable}}{{{spec}}}", rf"\caption{{{caption}}}\label{{{label}}}\\", *head]
     lines += [r"\endfirsthead", r"\caption[]{(continued)}\\", *head, r"\endhead", r"\bottomrule", r"\endfoot"]
