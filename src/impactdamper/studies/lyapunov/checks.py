@@ -2,20 +2,28 @@
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100. Each check compares the
 spectrum (:func:`impactdamper.analysis.lyapunov.lyapunov_spectrum`, the compiled walk: exact
-transition matrices, saltation matrices, QR) with a computation that does not use the tangent
-walk:
+transition matrices, saltation matrices, QR) with another computation. One is independent
+(it shares no flow, event or model code with the walk); the others are consistency checks in
+the sense of the report's Section 3.6 (they test the walk's saltation matrices and QR, not its
+flow or its events, which they share):
 
-* **Floquet multipliers** (independent): at a stable periodic orbit every exponent equals
-  log|mu_i| / k per forcing period, mu_i the eigenvalues of the monodromy matrix of the orbit
-  solver (:func:`impactdamper.analysis.orbits.solve_orbit`: Newton shooting, one product over
-  one cycle), against the walk's weighted average over thousands of periods;
-* **Benettin's two-trajectory estimate** (independent): the largest exponent from the growth of
-  a small separation between two runs of the solver alone, renormalised every period (the
-  stroboscopic map of the same backend: no saltation matrix, no tangent), along the same motion
-  and on the next stretch of the attractor;
-* **the sum rule** (a consistency check of the walk's determinants): the exponents' sum per
-  period equals the free flow's trace times T plus 2 log R per impact (det of an impact's
-  saltation matrix is R^2), the impacts counted by re-running each period from its section;
+* **Benettin on solve_ivp** (independent,
+  :func:`impactdamper.studies.lyapunov.independent.independent_check`): the largest exponent
+  from two trajectories of :mod:`impactdamper.baselines.benettin_ivp` (its own equations,
+  parameter conversion and impact law, DOP853 with event location; no library code), started
+  from the walk's last section (4 numbers) after a transient of its own;
+* **Floquet multipliers** (consistency: the same flow propagator): at a stable periodic orbit
+  every exponent equals log|rho_i| / k per forcing period, rho_i the eigenvalues of the
+  monodromy matrix of the orbit solver (:func:`impactdamper.analysis.orbits.solve_orbit`:
+  Newton shooting, one product over one cycle), against the walk's weighted average over
+  thousands of periods;
+* **Benettin's two-trajectory estimate** (consistency: the same event solver): the largest
+  exponent from the growth of a small separation between two runs of the solver alone,
+  renormalised every period (the stroboscopic map of the same backend: no saltation matrix, no
+  tangent), along the same motion and on the next stretch of the attractor;
+* **the sum rule** (consistency of the walk's determinants): the exponents' sum per period
+  equals the free flow's trace times T plus 2 log R per impact (det of an impact's saltation
+  matrix is R^2), the impacts counted by re-running each period from its section;
 * **the two backends** (consistency): the compiled walk against the reference's (Householder
   QR on the reference solver's events) at a periodic and a chaotic point.
 
