@@ -86,21 +86,36 @@ def test_every_macro_the_section_uses_is_declared():
 
 def test_the_record_renders_from_small_tables():
     sweep = [
-        {"direction": "up", "value": "-16", "label": "np", "motion": "chaotic", "exponent": "0.8"},
-        {"direction": "up", "value": "-5.8", "label": "1/1", "motion": "", "exponent": "-0.34"},
-    ]
+        {"direction": "up", "index": "0", "value": "-16", "label": "np", "motion": "chaotic", "exponent": "0.8"},
+        {"direction": "up", "index": "1", "value": "-5.8", "label": "1/1", "motion": "", "exponent": "-0.34",
+         "error": "1e-4", "half1": "-0.34", "half2": "-0.34", "periods": "200"},
+        {"direction": "down", "value": "-10.1", "label": "np", "motion": "quasi-periodic", "exponent": "0.0",
+         "error": "1e-5", "exponent2": "-0.02", "error2": "1e-4", "impacts_per_period": "1.5"},
+    ]  # fmt: skip
     cells = [
         {"regime": "nonperiodic", "motion": "quasi-periodic", "exponent": "0.0"},
         {"regime": "single_impact", "motion": "", "exponent": "-0.3"},
     ]
-    check = {"gap": -5.8, "difference": 1e-12, "per_period_residual": 1e-14, "total_residual": 1e-15}
+    check = {"gap": -5.8, "difference": 1e-12, "per_period_residual": 1.15e-14, "total_residual": 1e-15}
     checks = {
         "floquet": [check],
         "sum_rule": [check],
         "benettin": [{"gap": -16.0, "agrees": True, "same_motion_difference": 1e-6}],
         "benettin_floor": 1e-6,
-        "backends": [{"gap": -5.8, "difference": 1e-14}, {"gap": -16.0, "largest_in_errors": 0.5}],
-    }
+        "backends": [{"gap": -5.8, "difference": 7.27e-15}, {"gap": -16.0, "largest_in_errors": 0.5}],
+        "windows": [
+            {"gap": -10.6, "transient": 500, "periods": 2000, "label": "chaotic transient", "exponent": 0.18,
+             "error": 0.024, "halves": [0.18, 0.12], "half_errors": [0.03, 0.03], "settled_period": 7,
+             "settled_since": 2630},
+            {"gap": -10.6, "transient": 3000, "periods": 4000, "label": "periodic", "exponent": -0.038},
+        ],
+    }  # fmt: skip
+    run = {"exponent": 0.85, "error": 0.02, "periods": 2000, "transient": 100, "rtol": 1e-12, "separation": 1e-7}
+    independent = {"gap": -16.0, "difference": 0.04, "in_combined_errors": 1.15, "ivp": run, "tangent": run}
+    special = [
+        {"kind": "neimark_sacker", "admissible": "1", "gap": "-10.0949615567"},
+        {"kind": "fold", "admissible": "1", "gap": "-11.0"},
+    ]
     section = {
         "transient": 100,
         "warmup": 50,
@@ -109,8 +124,19 @@ def test_the_record_renders_from_small_tables():
         "classify_periods": 2000,
         "map": {"points": 2, "gap_points": 1, "start": 0.5, "stop": 1.5, "gap_start": -40.0, "gap_stop": 15.0},
     }
-    tex = lyapunov_macros(sweep, cells, checks, section).tex()
-    assert r"\newcommand{\LyapSweepChaoticPct}{100.0}" in tex
+    table = [
+        {"direction": "up", "index": "0", "method": "simulation", "multiplier": "0.3"},
+        {"direction": "up", "index": "1", "method": "continuation", "multiplier": "0.854"},
+    ]
+    tex = lyapunov_macros(sweep, cells, checks, section, independent, special, table).tex()
+    assert r"\newcommand{\LyapSettledMaxMultiplier}{0.854}" in tex
+    assert r"\newcommand{\LyapSweepChaoticPct}{50.0}" in tex
+    # "at most" bounds round up: 1.15e-14 is not printed as 1e-14, nor 7.27e-15 as 7e-15
+    assert r"\newcommand{\LyapSumRuleMax}{\ensuremath{2\times10^{-14}}}" in tex
+    assert r"\newcommand{\LyapBackendsRegular}{\ensuremath{8\times10^{-15}}}" in tex
+    assert r"\newcommand{\LyapWindowShortLabel}{chaotic transient}" in tex
+    assert r"\newcommand{\LyapNsGap}{-10.0950}" in tex and r"\newcommand{\LyapQuasiNearGaps}{$-10.1$}" in tex
+    assert r"\newcommand{\LyapQuasiFarGaps}{none}" in tex
     assert r"\newcommand{\LyapMapQuasiPct}{100.0}" in tex
     assert r"\newcommand{\LyapMapPositivePct}{0.0}" in tex
     assert r"\newcommand{\LyapSweepMaxGap}{-16.00}" in tex

@@ -162,6 +162,8 @@ rule lyapunov_report:
         checks="figures/lyapunov_checks.json",
         independent="figures/lyapunov_independent.json",
         independent_cpu="results/benchmarks/lyapunov_independent_cpu.json",
+        special="figures/orbit_special_points.csv",
+        sweep_table="figures/sweep_gap.csv",
         speed="results/benchmarks/lyapunov_speed.json",
         sweep_timings=expand("results/benchmarks/lyapunov/sweep_{chunk}.json", chunk=LYAPUNOV_SWEEP_CHUNKS),
         map_timings=expand("results/benchmarks/lyapunov/map_{chunk}.json", chunk=LYAPUNOV_MAP_CHUNKS),
@@ -199,6 +201,7 @@ rule fig_lyapunov_map:
         ENV
     params:
         reference=parameters_json("reference"),
+        lyapunov=parameters_json("lyapunov"),
     script:
         "../scripts/fig_lyapunov_map.py"
 

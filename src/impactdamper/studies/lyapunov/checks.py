@@ -24,6 +24,8 @@ flow or its events, which they share):
 * **the sum rule** (consistency of the walk's determinants): the exponents' sum per period
   equals the free flow's trace times T plus 2 log R per impact (det of an impact's saltation
   matrix is R^2), the impacts counted by re-running each period from its section;
+* **the window** (:func:`window_check`): one point run with a short and a long window, what
+  its label says of each;
 * **the two backends** (consistency): the compiled walk against the reference's (Householder
   QR on the reference solver's events) at a periodic and a chaotic point.
 
@@ -194,6 +196,20 @@ def backends_check(p: Parameters, run: dict) -> dict:
         "largest_in_errors": float(np.max(diff / combined)),
         "same_events": (c.impacts, c.captures, c.liftoffs) == (r.impacts, r.captures, r.liftoffs),
     }
+
+
+def window_check(p: Parameters, runs) -> list[dict]:
+    """One point's spectrum from the paper's step 1 with each (transient, periods) of ``runs``:
+    what the label says of the window it averaged (its halves, the cycle it settled onto)."""
+    out = []
+    for transient, periods in runs:
+        d = lyapunov_spectrum(p, backend="compiled", transient=int(transient), periods=int(periods)).to_dict()
+        keep = ("label", "halves", "half_errors", "settled_period", "settled_since", "window", "warmup")
+        out.append(
+            {"gap": p.gap, "transient": int(transient), "periods": int(periods), "exponent": d["exponents"][0],
+             "error": d["errors"][0], **{k: d[k] for k in keep}}
+        )  # fmt: skip
+    return out
 
 
 def _cpu(call, repeats: int) -> float:
