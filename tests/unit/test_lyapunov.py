@@ -1,6 +1,8 @@
 """Lyapunov exponents of the impacting flow (impactdamper.analysis.lyapunov).
 
-Each result is checked by a computation that shares no code with the tangent map:
+Each result is checked by a computation that does not use the tangent map's product (consistency
+checks: they share the flow or the event solver; the independent check, Benettin on solve_ivp
+with no library code, is test_benettin_ivp.py's):
 
 * its pieces (impact, capture and lift-off saltation matrices, with the exact flows) against
   central finite differences of the event-driven solver across the event, and the impact

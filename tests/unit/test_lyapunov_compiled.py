@@ -3,9 +3,11 @@
 
 The compiled walk is held to the reference walk (core/tangent.py: the same motion, the same
 exponents to rounding where the motion is regular, the same events until rounding grows where
-it is chaotic) and, like the reference in test_lyapunov.py, to checks that share no code with
-either walk (tests/lyapunov_checks.py): Floquet multipliers of the orbit solver, the sum rule's
-closed form, Benettin's two-trajectory estimate with the solver alone.
+it is chaotic) and, like the reference in test_lyapunov.py, to consistency checks that do not use
+either walk's saltation matrices (tests/lyapunov_checks.py; they share its flow or its event
+solver): Floquet multipliers of the orbit solver, the sum rule's closed form, Benettin's
+two-trajectory estimate with the solver alone. The independent check (no library code) is
+test_benettin_ivp.py's.
 """
 
 import csv
