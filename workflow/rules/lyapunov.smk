@@ -118,7 +118,11 @@ rule lyapunov_checks:
 rule lyapunov_independent:
     input:
         script="workflow/scripts/lyapunov_independent.py",
-        library=library(study("config", "lyapunov/independent"), library_files("baselines/benettin_ivp"), REPORTING),
+        library=library(
+            study("config", "lyapunov/independent"),
+            library_files("baselines/__init__") + library_files("baselines/benettin_ivp"),
+            REPORTING,
+        ),
     output:
         json="figures/lyapunov_independent.json",
         cpu="results/benchmarks/lyapunov_independent_cpu.json",
