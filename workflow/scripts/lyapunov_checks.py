@@ -35,6 +35,7 @@ def main(reference: dict, lyapunov: dict, sweep_csv, out_json, log=None) -> dict
         "sum_rule": [ck.sum_rule_check(at(g), run) for g in c["sum_rule_gaps"]],
         "backends": [ck.backends_check(at(g), run) for g in c["backends_gaps"]],
         "windows": ck.window_check(at(c["window_gap"]), c["window_runs"]),
+        "torus": ck.torus_check(c["torus_orbit_gap"], c["torus_gaps"], c["torus_transient"], base),
     }
     for g in c["benettin_gaps"]:
         row = ck.benettin_check(at(g), run)

@@ -24,6 +24,8 @@ flow or its events, which they share):
 * **the sum rule** (consistency of the walk's determinants): the exponents' sum per period
   equals the free flow's trace times T plus 2 log R per impact (det of an impact's saltation
   matrix is R^2), the impacts counted by re-running each period from its section;
+* **the torus** (:func:`torus_check`): the quasi-periodic motions past the 3/2 cycle's
+  Neimark-Sacker point turn per 2 T by about the angle of that cycle's complex multipliers;
 * **the window** (:func:`window_check`): one point run with a short and a long window, what
   its label says of each;
 * **the two backends** (consistency): the compiled walk against the reference's (Householder
@@ -210,6 +212,40 @@ def window_check(p: Parameters, runs) -> list[dict]:
              "error": d["errors"][0], **{k: d[k] for k in keep}}
         )  # fmt: skip
     return out
+
+
+def rotation_per_cycle(sections: np.ndarray, k: int) -> float:
+    """The mean angle (rad, >= 0) by which a motion's sections (relative units, one per forcing
+    period) turn per k periods about their centre, in the plane of their two main directions:
+    on a torus born at a Neimark-Sacker point of a k T cycle, near the angle of the complex pair
+    of that cycle's multipliers. The mean over the k interleaved series of every k-th section."""
+    turns = []
+    for offset in range(k):
+        z = sections[offset::k] - sections[offset::k].mean(axis=0)
+        plane = np.linalg.svd(z, full_matrices=False)[2][:2]
+        w = z @ plane.T
+        angle = np.unwrap(np.arctan2(w[:, 1], w[:, 0]))
+        turns.append(abs(angle[-1] - angle[0]) / (len(angle) - 1))
+    return float(np.mean(turns))
+
+
+def torus_check(orbit_gap: float, gaps, transient: int, base: Parameters) -> dict:
+    """The quasi-periodic motions at ``gaps`` against the stable cycle at ``orbit_gap`` before its
+    Neimark-Sacker point: each motion's turn per k T (:func:`rotation_per_cycle`, after
+    ``transient`` periods, the default window) against the angle of the cycle's complex pair of
+    multipliers (the orbit solver's)."""
+    o = solve_orbit(base.replace(gap=float(orbit_gap)))
+    if not (o.solved and o.stable):
+        raise ValueError(f"no stable orbit solved at gap {orbit_gap}: {o.regime}, {o.reason}")
+    complex_pair = o.multipliers[np.abs(np.imag(o.multipliers)) > 0]
+    angle = float(np.max(np.abs(np.angle(complex_pair))))
+    rows = []
+    for gap in gaps:
+        p = base.replace(gap=float(gap))
+        s = lyapunov_spectrum(p, backend="compiled", transient=int(transient))
+        turn = rotation_per_cycle(s.sections / state_scale(p), int(o.period_multiple))
+        rows.append({"gap": p.gap, "label": s.label, "rotation": turn, "difference": abs(turn - angle)})
+    return {"orbit_gap": float(orbit_gap), "k": int(o.period_multiple), "angle": angle, "modulus": float(np.max(np.abs(complex_pair))), "motions": rows}  # fmt: skip
 
 
 def _cpu(call, repeats: int) -> float:

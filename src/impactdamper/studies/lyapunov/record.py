@@ -69,6 +69,12 @@ def label_counts(rows: list[dict], former_np) -> dict:
     }
 
 
+def _numbers(values, digits: int) -> str:
+    """``$0.8388$, $0.8310$ and $0.8208$``."""
+    shown = [f"${fixed(digits)(v)}$" for v in values]
+    return shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " and " + shown[-1]
+
+
 def _gaps(values) -> str:
     """``$-5.8$, $-9.6$ and $-14$``."""
     shown = [f"${fixed(3)(v).rstrip('0').rstrip('.')}$" for v in values]
@@ -261,6 +267,13 @@ MACROS = (
         "checks.windows.1",
         "Transient transient n Periods periods n Label label t Exponent exponent 3",
     ),
+    "% The torus: quasi-periodic motions' turn per k T against the cycle's multipliers (checks: torus)",
+    Macro("LyapTorusOrbitGap", "checks.torus.orbit_gap", fixed(2)),
+    Macro("LyapTorusAngle", "checks.torus.angle", fixed(4)),
+    Macro("LyapTorusModulus", "checks.torus.modulus", fixed(3)),
+    Macro("LyapTorusGaps", lambda s: _gaps([m["gap"] for m in s["checks"]["torus"]["motions"]])),
+    Macro("LyapTorusTurns", lambda s: _numbers([m["rotation"] for m in s["checks"]["torus"]["motions"]], 4)),
+    Macro("LyapTorusDiffMax", lambda s: max(m["difference"] for m in s["checks"]["torus"]["motions"]), up_fixed(3)),
     "% The settled sweep point whose rerun has the largest exponent (figures/sweep_gap.csv)",
     *_family(
         "LyapSettledMax",
