@@ -1,5 +1,6 @@
-"""Checks of a Lyapunov spectrum that share no code with its tangent walk (impactdamper.core.tangent,
-core/compiled/tangent.py), for the reference's tests (unit/test_lyapunov.py) and the compiled
+"""Consistency checks of a Lyapunov spectrum that do not use its tangent walk's saltation matrices
+and QR (impactdamper.core.tangent, core/compiled/tangent.py) but share its flow or its event
+solver (the independent check: unit/test_benettin_ivp.py), for the reference's tests (unit/test_lyapunov.py) and the compiled
 path's (unit/test_lyapunov_compiled.py):
 
 * at a stable periodic orbit, log|Floquet multiplier| / k from the orbit solver (Newton
@@ -9,7 +10,7 @@ path's (unit/test_lyapunov_compiled.py):
   period from its section with the reference solver;
 * Benettin's two-trajectory estimate of the largest exponent: a nearby start renormalised
   every period, the solver alone (no saltation matrices; the study's own estimate,
-  impactdamper.studies.lyapunov.checks.benettin, which shares no code with the walk).
+  impactdamper.studies.lyapunov.checks.benettin, which shares the event solver with the walk).
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
 """Lyapunov exponents of the impacting flow (impactdamper.analysis.lyapunov).
 
-Each result is checked by a computation that shares no code with the tangent map:
+Each result is checked by a computation that does not use the tangent map's product (consistency
+checks: they share the flow or the event solver; the independent check, Benettin on solve_ivp
+with no library code, is test_benettin_ivp.py's):
 
 * its pieces (impact, capture and lift-off saltation matrices, with the exact flows) against
   central finite differences of the event-driven solver across the event, and the impact
@@ -21,7 +23,16 @@ import math
 import numpy as np
 import pytest
 
-from impactdamper.analysis.lyapunov import LABELS, SIGNIFICANCE, ZERO_BAND, LyapunovSpectrum, classify_spectrum
+from impactdamper.analysis.lyapunov import (
+    LABELS,
+    SETTLE_SPAN,
+    SETTLE_TOL,
+    SIGNIFICANCE,
+    ZERO_BAND,
+    LyapunovSpectrum,
+    classify_spectrum,
+    settled_end,
+)
 from impactdamper.analysis.lyapunov import lyapunov_spectrum as any_backend_spectrum
 from lyapunov_checks import (
     BENETTIN_FLOOR,
@@ -375,22 +386,37 @@ def test_torus_after_the_neimark_sacker_point():
 # ----------------------------------------------------------------------------------------
 # Labels and arguments
 # ----------------------------------------------------------------------------------------
-def spectrum(exponents, errors) -> LyapunovSpectrum:
-    z = np.zeros((2, 4))
+# A zero-mean pattern of unit standard deviation over 10 blocks, the same in both halves.
+PATTERN = np.array([1.0, -1.0, 0.5, -0.5, 0.0] * 2)
+PATTERN /= PATTERN.std(ddof=1)
+
+
+def spectrum(exponents, errors, halves=None, sections=None) -> LyapunovSpectrum:
+    """A spectrum of 10 blocks whose largest exponent's block averages have mean ``halves``
+    (default both the exponent) and spread ``errors[0] sqrt(10)``; ``sections`` default a
+    motion that never repeats."""
+    lam = np.array(exponents, float)
+    err = np.array(errors, float)
+    blocks = np.tile(lam, (10, 1))
+    a, b = (lam[0], lam[0]) if halves is None else halves
+    if math.isfinite(lam[0]):
+        blocks[:, 0] = np.repeat([a, b], 5) + PATTERN * err[0] * math.sqrt(10)
+    if sections is None:
+        sections = np.random.default_rng(1).normal(size=(200, 4))
     return LyapunovSpectrum(
         p=REF,
-        exponents=np.array(exponents, float),
-        errors=np.array(errors, float),
-        spreads=np.array(errors, float),
-        block_averages=z,
-        increments=z,
-        sections=z,
+        exponents=lam,
+        errors=err,
+        spreads=err,
+        block_averages=blocks,
+        increments=np.zeros((len(sections), 4)),
+        sections=np.asarray(sections, float) * REF.x_st,
         t_section=0.0,
         dimension=4,
-        periods=2,
-        transient=0,
-        warmup=0,
-        blocks=2,
+        periods=len(sections),
+        transient=100,
+        warmup=50,
+        blocks=10,
         impacts=0,
         captures=0,
         liftoffs=0,
@@ -416,6 +442,55 @@ def spectrum(exponents, errors) -> LyapunovSpectrum:
 def test_labels(exponents, errors, label):
     assert label in LABELS
     assert classify_spectrum(spectrum(exponents, errors)) == label
+
+
+def test_chaotic_needs_both_halves_positive_and_agreeing():
+    """A positive exponent over the window is chaotic only if each half is positive beyond its
+    error and the halves agree within SIGNIFICANCE combined errors."""
+    lam, err = [0.3, -0.2, -0.4, -3.0], [0.02] * 4
+    est, half_err = spectrum(lam, err).halves
+    # each half's error: the within-half spread pooled over 8 degrees of freedom (9/8 of the
+    # block variance about the overall mean, here) over sqrt(5 blocks)
+    assert np.allclose(est, 0.3, atol=1e-12) and np.allclose(half_err, 0.02 * math.sqrt(2 * 9 / 8), rtol=1e-12)
+    assert classify_spectrum(spectrum(lam, err, halves=(0.3, 0.3))) == "chaotic"
+    # the halves 0.30 apart at a combined error of 0.042: they disagree (a transient dying out)
+    assert classify_spectrum(spectrum(lam, err, halves=(0.45, 0.15))) == "not settled"
+    # 2.5 combined errors apart: agree, both positive
+    assert classify_spectrum(spectrum(lam, err, halves=(0.35, 0.25))) == "chaotic"
+    # the halves agree (1.9 combined errors) but the second is within 3 errors (0.09) of zero
+    assert classify_spectrum(spectrum(lam, err, halves=(0.14, 0.06))) == "not settled"
+
+
+def test_a_run_settled_by_its_end_is_a_chaotic_transient():
+    """Positive over the window, but its last sections repeat every 7 periods (the default run
+    at gap -10.6): a chaotic transient, settled from the section where the cycle starts."""
+    rng = np.random.default_rng(2)
+    cycle = rng.normal(size=(7, 4))
+    sections = np.vstack([rng.normal(size=(150, 4)), np.tile(cycle, (8, 1))[:50]])
+    sections[150:] += 1e-6 * rng.normal(size=(50, 4))  # converging, within SETTLE_TOL
+    s = spectrum([0.3, -0.2, -0.4, -3.0], [0.02] * 4, sections=sections)
+    assert settled_end(sections) == (7, 150)
+    assert s.settled == (7, 100 + 50 + 150)
+    assert s.label == "chaotic transient"
+    d = s.to_dict()
+    assert (d["settled_period"], d["settled_since"], d["window"]) == (7, 300, [150, 350])
+    # A cycle repeating only to 10 SETTLE_TOL is not settled.
+    sections[150:] += 10 * SETTLE_TOL * rng.normal(size=(50, 4))
+    assert settled_end(sections) is None
+    # Fewer repeating sections than SETTLE_SPAN at the end: not settled.
+    short = np.vstack([rng.normal(size=(190, 4)), np.tile(cycle, (2, 1))[: SETTLE_SPAN - 10]])
+    assert settled_end(short) is None
+
+
+@pytest.mark.slow
+def test_gap_minus_10_6_default_run_is_a_chaotic_transient():
+    """The reported case: with the defaults the largest exponent is positive (+0.18) but the
+    motion lands on a 7 T cycle before the window ends; run longer it is periodic."""
+    s = any_backend_spectrum(REF.replace(gap=-10.6))
+    assert s.exponents[0] > 0.1 and s.label == "chaotic transient", (s.exponents, s.settled)
+    assert s.settled[0] == 7
+    longer = any_backend_spectrum(REF.replace(gap=-10.6), transient=3000, periods=4000)
+    assert longer.label == "periodic" and longer.exponents[0] < -ZERO_BAND
 
 
 @pytest.mark.parametrize(

@@ -86,21 +86,38 @@ def test_every_macro_the_section_uses_is_declared():
 
 def test_the_record_renders_from_small_tables():
     sweep = [
-        {"direction": "up", "value": "-16", "label": "np", "motion": "chaotic", "exponent": "0.8"},
-        {"direction": "up", "value": "-5.8", "label": "1/1", "motion": "", "exponent": "-0.34"},
-    ]
+        {"direction": "up", "index": "0", "value": "-16", "label": "np", "motion": "chaotic", "exponent": "0.8"},
+        {"direction": "up", "index": "1", "value": "-5.8", "label": "1/1", "motion": "", "exponent": "-0.34",
+         "error": "1e-4", "half1": "-0.34", "half2": "-0.34", "periods": "200"},
+        {"direction": "down", "value": "-10.1", "label": "np", "motion": "quasi-periodic", "exponent": "0.0",
+         "error": "1e-5", "exponent2": "-0.02", "error2": "1e-4", "impacts_per_period": "1.5"},
+    ]  # fmt: skip
     cells = [
         {"regime": "nonperiodic", "motion": "quasi-periodic", "exponent": "0.0"},
         {"regime": "single_impact", "motion": "", "exponent": "-0.3"},
     ]
-    check = {"gap": -5.8, "difference": 1e-12, "per_period_residual": 1e-14, "total_residual": 1e-15}
+    check = {"gap": -5.8, "difference": 1e-12, "per_period_residual": 1.15e-14, "total_residual": 1e-15}
     checks = {
         "floquet": [check],
         "sum_rule": [check],
         "benettin": [{"gap": -16.0, "agrees": True, "same_motion_difference": 1e-6}],
         "benettin_floor": 1e-6,
-        "backends": [{"gap": -5.8, "difference": 1e-14}, {"gap": -16.0, "largest_in_errors": 0.5}],
-    }
+        "backends": [{"gap": -5.8, "difference": 7.27e-15}, {"gap": -16.0, "largest_in_errors": 0.5}],
+        "windows": [
+            {"gap": -10.6, "transient": 500, "periods": 2000, "label": "chaotic transient", "exponent": 0.18,
+             "error": 0.024, "halves": [0.18, 0.12], "half_errors": [0.03, 0.03], "settled_period": 7,
+             "settled_since": 2630},
+            {"gap": -10.6, "transient": 3000, "periods": 4000, "label": "periodic", "exponent": -0.038},
+        ],
+        "torus": {"orbit_gap": -10.05, "k": 2, "angle": 0.839, "modulus": 0.967,
+                  "motions": [{"gap": -10.144, "rotation": 0.831, "difference": 0.0081}]},
+    }  # fmt: skip
+    run = {"exponent": 0.85, "error": 0.02, "periods": 2000, "transient": 100, "rtol": 1e-12, "separation": 1e-7}
+    independent = {"gap": -16.0, "difference": 0.04, "in_combined_errors": 1.15, "ivp": run, "tangent": run}
+    special = [
+        {"kind": "neimark_sacker", "admissible": "1", "gap": "-10.0949615567"},
+        {"kind": "fold", "admissible": "1", "gap": "-11.0"},
+    ]
     section = {
         "transient": 100,
         "warmup": 50,
@@ -109,8 +126,20 @@ def test_the_record_renders_from_small_tables():
         "classify_periods": 2000,
         "map": {"points": 2, "gap_points": 1, "start": 0.5, "stop": 1.5, "gap_start": -40.0, "gap_stop": 15.0},
     }
-    tex = lyapunov_macros(sweep, cells, checks, section).tex()
-    assert r"\newcommand{\LyapSweepChaoticPct}{100.0}" in tex
+    table = [
+        {"direction": "up", "index": "0", "method": "simulation", "multiplier": "0.3"},
+        {"direction": "up", "index": "1", "method": "continuation", "multiplier": "0.854"},
+    ]
+    tex = lyapunov_macros(sweep, cells, checks, section, independent, special, table).tex()
+    assert r"\newcommand{\LyapSettledMaxMultiplier}{0.854}" in tex
+    assert r"\newcommand{\LyapSweepChaoticPct}{50.0}" in tex
+    # "at most" bounds round up: 1.15e-14 is not printed as 1e-14, nor 7.27e-15 as 7e-15
+    assert r"\newcommand{\LyapSumRuleMax}{\ensuremath{2\times10^{-14}}}" in tex
+    assert r"\newcommand{\LyapBackendsRegular}{\ensuremath{8\times10^{-15}}}" in tex
+    assert r"\newcommand{\LyapWindowShortLabel}{chaotic transient}" in tex
+    assert r"\newcommand{\LyapNsGap}{-10.0950}" in tex and r"\newcommand{\LyapQuasiNearGaps}{$-10.1$}" in tex
+    assert r"\newcommand{\LyapQuasiFarGaps}{none}" in tex
+    assert r"\newcommand{\LyapTorusDiffMax}{0.009}" in tex  # 0.0081 rounded up
     assert r"\newcommand{\LyapMapQuasiPct}{100.0}" in tex
     assert r"\newcommand{\LyapMapPositivePct}{0.0}" in tex
     assert r"\newcommand{\LyapSweepMaxGap}{-16.00}" in tex
@@ -171,3 +200,33 @@ def test_the_committed_map_labels_its_np_cells_and_only_those():
     for c in cells:
         assert (c["motion"] in LABELS) == (c["regime"] == "nonperiodic"), c
     assert all(math.isfinite(float(c["exponent"])) for c in cells if c["regime"] != "failed")
+
+
+def test_rotation_per_cycle_reads_a_known_turn():
+    """Sections turning by 0.7 rad a period about a centre, in a tilted plane of the 4 states,
+    with a small third direction: 0.7 per period, 1.4 per 2 T (the mean of the two interleaved
+    series). On the 2:1 ellipse the polar angle differs from the phase by at most
+    atan(sqrt 2) - atan(1/sqrt 2) = 0.34 rad at either end, so the mean turn is off by at most
+    0.68 / 399 (1.7e-3) and 0.68 / 199 (3.4e-3)."""
+    from impactdamper.studies.lyapunov.checks import rotation_per_cycle
+
+    n = np.arange(400)
+    plane = np.linalg.qr(np.random.default_rng(3).normal(size=(4, 3)))[0].T
+    z = np.column_stack([2.0 * np.cos(0.7 * n), 1.0 * np.sin(0.7 * n), 1e-3 * np.cos(0.1 * n)]) @ plane
+    y = z + np.array([1.0, -5.0, 0.3, 0.2])
+    assert rotation_per_cycle(y, 1) == pytest.approx(0.7, abs=1.7e-3)
+    assert rotation_per_cycle(y, 2) == pytest.approx(1.4, abs=3.4e-3)
+    assert rotation_per_cycle(y, 1) != pytest.approx(0.69, abs=1.7e-3)
+
+
+@pytest.mark.slow
+def test_torus_turns_by_the_neimark_sacker_angle():
+    """Just past the 3/2 cycle's Neimark-Sacker point (-10.0950) the motion's sections turn per
+    2 T by the angle of the cycle's complex multipliers at -10.05 (0.8391): measured 0.8388 at
+    -10.096 (bound 0.005: the angle drifts by 0.001 between -10.0 and -10.05) and 0.8310 at
+    -10.144 (bound 0.02)."""
+    from impactdamper.studies.lyapunov.checks import torus_check
+
+    t = torus_check(-10.05, [-10.096, -10.144], 2000, REF)
+    assert t["k"] == 2 and t["modulus"] < 1.0
+    assert t["motions"][0]["difference"] <= 0.005 and t["motions"][1]["difference"] <= 0.02, t

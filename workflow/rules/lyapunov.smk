@@ -2,7 +2,8 @@
 # along the gap sweep (each point of the sweeps stage's table run again from its start state,
 # both directions; the np points labelled), over the theta map's plane on a grid of its own
 # (config: lyapunov.map; its np cells labelled after the Newton rescue), the checks that do not
-# use the tangent walk (Floquet multipliers, Benettin, the sum rule, the two backends), the
+# use the tangent walk (Floquet multipliers, Benettin, the sum rule, the two backends: consistency
+# checks, sharing its flow or events) and the independent one (Benettin on solve_ivp), the
 # benchmark, the stage's record and its figures. The sweep's rows and the map's rows run as
 # chunks, one job each (lyapunov.sweep_chunks, lyapunov.map.chunks), gathered afterwards.
 # Convention: every script runs through `script:` and has a main() the tests call directly.
@@ -114,6 +115,30 @@ rule lyapunov_checks:
         "../scripts/lyapunov_checks.py"
 
 
+rule lyapunov_independent:
+    input:
+        script="workflow/scripts/lyapunov_independent.py",
+        library=library(
+            study("config", "lyapunov/independent"),
+            library_files("baselines/__init__") + library_files("baselines/benettin_ivp"),
+            REPORTING,
+        ),
+    output:
+        json="figures/lyapunov_independent.json",
+        cpu="results/benchmarks/lyapunov_independent_cpu.json",
+    log:
+        "logs/lyapunov/independent.log",
+    benchmark:
+        benchmark_file("lyapunov_independent")
+    conda:
+        ENV
+    params:
+        reference=parameters_json("reference"),
+        lyapunov=parameters_json("lyapunov"),
+    script:
+        "../scripts/lyapunov_independent.py"
+
+
 rule lyapunov_speed:
     input:
         script="workflow/scripts/lyapunov_speed.py",
@@ -139,6 +164,10 @@ rule lyapunov_report:
         sweep="figures/lyapunov_sweep.csv",
         map="figures/lyapunov_map.csv",
         checks="figures/lyapunov_checks.json",
+        independent="figures/lyapunov_independent.json",
+        independent_cpu="results/benchmarks/lyapunov_independent_cpu.json",
+        special="figures/orbit_special_points.csv",
+        sweep_table="figures/sweep_gap.csv",
         speed="results/benchmarks/lyapunov_speed.json",
         sweep_timings=expand("results/benchmarks/lyapunov/sweep_{chunk}.json", chunk=LYAPUNOV_SWEEP_CHUNKS),
         map_timings=expand("results/benchmarks/lyapunov/map_{chunk}.json", chunk=LYAPUNOV_MAP_CHUNKS),
@@ -176,6 +205,7 @@ rule fig_lyapunov_map:
         ENV
     params:
         reference=parameters_json("reference"),
+        lyapunov=parameters_json("lyapunov"),
     script:
         "../scripts/fig_lyapunov_map.py"
 
@@ -185,6 +215,7 @@ LYAPUNOV_TARGETS = [
     "figures/lyapunov_map.pdf",
     "figures/lyapunov_map.png",
     "figures/lyapunov_checks.json",
+    "figures/lyapunov_independent.json",
     "paper/generated/lyapunov_macros.tex",
     "paper/generated/lyapunov_benettin_table.tex",
     "paper/generated/lyapunov_timing.tex",

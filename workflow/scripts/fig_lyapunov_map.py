@@ -2,13 +2,15 @@
 exponent over the plane of the theta map, the initial gap Delta0/x_st against theta =
 omega/omega1.
 
-The paper has no such figure. Colour: the largest exponent lambda_1 T per forcing period of
-the motion each cell settles on (each row a gap sweep upward, cell from cell; the cells left
-nonperiodic after the Newton rescue from the labelling run), on a scale symmetric about zero
-and clipped at its ends; white: zero (a neutral direction). Markers on the cells left
-nonperiodic, by their label: chaotic (largest exponent positive beyond its error), quasi-
-periodic (zero within its error, the next negative), periodic (a transient slower than the
-cap) and not settled. Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1).
+The paper has no such figure. Colour: the largest exponent of the motion each cell settles on
+(each row a gap sweep upward, cell from cell; the cells left nonperiodic after the Newton
+rescue from the labelling run) in the object's time, lambda_1 / omega1 = lambda_1 T theta /
+(2 pi): per forcing period the same rate would scale as 1/theta along the theta axis. On a
+scale symmetric about zero and clipped at its ends; white: zero (a neutral direction). Markers
+on the cells left nonperiodic, by their label (analysis/lyapunov.py): chaotic (positive beyond
+its error in both halves of the window, not settled by its end), chaotic transient, quasi-
+periodic (zero within its error, the next negative), periodic (a transient slower than the cap)
+and not settled. Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1).
 
 Deviation: none (no counterpart in the paper).
 """
@@ -20,32 +22,36 @@ from impactdamper.reporting.plotting import figure_size, finish_figure, use_styl
 from impactdamper.reporting.records import read_csv, run_stage
 from impactdamper.studies.vocabulary import SPEC
 
-# The colour scale's ends, per forcing period: the chaotic bands reach ~1.3, the periodic
-# motions' slowest decay is ~-0.3 to -0.7; beyond +-CLIP the colour saturates.
-CLIP = 1.0
+# The colour scale's ends, lambda_1 / omega1: the chaotic bands reach ~0.25, the periodic
+# motions' slowest decay is ~-0.05 to -0.1; beyond +-CLIP the colour saturates.
+CLIP = 0.2
 # Markers of the former np cells by label (the labels of analysis/lyapunov.py).
 MARKERS = {
     "chaotic": ("x", "k", "chaotic"),
+    "chaotic transient": ("+", "0.35", "chaotic transient"),
     "quasi-periodic": ("o", "k", "quasi-periodic"),
     "periodic": ("^", "0.35", "periodic (slow transient)"),
     "not settled": ("s", "0.35", "not settled"),
 }
 
 
-def main(reference: dict, map_csv, out_pdf, out_png) -> None:
+def main(reference: dict, lyapunov: dict, map_csv, out_pdf, out_png) -> None:
     plt = use_style()
     rows = read_csv(map_csv)
     slow = np.array(sorted({float(r["slow"]) for r in rows}))
     gaps = np.array(sorted({float(r["gap"]) for r in rows}))
     lam = np.full((len(slow), len(gaps)), np.nan)
+    by_theta = lyapunov["map"]["parameter"] == "theta"
     for r in rows:
-        lam[int(r["i"]), int(r["j"])] = float(r["exponent"]) if r["exponent"] not in ("", "nan") else np.nan
+        theta = float(r["slow"]) if by_theta else float(reference["theta"])
+        per_period = float(r["exponent"]) if r["exponent"] not in ("", "nan") else np.nan
+        lam[int(r["i"]), int(r["j"])] = per_period * theta / (2.0 * np.pi)
     fig, ax = plt.subplots(figsize=figure_size(4.5), layout="constrained")
     mesh = ax.pcolormesh(
         gaps, slow, np.clip(lam, -CLIP, CLIP), cmap="RdBu_r", vmin=-CLIP, vmax=CLIP, shading="nearest", rasterized=True
     )
     bar = fig.colorbar(mesh, ax=ax, extend="both", pad=0.02)
-    bar.set_label("largest exponent $\\lambda_1 T$ per forcing period")
+    bar.set_label("largest exponent $\\lambda_1/\\omega_1$")
     handles, names = [], []
     for label, (marker, color, name) in MARKERS.items():
         cells = [r for r in rows if r["motion"] == label]
@@ -57,7 +63,7 @@ def main(reference: dict, map_csv, out_pdf, out_png) -> None:
             marker=marker,
             s=6,
             lw=0.5,
-            facecolors="none" if marker != "x" else color,
+            facecolors="none" if marker not in ("x", "+") else color,
             edgecolors=color,
             zorder=3,
         )
@@ -74,7 +80,7 @@ def main(reference: dict, map_csv, out_pdf, out_png) -> None:
     finish_figure(fig, out_pdf, out_png)
 
 
-JOB = "params.reference input.map output.pdf output.png"
+JOB = "params.reference params.lyapunov input.map output.pdf output.png"
 
 if __name__ == "__main__":
     run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

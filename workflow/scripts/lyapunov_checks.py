@@ -6,7 +6,8 @@ the exponents against the orbit solver's Floquet multipliers; at np points of th
 (each checked to be np in the sweep's table) the largest exponent against Benettin's
 two-trajectory estimate by the solver alone; the sum of the exponents against its closed form
 (the free flow's trace and 2 log R per impact); the compiled walk against the reference's at a
-periodic and a chaotic point (:mod:`impactdamper.studies.lyapunov.checks`).
+periodic and a chaotic point; one point's label over a short and a long window
+(:mod:`impactdamper.studies.lyapunov.checks`).
 
 Output: ``figures/lyapunov_checks.json`` (deterministic: no timings).
 """
@@ -33,6 +34,8 @@ def main(reference: dict, lyapunov: dict, sweep_csv, out_json, log=None) -> dict
         "benettin": [],
         "sum_rule": [ck.sum_rule_check(at(g), run) for g in c["sum_rule_gaps"]],
         "backends": [ck.backends_check(at(g), run) for g in c["backends_gaps"]],
+        "windows": ck.window_check(at(c["window_gap"]), c["window_runs"]),
+        "torus": ck.torus_check(c["torus_orbit_gap"], c["torus_gaps"], c["torus_transient"], base),
     }
     for g in c["benettin_gaps"]:
         row = ck.benettin_check(at(g), run)

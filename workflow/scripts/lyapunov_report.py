@@ -4,7 +4,8 @@ numbers for the report's section on Lyapunov exponents, as LaTeX macros and a bo
 
 Outputs ``results/report/lyapunov.json`` (the stage's record, from which the macros and the
 README's lines are rendered), ``paper/generated/lyapunov_macros.tex`` (thresholds, run lengths,
-the labels of the former np points of the sweep and the map, the checks),
+the labels of the former np points of the sweep and the map, the checks, the independent
+check, the quasi-periodic points against the Neimark-Sacker points),
 ``paper/generated/lyapunov_benettin_table.tex`` (Benettin's checks) and
 ``paper/generated/lyapunov_timing.tex`` (the benchmark's CPU times: not deterministic).
 """
@@ -21,6 +22,10 @@ def main(
     sweep_csv,
     map_csv,
     checks_json,
+    independent_json,
+    independent_cpu_json,
+    special_csv,
+    sweep_table_csv,
     speed_json,
     sweep_timings,
     map_timings,
@@ -30,7 +35,10 @@ def main(
     out_timing,
 ) -> None:
     checks = read_json(checks_json)
-    m = lyapunov_macros(read_csv(sweep_csv), read_csv(map_csv), checks, lyapunov)
+    m = lyapunov_macros(
+        read_csv(sweep_csv), read_csv(map_csv), checks, lyapunov, read_json(independent_json), read_csv(special_csv),
+        read_csv(sweep_table_csv),
+    )  # fmt: skip
     write_json(out_record, m.record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))
@@ -38,11 +46,13 @@ def main(
     bench = read_json(speed_json)
     bench["sweep_cpu_s"] = sum(read_json(f)["cpu_s"] for f in sweep_timings)
     bench["map_cpu_s"] = sum(read_json(f)["cpu_s"] for f in map_timings)
+    bench["independent_cpu_s"] = read_json(independent_cpu_json)["cpu_s"]
     Path(out_timing).write_text(timing(bench))
 
 
 JOB = (
-    "params.lyapunov input.sweep input.map input.checks input.speed input.sweep_timings:list "
+    "params.lyapunov input.sweep input.map input.checks input.independent input.independent_cpu input.special input.sweep_table "
+    "input.speed input.sweep_timings:list "
     "input.map_timings:list output.record output.macros output.table output.timing"
 )
 

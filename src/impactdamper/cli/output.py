@@ -133,6 +133,13 @@ def _print_lyapunov(r: dict) -> None:
         f"{r['captures']} captures, {r['liftoffs']} lift-offs, contact {100 * r['contact_time']:.2f} % of the time "
         f"({r['backend']}{', fallback ' + r['fallback'] if r['fallback'] else ''})"
     )
+    (a, b), (ea, eb) = r["halves"], r["half_errors"]
+    if ea is not None:
+        first, last = r["window"]
+        halves = f"largest over periods {first}-{(first + last) // 2} and {(first + last) // 2}-{last}: "
+        print(f"  {halves}{a:.4g} +- {ea:.2g} and {b:.4g} +- {eb:.2g}")
+    if r["settled_period"] is not None:
+        print(f"  settled onto a {r['settled_period']} T cycle from period {r['settled_since']} on")
 
 
 def _print_design(r: dict) -> None:

@@ -276,7 +276,8 @@ def _add_lyapunov_command(sub, defaults: Parameters) -> None:
     spectrum = sub.add_parser(
         "lyapunov",
         help="Lyapunov spectrum of the motion (exact tangent map, saltation matrices): exponents with "
-        "errors and a label (chaotic, quasi-periodic, periodic, not settled)",
+        "errors and a label over the run's window (chaotic, chaotic transient, quasi-periodic, periodic, "
+        "not settled)",
         epilog=LYAPUNOV_KEYS,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -297,9 +298,16 @@ LYAPUNOV_KEYS = """JSON keys (--json), exponents per forcing period T (log|mu|/k
   exponents, errors, spreads  four exponents, largest first (null: -inf, the directions a capture
                   into persistent contact annihilates), their block standard errors and spreads
   exponents_per_second        the same over T, 1/s
-  label           chaotic (largest > significance x error and > zero_band), periodic (largest
-                  < 0 likewise), quasi-periodic (largest within zero_band with its error, next
-                  negative) or not settled
+  label           over the window: chaotic (largest > significance x error and > zero_band, so
+                  in both halves, the halves agreeing within significance combined errors, the
+                  motion not settled onto a cycle by the end), chaotic transient (largest
+                  positive, but settled by the end), periodic (largest < 0 likewise),
+                  quasi-periodic (largest within zero_band with its error, next negative) or
+                  not settled
+  halves, half_errors         the largest exponent over each half of the window, its errors
+  settled_period, settled_since   the cycle (k of k T) the motion settled onto by the window's
+                  end, and from which period on (null: not settled)
+  window          [first, last) period of the averaged window, counted from the start
   significance, zero_band     the label's thresholds
   dimension       4, or 2 once captured; periods, transient, warmup, blocks: the run
   impacts, captures, liftoffs, grazing, contact_time   events and share of time in contact

@@ -2,20 +2,32 @@
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100. Each check compares the
 spectrum (:func:`impactdamper.analysis.lyapunov.lyapunov_spectrum`, the compiled walk: exact
-transition matrices, saltation matrices, QR) with a computation that does not use the tangent
-walk:
+transition matrices, saltation matrices, QR) with another computation. One is independent
+(it shares no flow, event or model code with the walk); the others are consistency checks in
+the sense of the report's Section 3.6 (they test the walk's saltation matrices and QR, not its
+flow or its events, which they share):
 
-* **Floquet multipliers** (independent): at a stable periodic orbit every exponent equals
-  log|mu_i| / k per forcing period, mu_i the eigenvalues of the monodromy matrix of the orbit
-  solver (:func:`impactdamper.analysis.orbits.solve_orbit`: Newton shooting, one product over
-  one cycle), against the walk's weighted average over thousands of periods;
-* **Benettin's two-trajectory estimate** (independent): the largest exponent from the growth of
-  a small separation between two runs of the solver alone, renormalised every period (the
-  stroboscopic map of the same backend: no saltation matrix, no tangent), along the same motion
-  and on the next stretch of the attractor;
-* **the sum rule** (a consistency check of the walk's determinants): the exponents' sum per
-  period equals the free flow's trace times T plus 2 log R per impact (det of an impact's
-  saltation matrix is R^2), the impacts counted by re-running each period from its section;
+* **Benettin on solve_ivp** (independent,
+  :func:`impactdamper.studies.lyapunov.independent.independent_check`): the largest exponent
+  from two trajectories of :mod:`impactdamper.baselines.benettin_ivp` (its own equations,
+  parameter conversion and impact law, DOP853 with event location; no library code), started
+  from the walk's last section (4 numbers) after a transient of its own;
+* **Floquet multipliers** (consistency: the same flow propagator): at a stable periodic orbit
+  every exponent equals log|rho_i| / k per forcing period, rho_i the eigenvalues of the
+  monodromy matrix of the orbit solver (:func:`impactdamper.analysis.orbits.solve_orbit`:
+  Newton shooting, one product over one cycle), against the walk's weighted average over
+  thousands of periods;
+* **Benettin's two-trajectory estimate** (consistency: the same event solver): the largest
+  exponent from the growth of a small separation between two runs of the solver alone,
+  renormalised every period (the stroboscopic map of the same backend: no saltation matrix, no
+  tangent), along the same motion and on the next stretch of the attractor;
+* **the sum rule** (consistency of the walk's determinants): the exponents' sum per period
+  equals the free flow's trace times T plus 2 log R per impact (det of an impact's saltation
+  matrix is R^2), the impacts counted by re-running each period from its section;
+* **the torus** (:func:`torus_check`): the quasi-periodic motions past the 3/2 cycle's
+  Neimark-Sacker point turn per 2 T by about the angle of that cycle's complex multipliers;
+* **the window** (:func:`window_check`): one point run with a short and a long window, what
+  its label says of each;
 * **the two backends** (consistency): the compiled walk against the reference's (Householder
   QR on the reference solver's events) at a periodic and a chaotic point.
 
@@ -186,6 +198,54 @@ def backends_check(p: Parameters, run: dict) -> dict:
         "largest_in_errors": float(np.max(diff / combined)),
         "same_events": (c.impacts, c.captures, c.liftoffs) == (r.impacts, r.captures, r.liftoffs),
     }
+
+
+def window_check(p: Parameters, runs) -> list[dict]:
+    """One point's spectrum from the paper's step 1 with each (transient, periods) of ``runs``:
+    what the label says of the window it averaged (its halves, the cycle it settled onto)."""
+    out = []
+    for transient, periods in runs:
+        d = lyapunov_spectrum(p, backend="compiled", transient=int(transient), periods=int(periods)).to_dict()
+        keep = ("label", "halves", "half_errors", "settled_period", "settled_since", "window", "warmup")
+        out.append(
+            {"gap": p.gap, "transient": int(transient), "periods": int(periods), "exponent": d["exponents"][0],
+             "error": d["errors"][0], **{k: d[k] for k in keep}}
+        )  # fmt: skip
+    return out
+
+
+def rotation_per_cycle(sections: np.ndarray, k: int) -> float:
+    """The mean angle (rad, >= 0) by which a motion's sections (relative units, one per forcing
+    period) turn per k periods about their centre, in the plane of their two main directions:
+    on a torus born at a Neimark-Sacker point of a k T cycle, near the angle of the complex pair
+    of that cycle's multipliers. The mean over the k interleaved series of every k-th section."""
+    turns = []
+    for offset in range(k):
+        z = sections[offset::k] - sections[offset::k].mean(axis=0)
+        plane = np.linalg.svd(z, full_matrices=False)[2][:2]
+        w = z @ plane.T
+        angle = np.unwrap(np.arctan2(w[:, 1], w[:, 0]))
+        turns.append(abs(angle[-1] - angle[0]) / (len(angle) - 1))
+    return float(np.mean(turns))
+
+
+def torus_check(orbit_gap: float, gaps, transient: int, base: Parameters) -> dict:
+    """The quasi-periodic motions at ``gaps`` against the stable cycle at ``orbit_gap`` before its
+    Neimark-Sacker point: each motion's turn per k T (:func:`rotation_per_cycle`, after
+    ``transient`` periods, the default window) against the angle of the cycle's complex pair of
+    multipliers (the orbit solver's)."""
+    o = solve_orbit(base.replace(gap=float(orbit_gap)))
+    if not (o.solved and o.stable):
+        raise ValueError(f"no stable orbit solved at gap {orbit_gap}: {o.regime}, {o.reason}")
+    complex_pair = o.multipliers[np.abs(np.imag(o.multipliers)) > 0]
+    angle = float(np.max(np.abs(np.angle(complex_pair))))
+    rows = []
+    for gap in gaps:
+        p = base.replace(gap=float(gap))
+        s = lyapunov_spectrum(p, backend="compiled", transient=int(transient))
+        turn = rotation_per_cycle(s.sections / state_scale(p), int(o.period_multiple))
+        rows.append({"gap": p.gap, "label": s.label, "rotation": turn, "difference": abs(turn - angle)})
+    return {"orbit_gap": float(orbit_gap), "k": int(o.period_multiple), "angle": angle, "modulus": float(np.max(np.abs(complex_pair))), "motions": rows}  # fmt: skip
 
 
 def _cpu(call, repeats: int) -> float:

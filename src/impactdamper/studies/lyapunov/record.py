@@ -9,13 +9,25 @@ config's run lengths; no number is typed by hand. Used by ``workflow/scripts/lya
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 
-from impactdamper.analysis.lyapunov import LABELS, SIGNIFICANCE, ZERO_BAND
+from impactdamper.analysis.lyapunov import (
+    DEFAULT_BLOCKS,
+    DEFAULT_TRANSIENT,
+    DEFAULT_WARMUP,
+    LABELS,
+    MAX_SETTLED_PERIOD,
+    SETTLE_SPAN,
+    SETTLE_TOL,
+    SIGNIFICANCE,
+    ZERO_BAND,
+)
 from impactdamper.reporting import latex
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import (
     COUNT,
+    TEXT,
     Column,
     Format,
     Macro,
@@ -23,6 +35,7 @@ from impactdamper.reporting.texrecord import (
     fixed,
     macro_lines,
     percent,
+    bound,
     tex_sci,
     time,
 )
@@ -32,7 +45,13 @@ __all__ = ["RECORD_WHAT", "label_counts", "lyapunov_macros", "benettin_table", "
 # What the stage's record holds (results/report/lyapunov.json).
 RECORD_WHAT = "Macros of the report's section 'Lyapunov exponents' (Lyapunov stage)"
 # The labels' macro-name parts.
-LABEL_PARTS = {"chaotic": "Chaotic", "quasi-periodic": "Quasi", "periodic": "Periodic", "not settled": "Unsettled"}
+LABEL_PARTS = {
+    "chaotic": "Chaotic",
+    "chaotic transient": "ChaoticTransient",
+    "quasi-periodic": "Quasi",
+    "periodic": "Periodic",
+    "not settled": "Unsettled",
+}
 
 
 def label_counts(rows: list[dict], former_np) -> dict:
@@ -50,10 +69,104 @@ def label_counts(rows: list[dict], former_np) -> dict:
     }
 
 
+def _numbers(values, digits: int) -> str:
+    """``$0.8388$, $0.8310$ and $0.8208$``."""
+    shown = [f"${fixed(digits)(v)}$" for v in values]
+    return shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " and " + shown[-1]
+
+
 def _gaps(values) -> str:
     """``$-5.8$, $-9.6$ and $-14$``."""
     shown = [f"${fixed(3)(v).rstrip('0').rstrip('.')}$" for v in values]
     return shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " and " + shown[-1]
+
+
+def upper(digits: int = 1) -> Format:
+    """:func:`~impactdamper.reporting.texrecord.bound` (the magnitude rounded up, so that "at
+    most" holds) in math mode, for a macro used in text."""
+    b = bound(digits)
+    return Format(lambda x: rf"\ensuremath{{{b.render(x)}}}", rf"\ensuremath{{{b.missing}}}")
+
+
+def quasi_points(sweep_rows: list[dict], special_rows: list[dict]) -> dict:
+    """The gap sweep's points labelled quasi-periodic, each with its second exponent and its
+    distance to the nearest Neimark-Sacker point of an admissible branch
+    (figures/orbit_special_points.csv), and those points."""
+    ns = sorted(float(r["gap"]) for r in special_rows if r["kind"] == "neimark_sacker" and r["admissible"] == "1")
+    points = []
+    for r in sweep_rows:
+        if r["motion"] != "quasi-periodic":
+            continue
+        gap = float(r["value"])
+        near = min(ns, key=lambda g: abs(g - gap)) if ns else None
+        points.append(
+            {
+                "direction": r["direction"],
+                "gap": gap,
+                "exponent": float(r["exponent"]),
+                "error": float(r["error"]),
+                "exponent2": float(r["exponent2"]),
+                "error2": float(r["error2"]),
+                "impacts_per_period": float(r["impacts_per_period"]),
+                "ns_gap": near,
+                "ns_distance": None if near is None else abs(gap - near),
+            }
+        )
+    return {"ns_gaps": ns, "points": points}
+
+
+def settled_max(sweep_rows: list[dict], sweep_table: list[dict]) -> dict:
+    """The point the sweep settled (not np) whose rerun has the largest exponent, with the
+    sweep table's row for it (its label, how it was found, its largest multiplier): a rerun on
+    a chaotic transient beside a stable cycle where the exponent is positive."""
+    rows = [r for r in sweep_rows if r["label"] != "np" and r["exponent"] not in ("", "nan")]
+    top = max(rows, key=lambda r: float(r["exponent"]))
+    table = next(t for t in sweep_table if (t["direction"], t["index"]) == (top["direction"], top["index"]))
+    numbers = ("value", "exponent", "error", "half1", "half2", "periods")
+    return {
+        "direction": top["direction"],
+        "label": top["label"],
+        **{k: float(top[k]) for k in numbers},
+        "method": table["method"],
+        "multiplier": float(table["multiplier"]) if table["multiplier"] else None,
+    }
+
+
+# A quasi-periodic point "near" a Neimark-Sacker point: within this many x_st of it.
+NEAR_NS = 0.2
+
+
+def _near(p: dict) -> bool:
+    return p["ns_distance"] is not None and p["ns_distance"] <= NEAR_NS
+
+
+def _quasi_list(q: dict, near: bool) -> str:
+    """The quasi-periodic gaps within NEAR_NS of a Neimark-Sacker point (``near``) or not."""
+    gaps = sorted({p["gap"] for p in q["points"] if _near(p) == near})
+    return _gaps(gaps) if gaps else "none"
+
+
+def _far_rates(q: dict) -> str:
+    """The impacts per period of the quasi-periodic points far from a Neimark-Sacker point."""
+    rates = {p["gap"]: p["impacts_per_period"] for p in q["points"] if not _near(p)}
+    shown = [f"${latex.fixed(rates[g], 4)}$" for g in sorted(rates)]  # (in the order of _quasi_list)
+    return shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " and " + shown[-1] if shown else "none"
+
+
+def up_fixed(digits: int) -> Format:
+    """Fixed decimals rounded up (an "at most" distance)."""
+    return Format(lambda x: latex.fixed(math.ceil(x * 10**digits) / 10**digits, digits))
+
+
+def _family(prefix: str, where: str, fields: str) -> list:
+    """Macros ``prefix + name`` of the record's ``where + "." + key``, from ``fields``: triples
+    "name key format", the format ``n`` (a count), ``t`` (text) or a number of decimals."""
+    words = fields.split()
+    formats = {"n": COUNT, "t": TEXT}
+    return [
+        Macro(prefix + name, f"{where}.{key}", formats[f] if f in formats else fixed(int(f)))
+        for name, key, f in zip(words[::3], words[1::3], words[2::3])
+    ]
 
 
 def _label_macros(where: str, part: str) -> list:
@@ -68,12 +181,24 @@ MACROS = (
     "% The labels' thresholds (analysis/lyapunov.py), per forcing period",
     Macro("LyapSignificance", "significance", fixed(0)),
     Macro("LyapZeroBand", "zero_band", tex_sci(0, powers_of_ten=True, math_mode=True)),
+    Macro("LyapSettleSpan", "settle.span", COUNT),
+    Macro("LyapSettleMaxK", "settle.max_k", COUNT),
+    Macro("LyapSettleTol", "settle.tol", tex_sci(0, powers_of_ten=True, math_mode=True)),
+    Macro("LyapBlocks", "defaults.blocks", COUNT),
+    Macro("LyapDefaultTransient", "defaults.transient", COUNT),
+    Macro("LyapDefaultWarmup", "defaults.warmup", COUNT),
     "% Run lengths (config: lyapunov), forcing periods",
     Macro("LyapTransient", "run.transient", COUNT),
     Macro("LyapWarmup", "run.warmup", COUNT),
     Macro("LyapPeriods", "run.periods", COUNT),
     Macro("LyapClassifyWarmup", "run.classify_warmup", COUNT),
     Macro("LyapClassifyPeriods", "run.classify_periods", COUNT),
+    Macro("LyapClassifyFrom", lambda s: s["run"]["transient"] + s["run"]["classify_warmup"], COUNT),
+    Macro(
+        "LyapClassifyTo",
+        lambda s: s["run"]["transient"] + s["run"]["classify_warmup"] + s["run"]["classify_periods"],
+        COUNT,
+    ),
     "% The gap sweep: its points, the former np points and their labels",
     Macro("LyapSweepPoints", "sweep.points", COUNT),
     Macro("LyapSweepNp", "sweep.np", COUNT),
@@ -95,34 +220,106 @@ MACROS = (
     Macro("LyapMapPositivePct", "map_positive", percent(1)),
     "% The checks (figures/lyapunov_checks.json)",
     Macro("LyapFloquetGaps", lambda s: _gaps([c["gap"] for c in s["checks"]["floquet"]])),
-    Macro("LyapFloquetMax", lambda s: max(c["difference"] for c in s["checks"]["floquet"]), tex_sci(1, math_mode=True)),
+    Macro("LyapFloquetMax", lambda s: max(c["difference"] for c in s["checks"]["floquet"]), upper(1)),
     Macro("LyapBenettinCount", lambda s: len(s["checks"]["benettin"]), COUNT),
     Macro("LyapBenettinAgree", lambda s: sum(c["agrees"] for c in s["checks"]["benettin"]), COUNT),
     Macro(
         "LyapBenettinSameMax",
         lambda s: max(c["same_motion_difference"] for c in s["checks"]["benettin"]),
-        tex_sci(1, math_mode=True),
+        upper(1),
     ),
     Macro("LyapBenettinFloor", "checks.benettin_floor", tex_sci(0, powers_of_ten=True, math_mode=True)),
     Macro("LyapSumRuleGaps", lambda s: _gaps([c["gap"] for c in s["checks"]["sum_rule"]])),
     Macro(
         "LyapSumRuleMax",
         lambda s: max(c["per_period_residual"] for c in s["checks"]["sum_rule"]),
-        tex_sci(1, math_mode=True),
+        upper(1),
     ),
     Macro(
         "LyapSumRuleTotalMax",
         lambda s: max(c["total_residual"] for c in s["checks"]["sum_rule"]),
-        tex_sci(1, math_mode=True),
+        upper(1),
     ),
     Macro("LyapBackendsRegularGap", "checks.backends.0.gap", fixed(1)),
-    Macro("LyapBackendsRegular", "checks.backends.0.difference", tex_sci(1, math_mode=True)),
+    Macro("LyapBackendsRegular", "checks.backends.0.difference", upper(1)),
     Macro("LyapBackendsChaoticGap", "checks.backends.1.gap", fixed(1)),
-    Macro("LyapBackendsChaoticSigma", "checks.backends.1.largest_in_errors", fixed(1)),
+    Macro("LyapBackendsChaoticSigma", "checks.backends.1.largest_in_errors", up_fixed(1)),
+    "% The independent check (figures/lyapunov_independent.json): Benettin on solve_ivp",
+    *_family(
+        "LyapIndep",
+        "independent",
+        "Gap gap 1 Tangent tangent.exponent 3 TangentErr tangent.error 3 Ivp ivp.exponent 3 IvpErr ivp.error 3 "
+        "Diff difference 3 Sigma in_combined_errors 2 Periods ivp.periods n Transient ivp.transient n",
+    ),
+    Macro("LyapIndepRtol", "independent.ivp.rtol", tex_sci(0, powers_of_ten=True, math_mode=True)),
+    Macro("LyapIndepSeparation", "independent.ivp.separation", tex_sci(0, powers_of_ten=True, math_mode=True)),
+    "% The window's effect: one point run with two lengths (figures/lyapunov_checks.json: windows)",
+    Macro("LyapWindowGap", "checks.windows.0.gap", fixed(1)),
+    *_family(
+        "LyapWindowShort",
+        "checks.windows.0",
+        "Transient transient n Periods periods n Label label t Exponent exponent 3 Error error 3 "
+        "HalfOne halves.0 3 HalfTwo halves.1 3 HalfErr half_errors.0 3 SettledK settled_period n "
+        "SettledSince settled_since n",
+    ),
+    *_family(
+        "LyapWindowLong",
+        "checks.windows.1",
+        "Transient transient n Periods periods n Label label t Exponent exponent 3",
+    ),
+    "% The torus: quasi-periodic motions' turn per k T against the cycle's multipliers (checks: torus)",
+    Macro("LyapTorusOrbitGap", "checks.torus.orbit_gap", fixed(2)),
+    Macro("LyapTorusAngle", "checks.torus.angle", fixed(4)),
+    Macro("LyapTorusModulus", "checks.torus.modulus", fixed(3)),
+    Macro("LyapTorusGaps", lambda s: _gaps([m["gap"] for m in s["checks"]["torus"]["motions"]])),
+    Macro("LyapTorusTurns", lambda s: _numbers([m["rotation"] for m in s["checks"]["torus"]["motions"]], 4)),
+    Macro("LyapTorusDiffMax", lambda s: max(m["difference"] for m in s["checks"]["torus"]["motions"]), up_fixed(3)),
+    "% The settled sweep point whose rerun has the largest exponent (figures/sweep_gap.csv)",
+    *_family(
+        "LyapSettledMax",
+        "settled_max",
+        "Gap value 3 Direction direction t Label label t Method method t Multiplier multiplier 3 "
+        "Exponent exponent 3 Error error 3 HalfOne half1 3 HalfTwo half2 3 Periods periods n",
+    ),
+    "% The quasi-periodic points of the gap sweep and the Neimark-Sacker points (orbit_special_points.csv)",
+    Macro("LyapQuasiCount", lambda s: len(s["quasi"]["points"]), COUNT),
+    Macro("LyapQuasiErrMax", lambda s: max((p["error"] for p in s["quasi"]["points"]), default=None), upper(1)),
+    Macro("LyapNsGap", lambda s: s["quasi"]["ns_gaps"][0] if s["quasi"]["ns_gaps"] else None, fixed(4)),
+    Macro("LyapQuasiNearGaps", lambda s: _quasi_list(s["quasi"], True)),
+    Macro("LyapQuasiFarGaps", lambda s: _quasi_list(s["quasi"], False)),
+    Macro("LyapQuasiFarRates", lambda s: _far_rates(s["quasi"])),
+    Macro(
+        "LyapQuasiNearMax",
+        lambda s: max((p["ns_distance"] for p in s["quasi"]["points"] if _near(p)), default=None),
+        up_fixed(3),
+    ),
+    Macro(
+        "LyapQuasiNearSecond",
+        lambda s: max((p["exponent2"] for p in s["quasi"]["points"] if _near(p)), default=None),
+        fixed(4),
+    ),
+    Macro(
+        "LyapQuasiNearSecondMin",
+        lambda s: min((p["exponent2"] for p in s["quasi"]["points"] if _near(p)), default=None),
+        fixed(3),
+    ),
+    Macro(
+        "LyapQuasiSecondMax",
+        lambda s: max((p["exponent2"] for p in s["quasi"]["points"]), default=None),
+        fixed(3),
+    ),
 )
 
 
-def lyapunov_macros(sweep_rows: list[dict], map_rows: list[dict], checks: dict, section: dict) -> MacroFile:
+def lyapunov_macros(
+    sweep_rows: list[dict],
+    map_rows: list[dict],
+    checks: dict,
+    section: dict,
+    independent: dict,
+    special_rows: list[dict],
+    sweep_table: list[dict],
+) -> MacroFile:
     """The stage's macros (the record of ``paper/generated/lyapunov_macros.tex``).
 
     Parameters
@@ -134,6 +331,12 @@ def lyapunov_macros(sweep_rows: list[dict], map_rows: list[dict], checks: dict, 
         figures/lyapunov_checks.json.
     section : dict
         The config's ``lyapunov`` section (run lengths, the map's grid).
+    independent : dict
+        figures/lyapunov_independent.json.
+    special_rows : list of dict
+        figures/orbit_special_points.csv (the Neimark-Sacker points).
+    sweep_table : list of dict
+        figures/sweep_gap.csv (the sweep's own labels and multipliers).
     """
     exponents = [r for r in sweep_rows if r["exponent"] not in ("", "nan")]
     top = max(exponents, key=lambda r: float(r["exponent"]))
@@ -141,6 +344,8 @@ def lyapunov_macros(sweep_rows: list[dict], map_rows: list[dict], checks: dict, 
     source = {
         "significance": SIGNIFICANCE,
         "zero_band": ZERO_BAND,
+        "settle": {"span": SETTLE_SPAN, "max_k": MAX_SETTLED_PERIOD, "tol": SETTLE_TOL},
+        "defaults": {"blocks": DEFAULT_BLOCKS, "transient": DEFAULT_TRANSIENT, "warmup": DEFAULT_WARMUP},
         "run": section,
         "map_grid": section["map"],
         "sweep": label_counts(sweep_rows, lambda r: r["label"] == "np"),
@@ -149,6 +354,9 @@ def lyapunov_macros(sweep_rows: list[dict], map_rows: list[dict], checks: dict, 
         "map": label_counts(map_rows, lambda r: r["regime"] == "nonperiodic"),
         "map_positive": sum(float(r["exponent"]) > 0.0 for r in cells) / len(cells),
         "checks": checks,
+        "independent": independent,
+        "quasi": quasi_points(sweep_rows, special_rows),
+        "settled_max": settled_max(sweep_rows, sweep_table),
     }
     return MacroFile(macro_lines(MACROS, source))
 
@@ -158,11 +366,17 @@ def math_fixed(digits: int) -> Format:
     return Format(lambda x: f"${latex.fixed(x, digits)}$", f"${latex.MISSING}$")
 
 
+def math_bound(digits: int) -> Format:
+    """An upper bound in math mode (a table's cell: ``$3.3\\times10^{-6}$``): :func:`bound`."""
+    b = bound(digits)
+    return Format(lambda x: f"${b.render(x)}$", f"${latex.MISSING}$")
+
+
 BENETTIN_TABLE = Table(
-    colspec="rrrrrr",
+    colspec="rrrrrrr",
     header=(
         r"$\Delta_0/x_{\mathrm{st}}$ & $\lambda_1 T$ & std.\ error & Benettin & std.\ error & "
-        r"$|\mathrm{difference}|$"
+        r"$|\mathrm{difference}|$ & same motion"
     ),
     columns=(
         Column("gap", math_fixed(3)),
@@ -171,6 +385,7 @@ BENETTIN_TABLE = Table(
         Column("benettin", math_fixed(4)),
         Column("benettin_error", math_fixed(4)),
         Column("difference", math_fixed(4)),
+        Column("same_motion_difference", math_bound(2)),
     ),
     comments=("Benettin's two-trajectory estimate against the largest exponent (lyapunov stage)",),
 )
@@ -196,6 +411,7 @@ TIMING = (
     Macro("LyapCommandWall", "command_wall_s", time()),
     Macro("LyapSweepCpu", "sweep_cpu_s", time()),
     Macro("LyapMapCpu", "map_cpu_s", time()),
+    Macro("LyapIndepCpu", "independent_cpu_s", time()),
 )
 
 

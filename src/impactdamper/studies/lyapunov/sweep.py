@@ -8,7 +8,7 @@ for the point started from, at the forcing's phase 0), so that it follows the mo
 followed, and its Lyapunov spectrum is computed by the exact tangent map
 (:func:`impactdamper.analysis.lyapunov.lyapunov_spectrum`) after a transient: a short run for
 every point (the exponent panel under the bifurcation diagram) and, for a point the sweep
-called ``np``, a run long enough to label it (chaotic, quasi-periodic, periodic, not settled).
+called ``np``, a run long enough to label it (:data:`impactdamper.analysis.lyapunov.LABELS`).
 """
 
 from __future__ import annotations
@@ -42,6 +42,11 @@ COLUMNS = [
     "impacts_per_period",
     "backend",
     "fallback",
+    "half1",
+    "half2",
+    "half_error",
+    "settled_period",
+    "settled_since",
 ]
 
 
@@ -77,7 +82,11 @@ def start_state(p: Parameters, row: dict) -> np.ndarray:
 
 def spectrum_row(row: dict, s: LyapunovSpectrum, label: bool) -> dict:
     """One row of the exponents' table from a sweep row and its spectrum (``label``: its motion
-    is labelled, else "")."""
+    is labelled, else ""): with the largest exponent over each half of the window (and the
+    halves' pooled error), and the cycle k T the motion settled onto by the window's end and the
+    period it did so from, counted from the run's start ("" if not)."""
+    halves, half_errors = s.halves
+    settled = s.settled or ("", "")
     return {
         "direction": row["direction"],
         "index": int(row["index"]),
@@ -93,6 +102,11 @@ def spectrum_row(row: dict, s: LyapunovSpectrum, label: bool) -> dict:
         "impacts_per_period": s.impacts / s.periods,
         "backend": s.backend,
         "fallback": s.fallback,
+        "half1": float(halves[0]),
+        "half2": float(halves[1]),
+        "half_error": float(half_errors[0]),
+        "settled_period": settled[0],
+        "settled_since": settled[1],
     }
 
 
