@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from impactdamper.core.parameters import PARAMETER_TABLE
 from impactdamper.reporting.plotting import ANNOTATION_SIZE
 
 # Line style of a branch's piece, by its state.
@@ -22,6 +23,8 @@ ZOOM_SHADE = "0.9"  # the right column's window, shaded in the left column
 # Spectral radius axis (log): the radius grows without bound at a vanishing impact.
 RADIUS_LIMITS = (0.2, 5.0)
 RADIUS_TICKS = (0.2, 0.5, 1.0, 2.0, 5.0)
+# The gap's axis label: its row of the parameter table.
+_GAP_LABEL = next(s.label for s in PARAMETER_TABLE if s.name == "gap")
 
 
 def radius_axis(ax_r) -> None:
@@ -35,7 +38,7 @@ def radius_axis(ax_r) -> None:
     ax_r.yaxis.set_major_locator(FixedLocator(RADIUS_TICKS))
     ax_r.yaxis.set_major_formatter(FormatStrFormatter("%g"))
     ax_r.yaxis.set_minor_locator(NullLocator())
-    ax_r.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
+    ax_r.set_xlabel(_GAP_LABEL)
 
 
 def mark_special(
