@@ -40,6 +40,9 @@ import numpy as np
 import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
+from impactdamper.studies.vocabulary import SPEC
+
+GAP = SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
 
 plt.style.use(plotting.STYLE_FILE)  # the project's one figure style (inline backend kept)
 
@@ -212,7 +215,7 @@ def algorithm1_figure(results):
         top, bottom = axes[0, col], axes[1, col]
         top.plot(tau / r.p.T, x1b, label=r"$\bar x_1$")
         top.plot(tau / r.p.T, x2b, label=r"$\bar x_2$")
-        top.set_title(rf"Algorithm No. 1, $\Delta_0/x_{{st}} = {r.p.gap:g}$")
+        top.set_title(rf"Algorithm No. 1, ${GAP} = {r.p.gap:g}$")
         bottom.plot(tau / r.p.T, x1b - x2b, color="C2")
         bottom.axhline(0.0, color="k", lw=0.8)
         for lo, hi in r.negative_gap_intervals:
@@ -274,7 +277,7 @@ ax.fill_between(
 )
 for g in (p.gap, p10.gap):
     ax.axvline(g, color="C3", lw=0.8, ls=":")
-ax.set_xlabel(r"$\Delta_0/x_{st}$")
+ax.set_xlabel(SPEC["gap"].label)
 ax.set_ylabel(r"smallest interior gap minimum / $x_{st}$")
 ax.set_title("Algorithm No. 1 over the gap setting (dotted: -10 and -5.8)")
 ax.legend(loc="lower right")
@@ -362,7 +365,7 @@ def transient_figure(s):
     right.set_xlabel(r"period $n$")
     right.set_ylabel("section mismatch")
     right.legend(loc="lower left")
-    fig.suptitle(rf"Algorithm No. 2 from step 1, $\Delta_0/x_{{st}} = {p_.gap:g}$", fontsize=9)
+    fig.suptitle(rf"Algorithm No. 2 from step 1, ${GAP} = {p_.gap:g}$", fontsize=9)
     return fig
 
 
@@ -395,7 +398,7 @@ def cycle_figure(s, title=""):
         top.annotate(f"$t_{j}$", (m, 1.0), xycoords=("data", "axes fraction"), ha="center", va="bottom", fontsize=8)
     top.set_ylabel("relative coordinate")
     top.legend(loc="lower right")
-    top.set_title(title or rf"{s.regime}, $T_c = {s.period_multiple}T$, $\Delta_0/x_{{st}} = {p_.gap:g}$", pad=12)
+    top.set_title(title or rf"{s.regime}, $T_c = {s.period_multiple}T$, ${GAP} = {p_.gap:g}$", pad=12)
     bottom.set_ylabel(r"$\Delta/x_{st}$")
     bottom.set_xlabel(r"$(t - t_1)/T$")
     return fig

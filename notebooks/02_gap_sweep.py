@@ -36,6 +36,9 @@ import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
 from impactdamper.analysis import ladder, point, sweeps, transitions
+from impactdamper.studies.vocabulary import SPEC
+
+GAP = SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -186,7 +189,7 @@ for value, text, style in (
 ):
     amp.axhline(value, ls=style, lw=0.9, color="C5", label=f"{text}: {value:.2f}")
 amp.set_ylabel(r"max $|x_1|/x_{st}$")
-amp.set_xlabel(r"$\Delta_0/x_{st}$")
+amp.set_xlabel(SPEC["gap"].label)
 amp.legend(loc="lower left", fontsize=7, ncol=2)
 edges = [
     thresholds["stuck lift-off"],
@@ -199,7 +202,7 @@ for ax in (vel, phase, amp):
     ax.axvline(-5.8, color="k", lw=0.5, ls=":")
     for e in edges:
         ax.axvline(e, color="C5", lw=0.5, ls="--")
-fig.suptitle(r"Reference case of Fig. 2, $\Delta_0/x_{st}$ varied", fontsize=9)
+fig.suptitle(f"Reference case of Fig. 2, {SPEC['gap'].label} varied", fontsize=9)
 # %%
 # The reading below describes what was computed above; stop here if it no longer does.
 for points in runs.values():
@@ -267,7 +270,7 @@ for ax, s in zip(axes[:, 0], cases):
     mode = s.trajectory.sample(t)[1]
     ax.fill_between(tt, 0, 1, where=mode == "stuck", transform=ax.get_xaxis_transform(), color="C5", alpha=0.25, lw=0)
     period = f", $T_c = {s.period_multiple}T$" if s.settled else ""
-    ax.set_title(rf"{s.regime}{period}, $\Delta_0/x_{{st}} = {p_.gap:g}$", fontsize=8, loc="left", pad=2)
+    ax.set_title(rf"{s.regime}{period}, ${GAP} = {p_.gap:g}$", fontsize=8, loc="left", pad=2)
     ax.set_ylabel("rel. coord.")
 axes[0, 0].legend(loc="upper right", ncol=2, fontsize=7)
 axes[-1, 0].set_xlabel(r"$(t - t_{\rm end})/T$")
@@ -308,7 +311,7 @@ if nonperiodic:
     ax.plot(full[:, 0] / pt.p.x_st, full[:, 2] / (pt.p.x_st * pt.p.omega), ".", ms=1.5)
     ax.set_xlabel(r"$x_1/x_{st}$ at $t = nT$")
     ax.set_ylabel(r"$\dot x_1/(x_{st}\omega)$ at $t = nT$")
-    ax.set_title(rf"Stroboscopic section, $\Delta_0/x_{{st}} = {pt.value:g}$, periods 500-1500", fontsize=8)
+    ax.set_title(rf"Stroboscopic section, ${GAP} = {pt.value:g}$, periods 500-1500", fontsize=8)
 else:
     print("no nonperiodic motion in the upward sweep")
 

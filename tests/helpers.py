@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 import impactdamper as idp
+from impactdamper.reporting.readme import RESULTS_HEADER
 
 REF = idp.Parameters()
 
@@ -232,3 +233,16 @@ def heavy_modules_after(statement: str, also: tuple[str, ...] = ()) -> list[str]
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return ast.literal_eval(out.stdout)
+
+
+def parse_results_table(text: str) -> list[dict[str, str]]:
+    """The rows of the first results table in ``text`` (Markdown), each a dict by column name:
+    the inverse of :func:`impactdamper.reporting.readme.results_table`, for the README's test."""
+    lines = [ln for ln in text.splitlines() if ln.startswith("|")]
+    if not lines or [c.strip() for c in lines[0].strip("|").split(" | ")] != list(RESULTS_HEADER):
+        raise ValueError("`text` holds no results table")
+    out = []
+    for ln in lines[2:]:
+        cells = [c.strip().replace("\\|", "|") for c in ln.strip().strip("|").split(" | ")]
+        out.append(dict(zip(RESULTS_HEADER, cells)))
+    return out

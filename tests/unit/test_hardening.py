@@ -37,6 +37,7 @@ from hypothesis import strategies as st
 import impactdamper as idp
 from impactdamper.cli import main
 from impactdamper.core.events import SearchLimitError
+from impactdamper.core.parameters import PARAMETER_TABLE
 
 REF = idp.Parameters()
 SIMULATE = sys.modules["impactdamper.core.simulate"]  # (the package's `simulate` is the function)
@@ -579,6 +580,17 @@ def test_continue_orbit_checks_its_arguments(reference_orbit, kwargs, name):
     with pytest.raises(ValueError) as info:
         idp.continue_orbit(reference_orbit, **kwargs)
     assert str(info.value).startswith(f"`{name}`") and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("spec", [s for s in PARAMETER_TABLE if s.allowed], ids=lambda s: s.name)
+def test_continue_orbit_bounds_keep_to_every_parameters_range(reference_orbit, spec):
+    """Every parameter of the table with a range (a new one too: the range is read from its row,
+    not from a second table) refuses bounds reaching below it, naming the range."""
+    value = float(getattr(reference_orbit.p, spec.name))
+    with pytest.raises(ValueError) as info:
+        idp.continue_orbit(reference_orbit, spec.name, (-1.0, value + 1.0))
+    message = str(info.value)
+    assert message.startswith("`bounds` = (-1.0, ") and f"`{spec.name}` must be {spec.allowed}," in message
 
 
 def test_continue_orbit_at_extreme_scales_is_the_reference_branch(reference_orbit):

@@ -90,9 +90,6 @@ def test_floats_are_split_by_label_and_read_their_files_and_body_macros():
         (r"Fig.~\ref{fig:model}", None),
     ]
     assert rows[1].records == ("figures/fig2a_located.csv", "figures/reference_located.json")
-    tex = pv.appendix_table(rows, "figure or table")
-    assert r"\path{fig2a} & \path{workflow/scripts/fig2a.py}" in tex
-    assert "drawn in the report's source" in tex
 
 
 def test_inline_sections_follows_inputs_of_sections_only():
@@ -129,12 +126,6 @@ def test_the_author_line_and_locator_come_from_the_citation_metadata():
     )
     assert r"\newcommand{\ReportAuthors}{A. B and C. D\_E}" in tex
     assert r"\newcommand{\ReportLocator}{\url{https://example.org/x}}" in tex
-
-
-def test_a_captioned_table_labels_its_first_page_only():
-    tex = pv.appendix_table([pv.Row("Fig.~1", "fig2a", "workflow/scripts/fig2a.py", ())], "f", "Where.", "tab:x")
-    assert tex.count(r"\label{tab:x}") == 1 and tex.index(r"\label{tab:x}") < tex.index(r"\endfirsthead")
-    assert r"\caption[]{(continued)}" in tex and r"& \path{fig2a} & \path{workflow/scripts/fig2a.py} & --- \\" in tex
 
 
 def test_the_compact_table_gathers_each_rules_parts_and_flags_uncommitted_timings():

@@ -3,7 +3,9 @@ back by the parser the README's test uses."""
 
 import pytest
 
-from impactdamper.reporting.readme import RESULTS_HEADER, parse_results_table, results_table
+from helpers import parse_results_table
+
+from impactdamper.reporting.readme import RESULTS_HEADER, results_table
 
 
 def test_the_results_table_has_its_header_and_one_line_per_row():

@@ -4,7 +4,6 @@ studies use derives from it (impactdamper.studies.vocabulary)."""
 
 import json
 import re
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -81,7 +80,6 @@ def test_readme_names_the_parameters_the_record_searched():
     """The README's table names the nearest single change by the parameter's symbol: every
     parameter the verdict's record searched alone (its macros, the committed TeX file holding the
     same names as its record) has one."""
-    sys.path.insert(0, str(ROOT / "workflow" / "scripts"))
     from readme_summary import SYMBOLS
 
     from impactdamper.core.parameters import PARAMETER_TABLE
@@ -91,3 +89,11 @@ def test_readme_names_the_parameters_the_record_searched():
     searched = [s.name for s in PARAMETER_TABLE if f"Claims{s.macro}NearestBoth" in names]
     assert searched == ["theta", "mu", "N", "delta1", "delta2", "R"]
     assert set(searched) <= set(SYMBOLS)
+
+
+def test_the_unicode_names_are_the_plain_names_with_greek_letters():
+    """The README's parameter names (vocabulary.UNICODE) are the table's plain names with each
+    word naming a Greek letter written as the letter, and nothing else changed."""
+    from impactdamper.studies.vocabulary import UNICODE
+
+    assert [UNICODE[s.name] for s in PARAMETER_TABLE] == ["θ", "μ", "N", "δ1", "δ2", "R", "Δ0/x_st", "ω", "x_st", "m1"]

@@ -7,7 +7,7 @@ import json
 import re
 from pathlib import Path
 
-from impactdamper.reporting.readme import parse_results_table
+from helpers import parse_results_table
 from readme_summary import SYMBOLS  # the README's names of the parameters
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -10,7 +10,7 @@
 rule notebook_reference_case:
     input:
         notebook="notebooks/01_reference_case.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
     output:
         "results/notebooks/01_reference_case.ipynb",
@@ -27,7 +27,7 @@ rule notebook_reference_case:
 rule notebook_gap_sweep:
     input:
         notebook="notebooks/02_gap_sweep.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
     output:
         "results/notebooks/02_gap_sweep.ipynb",
@@ -44,7 +44,7 @@ rule notebook_gap_sweep:
 rule notebook_your_own_damper:
     input:
         notebook="notebooks/03_your_own_damper.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
     output:
         "results/notebooks/03_your_own_damper.ipynb",

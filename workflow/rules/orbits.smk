@@ -33,7 +33,7 @@ rule fig_orbit_branches:
     input:
         script="workflow/scripts/fig_orbit_branches.py",
         style=STYLE,
-        library=library(study("config", "intervals", "sweeps/branches"), REPORTING),
+        library=library(study("config", "intervals", "sweeps/branches", "vocabulary"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",
@@ -53,7 +53,7 @@ rule fig_orbit_branches:
 rule orbit_report:
     input:
         script="workflow/scripts/orbit_report.py",
-        library=library(study("config", "intervals", "sweeps/branches", "sweeps/orbit_record"), REPORTING),
+        library=library(study("config", "intervals", "sweeps/branches", "sweeps/orbit_record", "vocabulary"), REPORTING),
         branches="figures/orbit_branches.csv",
         special="figures/orbit_special_points.csv",
         summary="figures/orbit_summary.json",

@@ -79,7 +79,7 @@ rule performance_cost_growth:
 rule fig_cost_growth:
     input:
         script="workflow/scripts/fig_cost_growth.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         csv="figures/cost_growth.csv",
     output:
@@ -98,7 +98,7 @@ rule fig_cost_growth:
 rule performance_hardcases:
     input:
         script="workflow/scripts/hardcases.py",
-        library=library(BASELINES, study("config", "performance/hardcases"), REPORTING),
+        library=library(BASELINES, study("config", "performance/hardcases", "vocabulary"), REPORTING),
     output:
         csv="figures/hardcases.csv",
         json="results/benchmarks/hardcases.json",

@@ -90,7 +90,7 @@ rule fig2a:
     input:
         script="workflow/scripts/fig2a.py",
         style=STYLE,
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         csv="figures/fig2a_{case}.csv",
         json="figures/reference_{case}.json",
     output:
@@ -112,7 +112,7 @@ rule fig2b:
     input:
         script="workflow/scripts/fig2b.py",
         style=STYLE,
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         csv="figures/fig2b_{case}.csv",
         json="figures/reference_{case}.json",
     output:
@@ -212,7 +212,7 @@ rule fig_located_range:
     input:
         script="workflow/scripts/fig_located_range.py",
         style=STYLE,
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         csv="figures/gap_scan.csv",
         json="figures/located_case.json",
     output:

@@ -104,7 +104,7 @@ ALL_TARGETS.append("paper/report.pdf")
 rule readme_summary:
     input:
         script="workflow/scripts/readme_summary.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         # The report stages' records, in this order (a later stage's macro of the same name wins).
         records=[
             "results/report/verdict.json",

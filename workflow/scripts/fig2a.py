@@ -20,6 +20,7 @@ import numpy as np
 from impactdamper.reporting.records import read_json, run_stage
 from impactdamper.reporting.figures import label_above, motion_figure, plot_motion
 from impactdamper.reporting.plotting import CASE_LABELS, finish_figure
+from impactdamper.studies.vocabulary import SPEC
 
 
 # Light red of the shaded negative-gap stretch.
@@ -32,7 +33,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     gap = data["parameters"]["gap"]
     fig, ax, axg = motion_figure()
     label = CASE_LABELS[case]
-    title = f"The paper's Fig. 2a, {label}: Algorithm No. 1, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$"
+    title = f"The paper's Fig. 2a, {label}: Algorithm No. 1, ${SPEC['gap'].symbol} = {gap:g}$"
     if not a["exists"]:
         ax.text(
             0.5, 0.5, "Algorithm No. 1 has no orbit:\n" + a["reason"], ha="center", va="center", transform=ax.transAxes

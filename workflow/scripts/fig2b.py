@@ -21,6 +21,7 @@ import numpy as np
 from impactdamper.reporting.records import read_json, run_stage
 from impactdamper.reporting.figures import label_above, motion_figure, plot_motion
 from impactdamper.reporting.plotting import CASE_LABELS, finish_figure
+from impactdamper.studies.vocabulary import SPEC
 
 
 CYCLE_COLOR = "#e8eef6"
@@ -35,7 +36,7 @@ def main(case: str, curve_csv, case_json, out_pdf, out_png) -> None:
     label = CASE_LABELS[case]
     period = "T" if k == 1 else f"{k}T"
     cycle = f"$T_c = {period}$, {n} impact{'s' if n != 1 else ''} per cycle" if k else "no settled period"
-    title = f"The paper's Fig. 2b, {label}: Algorithm No. 2, $\\Delta_0/x_{{\\mathrm{{st}}}} = {gap:g}$: {cycle}"
+    title = f"The paper's Fig. 2b, {label}: Algorithm No. 2, ${SPEC['gap'].symbol} = {gap:g}$: {cycle}"
     t, x1, x2, g = np.loadtxt(curve_csv, delimiter=",", skiprows=1, unpack=True)
     fig, ax, axg = motion_figure()
     if k:

@@ -12,6 +12,7 @@ Timings are CPU time on the machine that ran the workflow: not pixel-stable acro
 
 from impactdamper.reporting.plotting import TEXT_WIDTH, figure_size, finish_figure, use_style
 from impactdamper.reporting.records import read_csv, run_stage
+from impactdamper.studies.vocabulary import SPEC
 
 
 MARKERS = ("o", "s", "^", "v", "D")
@@ -28,7 +29,7 @@ def main(in_csv, out_stem) -> None:
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=figure_size(0.4 * TEXT_WIDTH), layout="constrained")
     for gap, marker in zip(gaps, MARKERS):
         rs = sorted((r for r in rows if r["gap"] == gap), key=lambda r: r["periods"])
-        label = rf"$\Delta_0/x_{{\mathrm{{st}}}} = {gap:g}$"
+        label = f"${SPEC['gap'].symbol} = {gap:g}$"
         ax1.plot(
             [r["periods"] for r in rs],
             [r["cpu_seconds"] for r in rs],

@@ -23,6 +23,7 @@ import numpy as np
 from impactdamper.reporting.records import read_csv, read_json, run_stage
 from impactdamper.reporting.figures import label_above
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
+from impactdamper.studies.vocabulary import SPEC
 
 
 RANGE_COLOR = "#f4cccc"
@@ -52,7 +53,7 @@ def main(scan_csv, scan_json, out_pdf, out_png) -> None:
     if off.any():
         ax2.plot(g[off], np.full(off.sum(), Y_MAX + 0.2), "^", ms=3, color="C1", label=f"more than {Y_MAX} impacts")
     ax2.set_ylabel("Algorithm No. 2")
-    ax2.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
+    ax2.set_xlabel(SPEC["gap"].label)
     orbit = scan.get("orbit_range", {})
     lo, hi = scan["window"]["gap_min"], scan["window"]["gap_max"]
     marks = [

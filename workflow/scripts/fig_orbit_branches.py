@@ -40,6 +40,7 @@ from impactdamper.reporting.branch_figure import (
     radius_axis,
 )
 from impactdamper.reporting.plotting import figure_size, finish_figure, legend_in_rows, use_style
+from impactdamper.studies.vocabulary import SPEC
 
 
 # The zoom window (right column), Delta0/x_st: the multi-impact branches with some margin.
@@ -118,7 +119,7 @@ def main(branches_csv, special_csv, summary_json, out_pdf, out_png) -> None:
                     labelled[col].add(where)
                     offset = LABEL_OFFSET.get((n, s["kind"], s["leg"]), LABEL_OFFSET.get((n, s["kind"]), (0, 6)))
                     label_point(ax_x, KIND_MARK[s["kind"]], (g, cell_float(s["x1_max"])), offset, on)
-        radius_axis(ax_r)
+        radius_axis(ax_r, SPEC["gap"].label)
         # The cases.
         for case in ("stated", "located"):
             c = summary["cases"][case]

@@ -16,7 +16,9 @@ table says what the committed records say.
 import sys
 from pathlib import Path
 
+from impactdamper.core.parameters import RELATIVE_PARAMETERS
 from impactdamper.reporting.readme import read_records, results_table
+from impactdamper.studies.vocabulary import UNICODE
 
 # The report's sections that give the long account, by their titles (tests/workflow/test_readme.py
 # holds them to the report's \section titles).
@@ -25,13 +27,14 @@ ORBITS = "Periodic orbits and their stability"
 SWEEPS = "Gap sweeps and regime maps"
 DESIGN = "Choosing a suppressor"
 PERFORMANCE = "Speed against error, and hard cases"
-# The relative parameters as the README writes them.
-SYMBOLS = {"theta": "θ", "mu": "μ", "N": "N", "delta1": "δ1", "delta2": "δ2", "R": "R", "gap": "Δ0/x_st"}
+# The relative parameters as the README writes them (the parameter table's plain names in Unicode).
+SYMBOLS = {name: UNICODE[name] for name in RELATIVE_PARAMETERS}
+GAP, THETA = SYMBOLS["gap"], SYMBOLS["theta"]
 
 
 def rows(m: dict[str, str]) -> list[tuple[str, str, str, str]]:
     """The table's rows: (claim or question, verdict or answer, evidence, the report's section)."""
-    stated = f"at the stated case (Δ0/x_st = {m['StatedGap']})"
+    stated = f"at the stated case ({GAP} = {m['StatedGap']})"
     ivp = (
         f"the independent solve_ivp integration settles to the same cycle: impact times differ by "
         f"{m['StatedIvpTimeDiff']} T, closing velocities by {m['StatedIvpVelocityDiff']} x_st ω "
@@ -64,15 +67,15 @@ def rows(m: dict[str, str]) -> list[tuple[str, str, str, str]]:
         ),
         (
             "Where both claims hold, the other parameters as stated",
-            f"Δ0/x_st in [{m['BothRangeLo']}, {m['BothRangeHi']}]",
+            f"{GAP} in [{m['BothRangeLo']}, {m['BothRangeHi']}]",
             f"the {m['OrbitLabelDouble']} cycle (three impacts in two periods) is stable on "
-            f"({m['OrbitStableDoubleLow']}, {m['OrbitStableDoubleHigh']}); at the located case Δ0/x_st = "
+            f"({m['OrbitStableDoubleLow']}, {m['OrbitStableDoubleHigh']}); at the located case {GAP} = "
             f"{m['LocatedGap']} Algorithm No. 2 settles to T_c = {m['LocatedAlgTwoPeriod']} with "
             f"{m['LocatedAlgTwoImpacts']} impacts, and solve_ivp's cycle differs by {m['LocatedIvpTimeDiff']} T",
             f"{REPRODUCTION}; {ORBITS}",
         ),
         (
-            f"The nearest change of one parameter alone, at Δ0/x_st = {m['StatedGap']}",
+            f"The nearest change of one parameter alone, at {GAP} = {m['StatedGap']}",
             f"{nearest} in [{m['ClaimsNearestLo']}, {m['ClaimsNearestHi']}], {m['ClaimsNearestRelDistance']} to "
             f"{m['ClaimsNearestFarRelDistance']} % from {m['ClaimsNearestStated']}",
             f"each of the six other parameters searched alone, grids refined where the motion changes{end_note}",
@@ -81,7 +84,7 @@ def rows(m: dict[str, str]) -> list[tuple[str, str, str, str]]:
         (
             "The nearest set of all seven parameters",
             f"no parameter changed by more than {m['NearestMaxDistMaxPct']} %",
-            f"θ and N raised together (θ = {m['NearestMaxTheta']}, N = {m['NearestMaxN']}), with a "
+            f"{THETA} and N raised together ({THETA} = {m['NearestMaxTheta']}, N = {m['NearestMaxN']}), with a "
             f"{m['NearestMarginPct']} % margin; {m['NearestRays']} rays and a local refinement (a near set, not a "
             "proven nearest one); the pure-Python solver and solve_ivp confirm both claims",
             REPRODUCTION,
@@ -100,7 +103,7 @@ def rows(m: dict[str, str]) -> list[tuple[str, str, str, str]]:
             SWEEPS,
         ),
         (
-            f"Impact suppressor or tuned-mass damper, over θ = {m['DesignBandStart']} to {m['DesignBandStop']}",
+            f"Impact suppressor or tuned-mass damper, over {THETA} = {m['DesignBandStart']} to {m['DesignBandStop']}",
             design,
             f"located peaks: the TMD {m['DesignTmdOptLocPeak']}, the impact suppressor with its stop in reach "
             f"{m['DesignHitLocPeak']} (bare object {m['DesignBareDevLocPeak']}); strokes: the TMD "
@@ -124,7 +127,7 @@ def summary(m: dict[str, str]) -> str:
         "",
         *results_table(rows(m)),
         "",
-        "Δ0/x_st is the initial gap over the static deflection; x_st ω the unit of velocities. The report "
+        f"{GAP} is the initial gap over the static deflection; x_st ω the unit of velocities. The report "
         "(`paper/report.pdf`) gives the long account of each row in the section named, and its timings.",
     ]
     return "\n".join(lines) + "\n"

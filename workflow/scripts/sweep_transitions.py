@@ -2,8 +2,8 @@
 changes along the gap sweep, located by bisection and checked against analytic values.
 
 1. Every change of Peterka's label z/k between neighbouring sweep points is bisected
-   (:func:`impactdamper.analysis.sweeps.find_transitions`; each midpoint starts from the motion on the
-   first label's side, as a finer sweep would) to ``transition_xtol``, each transition on its
+   (:func:`impactdamper.analysis.sweeps.locate_transition`; each midpoint starts from the motion on
+   the first label's side, as a finer sweep would) to ``transition_xtol``, each transition on its
    own in the job's threads (:func:`impactdamper.studies.sweeps.transitions.find_all`).
 2. The three transitions with analytic values (lift-off of the persistent contact, first
    contact, Algorithm No. 1's grazing), each computed numerically a second way and located

@@ -27,7 +27,7 @@ import numpy as np
 from impactdamper.analysis.branch import Branch, SpecialPoint, branch_point, rescale_branch
 from impactdamper.analysis.cycle import PeriodicOrbit, flight_scan, least_period, orbit_from_solution, rescale_orbit
 from impactdamper.analysis.shooting import ORBIT_TOL, OrbitError, Shooting
-from impactdamper.core.parameters import Parameters, ScaleMap
+from impactdamper.core.parameters import PARAMETER_TABLE, Parameters, ScaleMap
 from impactdamper.core.simulate import Tolerances
 from impactdamper.core.validation import check_tolerances, finite_argument, integer_argument
 
@@ -37,11 +37,10 @@ __all__ = ["continue_orbit", "MAX_BRANCH_POINTS"]
 PARAMETER_FD_STEP = 1e-6
 # Bound on a branch's points (continue_orbit's max_points).
 MAX_BRANCH_POINTS = 1_000_000
-# Each parameter's domain for continuation bounds: (low, high, low included).
-PARAMETER_DOMAIN = {name: (0.0, math.inf, False) for name in ("theta", "mu", "N", "omega", "x_st", "m1")}
-PARAMETER_DOMAIN.update(
-    delta1=(0.0, math.inf, True), delta2=(0.0, math.inf, True), R=(0.0, 1.0, True), gap=(-math.inf, math.inf, True)
-)
+# Each parameter's row of the one parameter table: its range (the continuation's bounds must lie
+# in it) and its role (the free scales are continued in the user's units).
+_SPEC = {s.name: s for s in PARAMETER_TABLE}
+_SCALES = tuple(s.name for s in PARAMETER_TABLE if s.role == "scale")
 
 
 class _Continuation:
@@ -186,7 +185,7 @@ def continue_orbit(
         orbit, parameter, bounds, direction, step, min_step, max_step, max_points
     )
     tol = check_tolerances(tolerances)
-    if not orbit.p.native_scales() and parameter not in ("x_st", "m1", "omega"):
+    if not orbit.p.native_scales() and parameter not in _SCALES:
         # The same relative problem in the reference case's units, converted back.
         q = orbit.p.canonical()
         branch = continue_orbit(
@@ -241,14 +240,17 @@ def _checked(orbit, parameter, bounds, direction, step, min_step, max_step, max_
         raise ValueError(f"`bounds` = {bounds!r} is not allowed: must be two finite numbers (low, high)") from None
     if not (lo < hi and lo <= lam0 <= hi):
         raise ValueError(f"`bounds` = {bounds!r} is not allowed: need low < high around {parameter} = {lam0!r}")
-    dom_lo, dom_hi, closed = PARAMETER_DOMAIN[parameter]
-    if not ((lo >= dom_lo if closed else lo > dom_lo) and hi <= dom_hi):
-        allowed = {(0.0, math.inf, False): "> 0", (0.0, math.inf, True): ">= 0", (0.0, 1.0, True): "in [0, 1]"}
-        raise ValueError(
-            f"`bounds` = {bounds!r} is not allowed: `{parameter}` must be "
-            f"{allowed[(dom_lo, dom_hi, closed)]}, so must both bounds"
-        )
+    bounds_error = _domain_error(parameter, lo, hi)
+    if bounds_error:
+        raise ValueError(f"`bounds` = {bounds!r} is not allowed: {bounds_error}")
     return lo, hi, step, min_step, max_step, max_points
+
+
+def _domain_error(parameter: str, lo: float, hi: float) -> str:
+    """Why the finite bounds ``lo < hi`` of a continuation in ``parameter`` leave its range (the
+    parameter table's ``allowed``), or ``""`` if both lie in it."""
+    spec = _SPEC[parameter]
+    return "" if spec.ok(lo) and spec.ok(hi) else f"`{parameter}` must be {spec.allowed}, so must both bounds"
 
 
 def _follow(cont: _Continuation, orbit: PeriodicOrbit, bounds, direction, steps, max_points, stop_at_grazing):

@@ -39,7 +39,6 @@ __all__ = [
     "random_start_states",
     "random_starts",
     "locate_transition",
-    "find_transitions",
     "regime_map",
     "swept_names",
     "check_direction",
@@ -342,36 +341,6 @@ def locate_transition(
     return Transition(
         direction, 0.5 * (lo + hi), lo, hi, a.label, b.label, n, stopped, one_sided=b_moves <= 1 and n >= 4
     )
-
-
-def find_transitions(
-    base: Parameters,
-    parameter: str,
-    points: Sequence[SweepPoint],
-    direction: str,
-    *,
-    settings: SweepSettings | None = None,
-    xtol: float = 1e-6,
-    skip: Callable[[SweepPoint, SweepPoint], bool] | None = None,
-) -> list[Transition]:
-    """Every label change along one sweep, bisected.
-
-    Parameters
-    ----------
-    points : sequence of SweepPoint
-        One sweep, in increasing order of the value.
-    direction : {"up", "down"}
-        The sweep's direction (the neighbours' order of the bisection).
-    skip : callable(first, second) -> bool, optional
-        Leave a pair out (e.g. changes between two nonperiodic windows).
-    """
-    order = list(points) if direction == "up" else list(points)[::-1]
-    out = []
-    for a, b in zip(order[:-1], order[1:]):
-        if a.label == b.label or (skip is not None and skip(a, b)):
-            continue
-        out.append(locate_transition(base, parameter, a, b, direction, settings=settings, xtol=xtol))
-    return out
 
 
 # ----------------------------------------------------------------------------------------

@@ -24,9 +24,10 @@ RADIUS_LIMITS = (0.2, 5.0)
 RADIUS_TICKS = (0.2, 0.5, 1.0, 2.0, 5.0)
 
 
-def radius_axis(ax_r) -> None:
+def radius_axis(ax_r, xlabel: str) -> None:
     """Set up an axis of the spectral radius max|rho|: log scale over RADIUS_LIMITS, ticks at
-    RADIUS_TICKS, the dashed unit line (below it the cycle is stable) and the gap's label."""
+    RADIUS_TICKS, the dashed unit line (below it the cycle is stable) and ``xlabel`` (the
+    continued parameter's axis label)."""
     from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
     ax_r.axhline(1.0, color="0.2", lw=0.7, ls="--", zorder=1)
@@ -35,7 +36,7 @@ def radius_axis(ax_r) -> None:
     ax_r.yaxis.set_major_locator(FixedLocator(RADIUS_TICKS))
     ax_r.yaxis.set_major_formatter(FormatStrFormatter("%g"))
     ax_r.yaxis.set_minor_locator(NullLocator())
-    ax_r.set_xlabel("$\\Delta_0/x_{\\mathrm{st}}$")
+    ax_r.set_xlabel(xlabel)
 
 
 def mark_special(

@@ -31,7 +31,6 @@ __all__ = [
     "inline_sections",
     "float_rows",
     "number_rows",
-    "appendix_table",
     "compact_rows",
     "compact_table",
     "source_commit",
@@ -261,33 +260,6 @@ def number_rows(rules: Sequence[Rule], macro_files: Iterable[str]) -> list[Row]:
 def _path(path: str) -> str:
     r"""A path set in the appendix: \path{...} (url.sty: breaks at / and ., no escaping)."""
     return rf"\path{{{path}}}"
-
-
-def appendix_table(rows: Sequence[Row], first: str, caption: str = "", label: str = "") -> str:
-    """A longtable of ``rows``: what, rule, script, records (``first``: the first column's
-    head); with a ``caption`` (and ``label``) on its first page, "(continued)" on the others."""
-    head = [r"\toprule", rf"{first} & rule & script & records read \\", r"\midrule"]
-    lines = [
-        r"\begin{longtable}{@{}>{\raggedright\arraybackslash}p{0.15\linewidth}"
-        r">{\raggedright\arraybackslash}p{0.18\linewidth}"
-        r">{\raggedright\arraybackslash}p{0.25\linewidth}"
-        r">{\raggedright\arraybackslash}p{0.34\linewidth}@{}}",
-    ]
-    if caption:
-        lines += [rf"\caption{{{caption}}}" + (rf"\label{{{label}}}" if label else "") + r"\\", *head, r"\endfirsthead"]
-        lines += [r"\caption[]{(continued)}\\", *head, r"\endhead"]
-    else:
-        lines += [*head, r"\endhead"]
-    lines += [r"\bottomrule", r"\endfoot"]
-    for r in rows:
-        if r.rule is None:
-            lines.append(rf"{r.what} & \multicolumn{{3}}{{l}}{{drawn in the report's source}} \\")
-            continue
-        records = ", ".join(_path(p) for p in r.records) or "---"
-        script = _path(r.script) if r.script else "---"
-        lines.append(rf"{r.what} & {_path(r.rule)} & {script} & {records} \\")
-    lines.append(r"\end{longtable}")
-    return "\n".join(lines) + "\n"
 
 
 @dataclass(frozen=True)

@@ -36,16 +36,3 @@ def results_table(rows: Sequence[Sequence[str]]) -> list[str]:
             raise ValueError(f"`rows` has a row of {len(row)} cells: a results row has {len(RESULTS_HEADER)}")
         lines.append("| " + " | ".join(_cell(c) for c in row) + " |")
     return lines
-
-
-def parse_results_table(text: str) -> list[dict[str, str]]:
-    """The rows of the first results table in ``text`` (Markdown), each a dict by column name:
-    the inverse of :func:`results_table`, for the README's test."""
-    lines = [ln for ln in text.splitlines() if ln.startswith("|")]
-    if not lines or [c.strip() for c in lines[0].strip("|").split(" | ")] != list(RESULTS_HEADER):
-        raise ValueError("`text` holds no results table")
-    out = []
-    for ln in lines[2:]:
-        cells = [c.strip().replace("\\|", "|") for c in ln.strip().strip("|").split(" | ")]
-        out.append(dict(zip(RESULTS_HEADER, cells)))
-    return out

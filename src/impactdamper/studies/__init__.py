@@ -15,3 +15,19 @@ Shared by the rooms: :mod:`~impactdamper.studies.config` (the library's objects 
 config's sections), :mod:`~impactdamper.studies.intervals` (where a predicate holds along one
 parameter) and :mod:`~impactdamper.studies.vocabulary` (the parameters' symbols and names).
 """
+
+__all__ = ["STAGE_ROOMS"]
+
+# Each stage of the workflow (``workflow/rules/<stage>.smk``) and its room, the subpackage its
+# scripts import (docs/ARCHITECTURE.md quotes it as a table; tests/workflow/test_architecture.py
+# holds the two together and each stage's scripts to their room).
+STAGE_ROOMS = {
+    "reference": "replication",
+    "claims": "claims",
+    "sweeps": "sweeps",
+    "orbits": "sweeps",
+    "design": "design",
+    "lyapunov": "lyapunov",
+    "performance": "performance",
+    "report": "performance",
+}

@@ -48,6 +48,7 @@ from impactdamper.core.model import FREE, Model
 from impactdamper.core.parameters import REFERENCE, Parameters
 from impactdamper.core.simulate import simulate
 from impactdamper.core.steady import REGIMES, steady_state
+from impactdamper.studies.vocabulary import SPEC
 
 __all__ = [
     "HardCase",
@@ -183,26 +184,25 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
     g_touch = no_contact_threshold(base)
     g_onset = alg1_onset_gap(base)
     repeated_delta2 = 0.8829865207640838  # eq. (4) has a double root at N = 0.9 (solved in mpmath)
+    gap, theta, mu = SPEC["gap"].symbol, SPEC["theta"].symbol, SPEC["mu"].symbol  # the labels' symbols
+    d1, d2 = SPEC["delta1"].symbol, SPEC["delta2"].symbol
     return [
         HardCase(
             "grazing_no_contact",
-            rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
+            f"${gap} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
             "zero-velocity grazing: the no-contact orbit touches the stop tangentially",
             {"gap": g_touch},
             start="forced_orbit",
         ),
         HardCase(
             "grazing_alg1_onset",
-            rf"$\Delta_0/x_{{\mathrm{{st}}}} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
+            f"${gap} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
             "grazing inside the period: Algorithm No. 1's orbit touches the stop between impacts",
             {"gap": g_onset},
             start="alg1_orbit",
         ),
         HardCase(
-            "chatter",
-            r"$\Delta_0/x_{\mathrm{st}} = -13$",
-            "impacts accumulating into persistent contact, and lift-off",
-            {"gap": -13.0},
+            "chatter", f"${gap} = -13$", "impacts accumulating into persistent contact, and lift-off", {"gap": -13.0}
         ),
         HardCase("plastic", r"$R = 0$", "plastic impacts: capture or separation at every impact", {"R": 0.0}),
         HardCase(
@@ -210,40 +210,35 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
         ),
         HardCase(
             "zero_damping",
-            r"$\delta_1 = \delta_2 = 0$",
+            f"${d1} = {d2} = 0$",
             "purely imaginary roots (no decay of the free motion)",
             {"delta1": 0.0, "delta2": 0.0},
         ),
         HardCase(
             "conservative",
-            r"$\delta_1 = \delta_2 = 0$, $R = 1$",
+            f"${d1} = {d2} = 0$, $R = 1$",
             "no dissipation at all: the run can only end at its period limit",
             {"delta1": 0.0, "delta2": 0.0, "R": 1.0},
         ),
         HardCase(
             "repeated_roots",
-            rf"$N = 0.9$, $\delta_2 = {repeated_delta2:.6f}$",
+            f"$N = 0.9$, ${d2} = {repeated_delta2:.6f}$",
             "a double root of the paper's eq. (4): the modal form breaks, the matrix exponential takes over",
             {"N": 0.9, "delta2": repeated_delta2},
         ),
         HardCase(
             "light_damping",
-            r"$\delta_1 = \delta_2 = 10^{-3}$",
+            f"${d1} = {d2} = 10^{{-3}}$",
             "very light damping: long transients",
             {"delta1": 1e-3, "delta2": 1e-3},
         ),
-        HardCase("tiny_mass", r"$\mu = 10^{-4}$", "a suppressor $10^4$ times lighter than the object", {"mu": 1e-4}),
+        HardCase("tiny_mass", f"${mu} = 10^{{-4}}$", "a suppressor $10^4$ times lighter than the object", {"mu": 1e-4}),
         HardCase("stiff_suppressor", r"$N = 50$", "a suppressor frequency 50 times the object's (stiff)", {"N": 50.0}),
-        HardCase("slow_forcing", r"$\theta = 0.1$", "forcing far below resonance", {"theta": 0.1}),
-        HardCase("fast_forcing", r"$\theta = 10$", "forcing far above resonance", {"theta": 10.0}),
+        HardCase("slow_forcing", f"${theta} = 0.1$", "forcing far below resonance", {"theta": 0.1}),
+        HardCase("fast_forcing", f"${theta} = 10$", "forcing far above resonance", {"theta": 10.0}),
         HardCase("zero_gap", r"$\Delta_0 = 0$", "the stop exactly at the static position", {"gap": 0.0}),
-        HardCase("large_positive_gap", r"$\Delta_0/x_{\mathrm{st}} = 10^3$", "a gap never closed again", {"gap": 1e3}),
-        HardCase(
-            "large_negative_gap",
-            r"$\Delta_0/x_{\mathrm{st}} = -10^3$",
-            "a huge preload: the bodies never separate",
-            {"gap": -1e3},
-        ),
+        HardCase("large_positive_gap", f"${gap} = 10^3$", "a gap never closed again", {"gap": 1e3}),
+        HardCase("large_negative_gap", f"${gap} = -10^3$", "a huge preload: the bodies never separate", {"gap": -1e3}),
     ]
 
 

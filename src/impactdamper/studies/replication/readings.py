@@ -59,6 +59,8 @@ __all__ = [
 ]
 
 R_BISECT_TOL = 1e-4
+# The parameters the readings change, a column each in every row of the readings' table.
+_READING_COLUMNS = ("gap", "R", "delta1", "delta2", "mu")
 # Random initial states: object position within +-RANDOM_X x_st, gap in [0, RANDOM_GAP] x_st,
 # velocities within +-RANDOM_V x_st omega1, start time anywhere in one period (the stated
 # case's settled motion reaches |x1| ~ 5.6 x_st and closing velocities ~ 14 x_st omega1).
@@ -171,7 +173,7 @@ def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, di
     row = {
         "id": r["id"],
         "reading": r["reading"],
-        **{k: getattr(p, k) for k in ("gap", "R", "delta1", "delta2", "mu")},
+        **{k: getattr(p, k) for k in _READING_COLUMNS},
         "alg1_exists": a.exists,
         "alg1_t1": iv[0],
         "alg1_t2": iv[1],
@@ -275,7 +277,7 @@ def evaluate_readings(reference: dict, solver: dict, verdict: dict) -> tuple[lis
         {
             "id": "random_states",
             "reading": f"{rnd['count']} random initial states (seed {rnd['seed']})",
-            **{k: base[k] for k in ("gap", "R", "delta1", "delta2", "mu")},
+            **{k: base[k] for k in _READING_COLUMNS},
             "alg2_regime": "; ".join(f"{m['count']}x {m['regime']} k={m['period_multiple']}" for m in rnd["motions"]),
             "claim_a": rows[0]["claim_a"],
             "claim_b": rnd["claim_b_found"],

@@ -63,8 +63,8 @@ EXTREMUM_SAMPLES = 2048
 
 
 def find_all(base, parameter: str, points: dict, settings, xtol: float, workers: int = 1) -> dict:
-    """:func:`impactdamper.analysis.sweeps.find_transitions` of both directions of a two-way
-    sweep (``points``: ``{"up": [...], "down": [...]}``, increasing values), every transition
+    """Every label change along both directions of a two-way sweep (``points``: ``{"up": [...],
+    "down": [...]}``, increasing values; neighbours in each sweep's own order), every transition
     bisected on its own (:func:`impactdamper.analysis.sweeps.locate_transition`) in ``workers``
     processes, each handed to whichever is free: the same transitions as one direction after the
     other, in the same order.
