@@ -138,3 +138,25 @@ def test_workers_give_the_serial_result_bit_for_bit(backend):
     _same_result(
         grid, idp.steady_states(REF, names, values, settings=SETTINGS, chain=False, workers=3, backend=backend)
     )
+
+
+@pytest.mark.parametrize("backend", ["compiled", "python"])
+def test_a_sweep_has_the_same_labels_at_every_free_scale(backend):
+    """Points outside the native scales went to the reference one by one without the Newton
+    rescue (both backends), and in a chain each np put the next point under the short cap: at
+    omega 1e-11 the gaps -12, -9.6, -5.8 read np, np, np against np, 3/2, 1/1 at omega 10. The
+    relative problem does not depend on x_st, m1, omega: the same labels, the same x1_max to
+    1e-9 relative (the round-off of the units' conversion, far below settle_tol 1e-10's 1e-9 x_st
+    accuracy of x1_max) and sections in the point's own units."""
+    gaps = np.linspace(-14.0, -2.0, 13)[:, None]
+    ref = idp.steady_states(REF, ("gap",), gaps, backend=backend)
+    assert {"3/2", "1/1", "np"} <= set(idp.steady_states(REF, ("gap",), [[-12.0], [-9.6], [-5.8]]).label)
+    for scales in (dict(omega=1e-11), dict(omega=1e11), dict(x_st=1e31), dict(m1=1e-31)):
+        p = REF.replace(**scales)
+        res = idp.steady_states(p, ("gap",), gaps, backend=backend)
+        assert list(res.label) == list(ref.label), scales
+        assert "scales" not in res.fallbacks
+        settled = res.regime != "nonperiodic"
+        assert np.allclose(res.x1_max[settled], ref.x1_max[settled], rtol=1e-9, atol=0), scales
+        relative = res.sections[settled] / [p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega]
+        assert np.allclose(relative, ref.sections[settled] / [1.0, 1.0, 10.0, 10.0], rtol=1e-6, atol=1e-6), scales
