@@ -20,7 +20,9 @@ go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
   :func:`~impactdamper.analysis.rescue.rescue_from_sections`, from the run's last sections)
   settled on a stable cycle; where it finds none, the nonperiodic point stands and no fallback
   is counted;
-* ``matrix_exponential``: a mode with repeated roots (no modal form);
+* ``matrix_exponential``: a mode whose roots (nearly) coalesce, so that no modal form holds
+  (its eigenvectors in the mode's own units, velocities over the fastest rate, have condition
+  >= 1e4: :func:`~impactdamper.core.linear.scaled_condition`; the rate itself never causes it);
 * ``scales``: no longer arises here: a point whose free scales are outside the native range
   is settled in the canonical units (:meth:`~impactdamper.core.parameters.Parameters.canonical`,
   relative results do not depend on x_st, m1, omega) like every other point, its start and
