@@ -347,3 +347,15 @@ def test_building_the_parser_imports_no_solver():
     and made `steady --json` 0.6 s slower)."""
     statement = "from impactdamper.cli.parser import build_parser; build_parser()"
     assert heavy_modules_after(statement, also=("impactdamper.studies.design.optimum",)) == []
+
+
+@pytest.mark.parametrize(
+    "band, option", [(("--theta-start", "1e-300"), "--theta-start"), (("--theta-stop", "1e300"), "--theta-stop")]
+)
+def test_a_band_end_beyond_the_range_names_its_own_flag(band, option, capsys):
+    """`response --theta-start 1e-300` blamed --theta, a flag response refuses."""
+    with pytest.raises(SystemExit) as info:
+        main(["response", *band, "--points", "2"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1
+    assert err.split(": error: ")[1].startswith(f"argument {option}: `theta` = {band[1]}".replace("1e300", "1e+300"))
