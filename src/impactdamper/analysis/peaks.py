@@ -30,16 +30,16 @@ of eqs. 21-22 settles every motion, through :func:`impactdamper.steady_states`):
 5. **Random starts.** At the located peaks' frequencies, ``random_count`` random starts each
    (deterministic): an attractor no sweep follows counts if it is higher.
 
-The worst branch is the largest of 3-5 (never below the largest settled grid sample); the band
-average is the trapezoidal mean over the grid of the worst motion at each theta (the two sweeps
-and the motion without contact where it exists).
-
-A peak is a settled motion's: a sample whose run did not settle within its cap (``nonperiodic``,
-its max|x1| read off a transient) is never a peak, a bracket's end or the worst motion where a
-settled one exists at its theta. Far above resonance a random start decays by exp(-2 pi delta1 /
-theta) a period (0.9984 at theta 200: 17,371 periods from 50 x_st to settled), and its unsettled
-end read 75.8 x_st where every settled motion is 3e-5 to 1e-4. Such samples are counted beside
-the peak (:attr:`WorstBranch.unsettled`: theta, source, the periods run, the transient's max|x1|).
+The worst branch is the largest of 3-5 (never below the largest grid sample); the band average
+is the trapezoidal mean over the grid of the worst motion at each theta (the two sweeps and the
+motion without contact where it exists). That peak is a conservative bound: a sample whose run
+did not settle within its cap (``nonperiodic``) counts with its max|x1|, which may be a
+transient's (far above resonance a random start decays by exp(-2 pi delta1 / theta) a period,
+0.9984 at theta 200, and its unsettled end read 75.8 x_st where every settled motion is 3e-5 to
+1e-4). :attr:`WorstBranch.settled_peak` is the settled motions' alone, and
+:attr:`WorstBranch.unsettled` lists the samples left out of it. (A search that ranks devices
+keeps the bound: ranked by their settled peaks alone, the design search picked a device whose
+unsettled samples rose above its settled peak.)
 """
 
 from __future__ import annotations
@@ -171,9 +171,9 @@ class WorstBranch:
     failed : int
         Grid points whose run reached the solver's work bound.
     unsettled : tuple of dict
-        The grid samples and random starts that did not settle (nonperiodic), left out of the
-        peaks: ``theta``, ``source``, ``periods`` (forcing periods run), ``max_abs_x1`` (the
-        transient's, not a motion's).
+        The grid samples and random starts that did not settle (nonperiodic): ``theta``,
+        ``source``, ``periods`` (forcing periods run), ``max_abs_x1`` (of the run's last window,
+        possibly a transient's).
     """
 
     p: Parameters = field(repr=False)
@@ -199,18 +199,12 @@ class WorstBranch:
         """The worst motion at each grid theta: the two sweeps and, where it exists, the
         motion without contact (closed form). Shape (n,)."""
         linear = np.where(self.floor.admissible(self.thetas), _linear_amplitude(self.p, self.thetas), np.nan)
-        settled = np.fmax(np.fmax(self._settled(self.up, self.up_k), self._settled(self.down, self.down_k)), linear)
-        return np.where(np.isnan(settled), np.fmax(self.up, self.down), settled)  # (unsettled only: counted)
-
-    @staticmethod
-    def _settled(y: np.ndarray, k: np.ndarray) -> np.ndarray:
-        return np.where(k > 0, y, np.nan)
+        return np.fmax(np.fmax(self.up, self.down), linear)
 
     @property
     def grid_peak(self) -> float:
-        """The largest settled grid sample of the two sweeps (nan if none settled)."""
-        both = np.fmax(self._settled(self.up, self.up_k), self._settled(self.down, self.down_k))
-        return float(np.nanmax(both)) if np.any(np.isfinite(both)) else math.nan
+        """The largest grid sample of the two sweeps."""
+        return float(np.nanmax(np.fmax(self.up, self.down)))
 
     @property
     def top(self) -> BranchPeak:
@@ -218,12 +212,29 @@ class WorstBranch:
 
     @property
     def peak(self) -> float:
-        """The worst branch's max|x1|/x_st (never below the largest settled grid sample)."""
-        return float(np.nanmax([self.top.value, self.grid_peak]))
+        """The worst branch's max|x1|/x_st (never below the largest grid sample)."""
+        return max(self.top.value, self.grid_peak)
 
     @property
     def peak_theta(self) -> float:
         return self.top.theta
+
+    @property
+    def settled(self) -> BranchPeak | None:
+        """The largest peak of a settled motion (located, the floor, a settled random start, or a
+        settled grid sample), or None if nothing settled over the band."""
+        out = next((q for q in self.peaks if q.label not in ("np", "failed") and np.isfinite(q.value)), None)
+        for direction, y, k in (("up", self.up, self.up_k), ("down", self.down, self.down_k)):
+            y = np.where(k > 0, y, np.nan)
+            if np.any(np.isfinite(y)) and (out is None or np.nanmax(y) > out.value):
+                i = int(np.nanargmax(y))
+                out = BranchPeak(float(self.thetas[i]), float(y[i]), direction, "settled", "sample")
+        return out
+
+    @property
+    def settled_peak(self) -> float:
+        """max|x1|/x_st of :attr:`settled` (nan if nothing settled)."""
+        return math.nan if self.settled is None else self.settled.value
 
     @property
     def band_average(self) -> float:
@@ -247,6 +258,7 @@ class WorstBranch:
             "no_contact_floor_theta": self.floor.theta,
             "peaks": [q.to_dict() for q in self.peaks],
             "failed": self.failed,
+            "settled_peak": self.settled_peak,
             "unsettled": len(self.unsettled),
         }
 
@@ -279,26 +291,18 @@ def _batch(base: Parameters, rows: list, settings, chain_length: int, states=Non
     return steady_states(base, NAMES, np.array(rows, float), settings=settings, states=states, workers=w, **kw)
 
 
-def _settled_x1(res, sl: slice) -> np.ndarray:
-    """max|x1|/x_st of the points ``sl`` of a batch result, nan where the motion did not settle
-    (nonperiodic: a transient's) or failed."""
-    return np.where(res.period_multiple[sl] > 0, np.asarray(res.x1_max[sl], float), np.nan)
-
-
-def _unsettled(res, sl: slice, source: str) -> list[dict]:
-    """The points ``sl`` of a batch result that did not settle (nonperiodic), as counted."""
-    out = []
-    for i in np.arange(len(res.values))[sl]:
-        if res.regime_code[i] == NONPERIODIC_CODE:
-            out.append(
-                {
-                    "theta": float(res.values[i, 0]),
-                    "source": source,
-                    "periods": int(res.periods[i]),
-                    "max_abs_x1": float(res.x1_max[i]),
-                }
-            )
-    return out
+def _unsettled(res, rows, source: str) -> list[dict]:
+    """The points ``rows`` (indices) of a batch result that did not settle (nonperiodic)."""
+    return [
+        {
+            "theta": float(res.values[i, 0]),
+            "source": source,
+            "periods": int(res.periods[i]),
+            "max_abs_x1": float(res.x1_max[i]),
+        }
+        for i in rows
+        if res.regime_code[i] == NONPERIODIC_CODE
+    ]
 
 
 def _labels(res, sl: slice) -> list[str]:
@@ -350,9 +354,6 @@ def _candidates(path: _Path, limit: int) -> list[_Bracket]:
             spans[(i, i + 1)] = max(y[i], y[i + 1])
     top = max(spans.values(), default=-np.inf)
     keep = sorted((k for k, v in spans.items() if v >= (1.0 - CANDIDATE_MARGIN) * top), key=lambda k: -spans[k])
-    # Unsettled samples point to a bracket (the continuation across it settles them) but are
-    # never its value: a bracket's best is its settled samples' (-inf: none yet).
-    y = np.where([q in ("np", "failed") for q in lab], -np.inf, y)
     out = []
     for a, b in keep[:limit]:
         j = a + int(np.argmax(y[a : b + 1]))
@@ -388,7 +389,7 @@ def _zoom(base, brackets: list[_Bracket], floors: list[float], settings, theta_t
         for j, b in enumerate(active):
             sl = slice(j * m, (j + 1) * m)
             ts = np.concatenate([[b.t_a], res.values[sl, 0]])
-            ys = np.concatenate([[b.y_a], _settled_x1(res, sl)])
+            ys = np.concatenate([[b.y_a], np.asarray(res.x1_max[sl], float)])
             labs = [b.label_a] + _labels(res, sl)
             secs = np.vstack([b.s_a[None, :], res.sections[sl]])
             k = int(np.nanargmax(np.nan_to_num(ys, nan=-np.inf)))
@@ -412,9 +413,9 @@ def _key(p: Parameters) -> list[int]:
     return [int(x) for x in np.array([getattr(p, n) for n in NAMES], float).view(np.uint64)]
 
 
-def _random_peaks(base, cases, tops: list[list[float]], settings, count: int, seed: int, workers: int) -> tuple:
-    """The largest settled attractor from ``count`` random starts at each theta of ``tops[c]``
-    (per case): a BranchPeak per case, or None; and per case the starts that did not settle."""
+def _random_peaks(base, cases, tops: list[list[float]], settings, count: int, seed: int, workers: int) -> list:
+    """The largest attractor from ``count`` random starts at each theta of ``tops[c]`` (per
+    case): a BranchPeak per case, or None."""
     rows, states, owner = [], [], []
     for c, (p, thetas) in enumerate(zip(cases, tops)):
         for i, t in enumerate(thetas):
@@ -423,16 +424,17 @@ def _random_peaks(base, cases, tops: list[list[float]], settings, count: int, se
                 rows.append(_row(p, t))
                 states.append(random_initial_state(q, np.random.default_rng([int(seed), *_key(p), i, j])))
                 owner.append(c)
-    out, unsettled = [None] * len(cases), [[] for _ in cases]
+    out, lost = [None] * len(cases), [[] for _ in cases]
     if not rows:
-        return out, unsettled
+        return out, lost
     res = _batch(base, rows, settings, 1, np.array(states), workers, chain=False)
-    labs, ys = _labels(res, slice(None)), _settled_x1(res, slice(None))
+    labs = _labels(res, slice(None))
     for r, c in enumerate(owner):
-        unsettled[c] += _unsettled(res, slice(r, r + 1), "random")
-        if np.isfinite(ys[r]) and (out[c] is None or ys[r] > out[c].value):
-            out[c] = BranchPeak(float(res.values[r, 0]), float(ys[r]), "random", labs[r], "sample")
-    return out, unsettled
+        lost[c] += _unsettled(res, [r], "random")
+        y = float(res.x1_max[r])
+        if np.isfinite(y) and (out[c] is None or y > out[c].value):
+            out[c] = BranchPeak(float(res.values[r, 0]), y, "random", labs[r], "sample")
+    return out, lost
 
 
 def _impacts(res, sl: slice) -> tuple[np.ndarray, np.ndarray]:
@@ -511,12 +513,12 @@ def worst_branches(
     floors = [no_contact_floor(p, band) for p, band in zip(cases, bands)]
     _zoom(base, brackets, [f.value for f in floors], settings, theta_tol, workers)
     located = [[] for _ in cases]
-    for b in (b for b in brackets if np.isfinite(b.best_y)):  # (a bracket where nothing settled: no peak)
+    for b in brackets:
         located[b.case].append(
             BranchPeak(b.best_t, b.best_y, b.direction, b.best_label, b.kind, abs(b.t_b - b.t_a), b.change)
         )
     tops = [_distinct_thetas(peaks, RANDOM_THETAS) if random_count else [] for peaks in located]
-    randoms, unsettled = _random_peaks(base, cases, tops, settings, random_count, seed, workers)
+    randoms, lost = _random_peaks(base, cases, tops, settings, random_count, seed, workers)
     out = []
     for c, (p, band) in enumerate(zip(cases, bands)):
         peaks = list(located[c])
@@ -528,7 +530,7 @@ def worst_branches(
             peaks.append(randoms[c])
         if not any(np.isfinite(q.value) for q in peaks):
             raise ValueError(f"`cases` item {c} is not allowed: no motion settled over its band {band}")
-        out.append(_worst(p, band, res, paths[2 * c], paths[2 * c + 1], c, n, tuple(peaks), fl, unsettled[c]))
+        out.append(_worst(p, band, res, paths[2 * c], paths[2 * c + 1], c, n, tuple(peaks), fl, lost[c]))
     return out
 
 
@@ -563,13 +565,14 @@ def _worst(p, band, res, up: _Path, down: _Path, c: int, n: int, peaks: tuple, f
     sl_up, sl_down = slice(2 * c * n, (2 * c + 1) * n), slice((2 * c + 1) * n, (2 * c + 2) * n)
     (up_z, up_v), (down_z, down_v) = _impacts(res, sl_up), _impacts(res, sl_down)
     failed = int(np.sum(res.regime_code[sl_up] == FAILED_CODE) + np.sum(res.regime_code[sl_down] == FAILED_CODE))
-    unsettled = _unsettled(res, sl_up, "up") + _unsettled(res, sl_down, "down") + randoms
+    rows = np.arange(len(res.values))
+    unsettled = _unsettled(res, rows[sl_up], "up") + _unsettled(res, rows[sl_down], "down") + randoms
     return WorstBranch(
         p=p,
         band=band,
         thetas=up.t,
-        up=np.asarray(res.x1_max[sl_up], float),
-        down=np.asarray(res.x1_max[sl_down], float)[::-1].copy(),
+        up=up.y,
+        down=down.y[::-1].copy(),
         up_k=res.period_multiple[sl_up].copy(),
         down_k=res.period_multiple[sl_down][::-1].copy(),
         up_sections=up.sections.copy(),

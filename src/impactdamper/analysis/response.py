@@ -228,20 +228,27 @@ class FrequencyResponse:
     def peak(self) -> float:
         """The worst branch's peak over the band, located (never below the grid's largest
         settled sample; the grid's alone for a band of one theta; nan if nothing settled)."""
-        both = [self.grid_peak()] + ([] if self.located is None else [self.located.peak])
+        both = [self.grid_peak()] + ([] if self.located is None else [self.located.settled_peak])
         return float(np.nanmax(both)) if np.any(np.isfinite(both)) else math.nan
 
     def peak_where(self) -> tuple[float, str]:
         """(theta, branch in words) of :meth:`peak`."""
         grid = self.grid_peak()
-        if self.located is not None and not self.located.peak < grid:
-            return self.located.peak_theta, self.located.branch()
+        top = None if self.located is None else self.located.settled
+        if top is not None and not top.value < grid:
+            return top.theta, f"{top.source}, {top.label}, {top.kind}"
         if math.isnan(grid):
             return math.nan, "none settled"
         i = int(np.nanargmax(self.settled_x1()))
         q = self.points[i]
         m = q.up if q.up.max_abs_x1 == q.settled_x1 and q.up.regime not in UNSETTLED else q.down
         return q.theta, ("up" if m is q.up else "down") + f", {m.label}, sample"
+
+    def bound(self) -> float:
+        """The conservative bound: the peak with every unsettled sample counted (the worst
+        branch's :attr:`~impactdamper.analysis.peaks.WorstBranch.peak`, the grid's samples)."""
+        both = [np.nanmax(self.worst_x1())] + ([] if self.located is None else [self.located.peak])
+        return float(np.nanmax(both))
 
     def unsettled_all(self) -> list[dict]:
         """Every sample left out of the peak: the grid's and the located search's."""
@@ -282,6 +289,7 @@ class FrequencyResponse:
             "failed_points": int(sum(q.up.regime == FAILED or q.down.regime == FAILED for q in self.points)),
             # samples that did not settle within their cap, left out of the peak (their max|x1| a transient's)
             "unsettled_points": len(unsettled),
+            "peak_including_unsettled": self.bound(),
             "unsettled": unsettled,
             "points": [q.to_dict() for q in self.points],
         }
@@ -571,6 +579,7 @@ def frequency_response(
         located = worst_branch(p, (float(thetas[0]), float(thetas[-1])), settings=settings)
         if progress is not None:
             progress(
-                f"worst branch located: {located.peak:.8g} at theta = {located.peak_theta:.8g} ({located.branch()})"
+                f"worst branch located: {located.settled_peak:.8g} over the settled motions, {located.peak:.8g} with "
+                f"{len(located.unsettled)} unsettled samples counted ({located.branch()})"
             )
     return FrequencyResponse(p, tuple(out), located, _unsettled(sweep))
