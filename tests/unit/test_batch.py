@@ -138,3 +138,58 @@ def test_workers_give_the_serial_result_bit_for_bit(backend):
     _same_result(
         grid, idp.steady_states(REF, names, values, settings=SETTINGS, chain=False, workers=3, backend=backend)
     )
+
+
+@pytest.mark.parametrize("backend", ["compiled", "python"])
+def test_a_sweep_has_the_same_labels_at_every_free_scale(backend):
+    """Points outside the native scales went to the reference one by one without the Newton
+    rescue (both backends), and in a chain each np put the next point under the short cap: at
+    omega 1e-11 the gaps -12, -9.6, -5.8 read np, np, np against np, 3/2, 1/1 at omega 10. The
+    relative problem does not depend on x_st, m1, omega: the same labels, the same x1_max to
+    1e-9 relative (the round-off of the units' conversion, far below settle_tol 1e-10's 1e-9 x_st
+    accuracy of x1_max) and sections in the point's own units."""
+    gaps = np.linspace(-14.0, -2.0, 13)[:, None]
+    ref = idp.steady_states(REF, ("gap",), gaps, backend=backend)
+    assert {"3/2", "1/1", "np"} <= set(idp.steady_states(REF, ("gap",), [[-12.0], [-9.6], [-5.8]]).label)
+    for scales in (dict(omega=1e-11), dict(omega=1e11), dict(x_st=1e31), dict(m1=1e-31)):
+        p = REF.replace(**scales)
+        res = idp.steady_states(p, ("gap",), gaps, backend=backend)
+        assert list(res.label) == list(ref.label), scales
+        assert "scales" not in res.fallbacks
+        settled = res.regime != "nonperiodic"
+        assert np.allclose(res.x1_max[settled], ref.x1_max[settled], rtol=1e-9, atol=0), scales
+        relative = res.sections[settled] / [p.x_st, p.x_st, p.x_st * p.omega, p.x_st * p.omega]
+        assert np.allclose(relative, ref.sections[settled] / [1.0, 1.0, 10.0, 10.0], rtol=1e-6, atol=1e-6), scales
+
+
+@pytest.mark.parametrize(
+    "names, values, match",
+    [
+        # A set maps the columns in hash order (theta and N swapped under PYTHONHASHSEED=1).
+        ({"theta", "N"}, [[0.9, 0.6]], r"^`names` = .* must be an ordered sequence .* not a set$"),
+        (frozenset({"gap"}), [[-5.8]], r"^`names` = .* not a frozenset$"),
+        # A generator was read by the check and reported as an empty ().
+        ((n for n in ("theta",)), [[0.9]], r"^`names` = <generator .* not a generator$"),
+        ({"theta": 0}, [[0.9]], r"^`names` = .* not a dict$"),
+        # A masked array's mask was dropped silently.
+        (("gap",), np.ma.masked_array([[-5.8], [-5.0]], mask=[[0], [1]]), r"^`values` = an array of shape \(2, 1\)"),
+    ],
+)
+def test_unordered_names_and_masked_values_are_refused_in_one_line(names, values, match):
+    with pytest.raises(ValueError, match=match) as info:
+        idp.steady_states(REF, names, values)
+    assert "\n" not in str(info.value)
+
+
+def test_a_bad_array_is_summarised_by_shape_and_dtype_in_one_line():
+    states = np.ma.masked_array(np.zeros((1, 4)), mask=[[0, 0, 1, 0]])
+    with pytest.raises(ValueError, match=r"^`states` = an array of shape \(1, 4\) and dtype float64 \(masked\)"):
+        idp.steady_states(REF, ("gap",), [[-5.8]], states=states)
+    with pytest.raises(ValueError) as info:
+        idp.steady_states(REF, np.array([["gap", "theta"], ["N", "R"]]), [[-5.8]])
+    assert "\n" not in str(info.value) and "an array of shape (2, 2)" in str(info.value)
+
+
+def test_a_period_multiple_no_cap_can_hold_names_itself():
+    with pytest.raises(ValueError, match=r"^`max_period_multiple` = 1000000 is not allowed: must be below 50000"):
+        SweepSettings(max_period_multiple=10**6)

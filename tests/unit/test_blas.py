@@ -37,3 +37,15 @@ def test_the_command_lines_one_thread_yields_to_a_users_count():
     user = json.loads(_child(code, OPENBLAS_NUM_THREADS="2"))
     assert user and set(user) == {2}
     assert set(json.loads(_child(code))) == {1}
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="OpenBLAS's count is set through /proc/self/maps")
+def test_a_blas_that_loads_after_the_command_lines_setting_runs_one_thread():
+    """scipy's own OpenBLAS, loaded on first use after one_blas_thread ran, started 2 threads on
+    two cores (the matrix-exponential path of `lyapunov --omega 2e4`: 7.3 CPU-s in 4.1 s)."""
+    code = (
+        "import json, numpy; from impactdamper.core import blas; blas.one_blas_thread(); first = blas.blas_threads();"
+        " import scipy.linalg; print(json.dumps([first, blas.blas_threads()]))"
+    )
+    first, after = json.loads(_child(code))
+    assert len(after) == len(first) + 1 and set(after) == {1}

@@ -183,13 +183,19 @@ def test_packed_in_the_run_falls_back_as_the_pack():
     """Where the pack is flagged (a double root, outside the native scales), the fused run
     stops with the pack's flag, and the public call runs the reference and names the reason."""
     delta2 = HARD["repeated_roots"].changes["delta2"]
-    for p in (Parameters(N=0.9, delta2=delta2), Parameters(omega=1e7), Parameters(x_st=1e-40)):
+    for p in (Parameters(N=0.9, delta2=delta2), Parameters(x_st=1e-40)):
         v, tols, flag = packing_values(p)
         if not flag:
             flag = pack_simulate_kernel(v, tols, 0.0, default_initial_state(p), 2 * p.T, 256, np.zeros(N_DIAG))[0]
         assert flag == pack_parameters(p).fallback != 0
         traj = idp.simulate(p, 2 * p.T, backend="compiled")
         assert (traj.backend, traj.fallback) == ("python", FALLBACK_REASONS[flag])
+    # A fast rate inside the native range is no repeated root: omega 1e7 (and 1e-8) fell back
+    # to the matrix exponential, its eigenvectors tested in (x, v) units; they stay in the kernels.
+    for p in (Parameters(omega=1e7), Parameters(omega=1e-8), Parameters(theta=0.01)):
+        assert pack_parameters(p).fallback == 0
+        traj = idp.simulate(p, 2 * p.T, backend="compiled")
+        assert (traj.backend, traj.fallback) == ("compiled", "")
 
 
 # --- the same settled motions -------------------------------------------------------------
@@ -352,10 +358,11 @@ def test_sweep_with_the_compiled_loop_is_the_reference():
     c/3 after ~100 periods): there the two loops' rounding differences grow until the two runs
     are different motions, and whether each lands within the cap (150 periods) is chance.
     Such a point is nonperiodic in one run and settled in the other; every other point agrees
-    (measured: 2 of 22 differ, at -13 down and at -8 up; -8 starts from -9's nonperiodic
-    motion, whose last section differs between the two runs, and only the compiled run's
-    rescue finds the 1/1 orbit from it within the cap of 50 periods). How a point was reached
-    (method, periods) may then differ further along the path."""
+    (measured: 2 of 22 differ, at -13 down and at -8 up on the record's CPU, at -13 up and down
+    on an AMD EPYC; -8 starts from -9's nonperiodic motion, whose last section differs between
+    the two runs). Which points of the chaotic band differ is decided at the last bits (the
+    kernels are compiled for the host CPU), so the test names the band and a count, not the
+    points. How a point was reached (method, periods) may then differ further along the path."""
     base = Parameters()
     gaps = np.linspace(-14.0, -4.0, 11)
     a = two_way_sweep(base, "gap", gaps, settings=SweepSettings())
@@ -372,7 +379,7 @@ def test_sweep_with_the_compiled_loop_is_the_reference():
             if y.regime != "nonperiodic":  # (a chaotic run's last window is not compared, see above)
                 assert (x.period_multiple, x.impacts_per_cycle) == (y.period_multiple, y.impacts_per_cycle)
                 assert abs(x.x1_max - y.x1_max) <= X1_TOL * max(1.0, abs(y.x1_max))
-    assert set(differ) <= {("down", -13.0), ("up", -8.0)}, differ
+    assert all(-13.0 <= gap <= -8.0 for _, gap in differ) and len(differ) <= 3, differ  # (the chaotic band)
 
 
 def test_fallback_is_counted():

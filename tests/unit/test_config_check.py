@@ -304,3 +304,24 @@ def test_the_reference_theta_check_agrees_with_the_design_job(monkeypatch, tmp_p
         design_chart.main(filled["reference"], filled["design"], tmp_path / "a", tmp_path / "b")
     accepted = cc.problem(config, SCHEMA) is None
     assert accepted == (job.type is Started), (step, str(job.value))
+
+
+def test_an_output_root_resolved_outside_the_scratch_is_refused(tmp_path, monkeypatch):
+    """A symbolic link under results/ to a directory outside the repository passed the check as
+    written; the root is resolved first."""
+    (tmp_path / "results").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    (tmp_path / "results" / "away").symlink_to(tmp_path / "elsewhere")
+    (tmp_path / "results" / "here").mkdir()
+    monkeypatch.chdir(tmp_path)
+    problem = cc.output_root_problem("results/away")
+    assert problem[0] == ("output_root",) and f"resolves to {tmp_path / 'elsewhere'}" in problem[1]
+    assert cc.output_root_problem("results/here") is None and cc.output_root_problem("results/new/run") is None
+
+
+def test_elastic_impacts_where_the_grids_hold_preloaded_stops_are_refused():
+    """reference R = 1 passed the checker; the maps' preloaded points would then fail in their jobs."""
+    text = _refused(_set(_shipped(), ("reference", "R"), 1.0))
+    assert "['reference']['R']: 1.0 is not allowed: the workflow's grids hold preloaded stops" in text
+    assert text.endswith("must be below 1")
+    assert cc.check(_set(_shipped(), ("reference", "R"), 0.99), SCHEMA)["reference"]["R"] == 0.99

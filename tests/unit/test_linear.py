@@ -302,3 +302,31 @@ def test_modes_are_shared_by_parameters_that_differ_only_in_gap_and_R():
     assert np.array_equal(fresh.roots, free_mode(p).roots) and np.array_equal(fresh.Yhat, free_mode(p).Yhat)
     c = np.array([1.0, -1.0, 0.0, 0.0])
     assert free_mode(p).derivative_bound_factor(c, 2) == fresh.derivative_bound_factor(c, 2)
+
+
+@pytest.mark.parametrize(
+    "scales",
+    [dict(omega=1e4), dict(omega=2e4), dict(omega=1e-8), dict(omega=1e10), dict(omega=1e-10), dict(theta=1e-9)],
+)
+def test_the_modal_test_does_not_depend_on_the_rate(scales):
+    """cond(V) in (x, v) units grew with the rate (2.4e4 at omega 2e4, 1.2e10 at theta 1e-9), and
+    points inside the native range left the kernels for repeated roots they did not have. In
+    the mode's own units the condition is that of the relative problem: the reference case's
+    (2.3 free, 1.05 stuck) to 1e-6 relative, at every rate, both modes modal."""
+    from impactdamper.core.linear import clear_mode_cache, scaled_condition
+
+    clear_mode_cache()
+    for mode in (free_mode, stuck_mode):
+        ref, m = mode(REF), mode(REF.replace(**scales))
+        ratio = [scaled_condition(*np.linalg.eig(x.M)[::-1]) for x in (ref, m)]
+        assert ratio[1] == pytest.approx(ratio[0], rel=1e-6)
+        assert m.modal and ratio[1] < 10.0
+
+
+def test_the_modal_test_still_refuses_a_double_root():
+    # A double root: the eigenvectors of the two coalescing modes align in any units.
+    from impactdamper.core.linear import scaled_condition
+
+    M = np.array([[0.0, 1.0], [-1.0, -2.0]])  # (s + 1)^2
+    lam, V = np.linalg.eig(M)
+    assert scaled_condition(V, lam) > 1e6

@@ -225,3 +225,21 @@ def test_cli_bad_input_exits_2_with_one_line(args, flag):
     assert proc.stdout == ""
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and f"argument {flag}" in lines[0], proc.stderr
+
+
+@pytest.mark.slow
+def test_far_above_resonance_the_peak_is_a_settled_motion():
+    """``response --theta-start 100 --theta-stop 200 --points 3`` reported 75.8 x_st at theta 200,
+    a random start's unsettled end (the free motion decays by 0.9984 a period there), where every
+    settled motion is 3e-5 to 1.2e-4 x_st. The peak is now the settled motions' (below 1e-3,
+    within 1e-6 relative of the largest settled grid sample, a stuck 1/1 motion), and each
+    unsettled sample is counted beside it with the periods it ran."""
+    proc = _cli("--theta-start", "100", "--theta-stop", "200", "--points", "3", "--json")
+    assert proc.returncode == 0, proc.stderr
+    d = json.loads(proc.stdout)
+    settled = [m["max_abs_x1"] for q in d["points"] for m in (q["up"], q["down"]) if m["regime"] != "nonperiodic"]
+    assert d["peak_max_abs_x1"] < 1e-3
+    assert d["peak_max_abs_x1"] == pytest.approx(max(settled), rel=1e-6)
+    assert d["unsettled_points"] == len(d["unsettled"]) >= 1
+    assert all(u["periods"] >= 2 and u["source"] in ("up", "down", "random") for u in d["unsettled"])
+    assert max(u["max_abs_x1"] for u in d["unsettled"]) > 10 * d["peak_max_abs_x1"]  # (what used to be the peak)

@@ -246,3 +246,13 @@ def test_bad_arguments_raise_one_line(kwargs, name):
 def test_bad_tolerances_raise_one_line(name, value):
     with pytest.raises(ValueError, match=f"^`{name}` = .* must be in \\(0, 1\\)$"):
         idp.Tolerances(**{name: value})
+
+
+@pytest.mark.parametrize("name", ["gap_tol", "chatter_tol", "force_tol"])
+@pytest.mark.parametrize("value", [1e-300, 5e-324, 9.9e-15])
+def test_tolerances_below_the_rounding_are_refused_naming_the_floor(name, value):
+    """A tolerance below the rounding of the state decides its answer at the last bits (chatter_tol
+    1e-300 at gap -28 settled on one CPU and reached the work bound on another): refused up front."""
+    with pytest.raises(ValueError, match=f"^`{name}` = {value!r} is not allowed: must be at least 1e-14, the floor"):
+        idp.Tolerances(**{name: value})
+    assert getattr(idp.Tolerances(**{name: 1e-14}), name) == 1e-14

@@ -20,8 +20,13 @@ go to that reference, one by one, and are counted in ``BatchResult.fallbacks``:
   :func:`~impactdamper.analysis.rescue.rescue_from_sections`, from the run's last sections)
   settled on a stable cycle; where it finds none, the nonperiodic point stands and no fallback
   is counted;
-* ``matrix_exponential``: a mode with repeated roots (no modal form);
-* ``scales``: free scales outside the native range;
+* ``matrix_exponential``: a mode whose roots (nearly) coalesce, so that no modal form holds
+  (its eigenvectors in the mode's own units, velocities over the fastest rate, have condition
+  >= 1e4: :func:`~impactdamper.core.linear.scaled_condition`; the rate itself never causes it);
+* ``scales``: no longer arises here: a point whose free scales are outside the native range
+  is settled in the canonical units (:meth:`~impactdamper.core.parameters.Parameters.canonical`,
+  relative results do not depend on x_st, m1, omega) like every other point, its start and
+  section converted back;
 * ``error``: the kernels stopped on an error other than the work bound; the reference then
   gives its ``failed`` point or raises its own error.
 
@@ -65,7 +70,14 @@ from impactdamper.analysis.sweeps import check_direction, random_start_states, w
 from impactdamper.core.backends import RowArrays, get_backend, row_arrays
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK
-from impactdamper.core.parameters import ArgumentTypeError, Parameters, require_parameters
+from impactdamper.core.parameters import (
+    CANONICAL_SCALES,
+    NATIVE_SCALES,
+    ArgumentTypeError,
+    Parameters,
+    ScaleMap,
+    require_parameters,
+)
 from impactdamper.core.steady import REGIMES
 
 __all__ = [
@@ -270,15 +282,50 @@ def steady_states(
     length = (chain_length or max(P, 1)) if chain else 1  # points per independent block unit
     given = checked_start_states(states, chain, length, rows, settings.tolerances.gap_tol)
     units = P // length if P else 0
+    outside = ~native_rows(rows)
+    if outside.any():  # settled in the canonical units, as steady_state settles a single point
+        rows, given, back = _canonical_rows(rows, given, outside)
     if workers > 1 and units > 1:
         res = _settle_in_workers(values, names, rows, given, settings, chain, length, run, min(workers, units))
     else:
         res = _settle(values, rows, given, settings, chain, length, run)
+    if outside.any():
+        for i, to_p in back.items():
+            res.start_states[i], res.sections[i] = to_p.full(res.start_states[i]), to_p.full(res.sections[i])
     res.names, res.backend = names, run.name
     if why:
         res.fallback[:] = why
     res.elapsed = time.perf_counter() - t_begin
     return res
+
+
+FREE_SCALES = tuple(COLUMNS.index(name) for name in NATIVE_SCALES)
+
+
+def native_rows(rows: np.ndarray) -> np.ndarray:
+    """Which points' free scales (x_st, m1, omega) are within the native range."""
+    inside = np.ones(len(rows), bool)
+    for c, (lo, hi) in zip(FREE_SCALES, NATIVE_SCALES.values()):
+        inside &= (rows[:, c] >= lo) & (rows[:, c] <= hi)
+    return inside
+
+
+def _canonical_rows(rows: np.ndarray, given: np.ndarray, outside: np.ndarray):
+    """The points outside the native scales put in the canonical units
+    (:meth:`~impactdamper.core.parameters.Parameters.canonical`), their given starts converted:
+    the rows, the starts, and per such point the ScaleMap back to its own units. Every point is
+    then settled by the kernels with the same rescue and caps as at the reference scales (these
+    points went to the reference one by one before, without the rescue, and in a chain each
+    nonperiodic one put the next under the short cap: np spread)."""
+    rows, given, back = rows.copy(), given.copy(), {}
+    for i in np.flatnonzero(outside):
+        p = _parameters(rows[i])
+        q = p.canonical()
+        if len(given):
+            given[i] = ScaleMap(p, q).full(given[i])
+        back[int(i)] = ScaleMap(q, p)
+        rows[i, list(FREE_SCALES)] = [CANONICAL_SCALES[name] for name in NATIVE_SCALES]
+    return rows, given, back
 
 
 def _settle_in_workers(values, names, rows, given, settings, chain: bool, length: int, run, blocks: int) -> BatchResult:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import multiprocessing
 import numbers
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -41,12 +42,29 @@ def _changed_columns(base: Parameters, name: str, value: float) -> tuple:
     return tuple((c, getattr(q, col)) for c, col in enumerate(COLUMNS) if getattr(q, col) != getattr(base, col))
 
 
+def refuse_masked(name: str, value) -> None:
+    """A masked array is refused: its mask would be dropped silently (the masked entries read as
+    whatever values they hide)."""
+    if isinstance(value, np.ma.MaskedArray):
+        raise ArgumentTypeError(
+            f"`{name}` = {show_value(value)} is not allowed: a masked array (its mask would be dropped); "
+            "pass the points to settle only, as a plain array"
+        )
+
+
 def checked_names(names) -> tuple:
     """The varied parameters: a sequence of known names, none given twice (``delta`` sets
     delta1 and delta2, so it goes with neither)."""
-    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
-        raise ArgumentTypeError(f"`names` = {names!r} is not allowed: must be a sequence of parameter names")
-    names = tuple(names)
+    if isinstance(names, str) or not isinstance(names, (Sequence, np.ndarray)):
+        # A set maps the columns in hash order (theta and N swapped under PYTHONHASHSEED=1), a
+        # generator was read by the check and came out empty: refused, in one line.
+        raise ArgumentTypeError(
+            f"`names` = {show_value(names)} is not allowed: must be an ordered sequence (a list or tuple) of "
+            f"parameter names, one per column of `values`, not a {type(names).__name__}"
+        )
+    if not all(isinstance(n, str) for n in names):
+        raise ArgumentTypeError(f"`names` = {show_value(names)} is not allowed: must be a sequence of parameter names")
+    names = tuple(str(n) for n in names)
     if not names:
         raise ValueError("`names` = () is not allowed: must name at least one parameter")
     fields = {}
@@ -67,6 +85,7 @@ def checked_values(values, names: tuple) -> np.ndarray:
     per name (a bool, a string or a complex number is refused as Parameters refuses it; nothing
     is reshaped). The message names the point and the name."""
     allowed = f"must be finite real numbers of shape (P, {len(names)}): one row per point, one column per name {names}"
+    refuse_masked("values", values)
     if isinstance(values, np.ndarray) and values.dtype.kind in "iuf":
         arr = values
     else:
@@ -120,6 +139,7 @@ def checked_start_states(states, chain: bool, length: int, rows: np.ndarray, gap
     (point_values)."""
     if states is None:
         return np.zeros((0, 4))
+    refuse_masked("states", states)
     starts = np.arange(0, len(rows), length) if chain else np.arange(len(rows))
     what = "chain" if chain else "point"
     allowed = f"must be finite numbers of shape ({len(starts)}, 4), one start (x1, x2, x1', x2') per {what}"

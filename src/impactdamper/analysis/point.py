@@ -125,6 +125,11 @@ class SweepSettings:
             raise ValueError(
                 f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be an integer >= 1"
             )
+        if 2 * self.max_period_multiple >= MAX_PERIODS_LIMIT:  # (no max_periods could hold it: name the cause)
+            raise ValueError(
+                f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be below "
+                f"{MAX_PERIODS_LIMIT // 2} (max_periods, at most {MAX_PERIODS_LIMIT}, must exceed twice it)"
+            )
         if not (
             isinstance(self.max_periods, int) and 2 * self.max_period_multiple < self.max_periods <= MAX_PERIODS_LIMIT
         ):

@@ -23,7 +23,9 @@ The exact linear response without a stop (eq. 10) is given beside it, in closed 
 over the band is not the grid's largest sample but the worst branch located
 (:func:`impactdamper.analysis.peaks.worst_branch`: every branch a slow sweep in either
 direction follows, jumps bracketed, the no-contact floor in closed form, random starts at the
-peaks), to 1e-6 in theta.
+peaks), to 1e-6 in theta. A peak is a settled motion's: a sample that did not settle within its
+cap (``nonperiodic``: its max|x1| a transient's) is never the peak; it is counted beside it, with
+the periods it ran (``unsettled_points``, ``unsettled``).
 
 The cycle is read from a fresh event-driven run of one cycle from the sweep point's section
 state (t = n T, forcing phase zero): the sweep point keeps that state, not the trajectory.
@@ -57,6 +59,9 @@ __all__ = [
     "HYSTERESIS_TOL",
     "MAX_POINTS",
 ]
+
+# Regimes whose sample is not a settled motion's (left out of the peak).
+UNSETTLED = ("nonperiodic", FAILED)
 
 # Two directions count as different motions (hysteresis) when their max|x1|/x_st differ by more
 # than this, relative: the settled cycles agree to the settle tolerance (1e-9), and 1e-4 is well
@@ -148,6 +153,12 @@ class ResponsePoint:
         known = [x for x in (self.up.max_abs_x1, self.down.max_abs_x1) if not math.isnan(x)]
         return float(max(known)) if known else math.nan  # (nan where both directions failed)
 
+    @property
+    def settled_x1(self) -> float:
+        """The larger max|x1|/x_st of the directions that settled (nan where neither did)."""
+        known = [m.max_abs_x1 for m in (self.up, self.down) if m.regime not in UNSETTLED and m.max_abs_x1 >= 0]
+        return float(max(known)) if known else math.nan
+
     def to_dict(self) -> dict:
         return {
             "theta": self.theta,
@@ -187,11 +198,15 @@ class FrequencyResponse:
         In increasing theta.
     located : WorstBranch or None
         The worst branch over the band, located (None for a band of one theta).
+    unsettled : tuple of dict
+        The grid samples that did not settle (``theta``, ``source`` the direction, ``periods``
+        run, ``max_abs_x1`` of the transient), left out of the peak.
     """
 
     p: Parameters = field(repr=False)
     points: tuple
     located: object = field(default=None, repr=False)
+    unsettled: tuple = ()
 
     @property
     def thetas(self) -> np.ndarray:
@@ -201,31 +216,49 @@ class FrequencyResponse:
         """max|x1|/x_st, the larger of the two directions, per theta. Shape (points,)."""
         return np.array([q.worst_x1 for q in self.points])
 
+    def settled_x1(self) -> np.ndarray:
+        """max|x1|/x_st, the larger of the settled directions, per theta (nan: neither settled)."""
+        return np.array([q.settled_x1 for q in self.points])
+
     def grid_peak(self) -> float:
-        """Largest max|x1|/x_st over the grid and both directions."""
-        return float(np.nanmax(self.worst_x1()))
+        """Largest max|x1|/x_st over the grid's settled samples, both directions (nan if none)."""
+        y = self.settled_x1()
+        return float(np.nanmax(y)) if np.any(np.isfinite(y)) else math.nan
 
     def peak(self) -> float:
         """The worst branch's peak over the band, located (never below the grid's largest
-        sample; the grid's alone for a band of one theta)."""
-        if self.located is None:
-            return self.grid_peak()
-        return max(self.located.peak, self.grid_peak())
+        settled sample; the grid's alone for a band of one theta; nan if nothing settled)."""
+        both = [self.grid_peak()] + ([] if self.located is None else [self.located.settled_peak])
+        return float(np.nanmax(both)) if np.any(np.isfinite(both)) else math.nan
 
     def peak_where(self) -> tuple[float, str]:
         """(theta, branch in words) of :meth:`peak`."""
-        if self.located is not None and self.located.peak >= self.grid_peak():
-            return self.located.peak_theta, self.located.branch()
-        i = int(np.nanargmax(self.worst_x1()))
+        grid = self.grid_peak()
+        top = None if self.located is None else self.located.settled
+        if top is not None and not top.value < grid:
+            return top.theta, f"{top.source}, {top.label}, {top.kind}"
+        if math.isnan(grid):
+            return math.nan, "none settled"
+        i = int(np.nanargmax(self.settled_x1()))
         q = self.points[i]
-        up = not q.down.max_abs_x1 > q.up.max_abs_x1
-        label = (q.up if up else q.down).label
-        return q.theta, ("up" if up else "down") + f", {label}, sample"
+        m = q.up if q.up.max_abs_x1 == q.settled_x1 and q.up.regime not in UNSETTLED else q.down
+        return q.theta, ("up" if m is q.up else "down") + f", {m.label}, sample"
+
+    def bound(self) -> float:
+        """The conservative bound: the peak with every unsettled sample counted (the worst
+        branch's :attr:`~impactdamper.analysis.peaks.WorstBranch.peak`, the grid's samples)."""
+        both = [np.nanmax(self.worst_x1())] + ([] if self.located is None else [self.located.peak])
+        return float(np.nanmax(both))
+
+    def unsettled_all(self) -> list[dict]:
+        """Every sample left out of the peak: the grid's and the located search's."""
+        return list(self.unsettled) + ([] if self.located is None else list(self.located.unsettled))
 
     def band_average(self) -> float:
-        """Trapezoidal mean over theta of the worst max|x1|/x_st (the grid's first point alone
-        if it has one)."""
-        x, y = self.thetas, self.worst_x1()
+        """Trapezoidal mean over theta of the worst settled max|x1|/x_st (the unsettled sample
+        where neither direction settled; the grid's first point alone if it has one)."""
+        x, y = self.thetas, self.settled_x1()
+        y = np.where(np.isnan(y), self.worst_x1(), y)
         if len(x) == 1:
             return float(y[0])
         return float(np.trapezoid(y, x) / (x[-1] - x[0]))
@@ -241,18 +274,23 @@ class FrequencyResponse:
     def to_dict(self) -> dict:
         """The JSON object of ``python -m impactdamper response --json``."""
         theta, branch = self.peak_where()
+        unsettled = self.unsettled_all()
         return {
             "parameters": self.p.to_dict(),
-            "peak_max_abs_x1": self.peak(),
-            "peak_theta": theta,
+            "peak_max_abs_x1": _or_none(self.peak()),
+            "peak_theta": _or_none(theta),
             "peak_branch": branch,
-            "grid_peak_max_abs_x1": self.grid_peak(),
+            "grid_peak_max_abs_x1": _or_none(self.grid_peak()),
             "no_contact_floor": None if self.located is None else self.located.floor.value,
             "band_average_max_abs_x1": self.band_average(),
             **self.loads(),
             "hysteresis_points": int(sum(q.hysteresis for q in self.points)),
             # theta values where a sweep direction failed: the peak and loads are over the others
             "failed_points": int(sum(q.up.regime == FAILED or q.down.regime == FAILED for q in self.points)),
+            # samples that did not settle within their cap, left out of the peak (their max|x1| a transient's)
+            "unsettled_points": len(unsettled),
+            "peak_including_unsettled": self.bound(),
+            "unsettled": unsettled,
             "points": [q.to_dict() for q in self.points],
         }
 
@@ -378,6 +416,20 @@ def _largest(traj: Trajectory, a: float, b: float, column: int) -> float:
         res = scipy.optimize.minimize_scalar(f, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * p.T})
         best = max(best, -float(res.fun))
     return best
+
+
+def _or_none(x: float) -> float | None:
+    return None if math.isnan(x) else x
+
+
+def _unsettled(sweep: dict) -> tuple:
+    """The sweep points that did not settle, as :attr:`FrequencyResponse.unsettled` lists them."""
+    return tuple(
+        {"theta": float(q.value), "source": d, "periods": int(q.periods), "max_abs_x1": float(q.x1_max)}
+        for d in ("up", "down")
+        for q in sweep[d]
+        if q.regime == "nonperiodic"
+    )
 
 
 def _nan_metrics(point: SweepPoint) -> CycleMetrics:
@@ -527,6 +579,7 @@ def frequency_response(
         located = worst_branch(p, (float(thetas[0]), float(thetas[-1])), settings=settings)
         if progress is not None:
             progress(
-                f"worst branch located: {located.peak:.8g} at theta = {located.peak_theta:.8g} ({located.branch()})"
+                f"worst branch located: {located.settled_peak:.8g} over the settled motions, {located.peak:.8g} with "
+                f"{len(located.unsettled)} unsettled samples counted ({located.branch()})"
             )
-    return FrequencyResponse(p, tuple(out), located)
+    return FrequencyResponse(p, tuple(out), located, _unsettled(sweep))

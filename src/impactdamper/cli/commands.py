@@ -31,7 +31,7 @@ def _parameters(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Pa
         _fail(parser, err)
 
 
-def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | None = None) -> None:
+def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | None = None, args=None) -> None:
     """Exit with status 2 and one line: ``argument --flag:`` and the error, if it names (in
     backticks, like scipy) a parameter that is a flag of this command."""
     message = " ".join(str(err).split())  # one line whatever the error's text
@@ -45,6 +45,9 @@ def _fail(parser: argparse.ArgumentParser, err: BaseException, p: Parameters | N
             f"the solver handles: {type(err).__name__}: {message}"
         )
     option = flag(name) if name else ""
+    if option == "--theta" and getattr(args, "theta_start", None) is not None:  # (response: the band sets theta)
+        value = message.split("` = ", 1)[1].split(" ", 1)[0] if "` = " in message else ""
+        option = "--theta-stop" if value == repr(args.theta_stop) else "--theta-start"
     prefix = f"argument {option}: " if option in parser._option_string_actions else ""
     parser.exit(2, f"{parser.prog}: error: {prefix}{message}\n")
 
@@ -96,7 +99,7 @@ def main(argv: list[str] | None = None) -> int:
         # Bad values (ValueError, TypeError through ArgumentTypeError) and work bounds
         # (SearchLimitError is a RuntimeError), each naming its parameter; a numerical failure
         # that names none (never expected) is still one line, naming the likeliest cause.
-        _fail(sub, err, p)
+        _fail(sub, err, p, args)
     return write_answer(result, PRINTERS[args.command], args.json)
 
 

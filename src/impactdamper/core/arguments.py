@@ -28,7 +28,11 @@ def show_value(value: object) -> str:
     """repr of a bad value, short enough for a one-line message (an int can have 400 digits)."""
     if isinstance(value, numbers.Integral) and not isinstance(value, bool) and abs(int(value)) > 10**20:
         return f"an integer of {len(str(abs(int(value))))} digits"
-    text = repr(value)
+    if getattr(value, "ndim", 0) and hasattr(value, "shape") and hasattr(value, "dtype"):
+        # An array by its shape and dtype: its repr spans lines and says little at this length.
+        masked = " (masked)" if type(value).__name__ == "MaskedArray" else ""
+        return f"an array of shape {tuple(value.shape)} and dtype {value.dtype}{masked}"
+    text = " ".join(repr(value).split())  # (one line whatever the repr)
     return text if len(text) <= 60 else text[:40] + "...(truncated)"
 
 

@@ -45,8 +45,9 @@ def _openblas_libraries() -> list:
 
 
 def one_blas_thread(force: bool = False) -> None:
-    """One thread in each OpenBLAS loaded, unless the user set a number (``force``: whatever is
-    set, and the variables set to 1 for the processes this one starts).
+    """One thread in each OpenBLAS loaded and in each that loads later (the variables set to 1,
+    read by a library when it loads, and by the processes this one starts), unless the user set
+    a number (``force``: whatever is set).
 
     The environment variables must be set before numpy loads, which the package import has done
     by the time this runs: the count is set in the loaded libraries instead (what threadpoolctl
@@ -54,8 +55,10 @@ def one_blas_thread(force: bool = False) -> None:
     """
     if not force and any(name in os.environ for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")):
         return
-    if force:
-        os.environ.update(dict.fromkeys(BLAS_THREAD_VARIABLES, "1"))
+    # The variables set to 1 as well: a BLAS that loads later reads them when it loads (scipy's
+    # own OpenBLAS, loaded on first use after this ran, started 2 threads on two cores and the
+    # matrix-exponential path took 7.3 CPU-s in 4.1 s for `lyapunov --omega 2e4`).
+    os.environ.update(dict.fromkeys(BLAS_THREAD_VARIABLES, "1"))
     for lib in _openblas_libraries():
         _call(lib, _SET, 1)
 

@@ -42,11 +42,33 @@ __all__ = [
     "forced_amplitudes",
     "free_mode",
     "stuck_mode",
+    "scaled_condition",
 ]
 
 # Above this condition number of the eigenvector matrix the modal form loses more than
-# ~1e4 * eps ~ 2e-12 of relative accuracy; the matrix exponential takes over.
+# ~1e4 * eps ~ 2e-12 of relative accuracy; the matrix exponential takes over. The condition is
+# that of the eigenvectors in the mode's own units (scaled_condition): in (x, v) units it grew
+# with the rate itself (12 at omega1 = 10, 2.4e4 at omega1 = 2e4, 1.2e10 at theta = 1e-9 for
+# the same relative problem, whose scaled condition is 2.3), and points inside the native range
+# left the kernels for repeated roots they did not have.
 MODAL_CONDITION_LIMIT = 1.0e4
+
+
+def scaled_condition(V: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    """The condition number of eigenvectors ``V`` (columns (x, v), positions in the first half
+    of the rows) of roots ``lam`` in the mode's own units: the velocity rows over the fastest rate
+    max|lambda| and each column of unit length. It depends on the relative problem only (not on
+    omega, x_st or m1), and it is large only where roots (nearly) coalesce. Stacks of shape
+    (..., n, n) and (..., n) give shape (...)."""
+    V = np.array(V, dtype=complex)
+    n = V.shape[-1]
+    with np.errstate(all="ignore"):
+        rate = np.max(np.abs(lam), axis=-1)
+        rate = np.where(rate > 0.0, rate, 1.0)
+        V[..., n // 2 :, :] /= rate[..., None, None]
+        V /= np.linalg.norm(V, axis=-2, keepdims=True)
+        finite = np.all(np.isfinite(V), axis=(-2, -1))
+        return np.where(finite, np.linalg.cond(np.where(finite[..., None, None], V, np.eye(n))), np.inf)
 
 
 def characteristic_coefficients(p: Parameters) -> np.ndarray:
@@ -136,7 +158,7 @@ class LinearMode:
         M = np.asarray(self.M, dtype=float)
         n = M.shape[0]
         lam, V = np.linalg.eig(M)
-        condition = np.linalg.cond(V)
+        condition = scaled_condition(V, lam)
         modal = bool(np.isfinite(condition) and condition < MODAL_CONDITION_LIMIT)
         Vinv = np.linalg.inv(V) if modal else None
         try:

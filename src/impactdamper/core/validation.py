@@ -62,6 +62,7 @@ __all__ = [
     "MAX_STATE",
     "MAX_PERIODS_LIMIT",
     "SETTLE_TOL_FLOOR",
+    "TOLERANCE_FLOOR",
 ]
 
 
@@ -88,11 +89,28 @@ class Tolerances:
     def __post_init__(self) -> None:
         for name in ("gap_tol", "chatter_tol", "force_tol"):
             # Relative to x_st: a finite number in (0, 1) (NaN used to pass algorithm1 unchecked,
-            # and gap_tol = 10 counted the orbit's whole excursion as grazing).
+            # and gap_tol = 10 counted the orbit's whole excursion as grazing), and at least
+            # TOLERANCE_FLOOR (below it the answer is decided by the machine's last bits).
             value = real_argument(name, getattr(self, name))
             if not (math.isfinite(value) and 0.0 < value < 1.0):
                 raise ValueError(f"`{name}` = {value!r} is not allowed: must be in (0, 1)")
+            if value < TOLERANCE_FLOOR:
+                raise ValueError(
+                    f"`{name}` = {value!r} is not allowed: must be at least {TOLERANCE_FLOOR:g}, the floor above "
+                    "the rounding of the state in double precision (below it a result is decided by the last bits)"
+                )
             object.__setattr__(self, name, value)
+
+
+# Smallest gap_tol, chatter_tol and force_tol (relative to x_st, x_st omega_max^2): the rounding
+# of the state in double precision. Positions of a motion up to ~50 x_st (gaps and preloads of
+# the native range) are rounded to 50 x 2.2e-16 = 1.1e-14 x_st, so a gap, a rebound height or a
+# contact force below that level is round-off: at chatter_tol = 1e-300 and gap -28 the compiled
+# kernels (built for the host CPU) settled a chatter cycle whose last impact had velocity 0.0 by
+# round-off while the Python backend reached the work bound, and which happened depended on the
+# CPU. From 1e-9 down to 1e-20 both backends agree there (chatter, 1 T); the floor keeps every
+# accepted tolerance above the rounding.
+TOLERANCE_FLOOR = 1e-14
 
 
 def check_gap_tol(gap_tol: object) -> float:

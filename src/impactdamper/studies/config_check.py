@@ -309,6 +309,12 @@ def output_root_problem(root) -> Problem | None:
         return None  # "." (or "./"): the record run
     if path.is_absolute() or ".." in path.parts or path.parts[0] != SCRATCH or len(path.parts) < 2:
         return ("output_root",), f": {root!r} is not allowed: {allowed}"
+    # Resolved too (the run writes where its symbolic links lead): a link under results/ to a
+    # directory outside the repository's scratch passed the check as written.
+    scratch = Path.cwd().resolve() / SCRATCH
+    resolved = Path(root).resolve()
+    if resolved == scratch or not resolved.is_relative_to(scratch):
+        return ("output_root",), f": {root!r} is not allowed: it resolves to {resolved} (a symbolic link); {allowed}"
     return None
 
 
@@ -550,7 +556,15 @@ def problem(config: dict, schema: dict) -> Problem | None:
         if found is not None:
             return found
     filled = _with_defaults(config, schema)
-    for check_one in (config_problem, _too_large, _reference_theta_off_the_design_grid, _design_object_out_of_range):
+    from impactdamper.studies.config_physics import elastic_on_a_preload
+
+    for check_one in (
+        elastic_on_a_preload,
+        config_problem,
+        _too_large,
+        _reference_theta_off_the_design_grid,
+        _design_object_out_of_range,
+    ):
         found = check_one(filled)
         if found is not None:
             return found

@@ -17,8 +17,9 @@ per parameter set with the operations of the reference classes
 (:class:`~impactdamper.core.model.Model`) and packed into arrays; the kernels only evaluate. Whatever the kernels do not reproduce falls back to the
 pure-Python solver, and the result says so (``fallback``):
 
-* a mode whose eigenvector matrix is ill conditioned (repeated roots of eq. (4)), where the
-  reference uses the matrix exponential;
+* a mode whose eigenvector matrix, in the mode's own units, is ill conditioned (nearly repeated
+  roots of eq. (4): :func:`impactdamper.core.linear.scaled_condition`), where the reference
+  uses the matrix exponential;
 * parameters outside the native scales (the reference rescales them);
 * an error of the kernels that is not a work bound (a failed search, a resonance in contact):
   the reference is re-run so that its exception, with its message, is raised.

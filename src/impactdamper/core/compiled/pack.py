@@ -39,7 +39,7 @@ from impactdamper.core.compiled.layout import (
     S_T,
     S_XST,
 )
-from impactdamper.core.linear import MODAL_CONDITION_LIMIT
+from impactdamper.core.linear import MODAL_CONDITION_LIMIT, scaled_condition
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT
 from impactdamper.core.parameters import NATIVE_SCALES, Parameters
 from impactdamper.core.validation import Tolerances
@@ -109,7 +109,7 @@ def _stacked_mode(M: np.ndarray, b: np.ndarray, omega: np.ndarray, W: np.ndarray
     P, n = M.shape[0], M.shape[1]
     with np.errstate(all="ignore"):
         lam, V = np.linalg.eig(M)
-        condition = np.linalg.cond(V)
+        condition = scaled_condition(V, lam)
         modal = np.isfinite(condition) & (condition < MODAL_CONDITION_LIMIT)
         Vinv = np.zeros_like(V)
         if modal.any():
@@ -233,10 +233,36 @@ def pack_many(values: np.ndarray, tolerances: Tolerances | None = None) -> tuple
 
 
 @njit(cache=True)
+def _scaled_condition(n, V, lam):
+    """linear.scaled_condition of one mode, in compiled code."""
+    rate = 0.0
+    for j in range(n):
+        rate = max(rate, abs(lam[j]))
+    if not math.isfinite(rate):
+        return math.inf
+    if not rate > 0.0:
+        rate = 1.0
+    Vs = V.copy()
+    for r in range(n // 2, n):
+        for j in range(n):
+            Vs[r, j] = Vs[r, j] / rate
+    for j in range(n):
+        norm = 0.0
+        for r in range(n):
+            norm += abs(Vs[r, j]) ** 2
+        norm = math.sqrt(norm)
+        if not (norm > 0.0 and math.isfinite(norm)):
+            return math.inf
+        for r in range(n):
+            Vs[r, j] = Vs[r, j] / norm
+    return np.linalg.cond(Vs)
+
+
+@njit(cache=True)
 def _pack_mode(i, n, M, b, W, lam, V, omega, cm, fm, powers, LiT):
     """One mode of the reference's LinearMode.__post_init__ (eigen-decomposition given).
     Returns (modal, forced amplitude, finite)."""
-    condition = np.linalg.cond(V)
+    condition = _scaled_condition(n, V, lam)
     modal = math.isfinite(condition) and condition < MODAL_CONDITION_LIMIT
     A = np.zeros((n, n), np.complex128)
     for r in range(n):
