@@ -40,9 +40,9 @@ import numpy as np
 import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
-from impactdamper.studies.vocabulary import SPEC
+from impactdamper.studies import vocabulary
 
-GAP = SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
+GAP = vocabulary.SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
 
 plt.style.use(plotting.STYLE_FILE)  # the project's one figure style (inline backend kept)
 
@@ -277,7 +277,7 @@ ax.fill_between(
 )
 for g in (p.gap, p10.gap):
     ax.axvline(g, color="C3", lw=0.8, ls=":")
-ax.set_xlabel(SPEC["gap"].label)
+ax.set_xlabel(vocabulary.SPEC["gap"].label)
 ax.set_ylabel(r"smallest interior gap minimum / $x_{st}$")
 ax.set_title("Algorithm No. 1 over the gap setting (dotted: -10 and -5.8)")
 ax.legend(loc="lower right")

@@ -36,9 +36,9 @@ import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
 from impactdamper.analysis import ladder, point, sweeps, transitions
-from impactdamper.studies.vocabulary import SPEC
+from impactdamper.studies import vocabulary
 
-GAP = SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
+GAP = vocabulary.SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -189,7 +189,7 @@ for value, text, style in (
 ):
     amp.axhline(value, ls=style, lw=0.9, color="C5", label=f"{text}: {value:.2f}")
 amp.set_ylabel(r"max $|x_1|/x_{st}$")
-amp.set_xlabel(SPEC["gap"].label)
+amp.set_xlabel(vocabulary.SPEC["gap"].label)
 amp.legend(loc="lower left", fontsize=7, ncol=2)
 edges = [
     thresholds["stuck lift-off"],
@@ -202,7 +202,7 @@ for ax in (vel, phase, amp):
     ax.axvline(-5.8, color="k", lw=0.5, ls=":")
     for e in edges:
         ax.axvline(e, color="C5", lw=0.5, ls="--")
-fig.suptitle(f"Reference case of Fig. 2, {SPEC['gap'].label} varied", fontsize=9)
+fig.suptitle(f"Reference case of Fig. 2, {vocabulary.SPEC['gap'].label} varied", fontsize=9)
 # %%
 # The reading below describes what was computed above; stop here if it no longer does.
 for points in runs.values():

@@ -44,7 +44,7 @@ import numpy as np
 import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
-from impactdamper.studies.vocabulary import SPEC
+from impactdamper.studies import vocabulary
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -198,7 +198,7 @@ if FREQUENCY_RESPONSE:
         if sel:
             ax.plot([s.p.theta for s in sel], [s.x1_max for s in sel], "o", ms=3, color=COLORS[regime], label=regime)
     ax.axvline(p.theta, color="k", lw=0.5, ls=":")
-    ax.set_xlabel(SPEC["theta"].label)
+    ax.set_xlabel(vocabulary.SPEC["theta"].label)
     ax.set_ylabel(r"max $|x_1|/x_{st}$")
     ax.set_ylim(0, 1.15 * max(curves.max(), max(s.x1_max for s in runs)))
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7)

@@ -44,6 +44,7 @@ def test_only_the_public_api_is_imported():
         "impactdamper",
         "impactdamper.core.linear",
         "impactdamper.reporting.plotting",
+        "impactdamper.studies.vocabulary",  # the parameter table's symbols and axis labels
         "impactdamper.analysis.sweeps",
         "impactdamper.analysis.ladder",
         "impactdamper.analysis.point",
