@@ -71,7 +71,8 @@ def test_force_and_restitution_scenarios():
     u = Uncertainty()
     assert len(u.scenarios("peak")) == 1 and len(u.scenarios("detuning")) == 3
     together = u.scenarios("together")
-    assert len(together) == 15 == len(set(together)) and set(u.scenarios("force")) <= set(together)
+    assert len(together) == 43 == len(set(together)) and set(u.scenarios("force")) <= set(together)
+    assert len(u.scenarios("absorber")) == 9 and set(u.scenarios("absorber")[:5]) <= set(together)
     # A linear device does not feel the force amplitude nor the restitution.
     assert TmdCriterion(0.08, 0.05, BAND, "force", u).value(0.9, 0.15) == TmdCriterion(
         0.08, 0.05, BAND, "peak", u

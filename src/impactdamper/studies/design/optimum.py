@@ -57,6 +57,7 @@ from impactdamper.studies.design.devices import (
     tmd_row,
 )
 from impactdamper.studies.design.search import Budget, SearchResult, search
+from impactdamper.studies.design.tmd import refine_tmd
 from impactdamper.studies.design.verdict import device, headline, recommendation
 
 __all__ = [
@@ -79,10 +80,9 @@ __all__ = [
 BUDGET = Budget(
     samples=128, starts=2, polls=10, first_step=1 / 8, last_step=1 / 128, coarse_above=1 / 32, polish=30, checks=6
 )
-# The robust searches' budget (both devices): a local search from the nominal peak's optimum.
-ROBUST_BUDGET = Budget(
-    samples=0, starts=0, polls=6, first_step=1 / 16, last_step=1 / 128, coarse_above=1 / 32, polish=20, checks=6
-)
+# The robust and travel-limited searches' budget: the nominal one, their global stage one
+# shared sample of the whole box evaluated under every robust criterion's scenarios.
+ROBUST_BUDGET = BUDGET
 # The nominal criteria, and the robust criteria searched (the others are evaluated for every
 # design: the table's columns).
 CRITERIA_NOMINAL = ("peak", "band_average")
@@ -127,6 +127,8 @@ def check_object(band, mu, delta1, uncertainty: Uncertainty, max_stroke, stop_st
     _in_range("force_low", uncertainty.force[0])
     _in_range("force_high", uncertainty.force[1])
     _in_range("restitution_drift", uncertainty.restitution)
+    _in_range("stiffness_drift", uncertainty.stiffness)
+    _in_range("damping_drift", uncertainty.damping)
     _in_range("stop_stiffness", stop_stiffness, " (times the object's spring c1)")
     _in_range("natural_frequency", natural_frequency, " Hz")
     if max_stroke is not None:
@@ -162,18 +164,22 @@ def _record(kind: str, criterion: str, name: str, row: dict, result: SearchResul
 
 
 def _tmd_searches(mu, delta1, band, unc, budgets, seed, say) -> dict:
-    """The TMD's searches, with the impact suppressor's budgets: the nominal criteria, then the
-    robust one from the nominal peak's optimum (the force and the restitution leave it as it is)."""
-    bounds = design_bounds(mu, 1.0)["tmd"]
+    """The TMD's searches, each with the impact suppressor's nominal budget (its global stage
+    included), then refined to convergence on the exact peaks with delta2 free up to a locked
+    absorber (:func:`~impactdamper.studies.design.tmd.refine_tmd`); the force and the restitution
+    leave it as it is."""
     out = {}
     for c in ("peak", "band_average", "detuning"):
-        crit = TmdCriterion(mu, delta1, band, c, unc)
-        if c in ROBUST_SEARCHED:
-            out[c] = search(crit, bounds, budget=budgets[1], seeds=[out["peak"].x], seed=seed)
-        else:
-            out[c] = search(crit, bounds, budget=budgets[0], seed=seed)
-        say(f"TMD, {c}: N = {out[c].x['N']:.4f}, delta2 = {out[c].x['delta2']:.4f}, {out[c].value:.6g}")
+        out[c] = _tmd_search(TmdCriterion(mu, delta1, band, c, unc), mu, budgets[0], seed)
+        say(f"TMD, {c}: N = {out[c].x['N']:.6f}, delta2 = {out[c].x['delta2']:.6f}, {out[c].value:.8g}")
     return out
+
+
+def _tmd_search(crit, mu: float, budget: Budget, seed: int) -> SearchResult:
+    """One TMD search (global stage, compass, polish) refined by :func:`refine_tmd`."""
+    bounds = design_bounds(mu, 1.0)["tmd"]
+    d_dh = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
+    return refine_tmd(crit, search(crit, bounds, budget=budget, seed=seed), bounds, d_dh, budget)
 
 
 def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say) -> dict:
@@ -188,13 +194,10 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     hi = np.array([bounds["impact"][n][1] for n in names])
     budget, robust = budgets
     X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
-    nominal = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
-    sample = nominal.branches([dict(zip(names, x)) for x in X], [Scenario()], "coarse")
-    values = {
-        "peak": np.array([w.peak for w, _ in sample]),
-        "band_average": np.array([w.band_average for w, _ in sample]),
-    }
-    say(f"global stage: {len(X)} designs, best peak {np.min(values['peak']):.5g}")
+    values = _shared_sample(mu, delta1, band, unc, X, workers)
+    say(
+        f"global stage: {len(X)} designs under {len(ROBUST_SEARCHED) * 2 + 1} scenarios, best peak {np.min(values['peak']):.5g}"
+    )
     task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
     reach = bounds["impact_reach"]
     first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
@@ -218,7 +221,7 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
             searched=reach,
         )
     for c in ROBUST_SEARCHED:
-        second[c] = functools.partial(task, c, unc, reach, robust, None, seeds=[out["peak_reach"].x])
+        second[c] = functools.partial(task, c, unc, reach, robust, (X, values[c]), seeds=[out["peak_reach"].x])
     # The travel limit: the gap at most the limit (an impacting device travels the gap towards
     # its stop); a local search from the travel-limited TMD with its stop at the limit (it never
     # reaches it: a feasible start) and from the best sample inside the box (its stroke is read
@@ -228,8 +231,30 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     seeds = [{"gap": box["gap"][1], **stroke_tmd.x, "R": 0.5}]
     if len(inside):
         seeds.append(dict(zip(names, X[inside[int(np.argmin(values["peak"][inside]))]])))
-    second["stroke"] = functools.partial(task, "peak", unc, box, robust, None, seeds=seeds, max_stroke=max_stroke)
+    second["stroke"] = functools.partial(
+        task, "peak", unc, box, budget, (X, values["peak"]), seeds=seeds, max_stroke=max_stroke
+    )
     return {**out, **_in_parallel(second, workers)}
+
+
+def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int) -> dict:
+    """The global stage every impact search shares: the designs ``X`` (rows in IMPACT_NAMES'
+    order) at the ``coarse`` fidelity under the nominal scenario and each robust criterion's
+    scenarios, in one batch. Returns each criterion's coarse values."""
+    names = list(IMPACT_NAMES)
+    crit = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
+    scen = list(dict.fromkeys(s for c in ROBUST_SEARCHED for s in unc.scenarios(c)))
+    out = crit.branches([dict(zip(names, x)) for x in X], scen, "coarse")
+    m = len(scen)
+    mine = [dict(zip(scen, out[i * m : (i + 1) * m])) for i in range(len(X))]
+    values = {
+        "peak": np.array([d[Scenario()][0].peak for d in mine]),
+        "band_average": np.array([d[Scenario()][0].band_average for d in mine]),
+    }
+    for c in ROBUST_SEARCHED:
+        cs = unc.scenarios(c)
+        values[c] = np.array([max(d[s][1] * d[s][0].peak for s in cs) for d in mine])
+    return values
 
 
 # The tasks of _in_parallel's pool, by index (the forked workers inherit them: a task holds
@@ -396,8 +421,7 @@ def design_optima(
     s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
     S = STROKE_FRACTION * s_T if max_stroke is None else float(max_stroke)
     bounds = design_bounds(mu, s_T)
-    crit = TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S)
-    tmd["stroke"] = search(crit, bounds["tmd"], budget=budget, seed=seed)
+    tmd["stroke"] = _tmd_search(TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S), mu, budget, seed)
     say(f"TMD's stroke {s_T:.4g} x_st; the stroke limit {S:.4g}")
     imp = _impact_searches(
         mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say
@@ -541,11 +565,17 @@ def design_options(design: dict) -> dict:
         checks=int(design["search_checks"]),
     )
     robust = dataclasses.replace(
-        ROBUST_BUDGET,
+        budget,
         polls=int(design["robust_polls"]),
         polish=int(design["robust_polish"]),
         checks=int(design["search_checks"]),
     )
     low, high = (float(x) for x in design["force_band"])
-    unc = Uncertainty(float(design["detuning"]), (low, high), float(design["restitution_drift"]))
+    unc = Uncertainty(
+        float(design["detuning"]),
+        (low, high),
+        float(design["restitution_drift"]),
+        float(design.get("stiffness_drift", Uncertainty.stiffness)),
+        float(design.get("damping_drift", Uncertainty.damping)),
+    )
     return {"uncertainty": unc, "budget": budget, "robust_budget": robust}
