@@ -112,6 +112,17 @@ def test_inputs_are_checked_up_front(kwargs, name):
     assert str(err.value).startswith(f"`{name}` = ") and "\n" not in str(err.value), err.value
 
 
+LOADS = dict(
+    feasible=True,
+    impacts=True,
+    stroke=15.9,
+    contact_force=120.0,
+    impacts_per_hour=4.2e4,
+    stop_stiffness=1000.0,
+    natural_frequency=10.0,
+)
+
+
 def _record(pairs: dict) -> dict:
     """A design record with the rows the recommendation reads: {criterion: (impact, tmd)}."""
     keys = {
@@ -128,7 +139,7 @@ def _record(pairs: dict) -> dict:
         for key, v in ((ki, vi), (kt, vt)):
             if key is None:
                 continue
-            row = rows.setdefault(key, {"device": key, "peak": 9.0, "band_average": 9.0, "worst": {}, "feasible": True})
+            row = rows.setdefault(key, {"device": key, "peak": 9.0, "band_average": 9.0, "worst": {}, **LOADS})
             if c in ("peak", "stroke"):
                 row["peak"] = v
             elif c == "band_average":
@@ -188,6 +199,19 @@ def test_recommendation_follows_the_record(pairs, first):
     assert text.startswith(first + ":"), text
     assert "\n" not in text and "equal within" in text  # the band average ties within TIE
     assert TIE == 0.02
+    # Its costs beside the peaks: the impact design's stroke against the TMD's, stop force, impacts.
+    assert "travels 15.9 x_st (the TMD 15.9 x_st, 1.00 times)" in text and "120 P0" in text, text
+    assert "42,000 times an hour at f1 = 10 Hz" in text, text
+
+
+def test_a_travel_limited_impact_design_that_never_impacts_is_the_tmd_limit():
+    pairs = dict(peak=(3.7, 3.6), band_average=(2.3, 2.3), detuning=(5.0, 4.6), force=(4.6, 3.6))
+    record = _record({**pairs, "restitution": (4.1, 3.6), "stroke": (5.34, 5.33)})
+    device_row = next(d for d in record["devices"] if d["device"] == "impact_stroke")
+    device_row["impacts"] = False
+    text = recommendation(record)
+    assert "no impacting design beats the TMD: the best impact design keeps its stop out of reach" in text
+    assert "equal within 2 % (impact 5.34" not in text
 
 
 def test_shipped_config_budget_is_the_commands():

@@ -353,13 +353,14 @@ def impact_rows(
     workers: int = 1,
     stop_stiffness: float = STOP_STIFFNESS,
     natural_frequency: float = NATURAL_FREQUENCY,
+    robust: Sequence[str] = ROBUST,
 ) -> list[dict]:
     """The design table's rows of impact suppressors: for each design its located worst branch
     (nominal), band average, worst peaks over each uncertainty and over all together (one batch
     of every design's scenarios, final fidelity; a design met twice is computed once), stroke
-    and loads."""
-    crit = ImpactCriterion(mu, delta1, band, "together", uncertainty, settings=settings, workers=workers)
-    scen = crit.scenarios
+    and loads; ``robust``: the uncertainties evaluated (the others' worst peaks NaN)."""
+    crit = ImpactCriterion(mu, delta1, band, "peak", uncertainty, settings=settings, workers=workers)
+    scen = list(dict.fromkeys(s for name in ("peak", *robust) for s in uncertainty.scenarios(name)))
     distinct = list({tuple(x[n] for n in IMPACT_NAMES): x for x in designs}.values())
     out = crit.branches(distinct, scen, "final")
     mines = [dict(zip(scen, out[i * len(scen) : (i + 1) * len(scen)])) for i in range(len(distinct))]
@@ -376,7 +377,11 @@ def impact_rows(
         w = mine[Scenario()][0]
         worst = {}
         for name in ROBUST:
-            worst[name] = max(scale * v.peak for s, (v, scale) in mine.items() if s in uncertainty.scenarios(name))
+            worst[name] = (
+                max(scale * v.peak for s, (v, scale) in mine.items() if s in uncertainty.scenarios(name))
+                if name in robust
+                else math.nan
+            )
         rows[tuple(x[n] for n in IMPACT_NAMES)] = {
             "kind": "impact",
             "parameters": dict(x),

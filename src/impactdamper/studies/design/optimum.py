@@ -43,6 +43,7 @@ from impactdamper.analysis.linear_device import LinearDevice, check_band
 from impactdamper.analysis.parallel import check_workers
 from impactdamper.core.validation import finite_argument
 from impactdamper.studies.design.devices import (
+    ROBUST,
     DESIGN_SETTINGS,
     IMPACT_NAMES,
     NATURAL_FREQUENCY,
@@ -57,7 +58,7 @@ from impactdamper.studies.design.devices import (
     tmd_row,
 )
 from impactdamper.studies.design.search import Budget, SearchResult, search
-from impactdamper.studies.design.tmd import refine_tmd
+from impactdamper.studies.design.tmd import equal_peaks, refine_tmd
 from impactdamper.studies.design.verdict import device, headline, recommendation
 
 __all__ = [
@@ -182,7 +183,7 @@ def _tmd_search(crit, mu: float, budget: Budget, seed: int) -> SearchResult:
     return refine_tmd(crit, search(crit, bounds, budget=budget, seed=seed), bounds, d_dh, budget)
 
 
-def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say) -> dict:
+def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say, robust):
     """The impact suppressor's searches (module docstring): one shared global sample over the
     whole box (one batch on ``workers`` processes); then, ``workers`` searches at a time (each in
     its own process: a search's answer does not depend on where it runs), the nominal criteria
@@ -192,12 +193,10 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     names = list(IMPACT_NAMES)
     lo = np.array([bounds["impact"][n][0] for n in names])
     hi = np.array([bounds["impact"][n][1] for n in names])
-    budget, robust = budgets
+    budget, robust_budget = budgets
     X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
-    values = _shared_sample(mu, delta1, band, unc, X, workers)
-    say(
-        f"global stage: {len(X)} designs under {len(ROBUST_SEARCHED) * 2 + 1} scenarios, best peak {np.min(values['peak']):.5g}"
-    )
+    values = _shared_sample(mu, delta1, band, unc, X, workers, ROBUST_SEARCHED if robust else ())
+    say(f"global stage: {len(X)} designs, {len(values)} criteria, best peak {np.min(values['peak']):.5g}")
     task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
     reach = bounds["impact_reach"]
     first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
@@ -220,8 +219,8 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
             incumbents=[(r.x, r.value)],
             searched=reach,
         )
-    for c in ROBUST_SEARCHED:
-        second[c] = functools.partial(task, c, unc, reach, robust, (X, values[c]), seeds=[out["peak_reach"].x])
+    for c in ROBUST_SEARCHED if robust else ():
+        second[c] = functools.partial(task, c, unc, reach, robust_budget, (X, values[c]), seeds=[out["peak_reach"].x])
     # The travel limit: the gap at most the limit (an impacting device travels the gap towards
     # its stop); a local search from the travel-limited TMD with its stop at the limit (it never
     # reaches it: a feasible start) and from the best sample inside the box (its stroke is read
@@ -237,13 +236,13 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     return {**out, **_in_parallel(second, workers)}
 
 
-def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int) -> dict:
+def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust) -> dict:
     """The global stage every impact search shares: the designs ``X`` (rows in IMPACT_NAMES'
     order) at the ``coarse`` fidelity under the nominal scenario and each robust criterion's
     scenarios, in one batch. Returns each criterion's coarse values."""
     names = list(IMPACT_NAMES)
     crit = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
-    scen = list(dict.fromkeys(s for c in ROBUST_SEARCHED for s in unc.scenarios(c)))
+    scen = list(dict.fromkeys(s for c in ("peak", *robust) for s in unc.scenarios(c)))
     out = crit.branches([dict(zip(names, x)) for x in X], scen, "coarse")
     m = len(scen)
     mine = [dict(zip(scen, out[i * m : (i + 1) * m])) for i in range(len(X))]
@@ -251,7 +250,7 @@ def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int) -> dict:
         "peak": np.array([d[Scenario()][0].peak for d in mine]),
         "band_average": np.array([d[Scenario()][0].band_average for d in mine]),
     }
-    for c in ROBUST_SEARCHED:
+    for c in robust:
         cs = unc.scenarios(c)
         values[c] = np.array([max(d[s][1] * d[s][0].peak for s in cs) for d in mine])
     return values
@@ -364,6 +363,7 @@ def design_optima(
     workers: int = WORKERS,
     seed: int = 0,
     progress: Callable[[str], None] | None = None,
+    robust: bool | None = None,
 ) -> dict:
     """The design table of one object (module docstring): what ``python -m impactdamper
     design --json`` prints and the report's design table shows.
@@ -394,6 +394,12 @@ def design_optima(
         ``cpu`` and ``longest_silence`` do).
     seed : int
     progress : callable(str), optional
+    robust : bool, optional
+        Search the robust rows (the impact suppressor optimal for the detuning, the force and
+        the restitution; every row's worst peaks under every uncertainty): by default only when
+        ``criterion`` is one of them. Without them the nominal answer (peak, band average, travel
+        limit, the TMD's detuned optimum) comes in about a minute on two cores; the rows' worst
+        peaks then cover the detuning only (the others NaN, named in ``not_evaluated``).
 
     Returns
     -------
@@ -416,6 +422,7 @@ def design_optima(
     if criterion not in choices:
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
     say = _Silences(progress or (lambda m: None), shared=workers > 1)
+    robust = criterion in ROBUST_SEARCHED if robust is None else bool(robust)
     budgets = (budget, robust_budget)
     tmd = _tmd_searches(mu, delta1, band, uncertainty, budgets, seed, say)
     s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
@@ -424,11 +431,12 @@ def design_optima(
     tmd["stroke"] = _tmd_search(TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S), mu, budget, seed)
     say(f"TMD's stroke {s_T:.4g} x_st; the stroke limit {S:.4g}")
     imp = _impact_searches(
-        mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say
+        mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say, robust
     )
     say("the table's impact suppressors under every uncertainty")
     loads = dict(stop_stiffness=stop_stiffness, natural_frequency=natural_frequency)
-    devices = _devices(mu, delta1, band, uncertainty, {"tmd": tmd, "impact": imp}, S, workers, loads)
+    evaluated = ROBUST if robust else ("detuning",)
+    devices = _devices(mu, delta1, band, uncertainty, {"tmd": tmd, "impact": imp}, S, workers, loads, evaluated)
     say("the snubber")
     snubber = _snubber(mu, delta1, band, tmd["peak"].x, s_T, device({"devices": devices}, "tmd_peak")["peak"], workers)
     out = {
@@ -444,6 +452,9 @@ def design_optima(
         **loads,
         "devices": devices,
         "snubber": snubber,
+        "tmd_equal_peaks": equal_peaks(mu, delta1, tmd["peak"].x, band),
+        "robust": robust,
+        "not_evaluated": [name for name in ROBUST if name not in evaluated],
     }
     out.update(headline(out, criterion))
     out["recommendation"] = recommendation(out)
@@ -528,18 +539,18 @@ def _settings(budget: Budget, robust_budget: Budget, workers: int, bounds: dict)
     }
 
 
-def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: int, loads: dict) -> list[dict]:
+def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: int, loads: dict, evaluated) -> list:
     """The design table's rows (:data:`ROWS`, after the bare object) from the searches'
     ``results`` ({"tmd": {key: SearchResult}, "impact": {...}}): the linear ones in closed form,
     the impact suppressors in one batch (:func:`~impactdamper.studies.design.devices.impact_rows`);
     the travel-limited rows with their limit ``S`` and whether they keep it."""
-    impact_keys = [r for r in ROWS if r[1] == "impact"]
+    rows = [r for r in ROWS if r[3] in results[r[1]]]
+    impact_keys = [r for r in rows if r[1] == "impact"]
     xs = [results["impact"][k].x for _, _, _, k in impact_keys]
-    rows_i = dict(
-        zip([r[0] for r in impact_keys], impact_rows(mu, delta1, band, xs, uncertainty, workers=workers, **loads))
-    )
+    rows_i = impact_rows(mu, delta1, band, xs, uncertainty, workers=workers, robust=evaluated, **loads)
+    rows_i = dict(zip([r[0] for r in impact_keys], rows_i))
     devices = [_record("linear", "reference", "bare object", tmd_row(mu, delta1, band, {}, uncertainty), None)]
-    for key, kind, crit_name, k in ROWS:
+    for key, kind, crit_name, k in rows:
         r = results[kind][k]
         row = tmd_row(mu, delta1, band, r.x, uncertainty) if kind == "tmd" else rows_i[key]
         rec = _record(kind, crit_name, key, row, r)
