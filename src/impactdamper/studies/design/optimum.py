@@ -4,11 +4,19 @@ impactdamper design`` prints and what the report's design table shows (one call,
 
 Both devices (:mod:`impactdamper.studies.design.devices`) on the object of mass ratio mu and
 damping delta1 over a band of forcing frequencies (Timofeev et al. 2019, DOI
-10.18698/0236-3941-2019-1-90-100, eqs. 1-2 and 9-10 in relative form) are optimised by one
-global search (:func:`impactdamper.studies.design.search.search`, the same budget for both) for
+10.18698/0236-3941-2019-1-90-100, eqs. 1-2 and 9-10 in relative form) are optimised by a
+global search (:func:`impactdamper.studies.design.search.search`, the same budget for both:
+a Sobol sample, compass searches from its best distinct points, a polish, the 2 % check) for
 each criterion: the nominal peak, the band average, the worst peak with the object detuned,
 with the force amplitude off its design value, with the restitution drifting; and under a
-stroke limit. The boxes are derived from the object: with s_T the stroke of its optimal TMD,
+stroke limit. The impact suppressor's searches share one sample of the whole box, evaluated
+once under every scenario they need; the robust ones (on request: ``robust``) start from it
+and from the nominal optimum. The TMD's answers are then converged on its exact peaks
+(:func:`impactdamper.studies.design.tmd.refine_tmd`: the equal-peak optimum for the peak). What
+a search certifies: a local minimum that no 2 % move along an axis improves (where its check
+passed), and the best reached from its global samples; its starts' ends and spread are in its
+record (``best_found`` where they disagree by more than 0.5 %).
+The boxes are derived from the object: with s_T the stroke of its optimal TMD,
 
 * the impact suppressor's gap Delta0/x_st in [-s_T, 1.5 s_T] (a stop preloaded by the TMD's
   own travel to one beyond it: there the device is a TMD that never reaches its stop, the
@@ -16,8 +24,10 @@ stroke limit. The boxes are derived from the object: with s_T the stroke of its 
 * N in [N_LOW, N_HIGH] times Den Hartog's 1/(1 + mu); delta2 in [0, DELTA2_HIGH times his
   sqrt(3 mu/(8 (1 + mu)^3))] (the TMD's delta2 from DELTA2_LOW of that); R in [0.2, 0.95]
   (a polymer pad to hardened steel);
-* under the stroke limit S (default half the optimal TMD's stroke) the impact suppressor's gap
-  at most S (its travel towards the stop is the gap).
+* under the stroke limit S (default STROKE_FRACTION of the optimal TMD's stroke) the impact
+  suppressor's gap at most S (its travel towards the stop is the gap); the TMD's delta2 up to a
+  locked absorber (:mod:`~impactdamper.studies.design.tmd`), so that a box bound never decides
+  whether a TMD can keep the limit.
 
 The answer over the whole box is seeded with, and never worse than, the one with the stop
 within reach. Every row of the table is then evaluated alike: located worst branch, band
@@ -30,9 +40,7 @@ import dataclasses
 import functools
 import json
 import math
-import multiprocessing
 import os
-import threading
 import time
 from collections.abc import Callable
 
@@ -58,6 +66,7 @@ from impactdamper.studies.design.devices import (
     tmd_row,
 )
 from impactdamper.studies.design.search import Budget, SearchResult, search
+from impactdamper.studies.design.tasks import Silences, in_parallel, processor_time
 from impactdamper.studies.design.tmd import equal_peaks, refine_tmd
 from impactdamper.studies.design.verdict import device, headline, recommendation
 
@@ -200,7 +209,7 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
     reach = bounds["impact_reach"]
     first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
-    out = _in_parallel(first, workers)
+    out = in_parallel(first, workers)
     limit = {"gap": bounds["impact"]["gap"][1], **tmd.x, "R": 0.5}
     second = {}
     for c in CRITERIA_NOMINAL:
@@ -233,7 +242,7 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     second["stroke"] = functools.partial(
         task, "peak", unc, box, budget, (X, values["peak"]), seeds=seeds, max_stroke=max_stroke
     )
-    return {**out, **_in_parallel(second, workers)}
+    return {**out, **in_parallel(second, workers)}
 
 
 def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust) -> dict:
@@ -254,30 +263,6 @@ def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust) -
         cs = unc.scenarios(c)
         values[c] = np.array([max(d[s][1] * d[s][0].peak for s in cs) for d in mine])
     return values
-
-
-# The tasks of _in_parallel's pool, by index (the forked workers inherit them: a task holds
-# closures, which cannot be sent through a pipe).
-_TASKS: list = []
-
-
-def _run_task(i: int):
-    return _TASKS[i]()
-
-
-def _in_parallel(tasks: dict, workers: int) -> dict:
-    """{key: task()} of independent tasks, ``workers`` at a time in forked processes (in this
-    one with a single worker), the answers in the tasks' order whatever ran where."""
-    keys = list(tasks)
-    if workers <= 1 or len(keys) <= 1 or "fork" not in multiprocessing.get_all_start_methods():
-        return {k: tasks[k]() for k in keys}
-    _TASKS[:] = [tasks[k] for k in keys]
-    try:
-        with multiprocessing.get_context("fork").Pool(min(workers, len(keys))) as pool:
-            results = pool.map(_run_task, range(len(keys)), chunksize=1)
-    finally:
-        _TASKS.clear()
-    return dict(zip(keys, results))
 
 
 def _search(
@@ -414,14 +399,14 @@ def design_optima(
         the call and its workers) and ``longest_silence`` (s, wall: the longest wait for a
         ``progress`` message, the call's start and end counting as messages).
     """
-    t0, c0 = time.perf_counter(), _processor_time()
+    t0, c0 = time.perf_counter(), processor_time()
     uncertainty = Uncertainty() if uncertainty is None else uncertainty
     band, mu, delta1 = check_object(band, mu, delta1, uncertainty, max_stroke, stop_stiffness, natural_frequency)
     workers = check_workers(workers)
     choices = ("peak", "band_average", "detuning", "force", "restitution")
     if criterion not in choices:
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
-    say = _Silences(progress or (lambda m: None), shared=workers > 1)
+    say = Silences(progress or (lambda m: None), shared=workers > 1)
     robust = criterion in ROBUST_SEARCHED if robust is None else bool(robust)
     budgets = (budget, robust_budget)
     tmd = _tmd_searches(mu, delta1, band, uncertainty, budgets, seed, say)
@@ -459,7 +444,7 @@ def design_optima(
     out.update(headline(out, criterion))
     out["recommendation"] = recommendation(out)
     out["elapsed"] = time.perf_counter() - t0
-    out["cpu"] = _processor_time() - c0
+    out["cpu"] = processor_time() - c0
     out["longest_silence"] = say.longest()
     return out
 
@@ -495,37 +480,6 @@ def saved_or_searched(
         if same:
             return record, f"read from {os.fspath(saved)}"
     return design_optima(band, mu, delta1, uncertainty=uncertainty, progress=progress), "searched"
-
-
-class _Silences:
-    """Progress messages, passed on, and the longest wait for one: from the call's start to its
-    first message, between two messages (whichever process said them), and from the last to the
-    end. The last message's time and the longest wait live in memory that forked workers share
-    (with ``shared``), so a worker's message counts as the parent's does."""
-
-    def __init__(self, say: Callable[[str], None], shared: bool):
-        self._say = say
-        self._lock = multiprocessing.Lock() if shared else threading.Lock()
-        start = [time.monotonic(), 0.0]  # (the last message's time, the longest wait)
-        self._times = multiprocessing.RawArray("d", start) if shared else start
-
-    def __call__(self, message: str) -> None:
-        with self._lock:
-            now = time.monotonic()
-            self._times[1] = max(self._times[1], now - self._times[0])
-            self._times[0] = now
-        self._say(message)
-
-    def longest(self) -> float:
-        """The longest wait so far, the one since the last message included, s."""
-        with self._lock:
-            return max(self._times[1], time.monotonic() - self._times[0])
-
-
-def _processor_time() -> float:
-    """Processor time of this process and its finished children (the batch calls' workers), s."""
-    t = os.times()
-    return t.user + t.system + t.children_user + t.children_system
 
 
 def _settings(budget: Budget, robust_budget: Budget, workers: int, bounds: dict) -> dict:

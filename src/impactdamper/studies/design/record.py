@@ -274,14 +274,14 @@ def certifies_text(searched: list) -> str:
     samples = sorted({d["search"]["starts"]["samples"] for d in searched if d["search"].get("starts")})
     apart = [d for d in searched if d["search"].get("starts", {}).get("best_found")]
     words = (
-        f"Each answer is therefore certified as a local minimum that no move of {fixed(0)(100 * searched[0]['search']['check']['move'])}\,\% "
+        f"Each answer is therefore certified as a local minimum that no move of {fixed(0)(100 * searched[0]['search']['check']['move'])}\\,\\% "
         f"along an axis improves (where its check passed), and as the best design reached from "
         f"{' or '.join(str(n) for n in samples)} global samples; no more."
     )
     if not apart:
-        return words + " Every search's starts end within 0.5\,\% of each other."
-    listed = "; ".join(f"{device_name(d)} ({fixed(1)(100 * d['search']['starts']['spread'])}\,\%)" for d in apart)
-    return words + f" Where the starts end more than 0.5\,\% apart the answer is the best found, not more: {listed}."
+        return words + " Every search's starts end within 0.5\\,\\% of each other."
+    listed = "; ".join(f"{device_name(d)} ({fixed(1)(100 * d['search']['starts']['spread'])}\\,\\%)" for d in apart)
+    return words + f" Where the starts end more than 0.5\\,\\% apart the answer is the best found, not more: {listed}."
 
 
 def _value_table_diff(d: dict) -> float:
