@@ -280,8 +280,14 @@ def certifies_text(searched: list) -> str:
     )
     if not apart:
         return words + " Every search's starts end within 0.5\\,\\% of each other."
-    listed = "; ".join(f"{device_name(d)} ({fixed(1)(100 * d['search']['starts']['spread'])}\\,\\%)" for d in apart)
+    listed = "; ".join(f"{device_name(d)} ({_spread_words(d['search']['starts']['spread'])})" for d in apart)
     return words + f" Where the starts end more than 0.5\\,\\% apart the answer is the best found, not more: {listed}."
+
+
+def _spread_words(spread: float) -> str:
+    """A spread of the starts' ends in words (a start that ended over a travel limit carries its
+    penalty: over 100 %)."""
+    return "over 100\\,\\%" if spread > 1 else f"{fixed(1)(100 * spread)}\\,\\%"
 
 
 def _value_table_diff(d: dict) -> float:

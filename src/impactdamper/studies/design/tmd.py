@@ -97,7 +97,9 @@ def refine_tmd(crit, result: SearchResult, bounds: dict, d_dh: float, budget) ->
     }
     x, v, check = _checked(f, x, near, budget, lambda m: None)
     evaluations = {**result.evaluations, "refine": count[0]}
-    flags = set(at_bound(x, wide)) | {n for n in wide if None in (check[n]["down"], check[n]["up"])}
+    # At a bound: of the search's N box, or delta2 near the locked absorber (judged on the check's
+    # box: a fraction of the widened side would flag any delta2 near its lower end).
+    flags = set(at_bound(x, near)) | {n for n in wide if None in (check[n]["down"], check[n]["up"])}
     return SearchResult(x, v, evaluations, tuple(n for n in wide if n in flags), check, wide, "refined", result.starts)
 
 
