@@ -392,3 +392,18 @@ def test_a_saved_table_is_shown_only_for_the_same_object(tmp_path, monkeypatch):
     record, source = optimum.saved_or_searched(tmp_path / "absent.json", (0.5, 1.5), 0.08, 0.05, uncertainty=unc)
     assert (record["peak"], source) == (2.0, "searched")
     assert len(searched) == 5
+
+
+def test_a_travel_limit_only_one_device_keeps_decides_by_the_limit():
+    """The impact design over the limit, the TMD within it: the TMD wins by the limit, and the
+    text says so instead of comparing the peaks (the impact design's may be the lower)."""
+    pairs = dict(peak=(3.7, 3.6), band_average=(2.3, 2.3), detuning=(5.0, 4.6), force=(4.6, 3.6))
+    record = _record({**pairs, "restitution": (4.1, 3.6), "stroke": (18.94, 19.88)})
+    row = next(d for d in record["devices"] if d["device"] == "impact_stroke")
+    row.update(feasible=False, stroke=34.45, at_bound=["gap", "R"])
+    text = recommendation(record)
+    assert (
+        "only the TMD meets the limit (19.88; the best other design found, 18.94, travels 34.45 x_st, at a bound"
+        in text
+    )
+    assert "the TMD is lower (19.88 against 18.94)" not in text

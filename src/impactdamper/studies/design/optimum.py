@@ -93,6 +93,8 @@ BUDGET = Budget(
 # The robust and travel-limited searches' budget: the nominal one, their global stage one
 # shared sample of the whole box evaluated under every robust criterion's scenarios.
 ROBUST_BUDGET = BUDGET
+# Designs of the shared sample per batch (a progress line after each).
+SAMPLE_BATCH = 32
 # The nominal criteria, and the robust criteria searched (the others are evaluated for every
 # design: the table's columns).
 CRITERIA_NOMINAL = ("peak", "band_average")
@@ -204,7 +206,7 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     hi = np.array([bounds["impact"][n][1] for n in names])
     budget, robust_budget = budgets
     X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
-    values = _shared_sample(mu, delta1, band, unc, X, workers, ROBUST_SEARCHED if robust else ())
+    values = _shared_sample(mu, delta1, band, unc, X, workers, ROBUST_SEARCHED if robust else (), say)
     say(f"global stage: {len(X)} designs, {len(values)} criteria, best peak {np.min(values['peak']):.5g}")
     task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
     reach = bounds["impact_reach"]
@@ -245,14 +247,18 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     return {**out, **in_parallel(second, workers)}
 
 
-def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust) -> dict:
+def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust, say) -> dict:
     """The global stage every impact search shares: the designs ``X`` (rows in IMPACT_NAMES'
     order) at the ``coarse`` fidelity under the nominal scenario and each robust criterion's
-    scenarios, in one batch. Returns each criterion's coarse values."""
+    scenarios, in batches of SAMPLE_BATCH designs (a progress line after each). Returns each
+    criterion's coarse values."""
     names = list(IMPACT_NAMES)
     crit = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
     scen = list(dict.fromkeys(s for c in ("peak", *robust) for s in unc.scenarios(c)))
-    out = crit.branches([dict(zip(names, x)) for x in X], scen, "coarse")
+    out = []
+    for k in range(0, len(X), SAMPLE_BATCH):
+        out += crit.branches([dict(zip(names, x)) for x in X[k : k + SAMPLE_BATCH]], scen, "coarse")
+        say(f"global stage: {min(k + SAMPLE_BATCH, len(X))} of {len(X)} designs under {len(scen)} scenarios")
     m = len(scen)
     mine = [dict(zip(scen, out[i * m : (i + 1) * m])) for i in range(len(X))]
     values = {

@@ -276,7 +276,8 @@ def certifies_text(searched: list) -> str:
     words = (
         f"Each answer is therefore certified as a local minimum that no move of {fixed(0)(100 * searched[0]['search']['check']['move'])}\\,\\% "
         f"along an axis improves (where its check passed), and as the best design reached from "
-        f"{' or '.join(str(n) for n in samples)} global samples; no more."
+        f"the {max(samples)}-design global sample (those of it inside each search's box: {min(samples)} to "
+        f"{max(samples)}); no more."
     )
     if not apart:
         return words + " Every search's starts end within 0.5\\,\\% of each other."

@@ -86,6 +86,9 @@ def comparisons(record: dict) -> list[dict]:
         if c in i["worst"] and c in t["worst"] or c not in ("absorber", "together"):
             vi, vt = _value(i, c), _value(t, c)
             out.append({"criterion": c, "impact": vi, "tmd": vt, "winner": _winner(c, i, t, vi, vt)})
+            if c == "stroke" and i["feasible"] != t["feasible"]:  # decided by the limit, not the peaks
+                loser = t if i["feasible"] else i
+                out[-1].update(only=True, other_stroke=loser["stroke"], other_at_bound=list(loser.get("at_bound", [])))
     return out
 
 
@@ -151,6 +154,13 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
         what = WHAT[c["criterion"]].format(**fmt)
         if c["winner"] == "infeasible":
             parts.append(f"{what} no design meets the limit")
+        elif c["winner"] in ("TMD", "impact") and c.get("only"):
+            name = "TMD" if c["winner"] == "TMD" else "impact suppressor"
+            other = c["impact"] if c["winner"] == "TMD" else c["tmd"]
+            parts.append(
+                f"{what} only the {name} meets the limit ({c[c['winner'].lower()]:.2f}; the best other design "
+                f"found, {other:.2f}, travels {c['other_stroke']:.2f}{xst}{_bounds_words(c['other_at_bound'])})"
+            )
         elif c["winner"] == "tmd_limit":
             parts.append(
                 f"{what} no impacting design beats the TMD: the best impact design keeps its stop out of reach "
@@ -165,7 +175,16 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
             parts.append(
                 f"{what} the {'TMD' if c['winner'] == 'TMD' else 'impact suppressor'} is lower ({lo:.2f} against {hi:.2f})"
             )
-    return f"{first}: " + "; ".join(parts) + "." + _costs(record, xst)
+    missing = [c for c in ("detuning", "force", "restitution") if c not in wins]
+    note = (
+        f" Not searched: the optima for the {', '.join(missing)} (a robust criterion asks for them)." if missing else ""
+    )
+    return f"{first}: " + "; ".join(parts) + "." + _costs(record, xst) + note
+
+
+def _bounds_words(names) -> str:
+    """', at a bound of its box: gap, N' (empty without one)."""
+    return f", at a bound of its box: {', '.join(names)}" if names else ""
 
 
 def _costs(record: dict, xst: str) -> str:
