@@ -71,7 +71,8 @@ def test_force_and_restitution_scenarios():
     u = Uncertainty()
     assert len(u.scenarios("peak")) == 1 and len(u.scenarios("detuning")) == 3
     together = u.scenarios("together")
-    assert len(together) == 15 == len(set(together)) and set(u.scenarios("force")) <= set(together)
+    assert len(together) == 43 == len(set(together)) and set(u.scenarios("force")) <= set(together)
+    assert len(u.scenarios("absorber")) == 9 and set(u.scenarios("absorber")[:5]) <= set(together)
     # A linear device does not feel the force amplitude nor the restitution.
     assert TmdCriterion(0.08, 0.05, BAND, "force", u).value(0.9, 0.15) == TmdCriterion(
         0.08, 0.05, BAND, "peak", u
@@ -111,6 +112,10 @@ def test_inputs_are_checked_up_front(kwargs, name):
     assert str(err.value).startswith(f"`{name}` = ") and "\n" not in str(err.value), err.value
 
 
+LOADS = dict(feasible=True, impacts=True, stroke=15.9, contact_force=120.0, impacts_per_hour=4.2e4)
+LOADS.update(stop_stiffness=1000.0, natural_frequency=10.0)
+
+
 def _record(pairs: dict) -> dict:
     """A design record with the rows the recommendation reads: {criterion: (impact, tmd)}."""
     keys = {
@@ -127,7 +132,7 @@ def _record(pairs: dict) -> dict:
         for key, v in ((ki, vi), (kt, vt)):
             if key is None:
                 continue
-            row = rows.setdefault(key, {"device": key, "peak": 9.0, "band_average": 9.0, "worst": {}, "feasible": True})
+            row = rows.setdefault(key, {"device": key, "peak": 9.0, "band_average": 9.0, "worst": {}, **LOADS})
             if c in ("peak", "stroke"):
                 row["peak"] = v
             elif c == "band_average":
@@ -187,6 +192,19 @@ def test_recommendation_follows_the_record(pairs, first):
     assert text.startswith(first + ":"), text
     assert "\n" not in text and "equal within" in text  # the band average ties within TIE
     assert TIE == 0.02
+    # Its costs beside the peaks: the impact design's stroke against the TMD's, stop force, impacts.
+    assert "travels 15.9 x_st (the TMD 15.9 x_st, 1.00 times)" in text and "120 P0" in text, text
+    assert "42,000 times an hour at f1 = 10 Hz" in text, text
+
+
+def test_a_travel_limited_impact_design_that_never_impacts_is_the_tmd_limit():
+    pairs = dict(peak=(3.7, 3.6), band_average=(2.3, 2.3), detuning=(5.0, 4.6), force=(4.6, 3.6))
+    record = _record({**pairs, "restitution": (4.1, 3.6), "stroke": (5.34, 5.33)})
+    device_row = next(d for d in record["devices"] if d["device"] == "impact_stroke")
+    device_row["impacts"] = False
+    text = recommendation(record)
+    assert "no impacting design beats the TMD: the best impact design keeps its stop out of reach" in text
+    assert "equal within 2 % (impact 5.34" not in text
 
 
 def test_shipped_config_budget_is_the_commands():
@@ -257,13 +275,7 @@ def test_design_command_at_the_papers_object_is_the_design_table():
     assert 0.0 < out["longest_silence"] <= out["elapsed"]
     # (stderr's stamps are rounded to 0.1 s)
     assert max(np.diff(sorted(stamps))) <= out["longest_silence"] + 0.11, (out["longest_silence"], stamps)
-    record = json.loads((ROOT / "figures" / "design_optimum.json").read_text())
-    assert [d["device"] for d in out["devices"]] == [d["device"] for d in record["devices"]]
-    for mine, theirs in zip(out["devices"], record["devices"]):
-        assert mine["parameters"] == theirs["parameters"]
-        for key in ("peak", "band_average", "stroke"):
-            assert mine[key] == theirs[key], (mine["device"], key)
-        assert mine["worst"] == theirs["worst"]
+    _same_nominal_rows(out)
     imp = out["impact"]
     p = impact_parameters(out["mu"], out["delta1"], imp["parameters"])
     assert imp["peak"] >= no_contact_floor(p, tuple(out["band"])).value
@@ -284,7 +296,7 @@ def test_the_longest_silence_counts_every_process_message(shared):
     import multiprocessing
     import time
 
-    from impactdamper.studies.design.optimum import _Silences
+    from impactdamper.studies.design.tasks import Silences as _Silences
 
     said, start = [], time.monotonic()
     silences = _Silences(said.append, shared=shared)
@@ -311,9 +323,29 @@ def test_the_design_answer_does_not_depend_on_the_workers():
     r = _run("--json", "--quiet", "--workers", "1")
     assert r.returncode == 0 and r.stderr == "", r.stderr
     out = json.loads(r.stdout)
+    assert out["workers"] == 1 and set(times) <= set(out)
+    _same_nominal_rows(out)
+
+
+def _same_nominal_rows(out: dict) -> None:
+    """The command's nominal answer (no robust rows searched) is the design stage's record (two
+    workers, every robust row) row for row where it has the row: parameters, peak, band
+    average, stroke and the detuned worst peak; the worst peaks it did not evaluate are null and
+    named in ``not_evaluated``."""
     record = json.loads((ROOT / "figures" / "design_optimum.json").read_text())
-    assert (out["workers"], record["workers"]) == (1, 2)
-    assert {k: v for k, v in out.items() if k not in times} == {k: v for k, v in record.items() if k not in times}
+    assert record["robust"] and not out["robust"] and record["workers"] == 2
+    theirs = {d["device"]: d for d in record["devices"]}
+    robust_rows = {"impact_detuning", "impact_force", "impact_restitution"}
+    assert {d["device"] for d in out["devices"]} == set(theirs) - robust_rows
+    for mine in out["devices"]:
+        other = theirs[mine["device"]]
+        assert mine["parameters"] == other["parameters"], mine["device"]
+        for key in ("peak", "band_average", "stroke"):
+            assert mine[key] == other[key], (mine["device"], key)
+        assert mine["worst"]["detuning"] == other["worst"]["detuning"], mine["device"]
+        if mine["kind"] == "impact":
+            assert all(mine["worst"][k] is None for k in out["not_evaluated"]), mine["device"]
+    assert set(out["not_evaluated"]) == {"force", "restitution", "absorber", "together"}
 
 
 def test_an_infeasible_travel_limit_is_reported_infeasible():
@@ -360,3 +392,18 @@ def test_a_saved_table_is_shown_only_for_the_same_object(tmp_path, monkeypatch):
     record, source = optimum.saved_or_searched(tmp_path / "absent.json", (0.5, 1.5), 0.08, 0.05, uncertainty=unc)
     assert (record["peak"], source) == (2.0, "searched")
     assert len(searched) == 5
+
+
+def test_a_travel_limit_only_one_device_keeps_decides_by_the_limit():
+    """The impact design over the limit, the TMD within it: the TMD wins by the limit, and the
+    text says so instead of comparing the peaks (the impact design's may be the lower)."""
+    pairs = dict(peak=(3.7, 3.6), band_average=(2.3, 2.3), detuning=(5.0, 4.6), force=(4.6, 3.6))
+    record = _record({**pairs, "restitution": (4.1, 3.6), "stroke": (18.94, 19.88)})
+    row = next(d for d in record["devices"] if d["device"] == "impact_stroke")
+    row.update(feasible=False, stroke=34.45, at_bound=["gap", "R"])
+    text = recommendation(record)
+    assert (
+        "only the TMD meets the limit (19.88; the best other design found, 18.94, travels 34.45 x_st, at a bound"
+        in text
+    )
+    assert "the TMD is lower (19.88 against 18.94)" not in text

@@ -18,8 +18,13 @@
   Delta0 is gap/a of the new x_st, and max|x1|/x_st is read per unit of the actual force (a
   linear device's is unchanged);
 * *restitution drift*: R -> R + r, r in {-r0, 0, r0}, clipped to [R_LOW, R_HIGH] (wear, heat);
-* *together*: the three at once: the nominal scenario, each one's two ends alone, and the 8
-  corners of the box of the three (15 scenarios).
+* *absorber*: the absorber's own spring c2 off by +-stiffness (N -> N sqrt(1 + k)) and its
+  damper off by +-damping (delta2 -> delta2 (1 + c)), k and c alone and at the 4 corners: the
+  mistuning that both devices, the TMD and the impact suppressor, meet alike (a spring's
+  tolerance, a viscous damper's drift with temperature);
+* *together*: all at once: the nominal scenario, each one's two ends alone, and the 32 corners
+  of the box of the five (43 scenarios; for a linear TMD the force and the restitution change
+  nothing).
 
 A criterion is the nominal peak, the nominal band average, or the worst peak over one
 uncertainty's scenarios (or over all together). Loads: the stroke max|x2 - x1|/x_st, the largest
@@ -66,9 +71,9 @@ __all__ = [
     "RANGES",
 ]
 
-CRITERIA = ("peak", "band_average", "detuning", "force", "restitution", "together")
+CRITERIA = ("peak", "band_average", "detuning", "force", "restitution", "absorber", "together")
 # The robust criteria: the worst peak over one uncertainty (or all together).
-ROBUST = ("detuning", "force", "restitution", "together")
+ROBUST = ("detuning", "force", "restitution", "absorber", "together")
 IMPACT_NAMES = tuple(["gap", "N", "delta2", "R"])  # (the search box's order)
 TMD_NAMES = ("N", "delta2")
 # Restitution a drifting stop may reach: a soft pad to hard steel (0 and 1 are idealisations).
@@ -103,6 +108,8 @@ RANGES = {
     "force_low": (0.1, 1.0),
     "force_high": (1.0, 10.0),
     "restitution_drift": (0.0, 0.5),
+    "stiffness_drift": (0.0, 0.3),
+    "damping_drift": (0.0, 0.9),
     "stop_stiffness": (1.0, 1e6),
     "natural_frequency": (1e-3, 1e4),
 }
@@ -116,11 +123,14 @@ DESIGN_SETTINGS = SweepSettings(rescue=False)
 
 @dataclass(frozen=True)
 class Scenario:
-    """One realisation of the uncertainties: detuning e, force factor a, restitution shift r."""
+    """One realisation of the uncertainties: detuning e, force factor a, restitution shift r,
+    the absorber's stiffness and damping off by the fractions k and c."""
 
     detuning: float = 0.0
     force: float = 1.0
     restitution: float = 0.0
+    stiffness: float = 0.0
+    damping: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -135,19 +145,24 @@ class Uncertainty:
         The force amplitude between these factors of the design force.
     restitution : float
         R within +-restitution of the design's.
+    stiffness, damping : float
+        The absorber's spring c2 and damper within +-these fractions of the design's (both
+        devices).
     """
 
     detuning: float = 0.1
     force: tuple = (0.5, 2.0)
     restitution: float = 0.15
+    stiffness: float = 0.05
+    damping: float = 0.2
 
     def axes(self) -> tuple:
-        d, (a0, a1), r = self.detuning, self.force, self.restitution
-        return (-d, 0.0, d), (a0, 1.0, a1), (-r, 0.0, r)
+        d, (a0, a1), r, k, c = self.detuning, self.force, self.restitution, self.stiffness, self.damping
+        return (-d, 0.0, d), (a0, 1.0, a1), (-r, 0.0, r), (-k, 0.0, k), (-c, 0.0, c)
 
     def scenarios(self, criterion: str) -> list[Scenario]:
         """The scenarios of ``criterion`` (nominal first)."""
-        es, fs, rs = self.axes()
+        es, fs, rs, ks, cs = self.axes()
         nominal = [Scenario()]
         if criterion in ("peak", "band_average"):
             return nominal
@@ -157,14 +172,25 @@ class Uncertainty:
             return nominal + [Scenario(force=a) for a in fs if a != 1.0]
         if criterion == "restitution":
             return nominal + [Scenario(restitution=r) for r in rs if r != 0.0]
+        if criterion == "absorber":
+            ends = [Scenario(stiffness=k) for k in ks if k != 0.0] + [Scenario(damping=c) for c in cs if c != 0.0]
+            corners = [Scenario(stiffness=k, damping=c) for k, c in itertools.product(ks[::2], cs[::2])]
+            return list(dict.fromkeys(nominal + ends + corners))
         if criterion == "together":
             ends = [s for c in ("detuning", "force", "restitution") for s in self.scenarios(c)[1:]]
-            corners = [Scenario(e, a, r) for e, a, r in itertools.product(es[::2], fs[::2], rs[::2])]
-            return nominal + ends + corners
+            ends += [s for s in self.scenarios("absorber")[1:5]]
+            box = itertools.product(es[::2], fs[::2], rs[::2], ks[::2], cs[::2])
+            return list(dict.fromkeys(nominal + ends + [Scenario(*corner) for corner in box]))
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(CRITERIA)}")
 
     def to_dict(self) -> dict:
-        return {"detuning": self.detuning, "force": list(self.force), "restitution": self.restitution}
+        return {
+            "detuning": self.detuning,
+            "force": list(self.force),
+            "restitution": self.restitution,
+            "stiffness": self.stiffness,
+            "damping": self.damping,
+        }
 
 
 def impact_parameters(mu: float, delta1: float, x: dict) -> Parameters:
@@ -178,9 +204,9 @@ def scenario_case(p: Parameters, band: tuple, s: Scenario) -> tuple[Parameters, 
     of the actual force."""
     f = 1.0 + s.detuning
     q = p.replace(
-        N=p.N / f,
+        N=p.N * math.sqrt(1.0 + s.stiffness) / f,
         delta1=p.delta1 / f,
-        delta2=p.delta2 / f,
+        delta2=p.delta2 * (1.0 + s.damping) / f,
         gap=p.gap * f * f / s.force,
         R=min(max(p.R + s.restitution, R_LOW), R_HIGH) if s.restitution else p.R,
     )
@@ -251,8 +277,10 @@ class ImpactCriterion:
 
 
 def _tmd_peak(mu, delta1, N, delta2, band, s: Scenario) -> float:
+    """The TMD's peak in scenario ``s`` over the nominal x_st (the force and the restitution
+    change nothing)."""
     f = 1.0 + s.detuning
-    dev = LinearDevice(mu, N / f, delta1 / f, delta2 / f)
+    dev = LinearDevice(mu, N * math.sqrt(1.0 + s.stiffness) / f, delta1 / f, delta2 * (1.0 + s.damping) / f)
     return float(dev.peak((band[0] / f, band[1] / f))[1]) / (f * f)
 
 
@@ -266,7 +294,8 @@ class TmdCriterion:
         self, mu: float, delta1: float, band: tuple, criterion: str, uncertainty: Uncertainty, *, max_stroke=None
     ):
         self.mu, self.delta1, self.band, self.criterion = mu, delta1, band, criterion
-        self.scenarios = [s for s in uncertainty.scenarios(criterion) if s.force == 1.0 and s.restitution == 0.0]
+        scen = uncertainty.scenarios(criterion)
+        self.scenarios = list(dict.fromkeys(Scenario(s.detuning, 1.0, 0.0, s.stiffness, s.damping) for s in scen))
         self.max_stroke = max_stroke
         self.thetas = np.linspace(band[0], band[1], band_points([band], STEP))
 
@@ -290,10 +319,16 @@ def tmd_row(mu: float, delta1: float, band: tuple, x: dict, uncertainty: Uncerta
     dev = LinearDevice(0.0 if bare else mu, x.get("N", 1.0), delta1, x.get("delta2", 0.0))
     t, v = dev.peak(band)
     th = np.linspace(band[0], band[1], band_points([band], STEP))
-    es = uncertainty.axes()[0]
-    worst = max(
-        _tmd_peak(0.0 if bare else mu, delta1, x.get("N", 1.0), x.get("delta2", 0.0), band, Scenario(e)) for e in es
-    )
+    m, N, d2 = 0.0 if bare else mu, x.get("N", 1.0), x.get("delta2", 0.0)
+    peaks = {Scenario(): float(v)}
+
+    def peak(s: Scenario) -> float:  # (the force and the restitution change nothing)
+        key = Scenario(s.detuning, 1.0, 0.0, s.stiffness, s.damping)
+        if key not in peaks:
+            peaks[key] = _tmd_peak(m, delta1, N, d2, band, key)
+        return peaks[key]
+
+    worst = {name: max(peak(s) for s in uncertainty.scenarios(name)) for name in ROBUST}
     return {
         "kind": "linear",
         "parameters": dict(x),
@@ -301,7 +336,7 @@ def tmd_row(mu: float, delta1: float, band: tuple, x: dict, uncertainty: Uncerta
         "peak_theta": float(t),
         "peak_branch": "linear",
         "band_average": float(np.trapezoid(dev.amplitude(th), th) / (band[1] - band[0])),
-        "worst": {"detuning": worst, "force": float(v), "restitution": float(v), "together": worst},
+        "worst": {k: float(w) for k, w in worst.items()},
         "stroke": 0.0 if bare else float(dev.stroke_peak(band)[1]),
         "impacts": False,
     }
@@ -318,13 +353,14 @@ def impact_rows(
     workers: int = 1,
     stop_stiffness: float = STOP_STIFFNESS,
     natural_frequency: float = NATURAL_FREQUENCY,
+    robust: Sequence[str] = ROBUST,
 ) -> list[dict]:
     """The design table's rows of impact suppressors: for each design its located worst branch
     (nominal), band average, worst peaks over each uncertainty and over all together (one batch
     of every design's scenarios, final fidelity; a design met twice is computed once), stroke
-    and loads."""
-    crit = ImpactCriterion(mu, delta1, band, "together", uncertainty, settings=settings, workers=workers)
-    scen = crit.scenarios
+    and loads; ``robust``: the uncertainties evaluated (the others' worst peaks NaN)."""
+    crit = ImpactCriterion(mu, delta1, band, "peak", uncertainty, settings=settings, workers=workers)
+    scen = list(dict.fromkeys(s for name in ("peak", *robust) for s in uncertainty.scenarios(name)))
     distinct = list({tuple(x[n] for n in IMPACT_NAMES): x for x in designs}.values())
     out = crit.branches(distinct, scen, "final")
     mines = [dict(zip(scen, out[i * len(scen) : (i + 1) * len(scen)])) for i in range(len(distinct))]
@@ -341,7 +377,11 @@ def impact_rows(
         w = mine[Scenario()][0]
         worst = {}
         for name in ROBUST:
-            worst[name] = max(scale * v.peak for s, (v, scale) in mine.items() if s in uncertainty.scenarios(name))
+            worst[name] = (
+                max(scale * v.peak for s, (v, scale) in mine.items() if s in uncertainty.scenarios(name))
+                if name in robust
+                else math.nan
+            )
         rows[tuple(x[n] for n in IMPACT_NAMES)] = {
             "kind": "impact",
             "parameters": dict(x),

@@ -4,11 +4,19 @@ impactdamper design`` prints and what the report's design table shows (one call,
 
 Both devices (:mod:`impactdamper.studies.design.devices`) on the object of mass ratio mu and
 damping delta1 over a band of forcing frequencies (Timofeev et al. 2019, DOI
-10.18698/0236-3941-2019-1-90-100, eqs. 1-2 and 9-10 in relative form) are optimised by one
-global search (:func:`impactdamper.studies.design.search.search`, the same budget for both) for
+10.18698/0236-3941-2019-1-90-100, eqs. 1-2 and 9-10 in relative form) are optimised by a
+global search (:func:`impactdamper.studies.design.search.search`, the same budget for both:
+a Sobol sample, compass searches from its best distinct points, a polish, the 2 % check) for
 each criterion: the nominal peak, the band average, the worst peak with the object detuned,
 with the force amplitude off its design value, with the restitution drifting; and under a
-stroke limit. The boxes are derived from the object: with s_T the stroke of its optimal TMD,
+stroke limit. The impact suppressor's searches share one sample of the whole box, evaluated
+once under every scenario they need; the robust ones (on request: ``robust``) start from it
+and from the nominal optimum. The TMD's answers are then converged on its exact peaks
+(:func:`impactdamper.studies.design.tmd.refine_tmd`: the equal-peak optimum for the peak). What
+a search certifies: a local minimum that no 2 % move along an axis improves (where its check
+passed), and the best reached from its global samples; its starts' ends and spread are in its
+record (``best_found`` where they disagree by more than 0.5 %).
+The boxes are derived from the object: with s_T the stroke of its optimal TMD,
 
 * the impact suppressor's gap Delta0/x_st in [-s_T, 1.5 s_T] (a stop preloaded by the TMD's
   own travel to one beyond it: there the device is a TMD that never reaches its stop, the
@@ -16,8 +24,10 @@ stroke limit. The boxes are derived from the object: with s_T the stroke of its 
 * N in [N_LOW, N_HIGH] times Den Hartog's 1/(1 + mu); delta2 in [0, DELTA2_HIGH times his
   sqrt(3 mu/(8 (1 + mu)^3))] (the TMD's delta2 from DELTA2_LOW of that); R in [0.2, 0.95]
   (a polymer pad to hardened steel);
-* under the stroke limit S (default half the optimal TMD's stroke) the impact suppressor's gap
-  at most S (its travel towards the stop is the gap).
+* under the stroke limit S (default STROKE_FRACTION of the optimal TMD's stroke) the impact
+  suppressor's gap at most S (its travel towards the stop is the gap); the TMD's delta2 up to a
+  locked absorber (:mod:`~impactdamper.studies.design.tmd`), so that a box bound never decides
+  whether a TMD can keep the limit.
 
 The answer over the whole box is seeded with, and never worse than, the one with the stop
 within reach. Every row of the table is then evaluated alike: located worst branch, band
@@ -30,9 +40,7 @@ import dataclasses
 import functools
 import json
 import math
-import multiprocessing
 import os
-import threading
 import time
 from collections.abc import Callable
 
@@ -43,6 +51,7 @@ from impactdamper.analysis.linear_device import LinearDevice, check_band
 from impactdamper.analysis.parallel import check_workers
 from impactdamper.core.validation import finite_argument
 from impactdamper.studies.design.devices import (
+    ROBUST,
     DESIGN_SETTINGS,
     IMPACT_NAMES,
     NATURAL_FREQUENCY,
@@ -57,6 +66,8 @@ from impactdamper.studies.design.devices import (
     tmd_row,
 )
 from impactdamper.studies.design.search import Budget, SearchResult, search
+from impactdamper.studies.design.tasks import Silences, in_parallel, processor_time
+from impactdamper.studies.design.tmd import equal_peaks, refine_tmd
 from impactdamper.studies.design.verdict import device, headline, recommendation
 
 __all__ = [
@@ -79,10 +90,11 @@ __all__ = [
 BUDGET = Budget(
     samples=128, starts=2, polls=10, first_step=1 / 8, last_step=1 / 128, coarse_above=1 / 32, polish=30, checks=6
 )
-# The robust searches' budget (both devices): a local search from the nominal peak's optimum.
-ROBUST_BUDGET = Budget(
-    samples=0, starts=0, polls=6, first_step=1 / 16, last_step=1 / 128, coarse_above=1 / 32, polish=20, checks=6
-)
+# The robust and travel-limited searches' budget: the nominal one, their global stage one
+# shared sample of the whole box evaluated under every robust criterion's scenarios.
+ROBUST_BUDGET = BUDGET
+# Designs of the shared sample per batch (a progress line after each).
+SAMPLE_BATCH = 32
 # The nominal criteria, and the robust criteria searched (the others are evaluated for every
 # design: the table's columns).
 CRITERIA_NOMINAL = ("peak", "band_average")
@@ -127,6 +139,8 @@ def check_object(band, mu, delta1, uncertainty: Uncertainty, max_stroke, stop_st
     _in_range("force_low", uncertainty.force[0])
     _in_range("force_high", uncertainty.force[1])
     _in_range("restitution_drift", uncertainty.restitution)
+    _in_range("stiffness_drift", uncertainty.stiffness)
+    _in_range("damping_drift", uncertainty.damping)
     _in_range("stop_stiffness", stop_stiffness, " (times the object's spring c1)")
     _in_range("natural_frequency", natural_frequency, " Hz")
     if max_stroke is not None:
@@ -162,21 +176,25 @@ def _record(kind: str, criterion: str, name: str, row: dict, result: SearchResul
 
 
 def _tmd_searches(mu, delta1, band, unc, budgets, seed, say) -> dict:
-    """The TMD's searches, with the impact suppressor's budgets: the nominal criteria, then the
-    robust one from the nominal peak's optimum (the force and the restitution leave it as it is)."""
-    bounds = design_bounds(mu, 1.0)["tmd"]
+    """The TMD's searches, each with the impact suppressor's nominal budget (its global stage
+    included), then refined to convergence on the exact peaks with delta2 free up to a locked
+    absorber (:func:`~impactdamper.studies.design.tmd.refine_tmd`); the force and the restitution
+    leave it as it is."""
     out = {}
     for c in ("peak", "band_average", "detuning"):
-        crit = TmdCriterion(mu, delta1, band, c, unc)
-        if c in ROBUST_SEARCHED:
-            out[c] = search(crit, bounds, budget=budgets[1], seeds=[out["peak"].x], seed=seed)
-        else:
-            out[c] = search(crit, bounds, budget=budgets[0], seed=seed)
-        say(f"TMD, {c}: N = {out[c].x['N']:.4f}, delta2 = {out[c].x['delta2']:.4f}, {out[c].value:.6g}")
+        out[c] = _tmd_search(TmdCriterion(mu, delta1, band, c, unc), mu, budgets[0], seed)
+        say(f"TMD, {c}: N = {out[c].x['N']:.6f}, delta2 = {out[c].x['delta2']:.6f}, {out[c].value:.8g}")
     return out
 
 
-def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say) -> dict:
+def _tmd_search(crit, mu: float, budget: Budget, seed: int) -> SearchResult:
+    """One TMD search (global stage, compass, polish) refined by :func:`refine_tmd`."""
+    bounds = design_bounds(mu, 1.0)["tmd"]
+    d_dh = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
+    return refine_tmd(crit, search(crit, bounds, budget=budget, seed=seed), bounds, d_dh, budget)
+
+
+def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say, robust):
     """The impact suppressor's searches (module docstring): one shared global sample over the
     whole box (one batch on ``workers`` processes); then, ``workers`` searches at a time (each in
     its own process: a search's answer does not depend on where it runs), the nominal criteria
@@ -186,19 +204,14 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     names = list(IMPACT_NAMES)
     lo = np.array([bounds["impact"][n][0] for n in names])
     hi = np.array([bounds["impact"][n][1] for n in names])
-    budget, robust = budgets
+    budget, robust_budget = budgets
     X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
-    nominal = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
-    sample = nominal.branches([dict(zip(names, x)) for x in X], [Scenario()], "coarse")
-    values = {
-        "peak": np.array([w.peak for w, _ in sample]),
-        "band_average": np.array([w.band_average for w, _ in sample]),
-    }
-    say(f"global stage: {len(X)} designs, best peak {np.min(values['peak']):.5g}")
+    values = _shared_sample(mu, delta1, band, unc, X, workers, ROBUST_SEARCHED if robust else (), say)
+    say(f"global stage: {len(X)} designs, {len(values)} criteria, best peak {np.min(values['peak']):.5g}")
     task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
     reach = bounds["impact_reach"]
     first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
-    out = _in_parallel(first, workers)
+    out = in_parallel(first, workers)
     limit = {"gap": bounds["impact"]["gap"][1], **tmd.x, "R": 0.5}
     second = {}
     for c in CRITERIA_NOMINAL:
@@ -217,8 +230,8 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
             incumbents=[(r.x, r.value)],
             searched=reach,
         )
-    for c in ROBUST_SEARCHED:
-        second[c] = functools.partial(task, c, unc, reach, robust, None, seeds=[out["peak_reach"].x])
+    for c in ROBUST_SEARCHED if robust else ():
+        second[c] = functools.partial(task, c, unc, reach, robust_budget, (X, values[c]), seeds=[out["peak_reach"].x])
     # The travel limit: the gap at most the limit (an impacting device travels the gap towards
     # its stop); a local search from the travel-limited TMD with its stop at the limit (it never
     # reaches it: a feasible start) and from the best sample inside the box (its stroke is read
@@ -228,32 +241,34 @@ def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd,
     seeds = [{"gap": box["gap"][1], **stroke_tmd.x, "R": 0.5}]
     if len(inside):
         seeds.append(dict(zip(names, X[inside[int(np.argmin(values["peak"][inside]))]])))
-    second["stroke"] = functools.partial(task, "peak", unc, box, robust, None, seeds=seeds, max_stroke=max_stroke)
-    return {**out, **_in_parallel(second, workers)}
+    second["stroke"] = functools.partial(
+        task, "peak", unc, box, budget, (X, values["peak"]), seeds=seeds, max_stroke=max_stroke
+    )
+    return {**out, **in_parallel(second, workers)}
 
 
-# The tasks of _in_parallel's pool, by index (the forked workers inherit them: a task holds
-# closures, which cannot be sent through a pipe).
-_TASKS: list = []
-
-
-def _run_task(i: int):
-    return _TASKS[i]()
-
-
-def _in_parallel(tasks: dict, workers: int) -> dict:
-    """{key: task()} of independent tasks, ``workers`` at a time in forked processes (in this
-    one with a single worker), the answers in the tasks' order whatever ran where."""
-    keys = list(tasks)
-    if workers <= 1 or len(keys) <= 1 or "fork" not in multiprocessing.get_all_start_methods():
-        return {k: tasks[k]() for k in keys}
-    _TASKS[:] = [tasks[k] for k in keys]
-    try:
-        with multiprocessing.get_context("fork").Pool(min(workers, len(keys))) as pool:
-            results = pool.map(_run_task, range(len(keys)), chunksize=1)
-    finally:
-        _TASKS.clear()
-    return dict(zip(keys, results))
+def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust, say) -> dict:
+    """The global stage every impact search shares: the designs ``X`` (rows in IMPACT_NAMES'
+    order) at the ``coarse`` fidelity under the nominal scenario and each robust criterion's
+    scenarios, in batches of SAMPLE_BATCH designs (a progress line after each). Returns each
+    criterion's coarse values."""
+    names = list(IMPACT_NAMES)
+    crit = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
+    scen = list(dict.fromkeys(s for c in ("peak", *robust) for s in unc.scenarios(c)))
+    out = []
+    for k in range(0, len(X), SAMPLE_BATCH):
+        out += crit.branches([dict(zip(names, x)) for x in X[k : k + SAMPLE_BATCH]], scen, "coarse")
+        say(f"global stage: {min(k + SAMPLE_BATCH, len(X))} of {len(X)} designs under {len(scen)} scenarios")
+    m = len(scen)
+    mine = [dict(zip(scen, out[i * m : (i + 1) * m])) for i in range(len(X))]
+    values = {
+        "peak": np.array([d[Scenario()][0].peak for d in mine]),
+        "band_average": np.array([d[Scenario()][0].band_average for d in mine]),
+    }
+    for c in robust:
+        cs = unc.scenarios(c)
+        values[c] = np.array([max(d[s][1] * d[s][0].peak for s in cs) for d in mine])
+    return values
 
 
 def _search(
@@ -339,6 +354,7 @@ def design_optima(
     workers: int = WORKERS,
     seed: int = 0,
     progress: Callable[[str], None] | None = None,
+    robust: bool | None = None,
 ) -> dict:
     """The design table of one object (module docstring): what ``python -m impactdamper
     design --json`` prints and the report's design table shows.
@@ -369,6 +385,12 @@ def design_optima(
         ``cpu`` and ``longest_silence`` do).
     seed : int
     progress : callable(str), optional
+    robust : bool, optional
+        Search the robust rows (the impact suppressor optimal for the detuning, the force and
+        the restitution; every row's worst peaks under every uncertainty): by default only when
+        ``criterion`` is one of them. Without them the nominal answer (peak, band average, travel
+        limit, the TMD's detuned optimum) comes in about a minute on two cores; the rows' worst
+        peaks then cover the detuning only (the others NaN, named in ``not_evaluated``).
 
     Returns
     -------
@@ -383,28 +405,29 @@ def design_optima(
         the call and its workers) and ``longest_silence`` (s, wall: the longest wait for a
         ``progress`` message, the call's start and end counting as messages).
     """
-    t0, c0 = time.perf_counter(), _processor_time()
+    t0, c0 = time.perf_counter(), processor_time()
     uncertainty = Uncertainty() if uncertainty is None else uncertainty
     band, mu, delta1 = check_object(band, mu, delta1, uncertainty, max_stroke, stop_stiffness, natural_frequency)
     workers = check_workers(workers)
     choices = ("peak", "band_average", "detuning", "force", "restitution")
     if criterion not in choices:
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
-    say = _Silences(progress or (lambda m: None), shared=workers > 1)
+    say = Silences(progress or (lambda m: None), shared=workers > 1)
+    robust = criterion in ROBUST_SEARCHED if robust is None else bool(robust)
     budgets = (budget, robust_budget)
     tmd = _tmd_searches(mu, delta1, band, uncertainty, budgets, seed, say)
     s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
     S = STROKE_FRACTION * s_T if max_stroke is None else float(max_stroke)
     bounds = design_bounds(mu, s_T)
-    crit = TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S)
-    tmd["stroke"] = search(crit, bounds["tmd"], budget=budget, seed=seed)
+    tmd["stroke"] = _tmd_search(TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S), mu, budget, seed)
     say(f"TMD's stroke {s_T:.4g} x_st; the stroke limit {S:.4g}")
     imp = _impact_searches(
-        mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say
+        mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say, robust
     )
     say("the table's impact suppressors under every uncertainty")
     loads = dict(stop_stiffness=stop_stiffness, natural_frequency=natural_frequency)
-    devices = _devices(mu, delta1, band, uncertainty, {"tmd": tmd, "impact": imp}, S, workers, loads)
+    evaluated = ROBUST if robust else ("detuning",)
+    devices = _devices(mu, delta1, band, uncertainty, {"tmd": tmd, "impact": imp}, S, workers, loads, evaluated)
     say("the snubber")
     snubber = _snubber(mu, delta1, band, tmd["peak"].x, s_T, device({"devices": devices}, "tmd_peak")["peak"], workers)
     out = {
@@ -420,11 +443,14 @@ def design_optima(
         **loads,
         "devices": devices,
         "snubber": snubber,
+        "tmd_equal_peaks": equal_peaks(mu, delta1, tmd["peak"].x, band),
+        "robust": robust,
+        "not_evaluated": [name for name in ROBUST if name not in evaluated],
     }
     out.update(headline(out, criterion))
     out["recommendation"] = recommendation(out)
     out["elapsed"] = time.perf_counter() - t0
-    out["cpu"] = _processor_time() - c0
+    out["cpu"] = processor_time() - c0
     out["longest_silence"] = say.longest()
     return out
 
@@ -462,37 +488,6 @@ def saved_or_searched(
     return design_optima(band, mu, delta1, uncertainty=uncertainty, progress=progress), "searched"
 
 
-class _Silences:
-    """Progress messages, passed on, and the longest wait for one: from the call's start to its
-    first message, between two messages (whichever process said them), and from the last to the
-    end. The last message's time and the longest wait live in memory that forked workers share
-    (with ``shared``), so a worker's message counts as the parent's does."""
-
-    def __init__(self, say: Callable[[str], None], shared: bool):
-        self._say = say
-        self._lock = multiprocessing.Lock() if shared else threading.Lock()
-        start = [time.monotonic(), 0.0]  # (the last message's time, the longest wait)
-        self._times = multiprocessing.RawArray("d", start) if shared else start
-
-    def __call__(self, message: str) -> None:
-        with self._lock:
-            now = time.monotonic()
-            self._times[1] = max(self._times[1], now - self._times[0])
-            self._times[0] = now
-        self._say(message)
-
-    def longest(self) -> float:
-        """The longest wait so far, the one since the last message included, s."""
-        with self._lock:
-            return max(self._times[1], time.monotonic() - self._times[0])
-
-
-def _processor_time() -> float:
-    """Processor time of this process and its finished children (the batch calls' workers), s."""
-    t = os.times()
-    return t.user + t.system + t.children_user + t.children_system
-
-
 def _settings(budget: Budget, robust_budget: Budget, workers: int, bounds: dict) -> dict:
     """How a design record was searched: budgets, workers, boxes, the settled motions' settings."""
     return {
@@ -504,18 +499,18 @@ def _settings(budget: Budget, robust_budget: Budget, workers: int, bounds: dict)
     }
 
 
-def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: int, loads: dict) -> list[dict]:
+def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: int, loads: dict, evaluated) -> list:
     """The design table's rows (:data:`ROWS`, after the bare object) from the searches'
     ``results`` ({"tmd": {key: SearchResult}, "impact": {...}}): the linear ones in closed form,
     the impact suppressors in one batch (:func:`~impactdamper.studies.design.devices.impact_rows`);
     the travel-limited rows with their limit ``S`` and whether they keep it."""
-    impact_keys = [r for r in ROWS if r[1] == "impact"]
+    rows = [r for r in ROWS if r[3] in results[r[1]]]
+    impact_keys = [r for r in rows if r[1] == "impact"]
     xs = [results["impact"][k].x for _, _, _, k in impact_keys]
-    rows_i = dict(
-        zip([r[0] for r in impact_keys], impact_rows(mu, delta1, band, xs, uncertainty, workers=workers, **loads))
-    )
+    rows_i = impact_rows(mu, delta1, band, xs, uncertainty, workers=workers, robust=evaluated, **loads)
+    rows_i = dict(zip([r[0] for r in impact_keys], rows_i))
     devices = [_record("linear", "reference", "bare object", tmd_row(mu, delta1, band, {}, uncertainty), None)]
-    for key, kind, crit_name, k in ROWS:
+    for key, kind, crit_name, k in rows:
         r = results[kind][k]
         row = tmd_row(mu, delta1, band, r.x, uncertainty) if kind == "tmd" else rows_i[key]
         rec = _record(kind, crit_name, key, row, r)
@@ -541,11 +536,17 @@ def design_options(design: dict) -> dict:
         checks=int(design["search_checks"]),
     )
     robust = dataclasses.replace(
-        ROBUST_BUDGET,
+        budget,
         polls=int(design["robust_polls"]),
         polish=int(design["robust_polish"]),
         checks=int(design["search_checks"]),
     )
     low, high = (float(x) for x in design["force_band"])
-    unc = Uncertainty(float(design["detuning"]), (low, high), float(design["restitution_drift"]))
+    unc = Uncertainty(
+        float(design["detuning"]),
+        (low, high),
+        float(design["restitution_drift"]),
+        float(design.get("stiffness_drift", Uncertainty.stiffness)),
+        float(design.get("damping_drift", Uncertainty.damping)),
+    )
     return {"uncertainty": unc, "budget": budget, "robust_budget": robust}

@@ -22,9 +22,11 @@ from impactdamper.reporting.texrecord import (
     fixed_columns,
     macro_lines,
     percent,
+    bound,
     tex_sci,
 )
 from impactdamper.studies.design.design import bare_object_amplitude
+from impactdamper.studies.design.devices import STROKE_PENALTY
 from impactdamper.studies.design.verdict import comparisons, device, recommendation
 from impactdamper.studies.vocabulary import SPEC
 
@@ -137,6 +139,7 @@ CHART = (
     Macro("DesignAvgBest", "located.band_average.value", fixed(3)),
     Macro("DesignAvgGoodFrom", "ba.good_from", fixed(2)),
     Macro("DesignAvgGoodTo", "ba.good_to", fixed(2)),
+    Macro("DesignAvgImpacts", "ba.impacts_per_period", fixed(0)),
     Macro("DesignGapXtol", "located.peak.xtol", tex_sci(1)),
     Macro("DesignRefTheta", "one.theta", fixed(2)),
     Macro("DesignRefThetaGap", "one.gap", fixed(2)),
@@ -155,17 +158,17 @@ CHART = (
     Macro("DesignPaperPeak", "paper.peak", fixed(2)),
     Macro("DesignPaperImpacts", "paper.impacts_per_period", fixed(0)),
     Macro("DesignResponsePoints", "resp.points", TEXT),
-    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), tex_sci(1)),
-    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), tex_sci(1)),
+    Macro("DesignBalanceMax", lambda s: max(r["largest_balance"] for r in s["resp"]["responses"]), bound(1)),
+    Macro("DesignDriftMax", lambda s: max(r["largest_drift_settled"] for r in s["resp"]["responses"]), bound(1)),
     Macro("DesignDHPeak", "dh.closed_form.peak", fixed(4)),
     Macro("DesignDHOptPeak", "dh.search.value", fixed(4)),
-    Macro("DesignDHPeakDiff", lambda s: abs(s["dh"]["peak_relative_difference"]), tex_sci(1)),
+    Macro("DesignDHPeakDiff", lambda s: abs(s["dh"]["peak_relative_difference"]), bound(1)),
     Macro("DesignDHN", "dh.closed_form.N", fixed(4)),
     Macro("DesignDHOptN", "dh.search.parameters.N", fixed(4)),
-    Macro("DesignDHNDiff", lambda s: abs(s["dh"]["N_relative_difference"]), tex_sci(1)),
+    Macro("DesignDHNDiff", lambda s: abs(s["dh"]["N_relative_difference"]), bound(1)),
     Macro("DesignDHDeltaTwo", "dh.closed_form.delta2", fixed(4)),
     Macro("DesignDHOptDeltaTwo", "dh.search.parameters.delta2", fixed(4)),
-    Macro("DesignDHDeltaTwoDiff", lambda s: abs(s["dh"]["delta2_relative_difference"]), tex_sci(1)),
+    Macro("DesignDHDeltaTwoDiff", lambda s: abs(s["dh"]["delta2_relative_difference"]), bound(1)),
     Macro("DesignSecondName", lambda s: f"${SPEC[s['chart2']['parameter']].symbol}$"),
 )
 
@@ -179,8 +182,8 @@ CHECKS = (
         lambda s: 1.0 - s["checks"]["gap_two"]["fine"]["largest"] / s["checks"]["gap_two"]["peak"],
         tex_sci(1),
     ),
-    Macro("DesignCheckFloorDiff", "checks.floor_largest_difference", tex_sci(1)),
-    Macro("DesignCheckIvpDiff", "checks.ivp_largest_difference", tex_sci(1)),
+    Macro("DesignCheckFloorDiff", "checks.floor_largest_difference", bound(1)),
+    Macro("DesignCheckIvpDiff", "checks.ivp_largest_difference", bound(1)),
     Macro("DesignCheckIvpCount", "checks.ivp_count", TEXT),
     Macro("DesignCheckThetaTol", "checks.theta_tol", tex_sci(1)),
     Macro("DesignCheckGapTwoPeak", "checks.gap_two.peak", fixed(4)),
@@ -201,6 +204,7 @@ ROW = (
     Macro("Design{D}WorstForce", "worst.force", fixed(2)),
     Macro("Design{D}WorstRest", "worst.restitution", fixed(2)),
     Macro("Design{D}WorstAll", "worst.together", fixed(2)),
+    Macro("Design{D}WorstAbsorber", "worst.absorber", fixed(2)),
     Macro("Design{D}Stroke", "stroke", fixed(1)),
     Macro("Design{D}Branch", "peak_branch", Format(branch_words)),
 )
@@ -217,6 +221,8 @@ SEARCH = (
     Macro("Design{D}Evaluations", lambda d: sum(d["search"]["evaluations"].values()), TEXT),
     Macro("Design{D}CheckGain", lambda d: max(d["search"]["check"]["largest_gain"], 0.0), tex_sci(1)),
     Macro("Design{D}AtBound", lambda d: _at_bound_text(d["search"]["at_bound"])),
+    Macro("Design{D}Spread", lambda d: 100 * d["search"]["starts"]["spread"], fixed(2)),
+    Macro("Design{D}StartCount", "search.starts.starts", TEXT),
 )
 
 
@@ -259,6 +265,41 @@ def _checks_text(searched: list) -> str:
         f"Of the {len(searched)} searches, {len(searched) - len(failed)} end on a passed check; in the others a "
         f"move still lowers the answer by at most ${tex_sci(1)(gain)}$ (relative) when the budget ends."
     )
+
+
+def certifies_text(searched: list) -> str:
+    """What the searches certify, in words: a local minimum no 2 % move improves (or not), the
+    best over the global samples, and which searches' starts disagree by more than 0.5 % (the
+    answer then the best found, with the spread)."""
+    samples = sorted({d["search"]["starts"]["samples"] for d in searched if d["search"].get("starts")})
+    apart = [d for d in searched if d["search"].get("starts", {}).get("best_found")]
+    words = (
+        f"Each answer is therefore certified as a local minimum that no move of {fixed(0)(100 * searched[0]['search']['check']['move'])}\\,\\% "
+        f"along an axis improves (where its check passed), and as the best design reached from "
+        f"the {max(samples)}-design global sample (those of it inside each search's box: {min(samples)} to "
+        f"{max(samples)}); no more."
+    )
+    if not apart:
+        return words + " Every search's starts end within 0.5\\,\\% of each other."
+    listed = "; ".join(f"{device_name(d)} ({_spread_words(d['search']['starts']['spread'])})" for d in apart)
+    return words + f" Where the starts end more than 0.5\\,\\% apart the answer is the best found, not more: {listed}."
+
+
+def _spread_words(spread: float) -> str:
+    """A spread of the starts' ends in words (a start that ended over a travel limit carries its
+    penalty: over 100 %)."""
+    return "over 100\\,\\%" if spread > 1 else f"{fixed(1)(100 * spread)}\\,\\%"
+
+
+def _value_table_diff(d: dict) -> float:
+    """The relative difference between a search's final value and its row's value of the same
+    criterion in the table (evaluated afresh with every other row)."""
+    c = d["criterion"]
+    table = d["peak"] if c in ("peak", "stroke") else d["band_average"] if c == "band_average" else d["worst"][c]
+    v = d["search"]["value"]
+    if c == "stroke" or not (table == table) or v is None:
+        return 0.0  # (the travel-limited value carries the limit's penalty: not the same number)
+    return abs(table / v - 1.0)
 
 
 def _at_bound_list(searched: list) -> str:
@@ -327,6 +368,23 @@ SUMMARY = (
     Macro("DesignChecksPassed", lambda s: sum(bool(d["search"]["check"]["passed"]) for d in s["searched"]), TEXT),
     Macro("DesignChecksTotal", lambda s: len(s["searched"]), TEXT),
     Macro("DesignChecksText", lambda s: _checks_text(s["searched"])),
+    Macro("DesignCertifiesText", lambda s: certifies_text(s["searched"])),
+    Macro("DesignStrokeFractionPct", lambda s: 100 * s["opt"]["max_stroke"] / s["opt"]["tmd_stroke"], fixed(0)),
+    Macro("DesignStrokePenalty", lambda s: STROKE_PENALTY, fixed(0)),
+    Macro(
+        "DesignTmdSpringForce",
+        lambda s: s["opt"]["mu"] * s["d"]["TmdOpt"]["parameters"]["N"] ** 2 * s["d"]["TmdOpt"]["stroke"],
+        fixed(2),
+    ),
+    Macro("DesignValueTableDiff", lambda s: max(_value_table_diff(d) for d in s["searched"]), bound(1)),
+    Macro(
+        "DesignGlobalSearches", lambda s: sum(d["search"]["starts"].get("samples", 0) > 0 for d in s["searched"]), TEXT
+    ),
+    Macro("DesignStiffDriftPct", lambda s: 100 * s["opt"]["uncertainty"].get("stiffness", 0.0), fixed(0)),
+    Macro("DesignDampDriftPct", lambda s: 100 * s["opt"]["uncertainty"].get("damping", 0.0), fixed(0)),
+    Macro("DesignTmdEqualPeaks", lambda s: abs(s["opt"]["tmd_equal_peaks"]["relative_difference"]), bound(1)),
+    Macro("DesignTmdRefine", lambda s: s["d"]["TmdOpt"]["search"]["evaluations"]["refine"], TEXT),
+    Macro("DesignTmdStrokeRatio", _ratio("d.Hit.stroke", "d.TmdOpt.stroke"), fixed(2)),
     Macro("DesignHitBoundText", lambda s: _bound_text(s["d"]["Hit"]["search"]["at_bound"])),
     Macro("DesignAtBoundList", lambda s: _at_bound_list(s["searched"])),
     Macro("DesignOptForceMorePct", _pct_more("d.Opt.worst.force", "d.TmdOpt.peak"), fixed(0)),
@@ -377,6 +435,8 @@ def abstract_answer(opt: dict) -> str:
         "detuning": f"with the object's natural frequency off by $\\pm{100 * u['detuning']:g}\\,\\%$",
         "force": f"with the force between {u['force'][0]:g} and {u['force'][1]:g} times its design value",
         "restitution": f"with the stop's restitution drifting by $\\pm{u['restitution']:g}$",
+        "absorber": "with the absorber's own spring and damper off",
+        "together": "with all of these at once",
         "stroke": "with the travel limited",
     }
     first = recommendation(opt).split(":")[0]
@@ -384,7 +444,12 @@ def abstract_answer(opt: dict) -> str:
     for c in comparisons(opt):
         if c["winner"] == "infeasible":
             continue
-        verb = {"tie": "they are equal", "TMD": "the TMD is lower", "impact": "the impact suppressor is lower"}
+        verb = {
+            "tie": "they are equal",
+            "TMD": "the TMD is lower",
+            "impact": "the impact suppressor is lower",
+            "tmd_limit": "no impacting design beats the TMD",
+        }
         parts.append(
             f"{what[c['criterion']]} {verb[c['winner']]} (impact {fixed(2)(c['impact'])}, TMD {fixed(2)(c['tmd'])})"
         )
@@ -447,17 +512,17 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, 
 # --- the tables -----------------------------------------------------------------------------
 TABLE_COMMENTS = ["Written by the design stage's report job; do not edit."]
 DESIGN_TABLE = Table(
-    colspec="lrrrrrrrrrrr",
+    colspec="lrrrrrrrrrrrr",
     header=(
         "device & $\\Delta_0/x_{\\mathrm{st}}$ & $N$ & $\\delta_2$ & $R$ & peak & band avg. & detuned & force "
-        "& $R$ drift & all & stroke"
+        "& $R$ drift & absorber & all & stroke"
     ),
     comments=TABLE_COMMENTS,
     columns=[
         Column(lambda d: d, Format(device_name)),
         *(Column(lambda d, k=k: d["parameters"].get(k), fixed(DIGITS[k], "")) for k in DIGITS),
         *fixed_columns({"peak": 3, "band_average": 3}),
-        *fixed_columns({f"worst.{w}": 2 for w in ("detuning", "force", "restitution", "together")}),
+        *fixed_columns({f"worst.{w}": 2 for w in ("detuning", "force", "restitution", "absorber", "together")}),
         Column(lambda d: None if d["device"] == "bare object" else d["stroke"], fixed(1, "---")),
     ],
 )
@@ -466,8 +531,19 @@ DESIGN_TABLE = Table(
 def design_table(opt: dict) -> str:
     """The design table (booktabs): each row's name, parameters, located peak, band average,
     worst peaks over each uncertainty and over all together, and stroke (the order of
-    :data:`DEVICE_KEYS`)."""
-    return DESIGN_TABLE.render([device(opt, name) for name in DEVICE_KEYS.values()])
+    :data:`DEVICE_KEYS`); a whole-box row whose design is its within-reach row's is left out
+    (the same numbers twice)."""
+    return DESIGN_TABLE.render(_distinct(opt))
+
+
+def _distinct(opt: dict) -> list[dict]:
+    """The table's rows, a whole-box row equal to its within-reach row left out."""
+    rows = [device(opt, name) for name in DEVICE_KEYS.values()]
+    twins = {"impact_peak": "impact_peak_reach", "impact_band_average": "impact_band_average_reach"}
+    by_name = {d["device"]: d for d in rows}
+    return [
+        d for d in rows if not (d["device"] in twins and d["parameters"] == by_name[twins[d["device"]]]["parameters"])
+    ]
 
 
 LOADS_TABLE = Table(
@@ -485,8 +561,9 @@ LOADS_TABLE = Table(
 
 def loads_table(opt: dict) -> str:
     """The impact suppressors' loads (booktabs): stroke, largest pulse (P0/omega1), impacts per
-    period and per hour, peak contact force (P0)."""
-    return LOADS_TABLE.render([d for d in opt["devices"] if d["kind"] == "impact"])
+    period and per hour, peak contact force (P0); the designs that never impact (the TMD
+    limit: all zeros) left out."""
+    return LOADS_TABLE.render([d for d in _distinct(opt) if d["kind"] == "impact" and d["impacts"]])
 
 
 SECOND_TABLE = Table(

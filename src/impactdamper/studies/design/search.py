@@ -36,7 +36,18 @@ import numpy as np
 import scipy.optimize
 import scipy.stats
 
-__all__ = ["Budget", "SearchResult", "search", "at_bound", "check_moves", "CHECK_MOVE", "CHECK_RTOL", "FIDELITIES"]
+__all__ = [
+    "SPREAD_BEST",
+    "starts_record",
+    "Budget",
+    "SearchResult",
+    "search",
+    "at_bound",
+    "check_moves",
+    "CHECK_MOVE",
+    "CHECK_RTOL",
+    "FIDELITIES",
+]
 
 # The check's move along each axis: 2 % of the parameter's value.
 CHECK_MOVE = 0.02
@@ -47,6 +58,8 @@ CHECK_RTOL = 1e-6
 # A parameter closer to a bound than this fraction of the box's side is at the bound.
 BOUND_FRACTION = 1e-3
 FIDELITIES = ("coarse", "search", "final")
+# Local searches that end further apart than this (relative) found different local minima.
+SPREAD_BEST = 0.005
 
 
 @dataclass(frozen=True)
@@ -106,6 +119,8 @@ class SearchResult:
     bounds : dict
     source : str
         ``search``, or ``incumbent`` when a given sub-box answer was not improved on.
+    starts : dict
+        The global samples, the local searches' ends and their spread (:func:`starts_record`).
     """
 
     x: dict
@@ -115,6 +130,7 @@ class SearchResult:
     check: dict = field(repr=False)
     bounds: dict = field(repr=False)
     source: str = "search"
+    starts: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {
@@ -125,6 +141,7 @@ class SearchResult:
             "check": self.check,
             "bounds": {k: list(v) for k, v in self.bounds.items()},
             "source": self.source,
+            "starts": dict(self.starts),
         }
 
 
@@ -221,7 +238,7 @@ def _compass(f: _Counter, starts: np.ndarray, lo, hi, budget: Budget, first_step
         )
     fu = f(lo + u * (hi - lo), "search")
     best = int(np.argmin(fu))
-    return u[best], float(fu[best])
+    return u[best], float(fu[best]), [float(v) for v in fu]
 
 
 def _polish(f: _Counter, u: np.ndarray, fu: float, lo, hi, budget: Budget, say) -> np.ndarray:
@@ -338,7 +355,7 @@ def search(
     starts += [U[i] for i in _distinct_best(U, values, count, budget.first_step)]
     if not starts:
         raise ValueError("`evaluate` is not allowed: no design of the global stage has a finite criterion")
-    u, fu = _compass(f, np.array(starts), lo, hi, budget, budget.first_step, say)
+    u, fu, ends = _compass(f, np.array(starts), lo, hi, budget, budget.first_step, say)
     u = _polish(f, u, fu, lo, hi, budget, say)
     x, value, check = _checked(f, {n: float(v) for n, v in zip(names, lo + u * (hi - lo))}, bounds, budget, say)
     source = "search"
@@ -348,7 +365,25 @@ def search(
             x, value, check = _checked(f, dict(xi), bounds, budget, say)
             source = "incumbent"
     flags = set(at_bound(x, bounds)) | {n for n in names if None in (check[n]["down"], check[n]["up"])}
-    return SearchResult(x, value, dict(f.count), tuple(n for n in names if n in flags), check, dict(bounds), source)
+    flagged = tuple(n for n in names if n in flags)
+    return SearchResult(x, value, dict(f.count), flagged, check, dict(bounds), source, starts_record(ends, len(U)))
+
+
+def starts_record(ends: Sequence[float], samples: int) -> dict:
+    """What a search certifies beside its 2 % check: the global samples it started from, the
+    local searches' ends (``search`` fidelity) and their spread (the largest over the lowest,
+    minus 1). Starts that end more than SPREAD_BEST apart found different local minima: the
+    answer is then the best found, not a certified optimum (``best_found``)."""
+    ends = [float(v) for v in ends]
+    finite = [v for v in ends if math.isfinite(v)]
+    spread = (max(finite) / min(finite) - 1.0) if finite and min(finite) > 0 else 0.0
+    return {
+        "samples": int(samples),
+        "starts": len(ends),
+        "ends": ends,
+        "spread": spread,
+        "best_found": spread > SPREAD_BEST,
+    }
 
 
 def _checked(f: _Counter, x: dict, bounds: dict, budget: Budget, say) -> tuple[dict, float, dict]:

@@ -73,15 +73,38 @@ def comparisons(record: dict) -> list[dict]:
         ("detuning", "impact_detuning", "tmd_detuning"),
         ("force", "impact_force", "tmd_peak"),
         ("restitution", "impact_restitution", "tmd_peak"),
+        ("absorber", "impact_peak_reach", "tmd_peak"),
+        ("together", "impact_peak_reach", "tmd_peak"),
         ("stroke", "impact_stroke", "tmd_stroke"),
     )
     out = []
+    present = {d["device"] for d in record["devices"]}
     for c, ki, kt in pairs:
+        if ki not in present or kt not in present:
+            continue  # (a robust row not searched: the command's nominal answer)
         i, t = device(record, ki), device(record, kt)
-        vi, vt = _value(i, c), _value(t, c)
-        feasible = c != "stroke" or (i["feasible"] and t["feasible"])
-        out.append({"criterion": c, "impact": vi, "tmd": vt, "winner": _compare(vi, vt) if feasible else "infeasible"})
+        if c in i["worst"] and c in t["worst"] or c not in ("absorber", "together"):
+            vi, vt = _value(i, c), _value(t, c)
+            out.append({"criterion": c, "impact": vi, "tmd": vt, "winner": _winner(c, i, t, vi, vt)})
+            if c == "stroke" and i["feasible"] != t["feasible"]:  # decided by the limit, not the peaks
+                loser = t if i["feasible"] else i
+                out[-1].update(only=True, other_stroke=loser["stroke"], other_at_bound=list(loser.get("at_bound", [])))
     return out
+
+
+def _winner(c: str, i: dict, t: dict, vi: float, vt: float) -> str:
+    """The winner of one comparison; under the travel limit only designs that keep it count
+    (``infeasible`` when neither does), and an impact design that never reaches its stop is the
+    TMD limit (``tmd_limit``), not an impact suppressor."""
+    if c != "stroke":
+        return _compare(vi, vt)
+    if not (i["feasible"] or t["feasible"]):
+        return "infeasible"
+    if not t["feasible"]:
+        return "impact"
+    if not i["feasible"]:
+        return "TMD"
+    return "tmd_limit" if not i["impacts"] else _compare(vi, vt)
 
 
 WHAT = {
@@ -90,6 +113,9 @@ WHAT = {
     "detuning": "with the object's frequency off by up to {pm}{d}{pct}, in the worst case",
     "force": "with the force between {a0} and {a1} times the design force, in the worst case",
     "restitution": "with the restitution drifting by up to {pm}{r}, in the worst case",
+    "absorber": "with the absorber's spring off by up to {pm}{k}{pct} and its damper by {pm}{c}{pct}, "
+    "the nominal optima in the worst case",
+    "together": "with all of these at once, the nominal optima in the worst case",
     "stroke": "with the travel limited to {S}{xst}",
 }
 
@@ -107,12 +133,16 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
         a0=f"{u['force'][0]:g}",
         a1=f"{u['force'][1]:g}",
         r=f"{u['restitution']:g}",
+        k=f"{100 * u.get('stiffness', 0.0):g}",
+        c=f"{100 * u.get('damping', 0.0):g}",
         S=f"{record['max_stroke']:.2f}",
         xst=xst,
     )
     cs = comparisons(record)
     wins = {c["criterion"]: c["winner"] for c in cs}
-    robust = [wins[c] for c in ("detuning", "force", "restitution")]
+    # (the criteria each device is optimised for: the absorber's and the combined worst cases
+    # compare the nominal optima, and are reported beside them)
+    robust = [wins[c] for c in ("detuning", "force", "restitution") if c in wins]
     if wins["peak"] != "impact" and "impact" not in robust:
         first = "Build the linear TMD"
     elif wins["peak"] == "impact" and "TMD" not in robust:
@@ -124,6 +154,18 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
         what = WHAT[c["criterion"]].format(**fmt)
         if c["winner"] == "infeasible":
             parts.append(f"{what} no design meets the limit")
+        elif c["winner"] in ("TMD", "impact") and c.get("only"):
+            name = "TMD" if c["winner"] == "TMD" else "impact suppressor"
+            other = c["impact"] if c["winner"] == "TMD" else c["tmd"]
+            parts.append(
+                f"{what} only the {name} meets the limit ({c[c['winner'].lower()]:.2f}; the best other design "
+                f"found, {other:.2f}, travels {c['other_stroke']:.2f}{xst}{_bounds_words(c['other_at_bound'])})"
+            )
+        elif c["winner"] == "tmd_limit":
+            parts.append(
+                f"{what} no impacting design beats the TMD: the best impact design keeps its stop out of reach "
+                f"(the TMD limit, {c['impact']:.2f}; TMD {c['tmd']:.2f})"
+            )
         elif c["winner"] == "tie":
             parts.append(
                 f"{what} they are equal within {100 * TIE:g}{pct} (impact {c['impact']:.2f}, TMD {c['tmd']:.2f})"
@@ -133,4 +175,27 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
             parts.append(
                 f"{what} the {'TMD' if c['winner'] == 'TMD' else 'impact suppressor'} is lower ({lo:.2f} against {hi:.2f})"
             )
-    return f"{first}: " + "; ".join(parts) + "."
+    missing = [c for c in ("detuning", "force", "restitution") if c not in wins]
+    note = (
+        f" Not searched: the optima for the {', '.join(missing)} (a robust criterion asks for them)." if missing else ""
+    )
+    return f"{first}: " + "; ".join(parts) + "." + _costs(record, xst) + note
+
+
+def _bounds_words(names) -> str:
+    """', at a bound of its box: gap, N' (empty without one)."""
+    return f", at a bound of its box: {', '.join(names)}" if names else ""
+
+
+def _costs(record: dict, xst: str) -> str:
+    """What the impact suppressor optimal at the peak costs beside the TMD: its stroke, its stop
+    force and its impacts per hour ('' when it does not impact)."""
+    i, t = device(record, "impact_peak_reach"), device(record, "tmd_peak")
+    if not i.get("impacts"):
+        return ""
+    return (
+        f" The impact suppressor optimal at the peak travels {i['stroke']:.1f}{xst} (the TMD {t['stroke']:.1f}{xst}, "
+        f"{i['stroke'] / t['stroke']:.2f} times), meets its stop with up to {i['contact_force']:.0f} P0 "
+        f"(a stop {i['stop_stiffness']:g} times the object's spring) and {round(i['impacts_per_hour'], -2):,.0f} times an hour "
+        f"at f1 = {i['natural_frequency']:g} Hz."
+    )
