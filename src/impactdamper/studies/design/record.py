@@ -417,6 +417,7 @@ SUMMARY = (
     Macro("DesignSnubberHighFraction", lambda s: s["opt"]["snubber"][-1]["fraction"], fixed(2)),
     Macro("DesignSnubberR", lambda s: s["opt"]["snubber"][0]["parameters"]["R"], fixed(1)),
     Macro("DesignAbstractAnswer", lambda s: abstract_answer(s["opt"])),
+    Macro("DesignAbstractShort", lambda s: abstract_short(s["opt"])),
     Macro(
         "DesignRecommendation",
         lambda s: recommendation(s["opt"], pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{\\mathrm{st}}$"),
@@ -454,6 +455,38 @@ def abstract_answer(opt: dict) -> str:
             f"{what[c['criterion']]} {verb[c['winner']]} (impact {fixed(2)(c['impact'])}, TMD {fixed(2)(c['tmd'])})"
         )
     return f"{first[0].lower()}{first[1:]}, since " + "; ".join(parts)
+
+
+def abstract_short(opt: dict) -> str:
+    """The abstract's answer in one clause (TeX): the recommendation's first words, on how many
+    compared criteria the impact suppressor is lower, and what the impact optimum of the nominal
+    peak costs beside the TMD's (travel, stop force, impacts an hour)."""
+    first = recommendation(opt).split(":")[0]
+    cs = [c for c in comparisons(opt) if c["winner"] != "infeasible"]
+    lower = [c["criterion"] for c in cs if c["winner"] == "impact"]
+    d = _rows(opt)
+    hit, tmd = d["Hit"], d["TmdOpt"]
+    per_hour = f"{hit['impacts_per_hour']:,.0f}".replace(",", r"\,")
+    wins = "on none of them" if not lower else f"on {len(lower)} ({', '.join(WORDS.get(c, c) for c in lower)})"
+    return (
+        f"{first[0].lower()}{first[1:]}: of {len(cs)} criteria compared the impact suppressor is lower {wins}, "
+        f"and its nominal optimum travels {fixed(1)(hit['stroke'])} against the TMD's {fixed(1)(tmd['stroke'])}"
+        rf"\,$x_{{\mathrm{{st}}}}$, with stop forces of {fixed(0)(hit['contact_force'])}\,$P_0$ and "
+        f"{per_hour} impacts an hour"
+    )
+
+
+# Short names of the criteria, for the abstract.
+WORDS = {
+    "peak": "the nominal peak",
+    "band_average": "the band average",
+    "detuning": "detuning",
+    "force": "the force",
+    "restitution": "the restitution",
+    "absorber": "the absorber's mistuning, between the nominal optima",
+    "together": "all together",
+    "stroke": "the travel limit",
+}
 
 
 def _rows(opt: dict) -> dict[str, dict]:
