@@ -23,7 +23,7 @@ grazing_touch       interior minimum of the gap over x_st in the tracked flight 
 
 with M_c the monodromy matrix of saltation matrices and exact flows
 (:func:`~impactdamper.analysis.shooting.monodromy_matrix`). The Jacobian is the shooting's exact
-one in u, central differences in a, b and for the row of g. 5 z + 1 equations in 5 z + 2
+one in u, central differences in a, b, and for the row of g forward differences in u. 5 z + 1 equations in 5 z + 2
 unknowns: a curve, followed by pseudo-arclength continuation (tangent predictor, bordered
 Newton corrector, step grown after fast convergence and halved on failure) in the metric where
 the 5 z unknowns count as one and each parameter is scaled by its ``scales`` (the map's span).
@@ -59,7 +59,7 @@ CODIM2_REASONS = ("cusp", "fold_flip", "resonance_1_1", "resonance_1_2", "resona
 END_REASONS = CODIM2_REASONS + ("map_edge", "inadmissible", "newton_failure", "closed", "max_points")
 # The one-parameter table's names of the kinds (SpecialPoint.kind) -> the curve kinds.
 _FROM_SPECIAL = {"grazing_interior": "grazing_touch"}
-# Central-difference steps: in the relative unknowns u, and relative to max(1, |parameter|).
+# Finite-difference steps: in the relative unknowns u (forward), and relative to max(1, |parameter|) (central).
 FD_STEP_U, FD_STEP_P = 1e-7, 1e-6
 # Corrector: converged when the step's max norm and the residual's are below this. The test
 # function's row is a central difference (error ~1e-10), so Newton converges linearly below it.
@@ -131,7 +131,7 @@ class _System:
     def __init__(self, p: Parameters, names, k: int, z: int, kind: str, index: int, scales):
         self.p0, self.names, self.k, self.z, self.kind, self.index = p, tuple(names), k, z, kind, index
         self._cache: dict = {}
-        self._t_min = None
+        self._last = None
         n = 5 * z
         self.W = np.concatenate([np.full(n, 1.0 / n), 1.0 / np.asarray(scales, float) ** 2])
 
@@ -177,7 +177,14 @@ class _System:
         return np.append(F, self.g(x))
 
     def jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """G(x) and its Jacobian, shape (5 z + 1, 5 z + 2)."""
+        """G(x) and its Jacobian, shape (5 z + 1, 5 z + 2) (the last one kept: the tangent, the
+        tests and the stable side ask at the same point)."""
+        key = x.tobytes()
+        if self._last is None or self._last[0] != key:
+            self._last = (key, *self._jacobian(x))
+        return self._last[1], self._last[2]
+
+    def _jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         u, a, b = x[:-2], float(x[-2]), float(x[-1])
         F, J = self.shooting(a, b).residual(u, True)
         cols = []
@@ -191,12 +198,14 @@ class _System:
             cols.append((Fp - Fm) / (2 * h))
         A = np.column_stack([J, *cols])
         grad = np.empty(len(x))
+        g0 = self.g(x)
         for j in range(len(x)):
+            # Forward differences in u, central in the parameters (their Shootings are cached).
             h = FD_STEP_U if j < len(u) else FD_STEP_P * max(1.0, abs(x[j]))
             e = np.zeros(len(x))
             e[j] = h
-            grad[j] = (self.g(x + e) - self.g(x - e)) / (2 * h)
-        return np.append(F, self.g(x)), np.vstack([A, grad])
+            grad[j] = (self.g(x + e) - g0) / h if j < len(u) else (self.g(x + e) - self.g(x - e)) / (2 * h)
+        return np.append(F, g0), np.vstack([A, grad])
 
     # --- continuation steps -----------------------------------------------------------
     def tangent(self, x: np.ndarray, previous: np.ndarray) -> np.ndarray:
@@ -213,9 +222,9 @@ class _System:
         A = None
         for it in range(1, max_iterations + 1):
             try:
-                if A is None or it <= 3:
+                if A is None:  # (a chord iteration: the Jacobian at the predictor)
                     G, A = self.jacobian(x)
-                else:
+                if G is None or it > 1:
                     G = self.G(x)
                 if fixed is None:
                     row = self.W * t0
@@ -236,6 +245,9 @@ class _System:
                 except (OrbitError, ValueError):
                     return None, it
                 if np.max(np.abs(G)) <= 100 * ORBIT_TOL:
+                    # The chord Jacobian stands for the solution's (the tangent and the stable
+                    # side are read from it: one Jacobian per step).
+                    self._last = (x.tobytes(), None, A)
                     return x, it
         return None, max_iterations
 
@@ -494,7 +506,7 @@ def _leg(sysm: _System, x: np.ndarray, t: np.ndarray, bounds, steps, max_points)
         if len(xs) > 10 and sysm.norm(x_new - start) < 0.5 * h:
             return xs, sides, ("closed", "the curve comes back to its seed")
         x, t, tests = x_new, t_new, tests_new
-        h = min(h * 1.5, max_step) if its <= 4 else (h * 0.7 if its >= 8 else h)
+        h = min(h * 1.5, max_step) if its <= 5 else (h * 0.7 if its >= 9 else h)
         h = max(h, min_step)
     return xs, sides, ("max_points", f"{max_points} points")
 
