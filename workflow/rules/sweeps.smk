@@ -237,6 +237,7 @@ rule boundaries:
         reference=parameters_json("reference"),
         maps=parameters_json("maps"),
         boundaries=parameters_json("boundaries"),
+        orbits=parameters_json("orbits"),
     script:
         "../scripts/boundaries.py"
 
@@ -244,13 +245,15 @@ rule boundaries:
 rule boundaries_check:
     input:
         script="workflow/scripts/boundaries_check.py",
-        library=library(study("config", "sweeps/results"), REPORTING),
+        library=library(study("config", "sweeps/results", "sweeps/boundary_report"), REPORTING),
         maps=expand("figures/map_{map}.csv", map=SWEEP_MAPS),
         csvs=expand("figures/boundaries_{map}.csv", map=SWEEP_MAPS),
         curves=expand("results/boundaries/{map}.pkl", map=SWEEP_MAPS),
         timings=expand("results/boundaries/{map}_timing.json", map=SWEEP_MAPS),
     output:
         json="figures/boundaries_check.json",
+        macros="paper/generated/boundaries_macros.tex",
+        table="paper/generated/boundaries_codim2.tex",
     log:
         "logs/maps/boundaries_check.log",
     benchmark:
@@ -343,6 +346,7 @@ rule fig_regime_map:
         map="figures/map_{map}.csv",
         curves="figures/map_{map}_curves.csv",
         located="figures/located_case.json",
+        boundaries="figures/boundaries_{map}.csv",
     output:
         pdf="figures/map_{map}.pdf",
         png="figures/map_{map}.png",
@@ -399,7 +403,8 @@ SWEEP_TARGETS = (
         "paper/generated/sweep_macros.tex",
         "paper/generated/sweep_transitions.tex",
         "paper/generated/sweep_timing.tex",
-        "figures/boundaries_check.json",
+        "paper/generated/boundaries_macros.tex",
+        "paper/generated/boundaries_codim2.tex",
     ]
 )
 

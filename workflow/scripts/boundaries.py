@@ -3,7 +3,8 @@ paper, which shows no map): every boundary of a regime map as a curve.
 
 The special points of the branches of periodic cycles found on ``boundaries.seed_rows`` rows of
 the map (Algorithm No. 1's orbit and the settled cycles at ``boundaries.seed_gaps`` gaps per
-row, followed in the gap) seed two-parameter continuations of folds, period doublings,
+row, followed in the gap, and the settled cycles at the seeds of the one-parameter branches
+of ``orbits.branches`` on the reference row) seed two-parameter continuations of folds, period doublings,
 Neimark-Sacker points and both kinds of grazing across the plane
 (:func:`impactdamper.analysis.boundaries.plane_boundaries`); the first-contact and lift-off
 closed forms are sampled along the second parameter.
@@ -25,17 +26,21 @@ from impactdamper.studies.config import parameters
 from impactdamper.studies.sweeps import gapsweep as gs
 
 
-def main(reference: dict, maps: dict, boundaries: dict, name: str, out_csv, out_curves, out_timing, log=None):
+def main(
+    reference: dict, maps: dict, boundaries: dict, orbits: dict, name: str, out_csv, out_curves, out_timing, log=None
+):
     start = time.process_time()
     slow, slow_values, gaps = gs.map_axes(maps, name)
+    base = parameters(reference)
+    # The one-parameter branches' seeds (config orbits.branches) on the reference row seed too.
+    value = getattr(base, "delta1" if slow == "delta" else slow)
     settings = BoundarySettings(
         seed_rows=int(boundaries["seed_rows"]),
         seed_gaps=int(boundaries["seed_gaps"]),
         closed_form_points=int(boundaries["closed_form_points"]),
+        extra_seeds=tuple((float(b["gap"]), value) for b in orbits["branches"]),
     )
-    b = plane_boundaries(
-        parameters(reference), slow, (gaps[0], gaps[-1]), (slow_values[0], slow_values[-1]), settings, log
-    )
+    b = plane_boundaries(base, slow, (gaps[0], gaps[-1]), (slow_values[0], slow_values[-1]), settings, log)
     write_csv(out_csv, [slow if c == "value" else c for c in COLUMNS], b.rows)
     with open(out_curves, "wb") as f:
         pickle.dump(b, f)
@@ -52,7 +57,7 @@ def main(reference: dict, maps: dict, boundaries: dict, name: str, out_csv, out_
     return b
 
 
-JOB = "params.reference params.maps params.boundaries wildcards.map output.csv output.curves output.timing log=log"
+JOB = "params.reference params.maps params.boundaries params.orbits wildcards.map output.csv output.curves output.timing log=log"
 
 if __name__ == "__main__":
     run_stage(snakemake, main, JOB, logger="boundaries")  # noqa: F821 (injected by Snakemake's script: directive)

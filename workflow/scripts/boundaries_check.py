@@ -10,7 +10,9 @@ at ``boundaries.side_points`` points along each continued curve a brute-force ru
 period-doubling curve against a bisection of the simulation's period multiple in the gap at
 ``boundaries.bisection_values`` values of theta. The curves' processor time per map.
 
-Writes ``figures/boundaries_check.json``.
+Writes ``figures/boundaries_check.json``, the report's macros
+(``paper/generated/boundaries_macros.tex``) and its table of codimension-two points
+(``paper/generated/boundaries_codim2.tex``).
 """
 
 import pickle
@@ -20,6 +22,7 @@ import numpy as np
 from impactdamper.analysis import boundary_checks as bc
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.analysis.transitions import no_contact_gap
+from impactdamper.studies.sweeps.boundary_report import codim2_points, write_report
 from impactdamper.reporting.records import read_csv, read_json, run_stage, write_json
 from impactdamper.studies.sweeps.results import read_map
 
@@ -55,7 +58,10 @@ def plane_check(name: str, b, rows: list, map_csv, timing: dict, settings: dict)
         sides[f"{n:02d} {c.label} {c.kind}"] = bc.side_checks(
             c, bounds, int(settings["side_points"]), float(settings["side_distance"])
         )
-    total = {k: sum(v[k] for v in sides.values()) for k in ("points", "observed", "agree", "unobserved")}
+    total = {
+        k: sum(v[k] for v in sides.values())
+        for k in ("points", "observed", "changed", "agree", "agree_at_a_tenth", "unobserved")
+    }
     total["share_agree_of_observed"] = total["agree"] / total["observed"] if total["observed"] else None
     return {
         "parameter": slow,
@@ -72,16 +78,31 @@ def pd_bisection(b, settings: dict) -> dict:
     pd = [c for c in b.curves if c.kind == "period_doubling" and c.label == "1/1"]
     if not pd:
         return {"curve": None}
-    c = max(pd, key=lambda c: np.ptp(c.points[:, 1]))
-    lo, hi = np.min(c.points[:, 1]), np.max(c.points[:, 1])
-    values = lo + (hi - lo) * (np.arange(int(settings["bisection_values"])) + 0.5) / int(settings["bisection_values"])
+
+    # Points where the cycle is stable on one side (a bisection needs it there), evenly in index.
+    def stable(c):
+        return [i for i, side in enumerate(c.stable_side) if side not in ("", "none")]
+
+    c = max(pd, key=lambda c: len(stable(c)))
+    ok, n = stable(c), int(settings["bisection_values"])
+    values = [c.points[ok[int(j)], 1] for j in (np.arange(n) + 0.5) * len(ok) / n]
     rows = bc.period_doubling_bisection(c, values)
     diffs = [r["difference"] for r in rows if r.get("bisected_gap") is not None]
     return {"curve": f"{c.label} {c.kind}", "xtol": 1e-5, "rows": rows, "max_difference": max(diffs) if diffs else None}
 
 
-def main(boundaries: dict, names: list, map_csvs: list, csvs: list, curves: list, timings: list, out_json) -> dict:
-    record, loaded = {"planes": {}}, {}
+def main(
+    boundaries: dict,
+    names: list,
+    map_csvs: list,
+    csvs: list,
+    curves: list,
+    timings: list,
+    out_json,
+    out_macros=None,
+    out_table=None,
+) -> dict:
+    record, loaded = {"settings": boundaries, "planes": {}}, {}
     for name, map_csv, csv, pkl, timing in zip(names, map_csvs, csvs, curves, timings):
         with open(pkl, "rb") as f:
             loaded[name] = pickle.load(f)
@@ -89,7 +110,10 @@ def main(boundaries: dict, names: list, map_csvs: list, csvs: list, curves: list
     record["period_doubling_bisection"] = pd_bisection(loaded[names[0]], boundaries)
     record["curves_cpu_s"] = sum(p["cpu_s"] for p in record["planes"].values())
     record["kinds_found"] = sorted({k for p in record["planes"].values() for k in p["kinds"]})
+    record["codim2"] = codim2_points(loaded)
     write_json(out_json, record)
+    if out_macros is not None:
+        write_report(record, out_macros, out_table)
     return record
 
 

@@ -66,18 +66,23 @@ class BoundarySettings:
         Initial and largest arclength step of the one-parameter branches.
     max_period_multiple : int
         Largest k of the simulation's settled cycles.
+    extra_seeds : tuple of (float, float)
+        (gap, second parameter) points whose settled cycles seed branches too (e.g. the
+        one-parameter branches' seeds of the reference row: a settled cycle found there is easily
+        missed by a coarse row).
     """
 
     seed_rows: int = 5
     seed_gaps: int = 12
     closed_form_points: int = 201
     step: float = 0.02
-    max_step: float = 0.15
+    max_step: float = 0.2
     min_step: float = 1e-5
     max_points: int = 300
     branch_step: float = 0.02
     branch_max_step: float = 0.5
     max_period_multiple: int = 8
+    extra_seeds: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -141,11 +146,13 @@ def _phase_close(a, b, tol: float) -> bool:
     return min(d) < tol
 
 
-def row_special_points(p: Parameters, gap_range, settings: BoundarySettings) -> list:
-    """The special points of the admissible parts of every branch found on the row p: a list of
+def row_special_points(p: Parameters, gap_range, settings: BoundarySettings, gaps=None) -> list:
+    """The special points of the admissible parts of every branch found on the row p (seeded
+    at ``gaps``, default ``settings.seed_gaps`` evenly inside the range): a list of
     (k, z, SpecialPoint)."""
     lo, hi = gap_range
-    gaps = np.linspace(lo, hi, settings.seed_gaps + 2)[1:-1]
+    if gaps is None:
+        gaps = np.linspace(lo, hi, settings.seed_gaps + 2)[1:-1]
     branches, found = [], []
     for o in _row_cycles(p, gaps, settings):
         if _on_branch(o, branches):
@@ -219,9 +226,11 @@ def plane_boundaries(
     lo, hi = bounds[1]
     rows_b = lo + (hi - lo) * (np.arange(settings.seed_rows) + 0.5) / settings.seed_rows
     curves, failures, seeds, duplicates = [], [], 0, 0
-    for b in rows_b:
-        p = with_value(base, slow, float(b))
-        for k, z, s in row_special_points(p, bounds[0], settings):
+    rows = [(float(b), None) for b in rows_b]
+    rows += [(float(v), [float(g)]) for g, v in settings.extra_seeds if lo <= v <= hi]
+    for b, seed_gaps in rows:
+        p = with_value(base, slow, b)
+        for k, z, s in row_special_points(p, bounds[0], settings, seed_gaps):
             seeds += 1
             kind = curve_kind(s.kind)
             if any(

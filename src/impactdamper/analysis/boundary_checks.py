@@ -35,7 +35,9 @@ from impactdamper.analysis.solve import steady_state
 __all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisection", "settled_label"]
 
 # The simulation of a side check: settled to this (relative), within this many periods, k <= 8.
-SETTLE_TOL, MAX_PERIODS, MAX_K = 1e-9, 3000, 8
+# (Near a period doubling the new cycle's multiplier is near -1 too: 20000 periods, which the
+# compiled kernels run in milliseconds, settle it at the side checks' distance.)
+SETTLE_TOL, MAX_PERIODS, MAX_K = 1e-9, 20000, 8
 
 
 def _polyline_distance(P: np.ndarray, X: np.ndarray) -> np.ndarray:
@@ -114,13 +116,21 @@ def settled_label(p, t0: float, state: np.ndarray) -> str:
 
 
 def _start(curve: Curve, unknowns: np.ndarray, a: float, b: float):
-    """(t0, state) half-way through the cycle's longest flight: a start on the cycle."""
+    """(t0, state) on the cycle where its gap is widest (of 64 samples per flight): a start that
+    stays valid when the side checks move the stop."""
     p = with_value(with_value(curve.p, curve.names[0], a), curve.names[1], b)
     s = Shooting(p, curve.period_multiple, curve.impacts_per_cycle)
     t, tau, y, _, _ = s.flights(unknowns)
-    i = int(np.argmax(tau))
-    tm = float(t[i] + 0.5 * tau[i])
-    return tm, Segment(Model(p).free, float(t[i]), y[i]).state(tm)
+    model, best = Model(p), (-np.inf, 0.0, None)
+    for i in range(len(t)):
+        seg = Segment(model.free, float(t[i]), y[i])
+        ts = t[i] + tau[i] * np.linspace(0.05, 0.95, 64)
+        states = seg.state(ts)
+        gaps = model.gap_of(states)
+        j = int(np.argmax(gaps))
+        if gaps[j] > best[0]:
+            best = (gaps[j], float(ts[j]), states[j])
+    return best[1], best[2]
 
 
 def _ratio(label: str):
@@ -155,13 +165,16 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) 
     Returns
     -------
     dict
-        ``points``, ``observed`` (the cycle settles on one side at least), ``agree`` and
-        ``disagree`` (list of the points: (gap, value) and both sides' labels), ``unobserved``.
+        ``points``, ``observed`` (the cycle settles on one side at least), ``changed`` (on one
+        side only), ``agree`` (and the other side's label as the kind says) and ``disagree``
+        (list of the observed points that do not agree: (gap, value), both sides' labels, and the
+        labels and verdict of the runs a tenth as far from the curve), ``agree_at_a_tenth`` (of
+        the disagreements), ``unobserved``.
     """
     spans = np.array([bounds[0][1] - bounds[0][0], bounds[1][1] - bounds[1][0]])
     n = len(curve.points)
     idx = sorted(set(np.linspace(0, n - 1, points + 2).round().astype(int)[1:-1])) if n > 2 else []
-    out = {"points": 0, "observed": 0, "agree": 0, "unobserved": 0, "disagree": []}
+    out = {"points": 0, "observed": 0, "agree": 0, "changed": 0, "unobserved": 0, "disagree": []}
     for i in idx:
         P = curve.points / spans
         j0, j1 = max(i - 1, 0), min(i + 1, n - 1)
@@ -171,23 +184,51 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) 
         normal = np.array([-tvec[1], tvec[0]]) / np.hypot(*tvec)
         a, b = curve.points[i]
         t0, y0 = _start(curve, curve.unknowns[i], a, b)
-        labels = []
-        for sign in (+1, -1):
-            qa, qb = curve.points[i] + sign * distance * normal * spans
-            p = with_value(with_value(curve.p, curve.names[0], qa), curve.names[1], qb)
-            labels.append(settled_label(p, t0, y0))
+
+        def sides(dist: float) -> list:
+            labels = []
+            for sign in (+1, -1):
+                qa, qb = curve.points[i] + sign * dist * normal * spans
+                p = with_value(with_value(curve.p, curve.names[0], qa), curve.names[1], qb)
+                labels.append(settled_label(p, t0, y0))
+            return labels
+
+        labels = sides(distance)
         out["points"] += 1
-        own = [lab == curve.label for lab in labels]
-        if not any(own):
+        verdict = _verdict(curve, labels)
+        if verdict is None:
             out["unobserved"] += 1
             continue
         out["observed"] += 1
-        other = labels[1] if own[0] else labels[0]
-        if own[0] != own[1] and _as_kind_says(curve.kind, curve.label, other):
+        out["changed"] += int(verdict != "same")
+        if verdict == "agree":
             out["agree"] += 1
         else:
-            out["disagree"].append({"gap": float(a), curve.names[1]: float(b), "sides": labels})
+            # The same point a tenth as far from the curve: a disagreement there too is the curve's.
+            closer = sides(0.1 * distance)
+            out["disagree"].append(
+                {
+                    "gap": float(a),
+                    curve.names[1]: float(b),
+                    "sides": labels,
+                    "sides_at_a_tenth": closer,
+                    "agree_at_a_tenth": _verdict(curve, closer) == "agree",
+                }
+            )
+    out["agree_at_a_tenth"] = sum(d["agree_at_a_tenth"] for d in out["disagree"])
     return out
+
+
+def _verdict(curve: Curve, labels: list):
+    """None (the cycle is on neither side), ``same`` (on both), ``agree`` (on one, the other's
+    label as the kind says) or ``other``."""
+    own = [lab == curve.label for lab in labels]
+    if not any(own):
+        return None
+    if all(own):
+        return "same"
+    other = labels[1] if own[0] else labels[0]
+    return "agree" if _as_kind_says(curve.kind, curve.label, other) else "other"
 
 
 def period_doubling_bisection(curve: Curve, values, offset: float = 1e-3, xtol: float = 1e-5) -> list:

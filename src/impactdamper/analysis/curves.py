@@ -23,7 +23,8 @@ grazing_touch       interior minimum of the gap over x_st in the tracked flight 
 
 with M_c the monodromy matrix of saltation matrices and exact flows
 (:func:`~impactdamper.analysis.shooting.monodromy_matrix`). The Jacobian is the shooting's exact
-one in u, central differences in a, b, and for the row of g forward differences in u. 5 z + 1 equations in 5 z + 2
+one in u, exact in the gap (an offset of eq. 20), forward differences in the other parameter
+and for the row of g. 5 z + 1 equations in 5 z + 2
 unknowns: a curve, followed by pseudo-arclength continuation (tangent predictor, bordered
 Newton corrector, step grown after fast convergence and halved on failure) in the metric where
 the 5 z unknowns count as one and each parameter is scaled by its ``scales`` (the map's span).
@@ -59,7 +60,7 @@ CODIM2_REASONS = ("cusp", "fold_flip", "resonance_1_1", "resonance_1_2", "resona
 END_REASONS = CODIM2_REASONS + ("map_edge", "inadmissible", "newton_failure", "closed", "max_points")
 # The one-parameter table's names of the kinds (SpecialPoint.kind) -> the curve kinds.
 _FROM_SPECIAL = {"grazing_interior": "grazing_touch"}
-# Finite-difference steps: in the relative unknowns u (forward), and relative to max(1, |parameter|) (central).
+# Forward-difference steps: in the relative unknowns u, and relative to max(1, |parameter|).
 FD_STEP_U, FD_STEP_P = 1e-7, 1e-6
 # Corrector: converged when the step's max norm and the residual's are below this. The test
 # function's row is a central difference (error ~1e-10), so Newton converges linearly below it.
@@ -187,24 +188,27 @@ class _System:
     def _jacobian(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         u, a, b = x[:-2], float(x[-2]), float(x[-1])
         F, J = self.shooting(a, b).residual(u, True)
-        cols = []
+        n = len(u)
+        cols, grad, g0 = [], np.empty(len(x)), self.g(x)
         for j, v in ((0, a), (1, b)):
+            if self.names[j] == "gap":
+                # Exact: at fixed u the gap Delta0/x_st enters the equations only as the offset of
+                # each flight's end gap (eq. 20) and of a grazing touch's gap minimum.
+                cols.append(np.concatenate([np.ones(self.z), np.zeros(4 * self.z)]))
+                grad[n + j] = 1.0 if self.kind == "grazing_touch" else 0.0
+                continue
             h = FD_STEP_P * max(1.0, abs(v))
             xs = [a, b]
             xs[j] = v + h
-            Fp, _ = self.shooting(*xs).residual(u, False)
-            xs[j] = v - h
-            Fm, _ = self.shooting(*xs).residual(u, False)
-            cols.append((Fp - Fm) / (2 * h))
-        A = np.column_stack([J, *cols])
-        grad = np.empty(len(x))
-        g0 = self.g(x)
-        for j in range(len(x)):
-            # Forward differences in u, central in the parameters (their Shootings are cached).
-            h = FD_STEP_U if j < len(u) else FD_STEP_P * max(1.0, abs(x[j]))
+            cols.append((self.shooting(*xs).residual(u, False)[0] - F) / h)
             e = np.zeros(len(x))
-            e[j] = h
-            grad[j] = (self.g(x + e) - g0) / h if j < len(u) else (self.g(x + e) - self.g(x - e)) / (2 * h)
+            e[n + j] = h
+            grad[n + j] = (self.g(x + e) - g0) / h
+        A = np.column_stack([J, *cols])
+        for j in range(n):  # forward differences in u
+            e = np.zeros(len(x))
+            e[j] = FD_STEP_U
+            grad[j] = (self.g(x + e) - g0) / FD_STEP_U
         return np.append(F, g0), np.vstack([A, grad])
 
     # --- continuation steps -----------------------------------------------------------
@@ -266,7 +270,9 @@ class _System:
             if self.kind == "grazing_touch" and i == self.index:
                 continue
             ts = np.linspace(t[i], t_next[i], FLIGHT_SAMPLES + 1)[1:-1]
-            gaps = s.model.gap_of(Segment(s.mode, t[i], y[i]).state(ts)) / s.p.x_st
+            gaps = (
+                s.model.gap_of(s.mode.states_from(ts, np.full(len(ts), t[i]), np.tile(y[i], (len(ts), 1)))) / s.p.x_st
+            )
             least = min(least, float(np.min(gaps)) + CROSSING_TOL)
         return least
 
