@@ -62,9 +62,10 @@ END_REASONS = CODIM2_REASONS + ("map_edge", "inadmissible", "newton_failure", "c
 _FROM_SPECIAL = {"grazing_interior": "grazing_touch"}
 # Forward-difference steps: in the relative unknowns u, and relative to max(1, |parameter|).
 FD_STEP_U, FD_STEP_P = 1e-7, 1e-6
-# Corrector: converged when the step's max norm and the residual's are below this. The test
-# function's row is a central difference (error ~1e-10), so Newton converges linearly below it.
-CORRECTOR_TOL = 1e-10
+# Corrector: converged when the last step's max norm is below this (relative) and the residual
+# below 100 ORBIT_TOL. The iteration is a chord one with a finite-difference row (linear
+# convergence): the error left is about the last step times the contraction.
+CORRECTOR_TOL = 1e-8
 # Samples per flight of the admissibility check (an interior minimum narrower than 1/128 of a
 # flight can be missed) and the negative gap (relative) that counts as a crossing.
 FLIGHT_SAMPLES = 128
@@ -221,38 +222,36 @@ class _System:
 
     def correct(self, x0: np.ndarray, t0: np.ndarray, h: float, fixed: int | None = None, max_iterations=12):
         """Newton on G = 0 and <t0, x - x0>_W = h from x0 + h t0, or with parameter ``fixed``
-        (-2: a, -1: b) held at x0's value instead of the arclength condition."""
+        (-2: a, -1: b) held at x0's value instead of the arclength condition. A chord iteration
+        (the Jacobian at the start); converged when the last step is below ``CORRECTOR_TOL``
+        (relative) and the residual below 100 ORBIT_TOL."""
         x = x0 + h * t0 if fixed is None else x0.copy()
-        A = None
+        A, step = None, math.inf
+        if fixed is None:
+            row = self.W * t0
+        else:
+            row = np.zeros(len(x))
+            row[fixed] = 1.0
         for it in range(1, max_iterations + 1):
             try:
-                if A is None:  # (a chord iteration: the Jacobian at the predictor)
+                G = None
+                if A is None:
                     G, A = self.jacobian(x)
-                if G is None or it > 1:
+                if G is None:
                     G = self.G(x)
-                if fixed is None:
-                    row = self.W * t0
-                    extra = row @ (x - x0) - h
-                else:
-                    row = np.zeros(len(x))
-                    row[fixed] = 1.0
-                    extra = x[fixed] - x0[fixed]
-                dx = np.linalg.solve(np.vstack([A, row]), -np.append(G, extra))
-            except (OrbitError, ValueError, np.linalg.LinAlgError):
-                return None, it
-            x = x + dx
-            if not np.all(np.isfinite(x)):
-                return None, it
-            if np.max(np.abs(dx)) <= CORRECTOR_TOL * max(1.0, abs(x[-2]), abs(x[-1])):
-                try:
-                    G = self.G(x)
-                except (OrbitError, ValueError):
-                    return None, it
-                if np.max(np.abs(G)) <= 100 * ORBIT_TOL:
+                if step <= CORRECTOR_TOL * max(1.0, abs(x[-2]), abs(x[-1])) and np.max(np.abs(G)) <= 100 * ORBIT_TOL:
                     # The chord Jacobian stands for the solution's (the tangent and the stable
                     # side are read from it: one Jacobian per step).
                     self._last = (x.tobytes(), None, A)
                     return x, it
+                extra = row @ (x - x0) - h if fixed is None else x[fixed] - x0[fixed]
+                dx = np.linalg.solve(np.vstack([A, row]), -np.append(G, extra))
+            except (OrbitError, ValueError, np.linalg.LinAlgError):
+                return None, it
+            x = x + dx
+            step = float(np.max(np.abs(dx)))
+            if not np.all(np.isfinite(x)):
+                return None, it
         return None, max_iterations
 
     # --- what happens along the curve -------------------------------------------------
