@@ -63,9 +63,23 @@ def plane_check(name: str, b, rows: list, map_csv, timing: dict, settings: dict)
         for k in ("points", "observed", "changed", "agree", "agree_at_a_tenth", "unobserved")
     }
     total["share_agree_of_observed"] = total["agree"] / total["observed"] if total["observed"] else None
+    summary = [
+        {
+            "curve": f"{n:02d}",
+            "cycle": c.label,
+            "kind": c.kind,
+            "points": len(c.points),
+            "gap": [float(c.points[:, 0].min()), float(c.points[:, 0].max())],
+            slow: [float(c.points[:, 1].min()), float(c.points[:, 1].max())],
+            "ends": [list(e) for e in c.ends],
+            "stable_sides": sorted(set(c.stable_side) - {""}),
+        }
+        for n, c in enumerate(b.curves, start=1)
+    ]
     return {
         "parameter": slow,
         "curves": len(b.curves),
+        "curve_list": summary,
         "kinds": sorted({c.kind for c in b.curves}),
         "map_reading": reading,
         "side_checks": {"total": total, "by_curve": sides},

@@ -10,6 +10,14 @@ from impactdamper.reporting.latex import MacroFile, fixed, render_macros, sci
 
 __all__ = ["codim2_points", "write_report"]
 
+# The curves' kinds in the table.
+KIND_TEXT = {
+    "fold": "fold",
+    "period_doubling": "period doubling",
+    "neimark_sacker": "Neimark--Sacker",
+    "grazing_velocity": "zero-velocity grazing",
+    "grazing_touch": "grazing touch",
+}
 # The codimension-two points' names in the table.
 REASON_TEXT = {
     "cusp": "cusp of folds",
@@ -79,6 +87,11 @@ def write_report(record: dict, out_macros, out_table) -> None:
             ("BoundCodimTwo", len(record["codim2"])),
         ]
     )
+    # The paper's Fig. 2b motion (3/2) in theta: where its Neimark-Sacker and period-doubling curves run.
+    for kind, name in (("neimark_sacker", "Ns"), ("period_doubling", "Pd")):
+        c = next((c for c in th["curve_list"] if c["cycle"] == "3/2" and c["kind"] == kind), None)
+        lo, hi = c["theta"] if c else (None, None)
+        m.extend([(f"BoundThreeTwo{name}Low", fixed(lo, 3)), (f"BoundThreeTwo{name}High", fixed(hi, 3))])
     Path(out_macros).write_text(render_macros(m.record("")))
     lines = [
         "\\begin{tabular}{llllrr}",
@@ -88,7 +101,7 @@ def write_report(record: dict, out_macros, out_table) -> None:
     ]
     for r in record["codim2"]:
         v = r.get("theta", r.get("delta"))
-        on = ", ".join(k.replace("_", " ") for k in r["on"])
+        on = ", ".join(KIND_TEXT[k] for k in sorted(set(r["on"])))
         lines.append(
             f"{r['plane']} & {r['cycle']} & {REASON_TEXT.get(r['reason'], r['reason'])} & {on} & ${fixed(r['gap'], 4)}$ & ${fixed(v, 4)}$ \\\\"
         )
