@@ -10,7 +10,8 @@ from impactdamper.reporting.latex import MacroFile, fixed, render_macros, sci
 
 __all__ = ["codim2_points", "write_report"]
 
-# The curves' kinds in the table.
+# The maps and the curves' kinds in the table.
+PLANE_TEXT = {"theta": "$\\theta$", "damping": "$\\delta$"}
 KIND_TEXT = {
     "fold": "fold",
     "period_doubling": "period doubling",
@@ -103,6 +104,6 @@ def write_report(record: dict, out_macros, out_table) -> None:
         v = r.get("theta", r.get("delta"))
         on = ", ".join(KIND_TEXT[k] for k in sorted(set(r["on"])))
         lines.append(
-            f"{r['plane']} & {r['cycle']} & {REASON_TEXT.get(r['reason'], r['reason'])} & {on} & ${fixed(r['gap'], 4)}$ & ${fixed(v, 4)}$ \\\\"
+            f"{PLANE_TEXT[r['plane']]} & {r['cycle']} & {REASON_TEXT.get(r['reason'], r['reason'])} & {on} & ${fixed(r['gap'], 4)}$ & ${fixed(v, 4)}$ \\\\"
         )
     Path(out_table).write_text("\n".join(lines + ["\\bottomrule", "\\end{tabular}"]) + "\n")
