@@ -90,8 +90,8 @@ def plane_check(name: str, b, rows: list, map_csv, timing: dict, settings: dict)
 
 def pd_bisection(b, settings: dict) -> dict:
     pd = [c for c in b.curves if c.kind == "period_doubling" and c.label == "1/1"]
-    if not pd:
-        return {"curve": None}
+    if not pd or not any(side not in ("", "none") for c in pd for side in c.stable_side):
+        return {"curve": None, "rows": [], "max_difference": None}
 
     # Points where the cycle is stable on one side (a bisection needs it there), evenly in index.
     def stable(c):

@@ -79,7 +79,16 @@ def write_report(record: dict, out_macros, out_table) -> None:
             ("BoundSideShare", percent(side["agree"] / side["observed"] if side["observed"] else None)),
             (
                 "BoundFirstContactError",
-                sci(max(th["first_contact"]["max_gap_error"], dm["first_contact"]["max_gap_error"])),
+                sci(
+                    max(
+                        (
+                            e
+                            for e in (th["first_contact"]["max_gap_error"], dm["first_contact"]["max_gap_error"])
+                            if e is not None
+                        ),
+                        default=None,
+                    )
+                ),
             ),
             ("BoundPdBracketed", sum(r.get("bisected_gap") is not None for r in pd["rows"])),
             ("BoundPdValues", len(pd["rows"])),
