@@ -213,6 +213,60 @@ rule map_curves:
         "../scripts/map_curves.py"
 
 
+# Every boundary of a map as a curve (config: boundaries): seeded from the special points of
+# the branches found on a few rows, followed across the plane by two-parameter continuation;
+# the closed forms sampled. One job per map; then the curves read against both maps and checked
+# by brute-force simulation.
+rule boundaries:
+    input:
+        script="workflow/scripts/boundaries.py",
+        library=library(study("config", "sweeps/gapsweep"), REPORTING),
+    output:
+        csv="figures/boundaries_{map}.csv",
+        curves="results/boundaries/{map}.pkl",
+        timing="results/boundaries/{map}_timing.json",
+    log:
+        "logs/maps/boundaries_{map}.log",
+    benchmark:
+        benchmark_file("boundaries", "map")
+    wildcard_constraints:
+        map=SWEEP_MAP_PATTERN,
+    conda:
+        ENV
+    params:
+        reference=parameters_json("reference"),
+        maps=parameters_json("maps"),
+        boundaries=parameters_json("boundaries"),
+        orbits=parameters_json("orbits"),
+    script:
+        "../scripts/boundaries.py"
+
+
+rule boundaries_check:
+    input:
+        script="workflow/scripts/boundaries_check.py",
+        library=library(study("config", "sweeps/results", "sweeps/boundary_report"), REPORTING),
+        maps=expand("figures/map_{map}.csv", map=SWEEP_MAPS),
+        csvs=expand("figures/boundaries_{map}.csv", map=SWEEP_MAPS),
+        curves=expand("results/boundaries/{map}.pkl", map=SWEEP_MAPS),
+        timings=expand("results/boundaries/{map}_timing.json", map=SWEEP_MAPS),
+    output:
+        json="figures/boundaries_check.json",
+        macros="paper/generated/boundaries_macros.tex",
+        table="paper/generated/boundaries_codim2.tex",
+    log:
+        "logs/maps/boundaries_check.log",
+    benchmark:
+        benchmark_file("boundaries_check")
+    conda:
+        ENV
+    params:
+        boundaries=parameters_json("boundaries"),
+        names=json.dumps(SWEEP_MAPS),
+    script:
+        "../scripts/boundaries_check.py"
+
+
 rule fig_sweep_bifurcation:
     input:
         script="workflow/scripts/fig_sweep_bifurcation.py",
@@ -292,6 +346,7 @@ rule fig_regime_map:
         map="figures/map_{map}.csv",
         curves="figures/map_{map}_curves.csv",
         located="figures/located_case.json",
+        boundaries="figures/boundaries_{map}.csv",
     output:
         pdf="figures/map_{map}.pdf",
         png="figures/map_{map}.png",
@@ -348,6 +403,8 @@ SWEEP_TARGETS = (
         "paper/generated/sweep_macros.tex",
         "paper/generated/sweep_transitions.tex",
         "paper/generated/sweep_timing.tex",
+        "paper/generated/boundaries_macros.tex",
+        "paper/generated/boundaries_codim2.tex",
     ]
 )
 

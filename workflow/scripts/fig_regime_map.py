@@ -8,6 +8,8 @@ period k <= 8 settled within the map's cap of periods per cell). Lines (closed f
 ``map_curves``): the lift-off threshold of the persistent contact (dashed cyan), the first
 contact of the free forced response U1/x_st (dashed black) and the ends of the range where
 Algorithm No. 1's orbit is admissible: its gap touching the stop between impacts (left) and its impact grazing (right) (white, outlined).
+Thin lines (``boundaries``): every boundary continued in two parameters, by kind (fold,
+period doubling, Neimark-Sacker: solid; an impact lost or gained: dotted).
 Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1, delta = 0.05); diamond:
 the located case of the replication verdict. Legend below the map, so that the figure is the
 report's text width and no text is under 7 pt in print.
@@ -40,9 +42,31 @@ REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
 LIFTOFF_COLOR = "#33bbee"
 # Height of a map (inches) at the style's width: the two maps and their captions share one page.
 MAP_HEIGHT = 3.9
+# The continued boundary curves (figures/boundaries_{map}.csv), one colour and style per kind.
+CURVE_STYLE = {
+    "fold": ("#ee3377", "-", "fold (multiplier +1)"),
+    "period_doubling": ("#ee7733", "-", "period doubling (-1)"),
+    "neimark_sacker": ("#009988", "-", "Neimark-Sacker"),
+    "grazing_velocity": ("#aaaaaa", ":", "impact lost (zero velocity)"),
+    "grazing_touch": ("#0077bb", ":", "new impact (gap touches)"),
+}
 
 
-def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png) -> None:
+def draw_boundaries(ax, rows: list) -> None:
+    """The continued curves, each leg a line, one legend entry per kind present."""
+    legs, slow = {}, list(rows[0])[4]  # (columns: curve, cycle, kind, gap, the second parameter, ...)
+    for r in rows:
+        if r["kind"] in CURVE_STYLE:
+            legs.setdefault(r["curve"], (r["kind"], []))[1].append((float(r["gap"]), float(r[slow])))
+    seen = set()
+    for kind, pts in legs.values():
+        color, ls, text = CURVE_STYLE[kind]
+        g, y = np.array(pts).T
+        ax.plot(g, y, color=color, ls=ls, lw=0.9, zorder=5, label=None if kind in seen else text)
+        seen.add(kind)
+
+
+def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf, out_png, boundaries_csv=None) -> None:
     plt = use_style()
     slow, gaps, labels = read_map(map_csv)
     codes = np.vectorize(lambda s: CLASSES.index(gs.regime_of_label(s)))(labels)
@@ -89,6 +113,8 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
         zorder=4,
         label="first contact, $\\Delta_0 = U_1$",
     )
+    if boundaries_csv is not None:
+        draw_boundaries(ax, read_csv(boundaries_csv))
     ref = float(reference[REFERENCE_VALUE[name]])
     # The two cases: a yellow star at the stated gap, a white diamond at the located one.
     for case, gap, style in (
@@ -114,7 +140,7 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     finish_figure(fig, out_pdf, out_png)
 
 
-JOB = "wildcards.map params.reference input.map input.curves input.located output.pdf output.png"
+JOB = "wildcards.map params.reference input.map input.curves input.located output.pdf output.png input.boundaries"
 
 if __name__ == "__main__":
     run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)

@@ -14,6 +14,7 @@ from impactdamper.analysis.orbits import OrbitError, solve_orbit
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.response import frequency_response
 from impactdamper.analysis.solve import lyapunov_spectrum, steady_state
+from impactdamper.cli.boundaries import boundaries_answer, print_boundaries
 from impactdamper.cli.output import PRINTERS, write_answer
 from impactdamper.cli.parser import build_parser, flag
 from impactdamper.core.algorithm1 import algorithm1
@@ -22,6 +23,8 @@ from impactdamper.core.validation import MAX_PERIODS_LIMIT, Tolerances
 from impactdamper.reporting.progress import progress_bar
 
 __all__ = ["main"]
+
+PRINTERS = {**PRINTERS, "boundaries": print_boundaries}
 
 
 def _parameters(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Parameters:
@@ -143,6 +146,8 @@ def _answer(args: argparse.Namespace, p: Parameters) -> dict:
             ).to_dict()
     if args.command == "alg1":
         return algorithm1(p).to_dict()
+    if args.command == "boundaries":
+        return boundaries_answer(args, p)
     if args.command == "lyapunov":
         run = dict(periods=args.periods, transient=args.transient, warmup=args.warmup, t0=args.t0)
         return lyapunov_spectrum(p, **run, state=args.state, backend=args.backend).to_dict()

@@ -102,6 +102,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_response(sub, defaults)
     _add_design(sub, defaults)
     _add_lyapunov_command(sub, defaults)
+    from impactdamper.cli.boundaries import add_boundaries_parser  # (it takes this module's flags)
+
+    add_boundaries_parser(sub, defaults, _add_parameters)
     return parser
 
 
