@@ -158,7 +158,7 @@ def test_the_table_is_stated_once_and_every_tolerance_is_below_the_failure_it_mu
     assert DEFAULT.rtol * 50 < 1e-6  # a settled number (|x| <= 50) moved by 1e-6 fails by default
     for pattern, tol in TOLERANCES:
         assert tol.why, pattern
-        assert 0 <= tol.max_sensitive <= 0.1, pattern
+        assert 0 <= tol.max_sensitive <= 0.2, pattern
 
 
 @pytest.mark.parametrize("args", [["/no/such/dir"], ["--against", "no-such-revision"]])

@@ -31,10 +31,14 @@ from dataclasses import dataclass, field
 from fnmatch import fnmatch
 
 __all__ = [
+    "COLUMNS",
+    "Column",
     "DEFAULT",
+    "column_of",
     "IMAGE_SUFFIXES",
     "LABEL_COLUMNS",
     "RECORD_DIRECTORIES",
+    "SENSITIVE_KEYS",
     "SENSITIVE_LABELS",
     "TIMING_FILES",
     "TOLERANCES",
@@ -68,6 +72,11 @@ LABEL_COLUMNS = frozenset(
 )
 
 
+# JSON keys that list the sensitive points themselves (the points where two solvers disagree):
+# not compared, their count is.
+SENSITIVE_KEYS = ("mismatches",)
+
+
 @dataclass(frozen=True)
 class Tolerance:
     """How far one record may differ (module docstring)."""
@@ -79,19 +88,22 @@ class Tolerance:
     keys: tuple[str, ...] = ()  # CSV columns that match rows (adaptive records)
     matrix: bool = False  # a CSV map: header = column coordinates, first column = row coordinate
     by_name: dict[str, float] = field(default_factory=dict)  # JSON path or macro name -> absolute tolerance
-    skip: str = ""  # why the record is not compared (a timing file)
     why: str = ""
 
 
 DEFAULT = Tolerance(why="a settled result: numbers to rtol 1e-8, no label may differ")
 
-# Per record, first match wins. A fraction of points comes with what the emulated machines
-# measured (tools/coarse_record.py writes tests/data/coarse_record/emulation.json).
+# Per record, first match wins. The fractions of sensitive points are for the full record
+# (config/config.yaml: 1,001-point sweeps, 400 x 400 maps), above what a machine of another kind
+# gave (issue 49: 15 of 2,002 sweep labels, 304 of 160,400 map cells, 1,423 of 54,571 claims-map
+# cells); a coarse record states its own in its tolerances.json (tests/data/coarse_record/).
 _MAPS = Tolerance(matrix=True, max_sensitive=0.01, why="a regime map: labels flip in chaotic windows and at boundaries")
 _POINTS = Tolerance(max_sensitive=0.02, why="labelled points along a parameter: flips at sensitive points")
 _ADAPTIVE = Tolerance(
     keys=("x", "y"), max_sensitive=0.05, why="a map refined where its cells change: flips move the refinement"
 )
+_RESOLUTION = "interval ends and searched distances: to their search's resolution (claims_search.rel_tol)"
+_COUNTS = "counts of labels and cells: within their sensitive points"
 TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
     ("figures/map_*_curves.csv", DEFAULT),
     ("figures/map_*_settings.json", DEFAULT),
@@ -104,7 +116,11 @@ TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
     ),
     (
         "figures/sweep_transitions.csv",
-        Tolerance(keys=("direction", "before", "after"), max_sensitive=0.1, why="transitions located between labels"),
+        Tolerance(
+            keys=("direction", "before", "after", "lower"),
+            max_sensitive=0.2,
+            why="transitions located between labels: a flip next to one moves it to another bracket",
+        ),
     ),
     ("figures/sweep_*.csv", _POINTS),
     ("figures/lyapunov_*.csv", _POINTS),
@@ -112,32 +128,69 @@ TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
     ("figures/design_response.csv", _POINTS),
     (
         "figures/claims_by_parameter.csv",
-        Tolerance(
-            rtol=1e-2,
-            keys=("parameter", "claim"),
-            max_sensitive=0.1,
-            why="interval ends bisected to claims_search.rel_tol",
-        ),
+        Tolerance(rtol=1e-2, keys=("parameter", "claim"), max_sensitive=0.1, why=_RESOLUTION),
     ),
-    (
-        "paper/generated/claims_*",
-        Tolerance(rtol=1e-2, why="interval ends and widths bisected to claims_search.rel_tol"),
-    ),
-    (
-        "figures/claims_*.json",
-        Tolerance(rtol=1e-2, why="interval ends, searched distances: to their search's resolution"),
-    ),
-    (
-        "paper/generated/sweep_*",
-        Tolerance(rtol=1e-2, why="counts of a sweep's labels and maps' cells: within their sensitive points"),
-    ),
-    ("paper/generated/lyapunov_*", Tolerance(rtol=1e-2, why="counts of labels: within their sensitive points")),
-    ("figures/lyapunov_*.json", Tolerance(rtol=1e-2, why="counts of labels: within their sensitive points")),
+    ("paper/generated/claims_*", Tolerance(rtol=1e-2, why=_RESOLUTION)),
+    ("figures/claims_*.json", Tolerance(rtol=1e-2, by_name={"*refinement*": 4}, why=_RESOLUTION)),
+    ("paper/generated/sweep_*", Tolerance(rtol=1e-2, why=_COUNTS)),
+    ("paper/generated/lyapunov_*", Tolerance(rtol=1e-2, why=_COUNTS)),
+    ("figures/lyapunov_*.json", Tolerance(rtol=1e-2, why=_COUNTS)),
     (
         "figures/readme_summary.md",
         Tolerance(rtol=1e-2, why="the README's numbers: counts and intervals as their records"),
     ),
 )
+
+
+@dataclass(frozen=True)
+class Column:
+    """A kind of number that carries its own tolerance in every record (a CSV column or a JSON
+    key, by name): ``rtol``, ``atol`` as in ``Tolerance``."""
+
+    rtol: float
+    atol: float
+    why: str
+    chatter: bool = False  # at a chattering point (regime chatter, label c/k): not compared
+    path: bool = False  # how a point was reached, not a result: not compared
+
+
+_CHATTER = "a chatter sequence's impacts are counted down to chatter_tol: round-off adds or drops its last ones"
+_PATH = "how a chain's point was reached (its start, the method that settled it), not a result"
+_SIZE = "a residual or a difference between two methods is round-off or their tolerance: its size kept, not its digits"
+# By name (glob), first match wins. Measured on the emulated machines (tools/coarse_record.py).
+COLUMNS: tuple[tuple[str, Column], ...] = (
+    (
+        "*periods",
+        Column(0.5, 5, "how long a run took to pass the period test: a transient decays below it sooner or later"),
+    ),
+    ("nfev", Column(0.5, 5, "the cross-check's function evaluations: they follow the run's length")),
+    ("evaluations", Column(0.5, 5, "a bisection's or a search's evaluations: its path follows the labels it meets")),
+    ("*impacts_per_cycle", Column(0.0, 0, _CHATTER, chatter=True)),
+    ("z", Column(0.0, 0, _CHATTER, chatter=True)),
+    ("velocities", Column(1e-8, 1e-10, _CHATTER, chatter=True)),
+    ("[xv][12]_0", Column(0.0, 0.0, _PATH, path=True)),
+    ("start", Column(0.0, 0.0, _PATH, path=True)),
+    ("method", Column(0.0, 0.0, _PATH, path=True)),
+    ("contact_fraction", Column(1e-6, 1e-10, "the part of a cycle in contact, its ends located to the gap tolerance")),
+    ("agree", Column(0.0, 3, "checks that agree: within the sensitive points that flip")),
+    ("settling", Column(0.0, 3, "checks where a run does not settle: within the sensitive points that flip")),
+    ("nonperiodic", Column(0.0, 3, "points not settled: within the sensitive points that flip")),
+    ("multiplier", Column(5e-3, 1e-6, "the largest multiplier, from Newton's finite-difference Jacobian of the map")),
+    ("*_minus_*", Column(0.5, 1e-9, "a located value minus its closed form: " + _SIZE)),
+    ("*mismatch*", Column(0.5, 1e-9, _SIZE)),
+    ("*difference*", Column(0.5, 1e-9, _SIZE)),
+    ("*_diff", Column(0.5, 1e-9, _SIZE)),
+    ("*_rel", Column(0.5, 1e-9, _SIZE)),
+    ("*residual*", Column(0.5, 1e-9, _SIZE)),
+)
+
+
+def column_of(name: str) -> Column | None:
+    """The tolerance of numbers named ``name`` (a CSV column, a JSON key), if they have their own."""
+    for pattern, column in COLUMNS:
+        if fnmatch(name, pattern):
+            return column
+    return None
 
 
 def tolerance_of(path: str) -> Tolerance:

@@ -16,7 +16,7 @@ import json
 import math
 import re
 import subprocess
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fnmatch import fnmatch
 from pathlib import Path
 
@@ -24,8 +24,10 @@ from .record_tolerances import (
     IMAGE_SUFFIXES,
     LABEL_COLUMNS,
     RECORD_DIRECTORIES,
+    SENSITIVE_KEYS,
     SENSITIVE_LABELS,
     TIMING_FILES,
+    column_of,
     tolerance_of,
 )
 
@@ -81,21 +83,34 @@ def _float(text: str) -> float | None:
         return None
 
 
-def _number_tol(a: float, b: float, tol) -> float:
-    return tol.rtol * max(abs(a), abs(b)) + tol.atol
+def _number_tol(a: float, b: float, tol, name: str = "") -> float:
+    own = column_of(name)
+    rtol, atol = (own.rtol, own.atol) if own else (tol.rtol, tol.atol)
+    return rtol * max(abs(a), abs(b)) + atol
 
 
-def _cells(a: str, b: str, tol, comparison: Comparison, where: str) -> bool:
-    """Compare two cells; True when they are labels that differ."""
+def _cells(a: str, b: str, tol, comparison: Comparison, where: str, name: str = "", chatter=False) -> bool:
+    """Compare two cells (column ``name``; ``chatter``: of a chattering point); True when they
+    are labels that differ (or a chatter sequence's count)."""
     if a == b:
         return False
     xs, ys = a.split(";"), b.split(";")  # a cell may hold a list of numbers (velocities)
     numbers = [(_float(x), _float(y)) for x, y in zip(xs, ys)]
-    if len(xs) != len(ys) or any(x is None or y is None for x, y in numbers):
+    if any(x is None or y is None for x, y in numbers):
         return True
-    for x, y in numbers:
-        comparison.number(x, y, _number_tol(x, y, tol), where)
+    if chatter and _own(name, "chatter"):
+        return False  # a chatter sequence's count or velocities: not compared
+    if len(xs) != len(ys):
+        return True
+    for (x, y), ta, tb in zip(numbers, xs, ys):
+        unit = (1 + 1e-9) * max(_printed(ta)[1], _printed(tb)[1])  # printed to fewer digits
+        comparison.number(x, y, max(_number_tol(x, y, tol, name), unit), where)
     return False
+
+
+def _own(name: str, flag: str) -> bool:
+    own = column_of(name)
+    return own is not None and getattr(own, flag)
 
 
 def _sensitive(labels_a, labels_b, where, neighbours) -> bool:
@@ -112,16 +127,24 @@ def _read_csv(text: str) -> list[list[str]]:
 
 
 def _compare_rows(ref, new, header, tol, comparison, positions) -> None:
-    """Rows matched in order (``positions``: their coordinates for the neighbourhood)."""
+    """Rows matched in order (``positions``: their coordinates for the neighbourhood). A row whose
+    labels or text differ is a label difference; a row not settled in either record (a sensitive
+    label) has its numbers left out, and so has a start handed on from such a row."""
     labels_a, labels_b, differ = {}, {}, []
     for pos, ra, rb in zip(positions, ref, new):
         row = Comparison()
-        diff = [i for i, (a, b) in enumerate(zip(ra, rb)) if _cells(a, b, tol, row, f"row {pos} {header[i]}")]
+        chatter = any(c == "chatter" or c.startswith("c/") for c in ra + rb)
         labels_a[pos] = tuple(c for c, name in zip(ra, header) if name in LABEL_COLUMNS)
         labels_b[pos] = tuple(c for c, name in zip(rb, header) if name in LABEL_COLUMNS)
-        if diff or len(ra) != len(rb):
+        unsettled = bool(set(labels_a[pos] + labels_b[pos]) & SENSITIVE_LABELS)
+        diff = [
+            i
+            for i, (a, b) in enumerate(zip(ra, rb))
+            if not _own(header[i], "path") and _cells(a, b, tol, row, f"row {pos} {header[i]}", header[i], chatter)
+        ]
+        if labels_a[pos] != labels_b[pos] or len(ra) != len(rb) or (diff and not unsettled):
             differ.append(pos)  # another motion: its numbers are not compared
-        else:
+        elif not unsettled:  # (a motion not settled in both: its numbers are a window's)
             comparison.merge(row)
     comparison.points += len(labels_a)
     cells = tol.cells
@@ -153,8 +176,8 @@ def compare_csv(ref_text: str, new_text: str, tol) -> Comparison:
         by_key_a = {tuple(r[i] for i in index): r for r in ref[1:]}
         by_key_b = {tuple(r[i] for i in index): r for r in new[1:]}
         common = [k for k in by_key_a if k in by_key_b]
-        only = len(by_key_a) + len(by_key_b) - 2 * len(common)
-        comparison.sensitive += only  # rows where the refinement moved with a flip
+        only = max(len(by_key_a), len(by_key_b)) - len(common)  # a row moved counts once
+        comparison.sensitive += only  # rows that a flip added, removed or moved
         comparison.points += only
         rows_a = [by_key_a[k] for k in common]
         rows_b = [by_key_b[k] for k in common]
@@ -218,14 +241,19 @@ def compare_json(ref_text: str, new_text: str, tol, skip_keys=()) -> Comparison:
     comparison = Comparison()
     a, b = dict(_leaves(json.loads(ref_text))), dict(_leaves(json.loads(new_text)))
     for path, x in a.items():
+        if any(k in path for k in SENSITIVE_KEYS):
+            continue  # a list of the sensitive points themselves (their count is compared)
         if any(fnmatch(path.split("[")[0].rsplit(".", 1)[-1], k) for k in skip_keys):
             continue
         y = b.get(path, "<missing>")
         numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (x, y))
+        extra, name = _by_name(tol, path), path.rsplit(".", 1)[-1].split("[")[0]
         if numeric:
-            extra = _by_name(tol, path)
-            comparison.number(float(x), float(y), _number_tol(x, y, tol) + (extra or 0.0), path)
-        elif x != y and _by_name(tol, path) is None:
+            tolerance = _number_tol(x, y, tol, name) + (extra or 0.0)
+            comparison.number(float(x), float(y), tolerance, path)
+        elif isinstance(x, str) and isinstance(y, str) and x != y and extra is None:
+            comparison.merge(_compare_line(x, y, tol, path))
+        elif x != y and extra is None:
             comparison.problems.append(f"{path}: {y!r} against {x!r}")
     return comparison
 
@@ -236,7 +264,9 @@ _MACRO = re.compile(r"\\newcommand\*?\{\\(\w+)\}")
 
 def _printed(token: str) -> tuple[float, float]:
     """A printed number and one unit of its last digit."""
-    plain = token.replace(",", "")
+    plain = token.replace(",", "").strip()
+    if not re.fullmatch(r"[-+]?\d+(\.\d*)?([eE][-+]?\d+)?", plain):
+        return float(plain), 0.0  # nan, inf, 1e300 printed otherwise
     mantissa, _, exponent = plain.lower().partition("e")
     decimals = len(mantissa.partition(".")[2])
     return float(plain), 10.0 ** (int(exponent or 0) - decimals)
@@ -256,14 +286,22 @@ def compare_text(ref_text: str, new_text: str, tol) -> Comparison:
             continue
         macro = _MACRO.search(la)
         where = macro.group(1) if macro else f"line {number}"
-        if _NUMBER.sub("#", la) != _NUMBER.sub("#", lb):
-            if _by_name(tol, where) is None:
-                comparison.problems.append(f"{where}: text differs")
+        if _NUMBER.sub("#", la) != _NUMBER.sub("#", lb) and _by_name(tol, where) is not None:
             continue
-        extra = _by_name(tol, where) or 0.0
-        for ta, tb in zip(_NUMBER.findall(la), _NUMBER.findall(lb)):
-            (x, ux), (y, uy) = _printed(ta), _printed(tb)
-            comparison.number(x, y, max(_number_tol(x, y, tol), (1 + 1e-9) * max(ux, uy)) + extra, where)
+        comparison.merge(_compare_line(la, lb, tol, where))
+    return comparison
+
+
+def _compare_line(la: str, lb: str, tol, where: str) -> Comparison:
+    """One line of text (or a JSON string): the same words, numbers within their tolerance."""
+    comparison = Comparison()
+    if _NUMBER.sub("#", la) != _NUMBER.sub("#", lb):
+        comparison.problems.append(f"{where}: text differs")
+        return comparison
+    extra = _by_name(tol, where) or 0.0
+    for ta, tb in zip(_NUMBER.findall(la), _NUMBER.findall(lb)):
+        (x, ux), (y, uy) = _printed(ta), _printed(tb)
+        comparison.number(x, y, max(_number_tol(x, y, tol), (1 + 1e-9) * max(ux, uy)) + extra, where)
     return comparison
 
 
@@ -313,9 +351,11 @@ def _timing(repo_texts) -> dict[str, object]:
     return {**out, **dict.fromkeys(TIMING_FILES, "all")}
 
 
-def compare_file(path: str, ref_text: str, new_text: str, timing_columns=()) -> FileVerdict:
-    """One file's verdict."""
+def compare_file(path: str, ref_text: str, new_text: str, timing_columns=(), overrides=None) -> FileVerdict:
+    """One file's verdict (``overrides``: {record: {field: value}} over the table's tolerance)."""
     tol = tolerance_of(path)
+    if overrides and path in overrides:
+        tol = replace(tol, **overrides[path])
     if ref_text == new_text:
         return FileVerdict(path, "pass", "identical")
     if path.endswith(".csv"):
@@ -353,9 +393,13 @@ def _drop_columns(text: str, columns) -> str:
     return out.getvalue()
 
 
-def check_record(new: str | Path, reference: str = "HEAD", repo: str | Path = ".") -> list[FileVerdict]:
-    """Every file of ``reference``'s record compared with ``new``'s (module docstring)."""
+def check_record(new: str | Path, reference: str = "HEAD", repo: str | Path = ".", overrides=None) -> list[FileVerdict]:
+    """Every file of ``reference``'s record compared with ``new``'s (module docstring). A reference
+    directory may hold ``tolerances.json`` ({record: {field: value}}, e.g. a coarse record's
+    larger fractions of sensitive points), which overrides the table for it."""
     repo = Path(repo)
+    if overrides is None and Path(reference).is_dir() and (Path(reference) / "tolerances.json").is_file():
+        overrides = json.loads((Path(reference) / "tolerances.json").read_text())["records"]
     new_source, ref_source = record_source(str(new), repo), record_source(reference, repo)
     if new_source.directory is None:
         raise ValueError(f"DIR: {new} is not a directory")
@@ -373,7 +417,7 @@ def check_record(new: str | Path, reference: str = "HEAD", repo: str | Path = ".
             verdicts.append(FileVerdict(path, "fail", f"missing from {new_source.name}"))
             continue
         columns = timing.get(path, ())
-        verdicts.append(compare_file(path, ref_source.text(path), new_text, tuple(columns)))
+        verdicts.append(compare_file(path, ref_source.text(path), new_text, tuple(columns), overrides))
     return verdicts
 
 
