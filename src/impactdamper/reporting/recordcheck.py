@@ -20,7 +20,9 @@ from dataclasses import dataclass, field, replace
 from fnmatch import fnmatch
 from pathlib import Path
 
+from .latex import MacroFile, sci
 from .record_tolerances import (
+    DEFAULT,
     IMAGE_SUFFIXES,
     LABEL_COLUMNS,
     RECORD_DIRECTORIES,
@@ -31,7 +33,16 @@ from .record_tolerances import (
     tolerance_of,
 )
 
-__all__ = ["FileVerdict", "Comparison", "check_record", "compare_text", "record_source", "summary_line"]
+__all__ = [
+    "FileVerdict",
+    "Comparison",
+    "check_record",
+    "compare_text",
+    "emulation_summary",
+    "reproducibility_macros",
+    "record_source",
+    "summary_line",
+]
 
 
 @dataclass
@@ -464,3 +475,44 @@ def _repository(new: str) -> Path:
         ["git", "rev-parse", "--show-toplevel"], cwd=new if Path(new).is_dir() else ".", capture_output=True, text=True
     )
     return Path(out.stdout.strip()) if out.returncode == 0 else Path(".")
+
+
+def emulation_summary(verdicts: list[FileVerdict]) -> dict:
+    """The counts of one check for a record (tools/coarse_record.py's emulation.json)."""
+    return {
+        "reproduces": not any(v.status == "fail" for v in verdicts),
+        "summary": summary_line(verdicts),
+        "files": len(verdicts),
+        "identical": sum(v.detail == "identical" for v in verdicts),
+        "failed": sum(v.status == "fail" for v in verdicts),
+        "numbers_differ": sum(v.numbers for v in verdicts),
+        "sensitive": sum(v.sensitive for v in verdicts),
+        "points": sum(v.points for v in verdicts),
+        "per_file": {v.path: {"status": v.status, "detail": v.detail} for v in verdicts},
+    }
+
+
+def reproducibility_macros(emulation: dict) -> MacroFile:
+    """The report's reproducibility macros: the tolerance table's main figures and what the
+    emulated machines gave (``emulation``: tests/data/coarse_record/emulation.json)."""
+    runs = emulation["runs"]
+    macros = MacroFile(["% The reproduction check's tolerances and the emulated machines (tools/coarse_record.py)."])
+    macros.add("ReproRtol", sci(DEFAULT.rtol, 0))
+    macros.add("ReproAtol", sci(DEFAULT.atol, 0))
+    macros.add("ReproCells", str(DEFAULT.cells))
+    for name, path in (("Map", "figures/map_theta.csv"), ("Sweep", "figures/sweep_gap.csv")):
+        macros.add(f"Repro{name}Bound", f"{100 * tolerance_of(path).max_sensitive:g}")
+    macros.add(
+        "ReproClaimsMapBound", f"{100 * tolerance_of('figures/claims_map_theta_gap_refined.csv').max_sensitive:g}"
+    )
+    macros.add("ReproFamilies", " and ".join(runs), text=" and ".join(runs))
+    macros.add("ReproReferenceKernels", "/".join(emulation["reference_openblas"]))
+    macros.add("ReproRecordFiles", str(max(r["files"] for r in runs.values())))
+    macros.add("ReproRecordPoints", f"{max(r['points'] for r in runs.values()):,}".replace(",", "{,}"))
+    macros.add("ReproRunsPassed", str(sum(r["reproduces"] for r in runs.values())))
+    macros.add("ReproRuns", str(len(runs)))
+    macros.add("ReproIdenticalMin", str(min(r["identical"] for r in runs.values())))
+    macros.add("ReproSensitiveMin", str(min(r["sensitive"] for r in runs.values())))
+    macros.add("ReproSensitiveMax", str(max(r["sensitive"] for r in runs.values())))
+    macros.add("ReproNumbersMax", str(max(r["numbers_differ"] for r in runs.values())))
+    return macros
