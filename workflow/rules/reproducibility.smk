@@ -8,7 +8,7 @@
 rule reproducibility_macros:
     input:
         script="workflow/scripts/reproducibility_macros.py",
-        library=REPORTING,
+        library=library(REPORTING),
         emulation=str(Path(workflow.basedir) / "tests" / "data" / "coarse_record" / "emulation.json"),
     output:
         macros="paper/generated/reproducibility_macros.tex",
