@@ -31,6 +31,8 @@ from dataclasses import dataclass, field
 from fnmatch import fnmatch
 
 __all__ = [
+    "BLAS_CORETYPE_OVERRIDE",
+    "RECORD_BLAS_CORETYPE",
     "COLUMNS",
     "Column",
     "DEFAULT",
@@ -45,6 +47,12 @@ __all__ = [
     "Tolerance",
     "tolerance_of",
 ]
+
+# The OpenBLAS family every workflow job runs (workflow/rules/reproducibility.smk sets
+# OPENBLAS_CORETYPE): the routines every x86-64 processor has, so that the record's linear algebra
+# is the same bit for bit on any of them; BLAS_CORETYPE_OVERRIDE names another (an emulation).
+RECORD_BLAS_CORETYPE = "Prescott"
+BLAS_CORETYPE_OVERRIDE = "IMPACTDAMPER_OPENBLAS_CORETYPE"
 
 # The directories that hold the record, relative to the repository.
 RECORD_DIRECTORIES = ("figures", "paper/generated")
@@ -106,7 +114,14 @@ _RESOLUTION = "interval ends and searched distances: to their search's resolutio
 _COUNTS = "counts of labels and cells: within their sensitive points"
 TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
     ("figures/map_*_curves.csv", DEFAULT),
-    ("figures/map_*_settings.json", DEFAULT),
+    (
+        "figures/map_*_settings.json",
+        Tolerance(
+            rtol=0.01,
+            by_name={"check.*": 10},
+            why="a map's cells computed (they follow its labels, to 1 %) and its brute-force check's counts",
+        ),
+    ),
     ("figures/map_*.csv", _MAPS),
     ("figures/claims_map*_refined.csv", _ADAPTIVE),
     ("figures/claims_map*.csv", Tolerance(keys=("x", "y"), max_sensitive=0.03, why=_ADAPTIVE.why)),
@@ -161,10 +176,10 @@ _SIZE = "a residual or a difference between two methods is round-off or their to
 COLUMNS: tuple[tuple[str, Column], ...] = (
     (
         "*periods",
-        Column(0.5, 5, "how long a run took to pass the period test: a transient decays below it sooner or later"),
+        Column(0.0, 0.0, "how long a run took to settle: a search path (measured: 240 against 1,245)", path=True),
     ),
-    ("nfev", Column(0.5, 5, "the cross-check's function evaluations: they follow the run's length")),
-    ("evaluations", Column(0.5, 5, "a bisection's or a search's evaluations: its path follows the labels it meets")),
+    ("nfev", Column(0.0, 0.0, "the cross-check's function evaluations: they follow the run's length", path=True)),
+    ("evaluations", Column(0.0, 0.0, "a bisection's or a search's evaluations: its path", path=True)),
     ("*impacts_per_cycle", Column(0.0, 0, _CHATTER, chatter=True)),
     ("z", Column(0.0, 0, _CHATTER, chatter=True)),
     ("velocities", Column(1e-8, 1e-10, _CHATTER, chatter=True)),
@@ -175,9 +190,10 @@ COLUMNS: tuple[tuple[str, Column], ...] = (
     ("agree", Column(0.0, 3, "checks that agree: within the sensitive points that flip")),
     ("settling", Column(0.0, 3, "checks where a run does not settle: within the sensitive points that flip")),
     ("nonperiodic", Column(0.0, 3, "points not settled: within the sensitive points that flip")),
-    ("multiplier", Column(5e-3, 1e-6, "the largest multiplier, from Newton's finite-difference Jacobian of the map")),
+    ("multiplier", Column(2e-2, 1e-6, "the largest multiplier, from Newton's finite-difference Jacobian of the map")),
     ("*_minus_*", Column(0.5, 1e-9, "a located value minus its closed form: " + _SIZE)),
     ("*mismatch*", Column(0.5, 1e-9, _SIZE)),
+    ("basis", Column(0.5, 1e-9, "a verdict's sentence quoting differences between methods: " + _SIZE)),
     ("*difference*", Column(0.5, 1e-9, _SIZE)),
     ("*_diff", Column(0.5, 1e-9, _SIZE)),
     ("*_rel", Column(0.5, 1e-9, _SIZE)),

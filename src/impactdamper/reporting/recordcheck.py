@@ -141,7 +141,7 @@ def _compare_rows(ref, new, header, tol, comparison, positions) -> None:
     """Rows matched in order (``positions``: their coordinates for the neighbourhood). A row whose
     labels or text differ is a label difference; a row not settled in either record (a sensitive
     label) has its numbers left out, and so has a start handed on from such a row."""
-    labels_a, labels_b, differ = {}, {}, []
+    labels_a, labels_b, differ, moved = {}, {}, [], {}
     for pos, ra, rb in zip(positions, ref, new):
         row = Comparison()
         chatter = any(c == "chatter" or c.startswith("c/") for c in ra + rb)
@@ -155,6 +155,9 @@ def _compare_rows(ref, new, header, tol, comparison, positions) -> None:
         ]
         if labels_a[pos] != labels_b[pos] or len(ra) != len(rb) or (diff and not unsettled):
             differ.append(pos)  # another motion: its numbers are not compared
+        elif row.problems and not unsettled:
+            differ.append(pos)  # the same label, another motion (coexisting): only at a sensitive point
+            moved[pos] = row.problems[0]
         elif not unsettled:  # (a motion not settled in both: its numbers are a window's)
             comparison.merge(row)
     comparison.points += len(labels_a)
@@ -169,6 +172,8 @@ def _compare_rows(ref, new, header, tol, comparison, positions) -> None:
     for pos in differ:
         if _sensitive(labels_a, labels_b, pos, neighbours):
             comparison.sensitive += 1
+        elif pos in moved:
+            comparison.problems.append(f"{moved[pos]}, at no sensitive point")
         else:
             comparison.problems.append(f"{pos}: label {labels_b[pos]} against {labels_a[pos]} at no sensitive point")
 
@@ -259,11 +264,13 @@ def compare_json(ref_text: str, new_text: str, tol, skip_keys=()) -> Comparison:
         y = b.get(path, "<missing>")
         numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (x, y))
         extra, name = _by_name(tol, path), path.rsplit(".", 1)[-1].split("[")[0]
+        if _own(name, "path"):
+            continue  # how a result was reached, not a result
         if numeric:
             tolerance = _number_tol(x, y, tol, name) + (extra or 0.0)
             comparison.number(float(x), float(y), tolerance, path)
         elif isinstance(x, str) and isinstance(y, str) and x != y and extra is None:
-            comparison.merge(_compare_line(x, y, tol, path))
+            comparison.merge(_compare_line(x, y, tol, path, name))
         elif x != y and extra is None:
             comparison.problems.append(f"{path}: {y!r} against {x!r}")
     return comparison
@@ -303,7 +310,7 @@ def compare_text(ref_text: str, new_text: str, tol) -> Comparison:
     return comparison
 
 
-def _compare_line(la: str, lb: str, tol, where: str) -> Comparison:
+def _compare_line(la: str, lb: str, tol, where: str, name: str = "") -> Comparison:
     """One line of text (or a JSON string): the same words, numbers within their tolerance."""
     comparison = Comparison()
     if _NUMBER.sub("#", la) != _NUMBER.sub("#", lb):
@@ -312,7 +319,7 @@ def _compare_line(la: str, lb: str, tol, where: str) -> Comparison:
     extra = _by_name(tol, where) or 0.0
     for ta, tb in zip(_NUMBER.findall(la), _NUMBER.findall(lb)):
         (x, ux), (y, uy) = _printed(ta), _printed(tb)
-        comparison.number(x, y, max(_number_tol(x, y, tol), (1 + 1e-9) * max(ux, uy)) + extra, where)
+        comparison.number(x, y, max(_number_tol(x, y, tol, name), (1 + 1e-9) * max(ux, uy)) + extra, where)
     return comparison
 
 
