@@ -24,6 +24,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
+from impactdamper.reporting.record_tolerances import BLAS_CORETYPE_OVERRIDE, RECORD_BLAS_CORETYPE  # noqa: E402
 from impactdamper.reporting.recordcheck import check_record, emulation_summary  # noqa: E402
 
 RECORD = ROOT / "tests" / "data" / "coarse_record"
@@ -39,8 +40,11 @@ TARGETS = (
     "figures/claims_map_theta_gap.csv",
     "figures/gap_scan.csv",
 )
-# Kernel families another x86-64 CPU would run (OpenBLAS names; it reports which it loaded).
-EMULATED = ("Sandybridge", "Prescott")
+# Kernel families another machine would run, where the workflow's pin (RECORD_BLAS_CORETYPE,
+# workflow/rules/reproducibility.smk) does not hold (OpenBLAS names; it reports which it
+# loaded). PINNED: the family an environment names, which the pin overrides (identical record).
+EMULATED = ("Sandybridge", "Haswell")
+PINNED = "SkylakeX"
 
 
 def openblas_cores(env: dict) -> list[str]:
@@ -70,6 +74,7 @@ def regenerate(root: str, env: dict, targets=TARGETS, cores: int = 2) -> Path:
 
 def main() -> None:
     base = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    base.pop(BLAS_CORETYPE_OVERRIDE, None)  # the reference runs with the workflow's pin
     reference = regenerate(f"{SCRATCH}/reference", base)
     tolerances = (RECORD / "tolerances.json").read_text() if (RECORD / "tolerances.json").is_file() else None
     shutil.rmtree(RECORD, ignore_errors=True)
@@ -80,17 +85,21 @@ def main() -> None:
         (RECORD / "tolerances.json").write_text(tolerances)
     runs = {}
     for family in EMULATED:
-        env = {**base, "OPENBLAS_CORETYPE": family}
+        env = {**base, BLAS_CORETYPE_OVERRIDE: family, "OPENBLAS_CORETYPE": family}
         verdicts = check_record(regenerate(f"{SCRATCH}/{family}", env), str(RECORD), ROOT)
         runs[family] = {"openblas": openblas_cores(env), **emulation_summary(verdicts)}
         print(f"coarse_record: {family}: {runs[family]['summary']}", flush=True)
+    env = {**base, "OPENBLAS_CORETYPE": PINNED}
+    pinned = emulation_summary(check_record(regenerate(f"{SCRATCH}/pinned", env), str(RECORD), ROOT))
+    print(f"coarse_record: {PINNED} in the environment, pinned: {pinned['summary']}", flush=True)
     record = {
         "what": "the coarse record (config/ci.yaml, the stages of 'targets') made on this machine, and the same "
         "stages under other OpenBLAS kernel families checked against it (tools/coarse_record.py)",
         "targets": list(TARGETS),
-        "reference_openblas": openblas_cores(base),
+        "reference_openblas": openblas_cores({**base, "OPENBLAS_CORETYPE": RECORD_BLAS_CORETYPE}),
         "reference_environment": os.environ.get("OPENBLAS_CORETYPE", "(unset: OpenBLAS detects the CPU)"),
         "runs": runs,
+        "pinned": {"environment": PINNED, **pinned},
     }
     (RECORD / "emulation.json").write_text(json.dumps(record, indent=1) + "\n")
     print(f"coarse_record: wrote {RECORD.relative_to(ROOT)}")

@@ -522,4 +522,6 @@ def reproducibility_macros(emulation: dict) -> MacroFile:
     macros.add("ReproSensitiveMin", str(min(r["sensitive"] for r in runs.values())))
     macros.add("ReproSensitiveMax", str(max(r["sensitive"] for r in runs.values())))
     macros.add("ReproNumbersMax", str(max(r["numbers_differ"] for r in runs.values())))
+    macros.add("ReproPinnedIdentical", str(emulation["pinned"]["identical"]))
+    macros.add("ReproPinnedFiles", str(emulation["pinned"]["files"]))
     return macros
