@@ -31,6 +31,7 @@ include: "workflow/rules/performance.smk"
 include: "workflow/rules/orbits.smk"
 include: "workflow/rules/design.smk"
 include: "workflow/rules/lyapunov.smk"
+include: "workflow/rules/reproducibility.smk"
 include: "workflow/rules/report.smk"  # last: the report takes every stage's products
 
 

@@ -87,6 +87,10 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser._subparsers._group_actions[0].choices[args.command]  # for error messages
     if args.command == "design":
         return _design(args, sub)
+    if args.command == "check-record":
+        from impactdamper.reporting.recordcheck import check_record_command
+
+        return check_record_command(args.dir, args.against, args.json, sub.prog)
     p = _parameters(args, sub)
     _check_combinations(sub, args, sys.argv[1:] if argv is None else argv)
     if sys.stdout is None:  # started with stdout closed (``>&-``): said before any work

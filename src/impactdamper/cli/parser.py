@@ -105,7 +105,20 @@ def build_parser() -> argparse.ArgumentParser:
     from impactdamper.cli.boundaries import add_boundaries_parser  # (it takes this module's flags)
 
     add_boundaries_parser(sub, defaults, _add_parameters)
+    _add_check_record(sub)
     return parser
+
+
+def _add_check_record(sub) -> None:
+    """``check-record``: a regenerated record against the committed one (reporting/recordcheck.py)."""
+    check = sub.add_parser(
+        "check-record",
+        help="compare a regenerated record (figures/, paper/generated/) with the committed one, "
+        "file by file, within the tolerances of reporting/record_tolerances.py; exit 1 if any fails",
+    )
+    check.add_argument("dir", nargs="?", default=".", help="the regenerated record's root (default: .)")
+    check.add_argument("--against", default="HEAD", help="the reference: a git revision or a directory (default: HEAD)")
+    check.add_argument("--json", action="store_true", help="the verdicts as JSON")
 
 
 def _add_parameters(p: argparse.ArgumentParser, defaults: Parameters) -> None:
