@@ -20,7 +20,16 @@ rule design_baselines:
     input:
         script="workflow/scripts/design_baselines.py",
         library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict", "design/tmd", "design/tasks"), REPORTING
+            study(
+                "design/design",
+                "design/devices",
+                "design/optimum",
+                "design/search",
+                "design/verdict",
+                "design/tmd",
+                "design/tasks",
+            ),
+            REPORTING,
         ),
     output:
         csv="figures/design_baselines.csv",
@@ -83,7 +92,16 @@ rule design_optimum:
     input:
         script="workflow/scripts/design_optimum.py",
         library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict", "design/tmd", "design/tasks"), REPORTING
+            study(
+                "design/design",
+                "design/devices",
+                "design/optimum",
+                "design/search",
+                "design/verdict",
+                "design/tmd",
+                "design/tasks",
+            ),
+            REPORTING,
         ),
     output:
         json="figures/design_optimum.json",
@@ -131,7 +149,16 @@ rule design_benchmark:
     input:
         script="workflow/scripts/design_benchmark.py",
         library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict", "design/tmd", "design/tasks"), REPORTING
+            study(
+                "design/design",
+                "design/devices",
+                "design/optimum",
+                "design/search",
+                "design/verdict",
+                "design/tmd",
+                "design/tasks",
+            ),
+            REPORTING,
         ),
         cli=library_files("cli"),
         optimum="figures/design_optimum.json",

@@ -421,7 +421,15 @@ SUMMARY = (
     Macro("DesignAbstractShort", lambda s: abstract_short(s["opt"])),
     Macro(
         "DesignRecommendation",
-        lambda s: recommendation(s["opt"], pm="$\\pm$", pct="\\,\\%", xst="\\,$x_{\\mathrm{st}}$"),
+        lambda s: recommendation(
+            s["opt"],
+            pm="$\\pm$",
+            pct="\\,\\%",
+            xst="\\,$x_{\\mathrm{st}}$",
+            p0="\\,$P_0$",
+            f1="$f_1$",
+            sep="\\,",
+        ),
     ),
     # For the README (never expanded in TeX; no "%", which would end the TeX line of its definition).
     Macro("DesignRecommendationPlain", lambda s: recommendation(s["opt"], pct=" per cent")),

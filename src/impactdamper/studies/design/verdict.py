@@ -120,11 +120,14 @@ WHAT = {
 }
 
 
-def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x_st") -> str:
+def recommendation(
+    record: dict, pm: str = "+-", pct: str = " %", xst: str = " x_st", p0: str = " P0", f1: str = "f1", sep: str = ","
+) -> str:
     """One plain recommendation from a design table (a
     :func:`~impactdamper.studies.design.optimum.design_optima` record): which device to build, on
     each criterion's pair of optima (:func:`comparisons`), differences within TIE counted as
-    equal (``pm``, ``pct``, ``xst``: how to write plus-minus, per cent and the unit x_st)."""
+    equal (``pm``, ``pct``, ``xst``, ``p0``, ``f1``, ``sep``: how to write plus-minus, per cent, the
+    units x_st and P0, the object's natural frequency and the thousands separator)."""
     u = record["uncertainty"]
     fmt = dict(
         pm=pm,
@@ -179,7 +182,7 @@ def recommendation(record: dict, pm: str = "+-", pct: str = " %", xst: str = " x
     note = (
         f" Not searched: the optima for the {', '.join(missing)} (a robust criterion asks for them)." if missing else ""
     )
-    return f"{first}: " + "; ".join(parts) + "." + _costs(record, xst) + note
+    return f"{first}: " + "; ".join(parts) + "." + _costs(record, xst, p0, f1, sep) + note
 
 
 def _bounds_words(names) -> str:
@@ -187,15 +190,16 @@ def _bounds_words(names) -> str:
     return f", at a bound of its box: {', '.join(names)}" if names else ""
 
 
-def _costs(record: dict, xst: str) -> str:
+def _costs(record: dict, xst: str, p0: str, f1: str, sep: str) -> str:
     """What the impact suppressor optimal at the peak costs beside the TMD: its stroke, its stop
     force and its impacts per hour ('' when it does not impact)."""
     i, t = device(record, "impact_peak_reach"), device(record, "tmd_peak")
     if not i.get("impacts"):
         return ""
+    per_hour = f"{round(i['impacts_per_hour'], -2):,.0f}".replace(",", sep)
     return (
         f" The impact suppressor optimal at the peak travels {i['stroke']:.1f}{xst} (the TMD {t['stroke']:.1f}{xst}, "
-        f"{i['stroke'] / t['stroke']:.2f} times), meets its stop with up to {i['contact_force']:.0f} P0 "
-        f"(a stop {i['stop_stiffness']:g} times the object's spring) and {round(i['impacts_per_hour'], -2):,.0f} times an hour "
-        f"at f1 = {i['natural_frequency']:g} Hz."
+        f"{i['stroke'] / t['stroke']:.2f} times), meets its stop with up to {i['contact_force']:.0f}{p0} "
+        f"(a stop {i['stop_stiffness']:g} times the object's spring) and {per_hour} times an hour "
+        f"at {f1} = {i['natural_frequency']:g} Hz."
     )

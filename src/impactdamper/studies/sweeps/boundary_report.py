@@ -7,11 +7,12 @@ from pathlib import Path
 
 from impactdamper.analysis.curves import CODIM2_REASONS
 from impactdamper.reporting.latex import MacroFile, fixed, render_macros, sci
+from impactdamper.studies.vocabulary import tex
 
 __all__ = ["codim2_points", "write_report"]
 
 # The maps and the curves' kinds in the table.
-PLANE_TEXT = {"theta": "$\\theta$", "damping": "$\\delta$"}
+PLANE_TEXT = {"theta": tex("theta"), "damping": f"{tex('delta1')} $=$ {tex('delta2')}"}
 KIND_TEXT = {
     "fold": "fold",
     "period_doubling": "period doubling",
@@ -106,7 +107,7 @@ def write_report(record: dict, out_macros, out_table) -> None:
     lines = [
         "\\begin{tabular}{llllrr}",
         "\\toprule",
-        "map & cycle & point & on curves & $\\Delta_0/x_{\\mathrm{st}}$ & value \\\\",
+        f"map & cycle & point & on curves & {tex('gap')} & value \\\\",
         "\\midrule",
     ]
     for r in record["codim2"]:
