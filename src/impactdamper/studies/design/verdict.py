@@ -197,9 +197,10 @@ def _costs(record: dict, xst: str, p0: str, f1: str, sep: str) -> str:
     if not i.get("impacts"):
         return ""
     per_hour = f"{round(i['impacts_per_hour'], -2):,.0f}".replace(",", sep)
+    hertz = f"{f1} of {i['natural_frequency']:g} Hz"
     return (
         f" The impact suppressor optimal at the peak travels {i['stroke']:.1f}{xst} (the TMD {t['stroke']:.1f}{xst}, "
         f"{i['stroke'] / t['stroke']:.2f} times), meets its stop with up to {i['contact_force']:.0f}{p0} "
         f"(a stop {i['stop_stiffness']:g} times the object's spring) and {per_hour} times an hour "
-        f"at {f1} = {i['natural_frequency']:g} Hz."
+        f"at a natural frequency {hertz}."
     )
