@@ -283,3 +283,18 @@ def test_located_peak_checks_hold():
     assert checks["ivp_count"] >= 3 and checks["ivp_largest_difference"] <= 1e-7
     assert checks["gap_two"]["peak"] == pytest.approx(4.15, abs=1e-3)
 
+
+def test_the_benchmark_page_gives_the_design_commands_times():
+    """docs/BENCHMARKS.md (rule benchmarks_doc) holds the design command's wall and processor time
+    per benchmark object, and the machine's load, as figures/design_benchmark.json records them."""
+    import benchmarks_doc
+
+    record = read_json(FIGURES / "design_benchmark.json")
+    text = benchmarks_doc.design_section(record)
+    assert len(record["objects"]) == len(CONFIG["design"]["benchmark_objects"])
+    for o in record["objects"]:
+        row = f"| {o['mu']:g}, {o['delta1']:g} | {o['how']} | {o['elapsed']:.0f} s | {o['cpu']:.0f} s |"
+        assert row in text, text
+    load = ", ".join(f"{x:.1f}" for x in record["machine"]["load_average"])
+    assert f"the load average (1, 5, 15 min) at the end: {load}" in text
+    assert text in (ROOT / "docs" / "BENCHMARKS.md").read_text()
