@@ -266,7 +266,8 @@ def _add_design(sub, defaults: Parameters) -> None:
         "--robust",
         action="store_true",
         help="search the full robust table (every uncertainty's optimum, every row's worst peaks; a robust "
-        "--criterion implies it): up to about 3 minutes on two cores",
+        "--criterion implies it): slower than the nominal answer (its time: docs/BENCHMARKS.md, the design "
+        "table's run)",
     )
     design.add_argument(
         "--workers",
