@@ -359,3 +359,48 @@ def test_a_band_end_beyond_the_range_names_its_own_flag(band, option, capsys):
     err = capsys.readouterr().err
     assert info.value.code == 2 and err.count("\n") == 1
     assert err.split(": error: ")[1].startswith(f"argument {option}: `theta` = {band[1]}".replace("1e300", "1e+300"))
+
+
+@pytest.mark.parametrize(
+    "flag, value, allowed",
+    [
+        ("--stiffness-drift", "0.5", "in [0, 0.3]"),
+        ("--stiffness-drift", "-0.01", "in [0, 0.3]"),
+        ("--damping-drift", "1", "in [0, 0.9]"),
+        ("--damping-drift", "nan", "must be a finite number"),
+    ],
+)
+def test_design_drift_flags_refuse_values_outside_their_ranges(flag, value, allowed, monkeypatch, capsys):
+    """The absorber's drifts are refused before any search, in one line naming the flag and its range."""
+    from impactdamper.studies.design import optimum
+
+    monkeypatch.setattr(optimum, "design_optima", lambda *a, **k: pytest.fail("searched a refused input"))
+    with pytest.raises(SystemExit) as info:
+        main(["design", flag, value, "--quiet"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert f"argument {flag}: `{flag[2:].replace('-', '_')}` = " in err and allowed in err, err
+
+
+@pytest.mark.parametrize(
+    "argv, robust, stiffness, damping",
+    [
+        ([], None, 0.05, 0.2),
+        (["--robust"], True, 0.05, 0.2),
+        (["--stiffness-drift", "0.1", "--damping-drift", "0.4", "--robust"], True, 0.1, 0.4),
+        (["--stiffness-drift", "0", "--damping-drift", "0"], None, 0.0, 0.0),
+    ],
+)
+def test_design_flags_reach_the_search(argv, robust, stiffness, damping, monkeypatch, capsys):
+    """--robust asks design_optima for the full robust table (robust=True; without it the
+    criterion decides), and the drift flags set the Uncertainty it searches under."""
+    from impactdamper.studies.design import optimum
+
+    calls = []
+    monkeypatch.setattr(optimum, "design_optima", lambda *a, **k: calls.append(k) or {"peak": 1.0})
+    assert main(["design", *argv, "--json", "--quiet"]) == 0
+    assert json.loads(capsys.readouterr().out) == {"peak": 1.0}
+    (k,) = calls
+    assert k["robust"] is robust
+    assert (k["uncertainty"].stiffness, k["uncertainty"].damping) == (stiffness, damping)
+    assert (k["uncertainty"].detuning, k["uncertainty"].restitution) == (0.1, 0.15)

@@ -15,6 +15,7 @@
 """
 
 import json
+import math
 import re
 import subprocess
 import sys
@@ -195,6 +196,21 @@ def test_recommendation_follows_the_record(pairs, first):
     # Its costs beside the peaks: the impact design's stroke against the TMD's, stop force, impacts.
     assert "travels 15.9 x_st (the TMD 15.9 x_st, 1.00 times)" in text and "120 P0" in text, text
     assert "42,000 times an hour at a natural frequency f1 of 10 Hz" in text, text
+
+
+def test_a_worst_case_not_evaluated_is_not_compared():
+    """The nominal answer leaves the impact rows' absorber and combined worst cases NaN (not
+    searched): the recommendation once read "the impact suppressor is lower (nan against 4.01)"."""
+    pairs = dict(peak=(3.7, 3.6), band_average=(2.3, 2.3), detuning=(5.0, 4.6), stroke=(8.0, 5.3))
+    record = _record({**pairs, "force": (4.6, 3.6), "restitution": (4.1, 3.6)})
+    record["devices"] = [d for d in record["devices"] if d["device"] not in ("impact_force", "impact_restitution")]
+    for d in record["devices"]:
+        nan = d["device"].startswith("impact")
+        d["worst"].update(absorber=math.nan if nan else 4.01, together=math.nan if nan else 6.44)
+    text = recommendation(record)
+    assert "nan" not in text and "absorber" not in text and "all of these at once" not in text, text
+    record["devices"][0]["worst"].update(absorber=4.2, together=6.5)  # (impact_peak_reach evaluated)
+    assert "(4.01 against 4.20)" in recommendation(record)
 
 
 def test_a_travel_limited_impact_design_that_never_impacts_is_the_tmd_limit():
@@ -392,6 +408,20 @@ def test_a_saved_table_is_shown_only_for_the_same_object(tmp_path, monkeypatch):
     record, source = optimum.saved_or_searched(tmp_path / "absent.json", (0.5, 1.5), 0.08, 0.05, uncertainty=unc)
     assert (record["peak"], source) == (2.0, "searched")
     assert len(searched) == 5
+
+
+def test_a_search_instead_of_a_saved_table_takes_the_budget_given(tmp_path, monkeypatch):
+    """The guided notebook searches on a small stated budget (every search's) when no table of its
+    object is saved; without one, the command's own budgets."""
+    from impactdamper.studies.design import optimum
+
+    calls = []
+    monkeypatch.setattr(optimum, "design_optima", lambda *a, **k: calls.append(k) or {"peak": 2.0})
+    small = optimum.Budget(samples=16, starts=1, polls=3, polish=0, checks=1)
+    optimum.saved_or_searched(tmp_path / "absent.json", (0.5, 1.5), 0.08, 0.05, budget=small)
+    optimum.saved_or_searched(None, (0.5, 1.5), 0.08, 0.05)
+    assert (calls[0]["budget"], calls[0]["robust_budget"]) == (small, small)
+    assert "budget" not in calls[1] and "robust_budget" not in calls[1]
 
 
 def test_a_travel_limit_only_one_device_keeps_decides_by_the_limit():

@@ -10,7 +10,8 @@
 * A suppressor whose worst branch is the motion without contact up to its first contact, a
   branch end no grid sample brackets: its worst branch is at least the floor (3.866, the sweeps'
   samples reach only 3.804).
-* The result of a case does not depend on the other cases of the call, nor on the workers.
+* The result of a case does not depend on the other cases of the call, nor on the workers; a
+  band keeps its own grid (and band average) beside a wider band.
 * Slow: slow sweeps ten times finer in both directions never exceed the located peak, and fall
   short of the sweeps' located maximum by no more than their step allows; solve_ivp on the
   located peak's motion agrees to 1e-7; ``response --json`` reports the located peak.
@@ -104,6 +105,19 @@ def test_a_case_does_not_depend_on_the_others_nor_on_the_workers():
         alone = worst_branch(p, BAND, theta_tol=1e-4, settings=DESIGN_SETTINGS)
         assert (w.peak, w.peak_theta, w.band_average) == (alone.peak, alone.peak_theta, alone.band_average)
         assert np.array_equal(w.up, alone.up, equal_nan=True) and np.array_equal(w.down, alone.down, equal_nan=True)
+
+
+def test_a_band_has_its_own_grid_whatever_bands_share_the_call():
+    # Alone, (0.5, 1.5) has 51 grid points; a wider band in the same call (66 points) once gave
+    # it 66, and its band average moved by ~1e-3 (referee item R5-M6).
+    p, wide = Parameters(gap=2.0), (0.4, 1.7)
+    opts = dict(theta_tol=1e-3, random_count=0, settings=DESIGN_SETTINGS)
+    alone = worst_branch(p, BAND, **opts)
+    batch = worst_branches([Parameters(gap=3.0), p], [wide, BAND], **opts)
+    assert len(alone.thetas) == len(batch[1].thetas) == 51 and len(batch[0].thetas) == 66
+    assert batch[1].band_average == alone.band_average and batch[1].peak == alone.peak
+    assert np.array_equal(batch[1].up, alone.up) and np.array_equal(batch[1].down, alone.down)
+    assert batch[0].thetas[-1] == wide[1] and np.all(np.isfinite(batch[0].down))
 
 
 def test_bad_input_is_one_line_naming_the_argument():

@@ -130,12 +130,14 @@ ALL_TARGETS.append("figures/readme_summary.md")
 
 
 # The repository's benchmark page: the package's software benchmarks against its own targets,
-# from the performance stage's record (the report states speed and accuracy as results).
+# from the performance stage's record (the report states speed and accuracy as results), and the
+# design command's times from its benchmark.
 rule benchmarks_doc:
     input:
         script="workflow/scripts/benchmarks_doc.py",
         library=library(REPORTING),
         records=["results/report/performance.json"],
+        design="figures/design_benchmark.json",
     output:
         page="docs/BENCHMARKS.md",
     log:

@@ -1,7 +1,8 @@
 """Writes the repository's benchmark page (docs/BENCHMARKS.md): the software benchmarks of the
 package that replicates and extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100
 (no counterpart in the paper), from the performance stage's record
-(results/report/performance.json, :class:`impactdamper.reporting.latex.MacroFile`).
+(results/report/performance.json, :class:`impactdamper.reporting.latex.MacroFile`) and the design
+command's benchmark (figures/design_benchmark.json: its wall and processor time per object).
 
 The report states speed and accuracy as results about the methods; the package's own targets
 (how fast the compiled solver, the public calls and the command line must be) and whether this
@@ -9,6 +10,7 @@ run met them are software matters, kept here. Timings change from run to run and
 machine: the page is rewritten by every run of the workflow.
 """
 
+import json
 from pathlib import Path
 
 from impactdamper.reporting.readme import read_records
@@ -76,12 +78,40 @@ def page(m: dict[str, str]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main(records: list, output) -> str:
+def design_section(record: dict) -> str:
+    """The design command's times per benchmark object (figures/design_benchmark.json)."""
+    a, b = record["band"]
+    machine = record.get("machine", {})
+    load = machine.get("load_average")
+    loads = f"; the load average (1, 5, 15 min) at the end: {', '.join(f'{x:.1f}' for x in load)}" if load else ""
+    lines = [
+        "",
+        "## The design command",
+        "",
+        f"`python -m impactdamper design` over theta in [{a:g}, {b:g}] at each benchmark object (its default "
+        f"workers), on a machine of {machine.get('cpu_count', record['cores'])} cores{loads}. "
+        "Processor time counts the call's process and its workers; a wall time above it by much is time the "
+        "machine gave to other jobs.",
+        "",
+        "| object (mu, delta1) | run | wall time | processor time | evaluations | longest silence |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    for o in record["objects"]:
+        lines.append(
+            f"| {o['mu']:g}, {o['delta1']:g} | {o['how']} | {o['elapsed']:.0f} s | {o['cpu']:.0f} s | "
+            f"{o['evaluations']} | {o['longest_silence']:.0f} s |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def main(records: list, output, design=None) -> str:
     text = page(read_records(records))
+    if design is not None:
+        text += design_section(json.loads(Path(design).read_text()))
     Path(output).parent.mkdir(parents=True, exist_ok=True)
     Path(output).write_text(text)
     return text
 
 
 if __name__ == "__main__":
-    run_stage(snakemake, main, "input.records:list output.page")  # noqa: F821 (injected by Snakemake's script: directive)
+    run_stage(snakemake, main, "input.records:list output.page", design="input.design")  # noqa: F821 (injected by Snakemake's script: directive)

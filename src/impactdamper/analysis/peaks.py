@@ -270,8 +270,9 @@ def _linear_amplitude(p: Parameters, thetas: np.ndarray) -> np.ndarray:
 
 
 def band_points(bands: Sequence[tuple[float, float]], step: float) -> int:
-    """Grid points per band, the same for every band of one call: the widest band's steps of
-    at most ``step``, ceil(width/step) + 1 (at least 3)."""
+    """Grid points of the widest of ``bands``: steps of at most ``step``, ceil(width/step) + 1
+    (at least 3). :func:`worst_branches` gives each band its own (``band_points([band], step)``),
+    so that a band's result does not depend on which other bands share the call."""
     width = max(b - a for a, b in bands)
     return max(int(math.ceil(width / step - 1e-9)) + 1, 3)
 
@@ -469,8 +470,8 @@ def worst_branches(
     bands : sequence of (float, float)
         Each one's band (one per case).
     step : float
-        Largest theta step of the sweeps' grid (every band gets the widest band's number of
-        points, :func:`band_points`).
+        Largest theta step of the sweeps' grid (each band its own number of points,
+        :func:`band_points`; a band's result does not depend on the other bands of the call).
     theta_tol : float
         Width of a located peak's final bracket.
     candidates : int
@@ -502,9 +503,9 @@ def worst_branches(
     if not cases:
         return []
     base = cases[0]
-    n = band_points(bands, step)
-    grids = [np.linspace(a, b, n) for a, b in bands]
+    grids = [np.linspace(a, b, band_points([(a, b)], step)) for a, b in bands]
     res, paths = _sweeps(base, cases, grids, settings, workers)
+    n = max(len(g) for g in grids)
     brackets = []
     for path in paths:
         for b in _candidates(path, candidates):
@@ -535,17 +536,20 @@ def worst_branches(
 
 
 def _sweeps(base, cases, grids, settings, workers) -> tuple:
-    """Both sweeps of every case on its grid, in one batch call (module docstring, 1). Returns
-    (the batch result, the paths: case by case, up then down)."""
-    n = len(grids[0])
+    """Both sweeps of every case on its own grid, in one batch call of chains of the longest
+    grid's n points (module docstring, 1): a shorter sweep is continued at its last theta and
+    those points dropped (a point depends on its chain's earlier points only). Returns (the
+    result, the paths: case by case, up then down, sweep (c, d) from point (2 c + d) n)."""
+    n = max(len(th) for th in grids)
     rows = []
     for p, th in zip(cases, grids):
-        rows += [_row(p, t) for t in th] + [_row(p, t) for t in th[::-1]]
+        for t in (th, th[::-1]):
+            rows += [_row(p, x) for x in t] + [_row(p, t[-1])] * (n - len(t))
     res = _batch(base, rows, settings, n, workers=workers)
     paths = []
     for c, th in enumerate(grids):
         for d, direction in enumerate(("up", "down")):
-            sl = slice((2 * c + d) * n, (2 * c + d + 1) * n)
+            sl = slice((2 * c + d) * n, (2 * c + d) * n + len(th))
             t = th if d == 0 else th[::-1]
             paths.append(_Path(c, direction, t, np.asarray(res.x1_max[sl], float), _labels(res, sl), res.sections[sl]))
     return res, paths
@@ -561,8 +565,10 @@ def _distinct_thetas(peaks: list, count: int) -> list[float]:
 
 
 def _worst(p, band, res, up: _Path, down: _Path, c: int, n: int, peaks: tuple, fl, randoms: list) -> WorstBranch:
-    """Case ``c``'s WorstBranch from its sweeps (points 2 c n to 2 (c + 1) n of ``res``)."""
-    sl_up, sl_down = slice(2 * c * n, (2 * c + 1) * n), slice((2 * c + 1) * n, (2 * c + 2) * n)
+    """Case ``c``'s WorstBranch from its sweeps (the first len(up.t) points of chains 2 c and
+    2 c + 1 of ``res``, chains of n points)."""
+    m = len(up.t)
+    sl_up, sl_down = slice(2 * c * n, 2 * c * n + m), slice((2 * c + 1) * n, (2 * c + 1) * n + m)
     (up_z, up_v), (down_z, down_v) = _impacts(res, sl_up), _impacts(res, sl_down)
     failed = int(np.sum(res.regime_code[sl_up] == FAILED_CODE) + np.sum(res.regime_code[sl_down] == FAILED_CODE))
     rows = np.arange(len(res.values))

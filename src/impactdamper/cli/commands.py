@@ -186,7 +186,13 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
 
     logging.getLogger("impactdamper").addHandler(logging.NullHandler())
     try:
-        uncertainty = Uncertainty(args.detuning, (args.force_low, args.force_high), args.restitution_drift)
+        uncertainty = Uncertainty(
+            args.detuning,
+            (args.force_low, args.force_high),
+            args.restitution_drift,
+            args.stiffness_drift,
+            args.damping_drift,
+        )
         band = (args.theta_start, args.theta_stop)
         check_object(
             band, args.mu, args.delta1, uncertainty, args.max_stroke, args.stop_stiffness, args.natural_frequency
@@ -206,6 +212,7 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
                 natural_frequency=args.natural_frequency,
                 progress=progress,
                 workers=args.workers,
+                robust=True if args.robust else None,
             )
     except (ValueError, RuntimeError, ArithmeticError) as err:
         _fail(sub, err)

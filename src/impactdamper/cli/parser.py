@@ -247,6 +247,8 @@ def _add_design(sub, defaults: Parameters) -> None:
     ranged(r, "--force-low", u.force[0], "lowest force amplitude over the design force")
     ranged(r, "--force-high", u.force[1], "highest force amplitude over the design force")
     ranged(r, "--restitution-drift", u.restitution, "R uncertain by +- this")
+    ranged(r, "--stiffness-drift", u.stiffness, "the absorber's spring c2 uncertain by +- this fraction (both devices)")
+    ranged(r, "--damping-drift", u.damping, "the absorber's damper uncertain by +- this fraction (both devices)")
     o = design.add_argument_group("limits and loads")
     o.add_argument(
         "--max-stroke",
@@ -275,6 +277,13 @@ def _add_design(sub, defaults: Parameters) -> None:
         choices=("peak", "band_average", "detuning", "force", "restitution"),
         default="peak",
         help="which optima the keys impact, tmd and ratio report (default peak; every criterion's are in devices)",
+    )
+    o.add_argument(
+        "--robust",
+        action="store_true",
+        help="search the full robust table (every uncertainty's optimum, every row's worst peaks; a robust "
+        "--criterion implies it): slower than the nominal answer (its time: docs/BENCHMARKS.md, the design "
+        "table's run)",
     )
     design.add_argument(
         "--workers",
@@ -339,8 +348,8 @@ detuned, with the force amplitude off its design value, with the restitution dri
 under a travel limit. Peaks are the worst branch over the band, located. At most a minute on
 two cores within the ranges below; progress lines go to stderr (none with --quiet)."""
 
-DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, uncertainty {detuning, force, restitution}, detuning,
-criterion, budget, robust_budget, bounds, tmd_stroke, max_stroke, stop_stiffness,
+DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, uncertainty {detuning, force, restitution, stiffness,
+damping}, detuning, criterion, budget, robust_budget, bounds, tmd_stroke, max_stroke, stop_stiffness,
 natural_frequency, settings, elapsed (s), longest_silence (s between two progress lines),
 recommendation; devices: every row of the design table,
 each with

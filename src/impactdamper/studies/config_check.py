@@ -515,27 +515,6 @@ def _reference_theta_off_the_design_grid(config: dict) -> Problem | None:
     )
 
 
-def _design_object_out_of_range(config: dict) -> Problem | None:
-    """The design table's object (the reference mu and delta1, the band, the uncertainties)
-    must be within the design command's documented ranges (its job would refuse it)."""
-    d = config.get("design")
-    if not d:
-        return None
-    from impactdamper.studies.design.devices import Uncertainty
-    from impactdamper.studies.design.optimum import check_object
-
-    r = config["reference"]
-    unc = Uncertainty(float(d["detuning"]), tuple(float(x) for x in d["force_band"]), float(d["restitution_drift"]))
-    try:
-        check_object((d["theta_start"], d["theta_stop"]), r["mu"], r["delta1"], unc, None, 1e3, 10.0)
-    except ValueError as err:
-        name = str(err).split("`")[1]
-        keys = {"force_low": "force_band", "force_high": "force_band", "restitution_drift": "restitution_drift"}
-        section = "reference" if name in ("mu", "delta1") else "design"
-        return (section, keys.get(name, name)), f": {err}"
-    return None
-
-
 def problem(config: dict, schema: dict) -> Problem | None:
     """The first problem of a (typed) config, in the order of the module's list, or None.
 
@@ -556,14 +535,14 @@ def problem(config: dict, schema: dict) -> Problem | None:
         if found is not None:
             return found
     filled = _with_defaults(config, schema)
-    from impactdamper.studies.config_physics import elastic_on_a_preload
+    from impactdamper.studies.config_physics import design_object_out_of_range, elastic_on_a_preload
 
     for check_one in (
         elastic_on_a_preload,
         config_problem,
         _too_large,
         _reference_theta_off_the_design_grid,
-        _design_object_out_of_range,
+        design_object_out_of_range,
     ):
         found = check_one(filled)
         if found is not None:

@@ -1,12 +1,13 @@
-"""A config check the physics needs beyond the schema and the library's own checks of each value
-(:func:`impactdamper.studies.config_check.problem` runs it): elastic impacts where the workflow's
-grids hold preloaded stops."""
+"""Config checks the physics needs beyond the schema and the library's own checks of each value
+(:func:`impactdamper.studies.config_check.problem` runs them): elastic impacts where the
+workflow's grids hold preloaded stops; a design object (and its uncertainty) the design command
+would refuse."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 
-__all__ = ["elastic_on_a_preload"]
+__all__ = ["elastic_on_a_preload", "design_object_out_of_range"]
 
 Problem = tuple
 
@@ -24,6 +25,28 @@ def elastic_on_a_preload(config: dict) -> Problem | None:
             f": {r['R']!r} is not allowed: the workflow's grids hold preloaded stops (gap down to {min(gaps):g}), "
             "where elastic impacts (R = 1) never end in persistent contact; must be below 1"
         )
+    return None
+
+
+def design_object_out_of_range(config: dict) -> Problem | None:
+    """The design table's object (the reference mu and delta1, the band, the uncertainties: the
+    detuning, the force band, the drifts of R and of the absorber's spring and damper) must be
+    within the design command's documented ranges (its job would refuse it). The uncertainty is
+    the one the job searches under (:func:`impactdamper.studies.design.optimum.design_options`)."""
+    d = config.get("design")
+    if not d:
+        return None
+    from impactdamper.studies.design.optimum import check_object, design_options
+
+    r = config["reference"]
+    unc = design_options(d)["uncertainty"]
+    try:
+        check_object((d["theta_start"], d["theta_stop"]), r["mu"], r["delta1"], unc, None, 1e3, 10.0)
+    except ValueError as err:
+        name = str(err).split("`")[1]
+        keys = {"force_low": "force_band", "force_high": "force_band"}
+        section = "reference" if name in ("mu", "delta1") else "design"
+        return (section, keys.get(name, name)), f": {err}"
     return None
 
 

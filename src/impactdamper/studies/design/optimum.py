@@ -463,10 +463,13 @@ def saved_or_searched(
     *,
     uncertainty: Uncertainty | None = None,
     progress: Callable[[str], None] | None = None,
+    budget: Budget | None = None,
 ) -> tuple[dict, str]:
     """The design table of one object read from a saved record when it is of this same object,
     band and uncertainty (the workflow saves its own as ``figures/design_optimum.json``: the
-    guided notebook shows it instead of searching again), otherwise :func:`design_optima`'s.
+    guided notebook shows it instead of searching again), otherwise :func:`design_optima`'s,
+    with ``budget`` for every search if given (a smaller one than :data:`BUDGET` answers sooner
+    and certifies less: the record states it).
 
     Returns
     -------
@@ -485,7 +488,8 @@ def saved_or_searched(
         )
         if same:
             return record, f"read from {os.fspath(saved)}"
-    return design_optima(band, mu, delta1, uncertainty=uncertainty, progress=progress), "searched"
+    budgets = {} if budget is None else {"budget": budget, "robust_budget": budget}
+    return design_optima(band, mu, delta1, uncertainty=uncertainty, progress=progress, **budgets), "searched"
 
 
 def _settings(budget: Budget, robust_budget: Budget, workers: int, bounds: dict) -> dict:

@@ -3,8 +3,8 @@
 table of the best gap against the second parameter and the benchmark table.
 
 Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100 (no counterpart in the
-paper): the numbers come from the design stage's records (figures/design_*.json), no number is
-typed by hand. Used by ``workflow/scripts/design_report.py``.
+paper): the numbers come from the design stage's records (figures/design_*.json), none typed by
+hand. Used by ``workflow/scripts/design_report.py``.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from impactdamper.reporting.texrecord import (
     fixed_columns,
     macro_lines,
     percent,
+    pick,
     bound,
     tex_sci,
 )
@@ -251,8 +252,6 @@ def literature_verdict(s: dict) -> str:
 
 def _lower(a: str, b: str):
     """``lower`` where the value at path ``a`` is below the one at ``b``, else ``higher``."""
-    from impactdamper.reporting.texrecord import pick
-
     return lambda s: "lower" if pick(s, a) < pick(s, b) else "higher"
 
 
@@ -287,14 +286,12 @@ def certifies_text(searched: list) -> str:
 
 
 def _spread_words(spread: float) -> str:
-    """A spread of the starts' ends in words (a start that ended over a travel limit carries its
-    penalty: over 100 %)."""
+    """A spread of the starts' ends in words (over 100 %: a start ended over a travel limit)."""
     return "over 100\\,\\%" if spread > 1 else f"{fixed(1)(100 * spread)}\\,\\%"
 
 
 def _value_table_diff(d: dict) -> float:
-    """The relative difference between a search's final value and its row's value of the same
-    criterion in the table (evaluated afresh with every other row)."""
+    """A search's final value against its row's of the same criterion in the table, relative."""
     c = d["criterion"]
     table = d["peak"] if c in ("peak", "stroke") else d["band_average"] if c == "band_average" else d["worst"][c]
     v = d["search"]["value"]
@@ -441,8 +438,7 @@ def _rows(opt: dict) -> dict[str, dict]:
 
 
 def optimum_macros(opt: dict, bench: dict) -> list:
-    """The design table's macros: every row's parameters, criteria and stroke; the impact rows'
-    loads and the searches' records; the comparisons and the recommendation."""
+    """The table's macros: rows' parameters, criteria, strokes, loads, searches; the verdicts."""
     d = _rows(opt)
     out = []
     for key, row in d.items():
@@ -510,9 +506,8 @@ DESIGN_TABLE = Table(
 
 def design_table(opt: dict) -> str:
     """The design table (booktabs): each row's name, parameters, located peak, band average,
-    worst peaks over each uncertainty and over all together, and stroke (the order of
-    :data:`DEVICE_KEYS`); a whole-box row whose design is its within-reach row's is left out
-    (the same numbers twice)."""
+    worst peaks over each uncertainty and over all together, and stroke (:data:`DEVICE_KEYS`'
+    order; a whole-box row with its within-reach row's design left out: :func:`_distinct`)."""
     return DESIGN_TABLE.render(_distinct(opt))
 
 
@@ -541,8 +536,7 @@ LOADS_TABLE = Table(
 
 def loads_table(opt: dict) -> str:
     """The impact suppressors' loads (booktabs): stroke, largest pulse (P0/omega1), impacts per
-    period and per hour, peak contact force (P0); the designs that never impact (the TMD
-    limit: all zeros) left out."""
+    period and per hour, peak contact force (P0); a design that never impacts left out."""
     return LOADS_TABLE.render([d for d in _distinct(opt) if d["kind"] == "impact" and d["impacts"]])
 
 

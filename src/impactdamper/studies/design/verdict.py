@@ -85,6 +85,8 @@ def comparisons(record: dict) -> list[dict]:
         i, t = device(record, ki), device(record, kt)
         if c in i["worst"] and c in t["worst"] or c not in ("absorber", "together"):
             vi, vt = _value(i, c), _value(t, c)
+            if vi != vi or vt != vt:
+                continue  # (a worst case not evaluated, NaN: the nominal answer's robust columns)
             out.append({"criterion": c, "impact": vi, "tmd": vt, "winner": _winner(c, i, t, vi, vt)})
             if c == "stroke" and i["feasible"] != t["feasible"]:  # decided by the limit, not the peaks
                 loser = t if i["feasible"] else i
