@@ -490,7 +490,7 @@ TABLE_COMMENTS = ["Written by the design stage's report job; do not edit."]
 DESIGN_TABLE = Table(
     colspec="lrrrrrrrrrrrr",
     header=(
-        "device & $\\Delta_0/x_{\\mathrm{st}}$ & $N$ & $\\delta_2$ & $R$ & peak & band avg. & detuned & force "
+        "device & $\\Delta_0$ & $N$ & $\\delta_2$ & $R$ & peak & band & detuned & force "
         "& $R$ drift & absorber & all & stroke"
     ),
     comments=TABLE_COMMENTS,
