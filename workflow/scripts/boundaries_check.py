@@ -60,7 +60,7 @@ def plane_check(name: str, b, rows: list, map_csv, timing: dict, settings: dict)
         )
     total = {
         k: sum(v[k] for v in sides.values())
-        for k in ("points", "observed", "changed", "agree", "agree_at_a_tenth", "unobserved")
+        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved")
     }
     total["share_agree_of_observed"] = total["agree"] / total["observed"] if total["observed"] else None
     summary = [

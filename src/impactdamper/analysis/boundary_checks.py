@@ -7,12 +7,13 @@ Three readings (``figures/boundaries_check.json``):
   which no label change lies within one cell (a coexistence the one-way map cannot see, or a
   boundary of an unstable cycle).
 * :func:`side_checks`: at points along each continued curve, the event-driven simulation
-  (:func:`~impactdamper.core.steady.steady_state`, no shooting code) started on the curve's cycle
-  run on each side at a distance of a fraction of the plane's span along the curve's normal.
-  The cycle is observed on a side when the settled label is the cycle's own; the check agrees
-  when it is observed on one side only and the other side's label differs as the kind says
-  (period doubling: the period multiple doubled; grazing with zero velocity: fewer impacts per
-  period; grazing touch: more, or chatter; fold and Neimark-Sacker: another label).
+  (:func:`~impactdamper.analysis.solve.steady_state`, :func:`~impactdamper.analysis.solve.simulate`)
+  run on each side at a distance of a fraction of the plane's span along the curve's normal,
+  started on the curve's cycle (re-solved there by Newton where it converges) slightly perturbed.
+  Fold, period doubling, Neimark-Sacker: the check agrees when the cycle comes back on one side
+  only (the stable side the curve states, where it states one) and is lost on the other. Grazing
+  with zero velocity or touch: when one cycle of the simulation has the cycle's impacts (as many,
+  at its times) on one side only; on the other it loses or gains an impact.
 * :func:`period_doubling_bisection`: a period-doubling curve's gap at a few values of the second
   parameter against a bisection of the settled period multiple in the gap by simulation.
 """
@@ -20,17 +21,17 @@ Three readings (``figures/boundaries_check.json``):
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 
 import numpy as np
 
 from impactdamper.analysis.curves import Curve, curve_point
 from impactdamper.analysis.point import label_of
-from impactdamper.analysis.shooting import Shooting
+from impactdamper.analysis.shooting import OrbitError, Shooting
+from impactdamper.core.parameters import state_scale
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.events import Segment
 from impactdamper.core.model import Model
-from impactdamper.analysis.solve import steady_state
+from impactdamper.analysis.solve import simulate, steady_state
 
 __all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisection", "settled_label"]
 
@@ -38,6 +39,12 @@ __all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisectio
 # (Near a period doubling the new cycle's multiplier is near -1 too: 20000 periods, which the
 # compiled kernels run in milliseconds, settle it at the side checks' distance.)
 SETTLE_TOL, MAX_PERIODS, MAX_K = 1e-9, 20000, 8
+# A side run starts this far (in the state scale) off the followed cycle, and has returned to it
+# when its last sections are within RETURN_TOL of the cycle's state at the start's phase.
+PERTURBATION, RETURN_TOL = 1e-6, 1e-4
+# A grazing side run reproduces the cycle when its impacts are at the cycle's within this (of T).
+IMPACT_TIME_TOL = 1e-6
+_DIRECTION = np.array([0.5, -0.5, 0.5, -0.5])
 
 
 def _polyline_distance(P: np.ndarray, X: np.ndarray) -> np.ndarray:
@@ -133,69 +140,156 @@ def _start(curve: Curve, unknowns: np.ndarray, a: float, b: float):
     return best[1], best[2]
 
 
-def _ratio(label: str):
-    if label.startswith("c/"):
-        return math.inf
-    if "/" not in label:
-        return None
-    z, k = label.split("/")
-    return Fraction(int(z), int(k))
+def _side_params(curve: Curve, q: np.ndarray):
+    return with_value(with_value(curve.p, curve.names[0], float(q[0])), curve.names[1], float(q[1]))
 
 
-def _as_kind_says(kind: str, cycle: str, other: str) -> bool:
-    if other == cycle or other.startswith("err"):
+def _on_cycle(curve: Curve, u: np.ndarray, p) -> tuple[np.ndarray, bool]:
+    """The followed cycle's unknowns re-solved at ``p`` from ``u`` (and whether Newton converged;
+    else ``u`` itself)."""
+    try:
+        v, _, _ = Shooting(p, curve.period_multiple, curve.impacts_per_cycle).newton(np.array(u, float))
+        return v, True
+    except (OrbitError, ValueError, np.linalg.LinAlgError):
+        return np.array(u, float), False
+
+
+def _reproduces(curve: Curve, v: np.ndarray, p, t0: float, y0: np.ndarray) -> bool:
+    """The simulation over one cycle (k T) from the cycle ``v``'s state at ``t0`` has the
+    cycle's impacts: as many, each at its time within :data:`IMPACT_TIME_TOL` T (modulo k T).
+    False where the cycle gains an impact (a flight that crosses the stop) or loses one (an
+    impact the motion reaches otherwise, or not at all)."""
+    z, Tc = curve.impacts_per_cycle, curve.period_multiple * p.T
+    try:
+        found = np.array([e.t for e in simulate(p, t0 + Tc, t0=t0, state=y0).impacts()])
+    except ValueError:
         return False
-    r0, r1 = _ratio(cycle), _ratio(other)
-    if kind == "period_doubling":
-        k0, k1 = int(cycle.split("/")[1]), (int(other.split("/")[1]) if r1 not in (None, math.inf) else 0)
-        return k1 > 0 and k1 % (2 * k0) == 0
-    if kind == "grazing_velocity":
-        return other == "0/1" or (r1 is not None and r1 < r0)
-    if kind == "grazing_touch":
-        return r1 is not None and r1 > r0
-    return True
+    if len(found) != z:
+        return False
+    own = np.asarray(v[:z]) * p.T
+    d = np.abs(((found[:, None] - own[None, :]) + 0.5 * Tc) % Tc - 0.5 * Tc).min(axis=1)
+    return bool(np.all(d < IMPACT_TIME_TOL * p.T))
+
+
+def followed_run(curve: Curve, u: np.ndarray, q: np.ndarray) -> dict:
+    """A brute-force run at the plane's point ``q`` started on the followed cycle (re-solved at
+    ``q`` where Newton converges from ``u``, else ``u``'s) plus a perturbation of
+    :data:`PERTURBATION` of the state scale.
+
+    Returns
+    -------
+    dict
+        ``label`` (settled), ``impacts_per_period`` (settled, or over the nonperiodic window;
+        inf for chatter), ``returns`` (settled on the followed cycle: its label and, at the
+        start's phase, within :data:`RETURN_TOL` of its state in the state scale), ``solved``.
+    """
+    p = _side_params(curve, q)
+    v, solved = _on_cycle(curve, u, p)
+    t0, y0 = _start(curve, v, float(q[0]), float(q[1]))
+    D = state_scale(p)
+    start = y0 + PERTURBATION * D * _DIRECTION
+    try:
+        s = steady_state(
+            p, t0=t0, state=start, settle_tol=SETTLE_TOL, max_periods=MAX_PERIODS, max_period_multiple=MAX_K
+        )
+    except ValueError as err:
+        label, rate, distance = "err: " + str(err).split(":")[0], None, math.inf
+        return {"label": label, "reproduced": False, "impacts_per_period": rate, "returns": False, "solved": solved}
+    label = label_of(s.regime, s.period_multiple, len(s.impacts))
+    k = curve.period_multiple
+    sec = np.asarray(s.sections)
+    # The last section a whole number of cycles after the start (section j is at t0 + (j + 1) T).
+    last = [j for j in range(len(sec) - 1, -1, -1) if (j + 1) % k == 0][:1]
+    distance = float(np.max(np.abs(sec[last[0]] - y0) / D)) if last else math.inf
+    # Returned: settled on the cycle, or (a multiplier near the unit circle: slow) still on the
+    # way back, the perturbation shrunk to under half its start.
+    back = distance < (RETURN_TOL if label == curve.label else 0.5 * PERTURBATION * np.max(np.abs(_DIRECTION)))
+    if s.regime == "chatter":
+        rate = math.inf
+    else:
+        rate = len(s.impacts) / max(round(s.cycle_duration / p.T), 1)
+    return {
+        "label": label,
+        "reproduced": _reproduces(curve, v, p, t0, y0) if solved else False,
+        "impacts_per_period": rate,
+        "returns": bool(back),
+        "solved": solved,
+    }
+
+
+def _expected_return(curve: Curve, i: int, side_vec: np.ndarray):
+    """True/False: the cycle is stable on the side ``side_vec`` (a vector in the plane's spans
+    from the curve) by the curve's ``stable_side``; None where that does not apply."""
+    tag = curve.stable_side[i] if i < len(curve.stable_side) else ""
+    if tag in ("", "none"):
+        return None
+    axis = 0 if tag[:-1] == curve.names[0] else 1
+    return bool(np.sign(side_vec[axis]) == (1 if tag.endswith("+") else -1))
+
+
+def _verdict(curve: Curve, i: int, runs: list, normal: np.ndarray):
+    """Of the two sides' runs (+normal, -normal): None (the followed cycle returns on neither:
+    not stable there, unobservable by simulation; ``other`` where ``stable_side`` says it is
+    stable on one side), ``same`` (it returns on both: no boundary),
+    ``agree`` or ``other`` (it returns on one side only; agree when that side is the stable one
+    of ``stable_side`` where stated, and, for the grazing kinds, the other side's impacts per
+    period differ from the cycle's z/k)."""
+    if curve.kind in ("grazing_velocity", "grazing_touch"):
+        real = [r["reproduced"] for r in runs]
+        return "same" if all(real) else ("agree" if any(real) else "other")
+    back = [r["returns"] for r in runs]
+    if not any(back):
+        # Unobservable, unless the curve says the cycle is stable on one side here.
+        return "other" if curve.stable_side[i] not in ("", "none") else None
+    if all(back):
+        return "same"
+    ret = 0 if back[0] else 1
+    expected = _expected_return(curve, i, (1 - 2 * ret) * normal)
+    if expected is False:
+        return "other"
+    return "agree"
 
 
 def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) -> dict:
     """Brute-force runs on both sides of ``points`` points along a continued curve.
 
     The points are evenly spaced in index, ends excluded; each side point lies ``distance``
-    times the plane's span (per axis) along the curve's normal, inside the plane.
+    times the plane's span (per axis) along the curve's normal, inside the plane. Each side's run
+    starts on the followed cycle (:func:`followed_run`) and the verdict (:func:`_verdict`) asks
+    whether the cycle changes across the curve as its kind says: it persists and returns on one
+    side only (a lost cycle: fold, period doubling, Neimark-Sacker, on the side ``stable_side``
+    says where it is stated), and, for a grazing, the other side's settled motion has another
+    number of impacts per period.
 
     Returns
     -------
     dict
-        ``points``, ``observed`` (the cycle settles on one side at least), ``changed`` (on one
-        side only), ``agree`` (and the other side's label as the kind says) and ``disagree``
-        (list of the observed points that do not agree: (gap, value), both sides' labels, and the
-        labels and verdict of the runs a tenth as far from the curve), ``agree_at_a_tenth`` (of
-        the disagreements), ``unobserved``.
+        ``points``, ``observed`` (the cycle returns on one side at least), ``changed`` (on one
+        side only), ``agree``, ``doubled`` (period doublings whose other side settled on 2k),
+        ``unobserved`` (returns on neither side), and ``disagree`` (every observed point that
+        does not agree: (gap, value), both sides' labels and returns, and the same a tenth as far
+        from the curve), ``agree_at_a_tenth`` (of the disagreements).
     """
     spans = np.array([bounds[0][1] - bounds[0][0], bounds[1][1] - bounds[1][0]])
     n = len(curve.points)
     idx = sorted(set(np.linspace(0, n - 1, points + 2).round().astype(int)[1:-1])) if n > 2 else []
-    out = {"points": 0, "observed": 0, "agree": 0, "changed": 0, "unobserved": 0, "disagree": []}
+    out = {"points": 0, "observed": 0, "agree": 0, "changed": 0, "doubled": 0, "unobserved": 0, "disagree": []}
+    P = curve.points / spans
     for i in idx:
-        P = curve.points / spans
         j0, j1 = max(i - 1, 0), min(i + 1, n - 1)
         tvec = P[j1] - P[j0]
         if not np.any(tvec):
             continue
         normal = np.array([-tvec[1], tvec[0]]) / np.hypot(*tvec)
-        a, b = curve.points[i]
-        t0, y0 = _start(curve, curve.unknowns[i], a, b)
 
         def sides(dist: float) -> list:
-            labels = []
-            for sign in (+1, -1):
-                qa, qb = curve.points[i] + sign * dist * normal * spans
-                p = with_value(with_value(curve.p, curve.names[0], qa), curve.names[1], qb)
-                labels.append(settled_label(p, t0, y0))
-            return labels
+            return [
+                followed_run(curve, curve.unknowns[i], curve.points[i] + sg * dist * normal * spans) for sg in (1, -1)
+            ]
 
-        labels = sides(distance)
+        runs = sides(distance)
         out["points"] += 1
-        verdict = _verdict(curve, labels)
+        verdict = _verdict(curve, i, runs, normal)
         if verdict is None:
             out["unobserved"] += 1
             continue
@@ -203,32 +297,25 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) 
         out["changed"] += int(verdict != "same")
         if verdict == "agree":
             out["agree"] += 1
+            k = curve.period_multiple
+            other = runs[1] if runs[0]["returns"] else runs[0]
+            out["doubled"] += int(curve.kind == "period_doubling" and other["label"].endswith(f"/{2 * k}"))
         else:
-            # The same point a tenth as far from the curve: a disagreement there too is the curve's.
             closer = sides(0.1 * distance)
+            a, b = curve.points[i]
             out["disagree"].append(
                 {
                     "gap": float(a),
                     curve.names[1]: float(b),
-                    "sides": labels,
-                    "sides_at_a_tenth": closer,
-                    "agree_at_a_tenth": _verdict(curve, closer) == "agree",
+                    "verdict": verdict,
+                    "sides": [r["label"] for r in runs],
+                    "returns": [r["returns"] for r in runs],
+                    "sides_at_a_tenth": [r["label"] for r in closer],
+                    "agree_at_a_tenth": _verdict(curve, i, closer, normal) == "agree",
                 }
             )
     out["agree_at_a_tenth"] = sum(d["agree_at_a_tenth"] for d in out["disagree"])
     return out
-
-
-def _verdict(curve: Curve, labels: list):
-    """None (the cycle is on neither side), ``same`` (on both), ``agree`` (on one, the other's
-    label as the kind says) or ``other``."""
-    own = [lab == curve.label for lab in labels]
-    if not any(own):
-        return None
-    if all(own):
-        return "same"
-    other = labels[1] if own[0] else labels[0]
-    return "agree" if _as_kind_says(curve.kind, curve.label, other) else "other"
 
 
 def period_doubling_bisection(curve: Curve, values, offset: float = 1e-3, xtol: float = 1e-5) -> list:

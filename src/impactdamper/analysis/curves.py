@@ -500,6 +500,10 @@ def _leg(sysm: _System, x: np.ndarray, t: np.ndarray, bounds, steps, max_points)
                 hit = (hit[0], sysm.correct(y, np.zeros(len(y)), 0.0, fixed=edge[0])[0])
             if hit is not None and hit[1] is not None:
                 located.append((hit[0], key, hit[1], detail))
+        if not located and any(e[0] == "inadmissible" for e in events):
+            # (The least velocity or gap can jump, e.g. a new interior gap minimum: no zero to
+            # locate; the curve ends at its last admissible point.)
+            return xs, sides, ("inadmissible", f"between ({x[-2]:.8g}, {x[-1]:.8g}) and the next step")
         if located:
             s_hit, key, x_hit, detail = min(located, key=lambda e: e[0])
             xs.append(x_hit)

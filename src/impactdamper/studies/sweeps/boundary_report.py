@@ -56,7 +56,7 @@ def write_report(record: dict, out_macros, out_table) -> None:
     th, dm = record["planes"]["theta"], record["planes"]["damping"]
     side = {
         k: th["side_checks"]["total"][k] + dm["side_checks"]["total"][k]
-        for k in ("points", "observed", "changed", "agree", "agree_at_a_tenth", "unobserved")
+        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved")
     }
     pd = record["period_doubling_bisection"]
     m = MacroFile(["% Boundary curves of the regime maps (workflow/scripts/boundaries_check.py)."])
@@ -76,6 +76,7 @@ def write_report(record: dict, out_macros, out_table) -> None:
             ("BoundSideObserved", side["observed"]),
             ("BoundSideChanged", side["changed"]),
             ("BoundSideAgree", side["agree"]),
+            ("BoundSideDoubled", side["doubled"]),
             ("BoundSideAgreeTenth", side["agree_at_a_tenth"]),
             ("BoundSideShare", percent(side["agree"] / side["observed"] if side["observed"] else None)),
             (
