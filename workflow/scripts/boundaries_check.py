@@ -131,7 +131,10 @@ def main(
     return record
 
 
-JOB = "params.boundaries params.names input.maps:list input.csvs:list input.curves:list input.timings:list output.json"
+JOB = (
+    "params.boundaries params.names input.maps:list input.csvs:list input.curves:list input.timings:list "
+    "output.json output.macros output.table"
+)
 
 if __name__ == "__main__":
     run_stage(snakemake, main, JOB)  # noqa: F821 (injected by Snakemake's script: directive)
