@@ -262,7 +262,7 @@ rule boundaries_check:
         ENV
     params:
         boundaries=parameters_json("boundaries"),
-        names=json.dumps(SWEEP_MAPS),
+        names=SWEEP_MAPS,
     script:
         "../scripts/boundaries_check.py"
 
