@@ -290,7 +290,9 @@ def classify_spectrum(s: LyapunovSpectrum) -> str:
       has settled onto a cycle before its end (:attr:`LyapunovSpectrum.settled`);
     * ``periodic``: the largest exponent (hence all) is negative in the same sense: every
       perturbation decays (the stroboscopic map has no neutral direction, there being no
-      trivial zero exponent for the forced, non-autonomous flow);
+      trivial zero exponent for the forced, non-autonomous flow); or, the largest exponent not
+      positive, the motion has settled onto a cycle before the window's end (a late settling
+      whose transient keeps the window's average from resolving below zero);
     * ``quasi-periodic``: the largest exponent is resolved to be zero (its interval of
       ``SIGNIFICANCE`` standard errors lies inside +-``ZERO_BAND``) and the next is negative
       beyond its error: one neutral direction, along an invariant torus;
@@ -311,7 +313,9 @@ def classify_spectrum(s: LyapunovSpectrum) -> str:
         (a, b), (ea, eb) = s.halves
         agree = abs(a - b) <= SIGNIFICANCE * math.hypot(ea, eb)
         return "chaotic" if positive(a, ea) and positive(b, eb) and agree else "not settled"
-    if negative(0):
+    if negative(0) or s.settled is not None:
+        # (settled: the last sections repeat; the window's average then still carries the
+        # transient before, which can keep it from resolving below zero)
         return "periodic"
     near_zero = abs(lam[0]) + SIGNIFICANCE * err[0] <= ZERO_BAND
     if near_zero and negative(1):
