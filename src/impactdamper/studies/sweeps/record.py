@@ -267,7 +267,7 @@ NOTES = {
     "one side, and no closed form, special point or other direction puts a change there. "
     "The value is where the motion started from the neighbour stops, or starts, settling "
     "within the cap; a longer cap can move it.",
-    "one_sided": "$^\\dagger$\\,One-sided: the new motion was met at a single point (a sweep point or the "
+    "one_sided": "$^\\dagger$\\,One-sided: the new motion was found at a single point (a sweep point or the "
     "first midpoint); every later midpoint, started from the first motion, kept it. Entering "
     "a window from a nonperiodic band depends on the start.",
 }
