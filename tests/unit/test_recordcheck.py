@@ -180,3 +180,25 @@ def test_the_command_fails_on_a_wrong_record(tmp_path):
     )
     answer = json.loads(out.stdout)
     assert out.returncode == 1 and answer["reproduces"] is False and answer["files"][0]["status"] == "fail"
+
+
+def test_a_sensitive_mark_may_come_and_go_but_a_word_may_not():
+    """An interval end marked as depending on the solver (a dagger) may lose its mark on another
+    machine; the same line with another word fails."""
+    ref = r"$N$ & $[0.5799, 0.6169]$ \\"
+    assert not compare_text(ref, r"$N$ & $[0.5799, 0.6168^{\dagger}]$ \\", DEFAULT).problems
+    assert compare_text(ref, r"$R$ & $[0.5799, 0.6169]$ \\", DEFAULT).problems
+
+
+def test_the_located_range_ends_move_by_a_bisection_step_and_no_more():
+    """The located range's ends: one bisection step (7.8e-4, as measured past the BLAS pin) passes,
+    ten do not; any other number of the verdict keeps the default tolerance."""
+    tol = tolerance_of("figures/verdict.json")
+    ref = json.dumps({"located": {"range": [-10.076171875, -9.489453125]}, "stated": {"time": 0.66220}})
+    one_step = json.dumps({"located": {"range": [-10.076953125, -9.489453125]}, "stated": {"time": 0.66220}})
+    ten_steps = json.dumps({"located": {"range": [-10.083984375, -9.489453125]}, "stated": {"time": 0.66220}})
+    moved = json.dumps({"located": {"range": [-10.076171875, -9.489453125]}, "stated": {"time": 0.66221}})
+    assert compare_file("figures/verdict.json", ref, one_step).status == "pass"
+    assert compare_file("figures/verdict.json", ref, ten_steps).status == "fail"
+    assert compare_file("figures/verdict.json", ref, moved).status == "fail"
+    assert tol.by_name

@@ -42,6 +42,7 @@ __all__ = [
     "RECORD_DIRECTORIES",
     "SENSITIVE_KEYS",
     "SENSITIVE_LABELS",
+    "SENSITIVE_MARKS",
     "TIMING_FILES",
     "TOLERANCES",
     "Tolerance",
@@ -80,6 +81,10 @@ LABEL_COLUMNS = frozenset(
 )
 
 
+# Marks a record prints beside a sensitive result (an interval end that depends on the solver):
+# they may come and go with it, so the text is compared without them.
+SENSITIVE_MARKS = ("^{\\dagger}",)
+
 # JSON keys that list the sensitive points themselves (the points where two solvers disagree):
 # not compared, their count is.
 SENSITIVE_KEYS = ("mismatches",)
@@ -112,7 +117,25 @@ _ADAPTIVE = Tolerance(
 )
 _RESOLUTION = "interval ends and searched distances: to their search's resolution (claims_search.rel_tol)"
 _COUNTS = "counts of labels and cells: within their sensitive points"
+# The located range and the claims beyond the gap (full record): an end is bisected to
+# verdict.bisect_tol (1e-3 in the gap) and claims_search.rel_tol, but where a claim flips at a
+# sensitive point next to it the bisection takes another path: with another processor's BLAS
+# routines (tools/coarse_record.py's emulation, here on the full config) the gap's ends moved by
+# one bisection step (7.8e-4) and N's upper end by three bracket widths (1.2e-4); the claims map's
+# cells and the reference check's counts by their sensitive points (2 cells of 293, 2 checks).
+_ENDS = 1e-3
+_LOCATED = {"*range*": _ENDS, "end_checks*.gap": _ENDS, "beyond_the_gap.parameters.*": _ENDS}
+_LOCATED |= {"beyond_the_gap.gap.*": _ENDS, "beyond_the_gap.map_both_cells": 10, "beyond_the_gap.reference_check.*": 3}
+_LOCATED_WHY = (
+    "the located range and the claims beyond the gap: ends to a bisection step, counts within sensitive points"
+)
 TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
+    ("figures/verdict.json", Tolerance(by_name=_LOCATED, why=_LOCATED_WHY)),
+    ("figures/located_case.json", Tolerance(by_name=_LOCATED, why=_LOCATED_WHY)),
+    (
+        "paper/generated/verdict_macros.tex",
+        Tolerance(by_name={"ClaimsMapBothCells": 10, "ClaimsReference*": 3}, why=_LOCATED_WHY),
+    ),
     ("figures/map_*_curves.csv", DEFAULT),
     (
         "figures/map_*_settings.json",
@@ -146,7 +169,14 @@ TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
         Tolerance(rtol=1e-2, keys=("parameter", "claim"), max_sensitive=0.1, why=_RESOLUTION),
     ),
     ("paper/generated/claims_*", Tolerance(rtol=1e-2, why=_RESOLUTION)),
-    ("figures/claims_*.json", Tolerance(rtol=1e-2, by_name={"*refinement*": 4}, why=_RESOLUTION)),
+    (
+        "figures/claims_*.json",
+        Tolerance(
+            rtol=1e-2,
+            by_name={"*refinement*": 4, "*reference_check.cycles": 3, "*solver_dependent_ends*": 2},
+            why=_RESOLUTION + "; the reference check's counts and the ends marked solver-dependent, sensitive",
+        ),
+    ),
     ("paper/generated/sweep_*", Tolerance(rtol=1e-2, why=_COUNTS)),
     ("paper/generated/lyapunov_*", Tolerance(rtol=1e-2, why=_COUNTS)),
     ("figures/lyapunov_*.json", Tolerance(rtol=1e-2, why=_COUNTS)),

@@ -28,6 +28,7 @@ from .record_tolerances import (
     RECORD_DIRECTORIES,
     SENSITIVE_KEYS,
     SENSITIVE_LABELS,
+    SENSITIVE_MARKS,
     TIMING_FILES,
     column_of,
     tolerance_of,
@@ -300,6 +301,8 @@ def compare_text(ref_text: str, new_text: str, tol) -> Comparison:
         comparison.problems.append(f"{len(new_lines)} lines against {len(ref_lines)}")
         return comparison
     for number, (la, lb) in enumerate(zip(ref_lines, new_lines), 1):
+        for mark in SENSITIVE_MARKS:
+            la, lb = la.replace(mark, ""), lb.replace(mark, "")
         if la == lb:
             continue
         macro = _MACRO.search(la)
