@@ -15,19 +15,19 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 
-def _record_blas_coretype() -> str:
-    """The OpenBLAS family the workflow pins its jobs to (workflow/rules/reproducibility.smk),
-    read from its one definition without importing the package (which would load numpy first)."""
+def _pin_record_blas() -> str:
+    """Pin the OpenBLAS family the workflow pins its jobs to (workflow/rules/reproducibility.smk),
+    by its one definition, loaded without importing the package (which would load numpy first)."""
     path = Path(__file__).resolve().parents[1] / "src" / "impactdamper" / "reporting" / "record_tolerances.py"
     spec = importlib.util.spec_from_file_location("_record_tolerances", path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # (its dataclasses look their module up there)
     spec.loader.exec_module(module)
     del sys.modules[spec.name]
-    return os.environ.get(module.BLAS_CORETYPE_OVERRIDE, module.RECORD_BLAS_CORETYPE)
+    return module.pin_record_blas()
 
 
 # The tests that regenerate parts of the record compare them with files the workflow made under
 # that family: they run under it too (and so do the subprocesses they start), so that they judge
 # the code, not this processor's OpenBLAS routines.
-os.environ["OPENBLAS_CORETYPE"] = _record_blas_coretype()
+_pin_record_blas()

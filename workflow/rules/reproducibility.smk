@@ -14,9 +14,9 @@
 # matrices (packing 2,000 points and settling 40: the same times within 5 %). Elsewhere (another
 # architecture, another OpenBLAS) the name is ignored and the reproduction check's tolerances
 # apply; IMPACTDAMPER_OPENBLAS_CORETYPE chooses another family (the emulation of such a machine).
-from impactdamper.reporting.record_tolerances import BLAS_CORETYPE_OVERRIDE, RECORD_BLAS_CORETYPE
+from impactdamper.reporting.record_tolerances import pin_record_blas
 
-os.environ["OPENBLAS_CORETYPE"] = os.environ.get(BLAS_CORETYPE_OVERRIDE, RECORD_BLAS_CORETYPE)
+pin_record_blas()
 
 
 rule reproducibility_macros:

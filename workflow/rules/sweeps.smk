@@ -245,7 +245,18 @@ rule boundaries:
 rule boundaries_check:
     input:
         script="workflow/scripts/boundaries_check.py",
-        library=library(study("config", "sweeps/results", "sweeps/boundary_report", "vocabulary"), REPORTING),
+        library=library(
+            study(
+                "config",
+                "intervals",
+                "sweeps/branches",
+                "sweeps/gapsweep",
+                "sweeps/results",
+                "sweeps/boundary_report",
+                "vocabulary",
+            ),
+            REPORTING,
+        ),
         maps=expand("figures/map_{map}.csv", map=SWEEP_MAPS),
         csvs=expand("figures/boundaries_{map}.csv", map=SWEEP_MAPS),
         curves=expand("results/boundaries/{map}.pkl", map=SWEEP_MAPS),

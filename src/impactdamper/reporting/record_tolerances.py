@@ -33,6 +33,7 @@ from fnmatch import fnmatch
 __all__ = [
     "BLAS_CORETYPE_OVERRIDE",
     "RECORD_BLAS_CORETYPE",
+    "pin_record_blas",
     "COLUMNS",
     "Column",
     "DEFAULT",
@@ -54,6 +55,18 @@ __all__ = [
 # is the same bit for bit on any of them; BLAS_CORETYPE_OVERRIDE names another (an emulation).
 RECORD_BLAS_CORETYPE = "Prescott"
 BLAS_CORETYPE_OVERRIDE = "IMPACTDAMPER_OPENBLAS_CORETYPE"
+
+
+def pin_record_blas(environ=None) -> str:
+    """Set ``OPENBLAS_CORETYPE`` in ``environ`` (default this process's environment, which the
+    workflow's jobs inherit) to the record's family, or to the one ``BLAS_CORETYPE_OVERRIDE``
+    names (an emulated machine); returns the family set. Before numpy loads, or for children."""
+    import os
+
+    environ = os.environ if environ is None else environ
+    environ["OPENBLAS_CORETYPE"] = environ.get(BLAS_CORETYPE_OVERRIDE, RECORD_BLAS_CORETYPE)
+    return environ["OPENBLAS_CORETYPE"]
+
 
 # The directories that hold the record, relative to the repository.
 RECORD_DIRECTORIES = ("figures", "paper/generated")
