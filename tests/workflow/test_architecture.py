@@ -159,6 +159,13 @@ def _project_text() -> dict[str, str]:
     return {str(p.relative_to(ROOT)): p.read_text(errors="replace") for p in files if "__pycache__" not in p.parts}
 
 
+def test_tests_do_not_edit_the_import_path():
+    """Tests import the package as installed (and tests/helpers.py through pytest's pythonpath);
+    a script outside the package is loaded by its path, never by editing sys.path."""
+    edits = [str(p.relative_to(ROOT)) for p in (ROOT / "tests").rglob("*.py") if "sys.path.insert" in p.read_text()]
+    assert edits == [str(Path(__file__).relative_to(ROOT))]  # (this test's own text)
+
+
 def test_paths_the_project_names_exist():
     missing = []
     for name, text in _project_text().items():
