@@ -195,9 +195,19 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
         The gap opens after the impact at t_a (positive rebound, or for a plastic or grazing
         impact, a positive second or higher derivative).
     """
-    p, T = model.p, model.p.T
+    p = model.p
     tol = gap_tol * p.x_st
     seg = Segment(model.free, t_a, y_a)
+    opens, departure = _departure(model, t_a, y_a)
+    contact = _first_contact(model, seg, t_a, t_b, tol, v_end, departure) if opens else 0.0
+    intervals, minima = _sampled_gap(model, seg, t_a, t_b)
+    return contact, intervals, minima, opens
+
+
+def _departure(model: Model, t_a: float, y_a: np.ndarray) -> tuple[bool, tuple[int, float] | None]:
+    """Whether the gap opens after the impact at t_a, and how (``march``'s ``departure``): by a
+    positive rebound, else by its first derivative of order 2-4 that is not at rounding level."""
+    p = model.p
     rebound = float(y_a[2] - y_a[3])
     opens = True
     if rebound > 1e-14 * p.x_st * p.omega:
@@ -210,20 +220,31 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
                 opens = derivs[order] > 0
                 departure = (order, float(derivs[order])) if opens else None
                 break
+    return opens, departure
+
+
+def _first_contact(model: Model, seg: Segment, t_a: float, t_b: float, tol: float, v_end: float, departure):
+    """The certified first time (since t_a, over T) the gap reaches ``tol`` while closing before
+    the impact at t_b (closing at ``v_end``), or None."""
+    p, T = model.p, model.p.T
     # The impact ending the flight: a root within this of t_b is that impact.
     end_margin = max(1e-9 * T, 10.0 * tol / v_end) if v_end > 0 else 1e-9 * T
-    contact = None
-    if opens:
-        try:
-            root, _ = march(seg, model.gap, t_a, t_b, tol, departure)
-        except SearchLimitError as err:
-            raise SearchLimitError(work_limit_message(p, str(err))) from None
-        if root is not None and root[0] < t_b - end_margin:
-            contact = float((root[0] - t_a) / T)
-    else:
-        contact = 0.0
+    try:
+        root, _ = march(seg, model.gap, t_a, t_b, tol, departure)
+    except SearchLimitError as err:
+        raise SearchLimitError(work_limit_message(p, str(err))) from None
+    if root is not None and root[0] < t_b - end_margin:
+        return float((root[0] - t_a) / T)
+    return None
 
+
+def _sampled_gap(model: Model, seg: Segment, t_a: float, t_b: float):
+    """The flight's negative-gap intervals and interior minima (:func:`flight_scan`), from
+    ``GAP_SAMPLES_PER_PERIOD`` samples per period refined by root finding and bounded
+    minimisation."""
     import scipy.optimize  # (loaded on first use: the package import stays light)
+
+    p, T = model.p, model.p.T
 
     def gap_at(s: float) -> float:
         return float(model.gap_of(seg.state(s)))
@@ -256,7 +277,7 @@ def flight_scan(model: Model, t_a: float, y_a: np.ndarray, t_b: float, v_end: fl
             gap_at, bounds=(ts[i - 1], ts[i + 1]), method="bounded", options={"xatol": 1e-14 * T}
         )
         minima.append((float((res.x - t_a) / T), float(res.fun) / p.x_st))
-    return contact, intervals, minima, opens
+    return intervals, minima
 
 
 def orbit_from_solution(

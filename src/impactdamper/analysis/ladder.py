@@ -194,57 +194,79 @@ def solve_point(
     t_begin = time.perf_counter()
     if previous is not None and state is not None:
         raise ValueError("`state` is not allowed together with `previous`: give one start")
-    if previous is not None:
-        full, how = carry_state(p, previous.section, previous.section_mode)
-    elif state is not None:
-        full, how = check_start_state(state, p, settings.tolerances), "random"
-    else:
-        full, how = default_initial_state(p), "default"
+    full, how = _start_state(p, previous, state, settings)
     start = start or how
     backend = get_backend(settings.backend)[0]
     result = None
     if previous is not None and settings.continuation and previous.periodic:
-        if previous.regime in ("stuck", "no_contact"):
-            result = _closed_form(p, value, previous.regime, start, full)
-        elif previous.regime in ("single_impact", "multi_impact"):
-            result = _continue_orbit(p, value, previous, start, full, settings.tolerances)
-        if result is None and previous.regime in ("chatter", "single_impact", "multi_impact"):
-            res = strobe_newton(
-                p,
-                full,
-                previous.section_mode,
-                previous.period_multiple,
-                settings.tolerances,
-                jacobian=previous.jacobian,
-                step=backend.map_step(p, settings.tolerances),
-            )
-            if res is not None and res.spectral_radius < 1.0 - STABILITY_MARGIN:
-                result = verify_cycle(
-                    p,
-                    value,
-                    res.state,
-                    previous.period_multiple,
-                    settings,
-                    method="newton",
-                    start=start,
-                    start_state=full,
-                    periods=res.periods,
-                    rho=res.spectral_radius,
-                    jacobian=res.jacobian,
-                )
+        result = _continued(p, value, previous, start, full, settings, backend)
     if result is None:
-        cap = settings.max_periods
-        if previous is not None and not previous.periodic:
-            cap = settings.max_periods_after_nonperiodic
-        try:
-            # (the cycle described by the reference, x1_max by its Brent search, as the sweeps report)
-            options = SettleOptions(settings.settle_tol, cap, settings.max_period_multiple, describe="reference")
-            s = backend.settle(p, 0.0, full, settings.tolerances, options)
-        except RuntimeError as err:  # the event solver's guards (SearchLimitError, degenerate contact)
-            return replace(failed_point(p, value, start, full, err), elapsed=time.perf_counter() - t_begin)
-        periods = s.periods + max(s.period_multiple, 1) + 1
-        if not s.settled and settings.rescue:
-            result = rescue_run(p, value, s, settings, start=start, start_state=full, periods=periods)
-        if result is None:
-            result = point_from_steady(p, value, s, method="simulation", start=start, start_state=full, periods=periods)
+        result = _simulated(p, value, previous, start, full, settings, backend)
     return replace(result, elapsed=time.perf_counter() - t_begin)
+
+
+def _start_state(p: Parameters, previous: SweepPoint | None, state: np.ndarray | None, settings: SweepSettings):
+    """The start (x1, x2, x1', x2') at t0 = 0 and its label: the neighbour's section carried
+    over, the given ``state`` (``random``) or the default initial state."""
+    if previous is not None:
+        return carry_state(p, previous.section, previous.section_mode)
+    if state is not None:
+        return check_start_state(state, p, settings.tolerances), "random"
+    return default_initial_state(p), "default"
+
+
+def _continued(p, value, previous: SweepPoint, start: str, full, settings: SweepSettings, backend):
+    """The accelerators from a periodic neighbour: the closed form of a stuck or contact-free
+    motion, the impact shooting of an impacting cycle, else Newton on the stroboscopic map
+    kept if it is stable by ``STABILITY_MARGIN`` and verified; None where none answers."""
+    result = None
+    if previous.regime in ("stuck", "no_contact"):
+        result = _closed_form(p, value, previous.regime, start, full)
+    elif previous.regime in ("single_impact", "multi_impact"):
+        result = _continue_orbit(p, value, previous, start, full, settings.tolerances)
+    if result is None and previous.regime in ("chatter", "single_impact", "multi_impact"):
+        res = strobe_newton(
+            p,
+            full,
+            previous.section_mode,
+            previous.period_multiple,
+            settings.tolerances,
+            jacobian=previous.jacobian,
+            step=backend.map_step(p, settings.tolerances),
+        )
+        if res is not None and res.spectral_radius < 1.0 - STABILITY_MARGIN:
+            result = verify_cycle(
+                p,
+                value,
+                res.state,
+                previous.period_multiple,
+                settings,
+                method="newton",
+                start=start,
+                start_state=full,
+                periods=res.periods,
+                rho=res.spectral_radius,
+                jacobian=res.jacobian,
+            )
+    return result
+
+
+def _simulated(p, value, previous: SweepPoint | None, start: str, full, settings: SweepSettings, backend) -> SweepPoint:
+    """The point by settling the motion from ``full`` (the shorter budget after a nonperiodic
+    neighbour), rescued if it does not settle; a failed point where the solver's guards stop it."""
+    cap = settings.max_periods
+    if previous is not None and not previous.periodic:
+        cap = settings.max_periods_after_nonperiodic
+    try:
+        # (the cycle described by the reference, x1_max by its Brent search, as the sweeps report)
+        options = SettleOptions(settings.settle_tol, cap, settings.max_period_multiple, describe="reference")
+        s = backend.settle(p, 0.0, full, settings.tolerances, options)
+    except RuntimeError as err:  # the event solver's guards (SearchLimitError, degenerate contact)
+        return failed_point(p, value, start, full, err)
+    periods = s.periods + max(s.period_multiple, 1) + 1
+    result = None
+    if not s.settled and settings.rescue:
+        result = rescue_run(p, value, s, settings, start=start, start_state=full, periods=periods)
+    if result is None:
+        result = point_from_steady(p, value, s, method="simulation", start=start, start_state=full, periods=periods)
+    return result

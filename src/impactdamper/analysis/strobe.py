@@ -221,57 +221,87 @@ def strobe_newton(
     """
     stuck = mode0 == STUCK
     u = section_coordinates(p, full0, stuck)
+    strobe = _SectionMap(p, stuck, k, _map_step(p, tol, step))
     n = len(u)
-    periods = 0
-    evaluate = _map_step(p, tol, step)
-
-    def strobe(v):
-        nonlocal periods
-        periods += k
-        return section_coordinates(p, evaluate(section_state(p, v, stuck), k)[0], stuck)
-
-    def fd(v, Pv):
-        J = np.empty((n, n))
-        for j in range(n):
-            # Open the gap, never close it.
-            h = -STROBE_FD_STEP if (not stuck and j == 1) else STROBE_FD_STEP
-            w = v.copy()
-            w[j] += h
-            J[:, j] = (strobe(w) - Pv) / h
-        return J
-
     fresh = jacobian is None or jacobian.shape != (n, n)
     try:
         with np.errstate(over="ignore", invalid="ignore"):
             Pu = strobe(u)
-            r = Pu - u
-            J = fd(u, Pu) if fresh else np.array(jacobian, float)
-            previous_norm = math.inf
-            for _ in range(STROBE_MAX_ITERATIONS):
-                norm = float(np.max(np.abs(r)))
-                if not math.isfinite(norm):
-                    return None
-                if norm < STROBE_TOL:
-                    break
-                if norm > 0.5 * previous_norm and norm > 100 * STROBE_TOL and not fresh:
-                    J, fresh = fd(u, Pu), True  # stalled: a fresh Jacobian
-                du = np.linalg.solve(J - np.eye(n), -r)
-                u_new = u + du
-                if not stuck:
-                    u_new[1] = min(u_new[1], 0.0)
-                Pu_new = strobe(u_new)
-                r_new = Pu_new - u_new
-                s, y = u_new - u, (Pu_new - Pu)
-                if float(s @ s) > 0.0:
-                    J = J + np.outer(y - J @ s, s) / float(s @ s)  # Broyden: J s = y
-                    fresh = False
-                u, Pu, r, previous_norm = u_new, Pu_new, r_new, norm
-            else:
+            J = strobe.jacobian(u, Pu) if fresh else np.array(jacobian, float)
+            fixed_point = _broyden_newton(strobe, u, Pu, J, fresh)
+            if fixed_point is None:
                 return None
-            rho = float(np.max(np.abs(np.linalg.eigvals(J))))
-            if not fresh and rho > FRESH_JACOBIAN_ABOVE:
-                J = fd(u, Pu)
-                rho = float(np.max(np.abs(np.linalg.eigvals(J))))
+            u, Pu, J, fresh = fixed_point
+            J, rho = _stability(strobe, u, Pu, J, fresh)
     except (RuntimeError, ValueError, np.linalg.LinAlgError):
         return None
-    return StrobeSolution(section_state(p, u, stuck), rho, periods, J)
+    return StrobeSolution(section_state(p, u, stuck), rho, strobe.periods, J)
+
+
+class _SectionMap:
+    """The k-th stroboscopic map in section coordinates, counting the periods it simulates.
+
+    ``evaluate(state, k)`` is the map on full states (:func:`_map_step`); a free section's
+    gap coordinate ``u[1]`` is stepped only to open the gap, never to close it."""
+
+    def __init__(self, p: Parameters, stuck: bool, k: int, evaluate):
+        self.p, self.stuck, self.k, self.evaluate = p, stuck, k, evaluate
+        self.periods = 0
+
+    def __call__(self, v: np.ndarray) -> np.ndarray:
+        self.periods += self.k
+        return section_coordinates(self.p, self.evaluate(section_state(self.p, v, self.stuck), self.k)[0], self.stuck)
+
+    def jacobian(self, v: np.ndarray, Pv: np.ndarray) -> np.ndarray:
+        """Forward finite-difference Jacobian at ``v`` (``Pv`` the map there), shape (n, n)."""
+        n = len(v)
+        J = np.empty((n, n))
+        for j in range(n):
+            # Open the gap, never close it.
+            h = -STROBE_FD_STEP if (not self.stuck and j == 1) else STROBE_FD_STEP
+            w = v.copy()
+            w[j] += h
+            J[:, j] = (self(w) - Pv) / h
+        return J
+
+
+def _broyden_newton(strobe: _SectionMap, u: np.ndarray, Pu: np.ndarray, J: np.ndarray, fresh: bool):
+    """Newton's iteration on u = P(u) with Broyden's rank-one update of ``J``.
+
+    A stalled iteration (the residual falling by less than half) gets a freshly differenced
+    Jacobian. Returns (u, P(u), J, fresh) at the fixed point, or None if the residual is not
+    finite or ``STROBE_MAX_ITERATIONS`` do not reach ``STROBE_TOL``."""
+    n = len(u)
+    r = Pu - u
+    previous_norm = math.inf
+    for _ in range(STROBE_MAX_ITERATIONS):
+        norm = float(np.max(np.abs(r)))
+        if not math.isfinite(norm):
+            return None
+        if norm < STROBE_TOL:
+            return u, Pu, J, fresh
+        if norm > 0.5 * previous_norm and norm > 100 * STROBE_TOL and not fresh:
+            J, fresh = strobe.jacobian(u, Pu), True  # stalled: a fresh Jacobian
+        du = np.linalg.solve(J - np.eye(n), -r)
+        u_new = u + du
+        if not strobe.stuck:
+            u_new[1] = min(u_new[1], 0.0)
+        Pu_new = strobe(u_new)
+        r_new = Pu_new - u_new
+        s, y = u_new - u, (Pu_new - Pu)
+        if float(s @ s) > 0.0:
+            J = J + np.outer(y - J @ s, s) / float(s @ s)  # Broyden: J s = y
+            fresh = False
+        u, Pu, r, previous_norm = u_new, Pu_new, r_new, norm
+    return None
+
+
+def _stability(strobe: _SectionMap, u: np.ndarray, Pu: np.ndarray, J: np.ndarray, fresh: bool):
+    """The Jacobian behind the stability verdict and its spectral radius: near a bifurcation
+    (modulus above ``FRESH_JACOBIAN_ABOVE``) a Broyden-updated Jacobian is replaced by a
+    freshly differenced one."""
+    rho = float(np.max(np.abs(np.linalg.eigvals(J))))
+    if not fresh and rho > FRESH_JACOBIAN_ABOVE:
+        J = strobe.jacobian(u, Pu)
+        rho = float(np.max(np.abs(np.linalg.eigvals(J))))
+    return J, rho

@@ -103,12 +103,7 @@ def simulate_rk4(
         return Delta0 - (y[1] - y[0])
 
     out = Rk4Trajectory()
-    full = default_initial_state(p) if state is None else np.asarray(state, dtype=float)
-    if full.shape != (4,) or not np.all(np.isfinite(full)):
-        raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
-    y = tuple(float(v) for v in full)
-    if gap(y) < -1e-12 * p.x_st:
-        raise ValueError("`state` has a negative gap: the bodies would overlap")
+    y = _start(p, state, gap)
     h = p.T / steps_per_period
     t = float(t0)
     steps = 0
@@ -120,19 +115,8 @@ def simulate_rk4(
         if gap(y_new) >= 0.0:
             t, y = (t_end if last else t + h), y_new
             continue
-        # The gap changed sign inside the step: bisect on the length of a fresh RK4 step.
-        lo, hi = 0.0, step
-        y_hi = y_new
-        for _ in range(MAX_BISECTIONS):
-            if hi - lo <= bisect_tol * p.T:
-                break
-            mid = 0.5 * (lo + hi)
-            y_mid = rk4(t, y, mid)
-            steps += 1
-            if gap(y_mid) >= 0.0:
-                lo = mid
-            else:
-                hi, y_hi = mid, y_mid
+        hi, y_hi, trials = _bisect_impact(rk4, gap, t, y, step, y_new, bisect_tol * p.T)
+        steps += trials
         t_hit = t + hi
         event = _impact(p, t_hit, y_hi)
         out.events.append(event)
@@ -144,6 +128,39 @@ def simulate_rk4(
     out.steps = steps
     out.nfev = 4 * steps
     return out
+
+
+def _start(p: Parameters, state: np.ndarray | None, gap) -> tuple:
+    """The start (x1, x2, x1', x2') as a tuple of floats, checked finite and not overlapping."""
+    full = default_initial_state(p) if state is None else np.asarray(state, dtype=float)
+    if full.shape != (4,) or not np.all(np.isfinite(full)):
+        raise ValueError(f"`state` = {state!r} is not allowed: must be 4 finite numbers (x1, x2, x1', x2')")
+    y = tuple(float(v) for v in full)
+    if gap(y) < -1e-12 * p.x_st:
+        raise ValueError("`state` has a negative gap: the bodies would overlap")
+    return y
+
+
+def _bisect_impact(rk4, gap, t: float, y: tuple, step: float, y_new: tuple, width: float):
+    """The impact inside a step whose gap changed sign, by bisection on the length of a fresh
+    RK4 step from (t, y) down to a bracket of ``width`` s.
+
+    Returns the bracket's upper end (the step length to the impact), the state there (gap < 0)
+    and the RK4 trial steps taken."""
+    lo, hi = 0.0, step
+    y_hi = y_new
+    trials = 0
+    for _ in range(MAX_BISECTIONS):
+        if hi - lo <= width:
+            break
+        mid = 0.5 * (lo + hi)
+        y_mid = rk4(t, y, mid)
+        trials += 1
+        if gap(y_mid) >= 0.0:
+            lo = mid
+        else:
+            hi, y_hi = mid, y_mid
+    return hi, y_hi, trials
 
 
 def _rk4_step(p: Parameters):

@@ -220,35 +220,70 @@ def _add_design(sub, defaults: Parameters) -> None:
         epilog=DESIGN_KEYS,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    from impactdamper.studies.design.devices import NATURAL_FREQUENCY, RANGES, STOP_STIFFNESS, WORKERS, Uncertainty
+    from impactdamper.studies.design.devices import WORKERS
 
-    def span(name: str) -> str:
-        lo, hi = RANGES[name]
-        return f"in [{lo:g}, {hi:g}]"
+    _add_design_object(design, defaults)
+    _add_design_uncertainty(design)
+    _add_design_limits(design)
+    design.add_argument(
+        "--workers",
+        type=int,
+        default=WORKERS,
+        help=f"worker processes, an integer >= 1 (default {WORKERS}, the cores the minute above is "
+        "quoted for); the answer does not depend on them",
+    )
+    design.add_argument("--json", action="store_true", help="print one JSON object")
+    design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
 
-    def ranged(group, flag: str, default: float, what: str) -> None:
-        """A float flag whose help says what it is, its documented range and its default."""
-        help_text = f"{what}, {span(flag[2:].replace('-', '_'))} (default {default})"
-        group.add_argument(flag, type=float, default=default, help=help_text)
 
-    u = Uncertainty()
+def _span(name: str) -> str:
+    """The documented range of design input ``name``, as help text."""
+    from impactdamper.studies.design.devices import RANGES
+
+    lo, hi = RANGES[name]
+    return f"in [{lo:g}, {hi:g}]"
+
+
+def _ranged(group, flag: str, default: float, what: str) -> None:
+    """A float flag whose help says what it is, its documented range and its default."""
+    help_text = f"{what}, {_span(flag[2:].replace('-', '_'))} (default {default})"
+    group.add_argument(flag, type=float, default=default, help=help_text)
+
+
+def _add_design_object(design, defaults: Parameters) -> None:
+    """The ``design`` flags of the object and the frequency band."""
     d = design.add_argument_group("object and band")
-    ranged(d, "--theta-start", 0.5, "lowest theta = omega/omega1")
+    _ranged(d, "--theta-start", 0.5, "lowest theta = omega/omega1")
     d.add_argument(
         "--theta-stop",
         type=float,
         default=1.5,
-        help=f"highest theta, {span('theta_stop')}, the band {span('band_width')} wide (default 1.5)",
+        help=f"highest theta, {_span('theta_stop')}, the band {_span('band_width')} wide (default 1.5)",
     )
-    ranged(d, "--mu", defaults.mu, PARAMETER_HELP["mu"])
-    ranged(d, "--delta1", defaults.delta1, PARAMETER_HELP["delta1"])
+    _ranged(d, "--mu", defaults.mu, PARAMETER_HELP["mu"])
+    _ranged(d, "--delta1", defaults.delta1, PARAMETER_HELP["delta1"])
+
+
+def _add_design_uncertainty(design) -> None:
+    """The ``design`` flags of what the designer does not know exactly (the worst cases)."""
+    from impactdamper.studies.design.devices import Uncertainty
+
+    u = Uncertainty()
     r = design.add_argument_group("what the designer does not know exactly")
-    ranged(r, "--detuning", u.detuning, "the object's natural frequency uncertain by +- this fraction")
-    ranged(r, "--force-low", u.force[0], "lowest force amplitude over the design force")
-    ranged(r, "--force-high", u.force[1], "highest force amplitude over the design force")
-    ranged(r, "--restitution-drift", u.restitution, "R uncertain by +- this")
-    ranged(r, "--stiffness-drift", u.stiffness, "the absorber's spring c2 uncertain by +- this fraction (both devices)")
-    ranged(r, "--damping-drift", u.damping, "the absorber's damper uncertain by +- this fraction (both devices)")
+    _ranged(r, "--detuning", u.detuning, "the object's natural frequency uncertain by +- this fraction")
+    _ranged(r, "--force-low", u.force[0], "lowest force amplitude over the design force")
+    _ranged(r, "--force-high", u.force[1], "highest force amplitude over the design force")
+    _ranged(r, "--restitution-drift", u.restitution, "R uncertain by +- this")
+    _ranged(
+        r, "--stiffness-drift", u.stiffness, "the absorber's spring c2 uncertain by +- this fraction (both devices)"
+    )
+    _ranged(r, "--damping-drift", u.damping, "the absorber's damper uncertain by +- this fraction (both devices)")
+
+
+def _add_design_limits(design) -> None:
+    """The ``design`` flags of the stroke limit, the loads and which optima are reported."""
+    from impactdamper.studies.design.devices import NATURAL_FREQUENCY, STOP_STIFFNESS
+
     o = design.add_argument_group("limits and loads")
     o.add_argument(
         "--max-stroke",
@@ -262,14 +297,14 @@ def _add_design(sub, defaults: Parameters) -> None:
         "--stop-stiffness",
         type=float,
         default=STOP_STIFFNESS,
-        help=f"the stop's stiffness over the object's spring c1, for the contact force, {span('stop_stiffness')} "
+        help=f"the stop's stiffness over the object's spring c1, for the contact force, {_span('stop_stiffness')} "
         f"(default {STOP_STIFFNESS:g})",
     )
     o.add_argument(
         "--natural-frequency",
         type=float,
         default=NATURAL_FREQUENCY,
-        help=f"the object's natural frequency f1 in Hz, for impacts per hour, {span('natural_frequency')} "
+        help=f"the object's natural frequency f1 in Hz, for impacts per hour, {_span('natural_frequency')} "
         f"(default {NATURAL_FREQUENCY:g})",
     )
     o.add_argument(
@@ -285,15 +320,6 @@ def _add_design(sub, defaults: Parameters) -> None:
         "--criterion implies it): slower than the nominal answer (its time: docs/BENCHMARKS.md, the design "
         "table's run)",
     )
-    design.add_argument(
-        "--workers",
-        type=int,
-        default=WORKERS,
-        help=f"worker processes, an integer >= 1 (default {WORKERS}, the cores the minute above is "
-        "quoted for); the answer does not depend on them",
-    )
-    design.add_argument("--json", action="store_true", help="print one JSON object")
-    design.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
 
 
 def _add_lyapunov_command(sub, defaults: Parameters) -> None:

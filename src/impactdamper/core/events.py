@@ -265,19 +265,40 @@ def march(
     w = mode.omega
     # The free motion's energy never grows, so its value at t_from bounds the whole search.
     energy = math.sqrt(max(_energy_form(segment.free(float(t_from)), mode.energy_weight), 0.0))
-    Gabs = abs(fn.G)
     a = float(t_from)
     if departure is not None:
-        m, gm = departure
-        K = max(Gabs * w ** (m + 1) + fn.kappa[m + 1] * energy, MIN_BOUND)
-        _require_finite(K, t_from)
-        # g(a+s) >= g_m s^m/m! - K s^(m+1)/(m+1)! = s^m/m! (g_m - K s/(m+1)) > 0 below this.
-        a += (m + 1) * gm / K
+        a = _past_departure(fn, energy, a, t_from, departure)
         if a >= t_to:
             return None, a
-    K = max(Gabs * w * w + fn.kappa[2] * energy, MIN_BOUND)
+    K = max(abs(fn.G) * w * w + fn.kappa[2] * energy, MIN_BOUND)
     # An infinite bound would give zero steps (a false root at once); a NaN, no progress at all.
     _require_finite(K, t_from)
+    return _certified_steps(segment, fn, a, t_from, t_to, tol, K, budget)
+
+
+def _past_departure(fn: LinearFunctional, energy: float, a: float, t_from: float, departure: tuple[int, float]):
+    """The time up to which a g leaving zero at ``a`` (its first non-zero derivative of order m,
+    g_m > 0) is certified positive, from the bound K on g^(m+1) that ``energy`` gives."""
+    m, gm = departure
+    K = max(abs(fn.G) * fn.mode.omega ** (m + 1) + fn.kappa[m + 1] * energy, MIN_BOUND)
+    _require_finite(K, t_from)
+    # g(a+s) >= g_m s^m/m! - K s^(m+1)/(m+1)! = s^m/m! (g_m - K s/(m+1)) > 0 below this.
+    return a + (m + 1) * gm / K
+
+
+def _certified_steps(
+    segment: Segment,
+    fn: LinearFunctional,
+    a: float,
+    t_from: float,
+    t_to: float,
+    tol: float,
+    K: float,
+    budget: StepBudget | None,
+) -> tuple[tuple[float, float] | None, float]:
+    """March's steps from ``a``: each as long as g'' <= ``K`` certifies g stays positive
+    (:func:`_lower_bound_root`), until g reaches ``tol`` falling (the root, polished) or t_to
+    (None); the return value and the raised limits as :func:`march`'s."""
     evaluate = segment.evaluator(fn)
     limit = MAX_STEPS if budget is None else min(MAX_STEPS, budget.remaining)
     steps = 0

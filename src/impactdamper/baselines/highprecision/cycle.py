@@ -55,43 +55,9 @@ def algorithm1_mp(p: Parameters, dps: int = DIGITS) -> MPAlgorithm1:
     """
     m = MPModel(p, dps)
     with mp.workdps(dps):
-        w1, w2 = m.omega1, m.omega2
-        h1, h2 = m.k1 / (2 * m.m1), m.k2 / (2 * m.m2)
-        m1, m2 = m.m1, m.m2
-        d1 = m1 * w1**2 * w2**2
-        d2 = 2 * m1 * (w2**2 * h1 + w1**2 * h2)
-        d3 = m1 * (w1**2 + 4 * h1 * h2) + w2**2 * (m1 + m2)
-        d4 = 2 * (m1 * h1 + h2 * (m1 + m2))
-        d5 = m1
-        lam = mp.polyroots([d5, d4, d3, d2, d1], maxsteps=200, extraprec=4 * dps)
-        for i in range(4):
-            for j in range(i):
-                if abs(lam[i] - lam[j]) < mp.mpf(10) ** (-dps / 3) * max(abs(lam[i]), 1):
-                    raise HighPrecisionError(
-                        "eq. (4) has (nearly) repeated roots: the modal form of Algorithm No. 1 breaks"
-                    )
-        A = [(2 * h2 * l + w2**2) / (l**2 + 2 * h2 * l + w2**2) for l in lam]
+        lam = _characteristic_roots(m, dps)
         T = m.T
-        E = [mp.exp(l * T) - 1 for l in lam]
-        lhs = mp.matrix(4, 4)
-        for j in range(4):
-            lhs[0, j] = E[j]
-            lhs[1, j] = m1 * lam[j] * E[j]
-            lhs[2, j] = A[j] * E[j]
-            lhs[3, j] = m2 * lam[j] * A[j] * E[j]
-        alpha = mp.lu_solve(lhs, mp.matrix([0, -1, 0, 1]))
-        # Eq. (6) at t = 0+ (state just after the unit pulse pair).
-        z0 = mp.matrix(
-            [
-                mp.re(mp.fsum(alpha[j] for j in range(4))),
-                mp.re(mp.fsum(alpha[j] * A[j] for j in range(4))),
-                mp.re(mp.fsum(alpha[j] * lam[j] for j in range(4))),
-                mp.re(mp.fsum(alpha[j] * A[j] * lam[j] for j in range(4))),
-            ]
-        )
-        eT = [mp.exp(l * T) for l in lam]
-        x21s_T = mp.re(mp.fsum(alpha[j] * (A[j] - 1) * eT[j] for j in range(4)))
-        dx21s_T = mp.re(mp.fsum(alpha[j] * (A[j] - 1) * lam[j] * eT[j] for j in range(4)))
+        z0, x21s_T, dx21s_T = _unit_pulse_response(m, lam)
         w = m.omega
         x1p, x2p = m.forced_amplitudes()
         U1 = abs(x2p - x1p)
@@ -104,13 +70,7 @@ def algorithm1_mp(p: Parameters, dps: int = DIGITS) -> MPAlgorithm1:
         common = dict(U1=U1, U2=U2, zeta=zeta, eps21=eps21, roots=tuple(lam))
         if abs(rho) > 1:
             return MPAlgorithm1(exists=False, reason="|Delta0|/sqrt(U1^2+U2^2) > 1", **common)
-        candidates = []
-        for phi in (mp.asin(rho) - zeta, mp.pi - mp.asin(rho) - zeta):
-            eps = mp.fmod(phi - eps21, 2 * mp.pi)
-            if eps < 0:
-                eps += 2 * mp.pi
-            S = D * U1 * w * mp.cos(phi) / denom
-            candidates.append((eps, S))
+        candidates = _pulse_candidates(rho, zeta, eps21, D * U1 * w, denom)
         positive = [c for c in candidates if c[1] > 0]
         if not positive:
             return MPAlgorithm1(exists=False, candidates=tuple(candidates), reason="no positive pulse", **common)
@@ -128,6 +88,70 @@ def algorithm1_mp(p: Parameters, dps: int = DIGITS) -> MPAlgorithm1:
             state_after=after,
             **common,
         )
+
+
+def _characteristic_roots(m: MPModel, dps: int) -> list:
+    """The four roots of eq. (4) by ``mpmath.polyroots``; HighPrecisionError if two (nearly)
+    coincide (the modal form needs simple roots). Called at ``dps`` digits."""
+    w1, w2 = m.omega1, m.omega2
+    h1, h2 = m.k1 / (2 * m.m1), m.k2 / (2 * m.m2)
+    m1, m2 = m.m1, m.m2
+    d1 = m1 * w1**2 * w2**2
+    d2 = 2 * m1 * (w2**2 * h1 + w1**2 * h2)
+    d3 = m1 * (w1**2 + 4 * h1 * h2) + w2**2 * (m1 + m2)
+    d4 = 2 * (m1 * h1 + h2 * (m1 + m2))
+    d5 = m1
+    lam = mp.polyroots([d5, d4, d3, d2, d1], maxsteps=200, extraprec=4 * dps)
+    for i in range(4):
+        for j in range(i):
+            if abs(lam[i] - lam[j]) < mp.mpf(10) ** (-dps / 3) * max(abs(lam[i]), 1):
+                raise HighPrecisionError(
+                    "eq. (4) has (nearly) repeated roots: the modal form of Algorithm No. 1 breaks"
+                )
+    return lam
+
+
+def _unit_pulse_response(m: MPModel, lam: list):
+    """The T-periodic response to the unit pulse pair (eqs. 5-8): the state just after it
+    (eq. 6 at t = 0+) and the relative displacement x2 - x1 and its rate at t = T-."""
+    w2, h2 = m.omega2, m.k2 / (2 * m.m2)
+    m1, m2 = m.m1, m.m2
+    A = [(2 * h2 * l + w2**2) / (l**2 + 2 * h2 * l + w2**2) for l in lam]
+    T = m.T
+    E = [mp.exp(l * T) - 1 for l in lam]
+    lhs = mp.matrix(4, 4)
+    for j in range(4):
+        lhs[0, j] = E[j]
+        lhs[1, j] = m1 * lam[j] * E[j]
+        lhs[2, j] = A[j] * E[j]
+        lhs[3, j] = m2 * lam[j] * A[j] * E[j]
+    alpha = mp.lu_solve(lhs, mp.matrix([0, -1, 0, 1]))
+    # Eq. (6) at t = 0+ (state just after the unit pulse pair).
+    z0 = mp.matrix(
+        [
+            mp.re(mp.fsum(alpha[j] for j in range(4))),
+            mp.re(mp.fsum(alpha[j] * A[j] for j in range(4))),
+            mp.re(mp.fsum(alpha[j] * lam[j] for j in range(4))),
+            mp.re(mp.fsum(alpha[j] * A[j] * lam[j] for j in range(4))),
+        ]
+    )
+    eT = [mp.exp(l * T) for l in lam]
+    x21s_T = mp.re(mp.fsum(alpha[j] * (A[j] - 1) * eT[j] for j in range(4)))
+    dx21s_T = mp.re(mp.fsum(alpha[j] * (A[j] - 1) * lam[j] * eT[j] for j in range(4)))
+    return z0, x21s_T, dx21s_T
+
+
+def _pulse_candidates(rho, zeta, eps21, DU1w, denom) -> list:
+    """Both roots of eq. (17): (eps in [0, 2 pi), S) for phi = asin(rho) - zeta and
+    pi - asin(rho) - zeta, where S = D U1 omega cos(phi) / denom (``DU1w`` = D U1 omega)."""
+    candidates = []
+    for phi in (mp.asin(rho) - zeta, mp.pi - mp.asin(rho) - zeta):
+        eps = mp.fmod(phi - eps21, 2 * mp.pi)
+        if eps < 0:
+            eps += 2 * mp.pi
+        S = DU1w * mp.cos(phi) / denom
+        candidates.append((eps, S))
+    return candidates
 
 
 @dataclass(frozen=True)

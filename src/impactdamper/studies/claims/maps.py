@@ -180,22 +180,45 @@ def adaptive_claims_map(
         among them, ``differences`` in the record's cell, ``label_differences`` in the claims
         label (:func:`map_label`), ``share``).
     """
-    if x == y:
-        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    _check_axes(x, x_axis, y, y_axis)
     (x0, x1, nx), (y0, y1, ny) = x_axis, y_axis
-    _check_axis("x", x0, x1, nx)
-    _check_axis("y", y0, y1, ny)
     xs, ys = np.linspace(float(x0), float(x1), nx), np.linspace(float(y0), float(y1), ny)
+
+    def cells(points: list[tuple[int, int]]) -> list[dict]:
+        return claims_cells(
+            p, x, y, [(xs[i], ys[j]) for i, j in points], gap_tol=gap_tol, settings=settings, workers=workers
+        )
+
+    rows, filled, computed, points_per_round = _refined_and_filled(cells, xs, ys, int(coarse_step))
+    check = _check_filled(cells, rows, filled, nx, ny, int(check_every))
+    out = [rows[(i, j)] for j in range(ny) for i in range(nx)]
+    return out, {
+        "grid_points": nx * ny,
+        "computed": computed,
+        "filled": len(filled),
+        "computed_share": computed / (nx * ny),
+        "coarse_step": int(coarse_step),
+        "points_per_round": points_per_round,
+        "check": check,
+    }
+
+
+def _refined_and_filled(cells, xs: np.ndarray, ys: np.ndarray, coarse_step: int):
+    """The coarse lattice computed by ``cells``, its blocks split where their cells differ
+    (:func:`refine_lattice`), and the cells inside the blocks left whole filled from the block's
+    corner (``periods`` None).
+
+    Returns the rows by grid index (i, j), the filled indices, the number of cells computed and
+    the points computed per round (the coarse lattice first)."""
+    nx, ny = len(xs), len(ys)
     rows: dict[tuple[int, int], dict] = {}
 
     def evaluate(points: list[tuple[int, int]]) -> list[tuple]:
-        out = claims_cells(
-            p, x, y, [(xs[i], ys[j]) for i, j in points], gap_tol=gap_tol, settings=settings, workers=workers
-        )
+        out = cells(points)
         rows.update(zip(points, out))
         return [_cell_key(r) for r in out]
 
-    ci, cj = coarse_indices(nx, int(coarse_step)), coarse_indices(ny, int(coarse_step))
+    ci, cj = coarse_indices(nx, coarse_step), coarse_indices(ny, coarse_step)
     first = sorted(((i, j) for i in ci for j in cj), key=lambda ij: (ij[1], ij[0]))
     known = dict(zip(first, evaluate(first)))
     blocks = [(a, b, c, d) for a, b in zip(ci, ci[1:]) for c, d in zip(cj, cj[1:])]
@@ -205,28 +228,24 @@ def adaptive_claims_map(
     computed = len(rows)
     for i, j in filled:
         rows[(i, j)] = dict(corner[(i, j)], x=float(xs[i]), y=float(ys[j]), periods=None)
-    check = {"every": int(check_every), "rows": 0, "cells": 0, "filled": 0, "differences": 0, "label_differences": 0}
+    return rows, filled, computed, [len(first), *stats["points_per_round"]]
+
+
+def _check_filled(cells, rows: dict, filled, nx: int, ny: int, check_every: int) -> dict:
+    """Every ``check_every``-th row of y computed in full by ``cells`` and its filled cells
+    compared with their computed values (the ``check`` statistics of
+    :func:`adaptive_claims_map`; 0: no check)."""
+    check = {"every": check_every, "rows": 0, "cells": 0, "filled": 0, "differences": 0, "label_differences": 0}
     if check_every:
-        check_rows = list(range(0, ny, int(check_every)))
+        check_rows = list(range(0, ny, check_every))
         todo = [(i, j) for j in check_rows for i in range(nx) if (i, j) in filled]
-        fresh = claims_cells(
-            p, x, y, [(xs[i], ys[j]) for i, j in todo], gap_tol=gap_tol, settings=settings, workers=workers
-        )
+        fresh = cells(todo)
         check.update(rows=len(check_rows), cells=len(check_rows) * nx, filled=len(todo))
         for ij, r in zip(todo, fresh):
             check["differences"] += _cell_key(r) != _cell_key(rows[ij])
             check["label_differences"] += map_label(r) != map_label(rows[ij])
         check["share"] = check["differences"] / check["cells"] if check["cells"] else 0.0
-    out = [rows[(i, j)] for j in range(ny) for i in range(nx)]
-    return out, {
-        "grid_points": nx * ny,
-        "computed": computed,
-        "filled": len(filled),
-        "computed_share": computed / (nx * ny),
-        "coarse_step": int(coarse_step),
-        "points_per_round": [len(first), *stats["points_per_round"]],
-        "check": check,
-    }
+    return check
 
 
 # Columns of the refined points' record: the map's, then the refinement level of the point
@@ -259,6 +278,14 @@ def _axis_value(start: float, stop: float, points: int, scale: int, k: int) -> f
     """Value at lattice index ``k`` of an axis of ``points`` grid values, ``scale`` lattice
     steps per grid step."""
     return round(start + k * (stop - start) / ((points - 1) * scale), COORD_DECIMALS)
+
+
+def _check_axes(x: str, x_axis: tuple, y: str, y_axis: tuple) -> None:
+    """Raises ValueError unless the map's two parameters differ and each axis is a grid."""
+    if x == y:
+        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    _check_axis("x", *x_axis)
+    _check_axis("y", *y_axis)
 
 
 def _check_axis(name: str, start, stop, points) -> None:
@@ -331,35 +358,20 @@ def refine_claims_map(
     """
     if not (isinstance(levels, int) and not isinstance(levels, bool) and 0 <= levels <= MAX_LEVELS):
         raise ValueError(f"`levels` = {levels!r} is not allowed: must be an integer in [0, {MAX_LEVELS}]")
-    if x == y:
-        raise ValueError(f"`y` = {y!r} is not allowed: must differ from `x`")
+    _check_axes(x, x_axis, y, y_axis)
     (x0, x1, nx), (y0, y1, ny) = x_axis, y_axis
-    _check_axis("x", x0, x1, nx)
-    _check_axis("y", y0, y1, ny)
     s = 2**levels
     dx, dy = (x1 - x0) / (nx - 1), (y1 - y0) / (ny - 1)
     if base is None:
         base = claims_map(p, x, np.linspace(x0, x1, nx), y, np.linspace(y0, y1, ny), gap_tol=gap_tol, settings=settings)
     label = _lattice_labels(base, x_axis, y_axis, s)
     blocks = [(i * s, (i + 1) * s, j * s, (j + 1) * s) for j in range(ny - 1) for i in range(nx - 1)]
-    added: list[dict] = []
 
-    def evaluate(points: list[tuple[int, int]]) -> list[str]:
+    def cells(points: list[tuple[int, int]]) -> list[dict]:
         pts = [(_axis_value(x0, x1, nx, s, i), _axis_value(y0, y1, ny, s, j)) for i, j in points]
-        rows = claims_cells(p, x, y, pts, gap_tol=gap_tol, settings=settings, workers=workers)
-        level = len(per_level) + 1
-        per_level.append(len(points))
-        added.extend(dict(r, level=level) for r in rows)
-        return [map_label(r) for r in rows]
+        return claims_cells(p, x, y, pts, gap_tol=gap_tol, settings=settings, workers=workers)
 
-    per_level: list[int] = []
-    _, _, rounds = refine_lattice(
-        label, blocks, evaluate, lambda labels: len(set(labels)) > 1 or "np" in labels, max_rounds=levels
-    )
-    # Every level listed, those where nothing was split too.
-    per_level += [0] * (levels - len(per_level))
-    split_per_level = rounds["blocks_split_per_round"] + [0] * (levels - len(rounds["blocks_split_per_round"]))
-    added.sort(key=lambda r: (r["y"], r["x"]))
+    added, per_level, split_per_level = _refine_levels(cells, label, blocks, levels)
     stats = {
         "levels": levels,
         "grid_points": nx * ny,
@@ -372,3 +384,28 @@ def refine_claims_map(
         "y_floor": dy / s,
     }
     return added, stats
+
+
+def _refine_levels(cells, label: dict, blocks: list, levels: int) -> tuple[list[dict], list[int], list[int]]:
+    """Halves the lattice blocks whose corner labels differ or include ``np``, at most ``levels``
+    times, the new points computed by ``cells``.
+
+    Returns the added rows (with their ``level``, sorted by (y, x)), the points added and the
+    blocks split at each level (every level listed, those where nothing was split too)."""
+    added: list[dict] = []
+    per_level: list[int] = []
+
+    def evaluate(points: list[tuple[int, int]]) -> list[str]:
+        rows = cells(points)
+        level = len(per_level) + 1
+        per_level.append(len(points))
+        added.extend(dict(r, level=level) for r in rows)
+        return [map_label(r) for r in rows]
+
+    _, _, rounds = refine_lattice(
+        label, blocks, evaluate, lambda labels: len(set(labels)) > 1 or "np" in labels, max_rounds=levels
+    )
+    per_level += [0] * (levels - len(per_level))
+    split_per_level = rounds["blocks_split_per_round"] + [0] * (levels - len(rounds["blocks_split_per_round"]))
+    added.sort(key=lambda r: (r["y"], r["x"]))
+    return added, per_level, split_per_level

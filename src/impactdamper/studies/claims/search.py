@@ -174,22 +174,37 @@ def search_parameter(
     if name not in p.names():
         raise ValueError(f"`name` = {name!r} is not allowed: must be one of {', '.join(p.names())}")
     say = log or (lambda msg: None)
+    both = {"gap_tol": gap_tol, "steady_kwargs": steady_kwargs, "rel_tol": rel_tol, "floor": floor, "say": say}
     if refine_floor is not None:
         return _search_refined(
             p,
             name,
             values,
             alg1_values,
-            gap_tol=gap_tol,
-            steady_kwargs=steady_kwargs,
-            rel_tol=rel_tol,
-            floor=floor,
-            say=say,
+            **both,
             refine_floor=refine_floor,
             rescue=rescue,
             longer_periods=longer_periods,
             workers=workers,
         )
+    return _search_pointwise(p, name, values, alg1_values, **both)
+
+
+def _claim_b_row(x: float, s) -> dict:
+    """Claim (b)'s record of the settled motion ``s`` at value ``x``."""
+    return {
+        "value": float(x),
+        "claim_b": claim_b(s),
+        "regime": s.regime,
+        "period_multiple": int(s.period_multiple),
+        "impacts_per_cycle": int(s.impacts_per_cycle),
+        "periods": int(s.periods),
+    }
+
+
+def _search_pointwise(p, name, values, alg1_values, *, gap_tol, steady_kwargs, rel_tol, floor, say) -> dict:
+    """:func:`search_parameter` without ``refine_floor``: claim (b) by :func:`steady_state` one
+    point at a time on the grid ``values``, each end bisected."""
 
     def pred_a(x: float) -> bool:
         return claim_a(algorithm1(p.replace(**{name: float(x)}), gap_tol=gap_tol))
@@ -197,15 +212,7 @@ def search_parameter(
     rows: dict[float, dict] = {}
 
     def point_b(x: float) -> dict:
-        s = steady_state(p.replace(**{name: float(x)}), **steady_kwargs)
-        row = {
-            "value": float(x),
-            "claim_b": claim_b(s),
-            "regime": s.regime,
-            "period_multiple": int(s.period_multiple),
-            "impacts_per_cycle": int(s.impacts_per_cycle),
-            "periods": int(s.periods),
-        }
+        row = _claim_b_row(x, steady_state(p.replace(**{name: float(x)}), **steady_kwargs))
         rows[float(x)] = row
         return row
 

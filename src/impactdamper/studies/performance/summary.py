@@ -113,55 +113,17 @@ def compiled_speed(cs: dict) -> dict:
     """The compiled solver's benchmark (figures/compiled_speed.json): each number with its
     target and whether it is met (judged here, from the two)."""
     pi, st, f10, c = cs["per_impact"], cs["steady_state"], cs["first_10_impacts"], cs["compile"]
-    tg = st["targets"]
-    phase = max(json_float(st["phase_error_vs_alg1"]), json_float(st["phase_error_vs_python"]))
-    out = {
-        "us_per_impact": {
-            "value": json_float(pi["compiled"]["us_per_impact_min"]),
-            "target": json_float(pi["target_us"]),
-            "at_most": True,
-        },
-        "steady_seconds": {
-            "value": json_float(st["compiled"]["cpu_min_s"]),
-            "target": json_float(tg["time_s"]),
-            "at_most": True,
-        },
-        "steady_speedup": {
-            "value": json_float(st["speedup_vs_dop853"]),
-            "target": json_float(tg["speedup"]),
-            "at_most": False,
-        },
-        "steady_phase_error": {"value": phase, "target": json_float(tg["phase"]), "at_most": True},
-        "first_speedup": {
-            "value": json_float(f10["speedup_vs_dop853"]),
-            "target": json_float(f10["target_speedup"]),
-            "at_most": False,
-        },
-    }
     name = COMPILED_MAP_TARGET_SIZE if COMPILED_MAP_TARGET_SIZE in cs["maps"] else next(iter(cs["maps"]))
     m = cs["maps"][name]
     target = m.get("target_s")
-    out["map_wall"] = {
-        "value": json_float(m["wall_min_s"]),
-        "target": json_float(target) if target else math.inf,
-        "at_most": True,
-    }
-    # Where users are: the public calls (impactdamper.steady_state, steady_states) and the CLI.
     fd = cs["front_door"]
-    out["public_steady"] = {
-        "value": json_float(fd["steady_state"]["auto"]["wall_median_s"]),
-        "target": json_float(fd["steady_state"]["target_s"]),
-        "at_most": True,
-    }
-    out["batch_ratio"] = {
-        "value": json_float(fd["batch"]["ratio"]),
-        "target": json_float(fd["batch"]["target_ratio"]),
-        "at_most": True,
-    }
-    out["cli_wall"] = {
-        "value": json_float(fd["cli"]["wall_median_s"]),
-        "target": json_float(fd["cli"]["target_s"]),
-        "at_most": True,
+    out = {
+        **_solver_targets(pi, st, f10),
+        "map_wall": _target(m["wall_min_s"], json_float(target) if target else math.inf, True),
+        # Where users are: the public calls (impactdamper.steady_state, steady_states) and the CLI.
+        "public_steady": _target(fd["steady_state"]["auto"]["wall_median_s"], fd["steady_state"]["target_s"], True),
+        "batch_ratio": _target(fd["batch"]["ratio"], fd["batch"]["target_ratio"], True),
+        "cli_wall": _target(fd["cli"]["wall_median_s"], fd["cli"]["target_s"], True),
     }
     for v in out.values():
         v["met"] = met(v["value"], v["target"], v["at_most"])
@@ -186,13 +148,38 @@ def compiled_speed(cs: dict) -> dict:
     # The same run's other solvers per impact: the machine's speed beside the absolute targets.
     out["python_us_per_impact"] = json_float(pi["python"]["us_per_impact_min"])
     out["dop853_us_per_impact"] = json_float(pi["dop853"]["us_per_impact_min"])
-    # (None where the record holds no compile times: main() adds rule performance_compile_time's.)
-    out["compile_seconds"] = json_float(c["cold_compile_s"]) if c else None
-    out["cache_load_seconds"] = json_float(c["cached_load_s"]) if c else None
-    # Where the compile time was measured (set-up or workflow), and the run's own warm-up.
-    out["compile_measured"] = c.get("measured", "workflow") if c else None
-    out["run_warm_up_seconds"] = json_float(c["run_warm_up_s"]) if c and "run_warm_up_s" in c else None
+    out.update(_compile_times(c))
     return out
+
+
+def _target(value, target, at_most: bool) -> dict:
+    """A benchmark number beside its target: ``at_most`` if it must not exceed it, else reach it."""
+    return {"value": json_float(value), "target": json_float(target), "at_most": at_most}
+
+
+def _solver_targets(pi: dict, st: dict, f10: dict) -> dict:
+    """The solver's own targets: time per impact, the settled motion's time, speed-up and phase
+    error, the first impacts' speed-up."""
+    tg = st["targets"]
+    phase = max(json_float(st["phase_error_vs_alg1"]), json_float(st["phase_error_vs_python"]))
+    return {
+        "us_per_impact": _target(pi["compiled"]["us_per_impact_min"], pi["target_us"], True),
+        "steady_seconds": _target(st["compiled"]["cpu_min_s"], tg["time_s"], True),
+        "steady_speedup": _target(st["speedup_vs_dop853"], tg["speedup"], False),
+        "steady_phase_error": _target(phase, tg["phase"], True),
+        "first_speedup": _target(f10["speedup_vs_dop853"], f10["target_speedup"], False),
+    }
+
+
+def _compile_times(c: dict) -> dict:
+    """The compile and cache-load times (None where the record holds none: main() adds rule
+    performance_compile_time's), where the compile was measured, and the run's own warm-up."""
+    return {
+        "compile_seconds": json_float(c["cold_compile_s"]) if c else None,
+        "cache_load_seconds": json_float(c["cached_load_s"]) if c else None,
+        "compile_measured": c.get("measured", "workflow") if c else None,
+        "run_warm_up_seconds": json_float(c["run_warm_up_s"]) if c and "run_warm_up_s" in c else None,
+    }
 
 
 def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict, cs: dict) -> dict:

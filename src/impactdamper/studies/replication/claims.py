@@ -127,16 +127,8 @@ def compare_cycles(
     velocity_tol : float
         Largest velocity difference that agrees, relative to ``velocity_scale``.
     """
-    for name, v in (
-        ("T", T),
-        ("velocity_scale", velocity_scale),
-        ("time_tol", time_tol),
-        ("velocity_tol", velocity_tol),
-    ):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-            raise ValueError(f"`{name}` = {v!r} is not allowed: must be a positive finite number")
-    ta = [(float(i[0]), float(i[1])) if isinstance(i, (tuple, list)) else (float(i.t), float(i.velocity)) for i in a]
-    tb = [(float(i[0]), float(i[1])) if isinstance(i, (tuple, list)) else (float(i.t), float(i.velocity)) for i in b]
+    _check_positive(T=T, velocity_scale=velocity_scale, time_tol=time_tol, velocity_tol=velocity_tol)
+    ta, tb = _time_velocity(a), _time_velocity(b)
     counts, ks = (len(ta), len(tb)), (int(k_a), int(k_b))
 
     def fail(reason: str) -> CycleComparison:
@@ -151,6 +143,41 @@ def compare_cycles(
     k = k_a
     ua = [((t / T) % k, v) for t, v in ta]
     ub = [((t / T) % k, v) for t, v in tb]
+    best = _best_shift(ua, ub, k, velocity_scale)
+    if counts[0] != counts[1]:
+        # Report how far apart the paired ones are, but a missing impact never agrees.
+        extra = f"; the {min(counts)} paired differ by up to {best[0]:.1e} T" if best else ""
+        return fail(f"different impact counts: {counts[0]} and {counts[1]} per cycle{extra}")
+    if best is None:
+        return fail("the impacts cannot be paired one to one")
+    worst_t, j, pairs = best
+    worst_v = max(p[1] for p in pairs)
+    ok = worst_t <= time_tol and worst_v <= velocity_tol
+    reason = "" if ok else _disagreement(worst_t, worst_v, time_tol, velocity_tol)
+    return CycleComparison(
+        ks, counts, len(pairs), j, worst_t, worst_v, time_tol, velocity_tol, ok, reason, [list(p) for p in pairs]
+    )
+
+
+def _check_positive(**values: float) -> None:
+    """Raises ValueError naming the first of ``values`` that is not a positive finite number."""
+    for name, v in values.items():
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"`{name}` = {v!r} is not allowed: must be a positive finite number")
+
+
+def _time_velocity(impacts: Sequence) -> list[tuple[float, float]]:
+    """(t, velocity) of each impact, given as ``.t``/``.velocity`` or as a pair."""
+    return [
+        (float(i[0]), float(i[1])) if isinstance(i, (tuple, list)) else (float(i.t), float(i.velocity)) for i in impacts
+    ]
+
+
+def _best_shift(ua: list, ub: list, k: int, velocity_scale: float):
+    """The shift j = 0..k-1 of the phases ``ua`` (u = t/T mod k, velocity) that pairs each
+    impact of ``a`` one to one with the nearest of ``ub`` with the smallest largest phase
+    difference: (that difference, j, [(phase difference, relative velocity difference)]), or
+    None if no shift pairs them one to one."""
     best = None
     for j in range(k):
         pairs, used = [], set()
@@ -166,24 +193,11 @@ def compare_cycles(
         worst = max(p[0] for p in pairs)
         if best is None or worst < best[0]:
             best = (worst, j, pairs)
-    if counts[0] != counts[1]:
-        # Report how far apart the paired ones are, but a missing impact never agrees.
-        extra = f"; the {min(counts)} paired differ by up to {best[0]:.1e} T" if best else ""
-        return fail(f"different impact counts: {counts[0]} and {counts[1]} per cycle{extra}")
-    if best is None:
-        return fail("the impacts cannot be paired one to one")
-    worst_t, j, pairs = best
-    worst_v = max(p[1] for p in pairs)
-    ok = worst_t <= time_tol and worst_v <= velocity_tol
-    reason = (
-        ""
-        if ok
-        else (
-            f"time difference {worst_t:.1e} T > {time_tol:.0e}"
-            if worst_t > time_tol
-            else f"velocity difference {worst_v:.1e} > {velocity_tol:.0e}"
-        )
-    )
-    return CycleComparison(
-        ks, counts, len(pairs), j, worst_t, worst_v, time_tol, velocity_tol, ok, reason, [list(p) for p in pairs]
-    )
+    return best
+
+
+def _disagreement(worst_t: float, worst_v: float, time_tol: float, velocity_tol: float) -> str:
+    """Why paired cycles disagree: the time difference if it is too large, else the velocity's."""
+    if worst_t > time_tol:
+        return f"time difference {worst_t:.1e} T > {time_tol:.0e}"
+    return f"velocity difference {worst_v:.1e} > {velocity_tol:.0e}"
