@@ -99,7 +99,7 @@ def test_wheel_installs_and_runs_with_only_the_runtime_dependencies(tmp_path):
 
 # The modules only the workflow imports, whose third-party imports are in the workflow extra:
 # the figures' (matplotlib) and the config checker (pyyaml, jsonschema).
-WORKFLOW_MODULES = {"plotting.py", "branch_figure.py", "figures.py", "config_check.py"}
+WORKFLOW_MODULES = {"plotting.py", "branch_figure.py", "figures.py", "config_check.py", "config_reading.py"}
 
 
 def test_runtime_imports_are_declared_dependencies():

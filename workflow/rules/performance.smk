@@ -149,7 +149,16 @@ COMPILE_TIME = (
 rule performance_compile_time:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("performance/compile_record", "performance/compiled_speed"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "performance/compile_record",
+                "performance/compiled_speed",
+                "performance/front_door_speed",
+                "performance/timing",
+            ),
+            REPORTING,
+        ),
     output:
         "results/benchmarks/compile_time.json",
     log:
@@ -176,7 +185,16 @@ MAP_SETTLE_KEYS = ("settle_tol", "max_periods", "max_periods_after_nonperiodic",
 rule performance_compiled_map:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("performance/compile_record", "performance/compiled_speed"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "performance/compile_record",
+                "performance/compiled_speed",
+                "performance/front_door_speed",
+                "performance/timing",
+            ),
+            REPORTING,
+        ),
     output:
         "results/benchmarks/compiled_map.json",
     log:
@@ -205,7 +223,16 @@ rule performance_compiled_map:
 rule performance_compiled_speed:
     input:
         script="workflow/scripts/compiled_speed.py",
-        library=library(BASELINES, study("performance/compile_record", "performance/compiled_speed"), REPORTING),
+        library=library(
+            BASELINES,
+            study(
+                "performance/compile_record",
+                "performance/compiled_speed",
+                "performance/front_door_speed",
+                "performance/timing",
+            ),
+            REPORTING,
+        ),
         maps="results/benchmarks/compiled_map.json",
     output:
         "figures/compiled_speed.json",

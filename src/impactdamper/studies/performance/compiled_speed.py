@@ -2,18 +2,18 @@
 
 The measurement functions of ``workflow/scripts/compiled_speed.py`` (which describes each one and
 writes ``figures/compiled_speed.json``), on the paper's reference case (Timofeev et al. 2019,
-Fig. 2). The targets and the maps' settle settings are arguments of :func:`run` (the workflow
-passes the config's); every timing is CPU and wall time, with the 1-minute load average beside it.
+Fig. 2): the solver's own runs and the regime maps here, what a user's calls cost in
+:mod:`~impactdamper.studies.performance.front_door_speed`. The targets and the maps' settle
+settings are arguments of :func:`run` (the workflow passes the config's); every timing is CPU
+and wall time, with the 1-minute load average beside it
+(:mod:`~impactdamper.studies.performance.timing`).
 """
 
 from __future__ import annotations
 
-import math
 import os
 import platform
 import statistics
-import subprocess
-import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -28,15 +28,11 @@ from impactdamper.core.backends import warm_up
 from impactdamper.core.compiled.layout import N_DIAG
 from impactdamper.core.compiled.loop import count_kernel, pack_simulate_kernel, simulate_kernel
 from impactdamper.core.compiled.pack import pack_parameters, packing_values
-from impactdamper.core.compiled.settle import steady_kernel
 from impactdamper.core.steady import REGIMES
 from impactdamper.studies.performance.compile_record import compile_times
+from impactdamper.studies.performance.front_door_speed import front_door
+from impactdamper.studies.performance.timing import load, strip, timed
 
-# Batch points: gap x theta around the reference case (every cell a settled motion within the cap).
-BATCH_GAPS = (-9.0, -3.0)
-BATCH_THETAS = (0.8, 1.2)
-# Fresh processes timed for the command line's wall time (median taken).
-CLI_RUNS = 3
 RTOL = ATOL = 1e-10  # DOP853's tolerances named by the issue
 # The full config's theta map (config/config.yaml, maps.theta); its settle settings (the
 # SweepSettings fields settle_tol, max_periods, max_periods_after_nonperiodic,
@@ -45,34 +41,6 @@ MAP_GAPS = (-40.0, 15.0)
 MAP_THETAS = (0.5, 1.5)
 # Map points whose DOP853 cost is timed and extrapolated (a full DOP853 map would take hours).
 IVP_MAP_SAMPLE = 6
-
-
-def load() -> float:
-    return os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan
-
-
-def timed(fn, repeats: int) -> dict:
-    """CPU and wall times of ``repeats`` calls (after one warm-up call), min and median."""
-    result = fn()
-    cpu, wall = [], []
-    for _ in range(repeats):
-        c, w = time.process_time(), time.perf_counter()
-        result = fn()
-        cpu.append(time.process_time() - c)
-        wall.append(time.perf_counter() - w)
-    return {
-        "cpu_min_s": min(cpu),
-        "cpu_median_s": statistics.median(cpu),
-        "wall_min_s": min(wall),
-        "wall_median_s": statistics.median(wall),
-        "repeats": repeats,
-        "load_1min": load(),
-        "result": result,
-    }
-
-
-def strip(d: dict) -> dict:
-    return {k: v for k, v in d.items() if k != "result"}
 
 
 def count_events(p, t_end: float) -> int:
@@ -186,102 +154,6 @@ def steady(p, repeats: int, targets: dict) -> dict:
         "speedup_met": out["speedup_vs_dop853"] >= targets["steady_speedup"],
         "phase": targets["phase"],
         "phase_met": max(err_alg1, err_python) <= targets["phase"],
-    }
-    return out
-
-
-def front_door(p, repeats: int, batch_points: int, targets: dict, map_settings: dict) -> dict:
-    """What a user's calls cost: impactdamper.steady_state (auto and python backends), a batch
-    through impactdamper.steady_states against the kernels' own time, and the command line."""
-    public = timed(lambda: idp.steady_state(p), repeats)
-    python = timed(lambda: idp.steady_state(p, backend="python"), max(1, repeats // 10))
-    s = public["result"]
-    out = {
-        "steady_state": {
-            "auto": strip(public),
-            "python": strip(python),
-            "backend": s.backend,
-            "method": s.method,
-            "fallback": s.fallback,
-            "speedup_vs_python": python["wall_median_s"] / public["wall_median_s"],
-            "target_s": targets["public_steady_s"],
-            "met": public["wall_median_s"] <= targets["public_steady_s"],
-        }
-    }
-    # The batch: an n x n grid of (gap, theta), each point from Algorithm No. 2's step 1.
-    n = max(2, int(round(math.sqrt(batch_points))))
-    gg, tt = np.meshgrid(np.linspace(*BATCH_GAPS, n), np.linspace(*BATCH_THETAS, n))
-    values = np.column_stack([gg.ravel(), tt.ravel()])
-    settings = SweepSettings(**map_settings)  # the maps' caps (a map row's cells, here each from step 1)
-    c, w = time.process_time(), time.perf_counter()
-    res = idp.steady_states(p, ("gap", "theta"), values, settings=settings, chain=False)
-    batch_cpu, batch_wall = time.process_time() - c, time.perf_counter() - w
-    # The kernels' own time on the same points: the steady kernel on pre-packed parameters.
-    points = [p.replace(gap=float(g), theta=float(t)) for g, t in values]
-    packed = [(pack_parameters(q), idp.default_initial_state(q)) for q in points]
-    packed = [(pk, full) for pk, full in packed if not pk.fallback]
-    diag = np.zeros(N_DIAG)
-    c, w = time.process_time(), time.perf_counter()
-    for pk, full in packed:
-        steady_kernel(
-            pk.cm,
-            pk.fm,
-            pk.fc,
-            pk.fk,
-            pk.fg,
-            pk.s,
-            0.0,
-            full,
-            True,
-            settings.settle_tol,
-            settings.max_periods,
-            settings.max_period_multiple,
-            diag,
-        )
-    kernel_cpu, kernel_wall = time.process_time() - c, time.perf_counter() - w
-    out["batch"] = {
-        "points": len(values),
-        "grid": [n, n],
-        "gaps": list(BATCH_GAPS),
-        "thetas": list(BATCH_THETAS),
-        "public_cpu_s": batch_cpu,
-        "public_wall_s": batch_wall,
-        "kernel_cpu_s": kernel_cpu,
-        "kernel_wall_s": kernel_wall,
-        "us_per_point_public": 1e6 * batch_cpu / len(values),
-        "us_per_point_kernel": 1e6 * kernel_cpu / len(values),
-        "ratio": batch_cpu / kernel_cpu,
-        "kernel_points": len(packed),
-        "fallbacks": res.fallbacks,
-        "nonperiodic": int(np.sum(res.regime == "nonperiodic")),
-        "target_ratio": targets["batch_ratio"],
-        "met": batch_cpu / kernel_cpu <= targets["batch_ratio"],
-        "load_1min": load(),
-    }
-    # The command line, a fresh process each (the kernels from numba's warm cache).
-    walls = []
-    for _ in range(CLI_RUNS):
-        w = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "impactdamper", "steady", "--json"], check=True, capture_output=True)
-        walls.append(time.perf_counter() - w)
-    probe = (
-        "import sys, time; t = time.perf_counter(); import impactdamper; "
-        "print(time.perf_counter() - t, 'numba' in sys.modules)"
-    )
-    imports = [
-        subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True).stdout.split()
-        for _ in range(CLI_RUNS)
-    ]
-    out["cli"] = {
-        "command": "python -m impactdamper steady --json",
-        "runs": CLI_RUNS,
-        "wall_min_s": min(walls),
-        "wall_median_s": statistics.median(walls),
-        "import_median_s": statistics.median(float(i[0]) for i in imports),
-        "import_loads_numba": any(i[1] == "True" for i in imports),
-        "target_s": targets["cli_wall_s"],
-        "met": statistics.median(walls) <= targets["cli_wall_s"],
-        "load_1min": load(),
     }
     return out
 
