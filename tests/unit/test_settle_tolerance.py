@@ -33,7 +33,9 @@ def steady_state_compiled(p, **kwargs):
 
 def steady_state_described_by_the_reference(p, settle_tol=1e-10, max_periods=4000):
     """The kernels' period loop, the cycle described by the reference (as the ladder asks)."""
-    checked = check_settle_call(p, 0.0, None, None, settle_tol=settle_tol, max_periods=max_periods, describe="reference")
+    checked = check_settle_call(
+        p, 0.0, None, None, settle_tol=settle_tol, max_periods=max_periods, describe="reference"
+    )
     return get_backend("compiled")[0].settle(*checked)
 
 
