@@ -45,7 +45,7 @@ def test_auto_without_numba_runs_the_reference_and_says_why(monkeypatch):
 @pytest.mark.parametrize("bad", ["numba", "", None, 1, "Auto"])
 def test_a_bad_name_is_named(bad):
     with pytest.raises(
-        ValueError, match=r"^`backend` = .* is not allowed: must be one of 'auto', 'compiled', 'python'$"
+        ValueError, match=r"^`backend` = .* is not allowed: must be one of 'auto', 'compiled', 'python' or a Backend$"
     ):
         backends.get_backend(bad)
     with pytest.raises(ValueError, match="^`backend`"):

@@ -58,7 +58,7 @@ def test_bad_backend_is_named(call, bad):
     p = idp.Parameters()
     args = {"simulate": (p, p.T), "steady_state": (p,), "steady_states": (p, ("gap",), [[-5.8]])}[call]
     with pytest.raises(
-        ValueError, match=r"^`backend` = .* is not allowed: must be one of 'auto', 'compiled', 'python'$"
+        ValueError, match=r"^`backend` = .* is not allowed: must be one of 'auto', 'compiled', 'python' or a Backend$"
     ):
         getattr(idp, call)(*args, backend=bad)
 

@@ -21,7 +21,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import Model
 from impactdamper.core.periodicity import X1_MAX_FACTOR
 from impactdamper.core.steady import steady_state
-from impactdamper.core.validation import SETTLE_TOL_FLOOR, SettleOptions, check_settle_call
+from impactdamper.core.validation import SETTLE_TOL_FLOOR, check_settle_call
 
 
 # The backends: the pure-Python reference, the compiled loop with its compiled description, and
@@ -33,9 +33,10 @@ def steady_state_compiled(p, **kwargs):
 
 def steady_state_described_by_the_reference(p, settle_tol=1e-10, max_periods=4000):
     """The kernels' period loop, the cycle described by the reference (as the ladder asks)."""
-    p, t0, state, tol, opts = check_settle_call(p, 0.0, None, None, settle_tol, max_periods, 8)
-    options = SettleOptions(opts.settle_tol, opts.max_periods, opts.max_period_multiple, describe="reference")
-    return get_backend("compiled")[0].settle(p, t0, state, tol, options)
+    checked = check_settle_call(
+        p, 0.0, None, None, settle_tol=settle_tol, max_periods=max_periods, describe="reference"
+    )
+    return get_backend("compiled")[0].settle(*checked)
 
 
 BACKENDS = {

@@ -368,16 +368,14 @@ def _settle(values, rows, given, settings: SweepSettings, chain: bool, length: i
     )
     if not P:
         return res
-    rescue_settings = dataclasses.replace(settings, continuation=False, backend=run.name)
+    rescue_settings = dataclasses.replace(settings, continuation=False, backend=run)
     reference = dataclasses.replace(rescue_settings, backend="python")
     points = run.settle_row(
         rows,
         res,
         tolerances=settings.tolerances,
-        settle_tol=settings.settle_tol,
-        max_periods=settings.max_periods,
+        options=settings.settle,
         max_periods_after_nonperiodic=settings.max_periods_after_nonperiodic,
-        max_period_multiple=settings.max_period_multiple,
         chain_length=length if chain else 0,
         rescue=settings.rescue,
         given=given,
@@ -406,13 +404,15 @@ def _settle(values, rows, given, settings: SweepSettings, chain: bool, length: i
                 _store(res, i, pt, "rescue")
         elif reason == "failed":  # the work bound, as the reference's ladder meets it
             _store(res, i, failed_point(p, value, "", res.start_states[i], detail), "")
-        else:  # the reference's ladder, from the same neighbour or start
+        else:  # the ladder, from the same neighbour or start: the reference's where the backend
+            # gave the point up (``reason``), else the backend's own (its row settles no point)
             chained = chain and i % length != 0
             previous = _sweep_point(res, i - 1, _parameters(rows[i - 1])) if chained else None
             state = given[i].copy() if len(given) and not chained else None
-            _store(res, i, solve_point(p, value, previous, state=state, settings=reference), reason)
+            ladder = reference if reason else rescue_settings
+            _store(res, i, solve_point(p, value, previous, state=state, settings=ladder), reason)
     if settings.classify:
-        _classify(res, rows, settings, run.name)
+        _classify(res, rows, settings, run)
     return res
 
 

@@ -40,13 +40,21 @@ from impactdamper.analysis.cycle import (
     rescale_orbit,
 )
 from impactdamper.analysis.shooting import OrbitError, Shooting
+from impactdamper.core.backends import Backend, get_backend
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1, rescale_algorithm1
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, ScaleMap, require_parameters
 from impactdamper.core.simulate import Tolerances
-from impactdamper.core.steady import SteadyState, rescale_steady, start_in_first_period, steady_state
-from impactdamper.core.validation import check_state, check_tolerances, finite_argument, integer_argument
+from impactdamper.core.steady import SteadyState, rescale_steady, start_in_first_period
+from impactdamper.core.validation import (
+    SettleOptions,
+    check_start_state,
+    check_state,
+    check_tolerances,
+    finite_argument,
+    integer_argument,
+)
 
 __all__ = [
     "OrbitError",
@@ -184,6 +192,7 @@ def solve_orbit(
     settle_tol: float = 1e-10,
     max_periods: int = 4000,
     max_period_multiple: int = 8,
+    backend: str | Backend = "python",
 ) -> PeriodicOrbit:
     """Solve a periodic cycle directly (Newton shooting), check it and find its multipliers.
 
@@ -200,6 +209,9 @@ def solve_orbit(
     period_multiple : int, optional
         Solve for the seed's cycle repeated to this period multiple (a multiple of the seed's
         k, at most ``MAX_ORBIT_PERIOD_MULTIPLE``); default the seed's own.
+    backend : {"python", "compiled", "auto"} or Backend
+        Who simulates the seed ``"simulate"`` (:func:`~impactdamper.core.backends.get_backend`);
+        default the reference.
 
     Returns
     -------
@@ -214,12 +226,14 @@ def solve_orbit(
     SearchLimitError
         The seed's simulation exceeded its work bound.
     """
+    run = get_backend(backend)[0]
     p = require_parameters(p)
     tolerances = check_tolerances(tolerances)
     t0 = finite_argument("t0", t0)
     state = check_state(state, p)  # (checked even where "auto" takes Algorithm No. 1's orbit)
     if period_multiple is not None:
         period_multiple = integer_argument("period_multiple", period_multiple, 1, MAX_ORBIT_PERIOD_MULTIPLE)
+    options = SettleOptions(settle_tol, max_periods, max_period_multiple)
     if isinstance(seed, str) and seed == "alg1":
         for name, given in (("state", state is not None), ("t0", t0 != 0.0)):
             if given:
@@ -227,21 +241,19 @@ def solve_orbit(
                     f"`{name}` is not allowed with seed = 'alg1': Algorithm No. 1's orbit is closed-form and "
                     "has no start (seed 'simulate' starts from it)"
                 )
+    return _solve_orbit(p, seed, period_multiple, t0, state, tolerances, options, run)
+
+
+def _solve_orbit(p, seed, period_multiple, t0, state, tolerances, options, run) -> PeriodicOrbit:
+    """:func:`solve_orbit` on checked arguments (``run`` the backend, ``options`` the seed's
+    :class:`~impactdamper.core.validation.SettleOptions`)."""
     if not p.native_scales():
         # The same relative problem in the reference case's units, converted back.
         q = p.canonical()
         to_q = ScaleMap(p, q)
-        o = solve_orbit(
-            q,
-            _rescaled_seed(seed, to_q),
-            period_multiple=period_multiple,
-            t0=to_q.apply(start_in_first_period(p, t0), "time"),
-            state=None if state is None else to_q.full(state),
-            tolerances=tolerances,
-            settle_tol=settle_tol,
-            max_periods=max_periods,
-            max_period_multiple=max_period_multiple,
-        )
+        t0 = to_q.apply(start_in_first_period(p, t0), "time")
+        state = None if state is None else to_q.full(state)
+        o = _solve_orbit(q, _rescaled_seed(seed, to_q), period_multiple, t0, state, tolerances, options, run)
         return rescale_orbit(o, ScaleMap(q, p))
     if isinstance(seed, str):
         if seed not in SEEDS:
@@ -253,15 +265,7 @@ def solve_orbit(
             if orbit is not None:
                 return orbit
     if isinstance(seed, str):  # "simulate", or "auto" without Algorithm No. 1's attractor
-        seed = steady_state(
-            p,
-            t0=t0,
-            state=state,
-            tolerances=tolerances,
-            settle_tol=settle_tol,
-            max_periods=max_periods,
-            max_period_multiple=max_period_multiple,
-        )
+        seed = run.settle(p, t0, check_start_state(state, p, tolerances), tolerances, options)
     if isinstance(seed, Algorithm1Result):
         if not seed.exists:
             raise OrbitError(f"Algorithm No. 1 has no orbit: {seed.reason}")

@@ -23,22 +23,23 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import MISSING, dataclass, field, fields, replace
 
 import numpy as np
 
 from impactdamper.analysis.cycle import PeriodicOrbit, impact_states, least_period
 from impactdamper.analysis.lyapunov import DEFAULT_BLOCKS, DEFAULT_PERIODS
 from impactdamper.analysis.orbits import OrbitError, orbit_from_cycle
-from impactdamper.core.backends import check_backend
+from impactdamper.core.backends import Backend, check_backend
 from impactdamper.core.model import FREE
-from impactdamper.core.parameters import Parameters, state_scale
+from impactdamper.core.parameters import ArgumentTypeError, Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 from impactdamper.core.steady import SteadyState, describe_cycle, section_of
-from impactdamper.core.validation import MAX_PERIODS_LIMIT, check_settle_tol
+from impactdamper.core.validation import MAX_PERIODS_LIMIT, SettleOptions
 
 __all__ = [
     "SweepSettings",
+    "SWEEP_SETTLE",
     "SweepPoint",
     "FAILED",
     "LABELS_ORDER",
@@ -64,22 +65,40 @@ FAILED = "failed"
 LABELS_ORDER = ("stuck", "chatter", "multi_impact", "single_impact", "no_contact", "nonperiodic", FAILED)
 
 
-@dataclass(frozen=True)
+# A sweep point's settled-motion search: looser and shorter than a single point's (the
+# SettleOptions defaults), since each point starts from its settled neighbour.
+SWEEP_SETTLE = SettleOptions(settle_tol=1e-9, max_periods=150)
+
+
+class _SettleField:
+    """A field of :class:`SweepSettings`' ``settle`` read as its own (on the class: the default's)."""
+
+    def __set_name__(self, owner, name: str) -> None:
+        self.name = name
+
+    def __get__(self, settings, owner=None):
+        return getattr(SWEEP_SETTLE if settings is None else settings.settle, self.name)
+
+
+@dataclass(frozen=True, init=False)
 class SweepSettings:
     """How each sweep point is settled.
 
+    Built by keyword: ``SweepSettings(settle=SettleOptions(...), rescue=False)``, or with
+    :class:`~impactdamper.core.validation.SettleOptions`' fields by name (``settle_tol``,
+    ``max_periods``, ``max_period_multiple``), which replace those of ``settle``; they read back
+    as attributes (``settings.max_periods``).
+
     Attributes
     ----------
-    settle_tol : float
-        Relative section mismatch for a settled motion (see :func:`steady_state`).
-    max_periods : int
-        Forcing periods a point's simulation may take before it is ``nonperiodic``.
+    settle : SettleOptions
+        The settled-motion search of each point's simulation (default :data:`SWEEP_SETTLE`):
+        its section mismatch, its cap of forcing periods before a point is ``nonperiodic``
+        (more than twice its largest k, which the rescue needs) and the largest k tried.
     max_periods_after_nonperiodic : int
         The same cap when the neighbour the point starts from was itself nonperiodic (inside
         a chaotic band most points are; a periodic window there is found within this cap or
         by the rescue from its closest recurrence).
-    max_period_multiple : int
-        Largest k tried for T_c = k T.
     continuation : bool
         Use the accelerators 1-3 (closed form, orbit continuation, stroboscopic Newton);
         False: every point is simulated (steps 4-5 only, and the rescue with simulation).
@@ -87,10 +106,10 @@ class SweepSettings:
         Try the Newton rescue on points that did not settle.
     tolerances : Tolerances
         Event-solver tolerances.
-    backend : str
+    backend : str or Backend
         Who runs each simulation and each stroboscopic map (:data:`~impactdamper.core.backends.BACKENDS`:
-        ``"auto"``, ``"compiled"`` or ``"python"``, resolved by
-        :func:`~impactdamper.core.backends.get_backend`): the same motion either way.
+        ``"auto"``, ``"compiled"`` or ``"python"``, or a :class:`~impactdamper.core.backends.Backend`,
+        resolved by :func:`~impactdamper.core.backends.get_backend`): the same motion either way.
     classify : bool
         The many-point call (:func:`~impactdamper.analysis.batch.steady_states`) labels each
         point left ``nonperiodic`` after the rescue by its Lyapunov spectrum
@@ -102,37 +121,46 @@ class SweepSettings:
         periods of warm-up.
     """
 
-    settle_tol: float = 1e-9
-    max_periods: int = 150
+    settle: SettleOptions = SWEEP_SETTLE
     max_periods_after_nonperiodic: int = 50
-    max_period_multiple: int = 8
     continuation: bool = True
     rescue: bool = True
     tolerances: Tolerances = field(default_factory=Tolerances)
-    backend: str = "auto"
+    backend: str | Backend = "auto"
     classify: bool = False
     classify_periods: int = DEFAULT_PERIODS
+
+    settle_tol = _SettleField()
+    max_periods = _SettleField()
+    max_period_multiple = _SettleField()
+
+    def __init__(self, settle: SettleOptions = SWEEP_SETTLE, **changes) -> None:
+        if not isinstance(settle, SettleOptions):
+            raise ArgumentTypeError(f"`settle` = {settle!r} is not allowed: must be a SettleOptions")
+        own = fields(SweepSettings)[1:]
+        settle_changes = {f.name: changes.pop(f.name) for f in fields(SettleOptions) if f.name in changes}
+        for name in changes.keys() - {f.name for f in own}:
+            raise TypeError(f"SweepSettings() got an unexpected keyword argument {name!r}")
+        multiple = settle_changes.get("max_period_multiple", settle.max_period_multiple)
+        if isinstance(multiple, int) and 2 * multiple >= MAX_PERIODS_LIMIT:  # (no max_periods could hold it)
+            raise ValueError(
+                f"`max_period_multiple` = {multiple!r} is not allowed: must be below "
+                f"{MAX_PERIODS_LIMIT // 2} (max_periods, at most {MAX_PERIODS_LIMIT}, must exceed twice it)"
+            )
+        object.__setattr__(self, "settle", replace(settle, **settle_changes))
+        for f in own:
+            default = f.default_factory() if f.default is MISSING else f.default
+            object.__setattr__(self, f.name, changes.get(f.name, default))
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         for name in ("continuation", "rescue", "classify"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"`{name}` = {getattr(self, name)!r} is not allowed: must be True or False")
         check_backend(self.backend)
-        object.__setattr__(self, "settle_tol", check_settle_tol(self.settle_tol))
         if not isinstance(self.tolerances, Tolerances):
             raise ValueError(f"`tolerances` = {self.tolerances!r} is not allowed: must be a Tolerances")
-        if not (isinstance(self.max_period_multiple, int) and self.max_period_multiple >= 1):
-            raise ValueError(
-                f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be an integer >= 1"
-            )
-        if 2 * self.max_period_multiple >= MAX_PERIODS_LIMIT:  # (no max_periods could hold it: name the cause)
-            raise ValueError(
-                f"`max_period_multiple` = {self.max_period_multiple!r} is not allowed: must be below "
-                f"{MAX_PERIODS_LIMIT // 2} (max_periods, at most {MAX_PERIODS_LIMIT}, must exceed twice it)"
-            )
-        if not (
-            isinstance(self.max_periods, int) and 2 * self.max_period_multiple < self.max_periods <= MAX_PERIODS_LIMIT
-        ):
+        if not 2 * self.max_period_multiple < self.max_periods:  # (the rescue looks back over 2 k periods)
             raise ValueError(
                 f"`max_periods` = {self.max_periods!r} is not allowed: must be an integer > "
                 f"2 max_period_multiple = {2 * self.max_period_multiple}, at most {MAX_PERIODS_LIMIT}"

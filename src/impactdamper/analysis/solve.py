@@ -14,7 +14,8 @@ the Lyapunov spectrum of a motion      :func:`lyapunov_spectrum` (:class:`~impac
 (chaotic, quasi-periodic, periodic?)   four exponents per forcing period with errors, a label
 =====================================  ==========================================================
 
-Each takes ``backend`` (:data:`~impactdamper.core.backends.BACKENDS`, resolved by
+Each takes ``backend`` (:data:`~impactdamper.core.backends.BACKENDS`, or a
+:class:`~impactdamper.core.backends.Backend` object, resolved by
 :func:`~impactdamper.core.backends.get_backend`):
 
 * ``"python"`` -- the pure-Python reference of Timofeev et al. (2019), Algorithm No. 2
@@ -43,7 +44,7 @@ import numpy as np
 
 from impactdamper.analysis.batch import steady_states
 from impactdamper.analysis.lyapunov import lyapunov_spectrum
-from impactdamper.core.backends import BACKENDS, get_backend
+from impactdamper.core.backends import BACKENDS, Backend, get_backend
 from impactdamper.core.parameters import ArgumentTypeError, Parameters
 from impactdamper.core.simulate import MAX_SIMULATE_PERIODS, Tolerances, Trajectory
 from impactdamper.core.steady import SteadyState
@@ -59,7 +60,7 @@ def simulate(
     state: np.ndarray | None = None,
     tolerances: Tolerances | None = None,
     *,
-    backend: str = "auto",
+    backend: str | Backend = "auto",
 ) -> Trajectory:
     """Algorithm No. 2 with contact modes from ``t0`` to ``t_end``: the exact motion, eqs. (18)-(22).
 
@@ -72,7 +73,7 @@ def simulate(
         (x1, x2, x1', x2') at t0; default Algorithm No. 2's step 1.
     tolerances : Tolerances, optional
         Event-solver tolerances.
-    backend : {"auto", "compiled", "python"}
+    backend : {"auto", "compiled", "python"} or Backend
         See the module docstring.
 
     Returns
@@ -104,7 +105,7 @@ def steady_state(
     max_periods: int = 4000,
     max_period_multiple: int = 8,
     attractor: bool = False,
-    backend: str = "auto",
+    backend: str | Backend = "auto",
 ) -> SteadyState:
     """The settled motion at ``p``: Algorithm No. 2 from its step 1 (or ``state`` at ``t0``)
     until the motion repeats, and the settled cycle described (period T_c = k T, impacts with
@@ -125,7 +126,7 @@ def steady_state(
         elsewhere the simulation. Where attractors coexist it may differ from the motion the
         simulation from ``state`` settles on (reference case, Delta0/x_st = -8.8). False
         (default): always the simulation.
-    backend : {"auto", "compiled", "python"}
+    backend : {"auto", "compiled", "python"} or Backend
         Who runs the simulation (module docstring).
 
     Returns
@@ -143,7 +144,13 @@ def steady_state(
     if not isinstance(attractor, bool):
         raise ArgumentTypeError(f"`attractor` = {attractor!r} is not allowed: must be True or False")
     p, t0, state, tol, options = check_settle_call(
-        p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple
+        p,
+        t0,
+        state,
+        tolerances,
+        settle_tol=settle_tol,
+        max_periods=max_periods,
+        max_period_multiple=max_period_multiple,
     )
     if attractor:
         from impactdamper.analysis.orbits import algorithm1_attractor  # (the orbits load on first use)

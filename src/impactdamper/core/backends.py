@@ -10,12 +10,12 @@ stroboscopic period test of the settled motion -- runs in two implementations:
   it hands a point it does not cover to the reference and says why (``fallback``:
   ``matrix_exponential``, ``scales``, ``error``).
 
-A backend is an object with the five operations of :class:`Backend`; every caller (the front
-door, the sweeps' ladder and rescue, the batch, the Lyapunov spectrum) asks :func:`get_backend`
-for one by name.
+A backend is a :class:`Backend`: it writes ``run`` and ``settle``, and the other operations
+default to the reference's. Every caller (the front door, the sweeps' ladder and rescue, the
+batch, the Lyapunov spectrum) asks :func:`get_backend` for one, by name or as the object itself.
 ``"auto"`` is resolved here and only here: the compiled backend where numba imports, else the
-reference with the reason ``numba_unavailable``. A new backend is one module with an object of
-this protocol and one line of :data:`REGISTRY`.
+reference with the reason ``numba_unavailable``. A new backend is one module with a
+:class:`Backend` object and one line of :data:`REGISTRY` (or the object passed as ``backend``).
 
 The compiled backend's module is imported on first use: ``import impactdamper`` loads no numba.
 """
@@ -24,15 +24,15 @@ from __future__ import annotations
 
 import importlib
 import time
+from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Protocol
 
 import numpy as np
 
 from impactdamper.core.parameters import Parameters
-from impactdamper.core.simulate import EventDrivenSolver, Trajectory, simulate
-from impactdamper.core.steady import SteadyState, steady_state
+from impactdamper.core.simulate import EventDrivenSolver, Trajectory, simulate_checked
+from impactdamper.core.steady import SteadyState, settle
 from impactdamper.core.tangent import TangentRun, tangent_walk
 from impactdamper.core.validation import SettleOptions, Tolerances
 
@@ -115,8 +115,11 @@ def row_arrays(points: int, impacts: int) -> RowArrays:
     )
 
 
-class Backend(Protocol):
-    """What a backend does (arguments already validated: :mod:`impactdamper.core.validation`).
+class Backend(ABC):
+    """What a backend does (arguments already validated, once, by the caller:
+    :mod:`impactdamper.core.validation`). A new backend subclasses this and writes ``run`` and
+    ``settle``; the other operations default to the reference's (a backend overrides those it
+    computes itself, as the compiled one does all of them).
 
     ``run(p, t_end, t0, state, tolerances)``
         Algorithm No. 2 from ``state`` (None: its step 1) at ``t0`` to ``t_end``: a
@@ -127,7 +130,8 @@ class Backend(Protocol):
     ``map_step(p, tolerances)``
         The stroboscopic map of ``p``: a callable ``step(state, k)`` -> (state, mode) k periods
         on from ``state`` at t = 0, or None where it does not apply (the caller then runs the
-        reference's :func:`~impactdamper.analysis.strobe.stroboscopic_step`).
+        reference's :func:`~impactdamper.analysis.strobe.stroboscopic_step`). Default: the
+        reference's event-driven solver.
     ``settle_row(rows, out, **options)``
         A generator settling many points (``rows``: shape (P, len(Parameters.names())), each a
         valid parameter set) into ``out``'s arrays (:class:`RowArrays`), in order; it yields ``(i, reason, detail)``
@@ -135,53 +139,30 @@ class Backend(Protocol):
         before the generator goes on (chained points then continue from it). ``reason``:
         ``"rescue"`` (nonperiodic within the cap; ``detail`` the run's last sections),
         ``"failed"`` (a work bound; ``detail`` the error's one line), else a fallback reason
-        for the reference's ladder ("" where the backend settles no point itself).
+        for the reference's ladder ("" where the backend settles no point itself). Default:
+        every point to the caller's reference ladder.
     ``lyapunov(p, t0, state, tolerances, periods, transient, warmup)``
         The growth of an orthonormal frame of perturbations along the motion from ``state``
         (None: step 1) at ``t0`` in [0, T), period by period: ``transient`` periods of motion,
         ``warmup`` periods of the walk discarded, ``periods`` returned
         (:class:`~impactdamper.core.tangent.TangentRun`, ``backend`` and ``fallback`` set;
-        ``p`` in the native scales). The reference is
+        ``p`` in the native scales). Default: the reference's
         :func:`~impactdamper.core.tangent.tangent_walk`.
+    ``warm_up()``
+        Compile what the backend compiles (default: nothing).
     """
 
     name: str
 
+    @abstractmethod
     def run(self, p: Parameters, t_end: float, t0: float, state, tolerances: Tolerances) -> Trajectory: ...
 
+    @abstractmethod
     def settle(
         self, p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions
     ) -> SteadyState: ...
 
-    def map_step(self, p: Parameters, tolerances: Tolerances) -> Callable | None: ...
-
-    def settle_row(self, rows: np.ndarray, out: RowArrays, **options) -> Iterator[tuple[int, str, object]]: ...
-
-    def lyapunov(
-        self, p: Parameters, t0: float, state, tolerances: Tolerances, periods: int, transient: int, warmup: int
-    ) -> TangentRun: ...
-
-
-class PythonBackend:
-    """The pure-Python reference as a backend."""
-
-    name = "python"
-
-    def run(self, p, t_end, t0, state, tolerances):
-        return simulate(p, t_end, t0, state, tolerances)
-
-    def settle(self, p, t0, state, tolerances, options):
-        return steady_state(
-            p,
-            t0=t0,
-            state=state,
-            tolerances=tolerances,
-            settle_tol=options.settle_tol,
-            max_periods=options.max_periods,
-            max_period_multiple=options.max_period_multiple,
-        )
-
-    def map_step(self, p, tolerances):
+    def map_step(self, p: Parameters, tolerances: Tolerances) -> Callable | None:
         def step(state, k):
             solver = EventDrivenSolver(p, t0=0.0, state=state, tolerances=tolerances)
             solver.advance(k * p.T)
@@ -189,16 +170,30 @@ class PythonBackend:
 
         return step
 
-    def settle_row(self, rows, out, **options):
-        """Every point to the caller's reference ladder (reason "")."""
+    def settle_row(self, rows: np.ndarray, out: RowArrays, **options) -> Iterator[tuple[int, str, object]]:
         for i in range(len(rows)):
             yield i, "", None
 
-    def lyapunov(self, p, t0, state, tolerances, periods, transient, warmup):
+    def lyapunov(
+        self, p: Parameters, t0: float, state, tolerances: Tolerances, periods: int, transient: int, warmup: int
+    ) -> TangentRun:
         return tangent_walk(p, t0, state, tolerances, periods, transient, warmup)
 
-    def warm_up(self) -> None:
+    def warm_up(self) -> None:  # noqa: B027 (a default, not an operation to write)
         """Nothing to compile."""
+
+
+class PythonBackend(Backend):
+    """The pure-Python reference as a backend: its two own operations on checked arguments
+    (the others are :class:`Backend`'s defaults, the reference's)."""
+
+    name = "python"
+
+    def run(self, p, t_end, t0, state, tolerances):
+        return simulate_checked(p, t_end, t0, state, tolerances)
+
+    def settle(self, p, t0, state, tolerances, options):
+        return settle(p, t0, state, tolerances, options)
 
 
 PYTHON = PythonBackend()
@@ -214,11 +209,14 @@ AUTO = "compiled"
 NUMBA_UNAVAILABLE = "numba_unavailable"
 
 
-def check_backend(backend: object) -> str:
-    """``backend`` if it is one of :data:`BACKENDS`, else a one-line error naming it."""
+def check_backend(backend: object) -> str | Backend:
+    """``backend`` if it is one of :data:`BACKENDS` or a :class:`Backend` object, else a
+    one-line error naming it."""
+    if isinstance(backend, Backend):
+        return backend
     if not isinstance(backend, str) or not (backend == "auto" or backend in REGISTRY):
         allowed = ", ".join(repr(b) for b in ("auto", *REGISTRY))
-        raise ValueError(f"`backend` = {backend!r} is not allowed: must be one of {allowed}")
+        raise ValueError(f"`backend` = {backend!r} is not allowed: must be one of {allowed} or a Backend")
     return backend
 
 
@@ -228,15 +226,18 @@ def _load(name: str) -> Backend:
 
 
 def get_backend(backend: object = "auto") -> tuple[Backend, str]:
-    """(the backend to run, why it is not the one asked for or ""): ``"auto"`` is the compiled
-    backend where numba imports, else the reference (:data:`NUMBA_UNAVAILABLE`).
+    """(the backend to run, why it is not the one asked for or ""): a :class:`Backend` object
+    itself, a registered name's object; ``"auto"`` is the compiled backend where numba imports,
+    else the reference (:data:`NUMBA_UNAVAILABLE`).
 
     Raises
     ------
     ValueError
         ``backend`` not one of :data:`BACKENDS`, named.
     """
-    if check_backend(backend) != "auto":
+    if isinstance(check_backend(backend), Backend):
+        return backend, ""
+    if backend != "auto":
         return _load(backend), ""
     try:
         return _load(AUTO), ""
@@ -244,7 +245,7 @@ def get_backend(backend: object = "auto") -> tuple[Backend, str]:
         return PYTHON, NUMBA_UNAVAILABLE
 
 
-def warm_up(backend: str = "auto") -> float:
+def warm_up(backend: str | Backend = "auto") -> float:
     """Compile (or load from numba's cache) a backend's kernels, so that later calls and forked
     workers pay no compilation. Returns the seconds it took."""
     t = time.perf_counter()

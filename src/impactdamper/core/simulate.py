@@ -52,6 +52,7 @@ __all__ = [
     "Trajectory",
     "EventDrivenSolver",
     "simulate",
+    "simulate_checked",
     "default_initial_state",
     "Tolerances",
     "EVENT_KINDS",
@@ -509,18 +510,18 @@ def simulate(
     SearchLimitError
         The run exceeded its work bound (see :meth:`EventDrivenSolver.advance`).
     """
-    p, t_end, t0, full, tolerances = check_run_call(p, t_end, t0, state, tolerances, max_periods)
+    return simulate_checked(*check_run_call(p, t_end, t0, state, tolerances, max_periods))
+
+
+def simulate_checked(p: Parameters, t_end: float, t0: float, full, tolerances: Tolerances) -> Trajectory:
+    """:func:`simulate` on arguments already checked (``check_run_call`` of
+    :mod:`impactdamper.core.validation`): the reference backend's ``run``."""
     if not p.native_scales():
         # Solve the same relative problem in the reference case's units, and convert back.
         q = p.canonical()
         to_q, to_p = ScaleMap(p, q), ScaleMap(q, p)
-        traj = simulate(
-            q,
-            to_q.apply(t_end, "time"),
-            to_q.apply(t0, "time"),
-            None if full is None else to_q.full(full),
-            tolerances,
-            max_periods=max_periods,
+        traj = simulate_checked(
+            q, to_q.apply(t_end, "time"), to_q.apply(t0, "time"), None if full is None else to_q.full(full), tolerances
         )
         return rescale_trajectory(traj, to_p)
     solver = EventDrivenSolver(p, t0=t0, state=full, tolerances=tolerances)

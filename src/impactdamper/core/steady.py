@@ -217,9 +217,7 @@ def steady_state(
     t0: float = 0.0,
     state: np.ndarray | None = None,
     tolerances: Tolerances | None = None,
-    settle_tol: float = 1e-10,
-    max_periods: int = 4000,
-    max_period_multiple: int = 8,
+    **options,
 ) -> SteadyState:
     """Run Algorithm No. 2 from Algorithm No. 2's step 1 (or ``state`` at ``t0``) until the
     motion repeats, and describe the settled cycle.
@@ -233,6 +231,10 @@ def steady_state(
         (x1, x2, x1', x2') at t0; default the paper's step 1 (see ``default_initial_state``).
     tolerances : Tolerances, optional
         Event-solver tolerances.
+    **options
+        The search's :class:`~impactdamper.core.validation.SettleOptions` by name (defaults
+        there):
+
     settle_tol : float
         Section mismatch (relative) below which the motion counts as repeating, in
         [:data:`~impactdamper.core.validation.SETTLE_TOL_FLOOR`, 1): the
@@ -259,7 +261,7 @@ def steady_state(
         The motion needs more work than the event-driven solver's bound (see
         :meth:`impactdamper.EventDrivenSolver.advance`).
     """
-    return settle(*check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple))
+    return settle(*check_settle_call(p, t0, state, tolerances, **options))
 
 
 def settle(p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions) -> SteadyState:

@@ -14,7 +14,7 @@ answer. This is the one module to import an argument check from:
   (:mod:`impactdamper.core.algorithm1`, :mod:`impactdamper.core.simulate`): the tolerances
   (:class:`Tolerances`, :func:`check_tolerances`, :func:`check_gap_tol`), the start state and
   time (:func:`check_state`, :func:`check_start_time`), the settled-motion search's options
-  (:func:`check_settle_options`, :class:`SettleOptions`) and the lines for a run beyond the work
+  (:class:`SettleOptions`) and the lines for a run beyond the work
   bound (:func:`work_limit_message`, :func:`work_bound_message`), which both backends word alike.
 """
 
@@ -53,7 +53,6 @@ __all__ = [
     "work_limit_message",
     "work_bound_message",
     "check_settle_tol",
-    "check_settle_options",
     "check_settle_call",
     "check_run_call",
     "SettleOptions",
@@ -271,34 +270,13 @@ def check_settle_tol(settle_tol: object) -> float:
     return value
 
 
-def check_settle_options(settle_tol, max_periods, max_period_multiple) -> tuple[float, int, int]:
-    """The settled-motion search's options, checked: ``settle_tol`` in [SETTLE_TOL_FLOOR, 1),
-    ``max_periods`` an integer in [2, MAX_PERIODS_LIMIT], ``max_period_multiple`` an integer in
-    [1, max_periods - 1].
-
-    Raises
-    ------
-    TypeError, ValueError
-        Naming the argument and what is allowed.
-    """
-    settle_tol = check_settle_tol(settle_tol)
-    max_periods = integer_argument("max_periods", max_periods, 2, MAX_PERIODS_LIMIT)
-    max_period_multiple = integer_argument("max_period_multiple", max_period_multiple, 1, MAX_PERIODS_LIMIT - 1)
-    if max_period_multiple >= max_periods:
-        # Named first: max_periods, the bound usually given (``steady --max-periods 2`` blamed
-        # --max-period-multiple, a flag never given, at its default 8); the CLI names the flag given.
-        raise ValueError(
-            f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
-            f"{max_period_multiple!r}: max_periods must exceed max_period_multiple"
-        )
-    return settle_tol, max_periods, max_period_multiple
-
-
 @dataclass(frozen=True)
 class SettleOptions:
-    """The settled-motion search's options (:func:`impactdamper.core.steady.steady_state`),
-    checked on construction (:func:`check_settle_options`): a backend's ``settle`` takes them
-    validated.
+    """The settled-motion search's options (:func:`impactdamper.core.steady.steady_state`): the
+    one carrier of these keywords, built once by a front door (``steady_state``,
+    ``solve_orbit``; the sweeps' :class:`~impactdamper.analysis.point.SweepSettings` holds one)
+    and handed to every backend's ``settle`` and ``settle_row``. Checked on construction: a
+    TypeError or ValueError naming the field and what is allowed.
 
     Attributes
     ----------
@@ -322,22 +300,35 @@ class SettleOptions:
     describe: str = "backend"
 
     def __post_init__(self) -> None:
-        checked = check_settle_options(self.settle_tol, self.max_periods, self.max_period_multiple)
-        for name, value in zip(("settle_tol", "max_periods", "max_period_multiple"), checked):
-            object.__setattr__(self, name, value)
+        settle_tol = check_settle_tol(self.settle_tol)
+        max_periods = integer_argument("max_periods", self.max_periods, 2, MAX_PERIODS_LIMIT)
+        max_period_multiple = integer_argument(
+            "max_period_multiple", self.max_period_multiple, 1, MAX_PERIODS_LIMIT - 1
+        )
+        if max_period_multiple >= max_periods:
+            # Named first: max_periods, the bound usually given (``steady --max-periods 2`` blamed
+            # --max-period-multiple, a flag never given, at its default 8); the CLI names the flag given.
+            raise ValueError(
+                f"`max_periods` = {max_periods!r} is not allowed with `max_period_multiple` = "
+                f"{max_period_multiple!r}: max_periods must exceed max_period_multiple"
+            )
+        object.__setattr__(self, "settle_tol", settle_tol)
+        object.__setattr__(self, "max_periods", max_periods)
+        object.__setattr__(self, "max_period_multiple", max_period_multiple)
         if self.describe not in ("backend", "reference"):
             raise ValueError(f"`describe` = {self.describe!r} is not allowed: must be 'backend' or 'reference'")
 
 
-def check_settle_call(p, t0, state, tolerances, settle_tol, max_periods, max_period_multiple):
-    """A settled-motion call's arguments (:func:`impactdamper.core.steady.steady_state`, the
-    front door's ``steady_state``), checked once and in that order (the first bad one raises a
-    TypeError or ValueError naming it): (p, t0, state or None, Tolerances, :class:`SettleOptions`)."""
+def check_settle_call(p, t0, state, tolerances, **options):
+    """A settled-motion call's arguments (the front door's ``steady_state``, the reference's
+    :func:`impactdamper.core.steady.steady_state`), checked once and in that order (the first
+    bad one raises a TypeError or ValueError naming it): (p, t0, state or None, Tolerances,
+    :class:`SettleOptions` of ``options``, its fields by name)."""
     p = require_parameters(p)
     t0 = finite_argument("t0", t0)
     tolerances = check_tolerances(tolerances)
     state = check_start_state(state, p, tolerances)
-    return p, t0, state, tolerances, SettleOptions(settle_tol, max_periods, max_period_multiple)
+    return p, t0, state, tolerances, SettleOptions(**options)
 
 
 def check_run_call(p, t_end, t0, state, tolerances, max_periods: int):

@@ -131,7 +131,7 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
     (path, message), the key's path in the config and ": <why>", or None if every job would
     accept its values.
     """
-    from impactdamper.core.validation import check_settle_options
+    from impactdamper.core.validation import SettleOptions
 
     reference = config["reference"]
     try:
@@ -146,7 +146,7 @@ def config_problem(config: dict) -> tuple[tuple, str] | None:
     solver = config.get("solver")
     if solver:
         try:
-            check_settle_options(solver["settle_tol"], solver["max_periods"], solver["max_period_multiple"])
+            SettleOptions(solver["settle_tol"], solver["max_periods"], solver["max_period_multiple"])
         except ValueError as err:
             return ("solver",), ": " + str(err)
         for section in ("sweep", "maps"):

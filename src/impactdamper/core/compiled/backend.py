@@ -17,7 +17,7 @@ import dataclasses
 
 import numpy as np
 
-from impactdamper.core.backends import PYTHON, row_arrays
+from impactdamper.core.backends import PYTHON, Backend, row_arrays
 from impactdamper.core.compiled.layout import (
     DIAG_ERR,
     DIAG_IMPACTS,
@@ -68,7 +68,21 @@ def _work_bound(p: Parameters, tolerances: Tolerances, diag: np.ndarray) -> str:
     return work_bound_message(p, tolerances, what, int(diag[DIAG_IMPACTS]))
 
 
-class CompiledBackend:
+def _by_reference(p: Parameters, tolerances: Tolerances, flag: int, err: int, diag: np.ndarray, reference):
+    """Where the kernels did not apply (a pack flag) or stopped (``err``): a work bound raises
+    the reference's error worded from the kernels' diagnostics; else the reference runs
+    (``reference()``: its result, or its own error) and its result says why (``fallback``)."""
+    if not flag and err in WORK_BOUND_ERRORS:
+        raise SearchLimitError(_work_bound(p, tolerances, diag))
+    result = reference()
+    reason = FALLBACK_REASONS[flag] if flag else "error"
+    if isinstance(result, SteadyState):  # (frozen)
+        return dataclasses.replace(result, fallback=reason)
+    result.fallback = reason
+    return result
+
+
+class CompiledBackend(Backend):
     """Algorithm No. 2 and the settled motion in the numba kernels (see the module docstring)."""
 
     name = "compiled"
@@ -86,11 +100,7 @@ class CompiledBackend:
             except PACKING_ERRORS:
                 flag = FALLBACK_REASONS.index("error")
         if flag or err:
-            if not flag and err in WORK_BOUND_ERRORS:
-                raise SearchLimitError(_work_bound(p, tolerances, diag))
-            traj = PYTHON.run(p, t_end, t0, state, tolerances)  # the reference's own error, or its run
-            traj.fallback = FALLBACK_REASONS[flag] if flag else "error"
-            return traj
+            return _by_reference(p, tolerances, flag, err, diag, lambda: PYTHON.run(p, t_end, t0, state, tolerances))
         return Trajectory.from_arrays(model_of(p), ev_k, ev_f, seg_m, seg_f)
 
     def settle(self, p: Parameters, t0: float, state, tolerances: Tolerances, options: SettleOptions) -> SteadyState:
@@ -101,13 +111,15 @@ class CompiledBackend:
         ``options.describe`` ``"reference"``) is described by the reference's
         :func:`~impactdamper.core.steady.describe_run` on that trajectory."""
         pack = pack_parameters(p, tolerances)
+        diag = np.zeros(N_DIAG)
+
+        def reference():
+            return PYTHON.settle(p, t0, state, tolerances, options)
+
         if pack.fallback:
-            return dataclasses.replace(
-                PYTHON.settle(p, t0, state, tolerances, options), fallback=FALLBACK_REASONS[pack.fallback]
-            )
+            return _by_reference(p, tolerances, pack.fallback, 0, diag, reference)
         start = start_in_first_period(p, t0)
         full = default_initial_state(p) if state is None else state
-        diag = np.zeros(N_DIAG)
         (err, regime, k, cycle_start, frac, x1_max, n, residual, states, imp, _, ev_k, ev_f, seg_m, seg_f) = (
             steady_kernel(
                 pack.cm,
@@ -126,10 +138,7 @@ class CompiledBackend:
             )
         )
         if err:
-            if err in WORK_BOUND_ERRORS:
-                raise SearchLimitError(_work_bound(p, tolerances, diag))
-            # The reference's own error, or its result.
-            return dataclasses.replace(PYTHON.settle(p, t0, state, tolerances, options), fallback="error")
+            return _by_reference(p, tolerances, 0, err, diag, reference)
         trajectory = Trajectory.from_arrays(model_of(p), ev_k, ev_f, seg_m, seg_f)
         if frac > 0.0 or options.describe == "reference":  # (contact phases: as the reference does)
             s = describe_run(p, start, states, int(k), float(residual), full, tolerances, trajectory=trajectory)
@@ -182,10 +191,8 @@ class CompiledBackend:
         out,
         *,
         tolerances: Tolerances,
-        settle_tol: float,
-        max_periods: int,
+        options: SettleOptions,
         max_periods_after_nonperiodic: int,
-        max_period_multiple: int,
         chain_length: int,
         rescue: bool,
         given: np.ndarray,
@@ -195,9 +202,9 @@ class CompiledBackend:
         reference's ladder without accelerators, into ``out``'s arrays (``regime_code``,
         ``period_multiple``, ``impacts_per_cycle``, ``periods``, ``section_modes``, ``x1_max``,
         ``contact_fraction``, ``residual``, ``start_states``, ``sections``, ``phases``,
-        ``velocities``). Point i continues point i - 1 unless ``chain_length`` is 0 or divides
-        i; else it starts from ``given[i]`` (shape (P, 4); (0, 4): none) or Algorithm No. 2's
-        step 1. ``max_periods_after_nonperiodic`` caps a point whose predecessor did not settle.
+        ``velocities``) with ``options``' period test and cap. Point i continues point i - 1
+        unless ``chain_length`` is 0 or divides i; else it starts from ``given[i]`` (shape
+        (P, 4); (0, 4): none) or Algorithm No. 2's step 1. ``max_periods_after_nonperiodic`` caps a point whose predecessor did not settle.
         Yields the points the kernels leave to the caller (:class:`~impactdamper.core.backends.Backend`):
         a pack flag or an error (its reason), a work bound (``"failed"``, with the reference's
         line), a nonperiodic point with ``rescue`` (``"rescue"``, with the run's last
@@ -223,10 +230,10 @@ class CompiledBackend:
                 prev,
                 chain_length,
                 rescue,
-                settle_tol,
-                max_periods,
+                options.settle_tol,
+                options.max_periods,
                 max_periods_after_nonperiodic,
-                max_period_multiple,
+                options.max_period_multiple,
                 given,
                 ints,
                 floats,
@@ -268,11 +275,11 @@ class CompiledBackend:
         loop and its work bound); where they do not apply, or stop on an error other than the
         work bound, the reference walks (``fallback``)."""
         pack = pack_parameters(p, tolerances)
-        err = 0
+        err, diag = 0, np.zeros(N_DIAG)
         if not pack.fallback:
             full = default_initial_state(p) if state is None else np.asarray(state, float)
             increments, sections = np.empty((periods, 4)), np.empty((periods, 4))
-            counts, diag = np.zeros(4, np.int64), np.zeros(N_DIAG)
+            counts = np.zeros(4, np.int64)
             args = (pack.cm, pack.fm, pack.fc, pack.fk, pack.fg, pack.s)
             err, dimension, contact = tangent_kernel(
                 *args, t0, full.copy(), transient, warmup, periods, increments, sections, counts, diag
@@ -289,11 +296,14 @@ class CompiledBackend:
                     contact_time=float(contact),
                     backend="compiled",
                 )
-            if err in WORK_BOUND_ERRORS:
-                raise SearchLimitError(_work_bound(p, tolerances, diag))
-        run = PYTHON.lyapunov(p, t0, state, tolerances, periods, transient, warmup)  # (or its own error)
-        run.fallback = FALLBACK_REASONS[pack.fallback] if pack.fallback else "error"
-        return run
+        return _by_reference(
+            p,
+            tolerances,
+            pack.fallback,
+            err,
+            diag,
+            lambda: PYTHON.lyapunov(p, t0, state, tolerances, periods, transient, warmup),
+        )
 
     def warm_up(self) -> None:
         """Every kernel run once on the reference case (compiled, or loaded from numba's cache)."""
@@ -306,10 +316,18 @@ class CompiledBackend:
 
         rows = np.array([[getattr(p, c) for c in PARAMETER_COLUMNS]] * 2)
         out = row_arrays(2, 4)
-        options = dict(settle_tol=1e-9, max_periods=40, max_periods_after_nonperiodic=40, max_period_multiple=8)
+        options = SettleOptions(settle_tol=1e-9, max_periods=40)
         given = np.zeros((0, 4))
         for _ in self.settle_row(
-            rows, out, tolerances=tol, **options, chain_length=2, rescue=True, given=given, tail_rows=17
+            rows,
+            out,
+            tolerances=tol,
+            options=options,
+            max_periods_after_nonperiodic=40,
+            chain_length=2,
+            rescue=True,
+            given=given,
+            tail_rows=17,
         ):
             pass
 
