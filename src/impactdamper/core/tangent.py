@@ -61,6 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from impactdamper.core.impact_law import impact_jump  # (J_R, re-exported)
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver
@@ -130,25 +131,6 @@ def saltation(G: np.ndarray, f_minus: np.ndarray, f_plus: np.ndarray, grad: np.n
     """
     rate = float(grad @ f_minus) + h_t
     return G + np.outer(f_plus - G @ f_minus, grad) / rate
-
-
-def impact_jump(m1: float, m2: float, R: float) -> np.ndarray:
-    """Jacobian J_R of the impact law, eqs. (21)-(22), on (x1, x2, x1', x2'), shape (4, 4).
-
-    The pulse S = m1 m2/(m1 + m2) (1 + R) (x2' - x1') adds S/m1 to x1' and -S/m2 to x2': so
-    x1'+ = x1' + (1 + R) m2/M (x2' - x1') and x2'+ = x2' - (1 + R) m1/M (x2' - x1'), M = m1 + m2.
-    Positions are unchanged. det J_R = -R.
-    """
-    M = m1 + m2
-    a, c = (1.0 + R) * m2 / M, (1.0 + R) * m1 / M
-    return np.array(
-        [
-            [1.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0 - a, a],
-            [0.0, 0.0, c, 1.0 - c],
-        ]
-    )
 
 
 def impact_saltation(
