@@ -3,9 +3,9 @@
 A cycle of period T_c = k T with z impacts of the two-mass system of Timofeev et al. (2019) is
 the solution of 5 z equations in 5 z unknowns, built from the exact flow between impacts
 (eq. 18, :mod:`impactdamper.core.linear`) and the impact law of eqs. (21)-(22). This module
-owns those equations (:class:`Shooting`, with exact Jacobian and damped Newton), the impact
-map and pulse, and the saltation and monodromy matrices that give the cycle's Floquet
-multipliers. :mod:`impactdamper.analysis.orbits` (one cycle from a seed) and
+owns those equations (:class:`Shooting`, with exact Jacobian and damped Newton) and the
+saltation and monodromy matrices that give the cycle's Floquet multipliers; the impact map and
+pulse are the impact law's (:mod:`impactdamper.core.impact_law`). :mod:`impactdamper.analysis.orbits` (one cycle from a seed) and
 :mod:`impactdamper.analysis.continuation` (branches of cycles) both solve these equations, and
 :mod:`impactdamper.analysis.cycle` checks a solution.
 
@@ -51,7 +51,7 @@ import math
 
 import numpy as np
 
-from impactdamper.core.impact_law import impact_matrix, impact_pulse  # (the impact map and pulse, re-exported)
+from impactdamper.core.impact_law import impact_matrix
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.parameters import state_scale
@@ -59,8 +59,6 @@ from impactdamper.core.parameters import state_scale
 __all__ = [
     "Shooting",
     "OrbitError",
-    "impact_pulse",
-    "impact_matrix",
     "saltation_matrix",
     "monodromy_matrix",
     "ORBIT_TOL",

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactdamper.core.impact_law import impact_jump  # (J_R, re-exported)
+from impactdamper.core.impact_law import impact_jump
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver
@@ -74,7 +74,6 @@ __all__ = [
     "tangent_walk",
     "free_field",
     "saltation",
-    "impact_jump",
     "impact_saltation",
     "capture_saltation",
     "liftoff_saltation",
@@ -143,7 +142,7 @@ def impact_saltation(
     M, b, omega :
         The free mode (eqs. 2, 9): y' = M y + b sin(omega t).
     jump : ndarray, shape (4, 4)
-        :func:`impact_jump`.
+        J_R, :func:`impactdamper.core.impact_law.impact_jump`.
     t : float
         Impact time, s.
     before : ndarray, shape (4,)
