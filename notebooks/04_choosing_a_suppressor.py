@@ -61,6 +61,7 @@ import impactdamper as idp
 from impactdamper.analysis import response
 from impactdamper.reporting import plotting
 from impactdamper.studies.design import design
+from impactdamper.studies import vocabulary
 
 plt.style.use(plotting.STYLE_FILE)
 
@@ -116,7 +117,7 @@ for r, color, text in ((mine, "C0", "your suppressor"), (best, "C2", "optimal im
     ax.plot(r.thetas, [q.up.max_abs_x1 for q in r.points], "-", color=color, lw=1.0, label=f"{text}, upward")
     ax.plot(r.thetas, [q.down.max_abs_x1 for q in r.points], "--", color=color, lw=0.9, label=f"{text}, downward")
     ax.plot([r.peak_where()[0]], [r.peak()], "o", color=color, ms=4)
-ax.set_xlabel(r"$\theta = \omega/\omega_1$")
+ax.set_xlabel(vocabulary.SPEC["theta"].label)  # (the parameter table's axis label)
 ax.set_ylabel(r"$\max|x_1|/x_{st}$")
 ax.legend(fontsize=7)
 plt.show()

@@ -46,10 +46,10 @@ from lyapunov_checks import (
     run_state,
     scale,
 )
+from impactdamper.core.impact_law import impact_jump
 from impactdamper.core.tangent import (
     capture_saltation,
     free_field,
-    impact_jump,
     impact_saltation,
     liftoff_saltation,
     saltation,

@@ -160,7 +160,7 @@ rule lyapunov_speed:
 rule lyapunov_report:
     input:
         script="workflow/scripts/lyapunov_report.py",
-        library=library(study("lyapunov/record"), REPORTING),
+        library=library(study("lyapunov/record", "vocabulary"), REPORTING),
         sweep="figures/lyapunov_sweep.csv",
         map="figures/lyapunov_map.csv",
         checks="figures/lyapunov_checks.json",

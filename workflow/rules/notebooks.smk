@@ -70,6 +70,7 @@ rule notebook_choosing_a_suppressor:
                 "design/tasks",
                 "design/tmd",
                 "design/verdict",
+                "vocabulary",
             ),
             REPORTING,
         ),

@@ -281,7 +281,7 @@ rule boundaries_check:
 rule fig_sweep_bifurcation:
     input:
         script="workflow/scripts/fig_sweep_bifurcation.py",
-        library=library(study("config"), REPORTING),
+        library=library(study("config", "vocabulary"), REPORTING),
         style=STYLE,
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
@@ -307,7 +307,7 @@ rule fig_sweep_bifurcation:
 rule fig_sweep_regimes:
     input:
         script="workflow/scripts/fig_sweep_regimes.py",
-        library=library(study("sweeps/gapsweep"), REPORTING),
+        library=library(study("sweeps/gapsweep", "vocabulary"), REPORTING),
         style=STYLE,
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
@@ -328,7 +328,7 @@ rule fig_sweep_suppression:
     input:
         script="workflow/scripts/fig_sweep_suppression.py",
         style=STYLE,
-        library=library(study("config"), REPORTING),
+        library=library(study("config", "vocabulary"), REPORTING),
         sweep="figures/sweep_gap.csv",
         random="figures/sweep_random.csv",
     output:
@@ -379,7 +379,15 @@ rule sweep_report:
     input:
         script="workflow/scripts/sweep_report.py",
         library=library(
-            study("config", "intervals", "sweeps/branches", "sweeps/gapsweep", "sweeps/record", "sweeps/results"),
+            study(
+                "config",
+                "intervals",
+                "sweeps/branches",
+                "sweeps/gapsweep",
+                "sweeps/record",
+                "sweeps/results",
+                "vocabulary",
+            ),
             REPORTING,
         ),
         sweep="figures/sweep_gap.csv",

@@ -74,8 +74,8 @@ def main(reference: dict, lyapunov: dict, map_csv, out_pdf, out_png) -> None:
     )
     handles.append(star)
     names.append("stated case")
-    ax.set_xlabel("initial gap " + SPEC["gap"].label)
-    ax.set_ylabel("frequency ratio " + SPEC["theta"].label)
+    ax.set_xlabel(SPEC["gap"].long_label)
+    ax.set_ylabel(SPEC["theta"].long_label)
     outside_legend(fig, handles, names, where="lower", ncol=3, markerscale=2)
     finish_figure(fig, out_pdf, out_png)
 

@@ -34,7 +34,7 @@ from impactdamper.studies.vocabulary import SPEC
 
 CLASSES = list(REGIME_COLORS)
 AXIS_LABEL = {
-    "theta": "frequency ratio " + SPEC["theta"].label,
+    "theta": SPEC["theta"].long_label,
     "damping": f"damping ratios ${SPEC['delta1'].symbol} = {SPEC['delta2'].symbol} = \\delta$",
 }
 REFERENCE_VALUE = {"theta": "theta", "damping": "delta1"}
@@ -121,11 +121,11 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
         ("stated", float(reference["gap"]), {"marker": "*", "ms": 9, "color": "#f1c40f"}),
         ("located", located_gap(located_json), {"marker": "D", "ms": 5, "color": "w"}),
     ):
-        label = f"{case} case ($\\Delta_0/x_{{\\mathrm{{st}}}}$ = {gap:g})"
+        label = f"{case} case (${SPEC['gap'].symbol}$ = {gap:g})"
         ax.plot([gap], [ref], **style, mec="k", mew=0.6, ls="none", label=label)
     ax.set_xlim(gaps[0], gaps[-1])
     ax.set_ylim(slow[0], slow[-1])
-    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    ax.set_xlabel(SPEC["gap"].long_label)
     ax.set_ylabel(AXIS_LABEL[name])
     ax.grid(False)
     handles, _ = ax.get_legend_handles_labels()

@@ -25,6 +25,7 @@ from impactdamper.studies.config import located_gap
 from impactdamper.reporting.records import read_csv, read_json, run_stage, split_floats
 from impactdamper.reporting.figures import outside_legend
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, dots, figure_size, finish_figure, use_style
+from impactdamper.studies.vocabulary import SPEC
 
 
 DOT = 1.2  # marker size of the sweep dots (points^2)
@@ -106,7 +107,7 @@ def main(
         for ax in panels:
             ax.axvline(x, color="C2", lw=0.7, ls="-.", label="stated and located cases" if text == "stated" else None)
     _exponent_panel(lower, read_csv(lyapunov_csv))
-    lower.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    lower.set_xlabel(SPEC["gap"].long_label)
     h0, l0 = axes[0].get_legend_handles_labels()
     h1, l1 = axes[1].get_legend_handles_labels()
     order = [

@@ -22,6 +22,7 @@ from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, run_stage
 from impactdamper.reporting.plotting import ANNOTATION_SIZE, figure_size, finish_figure, label_bands, use_style
+from impactdamper.studies.vocabulary import SPEC
 
 
 SHORT = {"stuck": "S", "np": "np"}
@@ -86,7 +87,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
     for i, (ax, window) in enumerate(zip(zooms, ZOOMS)):
         drawn.append((ax, _panel(ax, rows, rnd, window, False)))
         ax.set_title(f"zoom {'abc'[i]}", loc="left")
-        ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+        ax.set_xlabel(SPEC["gap"].long_label)
         if i == 2:
             ax.set_yticklabels([])
         # The window, outlined and named in the top panel.
@@ -110,7 +111,7 @@ def main(sweep_csv, random_csv, out_pdf, out_png) -> None:
             va="bottom",
             fontsize=ANNOTATION_SIZE,
         )
-    top.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    top.set_xlabel(SPEC["gap"].long_label)
     present = {gs.regime_of_label(r["label"]) for r in rows + rnd}
     fig.legend(
         handles=[

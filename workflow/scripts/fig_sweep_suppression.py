@@ -17,6 +17,7 @@ from impactdamper.reporting.records import cell_float, read_csv, run_stage
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.reporting.plotting import dots, figure_size, finish_figure, use_style
 from impactdamper.analysis.transitions import object_alone_amplitude, rigid_amplitude
+from impactdamper.studies.vocabulary import SPEC
 
 
 def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
@@ -50,7 +51,7 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
     )
     for value, text, color, ls in refs:
         ax.axhline(value, color=color, ls=ls, lw=0.8, label=f"{text} ({value:.2f})")
-    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    ax.set_xlabel(SPEC["gap"].long_label)
     ax.set_ylabel("$\\max|x_1|/x_{\\mathrm{st}}$")
     ax.set_ylim(0.0, 1.12 * max(r[0] for r in refs))
     ax.legend(loc="lower left", fontsize="small", ncol=2, markerscale=4)

@@ -36,7 +36,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from impactdamper.analysis.shooting import OrbitError, impact_matrix, impact_pulse, monodromy_matrix
+from impactdamper.analysis.shooting import OrbitError, monodromy_matrix
+from impactdamper.core.impact_law import impact_matrix, impact_pulse
 from impactdamper.core.events import SearchLimitError, Segment, march
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, ScaleMap, state_scale

@@ -3,9 +3,9 @@
 A cycle of period T_c = k T with z impacts of the two-mass system of Timofeev et al. (2019) is
 the solution of 5 z equations in 5 z unknowns, built from the exact flow between impacts
 (eq. 18, :mod:`impactdamper.core.linear`) and the impact law of eqs. (21)-(22). This module
-owns those equations (:class:`Shooting`, with exact Jacobian and damped Newton), the impact
-map and pulse, and the saltation and monodromy matrices that give the cycle's Floquet
-multipliers. :mod:`impactdamper.analysis.orbits` (one cycle from a seed) and
+owns those equations (:class:`Shooting`, with exact Jacobian and damped Newton) and the
+saltation and monodromy matrices that give the cycle's Floquet multipliers; the impact map and
+pulse are the impact law's (:mod:`impactdamper.core.impact_law`). :mod:`impactdamper.analysis.orbits` (one cycle from a seed) and
 :mod:`impactdamper.analysis.continuation` (branches of cycles) both solve these equations, and
 :mod:`impactdamper.analysis.cycle` checks a solution.
 
@@ -51,6 +51,7 @@ import math
 
 import numpy as np
 
+from impactdamper.core.impact_law import impact_matrix
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.parameters import state_scale
@@ -58,8 +59,6 @@ from impactdamper.core.parameters import state_scale
 __all__ = [
     "Shooting",
     "OrbitError",
-    "impact_pulse",
-    "impact_matrix",
     "saltation_matrix",
     "monodromy_matrix",
     "ORBIT_TOL",
@@ -214,20 +213,6 @@ class Shooting:
             if norm <= ORBIT_TOL and (step <= ORBIT_TOL or (it >= NEWTON_STALL and step <= NEWTON_STALL_STEP)):
                 return u, it, norm
         raise OrbitError(f"Newton did not converge in {max_iterations} iterations (residual {norm:.3g})")
-
-
-def impact_pulse(p: Parameters, v):
-    """The pulse S = m_red (1 + R) v of eq. (21), N s, for closing velocities v (m/s)."""
-    return p.reduced_mass * (1.0 + p.R) * v
-
-
-def impact_matrix(p: Parameters) -> np.ndarray:
-    """J_R of eqs. (21)-(22): x1' += S/m1, x2' -= S/m2 with S = m_red (1 + R)(x2' - x1').
-    Shape (4, 4), acting on (x1, x2, x1', x2') just before the impact."""
-    D = impact_pulse(p, 1.0)
-    e = np.array([0.0, 0.0, 1.0 / p.m1, -1.0 / p.m2])
-    w = np.array([0.0, 0.0, -1.0, 1.0])
-    return np.eye(4) + D * np.outer(e, w)
 
 
 def saltation_matrix(model: Model, t: float, before: np.ndarray) -> np.ndarray:

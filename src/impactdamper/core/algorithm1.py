@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
+from impactdamper.core.impact_law import impact_pulse
 from impactdamper.core.linear import characteristic_roots, forced_amplitudes, mode_shape_ratios
 from impactdamper.core.model import FORCED_AMPLITUDE_LIMIT, Model
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, ScaleMap, most_extreme, require_parameters
@@ -219,7 +220,7 @@ def _algorithm1(p: Parameters, gap_tol: float) -> Algorithm1Result:
     x1p, x2p = forced_amplitudes(p)
     U1 = float(abs(x2p - x1p))
     eps21 = math.atan2((x2p - x1p).imag, (x2p - x1p).real)
-    D = p.reduced_mass * (1.0 + p.R)
+    D = impact_pulse(p, 1.0)  # D = m_red (1 + R), eq. (14)
     denom = 1.0 - D * dx21s_T
     if not abs(denom) > 1.0 / FORCED_AMPLITUDE_LIMIT:
         if p.delta1 == 0.0 and p.delta2 == 0.0:

@@ -19,7 +19,8 @@ and Delta >= 0 always. Two modes of motion:
 
 At an impact (Delta = 0 while closing) the stereomechanical law of eqs. (14), (21)-(22) acts:
 the pulse S = m1 m2/(m1 + m2) (1 + R) v, with v = x2' - x1' the closing velocity, changes
-x1' by +S/m1 and x2' by -S/m2, so the relative velocity becomes -R v and momentum is conserved.
+x1' by +S/m1 and x2' by -S/m2, so the relative velocity becomes -R v and momentum is conserved
+(stated once, in :mod:`impactdamper.core.impact_law`).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import math
 import numpy as np
 
 from impactdamper.core.events import LinearFunctional
+from impactdamper.core.impact_law import apply_impact
 from impactdamper.core.linear import MODE_CACHE_SIZE, LinearMode, free_mode, stuck_mode
 from impactdamper.core.parameters import LINEAR_PARAMETERS, Parameters, most_extreme
 
@@ -137,7 +139,7 @@ class Model:
 
     # --- contact -------------------------------------------------------------------
     def impact(self, full: np.ndarray) -> tuple[np.ndarray, float, float]:
-        """Apply eqs. (21)-(22) to a state at Delta = 0.
+        """Apply eqs. (21)-(22) to a state at Delta = 0 (:func:`~impactdamper.core.impact_law.apply_impact`).
 
         Returns
         -------
@@ -148,13 +150,7 @@ class Model:
         S : float
             The pulse, N s.
         """
-        p = self.p
-        v = max(float(full[3] - full[2]), 0.0)
-        S = p.reduced_mass * (1.0 + p.R) * v
-        after = np.array(full, dtype=float)
-        after[2] += S / p.m1
-        after[3] -= S / p.m2
-        return after, v, S
+        return apply_impact(self.p, full)
 
     def stick(self, full: np.ndarray) -> tuple[np.ndarray, float]:
         """Plastic capture into persistent contact: both bodies take the centre-of-mass

@@ -93,6 +93,9 @@ class ParameterSpec:
         Its name in plain text (the README): ``theta``, ``Delta0/x_st``.
     label : str
         Its axis label in a figure (TeX text, math in dollars): ``$\\mu = m_2/m_1$``.
+    long_label : str
+        Its axis label where a figure has room to name it in words: ``initial gap
+        $\\Delta_0/x_{\\mathrm{st}}$`` (by default, ``label``: it names it already).
     """
 
     name: str
@@ -104,6 +107,11 @@ class ParameterSpec:
     macro: str
     plain: str
     label: str
+    long_label: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.long_label:
+            object.__setattr__(self, "long_label", self.label)
 
     def ok(self, value: float) -> bool:
         """Whether ``value`` (finite) is in the parameter's range."""
@@ -124,9 +132,11 @@ _IN_RANGE = {
 # a row here and a field of Parameters (tests/unit/test_parameters.py holds the two together).
 # fmt: off
 PARAMETER_TABLE = (
-    # name, range, typical value, role, help; then its symbol, macro-name part, plain name, axis label.
+    # name, range, typical value, role, help; then its symbol, macro-name part, plain name, axis
+    # label (and a longer one, where it differs).
     ParameterSpec("theta", "> 0", 1.0, "linear", "forcing frequency ratio omega/omega1",
-                  "\\theta", "Theta", "theta", "$\\theta = \\omega/\\omega_1$"),
+                  "\\theta", "Theta", "theta", "$\\theta = \\omega/\\omega_1$",
+                  "frequency ratio $\\theta = \\omega/\\omega_1$"),
     ParameterSpec("mu", "> 0", 0.08, "linear", "mass ratio m2/m1",
                   "\\mu", "Mu", "mu", "$\\mu = m_2/m_1$"),
     ParameterSpec("N", "> 0", 0.5, "linear", "frequency ratio omega2/omega1",
@@ -138,7 +148,8 @@ PARAMETER_TABLE = (
     ParameterSpec("R", "in [0, 1]", 0.7, "impact", "coefficient of restitution, in [0, 1]",
                   "R", "R", "R", "restitution $R$"),
     ParameterSpec("gap", "", 5.8, "impact", "initial gap Delta0/x_st",
-                  "\\Delta_0/x_{\\mathrm{st}}", "Gap", "Delta0/x_st", "$\\Delta_0/x_{\\mathrm{st}}$"),
+                  "\\Delta_0/x_{\\mathrm{st}}", "Gap", "Delta0/x_st", "$\\Delta_0/x_{\\mathrm{st}}$",
+                  "initial gap $\\Delta_0/x_{\\mathrm{st}}$"),
     ParameterSpec("omega", "> 0", 10.0, "scale", "forcing frequency, rad/s",
                   "\\omega", "Omega", "omega", "forcing frequency $\\omega$, rad/s"),
     ParameterSpec("x_st", "> 0", 1.0, "scale", "static deflection P0/c1, m",

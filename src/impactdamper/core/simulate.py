@@ -34,6 +34,7 @@ import numpy as np
 
 from impactdamper.core.constants import CURVATURE_FLOOR, DEPARTURE_FLOOR, DEPARTURE_ULPS, REBOUND_FLOOR, SAME_TIME_ULPS
 from impactdamper.core.constants import STEPS_AT_START, STEPS_PER_PERIOD  # (the work bound)
+from impactdamper.core import impact_law
 from impactdamper.core.events import LinearFunctional, SearchLimitError, Segment, StepBudget, march
 from impactdamper.core.model import FREE, STUCK, Model, model_of
 from impactdamper.core.parameters import NATIVE_SCALES, Parameters, ScaleMap, require_parameters
@@ -377,7 +378,7 @@ class EventDrivenSolver:
     def _impact(self, t: float, full: np.ndarray) -> None:
         after, v, S = self.model.impact(full)
         self._record(Event(t, "impact", v, S, full, after, t))
-        self._leave_contact(t, after, rebound=self.p.R * v)
+        self._leave_contact(t, after, rebound=impact_law.rebound(self.p, v))
 
     def _leave_contact(self, t: float, full: np.ndarray, rebound: float) -> None:
         """After an impact (or at a start on the stop): rebound, separate, or stick."""
@@ -385,7 +386,7 @@ class EventDrivenSolver:
         F = model.force_in_contact(t, full)
         a = F / p.reduced_mass  # relative acceleration pressing the bodies together
         if a > 0.0 and rebound * rebound <= 2.0 * a * self.tol.chatter_tol * model.length_scale:
-            self._stick(t, full, t + (2.0 * rebound / ((1.0 - p.R) * a) if p.R < 1.0 else 0.0))
+            self._stick(t, full, impact_law.accumulation_time(p, t, rebound, a))
             return
         departure = self._gap_departure(t, full, rebound)
         if departure is None:  # nothing pulls the bodies apart: they stay together

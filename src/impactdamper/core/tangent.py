@@ -61,6 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from impactdamper.core.impact_law import impact_jump
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver
@@ -73,7 +74,6 @@ __all__ = [
     "tangent_walk",
     "free_field",
     "saltation",
-    "impact_jump",
     "impact_saltation",
     "capture_saltation",
     "liftoff_saltation",
@@ -132,25 +132,6 @@ def saltation(G: np.ndarray, f_minus: np.ndarray, f_plus: np.ndarray, grad: np.n
     return G + np.outer(f_plus - G @ f_minus, grad) / rate
 
 
-def impact_jump(m1: float, m2: float, R: float) -> np.ndarray:
-    """Jacobian J_R of the impact law, eqs. (21)-(22), on (x1, x2, x1', x2'), shape (4, 4).
-
-    The pulse S = m1 m2/(m1 + m2) (1 + R) (x2' - x1') adds S/m1 to x1' and -S/m2 to x2': so
-    x1'+ = x1' + (1 + R) m2/M (x2' - x1') and x2'+ = x2' - (1 + R) m1/M (x2' - x1'), M = m1 + m2.
-    Positions are unchanged. det J_R = -R.
-    """
-    M = m1 + m2
-    a, c = (1.0 + R) * m2 / M, (1.0 + R) * m1 / M
-    return np.array(
-        [
-            [1.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0 - a, a],
-            [0.0, 0.0, c, 1.0 - c],
-        ]
-    )
-
-
 def impact_saltation(
     M: np.ndarray, b: np.ndarray, omega: float, jump: np.ndarray, t: float, before: np.ndarray
 ) -> np.ndarray:
@@ -161,7 +142,7 @@ def impact_saltation(
     M, b, omega :
         The free mode (eqs. 2, 9): y' = M y + b sin(omega t).
     jump : ndarray, shape (4, 4)
-        :func:`impact_jump`.
+        J_R, :func:`impactdamper.core.impact_law.impact_jump`.
     t : float
         Impact time, s.
     before : ndarray, shape (4,)

@@ -35,8 +35,8 @@ def _greek(plain: str) -> str:
     return re.sub(r"[A-Za-z]{2,}", letter, plain)
 
 
-# The gap's axis label where a figure has room to name it: the table's label after its name.
-GAP_AXIS_LABEL = f"initial gap {SPEC['gap'].label}"
+# The gap's axis label where a figure has room to name it (the table's long label).
+GAP_AXIS_LABEL = SPEC["gap"].long_label
 # Each parameter's plain name in Unicode (the README's tables), by name.
 UNICODE = {s.name: _greek(s.plain) for s in PARAMETER_TABLE}
 

@@ -25,6 +25,7 @@ import numpy as np
 from numba import njit
 
 from impactdamper.core.compiled.flow import full_state, modal_coefficients, mode_size, mode_state, of_state
+from impactdamper.core.compiled.impact import accumulation_time, apply_impact, rebound
 from impactdamper.core.compiled.layout import (
     DIAG_ERR,
     DIAG_IMPACTS,
@@ -70,7 +71,6 @@ from impactdamper.core.compiled.layout import (
     S_MRED,
     S_OMEGA,
     S_OMEGA1,
-    S_R,
     S_STUCK_RES,
     S_T,
 )
@@ -215,8 +215,7 @@ def _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a
     )
     a = F / s[S_MRED]
     if a > 0.0 and rebound * rebound <= 2.0 * a * s[S_CHATTER] * s[S_LSCALE]:
-        R = s[S_R]
-        t_inf = t + (2.0 * rebound / ((1.0 - R) * a) if R < 1.0 else 0.0)
+        t_inf = accumulation_time(s, t, rebound, a)
         _stick(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, full, t_inf)
         return
     dm, dg = _gap_departure(fc, s, t, full, rebound)
@@ -228,16 +227,13 @@ def _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a
 
 @njit(cache=True, inline="always")
 def _impact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, full):
-    """Eqs. (21)-(22): the pulse S = m_red (1 + R) v; then rebound, separate or stick."""
-    v = max(full[3] - full[2], 0.0)
-    S = s[S_MRED] * (1.0 + s[S_R]) * v
-    after = full.copy()
-    after[2] += S / s[S_M1]
-    after[3] -= S / s[S_M2]
+    """Eqs. (21)-(22) (:mod:`~impactdamper.core.compiled.impact`): the pulse S = m_red (1 + R) v;
+    then rebound, separate or stick."""
+    after, v, S = apply_impact(s, full)
     _record_event(s, sf, si, ev_k, ev_f, t, IMPACT, v, S, full, after, t)
     if si[SI_ERR]:
         return
-    _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, after, s[S_R] * v)
+    _leave_contact(cm, fc, s, sf, si, y0, alpha, ev_k, ev_f, seg_m, seg_f, seg_a, t, after, rebound(s, v))
 
 
 @njit(cache=True)

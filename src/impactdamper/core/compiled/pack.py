@@ -84,9 +84,11 @@ class Pack:
 # (compile-time constants), never by position, so a parameter inserted in the table shifts
 # nothing silently.
 PARAMETER_COLUMNS = Parameters.names()
-C_THETA, C_MU, C_N = (PARAMETER_COLUMNS.index(n) for n in ("theta", "mu", "N"))
-C_DELTA1, C_DELTA2, C_R, C_GAP = (PARAMETER_COLUMNS.index(n) for n in ("delta1", "delta2", "R", "gap"))
-C_OMEGA, C_XST, C_M1 = (PARAMETER_COLUMNS.index(n) for n in ("omega", "x_st", "m1"))
+_COLUMN = {name: i for i, name in enumerate(PARAMETER_COLUMNS)}
+C_THETA, C_MU, C_N = _COLUMN["theta"], _COLUMN["mu"], _COLUMN["N"]
+C_DELTA1, C_DELTA2 = _COLUMN["delta1"], _COLUMN["delta2"]
+C_R, C_GAP = _COLUMN["R"], _COLUMN["gap"]
+C_OMEGA, C_XST, C_M1 = _COLUMN["omega"], _COLUMN["x_st"], _COLUMN["m1"]
 # Pack flags (pack_many's second output), as in FALLBACK_REASONS: 0 the kernels apply.
 _PACK_OK, _PACK_EXPM, _PACK_SCALES, _PACK_ERROR = 0, 1, 2, 3
 # LAPACK's dgeev as numpy's eig calls it for a real matrix, reached from compiled code through

@@ -25,6 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
+from impactdamper.core.compiled.impact import impact_jump
 from impactdamper.core.compiled.layout import (
     ERR_CAPACITY,
     ERR_WALK,
@@ -45,7 +46,6 @@ from impactdamper.core.compiled.layout import (
     S_M1,
     S_M2,
     S_OMEGA,
-    S_R,
     S_T,
     S_XST,
 )
@@ -146,13 +146,8 @@ def _impact_saltation(Mf, bf, s, t, before, S, f_minus, f_plus, after):
     """The impact's saltation matrix into S (4 x 4): J_R + (f+ - J_R f-) n^T / (n . f-),
     n = (1, -1, 0, 0); the identity at a touch of zero closing velocity (see
     :func:`impactdamper.core.tangent.impact_saltation`)."""
-    m1, m2, R, w = s[S_M1], s[S_M2], s[S_R], s[S_OMEGA]
-    M = m1 + m2
-    a, c = (1.0 + R) * m2 / M, (1.0 + R) * m1 / M
-    for i in range(4):
-        for k in range(4):
-            S[i, k] = 1.0 if i == k else 0.0
-    S[2, 2], S[2, 3], S[3, 2], S[3, 3] = 1.0 - a, a, c, 1.0 - c
+    w = s[S_OMEGA]
+    impact_jump(s, S)
     _field(Mf, bf, 4, w, t, before, f_minus)
     rate = f_minus[0] - f_minus[1]
     if rate == 0.0:

@@ -25,6 +25,7 @@ from impactdamper.analysis.lyapunov import (
 )
 from impactdamper.reporting import latex
 from impactdamper.reporting.latex import MacroFile
+from impactdamper.studies.vocabulary import tex
 from impactdamper.reporting.texrecord import (
     COUNT,
     TEXT,
@@ -375,7 +376,7 @@ def math_bound(digits: int) -> Format:
 BENETTIN_TABLE = Table(
     colspec="rrrrrrr",
     header=(
-        r"$\Delta_0/x_{\mathrm{st}}$ & $\lambda_1 T$ & std.\ error & Benettin & std.\ error & "
+        tex("gap") + r" & $\lambda_1 T$ & std.\ error & Benettin & std.\ error & "
         r"$|\mathrm{difference}|$ & same motion"
     ),
     columns=(

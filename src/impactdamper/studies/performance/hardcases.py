@@ -43,6 +43,7 @@ import scipy.optimize
 
 from impactdamper.baselines import highprecision as hp
 from impactdamper.core.algorithm1 import algorithm1
+from impactdamper.core.impact_law import rebound
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core.model import FREE, Model
 from impactdamper.core.parameters import REFERENCE, Parameters
@@ -186,6 +187,7 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
     repeated_delta2 = 0.8829865207640838  # eq. (4) has a double root at N = 0.9 (solved in mpmath)
     gap, theta, mu = SPEC["gap"].symbol, SPEC["theta"].symbol, SPEC["mu"].symbol  # the labels' symbols
     d1, d2 = SPEC["delta1"].symbol, SPEC["delta2"].symbol
+    undamped = {"delta1": 0.0, "delta2": 0.0}  # (and the conservative case: elastic besides)
     return [
         HardCase(
             "grazing_no_contact",
@@ -212,13 +214,13 @@ def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
             "zero_damping",
             f"${d1} = {d2} = 0$",
             "purely imaginary roots (no decay of the free motion)",
-            {"delta1": 0.0, "delta2": 0.0},
+            undamped,
         ),
         HardCase(
             "conservative",
             f"${d1} = {d2} = 0$, $R = 1$",
             "no dissipation at all: the run can only end at its period limit",
-            {"delta1": 0.0, "delta2": 0.0, "R": 1.0},
+            {**undamped, "R": 1.0},
         ),
         HardCase(
             "repeated_roots",
@@ -398,7 +400,7 @@ def check_impact_law(traj) -> tuple[bool, dict]:
         if e.kind == "impact":
             v = b[3] - b[2]
             worst["closing"] = max(worst["closing"], -v / vscale)
-            worst["restitution"] = max(worst["restitution"], abs((a[3] - a[2]) + p.R * v) / vscale)
+            worst["restitution"] = max(worst["restitution"], abs((a[3] - a[2]) + rebound(p, v)) / vscale)
         elif e.kind == "stick":
             worst["restitution"] = max(worst["restitution"], abs(a[3] - a[2]) / vscale)
         elif e.kind == "liftoff":

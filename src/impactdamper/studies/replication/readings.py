@@ -42,6 +42,7 @@ from impactdamper.studies.replication import crosscheck as xc
 from impactdamper.studies.config import parameters
 from impactdamper.core.algorithm1 import unit_pulse_response
 from impactdamper.core.events import Segment
+from impactdamper.core.impact_law import impact_pulse
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import Model
 
@@ -79,7 +80,7 @@ def alg1_eq13_as_printed(p):
     x1p, x2p = forced_amplitudes(p)
     U1 = abs(x2p - x1p)
     eps21 = math.atan2((x2p - x1p).imag, (x2p - x1p).real)
-    D = p.reduced_mass * (1.0 + p.R)
+    D = impact_pulse(p, 1.0)  # eq. (14)'s D = m_red (1 + R)
     denom = 1.0 - D * dx21s_T
     U2 = D * x21s_T / denom * U1 * p.omega
     rho = p.Delta0 / math.hypot(U1, U2)
