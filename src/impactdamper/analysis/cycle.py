@@ -40,8 +40,9 @@ from impactdamper.analysis.shooting import OrbitError, impact_matrix, impact_pul
 from impactdamper.core.events import SearchLimitError, Segment, march
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
-from impactdamper.core.simulate import Event, Trajectory
-from impactdamper.core.steady import CycleImpact, SteadyState, max_excursion, rescale_steady
+from impactdamper.core.excursion import max_excursion
+from impactdamper.core.settled_cycle import CycleImpact, SteadyState, rescale_steady
+from impactdamper.core.trajectory import Event, Trajectory
 from impactdamper.core.validation import work_limit_message
 
 __all__ = [
