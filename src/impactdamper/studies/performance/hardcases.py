@@ -47,8 +47,7 @@ from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core.model import FREE, Model
 from impactdamper.core.parameters import REFERENCE, Parameters
 from impactdamper.core.simulate import simulate
-from impactdamper.core.settled_cycle import REGIMES
-from impactdamper.core.steady import steady_state
+from impactdamper.core.steady import REGIMES, steady_state
 from impactdamper.studies.vocabulary import SPEC
 
 __all__ = [
