@@ -23,8 +23,9 @@ continue_orbit(o)   a branch of cycles in one parameter: folds, period doublings
 
 from impactdamper.core.algorithm1 import Algorithm1Result, algorithm1
 from impactdamper.core.parameters import REFERENCE, Parameters
-from impactdamper.core.simulate import Event, EventDrivenSolver, Tolerances, Trajectory, default_initial_state
-from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState
+from impactdamper.core.simulate import EventDrivenSolver, Tolerances, default_initial_state
+from impactdamper.core.trajectory import Event, Trajectory
+from impactdamper.core.settled_cycle import REGIMES, CycleImpact, SteadyState
 from impactdamper.analysis.branch import Branch, BranchPoint, SpecialPoint
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.cycle import PeriodicOrbit

@@ -8,7 +8,7 @@ import pytest
 import impactdamper as idp
 from impactdamper.core import backends
 from impactdamper.core.compiled.layout import ERR_BUDGET, ERR_CAPACITY, ERR_DEGENERATE, ERR_SEARCH, MARCH_ROOT
-from impactdamper.core.simulate import EVENT_KINDS
+from impactdamper.core.trajectory import EVENT_KINDS
 
 REF = idp.Parameters()
 

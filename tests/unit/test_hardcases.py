@@ -17,7 +17,7 @@ from impactdamper.baselines import highprecision as hp
 from impactdamper.core.events import Segment
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.model import FREE
-from impactdamper.core.simulate import Event
+from impactdamper.core.trajectory import Event
 
 REF = idp.Parameters()
 CASES = {c.name: c for c in hc.hard_cases()}

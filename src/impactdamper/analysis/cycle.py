@@ -41,8 +41,9 @@ from impactdamper.core.impact_law import impact_matrix, impact_pulse
 from impactdamper.core.events import SearchLimitError, Segment, march
 from impactdamper.core.model import FREE, STUCK, Model
 from impactdamper.core.parameters import Parameters, ScaleMap, state_scale
-from impactdamper.core.simulate import Event, Trajectory
-from impactdamper.core.steady import CycleImpact, SteadyState, max_excursion, rescale_steady
+from impactdamper.core.excursion import max_excursion
+from impactdamper.core.settled_cycle import CycleImpact, SteadyState, rescale_steady
+from impactdamper.core.trajectory import Event, Trajectory
 from impactdamper.core.validation import work_limit_message
 
 __all__ = [

@@ -46,7 +46,8 @@ from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import Model
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, ScaleMap, require_parameters
 from impactdamper.core.simulate import Tolerances
-from impactdamper.core.steady import SteadyState, rescale_steady, start_in_first_period
+from impactdamper.core.settled_cycle import SteadyState, rescale_steady
+from impactdamper.core.steady import start_in_first_period
 from impactdamper.core.validation import (
     SettleOptions,
     check_start_state,

@@ -34,7 +34,7 @@ from impactdamper.core.backends import Backend, check_backend
 from impactdamper.core.model import FREE
 from impactdamper.core.parameters import ArgumentTypeError, Parameters, state_scale
 from impactdamper.core.simulate import EventDrivenSolver, Tolerances
-from impactdamper.core.steady import SteadyState, describe_cycle, section_of
+from impactdamper.core.settled_cycle import SteadyState, describe_cycle, section_of
 from impactdamper.core.validation import MAX_PERIODS_LIMIT, SettleOptions
 
 __all__ = [
@@ -195,7 +195,7 @@ class SweepPoint:
     value : float
         The swept parameter's value.
     regime : str
-        One of :data:`impactdamper.core.steady.REGIMES`.
+        One of :data:`impactdamper.core.settled_cycle.REGIMES`.
     period_multiple : int
         k in T_c = k T (0 when nonperiodic).
     impacts_per_cycle : int
@@ -425,7 +425,7 @@ def verify_cycle(
 ) -> SweepPoint | None:
     """Simulate one cycle from a Newton solution: it must return to itself (to ``settle_tol``)
     after its least period d | k; the cycle is then described as :func:`steady_state` would
-    (its :func:`~impactdamper.core.steady.describe_cycle`, on two cycles of the exact motion)."""
+    (its :func:`~impactdamper.core.settled_cycle.describe_cycle`, on two cycles of the exact motion)."""
     T = p.T
     D = state_scale(p)
     try:

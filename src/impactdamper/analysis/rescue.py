@@ -10,7 +10,7 @@ Newton on the stroboscopic map y(0) -> y(k T) of Timofeev et al. (2019)'s Algori
 verified by one simulated cycle (:func:`~impactdamper.analysis.point.verify_cycle`), is the
 motion the capped run was still converging to; otherwise the point stays ``nonperiodic``.
 
-:func:`rescue_run` rescues from the run's :class:`~impactdamper.core.steady.SteadyState` (step 5
+:func:`rescue_run` rescues from the run's :class:`~impactdamper.core.settled_cycle.SteadyState` (step 5
 of :func:`~impactdamper.analysis.ladder.solve_point`); :func:`rescue_from_sections` from the last
 sections alone (the batch's points, :mod:`impactdamper.analysis.batch`).
 """
@@ -32,7 +32,7 @@ from impactdamper.analysis.point import (
 from impactdamper.analysis.strobe import strobe_newton
 from impactdamper.core.backends import get_backend
 from impactdamper.core.parameters import Parameters, state_scale
-from impactdamper.core.steady import SteadyState, section_of
+from impactdamper.core.settled_cycle import SteadyState, section_of
 
 __all__ = ["RESCUE_MISMATCH", "RESCUE_MAX_K", "rescue_run", "rescue_from_sections"]
 
@@ -168,7 +168,7 @@ def rescue_from_sections(
     periods: int,
 ) -> SweepPoint | None:
     """The Newton rescue of a point that did not settle, from its run's last sections instead
-    of its :class:`~impactdamper.core.steady.SteadyState` (the compiled batch hands them over,
+    of its :class:`~impactdamper.core.settled_cycle.SteadyState` (the compiled batch hands them over,
     so the run is not repeated in Python). Only the rescue without accelerators
     (``settings.continuation`` False): the closest recurrence k of the last sections, then
     Newton on the stroboscopic map from ``section`` (the section state at the start of the

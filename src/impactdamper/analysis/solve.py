@@ -3,8 +3,8 @@
 =====================================  ==========================================================
 question                               call (result)
 =====================================  ==========================================================
-the motion from a start                :func:`simulate` (:class:`~impactdamper.core.simulate.Trajectory`)
-the settled motion at one point        :func:`steady_state` (:class:`~impactdamper.core.steady.SteadyState`)
+the motion from a start                :func:`simulate` (:class:`~impactdamper.core.trajectory.Trajectory`)
+the settled motion at one point        :func:`steady_state` (:class:`~impactdamper.core.settled_cycle.SteadyState`)
 settled motions at many points         :func:`steady_states` (:class:`~impactdamper.analysis.batch.BatchResult`):
                                        sweeps, grids, map rows, random starts; many independent
                                        chains (``chain_length``) in parallel (``workers``);
@@ -46,8 +46,9 @@ from impactdamper.analysis.batch import steady_states
 from impactdamper.analysis.lyapunov import lyapunov_spectrum
 from impactdamper.core.backends import BACKENDS, Backend, get_backend
 from impactdamper.core.parameters import ArgumentTypeError, Parameters
-from impactdamper.core.simulate import MAX_SIMULATE_PERIODS, Tolerances, Trajectory
-from impactdamper.core.steady import SteadyState
+from impactdamper.core.settled_cycle import SteadyState
+from impactdamper.core.simulate import MAX_SIMULATE_PERIODS, Tolerances
+from impactdamper.core.trajectory import Trajectory
 from impactdamper.core.validation import check_run_call, check_settle_call
 
 __all__ = ["BACKENDS", "simulate", "steady_state", "steady_states", "lyapunov_spectrum"]

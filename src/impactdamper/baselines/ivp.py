@@ -68,7 +68,8 @@ import scipy.integrate
 import scipy.optimize
 
 from impactdamper.core.parameters import Parameters
-from impactdamper.core.simulate import Event, Tolerances, default_initial_state
+from impactdamper.core.simulate import Tolerances, default_initial_state
+from impactdamper.core.trajectory import Event
 
 __all__ = ["simulate_ivp", "IvpTrajectory", "IvpLeg", "METHODS", "methods"]
 
@@ -187,7 +188,7 @@ class IvpTrajectory:
     ----------
     p : Parameters
     legs : list of IvpLeg
-    events : list of impactdamper.core.simulate.Event
+    events : list of impactdamper.core.trajectory.Event
         Same kinds and meaning as the exact solver's (impact, stick, liftoff).
     nfev : int
         Right-hand-side evaluations over all legs (dense output for :meth:`sample` excluded).

@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from impactdamper.core.parameters import Parameters
-from impactdamper.core.simulate import Event, default_initial_state
+from impactdamper.core.simulate import default_initial_state
+from impactdamper.core.trajectory import Event
 
 __all__ = ["simulate_rk4", "Rk4Trajectory"]
 

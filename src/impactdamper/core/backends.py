@@ -31,8 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactdamper.core.parameters import Parameters
-from impactdamper.core.simulate import EventDrivenSolver, Trajectory, simulate_checked
-from impactdamper.core.steady import SteadyState, settle
+from impactdamper.core.settled_cycle import SteadyState
+from impactdamper.core.simulate import EventDrivenSolver, simulate_checked
+from impactdamper.core.steady import settle
+from impactdamper.core.trajectory import Trajectory
 from impactdamper.core.tangent import TangentRun, tangent_walk
 from impactdamper.core.validation import SettleOptions, Tolerances
 
@@ -58,7 +60,7 @@ class RowArrays:
     Attributes
     ----------
     regime_code : ndarray of int, shape (P,)
-        Index into :data:`~impactdamper.core.steady.REGIMES` (one past its end: a point whose
+        Index into :data:`~impactdamper.core.settled_cycle.REGIMES` (one past its end: a point whose
         run failed, ``failed``).
     period_multiple, impacts_per_cycle : ndarray of int, shape (P,)
         k and z.
@@ -123,9 +125,9 @@ class Backend(ABC):
 
     ``run(p, t_end, t0, state, tolerances)``
         Algorithm No. 2 from ``state`` (None: its step 1) at ``t0`` to ``t_end``: a
-        :class:`~impactdamper.core.simulate.Trajectory` (``backend``, ``fallback`` set).
+        :class:`~impactdamper.core.trajectory.Trajectory` (``backend``, ``fallback`` set).
     ``settle(p, t0, state, tolerances, options)``
-        The settled motion (:class:`~impactdamper.core.steady.SteadyState`, ``backend`` and
+        The settled motion (:class:`~impactdamper.core.settled_cycle.SteadyState`, ``backend`` and
         ``fallback`` set) with :class:`~impactdamper.core.validation.SettleOptions`.
     ``map_step(p, tolerances)``
         The stroboscopic map of ``p``: a callable ``step(state, k)`` -> (state, mode) k periods

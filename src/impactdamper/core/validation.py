@@ -289,7 +289,7 @@ class SettleOptions:
     describe : str
         Who describes the settled cycle: ``"backend"`` (the backend itself; the kernels refine
         x1_max by golden-section search) or ``"reference"`` (the reference's
-        :func:`~impactdamper.core.steady.describe_run` on the backend's run, x1_max by scipy's
+        :func:`~impactdamper.core.settled_cycle.describe_run` on the backend's run, x1_max by scipy's
         Brent search: what the sweeps' ladder has always reported). Both stop at 1e-12 T; the
         maxima differ by rounding.
     """

@@ -10,7 +10,7 @@ The same algorithm as the readable reference, step for step, with the same const
 * the impact law of eqs. (21)-(22), the capture into persistent contact, lift-off, the
   brief-dip rule and grazing (:mod:`impactdamper.core.simulate`);
 * the stroboscopic sections, the period test with its divisor rule, the re-basing of the
-  clock and the description of the cycle (:mod:`impactdamper.core.steady`).
+  clock and the description of the cycle (:mod:`impactdamper.core.settled_cycle`).
 
 The matrices (modal eigenvectors, forced amplitudes, derivative-bound factors) are computed once
 per parameter set with the operations of the reference classes

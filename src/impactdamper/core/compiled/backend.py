@@ -43,9 +43,11 @@ from impactdamper.core.compiled.tangent import C_CAPTURES, C_GRAZING, C_IMPACTS,
 from impactdamper.core.events import SearchLimitError, Segment
 from impactdamper.core.model import FREE, STUCK, model_of
 from impactdamper.core.parameters import Parameters
-from impactdamper.core.simulate import Trajectory, budget_exceeded, default_initial_state, degenerate_contact
-from impactdamper.core.steady import REGIMES, CycleImpact, SteadyState, describe_run, start_in_first_period
+from impactdamper.core.settled_cycle import REGIMES, CycleImpact, SteadyState, describe_run
+from impactdamper.core.simulate import budget_exceeded, default_initial_state, degenerate_contact
+from impactdamper.core.steady import start_in_first_period
 from impactdamper.core.tangent import TangentRun
+from impactdamper.core.trajectory import Trajectory
 from impactdamper.core.validation import SettleOptions, Tolerances, work_bound_message
 
 __all__ = ["CompiledBackend", "COMPILED"]
@@ -57,6 +59,30 @@ EVENTS_PER_PERIOD_GUESS = 4
 MIN_CAPACITY = 256
 # A settled point's regime code at or above this is not periodic (REGIMES' order).
 NONPERIODIC = REGIMES.index("nonperiodic")
+
+
+def _fill_settled(out, ints: np.ndarray, floats: np.ndarray, settled: slice) -> None:
+    """Copy the points ``settled`` from the row kernel's integer and float columns into
+    ``out``'s arrays (:class:`~impactdamper.core.backends.RowArrays`)."""
+    for j, name in enumerate(("regime_code", "period_multiple", "impacts_per_cycle", "periods", "section_modes")):
+        getattr(out, name)[settled] = ints[settled, j]
+    for j, name in enumerate(("x1_max", "contact_fraction", "residual")):
+        getattr(out, name)[settled] = floats[settled, j]
+
+
+def _left_to_caller(code: int, stop: int, rows: np.ndarray, flags, tolerances: Tolerances, diag, tail: np.ndarray):
+    """What :meth:`CompiledBackend.settle_row` yields for the point ``stop`` where the row kernel
+    stopped with ``code``: (index, reason, its payload), the reason ``"rescue"`` (the run's last
+    sections), a pack flag's, ``"failed"`` (a work bound, with the reference's line) or
+    ``"error"``."""
+    if code == ROW_RESCUE:
+        return stop, "rescue", tail.copy()
+    if code == ROW_FLAGGED:
+        return stop, FALLBACK_REASONS[int(flags[stop])], None
+    if code == ROW_ERROR and int(diag[DIAG_ERR]) in WORK_BOUND_ERRORS:
+        p = Parameters(**{c: float(x) for c, x in zip(PARAMETER_COLUMNS, rows[stop])})
+        return stop, "failed", _work_bound(p, tolerances, diag)
+    return stop, "error", None
 
 
 def _work_bound(p: Parameters, tolerances: Tolerances, diag: np.ndarray) -> str:
@@ -109,7 +135,7 @@ class CompiledBackend(Backend):
         where the reference uses Brent's, both to 1e-12 T) in the kernels, with the describing
         run's trajectory; a cycle with persistent contact (or every cycle, with
         ``options.describe`` ``"reference"``) is described by the reference's
-        :func:`~impactdamper.core.steady.describe_run` on that trajectory."""
+        :func:`~impactdamper.core.settled_cycle.describe_run` on that trajectory."""
         pack = pack_parameters(p, tolerances)
         diag = np.zeros(N_DIAG)
 
@@ -244,24 +270,10 @@ class CompiledBackend(Backend):
                 tail,
                 diag,
             )
-            settled = slice(i, stop + 1 if code == ROW_RESCUE else stop)
-            for j, name in enumerate(
-                ("regime_code", "period_multiple", "impacts_per_cycle", "periods", "section_modes")
-            ):
-                getattr(out, name)[settled] = ints[settled, j]
-            for j, name in enumerate(("x1_max", "contact_fraction", "residual")):
-                getattr(out, name)[settled] = floats[settled, j]
+            _fill_settled(out, ints, floats, slice(i, stop + 1 if code == ROW_RESCUE else stop))
             if code == ROW_DONE:
                 return
-            if code == ROW_RESCUE:
-                yield stop, "rescue", tail.copy()
-            elif code == ROW_FLAGGED:
-                yield stop, FALLBACK_REASONS[int(flags[stop])], None
-            elif code == ROW_ERROR and int(diag[DIAG_ERR]) in WORK_BOUND_ERRORS:
-                p = Parameters(**{c: float(x) for c, x in zip(PARAMETER_COLUMNS, rows[stop])})
-                yield stop, "failed", _work_bound(p, tolerances, diag)
-            else:
-                yield stop, "error", None
+            yield _left_to_caller(code, stop, rows, flags, tolerances, diag, tail)
             # Point `stop` as the caller filled it is the next point's predecessor.
             prev[0], prev[1:5], prev[5] = 1.0, out.sections[stop], out.section_modes[stop]
             prev[6] = 1.0 if out.regime_code[stop] < NONPERIODIC else 0.0

@@ -7,7 +7,7 @@ an event or a mode an integer. This module names those integers.
 
 from __future__ import annotations
 
-from impactdamper.core.simulate import EVENT_KINDS, MODE_NAMES
+from impactdamper.core.trajectory import EVENT_KINDS, MODE_NAMES
 
 __all__ = ["FALLBACK_REASONS"]
 

@@ -28,7 +28,7 @@ from impactdamper.core.backends import warm_up
 from impactdamper.core.compiled.layout import N_DIAG
 from impactdamper.core.compiled.loop import count_kernel, pack_simulate_kernel, simulate_kernel
 from impactdamper.core.compiled.pack import pack_parameters, packing_values
-from impactdamper.core.steady import REGIMES
+from impactdamper.core.settled_cycle import REGIMES
 from impactdamper.studies.performance.compile_record import compile_times
 from impactdamper.studies.performance.front_door_speed import front_door
 from impactdamper.studies.performance.timing import load, strip, timed
