@@ -1,6 +1,6 @@
 """Maps computed where the picture changes (impactdamper.analysis.adaptive) against the brute
 force: a cell settled from its left neighbour's carried section is the chained sweep's cell bit
-for bit; a map with coarse_step 1 is the brute force; a coarser one differs from it only in a
+for bit; the brute force (every cell, coarse_step 1) is one chained sweep per row; a coarser one differs from it only in a
 measured share of cells, next to a change of label; the quadtree of independent cells computes
 both ends of every boundary it is to resolve and fills the rest from agreeing corners."""
 
@@ -15,7 +15,6 @@ from impactdamper.analysis.adaptive import (
     label_differences,
     refine_lattice,
 )
-from impactdamper.analysis.batch import regime_map_batch
 from impactdamper.analysis.ladder import carry_state
 from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.point import SweepSettings
@@ -48,12 +47,17 @@ def test_a_cell_settled_from_its_carried_neighbour_is_the_chained_sweeps_cell_bi
         ), j
 
 
-def test_coarse_step_one_is_the_brute_force():
+@pytest.mark.parametrize("options", [dict(brute_force=True), dict(coarse_step=1)])
+def test_the_brute_force_is_each_row_one_chained_sweep(options):
+    """brute_force (and coarse_step 1) settles every cell, and each row is the chained sweep of
+    one steady_states call per row, bit for bit."""
     gaps, thetas = np.linspace(-12.0, -4.0, 18), [0.9, 1.0]
-    brute = regime_map_batch(REF, "gap", gaps, "theta", thetas, settings=MAPS)
-    m = adaptive_regime_map(REF, "gap", gaps, "theta", thetas, settings=MAPS, coarse_step=1)
+    m = adaptive_regime_map(REF, "gap", gaps, "theta", thetas, settings=MAPS, **options)
     assert m.computed.all() and m.settlings == m.computed.size
-    for r, row in enumerate(brute):
+    for r, theta in enumerate(thetas):
+        row = idp.steady_states(
+            REF, ("gap", "theta"), np.column_stack([gaps, np.full(len(gaps), theta)]), settings=MAPS
+        )
         assert list(m.label[r]) == list(row.label)
         assert np.array_equal(m.periods[r], row.periods) and np.array_equal(m.x1_max[r], row.x1_max, equal_nan=True)
 
@@ -66,8 +70,8 @@ def test_adaptive_regime_map_against_the_brute_force(direction):
     fewer; the labels the brute force's but in at most 1 % of the cells, each next to a change of
     the brute force's labels or inside a window narrower than the coarse step."""
     gaps, thetas = np.linspace(-40.0, 15.0, 160), np.linspace(0.9, 1.1, 12)
-    rows = regime_map_batch(REF, "gap", gaps, "theta", thetas, direction=direction, settings=MAPS)
-    brute = np.array([r.label for r in rows])
+    brute = adaptive_regime_map(REF, "gap", gaps, "theta", thetas, direction=direction, settings=MAPS, brute_force=True)
+    brute = brute.label
     m = adaptive_regime_map(REF, "gap", gaps, "theta", thetas, direction=direction, settings=MAPS, coarse_step=8)
     d = label_differences(m.label, brute, rows=range(len(thetas)))
     assert m.computed_share < 0.45, m.computed_share

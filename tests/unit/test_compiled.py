@@ -20,11 +20,12 @@ import pytest
 
 import impactdamper as idp
 from impactdamper import Parameters
-from impactdamper.analysis.batch import random_starts_batch, regime_map_batch
+from impactdamper.analysis.adaptive import adaptive_regime_map
+from impactdamper.analysis.batch import BATCH_REGIMES, random_starts_batch
 from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.rescue import rescue_from_sections
-from impactdamper.analysis.sweeps import random_starts, regime_map, two_way_sweep
+from impactdamper.analysis.sweeps import random_start_states, sweep, two_way_sweep, with_value
 from impactdamper.core.backends import get_backend, warm_up
 from impactdamper.core.compiled.layout import FALLBACK_REASONS, N_DIAG
 from impactdamper.core.compiled.loop import pack_simulate_kernel, simulate_kernel
@@ -219,8 +220,8 @@ def test_steady_state_on_sweep_grid(gap):
 
 
 def test_batch_matches_regime_map():
-    """A coarse theta map: the batch gives the reference regime_map's points without its
-    accelerators (regime and periods everywhere; k, z and x1_max to X1_TOL on settled points);
+    """A coarse theta map: the batch (the brute-force map) gives the reference's chained sweeps'
+    points without their accelerators (regime and periods everywhere; k, z and x1_max to X1_TOL on settled points);
     nonperiodic points get the reference's Newton rescue (from the kernels' last sections) and
     the ones it settles are counted. A nonperiodic (chaotic)
     run's last window is not compared: rounding differences grow without bound there (on the
@@ -228,31 +229,36 @@ def test_batch_matches_regime_map():
     base = Parameters()
     gaps, thetas = np.linspace(-40.0, 15.0, 8), np.linspace(0.5, 1.5, 4)
     settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, continuation=False)
-    rows = regime_map_batch(base, "gap", gaps, "theta", thetas, settings=settings)
-    ref = regime_map(base, "gap", gaps, "theta", thetas, settings=dataclasses.replace(settings, backend="python"))
-    rescued = 0
-    for r, row in zip(rows, ref):
-        assert list(r.regime) == [pt.regime for pt in row]
-        assert list(r.periods) == [pt.periods for pt in row]
+    m = adaptive_regime_map(base, "gap", gaps, "theta", thetas, settings=settings, brute_force=True)
+    python = dataclasses.replace(settings, backend="python")
+    ref = [sweep(with_value(base, "theta", float(t)), "gap", gaps, settings=python) for t in thetas]
+    for r, row in enumerate(ref):
+        assert [BATCH_REGIMES[c] for c in m.regime_code[r]] == [pt.regime for pt in row]
+        assert list(m.periods[r]) == [pt.periods for pt in row]
         for i, pt in enumerate(row):
             if pt.regime != "nonperiodic":
-                assert (r.period_multiple[i], r.impacts_per_cycle[i]) == (pt.period_multiple, pt.impacts_per_cycle)
-                assert abs(r.x1_max[i] - pt.x1_max) <= X1_TOL
-        rescued += r.fallbacks.get("rescue", 0)
-        assert set(r.fallbacks) <= {"rescue"}
-        assert [m for m in r.method] == [pt.method for pt in row]
+                assert (m.period_multiple[r, i], m.impacts_per_cycle[r, i]) == (
+                    pt.period_multiple,
+                    pt.impacts_per_cycle,
+                )
+                assert abs(m.x1_max[r, i] - pt.x1_max) <= X1_TOL
+        assert list(m.method[r]) == [pt.method for pt in row]
     # The rescue runs from the kernels' last sections; only the points it settles are counted.
-    assert rescued == sum(pt.method == "rescue" for row in ref for pt in row)
+    assert set(m.fallbacks) <= {"rescue"}
+    assert m.fallbacks.get("rescue", 0) == sum(pt.method == "rescue" for row in ref for pt in row)
 
 
 def test_batch_down_and_unchained():
-    """Direction down gives the points in increasing order; chain=False starts each point
+    """Direction down gives the cells in increasing order; chain=False starts each point
     from Algorithm No. 2's step 1, as steady_state does."""
     base = Parameters()
     gaps = np.array([-8.0, -5.8, 2.0])
     settings = SweepSettings(settle_tol=1e-9, max_periods=100, max_periods_after_nonperiodic=40, rescue=False)
-    down = regime_map_batch(base, "gap", gaps, "theta", [1.0], direction="down", settings=settings)[0]
-    assert list(down.values[:, 0]) == sorted(gaps)
+    down = adaptive_regime_map(base, "gap", gaps, "theta", [1.0], direction="down", settings=settings, brute_force=True)
+    assert list(down.fast_values) == sorted(gaps)
+    descending = np.column_stack([np.sort(gaps)[::-1], np.ones(len(gaps))])
+    chain = idp.steady_states(base, ("gap", "theta"), descending, settings=settings)
+    assert list(down.label[0]) == list(chain.label[::-1])
     single = idp.steady_states(base, ("gap",), gaps[:, None], settings=settings, chain=False)
     for i, g in enumerate(gaps):
         s = steady_state(Parameters(gap=float(g)), settle_tol=1e-9, max_periods=100)
@@ -275,9 +281,11 @@ def test_random_starts_batch_matches_the_reference():
     settings = SweepSettings(settle_tol=1e-9, max_periods=150, max_periods_after_nonperiodic=50, continuation=False)
     values = [-20.0, -10.0, -5.8, 5.0]
     batch = random_starts_batch(base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=settings)
-    ref = random_starts(
-        base, "gap", values, 2, 20190105, indices=[3, 4, 5, 6], settings=dataclasses.replace(settings, backend="python")
-    )
+    python = dataclasses.replace(settings, backend="python")
+    ref = [
+        [solve_point(p, v, state=state, settings=python, start="random") for state in states]
+        for v, p, states in random_start_states(base, "gap", values, 2, 20190105, [3, 4, 5, 6])
+    ]
     for row_a, row_b in zip(batch, ref):
         for a, b in zip(row_a, row_b):
             assert np.array_equal(a.start_state, b.start_state)
@@ -289,16 +297,16 @@ def test_random_starts_batch_matches_the_reference():
 def test_two_chains_are_the_reference_sweeps_both_ways():
     """A theta sweep up and one down as two chains of one call (``chain_length``): the points
     are the reference's two-way sweep without accelerators."""
-    from impactdamper.analysis.batch import sweep_points
-
     base = Parameters()
     settings = SweepSettings(settle_tol=1e-9, max_periods=150, max_periods_after_nonperiodic=50, continuation=False)
     thetas = np.linspace(0.9, 1.3, 9)
     res = idp.steady_states(base, ("theta",), np.r_[thetas, thetas[::-1]][:, None], settings=settings, chain_length=9)
-    points = sweep_points(res, base)
     b = two_way_sweep(base, "theta", thetas, settings=dataclasses.replace(settings, backend="python"))
-    for x, y in zip(points[:9] + points[9:][::-1], b["up"] + b["down"]):
-        _same_point(x, y)
+    for i, y in zip(list(range(9)) + list(range(17, 8, -1)), b["up"] + b["down"]):
+        assert (res.label[i], res.regime[i], res.method[i]) == (y.label, y.regime, y.method), (y.value, y.label)
+        if y.regime != "nonperiodic":
+            assert (res.period_multiple[i], res.impacts_per_cycle[i]) == (y.period_multiple, y.impacts_per_cycle)
+            assert abs(res.x1_max[i] - y.x1_max) <= X1_TOL * max(1.0, abs(y.x1_max))
 
 
 @pytest.mark.parametrize(

@@ -6,7 +6,7 @@ counts."""
 import numpy as np
 import pytest
 
-from impactdamper.analysis.batch import regime_map_batch
+from impactdamper.analysis.adaptive import adaptive_regime_map
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.sweeps.gapsweep import map_axes
 from impactdamper.studies.sweeps.mapchunk import CHUNK_COLUMNS, check_rows, chunk_rows, regime_map_chunk
@@ -44,8 +44,10 @@ def test_a_chunks_cells_sit_where_the_brute_force_finds_their_labels():
     # The brute force, again: each cell's label against the one the record put at (i, j).
     slow, slow_values, gaps = map_axes(maps, "theta")
     settings = sweep_settings(maps, cfg["solver"], continuation=False, rescue=bool(maps["rescue"]))
-    brute = regime_map_batch(parameters(cfg["reference"]), "gap", gaps, slow, slow_values[[1, 3]], settings=settings)
-    expected = {(i, j): row.label[j] for i, row in zip((1, 3), brute) for j in range(17)}
+    brute = adaptive_regime_map(
+        parameters(cfg["reference"]), "gap", gaps, slow, slow_values[[1, 3]], settings=settings, brute_force=True
+    )
+    expected = {(i, j): brute.label[r, j] for r, i in enumerate((1, 3)) for j in range(17)}
     differ = sum(r["label"] != expected[(r["i"], r["j"])] for r in rows)
     assert differ == counts["check"]["differences"]
     assert len({r["label"] for r in rows}) > 1  # a change of label inside: the placement is tested

@@ -22,7 +22,8 @@ from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import solve_orbit
 from impactdamper.analysis.ladder import carry_state, solve_point
 from impactdamper.analysis.point import SweepSettings, label_of
-from impactdamper.analysis.sweeps import locate_transition, random_starts, sweep, with_value
+from impactdamper.analysis.batch import random_starts_batch
+from impactdamper.analysis.sweeps import locate_transition, sweep, with_value
 from impactdamper.analysis.transitions import (
     algorithm1_grazing_gap,
     no_contact_gap,
@@ -188,8 +189,8 @@ def test_small_sweep_is_deterministic():
 
 def test_random_starts_do_not_depend_on_chunking():
     values = [12.5, 13.0]
-    together = random_starts(REF, "gap", values, 2, seed=7, indices=[3, 4])
-    apart = random_starts(REF, "gap", values[:1], 2, seed=7, indices=[3]) + random_starts(
+    together = random_starts_batch(REF, "gap", values, 2, seed=7, indices=[3, 4])
+    apart = random_starts_batch(REF, "gap", values[:1], 2, seed=7, indices=[3]) + random_starts_batch(
         REF, "gap", values[1:], 2, seed=7, indices=[4]
     )
     assert [[p.row() for p in r] for r in together] == [[p.row() for p in r] for r in apart]

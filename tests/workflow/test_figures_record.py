@@ -444,7 +444,7 @@ def test_regime_map_rows_swept_cell_by_cell_match_the_record_but_next_to_changes
     cell by cell, the brute force: the labels the record's but in at most 2 % of the cells, and
     the record's settings say how many cells were computed and what its own check found."""
     from impactdamper.analysis.adaptive import label_differences
-    from impactdamper.analysis.batch import regime_map_batch
+    from impactdamper.analysis.adaptive import adaptive_regime_map
     from impactdamper.studies.config import sweep_settings
     from impactdamper.studies.sweeps import gapsweep as gs
 
@@ -458,6 +458,8 @@ def test_regime_map_rows_swept_cell_by_cell_match_the_record_but_next_to_changes
     slow, slow_values, gaps = gs.map_axes(maps, name)
     rows = [5, 206, 377]  # (none of them a check row of the map's own: rows c + 40 m of chunk c)
     st = sweep_settings(maps, cfg["solver"], continuation=False, rescue=bool(maps["rescue"]))
-    brute = regime_map_batch(rep.parameters(cfg["reference"]), "gap", gaps, slow, slow_values[rows], settings=st)
-    d = label_differences(record[rows], np.array([r.label for r in brute]), rows=range(len(rows)))
+    brute = adaptive_regime_map(
+        rep.parameters(cfg["reference"]), "gap", gaps, slow, slow_values[rows], settings=st, brute_force=True
+    )
+    d = label_differences(record[rows], brute.label, rows=range(len(rows)))
     assert d["share"] <= 0.02, d

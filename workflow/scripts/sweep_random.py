@@ -4,7 +4,7 @@ along the gap sweep (one chunk of them).
 Where motions coexist, the neighbour-started sweeps show only the one each direction follows;
 several random initial states per sweep point show the others: the compiled batch
 :func:`impactdamper.analysis.batch.random_starts_batch` (the states of
-:func:`impactdamper.analysis.sweeps.random_starts`, fixed seed; the generator of point i, start
+:func:`impactdamper.analysis.sweeps.random_start_states`, fixed seed; the generator of point i, start
 j is seeded with (seed, i, j), so chunks do not change the result; a start the kernels do not
 settle goes to the pure-Python reference, with its Newton rescue). Every ``random_every``-th sweep point gets
 ``random_starts`` states.

@@ -4,7 +4,7 @@ changes along the gap sweep, located by bisection and checked against analytic v
 1. Every change of Peterka's label z/k between neighbouring sweep points is bisected
    (:func:`impactdamper.analysis.sweeps.locate_transition`; each midpoint starts from the motion on
    the first label's side, as a finer sweep would) to ``transition_xtol``, each transition on its
-   own in the job's threads (:func:`impactdamper.studies.sweeps.transitions.find_all`).
+   own in the job's threads (:func:`impactdamper.analysis.sweeps.find_transitions`).
 2. The three transitions with analytic values (lift-off of the persistent contact, first
    contact, Algorithm No. 1's grazing), each computed numerically a second way and located
    again by the sweep (:func:`impactdamper.studies.sweeps.transitions.checks`, whose module docstring
@@ -14,6 +14,7 @@ Outputs: ``figures/sweep_transitions.csv`` (every bisected transition) and
 ``figures/sweep_checks.json`` (the three checks).
 """
 
+from impactdamper.analysis.sweeps import find_transitions
 from impactdamper.reporting.records import Timer, clean, run_stage, write_csv, write_json
 from impactdamper.studies.sweeps import gapsweep as gs
 from impactdamper.studies.sweeps import transitions as tr
@@ -32,7 +33,7 @@ def main(
     base, parameter, settings = parameters(reference), gs.SWEEP_PARAMETER, sweep_settings(sweep, solver)
     xtol = float(sweep["transition_xtol"])
     with Timer() as timer:
-        found = tr.find_all(base, parameter, data, settings, xtol, workers=processes)
+        found = find_transitions(base, parameter, data, settings=settings, xtol=xtol, workers=processes)
     rows = [t.row() for d in ("up", "down") for t in found[d]]
     write_csv(out_csv, TRANSITION_COLUMNS, rows, booleans="digits")
     if log is not None:

@@ -6,7 +6,7 @@ neighbours of one settled label is filled with it instead of being computed. Two
 
 * **Chained rows** (:func:`adaptive_regime_map`, the regime maps of the sweeps stage): each row
   sweeps the fast parameter one way, every cell starting from its left neighbour's settled
-  section (:func:`impactdamper.analysis.batch.regime_map_batch`, the brute force). Where motions
+  section (the brute force: ``brute_force=True``, every cell settled). Where motions
   coexist the label a cell shows depends on that history (hysteresis), so a cell can only be
   settled from a cell of its own row: each row is refined along itself. Its cells every
   ``coarse_step`` along the row are settled first, as one chain (each from the previous one's
@@ -152,13 +152,14 @@ def adaptive_regime_map(
     direction: str = "up",
     settings: SweepSettings | None = None,
     coarse_step: int = 8,
+    brute_force: bool = False,
     backend: str = "auto",
     workers: int = 1,
 ) -> AdaptiveMap:
-    """A regime map as :func:`~impactdamper.analysis.batch.regime_map_batch` computes it (each
-    row sweeping ``fast`` in ``direction``, every cell from its left neighbour's settled
-    section), settling only the cells where the labels change (the module docstring says how,
-    and what may differ from the brute force).
+    """A regime map: each row sweeps ``fast`` in ``direction``, every cell from its left
+    neighbour's settled section (:func:`~impactdamper.analysis.batch.steady_states`, one chain
+    per row), settling only the cells where the labels change (the module docstring says how,
+    and what may differ from the brute force), or every cell with ``brute_force``.
 
     Parameters
     ----------
@@ -174,6 +175,9 @@ def adaptive_regime_map(
         The cells' caps and tolerances and ``rescue``, as for the brute force.
     coarse_step : int
         Cells between the first settled cells of a row (1: the brute force itself).
+    brute_force : bool
+        Every cell settled, each row one chain (``coarse_step`` 1, whatever is given): the
+        map the adaptive one is checked against.
     backend, workers
         As :func:`~impactdamper.analysis.batch.steady_states`: every round's cells go to it in
         one call (whole rows' coarse chains, then single cells), in ``workers`` processes.
@@ -188,6 +192,7 @@ def adaptive_regime_map(
     fast_sorted = np.array(sorted(float(v) for v in fast_values))
     slows = np.array([float(v) for v in slow_values])
     R, n = len(slows), len(fast_sorted)
+    coarse_step = 1 if brute_force else coarse_step
     coarse = coarse_indices(n, int(coarse_step)) if n else []
     # Work in chain order (position q is the q-th cell swept); column of position q:
     column = np.arange(n) if direction == "up" else np.arange(n)[::-1]

@@ -46,7 +46,6 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
-import multiprocessing
 import time
 from dataclasses import dataclass, field
 from collections.abc import Sequence
@@ -64,9 +63,10 @@ from impactdamper.analysis.batch_input import (
 )
 from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.lyapunov import spectrum_from_section
+from impactdamper.analysis.parallel import map_tasks
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings, failed_point, label_of
 from impactdamper.analysis.rescue import RESCUE_MAX_K, rescue_from_sections
-from impactdamper.analysis.sweeps import check_direction, random_start_states, with_value
+from impactdamper.analysis.sweeps import random_start_states
 from impactdamper.core.backends import RowArrays, get_backend, row_arrays
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.model import FREE, STUCK
@@ -83,8 +83,6 @@ from impactdamper.core.steady import REGIMES
 __all__ = [
     "BatchResult",
     "steady_states",
-    "sweep_points",
-    "regime_map_batch",
     "random_starts_batch",
     "BATCH_REGIMES",
     "MAX_REPORTED_IMPACTS",
@@ -257,8 +255,7 @@ def steady_states(
     -------
     BatchResult
         Arrays per point (regime, k, z, x1_max, phases, sections, ...), ``fallback`` per point
-        and ``backend``. :func:`sweep_points` turns it into the reference's
-        :class:`~impactdamper.analysis.point.SweepPoint` objects.
+        and ``backend``.
 
     Raises
     ------
@@ -339,8 +336,7 @@ def _settle_in_workers(values, names, rows, given, settings, chain: bool, length
         (values[a:b], rows[a:b], given[a:b] if len(given) else given, settings, chain, length, run.name)
         for a, b in zip(cuts[:-1], cuts[1:])
     ]
-    with multiprocessing.get_context("fork").Pool(len(jobs)) as pool:
-        parts = pool.map(_settle_job, jobs)
+    parts = map_tasks(_settle_job, jobs, len(jobs))
     return BatchResult(
         values=values,
         names=names,
@@ -432,55 +428,6 @@ def _classify(res: BatchResult, rows: np.ndarray, settings: SweepSettings, backe
         res.lyapunov_exponent[i], res.lyapunov_error[i] = s.exponents[0], s.errors[0]
 
 
-def sweep_points(res: BatchResult, base: Parameters) -> list[SweepPoint]:
-    """A batch's points as the reference's :class:`~impactdamper.analysis.point.SweepPoint`
-    objects, in the batch's order (``stable`` None, ``multiplier`` nan: the batch does not
-    solve the orbits)."""
-    out = []
-    for i in range(len(res.values)):
-        p = base
-        for name, v in zip(res.names, res.values[i]):
-            p = with_value(p, name, float(v))
-        out.append(_sweep_point(res, i, p))
-    return out
-
-
-def regime_map_batch(
-    base: Parameters,
-    fast: str,
-    fast_values: Sequence[float],
-    slow: str,
-    slow_values: Sequence[float],
-    *,
-    direction: str = "up",
-    settings: SweepSettings | None = None,
-) -> list[BatchResult]:
-    """A regime map, one :func:`steady_states` call per value of ``slow``: the row sweeps
-    ``fast`` over its sorted values in ``direction``, each point from its neighbour (as
-    :func:`~impactdamper.analysis.sweeps.regime_map` with ``continuation=False``).
-
-    Returns
-    -------
-    list of BatchResult
-        One per slow value, its points in increasing ``fast`` (whatever the direction).
-    """
-    check_direction(direction)
-    fast_sorted = np.array(sorted(float(v) for v in fast_values))
-    order = fast_sorted if direction == "up" else fast_sorted[::-1]
-    out = []
-    for s in slow_values:
-        pts = np.column_stack([order, np.full(len(order), float(s))])
-        r = steady_states(base, (fast, slow), pts, settings=settings)
-        if direction == "down":
-            idx = np.arange(len(order))[::-1]
-            for f in dataclasses.fields(r):
-                v = getattr(r, f.name)
-                if isinstance(v, np.ndarray) and v.shape[:1] == (len(order),):
-                    setattr(r, f.name, v[idx])
-        out.append(r)
-    return out
-
-
 def random_starts_batch(
     base: Parameters,
     parameter: str,
@@ -491,9 +438,12 @@ def random_starts_batch(
     indices: Sequence[int] | None = None,
     settings: SweepSettings | None = None,
 ) -> list[list[SweepPoint]]:
-    """:func:`impactdamper.analysis.sweeps.random_starts` in one :func:`steady_states` call: the same random
-    states (the generator of value ``indices[i]``, start j is ``numpy.random.default_rng([seed,
-    indices[i], j])``), each settled from its state (no neighbour, no accelerators).
+    """``count`` random initial states per value (no neighbour), deterministic, in one
+    :func:`steady_states` call: the states of
+    :func:`~impactdamper.analysis.sweeps.random_start_states` (the generator of value
+    ``indices[i]``, default i, start j is ``numpy.random.default_rng([seed, indices[i], j])``, so
+    that a state does not depend on how the values are split into jobs), each settled from its
+    state (no accelerators).
 
     Returns
     -------

@@ -1,10 +1,13 @@
-"""Independent pieces of work in forked processes, the result in the serial order.
+"""Independent pieces of work in forked processes, the result in the serial order: the one
+place the package starts a process pool.
 
-:func:`impactdamper.analysis.batch.steady_states` settles points in parallel itself
-(``workers``); a study that does more per point than settle it (Algorithm No. 1's closed form
-beside the batch, a pure-Python check of each point) splits its points with :func:`map_blocks`:
+A study that does more per point than settle it (Algorithm No. 1's closed form beside the
+batch, a pure-Python check of each point) splits its points with :func:`map_blocks`:
 contiguous blocks, one per process, each computed exactly as the serial call would compute it,
-so that the result does not depend on the number of workers.
+so that the result does not depend on the number of workers. Pieces of very different cost (the
+blocks of chains of :func:`impactdamper.analysis.batch.steady_states`, the two directions of a
+sweep, the checks of a gap scan, the design call's tasks) go one by one to whichever process is
+free (:func:`map_tasks`).
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ from collections.abc import Callable, Sequence
 
 from impactdamper.core.arguments import ArgumentTypeError
 
-__all__ = ["map_blocks", "check_workers"]
+__all__ = ["map_blocks", "map_tasks", "check_workers"]
 
 # The work of the running map_blocks call, inherited by the forked workers (a closure need not
 # be picklable that way); only its blocks' results travel back.
@@ -77,3 +80,9 @@ def map_blocks(
     finally:
         _JOB = None
     return [r for part in parts for r in part]
+
+
+def map_tasks(function: Callable, items: Sequence, workers: int = 1) -> list:
+    """``[function(item) for item in items]``, each item handed to whichever of ``workers``
+    forked processes is free (:func:`map_blocks` with ``dynamic``; closures welcome)."""
+    return map_blocks(lambda block: [function(item) for item in block], items, workers, dynamic=True)

@@ -1,12 +1,14 @@
-"""Parameter sweeps and regime maps: which motion the suppressor settles on, and where it changes.
+"""Parameter sweeps: which motion the suppressor settles on, and where it changes.
 
 The introduction of Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100, says that
 with a negative initial gap the object and the suppressor move together at small forcing, that
 the suppressor works with one impact per period at large forcing, and that several impacts per
 period occur in between. This module maps that: one parameter (typically the gap
 Delta0/x_st, but any field of :class:`~impactdamper.core.parameters.Parameters`) is swept up and
-down, each point starting from its neighbour's settled motion, plus random initial states, and
-the motion of every point is labelled with Peterka's z/k (z impacts in k forcing periods).
+down, each point starting from its neighbour's settled motion, plus random initial states
+(settled by :func:`impactdamper.analysis.batch.random_starts_batch`), and the motion of every point is labelled with Peterka's z/k (z impacts in k forcing periods).
+
+The label changes along a two-way sweep are bisected by :func:`find_transitions`.
 
 Each point is solved by :func:`impactdamper.analysis.ladder.solve_point` (how, and what its
 labels and ``nonperiodic`` mean, is told there); the closed-form band edges a sweep must
@@ -17,15 +19,14 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import multiprocessing
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.parallel import map_tasks
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings
 from impactdamper.analysis.transitions import rigid_amplitude
 from impactdamper.core.linear import forced_amplitudes
@@ -37,9 +38,8 @@ __all__ = [
     "two_way_sweep",
     "random_initial_state",
     "random_start_states",
-    "random_starts",
     "locate_transition",
-    "regime_map",
+    "find_transitions",
     "swept_names",
     "check_direction",
     "with_value",
@@ -173,11 +173,7 @@ def two_way_sweep(
     values = sorted(float(v) for v in values)
     tick = on_point if processes < 2 else None
     jobs = [(base, parameter, values, settings, "up", tick), (base, parameter, values[::-1], settings, "down", tick)]
-    if processes >= 2:
-        with ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("fork")) as pool:
-            up, down = pool.map(_sweep_job, jobs)
-    else:
-        up, down = (_sweep_job(j) for j in jobs)
+    up, down = map_tasks(_sweep_job, jobs, 2 if processes >= 2 else 1)
     return {
         "up": up[0],
         "down": down[0][::-1],
@@ -230,35 +226,6 @@ def random_start_states(
         p = with_value(base, parameter, v)
         out.append((v, p, [random_initial_state(p, np.random.default_rng([int(seed), i, j])) for j in range(count)]))
     return out
-
-
-def random_starts(
-    base: Parameters,
-    parameter: str,
-    values: Sequence[float],
-    count: int,
-    seed: int,
-    *,
-    indices: Sequence[int] | None = None,
-    settings: SweepSettings | None = None,
-) -> list[list[SweepPoint]]:
-    """``count`` random initial states per value (no neighbour), deterministic
-    (:func:`random_start_states`).
-
-    Parameters
-    ----------
-    indices : sequence of int, optional
-        The values' indices in the whole grid (default 0, 1, ...).
-
-    Returns
-    -------
-    list (per value) of list (per start) of SweepPoint.
-    """
-    settings = settings or SweepSettings()
-    return [
-        [solve_point(p, v, state=state, settings=settings, start="random") for state in states]
-        for v, p, states in random_start_states(base, parameter, values, count, seed, indices)
-    ]
 
 
 # ----------------------------------------------------------------------------------------
@@ -343,37 +310,37 @@ def locate_transition(
     )
 
 
-# ----------------------------------------------------------------------------------------
-# Two-parameter maps
-# ----------------------------------------------------------------------------------------
-def regime_map(
+def find_transitions(
     base: Parameters,
-    fast: str,
-    fast_values: Sequence[float],
-    slow: str,
-    slow_values: Iterable[float],
+    parameter: str,
+    points: dict,
     *,
-    direction: str = "up",
     settings: SweepSettings | None = None,
-) -> list[list[SweepPoint]]:
-    """A regime map: for each value of ``slow``, a one-way sweep of ``fast`` over its values.
+    xtol: float = 1e-6,
+    workers: int = 1,
+) -> dict[str, list[Transition]]:
+    """Every label change along both directions of a two-way sweep, each bisected on its own
+    (:func:`locate_transition`) in ``workers`` processes, each handed to whichever is free: the
+    same transitions as one direction after the other, in the same order.
 
     Parameters
     ----------
-    fast, slow : str
-        Fields of :class:`Parameters` (e.g. ``gap`` and ``theta``).
-    direction : {"up", "down"}
-        Direction of every sweep of ``fast``.
+    points : dict
+        ``{"up": [...], "down": [...]}`` (:func:`two_way_sweep`), each in increasing values;
+        neighbours are taken in each sweep's own order.
 
     Returns
     -------
-    list (per slow value) of list (per fast value, increasing) of SweepPoint.
+    dict
+        direction -> list of Transition, in the sweep's order.
     """
-    check_direction(direction)
-    fast_values = sorted(float(v) for v in fast_values)
-    order = fast_values if direction == "up" else fast_values[::-1]
-    rows = []
-    for s in slow_values:
-        row = sweep(with_value(base, slow, float(s)), fast, order, settings=settings)
-        rows.append(row if direction == "up" else row[::-1])
-    return rows
+    pairs = []
+    for direction in ("up", "down"):
+        order = list(points[direction]) if direction == "up" else list(points[direction])[::-1]
+        pairs += [(direction, a, b) for a, b in zip(order[:-1], order[1:]) if a.label != b.label]
+    found = map_tasks(
+        lambda pair: locate_transition(base, parameter, pair[1], pair[2], pair[0], settings=settings, xtol=xtol),
+        pairs,
+        workers,
+    )
+    return {d: [t for (dd, _, _), t in zip(pairs, found) if dd == d] for d in ("up", "down")}

@@ -9,31 +9,16 @@ import threading
 import time
 from collections.abc import Callable
 
+from impactdamper.analysis.parallel import map_tasks
+
 __all__ = ["in_parallel", "Silences", "processor_time"]
 
 
-# The tasks of in_parallel's pool, by index (the forked workers inherit them: a task holds
-# closures, which cannot be sent through a pipe).
-_TASKS: list = []
-
-
-def _run_task(i: int):
-    return _TASKS[i]()
-
-
 def in_parallel(tasks: dict, workers: int) -> dict:
-    """{key: task()} of independent tasks, ``workers`` at a time in forked processes (in this
-    one with a single worker), the answers in the tasks' order whatever ran where."""
-    keys = list(tasks)
-    if workers <= 1 or len(keys) <= 1 or "fork" not in multiprocessing.get_all_start_methods():
-        return {k: tasks[k]() for k in keys}
-    _TASKS[:] = [tasks[k] for k in keys]
-    try:
-        with multiprocessing.get_context("fork").Pool(min(workers, len(keys))) as pool:
-            results = pool.map(_run_task, range(len(keys)), chunksize=1)
-    finally:
-        _TASKS.clear()
-    return dict(zip(keys, results))
+    """{key: task()} of independent tasks, ``workers`` at a time in forked processes
+    (:func:`impactdamper.analysis.parallel.map_tasks`; in this one with a single worker), the
+    answers in the tasks' order whatever ran where."""
+    return dict(zip(tasks, map_tasks(lambda task: task(), list(tasks.values()), workers)))
 
 
 class Silences:

@@ -20,9 +20,9 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 import impactdamper as idp
-from impactdamper.analysis.batch import regime_map_batch
+from impactdamper.analysis.adaptive import adaptive_regime_map
 from impactdamper.analysis.point import SweepSettings
-from impactdamper.analysis.sweeps import regime_map
+from impactdamper.analysis.sweeps import sweep, with_value
 from impactdamper.baselines.ivp import simulate_ivp
 from impactdamper.core.backends import warm_up
 from impactdamper.core.compiled.layout import N_DIAG
@@ -193,17 +193,17 @@ def _map_rows(args) -> tuple[list, float, float, int]:
     thetas, gaps, rescue, map_settings = args
     c, w = time.process_time(), time.perf_counter()
     settings = SweepSettings(**map_settings, rescue=rescue)
-    rows = regime_map_batch(idp.Parameters(), "gap", gaps, "theta", thetas, settings=settings)
+    m = adaptive_regime_map(idp.Parameters(), "gap", gaps, "theta", thetas, settings=settings, brute_force=True)
     cpu, wall = time.process_time() - c, time.perf_counter() - w
     out = [
         {
-            "regime": r.regime_code.tolist(),
-            "k": r.period_multiple.tolist(),
-            "z": r.impacts_per_cycle.tolist(),
-            "periods": r.periods.tolist(),
-            "fallback": sum(r.fallbacks.values()),
+            "regime": m.regime_code[r].tolist(),
+            "k": m.period_multiple[r].tolist(),
+            "z": m.impacts_per_cycle[r].tolist(),
+            "periods": m.periods[r].tolist(),
+            "fallback": int(np.count_nonzero(m.fallback[r] != "")),
         }
-        for r in rows
+        for r in range(len(thetas))
     ]
     return out, cpu, wall, sum(o["fallback"] for o in out)
 
@@ -273,7 +273,7 @@ def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray, map
     row = n // 2
     settings = SweepSettings(**map_settings, continuation=True)
     c = time.process_time()
-    regime_map(idp.Parameters(), "gap", gaps, "theta", thetas[row : row + 1], settings=settings)
+    sweep(with_value(idp.Parameters(), "theta", float(thetas[row])), "gap", gaps, settings=settings)
     py_row = time.process_time() - c
     return {
         "dop853_sample_points": IVP_MAP_SAMPLE,

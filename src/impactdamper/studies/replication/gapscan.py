@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 
+from impactdamper.analysis.parallel import map_tasks
 from impactdamper.studies.replication import cases as rep
 from impactdamper.studies.replication import crosscheck as xc
 from impactdamper.studies.config import parameters
@@ -225,11 +225,7 @@ def end_checks(
             points.append(("beyond the orbit's stability boundary", orbit[side] - sign * ORBIT_CHECK_OFFSET))
         for role, g in points:
             jobs.append((base, solver, verdict, "b", side, role, g))
-    if workers > 1 and len(jobs) > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            checks = list(pool.map(end_check, jobs))
-    else:
-        checks = [end_check(j) for j in jobs]
+    checks = map_tasks(end_check, jobs, workers)
     for c in checks:
         same = c["exact"] == c["independent"]
         if c["claim"] == "a":
@@ -339,11 +335,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
     # (b) and the table: the coarse grid, in parallel (every point is independent).
     g2 = rep.grid(lo, hi, float(verdict["gap_step"]))
     jobs = [(base, solver, float(g)) for g in g2]
-    if workers > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            rows = list(pool.map(alg2_row, jobs))
-    else:
-        rows = [alg2_row(j) for j in jobs]
+    rows = map_tasks(alg2_row, jobs, workers)
     ranges_b = rep.ranges(g2, [r["claim_b"] for r in rows], alg2_pred, float(verdict["bisect_tol"]))
     both = rep.overlap(ranges_a, ranges_b)
 

@@ -5,12 +5,10 @@ Extends Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100. A map has 
 one axis and a second parameter (theta = omega/omega1, or the damping ratio delta = delta1 =
 delta2) on the other (:func:`impactdamper.studies.sweeps.gapsweep.map_axes`). For each value of
 the second parameter the gap is swept one way (``maps.direction``), each cell from its left
-neighbour's settled motion, as the compiled batch's
-:func:`impactdamper.analysis.batch.regime_map_batch` sweeps it (Algorithm No. 2 with the
-stroboscopic period test; the Newton rescue of cells that do not settle only with
-``maps.rescue``), but computed where the labels change
+neighbour's settled motion (Algorithm No. 2 with the stroboscopic period test; the Newton
+rescue of cells that do not settle only with ``maps.rescue``), computed where the labels change
 (:func:`impactdamper.analysis.adaptive.adaptive_regime_map`). Some of the chunk's rows are swept
-cell by cell as well, the brute force, and the two compared
+cell by cell as well, the brute force (the same call with ``brute_force=True``), and the two compared
 (:func:`impactdamper.analysis.adaptive.label_differences`).
 
 The rows are dealt to ``maps.chunks`` chunks in turn (:func:`chunk_rows`: the costly rows near
@@ -22,7 +20,6 @@ from __future__ import annotations
 import numpy as np
 
 from impactdamper.analysis.adaptive import adaptive_regime_map, label_differences
-from impactdamper.analysis.batch import regime_map_batch
 from impactdamper.reporting.records import Timer
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.sweeps.gapsweep import SETTLED_COLUMNS, map_axes, regime_of_label
@@ -93,12 +90,18 @@ def regime_map_chunk(
             timer.wall,
         )
     with Timer() as check_timer:
-        brute = regime_map_batch(
-            base, "gap", gaps, slow, slow_values[rows_idx[check_idx]], direction=maps["direction"], settings=settings
+        brute = adaptive_regime_map(
+            base,
+            "gap",
+            gaps,
+            slow,
+            slow_values[rows_idx[check_idx]],
+            direction=maps["direction"],
+            settings=settings,
+            brute_force=True,
         )
     reference_labels = labels.copy()
-    for n, row in zip(check_idx, brute):
-        reference_labels[n] = row.label
+    reference_labels[check_idx] = brute.label
     check = label_differences(labels, reference_labels, rows=check_idx, computed=m.computed)
     check.update(rows=[int(rows_idx[n]) for n in check_idx], cpu_s=check_timer.cpu)
     if log is not None:

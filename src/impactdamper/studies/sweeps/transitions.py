@@ -38,7 +38,6 @@ import scipy.optimize
 from impactdamper import algorithm1
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.orbits import OrbitError, solve_orbit
-from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.sweeps import locate_transition, with_value
 from impactdamper.analysis.transitions import algorithm1_grazing_gap, no_contact_gap, stuck_liftoff_gap
@@ -49,7 +48,6 @@ __all__ = [
     "EXTREMUM_SAMPLES",
     "SIMULATION_OFFSET",
     "FINITE_STEP_NOTE",
-    "find_all",
     "least_contact_force",
     "largest_relative_displacement",
     "liftoff_check",
@@ -60,30 +58,6 @@ __all__ = [
 
 # Samples per period before refining an extremum of a periodic function of time.
 EXTREMUM_SAMPLES = 2048
-
-
-def find_all(base, parameter: str, points: dict, settings, xtol: float, workers: int = 1) -> dict:
-    """Every label change along both directions of a two-way sweep (``points``: ``{"up": [...],
-    "down": [...]}``, increasing values; neighbours in each sweep's own order), every transition
-    bisected on its own (:func:`impactdamper.analysis.sweeps.locate_transition`) in ``workers``
-    processes, each handed to whichever is free: the same transitions as one direction after the
-    other, in the same order.
-
-    Returns
-    -------
-    dict
-        direction -> list of Transition.
-    """
-    pairs = []
-    for direction in ("up", "down"):
-        order = list(points[direction]) if direction == "up" else list(points[direction])[::-1]
-        pairs += [(direction, a, b) for a, b in zip(order[:-1], order[1:]) if a.label != b.label]
-
-    def locate(items):
-        return [locate_transition(base, parameter, a, b, d, settings=settings, xtol=xtol) for d, a, b in items]
-
-    found = map_blocks(locate, pairs, workers, dynamic=True)
-    return {d: [t for (dd, _, _), t in zip(pairs, found) if dd == d] for d in ("up", "down")}
 
 
 def _extremum(f, T: float, sign: float) -> float:
