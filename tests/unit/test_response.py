@@ -35,7 +35,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.core.steady import steady_state
-from impactdamper.studies.design.design import two_mass_amplitude
+from impactdamper.analysis.linear_device import LinearDevice
 
 # A gap the motion never reaches: 1000 x_st against forced amplitudes below 30 x_st.
 NO_CONTACT_GAP = 1.0e3
@@ -53,7 +53,7 @@ def test_no_contact_flow_is_the_linear_forced_response(delta1, delta2, N):
     p = Parameters(gap=NO_CONTACT_GAP, delta1=delta1, delta2=delta2, N=N)
     r = frequency_response(p, 0.6, 1.4, 9, locate=False)
     lin1, lin2 = linear_response(p, r.thetas)
-    closed = two_mass_amplitude(p.mu, p.N, p.delta1, p.delta2, r.thetas)
+    closed = LinearDevice.of(p).amplitude(r.thetas)
     for q, a1, a2, c in zip(r.points, lin1, lin2, closed):
         for m in (q.up, q.down):
             assert m.regime == "no_contact"
