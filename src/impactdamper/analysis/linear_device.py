@@ -101,6 +101,13 @@ class LinearDevice:
         th = np.asarray(thetas, float)
         return np.abs(P.polyval(th, num) / P.polyval(th, den))
 
+    def absorber(self, thetas: Sequence[float]) -> np.ndarray:
+        """|x2|/x_st = |x1 + (x2 - x1)|/x_st = |B|/|D| (|x1|/x_st for the bare object, whose
+        stroke is 0). Shape (len(thetas),)."""
+        num, den, st = self.polynomials()
+        th = np.asarray(thetas, float)
+        return np.abs(P.polyval(th, P.polyadd(num, st)) / P.polyval(th, den))
+
     def stroke(self, thetas: Sequence[float]) -> np.ndarray:
         """|x2 - x1|/x_st (0 for the bare object). Shape (len(thetas),)."""
         _, den, st = self.polynomials()
