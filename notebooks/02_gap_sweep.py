@@ -35,7 +35,7 @@ import numpy as np
 import impactdamper as idp
 from impactdamper.core import linear
 from impactdamper.reporting import plotting
-from impactdamper.analysis import ladder, point, sweeps, transitions
+from impactdamper.analysis import ladder, linear_device, point, sweeps, transitions
 from impactdamper.studies import vocabulary
 
 GAP = vocabulary.SPEC["gap"].symbol  # the gap's symbol in TeX: its row of the parameter table
@@ -147,7 +147,7 @@ COLORS = {
     "nonperiodic": "C1",
 }
 p = reference
-alone = transitions.object_alone_amplitude(p)
+alone = float(linear_device.LinearDevice.bare(p.delta1).amplitude([p.theta])[0])
 rigid = transitions.rigid_amplitude(p)
 absorber = abs(linear.forced_amplitudes(p)[0]) / p.x_st
 

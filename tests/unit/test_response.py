@@ -25,7 +25,6 @@ from impactdamper.analysis.response import (
     cycle_metrics,
     energy_balance,
     frequency_response,
-    linear_response,
     theta_grid,
 )
 from impactdamper.analysis.ladder import solve_point
@@ -35,7 +34,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import EventDrivenSolver
 from impactdamper.core.steady import steady_state
-from impactdamper.studies.design.design import two_mass_amplitude
+from impactdamper.analysis.linear_device import LinearDevice
 
 # A gap the motion never reaches: 1000 x_st against forced amplitudes below 30 x_st.
 NO_CONTACT_GAP = 1.0e3
@@ -52,9 +51,11 @@ BALANCE_TOL = 1e-10
 def test_no_contact_flow_is_the_linear_forced_response(delta1, delta2, N):
     p = Parameters(gap=NO_CONTACT_GAP, delta1=delta1, delta2=delta2, N=N)
     r = frequency_response(p, 0.6, 1.4, 9, locate=False)
-    lin1, lin2 = linear_response(p, r.thetas)
-    closed = two_mass_amplitude(p.mu, p.N, p.delta1, p.delta2, r.thetas)
-    for q, a1, a2, c in zip(r.points, lin1, lin2, closed):
+    device = LinearDevice.of(p)
+    for q, c, c2 in zip(r.points, device.amplitude(r.thetas), device.absorber(r.thetas)):
+        a1, a2 = (abs(x) / p.x_st for x in forced_amplitudes(with_value(p, "theta", q.theta)))
+        assert q.linear_x1 == c and q.linear_x2 == c2  # the response's linear columns
+        assert abs(a2 - c2) <= 1e-12 * c2
         for m in (q.up, q.down):
             assert m.regime == "no_contact"
             assert abs(m.max_abs_x1 - a1) <= AMPLITUDE_ATOL, (q.theta, m.max_abs_x1, a1)

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from impactdamper.analysis.linear_device import LinearDevice
-from impactdamper.studies.design.design import den_hartog
+from impactdamper.analysis.linear_device import den_hartog
 from impactdamper.studies.design.devices import ImpactCriterion, TmdCriterion, Uncertainty
 from impactdamper.studies.design.optimum import BUDGET, design_bounds
 from impactdamper.studies.design.search import CHECK_MOVE, Budget, check_moves, search

@@ -24,10 +24,10 @@ from impactdamper.analysis.ladder import carry_state, solve_point
 from impactdamper.analysis.point import SweepSettings, label_of
 from impactdamper.analysis.batch import random_starts_batch
 from impactdamper.analysis.sweeps import locate_transition, sweep, with_value
+from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.analysis.transitions import (
     algorithm1_grazing_gap,
     no_contact_gap,
-    object_alone_amplitude,
     rigid_amplitude,
     stuck_liftoff_gap,
 )
@@ -72,7 +72,9 @@ def test_reference_amplitudes(p):
     # Rigidly attached: the stuck mode's forced amplitude; alone: the suppressor's mass -> 0.
     assert rigid_amplitude(p) == pytest.approx(abs(stuck_mode(p).Yhat[0]) / p.x_st, rel=1e-12)
     tiny = p.replace(mu=1e-10)
-    assert object_alone_amplitude(p) == pytest.approx(abs(forced_amplitudes(tiny)[0]) / p.x_st, rel=1e-8)
+    assert LinearDevice.bare(p.delta1).amplitude([p.theta])[0] == pytest.approx(
+        abs(forced_amplitudes(tiny)[0]) / p.x_st, rel=1e-8
+    )
 
 
 def test_reference_case_thresholds():

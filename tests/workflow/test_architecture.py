@@ -226,15 +226,8 @@ def test_scripts_are_thin_and_modules_small():
 # --- one vocabulary: the parameter table (core/parameters.py) is the only place that spells the
 # parameters' names as a collection or their TeX symbols ------------------------------------------
 VOCABULARY_FOLDERS = ("src", "workflow", "notebooks")
-# Files rewritten in parallel during issue 50 that still spell the vocabulary by hand (the design
-# variables ("gap", "N", "delta2", "R") outside studies/design/devices.IMPACT_NAMES, the design
-# figures' and tables' symbols). Their hits are held to today's count so that none is added; the
-# files leave this list as they are moved onto the table.
-VOCABULARY_PENDING = (
-    "src/impactdamper/studies/design/",
-    "workflow/scripts/design_",
-    "workflow/scripts/fig_design_",
-)
+# (Every file spells the vocabulary through the table: issue 50 moved the last of them, the design
+# variables, the compiled kernels' column lookups and the figures' and tables' symbols.)
 # Hand-typed TeX symbols of the relative parameters (the table's ``symbol`` column); ``$\mu$s``
 # is the microsecond.
 HAND_SYMBOL = re.compile(r"\\delta_[12]|\\Delta_0/x|\\theta\b|\\mu\b(?!\$s)")
@@ -290,16 +283,10 @@ def _vocabulary_scan() -> tuple[list, list]:
 
 def test_the_vocabulary_is_spelled_only_in_the_parameter_table():
     """Outside the table: at most 2 hand-typed collections of 3 or more parameter names (the
-    readings' table columns, in their table's order; the design variables' one home) and no
-    hand-typed TeX symbol of a parameter; the files still pending hold no more than they did
-    when the last of the others left the list (7 collections, 7 symbol strings; 10 and 19 when
-    the scan was written)."""
+    readings' table columns, in their table's order; a hard case's data) and no hand-typed TeX
+    symbol of a parameter anywhere."""
     collections, symbols = _vocabulary_scan()
     strings, found = _strings_and_collections(SRC / "core" / "parameters.py")
     assert found and any(HAND_SYMBOL.search(text) for _, text in strings)  # (the scan finds the table's own)
-    pending = [h for h in collections if h[0].startswith(VOCABULARY_PENDING)]
-    assert len(collections) - len(pending) <= 2, [h for h in collections if h not in pending]
-    assert len(pending) <= 7, pending
-    pending = [h for h in symbols if h[0].startswith(VOCABULARY_PENDING)]
-    assert [h for h in symbols if h not in pending] == []
-    assert len(pending) <= 7, pending
+    assert len(collections) <= 2, collections
+    assert symbols == [], symbols

@@ -49,6 +49,7 @@ def test_only_the_public_api_is_imported():
         "impactdamper.analysis.ladder",
         "impactdamper.analysis.point",
         "impactdamper.analysis.transitions",
+        "impactdamper.analysis.linear_device",
         "impactdamper.analysis.response",
         "impactdamper.studies.design.design",
         "impactdamper.studies.design.optimum",

@@ -259,7 +259,7 @@ rule fig_design_response:
 rule fig_design_chart:
     input:
         script="workflow/scripts/fig_design_chart.py",
-        library=library(REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         chart="figures/design_chart.csv",
         best="figures/design_chart.json",

@@ -12,19 +12,11 @@ import logging
 
 import numpy as np
 
+from impactdamper.analysis.linear_device import LinearDevice, den_hartog
 from impactdamper.reporting.records import run_stage, write_csv, write_json
-from impactdamper.studies.design.design import (
-    band_mean,
-    band_peak,
-    bare_object_amplitude,
-    den_hartog,
-    design_band,
-    design_parameters,
-    optimal_tmd,
-    two_mass_amplitude,
-)
+from impactdamper.studies.design.design import LINEAR_GRID_POINTS, design_band, design_parameters
 from impactdamper.studies.design.devices import TmdCriterion, Uncertainty
-from impactdamper.studies.design.optimum import BUDGET, design_bounds
+from impactdamper.studies.design.optimum import BUDGET, design_bounds, optimal_tmd
 from impactdamper.studies.design.search import search
 
 
@@ -45,43 +37,52 @@ def den_hartog_check(mu: float, band: tuple) -> dict:
     }
 
 
+def summary(device: LinearDevice, band: tuple) -> dict:
+    """A linear device's peak over the band (exact) and its band average (LINEAR_GRID_POINTS)."""
+    return {
+        "peak": float(device.peak(band)[1]),
+        "band_average": device.band_average(np.linspace(band[0], band[1], LINEAR_GRID_POINTS)),
+    }
+
+
+def optimal(mu: float, delta1: float, band: tuple, criterion: str) -> tuple[LinearDevice, dict]:
+    """The optimal TMD for ``criterion`` (the design table's optimiser, nominal) and its record."""
+    r = optimal_tmd(TmdCriterion(mu, delta1, band, criterion, Uncertainty()))
+    device = LinearDevice(mu, r.x["N"], delta1, r.x["delta2"])
+    record = {"mu": mu, "delta1": delta1, "band": list(band), "criterion": criterion, **r.x}
+    return device, {**record, **summary(device, band), "evaluations": r.evaluations}
+
+
 def main(reference: dict, design: dict, out_csv, out_json, log=None) -> None:
     log = log if log is not None else logging.getLogger("design_baselines")
     p = design_parameters(reference, design)
     band = design_band(design)
     th = np.linspace(band[0], band[1], int(design["baseline_points"]))
-    tmd = {c: optimal_tmd(p.mu, p.delta1, band, c) for c in ("peak", "band_average")}
-    for c, t in tmd.items():
+    devices = {"bare": LinearDevice.bare(p.delta1), "absorber": LinearDevice.of(p)}
+    tmd = {}
+    for c in ("peak", "band_average"):
+        devices[f"tmd_{c}"], tmd[c] = optimal(p.mu, p.delta1, band, c)
         log.info(
             "optimal TMD (%s): N = %.6f, delta2 = %.6f, peak %.6f, band average %.6f",
             c,
-            t.N,
-            t.delta2,
-            t.peak,
-            t.band_average,
+            tmd[c]["N"],
+            tmd[c]["delta2"],
+            tmd[c]["peak"],
+            tmd[c]["band_average"],
         )
     check = den_hartog_check(p.mu, band)
-    curves = {
-        "bare": bare_object_amplitude(p.delta1, th),
-        "absorber": two_mass_amplitude(p.mu, p.N, p.delta1, p.delta2, th),
-        "tmd_peak": tmd["peak"].amplitude(th),
-        "tmd_band_average": tmd["band_average"].amplitude(th),
-    }
+    curves = {k: d.amplitude(th) for k, d in devices.items()}
     write_csv(
         out_csv, COLUMNS, [{"theta": float(t), **{k: float(v[i]) for k, v in curves.items()}} for i, t in enumerate(th)]
     )
-    refs = {
-        "bare": lambda t: bare_object_amplitude(p.delta1, t),
-        "absorber": lambda t: two_mass_amplitude(p.mu, p.N, p.delta1, p.delta2, t),
-    }
-    summary = {
+    record = {
         "band": list(band),
         "parameters": p.to_dict(),
-        "references": {k: {"peak": band_peak(f, band), "band_average": band_mean(f, band)} for k, f in refs.items()},
-        "tmd": {c: t.to_dict() for c, t in tmd.items()},
+        "references": {k: summary(devices[k], band) for k in ("bare", "absorber")},
+        "tmd": tmd,
         "den_hartog_check": check,
     }
-    write_json(out_json, summary)
+    write_json(out_json, record)
     log.info(
         "Den Hartog check: the search's peak %.6f against the fixed-point height %.6f (%.2e), N %.2e, delta2 %.2e",
         check["search"]["value"],

@@ -15,13 +15,13 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.reporting.records import Timer, read_json, run_stage, write_json
 from impactdamper.studies.design.checks import located_peak_checks
 from impactdamper.studies.design.design import design_band, design_parameters
-from impactdamper.studies.design.devices import DESIGN_SETTINGS, impact_parameters
+from impactdamper.studies.design.devices import DESIGN_SETTINGS, IMPACT_NAMES, impact_parameters
 from impactdamper.studies.design.verdict import device
 
 # A suppressor on the reference object whose worst branch is the motion without contact up to
 # its first contact (found by the design search of an earlier version; the sweeps' samples jump
 # past it).
-BRANCH_END = {"gap": 5.332, "N": 0.597, "delta2": 0.061, "R": 0.405}
+BRANCH_END = dict(zip(IMPACT_NAMES, (5.332, 0.597, 0.061, 0.405)))
 
 
 def main(reference: dict, design: dict, optimum_json, out_json, log=None) -> None:

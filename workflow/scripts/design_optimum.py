@@ -12,6 +12,7 @@ import logging
 
 from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
 from impactdamper.studies.design.design import design_band, design_parameters
+from impactdamper.studies.design.devices import IMPACT_NAMES
 from impactdamper.studies.design.optimum import design_optima, design_options
 
 
@@ -44,7 +45,7 @@ def table_rows(record: dict) -> list[dict]:
         out.append(
             {
                 "device": d["device"],
-                **{k: d["parameters"].get(k, "") for k in ("gap", "N", "delta2", "R")},
+                **{k: d["parameters"].get(k, "") for k in IMPACT_NAMES},
                 "peak": d["peak"],
                 "peak_theta": d["peak_theta"],
                 "band_average": d["band_average"],

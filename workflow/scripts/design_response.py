@@ -18,7 +18,7 @@ import numpy as np
 from impactdamper.analysis.response import frequency_response
 from impactdamper.reporting.records import read_json, run_stage, write_csv, write_json
 from impactdamper.studies.design.design import design_band, design_parameters, response_gaps
-from impactdamper.studies.design.devices import DESIGN_SETTINGS
+from impactdamper.studies.design.devices import DESIGN_SETTINGS, IMPACT_NAMES
 from impactdamper.studies.design.verdict import device
 
 
@@ -67,7 +67,7 @@ def main(reference: dict, design: dict, chart_json, optimum_json, out_csv, out_j
     for role, q in devices(p, read_json(chart_json), read_json(optimum_json), design["response_gaps"]):
         log.info("frequency response of %s (%s)", role, q)
         r = frequency_response(q, *band, int(design["response_points"]), settings=DESIGN_SETTINGS, progress=log.info)
-        extra = {"role": role, "gap": q.gap, "N": q.N, "delta2": q.delta2, "R": q.R}
+        extra = {"role": role, **{k: getattr(q, k) for k in IMPACT_NAMES}}
         rows.extend({**extra, **row} for row in r.rows())
         ms = [m for pt in r.points for m in (pt.up, pt.down)]
         theta, branch = r.peak_where()

@@ -15,6 +15,7 @@ Deviations: none (the paper has no such figure).
 
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
+from impactdamper.studies.vocabulary import GAP_AXIS_LABEL, SPEC
 
 
 def main(chart_csv, chart_json, baselines_json, optimum_json, out_pdf, out_png) -> None:
@@ -43,7 +44,7 @@ def main(chart_csv, chart_json, baselines_json, optimum_json, out_pdf, out_png) 
         color="C4",
         ls=":",
         lw=1.0,
-        label=f"impact: at $\\theta = {one['theta']:g}$ alone",
+        label=f"impact: at ${SPEC['theta'].symbol} = {one['theta']:g}$ alone",
     )
     refs = base["references"]
     for value, text, color, ls in (
@@ -77,7 +78,7 @@ def main(chart_csv, chart_json, baselines_json, optimum_json, out_pdf, out_png) 
     ax3.set_ylim(0.0, None)
     ax2.set_ylabel("pulse ($P_0/\\omega_1$)")
     ax3.set_ylabel("impacts per period")
-    ax2.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    ax2.set_xlabel(GAP_AXIS_LABEL)
     h1, l1 = ax2.get_legend_handles_labels()
     h2, l2 = ax3.get_legend_handles_labels()
     ax2.legend(h1 + h2, l1 + l2, fontsize="small", loc="lower left")

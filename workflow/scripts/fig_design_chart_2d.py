@@ -9,7 +9,7 @@ Deviations: none (the paper has no such figure).
 
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
-from impactdamper.studies.vocabulary import SPEC
+from impactdamper.studies.vocabulary import GAP_AXIS_LABEL, SPEC
 
 
 def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
@@ -34,7 +34,7 @@ def main(chart_csv, chart_json, baselines_json, out_pdf, out_png) -> None:
         ax.plot([b["gap"]], [b["value"]], "o", color=f"C{i}", ms=4)
     tmd = base["tmd"]["peak"]["peak"]
     ax.axhline(tmd, color="0.3", ls="--", lw=0.8, label=f"optimal TMD ({tmd:.2f})")
-    ax.set_xlabel("initial gap $\\Delta_0/x_{\\mathrm{st}}$")
+    ax.set_xlabel(GAP_AXIS_LABEL)
     ax.set_ylabel("peak $\\max|x_1|/x_{\\mathrm{st}}$ over the band")
     ax.set_ylim(0.0, None)
     ax.legend(fontsize="small", ncol=3, loc="lower left")

@@ -15,7 +15,7 @@ import numpy as np
 
 from impactdamper.reporting.plotting import figure_size, finish_figure, use_style
 from impactdamper.reporting.records import cell_float, read_csv, read_json, run_stage
-from impactdamper.studies.design.design import two_mass_amplitude
+from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.studies.vocabulary import SPEC
 
 
@@ -36,14 +36,12 @@ def main(response_csv, response_json, baselines_csv, optimum_json, out_pdf, out_
     )
     th = np.array([float(r["theta"]) for r in base])
     ax.plot(th, [float(r["bare"]) for r in base], color="0.3", ls=":", lw=0.9, label="object alone")
-    lin = two_mass_amplitude(opt["mu"], tmd["parameters"]["N"], opt["delta1"], tmd["parameters"]["delta2"], th)
+    lin = LinearDevice(opt["mu"], tmd["parameters"]["N"], opt["delta1"], tmd["parameters"]["delta2"]).amplitude(th)
     ax.plot(th, lin, color="C3", lw=1.2, label=f"optimal linear TMD (peak {tmd['peak']:.2f})")
     best = summary["best"]
     for direction, ls in (("up", "-"), ("down", "--")):
         t, y = _curve(rows, "best", direction, "max_abs_x1")
-        label = (
-            f"paper's suppressor, $\\Delta_0/x_{{\\mathrm{{st}}}} = {best['gap']:.2f}$" if direction == "up" else None
-        )
+        label = f"paper's suppressor, ${SPEC['gap'].symbol} = {best['gap']:.2f}$" if direction == "up" else None
         ax.plot(t, y, color="C2", ls=ls, lw=0.7, label=label)
     s = summary["optimal"]
     for direction, ls in (("up", "-"), ("down", "--")):

@@ -16,7 +16,8 @@ from impactdamper.studies.config import parameters
 from impactdamper.reporting.records import cell_float, read_csv, run_stage
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.reporting.plotting import dots, figure_size, finish_figure, use_style
-from impactdamper.analysis.transitions import object_alone_amplitude, rigid_amplitude
+from impactdamper.analysis.linear_device import LinearDevice
+from impactdamper.analysis.transitions import rigid_amplitude
 from impactdamper.studies.vocabulary import SPEC
 
 
@@ -45,7 +46,7 @@ def main(reference: dict, sweep_csv, random_csv, out_pdf, out_png) -> None:
             label=f"{'upward' if direction == 'up' else 'downward'} sweep",
         )
     refs = (
-        (object_alone_amplitude(p), "object alone", "0.2", ":"),
+        (float(LinearDevice.bare(p.delta1).amplitude([p.theta])[0]), "object alone", "0.2", ":"),
         (rigid_amplitude(p), "suppressor rigidly attached", "C4", "-."),
         (abs(forced_amplitudes(p)[0]) / p.x_st, "suppressor never reaching the stop", "C2", (0, (5, 2))),
     )

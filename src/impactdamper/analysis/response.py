@@ -19,7 +19,8 @@ by what a designer needs:
   energy over the window, which a settled cycle leaves at the settle tolerance;
 * whether the upward and downward sweeps settle on different motions (hysteresis).
 
-The exact linear response without a stop (eq. 10) is given beside it, in closed form. The peak
+The exact linear response without a stop (eq. 10) is given beside it, in closed form
+(:class:`impactdamper.analysis.linear_device.LinearDevice`). The peak
 over the band is not the grid's largest sample but the worst branch located
 (:func:`impactdamper.analysis.peaks.worst_branch`: every branch a slow sweep in either
 direction follows, jumps bracketed, the no-contact floor in closed form, random starts at the
@@ -39,10 +40,10 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.analysis.point import FAILED, SweepPoint, SweepSettings
 from impactdamper.analysis.sweeps import two_way_sweep, with_value
 from impactdamper.core.events import SearchLimitError
-from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters, require_parameters
 from impactdamper.core.validation import finite_argument, integer_argument
 from impactdamper.core.simulate import EventDrivenSolver, Trajectory
@@ -53,7 +54,6 @@ __all__ = [
     "FrequencyResponse",
     "cycle_metrics",
     "frequency_response",
-    "linear_response",
     "theta_grid",
     "energy_balance",
     "HYSTERESIS_TOL",
@@ -319,22 +319,6 @@ def theta_grid(theta_start: object, theta_stop: object, points: object) -> np.nd
     return np.linspace(a, b, n)
 
 
-def linear_response(p: Parameters, thetas: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
-    """|x1p_hat|/x_st and |x2p_hat|/x_st of the system without a stop (eq. 10) at each theta.
-
-    Returns
-    -------
-    x1, x2 : ndarray, shape (len(thetas),)
-    """
-    p = require_parameters(p)
-    x1, x2 = [], []
-    for theta in thetas:
-        a, b = forced_amplitudes(with_value(p, "theta", float(theta)))
-        x1.append(abs(a) / p.x_st)
-        x2.append(abs(b) / p.x_st)
-    return np.array(x1), np.array(x2)
-
-
 def _pieces(a: float, b: float, cuts: Sequence[float], longest: float) -> list[tuple[float, float]]:
     """[a, b] split at ``cuts`` (segment starts, events) and into pieces no longer than ``longest``."""
     edges = sorted({a, b, *[c for c in cuts if a < c < b]})
@@ -561,7 +545,8 @@ def frequency_response(
             f"theta sweeps done ({len(thetas)} points each): up {sweep['cpu']['up']:.2f} s, "
             f"down {sweep['cpu']['down']:.2f} s processor time"
         )
-    lin1, lin2 = linear_response(p, thetas)
+    linear = LinearDevice.of(p)
+    lin1, lin2 = linear.amplitude(thetas), linear.absorber(thetas)
     out = []
     every = max(len(thetas) // 10, 1)
     for i, (theta, up, down) in enumerate(zip(thetas, sweep["up"], sweep["down"])):

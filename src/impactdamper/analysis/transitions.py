@@ -5,7 +5,8 @@ band edges are known in closed form from the linear theory (eqs. 10-16): the lif
 joined bodies (persistent contact ends), the onset of contact of the free forced response
 (eq. 12's U1), the existence range of Algorithm No. 1's one-impact orbit (eq. 16), and, by
 bisection on Algorithm No. 1 alone, the gap where that orbit first crosses the stop. The
-amplitudes of the object alone and with the suppressor rigidly attached are the references
+amplitude with the suppressor rigidly attached is a reference (the object alone is
+:meth:`impactdamper.analysis.linear_device.LinearDevice.bare`)
 for the suppression figures. A sweep (:mod:`impactdamper.analysis.sweeps`) must bracket these
 values; the workflow compares them.
 """
@@ -26,7 +27,6 @@ __all__ = [
     "algorithm1_existence_gap",
     "algorithm1_grazing_gap",
     "algorithm1_grazing_gaps",
-    "object_alone_amplitude",
     "rigid_amplitude",
     "liftoff_resolution_offset",
 ]
@@ -122,11 +122,6 @@ def algorithm1_grazing_gaps(p: Parameters, lo: float, hi: float, points: int, xt
         for i in range(len(scan) - 1)
         if adm[i] != adm[i + 1]
     ]
-
-
-def object_alone_amplitude(p: Parameters) -> float:
-    """max |x1|/x_st of the object without suppressor: 1/|1 - theta^2 + 2 i delta1 theta|."""
-    return 1.0 / abs(1.0 - p.theta**2 + 2j * p.delta1 * p.theta)
 
 
 def rigid_amplitude(p: Parameters) -> float:

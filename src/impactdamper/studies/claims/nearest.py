@@ -49,6 +49,7 @@ from collections.abc import Callable
 import numpy as np
 
 from impactdamper import steady_states
+from impactdamper.analysis.compass import compass
 from impactdamper.analysis.parallel import map_blocks
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.core.algorithm1 import algorithm1
@@ -265,15 +266,16 @@ def robust_start(ev: ClaimsEvaluator, u_hit: np.ndarray, margin: float, tries: i
 def compass_search(
     ev: ClaimsEvaluator, u0: np.ndarray, which: str, margin: float, step: float, floor: float, max_iterations: int = 200
 ) -> tuple[np.ndarray, int]:
-    """Lower the ``which`` norm of a robust point while it stays robust (:func:`robust`):
-    moves +-s e_i, +-s (e_i +- e_j)/sqrt 2 among the three largest changes, a radial shrink by s, and (max-norm) every change within s of the largest
-    shrunk by s; the best robust move that lowers the objective (:func:`_key`) is taken, else
-    s is halved, until s < ``floor``. Returns the point and the iterations made."""
-    u = np.asarray(u0, float).copy()
-    s, it, d = float(step), 0, len(u)
-    while s >= floor and it < max_iterations:
-        it += 1
-        moves = [u + sg * s * e for e in np.eye(d) for sg in (1.0, -1.0)]
+    """Lower the ``which`` norm of a robust point while it stays robust (:func:`robust`), by the
+    compass poll (:func:`impactdamper.analysis.compass.compass`): moves +-s e_i, +-s (e_i +-
+    e_j)/sqrt 2 among the three largest changes, a radial shrink by s, and (max-norm) every
+    change within s of the largest shrunk by s; the best robust move that lowers the objective
+    (:func:`_key`) is taken, else s is halved, until s < ``floor``. Returns the point and the
+    iterations made."""
+    d = len(u0)
+
+    def moves(u: np.ndarray, s: float, last: np.ndarray) -> list:
+        out = [u + sg * s * e for e in np.eye(d) for sg in (1.0, -1.0)]
         # Diagonal moves among the three largest changes: the reproducing windows are thin
         # and run obliquely (theta and N together), where axis moves alone stall.
         top = np.argsort(-np.abs(u), kind="stable")[:3]
@@ -284,25 +286,28 @@ def compass_search(
                         v = u.copy()
                         v[top[a]] += sa * s / math.sqrt(2.0)
                         v[top[b]] += sb * s / math.sqrt(2.0)
-                        moves.append(v)
+                        out.append(v)
         r = np.linalg.norm(u)
         if r > s:
-            moves.append(u * (1.0 - s / r))
+            out.append(u * (1.0 - s / r))
         if which == "max":
             m = np.max(np.abs(u))
             big = np.abs(u) >= m - s
-            moves.append(np.where(big, np.sign(u) * np.maximum(np.abs(u) - s, 0.0), u))
-        here = _key(u, which)
-        moves = [v for v in moves if _key(v, which) < here]
-        if not moves:
-            s *= 0.5
-            continue
-        ok = robust(ev, np.array(moves), margin)
+            out.append(np.where(big, np.sign(u) * np.maximum(np.abs(u) - s, 0.0), u))
+        return out
+
+    def judge(idx: np.ndarray, u: np.ndarray, s: np.ndarray, candidates: list) -> list:
+        here = _key(u[0], which)
+        lower = [k for k, v in enumerate(candidates[0]) if _key(v, which) < here]
+        if not lower:
+            return [None]
+        ok = robust(ev, np.array([candidates[0][k] for k in lower]), margin)
         if not ok.any():
-            s *= 0.5
-            continue
-        u = min((v for v, o in zip(moves, ok) if o), key=lambda v: _key(v, which))
-    return u, it
+            return [None]
+        return [min((k for k, o in zip(lower, ok) if o), key=lambda k: _key(candidates[0][k], which))]
+
+    u, it = compass(np.asarray(u0, float)[None, :], float(step), floor, moves, judge, max_iterations)
+    return u[0], it
 
 
 def margin_check(ev: ClaimsEvaluator, u: np.ndarray, margin: float, which: str, random_points: int, seed: int) -> dict:

@@ -31,6 +31,7 @@ from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.transitions import no_contact_gap
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
+from impactdamper.studies.design.devices import IMPACT_NAMES
 
 __all__ = ["FINE_STEP", "SAMPLE_RTOL", "fine_sweeps", "ivp_peak", "floor_check", "located_peak_checks"]
 
@@ -134,7 +135,7 @@ def located_peak_checks(cases: Sequence[tuple[str, Parameters]], band: tuple, se
         if iv is not None:
             ivps.append(iv["difference"])
         out[name] = {
-            "parameters": {k: getattr(p, k) for k in ["mu", "delta1", "gap", "N", "delta2", "R"]},
+            "parameters": {k: getattr(p, k) for k in ("mu", "delta1", *IMPACT_NAMES)},
             **w.to_dict(),
             "swept_peak": _swept_peak(w),
             "fine": fine,

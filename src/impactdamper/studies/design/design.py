@@ -3,22 +3,15 @@
 Timofeev et al. (2019), DOI 10.18698/0236-3941-2019-1-90-100, compute the suppressor's motion
 for a given gap; a designer wants the gap (and spring, restitution) that keeps the object's
 amplitude lowest over the band of forcing frequencies it will meet. This module sets the
-paper's suppressor, over a range of gaps, beside three linear references, each computed here:
+paper's suppressor, over a range of gaps, beside three linear references, each in the closed
+form of eq. (10) (:class:`impactdamper.analysis.linear_device.LinearDevice`):
 
 * the bare object (no suppressor): |x1|/x_st = 1/|1 - theta^2 + 2 i delta1 theta|;
 * the absorber without a stop: the same mu, N, delta2 (eq. 10 with no contact);
 * the optimal linear tuned-mass damper (TMD) of the same mu on the object's own damping
-  delta1: its tuning N and damping delta2 minimise the peak (or the band average) of |x1|/x_st
-  over the band, numerically. For delta1 = 0 and an unbounded band Den Hartog's closed form
-  holds: N = 1/(1 + mu), delta2 = sqrt(3 mu/(8 (1 + mu)^3)), peak sqrt(1 + 2/mu) (the peak is
-  the height of the fixed points, the exact minimax value); it checks the optimiser.
-
-In relative form (time in 1/omega1, lengths in x_st, B = N^2 + 2 i delta2 theta) the linear
-two-mass system has
-
-    x1_hat/x_st = (B - theta^2) / ((1 - theta^2 + 2 i delta1 theta)(B - theta^2) - mu B theta^2),
-
-the relative form of eq. (10) (:mod:`impactdamper.analysis.linear_device`).
+  delta1 (:func:`impactdamper.studies.design.optimum.optimal_tmd`). For delta1 = 0 and an
+  unbounded band Den Hartog's closed form holds
+  (:func:`impactdamper.analysis.linear_device.den_hartog`); it checks the design search.
 
 The design chart (:func:`gap_chart`) judges the impact suppressor at each gap on its worst
 branch over the band (:func:`impactdamper.analysis.peaks.worst_branches`: both sweep
@@ -42,13 +35,6 @@ from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, finite_argument, require_parameters
 
 __all__ = [
-    "bare_object_amplitude",
-    "two_mass_amplitude",
-    "den_hartog",
-    "TunedMassDamper",
-    "optimal_tmd",
-    "band_peak",
-    "band_mean",
     "GapChart",
     "CHART_COLUMNS",
     "AT_THETA_COLUMN",
@@ -77,12 +63,10 @@ CRITERIA = ("peak", "band_average")
 # the spread of max|x1| between the two sweep directions in the hysteretic part of the band, so
 # finer differences do not distinguish designs.
 GOOD_GAP_TOLERANCE = 0.10
-# Theta samples over a band for the linear peaks (then refined locally by a bounded search):
-# the TMD's resonance peaks are ~0.1 wide in theta at mu = 0.08, so 801 points over a band of 1
-# put 80 samples on each before refinement.
+# Theta samples over a band for the linear references' band averages (trapezoidal): the TMD's
+# resonance peaks are ~0.1 wide in theta at mu = 0.08, so 801 points over a band of 1 put 80
+# samples on each.
 LINEAR_GRID_POINTS = 801
-# Nelder-Mead stops when the peak changes by less than this (relative): the figures show 3 digits.
-OPTIMISER_FTOL = 1e-10
 # The parameters the config's ``design`` section may set for the suppressor it studies: the
 # relative ones but the gap (the design variable) and theta (the band); those and the scales
 # stay the reference case's.
@@ -157,169 +141,6 @@ def runs_where(thetas: Sequence[float], flags: Sequence[bool]) -> list[tuple[flo
             runs.append((start, last))
             start = None
     return runs
-
-
-def bare_object_amplitude(delta1: float, thetas: Sequence[float]) -> np.ndarray:
-    """|x1|/x_st of the object alone: 1/|1 - theta^2 + 2 i delta1 theta|. Shape (len(thetas),)."""
-    th = np.asarray(thetas, dtype=float)
-    return 1.0 / np.abs(1.0 - th**2 + 2j * delta1 * th)
-
-
-def two_mass_amplitude(mu: float, N: float, delta1: float, delta2: float, thetas: Sequence[float]) -> np.ndarray:
-    """|x1|/x_st of the linear two-mass system (absorber without a stop, or a TMD), closed form
-    (see the module docstring). Shape (len(thetas),)."""
-    th = np.asarray(thetas, dtype=float)
-    B = N * N + 2j * delta2 * th
-    return np.abs((B - th**2) / ((1.0 - th**2 + 2j * delta1 * th) * (B - th**2) - mu * B * th**2))
-
-
-def den_hartog(mu: float) -> dict:
-    """Den Hartog's optimal TMD on an undamped object: tuning N, damping delta2 and the peak of
-    |x1|/x_st.
-
-    Den Hartog (Mechanical Vibrations, 1956, sec. 3.3) gives the damping ratio on the
-    absorber's own critical damping, zeta2 = k2/(2 m2 omega2) = sqrt(3 mu/(8 (1 + mu))); this
-    project's delta2 = k2/(2 m2 omega1) = N zeta2 = sqrt(3 mu/(8 (1 + mu)^3)) (the same number as
-    his c/c_c with c_c = 2 m2 Omega_n on the main system's frequency). An earlier version
-    multiplied the latter by N once more, 1/(1 + mu) too small (8 % at mu = 0.08); the numerical
-    minimax optimum of an undamped object sits within 1 % of this delta2 (tests).
-    """
-    N = 1.0 / (1.0 + mu)
-    zeta2 = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu)))
-    return {"N": N, "delta2": N * zeta2, "peak": math.sqrt(1.0 + 2.0 / mu)}
-
-
-def band_peak(
-    amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float], points: int = LINEAR_GRID_POINTS
-) -> float:
-    """Maximum of a smooth ``amplitude(theta)`` over ``band``: a grid, then a bounded search
-    around the largest sample."""
-    th = np.linspace(band[0], band[1], points)
-    y = amplitude(th)
-    i = int(np.argmax(y))
-    lo, hi = th[max(i - 1, 0)], th[min(i + 1, points - 1)]
-    res = scipy.optimize.minimize_scalar(
-        lambda t: -float(amplitude(np.array([t]))[0]), bounds=(lo, hi), method="bounded", options={"xatol": 1e-12}
-    )
-    return max(float(y[i]), -float(res.fun))
-
-
-def band_mean(
-    amplitude: Callable[[np.ndarray], np.ndarray], band: tuple[float, float], points: int = LINEAR_GRID_POINTS
-) -> float:
-    """Trapezoidal mean of a smooth ``amplitude(theta)`` over ``band`` (``points`` samples)."""
-    th = np.linspace(band[0], band[1], points)
-    return float(np.trapezoid(amplitude(th), th) / (band[1] - band[0]))
-
-
-@dataclass(frozen=True)
-class TunedMassDamper:
-    """An optimal linear TMD of mass ratio ``mu`` on an object of damping ``delta1``.
-
-    Attributes
-    ----------
-    mu, delta1 : float
-    band : (float, float)
-        The theta band optimised over.
-    criterion : str
-        ``peak`` or ``band_average`` of |x1|/x_st over the band.
-    N, delta2 : float
-        The optimal tuning omega2/omega1 and damping k2/(2 m2 omega1).
-    peak, band_average : float
-        Both criteria at the optimum.
-    evaluations : int
-        Objective evaluations the optimiser took.
-    """
-
-    mu: float
-    delta1: float
-    band: tuple
-    criterion: str
-    N: float
-    delta2: float
-    peak: float
-    band_average: float
-    evaluations: int
-
-    def amplitude(self, thetas: Sequence[float]) -> np.ndarray:
-        return two_mass_amplitude(self.mu, self.N, self.delta1, self.delta2, thetas)
-
-    def to_dict(self) -> dict:
-        d = {name: getattr(self, name) for name in self.__dataclass_fields__}
-        d["band"] = list(self.band)
-        return d
-
-
-_check_band = check_band
-
-
-def optimal_tmd(
-    mu: float,
-    delta1: float,
-    band: tuple[float, float] = (0.5, 1.5),
-    criterion: str = "peak",
-    start: tuple[float, float] | None = None,
-) -> TunedMassDamper:
-    """The TMD of mass ratio ``mu`` that minimises ``criterion`` of |x1|/x_st over ``band``.
-
-    Nelder-Mead in (N, log delta2) from Den Hartog's optimum (or ``start``); the peak is a
-    minimax objective, whose optimum sits where two resonance peaks are equal, and the simplex
-    method needs no gradient there.
-
-    Parameters
-    ----------
-    mu : float
-        Mass ratio m2/m1 (> 0).
-    delta1 : float
-        The object's damping k1/(2 m1 omega1) (>= 0).
-    band : (float, float)
-        Theta band.
-    criterion : str
-        ``peak`` or ``band_average``.
-    start : (N, delta2), optional
-
-    Returns
-    -------
-    TunedMassDamper
-    """
-    mu = finite_argument("mu", mu)
-    delta1 = finite_argument("delta1", delta1)
-    if not mu > 0:
-        raise ValueError(f"`mu` = {mu!r} is not allowed: must be > 0")
-    if not delta1 >= 0:
-        raise ValueError(f"`delta1` = {delta1!r} is not allowed: must be >= 0")
-    band = _check_band(band)
-    if criterion not in CRITERIA:
-        raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(CRITERIA)}")
-    guess = den_hartog(mu)
-    x0 = (guess["N"], guess["delta2"]) if start is None else start
-    measure = band_peak if criterion == "peak" else band_mean
-
-    def objective(x: np.ndarray) -> float:
-        N, d2 = float(x[0]), math.exp(float(x[1]))
-        if not N > 0:
-            return math.inf
-        return measure(lambda th: two_mass_amplitude(mu, N, delta1, d2, th), band)
-
-    res = scipy.optimize.minimize(
-        objective,
-        np.array([x0[0], math.log(x0[1])]),
-        method="Nelder-Mead",
-        options={"xatol": 1e-9, "fatol": OPTIMISER_FTOL, "maxiter": 4000},
-    )
-    N, d2 = float(res.x[0]), math.exp(float(res.x[1]))
-    amp = lambda th: two_mass_amplitude(mu, N, delta1, d2, th)  # noqa: E731
-    return TunedMassDamper(
-        mu=mu,
-        delta1=delta1,
-        band=band,
-        criterion=criterion,
-        N=N,
-        delta2=d2,
-        peak=band_peak(amp, band),
-        band_average=band_mean(amp, band),
-        evaluations=int(res.nfev),
-    )
 
 
 # The best gap of a chart is located to this (Delta0/x_st) by Brent's method between the chart's

@@ -74,8 +74,10 @@ __all__ = [
 CRITERIA = ("peak", "band_average", "detuning", "force", "restitution", "absorber", "together")
 # The robust criteria: the worst peak over one uncertainty (or all together).
 ROBUST = ("detuning", "force", "restitution", "absorber", "together")
-IMPACT_NAMES = tuple(["gap", "N", "delta2", "R"])  # (the search box's order)
+# The design variables, defined here only: the TMD's tuning and damping, and the impact
+# suppressor's, its gap first and its restitution last (the search box's order).
 TMD_NAMES = ("N", "delta2")
+IMPACT_NAMES = ("gap", *TMD_NAMES) + ("R",)
 # Restitution a drifting stop may reach: a soft pad to hard steel (0 and 1 are idealisations).
 R_LOW, R_HIGH = 0.05, 0.98
 # The stop's stiffness over the object's spring c1, for the contact force: a steel stop on a
@@ -302,7 +304,7 @@ class TmdCriterion:
     def value(self, N: float, delta2: float) -> float:
         dev = LinearDevice(self.mu, N, self.delta1, delta2)
         if self.criterion == "band_average":
-            v = float(np.trapezoid(dev.amplitude(self.thetas), self.thetas) / (self.band[1] - self.band[0]))
+            v = dev.band_average(self.thetas)
         else:
             v = max(_tmd_peak(self.mu, self.delta1, N, delta2, self.band, s) for s in self.scenarios)
         if self.max_stroke is not None:
@@ -335,7 +337,7 @@ def tmd_row(mu: float, delta1: float, band: tuple, x: dict, uncertainty: Uncerta
         "peak": float(v),
         "peak_theta": float(t),
         "peak_branch": "linear",
-        "band_average": float(np.trapezoid(dev.amplitude(th), th) / (band[1] - band[0])),
+        "band_average": dev.band_average(th),
         "worst": {k: float(w) for k, w in worst.items()},
         "stroke": 0.0 if bare else float(dev.stroke_peak(band)[1]),
         "impacts": False,

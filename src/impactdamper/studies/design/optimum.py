@@ -47,7 +47,7 @@ from collections.abc import Callable
 import numpy as np
 import scipy.stats
 
-from impactdamper.analysis.linear_device import LinearDevice, check_band
+from impactdamper.analysis.linear_device import LinearDevice, check_band, den_hartog
 from impactdamper.analysis.parallel import check_workers
 from impactdamper.core.validation import finite_argument
 from impactdamper.studies.design.devices import (
@@ -76,6 +76,7 @@ __all__ = [
     "WORKERS",
     "check_object",
     "design_bounds",
+    "optimal_tmd",
     "design_optima",
     "saved_or_searched",
     "SNUBBER_FRACTIONS",
@@ -154,10 +155,10 @@ def design_bounds(mu: float, tmd_stroke: float) -> dict:
     """The boxes of the search (module docstring): ``tmd``, ``impact`` (the whole box) and
     ``impact_reach`` (the stop within reach), from the object's mass ratio and its optimal TMD's
     stroke."""
-    n_dh = 1.0 / (1.0 + mu)
-    d_dh = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
+    dh = den_hartog(mu)
+    n_dh, d_dh = dh["N"], dh["delta2"]
     N = (N_LOW * n_dh, N_HIGH * n_dh)
-    impact = {"gap": (-tmd_stroke, GAP_FULL * tmd_stroke), "N": N, "delta2": (0.0, DELTA2_HIGH * d_dh), "R": R_BOX}
+    impact = dict(zip(IMPACT_NAMES, ((-tmd_stroke, GAP_FULL * tmd_stroke), N, (0.0, DELTA2_HIGH * d_dh), R_BOX)))
     return {
         "tmd": {"N": N, "delta2": (DELTA2_LOW * d_dh, DELTA2_HIGH * d_dh)},
         "impact": impact,
@@ -182,15 +183,18 @@ def _tmd_searches(mu, delta1, band, unc, budgets, seed, say) -> dict:
     leave it as it is."""
     out = {}
     for c in ("peak", "band_average", "detuning"):
-        out[c] = _tmd_search(TmdCriterion(mu, delta1, band, c, unc), mu, budgets[0], seed)
+        out[c] = optimal_tmd(TmdCriterion(mu, delta1, band, c, unc), budgets[0], seed)
         say(f"TMD, {c}: N = {out[c].x['N']:.6f}, delta2 = {out[c].x['delta2']:.6f}, {out[c].value:.8g}")
     return out
 
 
-def _tmd_search(crit, mu: float, budget: Budget, seed: int) -> SearchResult:
-    """One TMD search (global stage, compass, polish) refined by :func:`refine_tmd`."""
-    bounds = design_bounds(mu, 1.0)["tmd"]
-    d_dh = math.sqrt(3.0 * mu / (8.0 * (1.0 + mu) ** 3))
+def optimal_tmd(crit: TmdCriterion, budget: Budget = BUDGET, seed: int = 0) -> SearchResult:
+    """The optimal linear TMD for criterion ``crit`` (its mu, delta1, band, criterion,
+    uncertainty and stroke limit): the one TMD optimiser, a global search (Sobol sample, compass,
+    polish) over the TMD's box refined to convergence on the exact peaks
+    (:func:`~impactdamper.studies.design.tmd.refine_tmd`)."""
+    bounds = design_bounds(crit.mu, 1.0)["tmd"]
+    d_dh = den_hartog(crit.mu)["delta2"]
     return refine_tmd(crit, search(crit, bounds, budget=budget, seed=seed), bounds, d_dh, budget)
 
 
@@ -419,7 +423,7 @@ def design_optima(
     s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
     S = STROKE_FRACTION * s_T if max_stroke is None else float(max_stroke)
     bounds = design_bounds(mu, s_T)
-    tmd["stroke"] = _tmd_search(TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S), mu, budget, seed)
+    tmd["stroke"] = optimal_tmd(TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S), budget, seed)
     say(f"TMD's stroke {s_T:.4g} x_st; the stroke limit {S:.4g}")
     imp = _impact_searches(
         mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say, robust

@@ -26,11 +26,11 @@ from impactdamper.reporting.texrecord import (
     bound,
     tex_sci,
 )
-from impactdamper.studies.design.design import bare_object_amplitude
-from impactdamper.studies.design.devices import STROKE_PENALTY
+from impactdamper.analysis.linear_device import LinearDevice
+from impactdamper.studies.design.devices import IMPACT_NAMES, STROKE_PENALTY
 from impactdamper.studies.design.abstract import abstract_answer, abstract_short
 from impactdamper.studies.design.verdict import device, recommendation
-from impactdamper.studies.vocabulary import SPEC
+from impactdamper.studies.vocabulary import SPEC, tex
 
 __all__ = [
     "RECORD_WHAT",
@@ -48,7 +48,7 @@ RECORD_WHAT = "Macros of the report's section 'Choosing a suppressor' (design st
 
 # The impact suppressor's designed parameters, their decimals, and their symbols as the design
 # section writes them.
-DIGITS = {"gap": 2, "N": 3, "delta2": 3, "R": 2}
+DIGITS = dict(zip(IMPACT_NAMES, (2, 3, 3, 2)))
 SYMBOLS = {k: SPEC[k].symbol for k in DIGITS}
 
 # The design table's rows by their macro part (the record's ``device`` keys).
@@ -148,7 +148,7 @@ CHART = (
     Macro("DesignRefThetaValue", "one.value", fixed(2)),
     Macro(
         "DesignRefThetaBare",
-        lambda s: float(bare_object_amplitude(s["base"]["parameters"]["delta1"], [s["one"]["theta"]])[0]),
+        lambda s: float(LinearDevice.bare(s["base"]["parameters"]["delta1"]).amplitude([s["one"]["theta"]])[0]),
         fixed(2),
     ),
     Macro("DesignPaperN", "base.parameters.N", fixed(2)),
@@ -487,11 +487,20 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, 
 
 # --- the tables -----------------------------------------------------------------------------
 TABLE_COMMENTS = ["Written by the design stage's report job; do not edit."]
+# The gap's symbol without its unit: the design table's columns are in x_st.
+GAP_SHORT = SPEC["gap"].symbol.split("/")[0]
+
+
+def _brace(text: str) -> str:
+    """``text`` with its braces doubled, for a header that str.format fills."""
+    return text.replace("{", "{{").replace("}", "}}")
+
+
 DESIGN_TABLE = Table(
     colspec="lrrrrrrrrrrrr",
     header=(
-        "device & $\\Delta_0$ & $N$ & $\\delta_2$ & $R$ & peak & band & detuned & force "
-        "& $R$ drift & absorber & all & stroke"
+        f"device & ${GAP_SHORT}$ & {tex('N')} & {tex('delta2')} & {tex('R')} & peak & band & detuned & force "
+        f"& {tex('R')} drift & absorber & all & stroke"
     ),
     comments=TABLE_COMMENTS,
     columns=[
@@ -542,7 +551,7 @@ def loads_table(opt: dict) -> str:
 
 SECOND_TABLE = Table(
     colspec="rrrrrr",
-    header="{} & best $\\Delta_0/x_{{\\mathrm{{st}}}}$ & peak & $\\theta$ of the peak & good gaps & pulse",
+    header=f"{{}} & best {_brace(tex('gap'))} & peak & {tex('theta')} of the peak & good gaps & pulse",
     comments=TABLE_COMMENTS,
     columns=[
         *fixed_columns({"second": 2, "gap": 2, "value": 2, "peak_theta": 3}),
@@ -562,7 +571,7 @@ def second_table(chart2: dict) -> str:
 
 BENCHMARK_TABLE = Table(
     colspec="rrrrrrl",
-    header="$\\mu$ & $\\delta_1$ & wall (s) & processor (s) & longest silence (s) & evaluations & recommendation",
+    header=f"{tex('mu')} & {tex('delta1')} & wall (s) & processor (s) & longest silence (s) & evaluations & recommendation",
     comments=TABLE_COMMENTS,
     columns=[
         *fixed_columns({"mu": 2, "delta1": 2, "elapsed": 0}),

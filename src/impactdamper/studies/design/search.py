@@ -36,6 +36,8 @@ import numpy as np
 import scipy.optimize
 import scipy.stats
 
+from impactdamper.analysis.compass import compass
+
 __all__ = [
     "SPREAD_BEST",
     "starts_record",
@@ -194,48 +196,44 @@ class _Counter:
 
 def _compass(f: _Counter, starts: np.ndarray, lo, hi, budget: Budget, first_step: float, say) -> tuple:
     """The compass searches from ``starts`` (unit cube, shape (s, d)) in lockstep (module
-    docstring, 2): each poll evaluates, for every active start, the 2 d moves +-h along the
-    axes and the pattern move (the last successful displacement repeated: a ridge is followed
-    along its direction, not only across it); steps above ``budget.coarse_above`` are polled at
-    the ``coarse`` fidelity, smaller ones at ``search``. Returns the best (unit point, value)."""
+    docstring, 2; :func:`impactdamper.analysis.compass.compass`): each poll evaluates, for every
+    active start, the 2 d moves +-h along the axes and the pattern move (the last successful
+    displacement repeated: a ridge is followed along its direction, not only across it); steps
+    above ``budget.coarse_above`` are polled at the ``coarse`` fidelity, smaller ones at
+    ``search``. Returns the best (unit point, value)."""
     d = starts.shape[1]
-    u = starts.copy()
-    h = np.full(len(u), first_step)
-    last = np.zeros_like(u)
-    fidelity = lambda step: "coarse" if step > budget.coarse_above else "search"  # noqa: E731
-    active = np.ones(len(u), bool)
-    for poll in range(int(budget.polls)):
-        idx = np.flatnonzero(active)
-        if not len(idx):
-            break
-        level = fidelity(float(np.min(h[idx])))
-        fu = f(lo + u[idx] * (hi - lo), level)
-        moves, owner = [], []
-        for j, i in enumerate(idx):
-            for k in range(d):
-                for sign in (-1.0, 1.0):
-                    m = u[i].copy()
-                    m[k] = min(max(m[k] + sign * h[i], 0.0), 1.0)
-                    moves.append(m)
-                    owner.append(j)
-            if np.any(last[i]):
-                moves.append(np.clip(u[i] + last[i], 0.0, 1.0))
-                owner.append(j)
-        moves, owner = np.array(moves), np.array(owner)
-        fm = f(lo + moves * (hi - lo), level)
-        for j, i in enumerate(idx):
-            mine = np.flatnonzero(owner == j)
-            k = mine[int(np.argmin(fm[mine]))]
-            if fm[k] < fu[j] * (1.0 - 1e-12):
-                last[i] = moves[k] - u[i]
-                u[i] = moves[k]
-            else:
-                last[i] = 0.0
-                h[i] *= 0.5
-                active[i] = h[i] >= budget.last_step
-        say(
-            f"poll {poll + 1} ({level}): best {float(np.min(np.minimum(fu, np.inf))):.6g}, steps {', '.join(f'{x:.3g}' for x in h)}"
-        )
+
+    def moves(u: np.ndarray, h: float, last: np.ndarray) -> list:
+        out = []
+        for k in range(d):
+            for sign in (-1.0, 1.0):
+                m = u.copy()
+                m[k] = min(max(m[k] + sign * h, 0.0), 1.0)
+                out.append(m)
+        if np.any(last):
+            out.append(np.clip(u + last, 0.0, 1.0))
+        return out
+
+    polled = {}
+
+    def judge(idx: np.ndarray, u: np.ndarray, h: np.ndarray, candidates: list) -> list:
+        level = "coarse" if float(np.min(h)) > budget.coarse_above else "search"
+        fu = f(lo + u * (hi - lo), level)
+        fm = f(lo + np.array([m for c in candidates for m in c]) * (hi - lo), level)
+        polled.update(level=level, fu=fu)
+        out, start = [], 0
+        for j, c in enumerate(candidates):
+            mine = fm[start : start + len(c)]
+            k = int(np.argmin(mine))
+            out.append(k if mine[k] < fu[j] * (1.0 - 1e-12) else None)
+            start += len(c)
+        return out
+
+    def after_poll(poll: int, h: np.ndarray) -> None:
+        best = float(np.min(np.minimum(polled["fu"], np.inf)))
+        say(f"poll {poll} ({polled['level']}): best {best:.6g}, steps {', '.join(f'{x:.3g}' for x in h)}")
+
+    u, _ = compass(starts, first_step, budget.last_step, moves, judge, budget.polls, after_poll=after_poll)
     fu = f(lo + u * (hi - lo), "search")
     best = int(np.argmin(fu))
     return u[best], float(fu[best]), [float(v) for v in fu]
