@@ -50,6 +50,9 @@ IMPACT_TIME_TOL = 1e-6
 # The cycle continued to a side point (_on_cycle): the first step this fraction of the way; a
 # step halved on failure down to this fraction of the way done (of the first step at the start).
 PATH_FIRST, PATH_SMALLEST = 1e-3, 1e-2
+# Newton iterations of a path step (from the secant predictor it converges in a few; a step that
+# does not within this many is halved, rather than iterated to Shooting.newton's default 40).
+PATH_NEWTON_ITERATIONS = 10
 # Another curve is a boundary of the same cycle where its cycle has the same z/k and, at the
 # crossing, its impact phases (times mod k T, over T, up to a shift by whole periods) are within
 # this of the followed cycle's: distinct cycles of one z/k differ by far more, the same cycle
@@ -173,7 +176,7 @@ def _on_cycle(curve: Curve, u: np.ndarray, start: np.ndarray, q: np.ndarray) -> 
         try:
             w, _, _ = Shooting(
                 _side_params(curve, start + s_new * (q - start)), curve.period_multiple, curve.impacts_per_cycle
-            ).newton(guess)
+            ).newton(guess, PATH_NEWTON_ITERATIONS)
         except (OrbitError, ValueError, np.linalg.LinAlgError):
             if s_new - s < PATH_SMALLEST * (1.0 if s == 0.0 else s):
                 break
