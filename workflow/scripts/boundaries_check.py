@@ -53,14 +53,14 @@ def plane_check(name: str, b, rows: list, map_csv, timing: dict, settings: dict)
     curves = {f"{n:02d} {c.label} {c.kind}": c.points for n, c in enumerate(b.curves, start=1)}
     curves.update(closed_form_curves(rows, slow))
     reading = bc.label_changes_near_curves(s, gaps, labels, curves)
-    sides = {}
-    for n, c in enumerate(b.curves, start=1):
-        sides[f"{n:02d} {c.label} {c.kind}"] = bc.side_checks(
-            c, bounds, int(settings["side_points"]), float(settings["side_distance"])
-        )
+    continued = {f"{n:02d} {c.label} {c.kind}": c for n, c in enumerate(b.curves, start=1)}
+    sides = {
+        cid: bc.side_checks(c, bounds, int(settings["side_points"]), float(settings["side_distance"]), continued)
+        for cid, c in continued.items()
+    }
     total = {
         k: sum(v[k] for v in sides.values())
-        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved")
+        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved", "crossing")
     }
     total["share_agree_of_observed"] = total["agree"] / total["observed"] if total["observed"] else None
     summary = [

@@ -10,6 +10,9 @@ Three readings (``figures/boundaries_check.json``):
   (:func:`~impactdamper.analysis.solve.steady_state`, :func:`~impactdamper.analysis.solve.simulate`)
   run on each side at a distance of a fraction of the plane's span along the curve's normal,
   started on the curve's cycle (re-solved there by Newton where it converges) slightly perturbed.
+  A point whose side offset crosses another boundary of the same cycle (:func:`crossed_curve`)
+  tests that boundary as well as its own: it is run and reported, but counted apart
+  (``crossing``), not among the observed points.
   Fold, period doubling, Neimark-Sacker: the check agrees when the cycle comes back on one side
   only (the stable side the curve states, where it states one) and is lost on the other. Grazing
   with zero velocity or touch: when one cycle of the simulation has the cycle's impacts (as many,
@@ -44,6 +47,17 @@ SETTLE_TOL, MAX_PERIODS, MAX_K = 1e-9, 20000, 8
 PERTURBATION, RETURN_TOL = 1e-6, 1e-4
 # A grazing side run reproduces the cycle when its impacts are at the cycle's within this (of T).
 IMPACT_TIME_TOL = 1e-6
+# The cycle continued to a side point (_on_cycle): the first step this fraction of the way; a
+# step halved on failure down to this fraction of the way done (of the first step at the start).
+PATH_FIRST, PATH_SMALLEST = 1e-3, 1e-2
+# Newton iterations of a path step (from the secant predictor it converges in a few; a step that
+# does not within this many is halved, rather than iterated to Shooting.newton's default 40).
+PATH_NEWTON_ITERATIONS = 10
+# Another curve is a boundary of the same cycle where its cycle has the same z/k and, at the
+# crossing, its impact phases (times mod k T, over T, up to a shift by whole periods) are within
+# this of the followed cycle's: distinct cycles of one z/k differ by far more, the same cycle
+# 1e-3 of the span away by about that.
+SAME_CYCLE_PHASE_TOL = 0.05
 _DIRECTION = np.array([0.5, -0.5, 0.5, -0.5])
 
 
@@ -144,11 +158,38 @@ def _side_params(curve: Curve, q: np.ndarray):
     return with_value(with_value(curve.p, curve.names[0], float(q[0])), curve.names[1], float(q[1]))
 
 
-def _on_cycle(curve: Curve, u: np.ndarray, p) -> tuple[np.ndarray, bool]:
-    """The followed cycle's unknowns re-solved at ``p`` from ``u`` (and whether Newton converged;
-    else ``u`` itself)."""
+def _on_cycle(curve: Curve, u: np.ndarray, start: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, bool]:
+    """The followed cycle's unknowns at the plane's point ``q``, continued from ``u`` at the
+    curve's point ``start`` along the straight path between them (and whether it was solved at
+    ``q``; else ``u`` itself).
+
+    Newton from ``u`` at ``q`` directly can land on another cycle or fail: along a grazing curve
+    the cycle moves by ~1e4 of its unknowns per span (its saltation matrix ~ 1/v), so at 1e-3 of
+    the span it is far from ``u``. The path takes a first step of :data:`PATH_FIRST` of the way,
+    then each three times the last, with a secant predictor, halving a step Newton fails on; where
+    the path stops short (the cycle folds or turns singular on the way), Newton at ``q`` from ``u``.
+    """
+    s, v, last, target = 0.0, np.array(u, float), None, PATH_FIRST
+    while s < 1.0:
+        s_new = min(1.0, target)
+        guess = v if last is None else v + (v - last[1]) * (s_new - s) / (s - last[0])
+        try:
+            w, _, _ = Shooting(
+                _side_params(curve, start + s_new * (q - start)), curve.period_multiple, curve.impacts_per_cycle
+            ).newton(guess, PATH_NEWTON_ITERATIONS)
+        except (OrbitError, ValueError, np.linalg.LinAlgError):
+            if s_new - s < PATH_SMALLEST * (1.0 if s == 0.0 else s):
+                break
+            target = s + 0.5 * (s_new - s)
+            continue
+        last, s, v, target = (s, v), s_new, w, 3.0 * s_new
+    if s == 1.0:
+        return v, True
+    # The path stops (the cycle folds or becomes singular on the way): Newton at q from u.
     try:
-        v, _, _ = Shooting(p, curve.period_multiple, curve.impacts_per_cycle).newton(np.array(u, float))
+        v, _, _ = Shooting(_side_params(curve, q), curve.period_multiple, curve.impacts_per_cycle).newton(
+            np.array(u, float)
+        )
         return v, True
     except (OrbitError, ValueError, np.linalg.LinAlgError):
         return np.array(u, float), False
@@ -171,10 +212,10 @@ def _reproduces(curve: Curve, v: np.ndarray, p, t0: float, y0: np.ndarray) -> bo
     return bool(np.all(d < IMPACT_TIME_TOL * p.T))
 
 
-def followed_run(curve: Curve, u: np.ndarray, q: np.ndarray) -> dict:
-    """A brute-force run at the plane's point ``q`` started on the followed cycle (re-solved at
-    ``q`` where Newton converges from ``u``, else ``u``'s) plus a perturbation of
-    :data:`PERTURBATION` of the state scale.
+def followed_run(curve: Curve, u: np.ndarray, q: np.ndarray, start: np.ndarray) -> dict:
+    """A brute-force run at the plane's point ``q`` started on the followed cycle (continued to
+    ``q`` from ``u`` at the curve's point ``start``, :func:`_on_cycle`, else ``u``'s) plus a
+    perturbation of :data:`PERTURBATION` of the state scale.
 
     Returns
     -------
@@ -184,7 +225,7 @@ def followed_run(curve: Curve, u: np.ndarray, q: np.ndarray) -> dict:
         start's phase, within :data:`RETURN_TOL` of its state in the state scale), ``solved``.
     """
     p = _side_params(curve, q)
-    v, solved = _on_cycle(curve, u, p)
+    v, solved = _on_cycle(curve, u, np.asarray(start, float), np.asarray(q, float))
     t0, y0 = _start(curve, v, float(q[0]), float(q[1]))
     D = state_scale(p)
     start = y0 + PERTURBATION * D * _DIRECTION
@@ -250,7 +291,63 @@ def _verdict(curve: Curve, i: int, runs: list, normal: np.ndarray):
     return "agree"
 
 
-def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) -> dict:
+def _segment_crossings(a: np.ndarray, b: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Indices j where the segment a-b crosses the polyline's piece Q[j]-Q[j+1] (2-D)."""
+    if len(Q) < 2:
+        return np.zeros(0, int)
+    c, d = Q[:-1], Q[1:]
+
+    def side(p, q, r):  # sign of the turn p -> q -> r
+        return np.sign(
+            (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+        )
+
+    hit = (side(a, b, c) * side(a, b, d) <= 0) & (side(c, d, a) * side(c, d, b) <= 0)
+    return np.flatnonzero(hit)
+
+
+def _same_cycle(curve: Curve, u: np.ndarray, other: Curve, v: np.ndarray) -> bool:
+    """Whether ``other``'s cycle ``v`` is ``curve``'s cycle ``u`` (see :data:`SAME_CYCLE_PHASE_TOL`)."""
+    if (other.period_multiple, other.impacts_per_cycle) != (curve.period_multiple, curve.impacts_per_cycle):
+        return False
+    k, z = curve.period_multiple, curve.impacts_per_cycle
+    mine, theirs = np.asarray(u[:z]) % k, np.asarray(v[:z]) % k
+    for shift in range(k):
+        d = np.abs((mine[:, None] + shift - theirs[None, :]) % k)
+        if np.max(np.min(np.minimum(d, k - d), axis=1)) < SAME_CYCLE_PHASE_TOL:
+            return True
+    return False
+
+
+def crossed_curve(curve: Curve, i: int, a: np.ndarray, b: np.ndarray, others: dict, spans: np.ndarray):
+    """The id of another curve of the same cycle that the side segment a-b (plane units) through
+    point ``i`` crosses, or None: there the side runs meet that boundary too (e.g. a period
+    doubling 1e-5 of the span from the cycle's fold: on the fold's far side the cycle is lost
+    whatever the period doubling says). A grazing curve of the other grazing kind that passes
+    within a tenth of the half segment of the point is the same tangency, not another boundary:
+    an impact at zero velocity is a flight that touches the stop at its end (the touch curves
+    found so coincide with the zero-velocity ones to ~1e-6 of the span)."""
+    grazings = ("grazing_velocity", "grazing_touch")
+    mid, half = 0.5 * (a + b) / spans, 0.5 * float(np.hypot(*((b - a) / spans)))
+    for cid, other in others.items():
+        if other is curve:
+            continue
+        if (
+            curve.kind in grazings
+            and other.kind in grazings
+            and other.kind != curve.kind
+            and _polyline_distance(other.points / spans, mid[None])[0] <= 0.1 * half
+        ):
+            continue
+        for j in _segment_crossings(a / spans, b / spans, other.points / spans):
+            if _same_cycle(curve, curve.unknowns[i], other, other.unknowns[j]) or _same_cycle(
+                curve, curve.unknowns[i], other, other.unknowns[j + 1]
+            ):
+                return cid
+    return None
+
+
+def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, others: dict | None = None) -> dict:
     """Brute-force runs on both sides of ``points`` points along a continued curve.
 
     The points are evenly spaced in index, ends excluded; each side point lies ``distance``
@@ -259,7 +356,9 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) 
     whether the cycle changes across the curve as its kind says: it persists and returns on one
     side only (a lost cycle: fold, period doubling, Neimark-Sacker, on the side ``stable_side``
     says where it is stated), and, for a grazing, the other side's settled motion has another
-    number of impacts per period.
+    number of impacts per period. A point whose side segment crosses another curve of ``others``
+    (id -> :class:`Curve`, the plane's) of the same cycle (:func:`crossed_curve`) is run and
+    reported but counted apart.
 
     Returns
     -------
@@ -268,12 +367,24 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) 
         side only), ``agree``, ``doubled`` (period doublings whose other side settled on 2k),
         ``unobserved`` (returns on neither side), and ``disagree`` (every observed point that
         does not agree: (gap, value), both sides' labels and returns, and the same a tenth as far
-        from the curve), ``agree_at_a_tenth`` (of the disagreements).
+        from the curve), ``agree_at_a_tenth`` (of the disagreements), ``crossing`` (points whose
+        side segment crosses another curve of the same cycle, not counted above) and ``crossings``
+        (each: (gap, value), the other curve's id, the verdict).
     """
     spans = np.array([bounds[0][1] - bounds[0][0], bounds[1][1] - bounds[1][0]])
     n = len(curve.points)
     idx = sorted(set(np.linspace(0, n - 1, points + 2).round().astype(int)[1:-1])) if n > 2 else []
-    out = {"points": 0, "observed": 0, "agree": 0, "changed": 0, "doubled": 0, "unobserved": 0, "disagree": []}
+    out = {
+        "points": 0,
+        "observed": 0,
+        "agree": 0,
+        "changed": 0,
+        "doubled": 0,
+        "unobserved": 0,
+        "crossing": 0,
+        "disagree": [],
+        "crossings": [],
+    }
     P = curve.points / spans
     for i in idx:
         j0, j1 = max(i - 1, 0), min(i + 1, n - 1)
@@ -284,12 +395,22 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3) 
 
         def sides(dist: float) -> list:
             return [
-                followed_run(curve, curve.unknowns[i], curve.points[i] + sg * dist * normal * spans) for sg in (1, -1)
+                followed_run(curve, curve.unknowns[i], curve.points[i] + sg * dist * normal * spans, curve.points[i])
+                for sg in (1, -1)
             ]
 
         runs = sides(distance)
         out["points"] += 1
         verdict = _verdict(curve, i, runs, normal)
+        offset = distance * normal * spans
+        crossed = crossed_curve(curve, i, curve.points[i] - offset, curve.points[i] + offset, others or {}, spans)
+        if crossed is not None:
+            a, b = curve.points[i]
+            out["crossing"] += 1
+            out["crossings"].append(
+                {"gap": float(a), curve.names[1]: float(b), "crosses": crossed, "verdict": verdict or "unobserved"}
+            )
+            continue
         if verdict is None:
             out["unobserved"] += 1
             continue

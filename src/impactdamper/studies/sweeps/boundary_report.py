@@ -56,7 +56,7 @@ def write_report(record: dict, out_macros, out_table) -> None:
     th, dm = record["planes"]["theta"], record["planes"]["damping"]
     side = {
         k: th["side_checks"]["total"][k] + dm["side_checks"]["total"][k]
-        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved")
+        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved", "crossing")
     }
     pd = record["period_doubling_bisection"]
     m = MacroFile(["% Boundary curves of the regime maps (workflow/scripts/boundaries_check.py)."])
@@ -78,6 +78,7 @@ def write_report(record: dict, out_macros, out_table) -> None:
             ("BoundSideAgree", side["agree"]),
             ("BoundSideDoubled", side["doubled"]),
             ("BoundSideAgreeTenth", side["agree_at_a_tenth"]),
+            ("BoundSideCrossing", side["crossing"]),
             ("BoundSideShare", percent(side["agree"] / side["observed"] if side["observed"] else None)),
             (
                 "BoundFirstContactError",
