@@ -13,7 +13,7 @@ import pytest
 
 from impactdamper.analysis.lyapunov import SIGNIFICANCE, lyapunov_spectrum
 from impactdamper.baselines import benettin_ivp as module
-from impactdamper.baselines.benettin_ivp import ImpactOscillator, benettin_ivp, physical
+from impactdamper.baselines.benettin_ivp import _ImpactOscillator, benettin_ivp, physical
 from impactdamper.core.parameters import Parameters, state_scale
 
 REF = dict(theta=1.0, mu=0.08, N=0.5, delta1=0.05, delta2=0.05, R=0.7)
@@ -39,7 +39,7 @@ def test_conversion_gives_back_the_relative_parameters():
 
 
 def test_an_impact_reverses_the_closing_velocity_times_R_and_keeps_momentum():
-    osc = ImpactOscillator(physical(**REF, gap=-16.0))
+    osc = _ImpactOscillator(physical(**REF, gap=-16.0))
     c = osc.c
     y = np.array([0.3, 0.3 - 16.0, 1.0, 4.0])
     z = osc.strike(y)

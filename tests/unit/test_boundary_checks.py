@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 
 from impactdamper.analysis import boundary_checks as bc
-from impactdamper.analysis.boundaries import closed_form_rows
+from impactdamper.analysis.boundaries import _closed_form_rows
 from impactdamper.analysis.continuation import continue_orbit
 from impactdamper.analysis.curves import Curve, follow_curve
 from impactdamper.analysis.orbits import solve_orbit
@@ -107,13 +107,13 @@ def test_a_side_segment_crosses_another_curve_only_of_the_same_cycle():
     a, b = np.array([-0.05, 1.0]), np.array([0.05, 1.0])  # the side segment through point 1
     # The same cycle (its impacts a period later: the same orbit) 0.01 away: crossed.
     same = _line_curve(0.01, [1.31, 0.2], k=2)
-    assert bc.crossed_curve(mine, 1, a, b, {"mine": mine, "same": same}, spans) == "same"
+    assert bc._crossed_curve(mine, 1, a, b, {"mine": mine, "same": same}, spans) == "same"
     # Beyond the segment, or another cycle (other z/k, other phases) on it: not crossed.
     far = _line_curve(0.2, [0.3, 1.2], k=2)
     other_k = _line_curve(0.01, [0.3, 1.2], k=3)
     other_phase = _line_curve(0.01, [0.6, 1.5], k=2)
     others = {"mine": mine, "far": far, "other_k": other_k, "other_phase": other_phase}
-    assert bc.crossed_curve(mine, 1, a, b, others, spans) is None
+    assert bc._crossed_curve(mine, 1, a, b, others, spans) is None
 
 
 def test_side_checks_count_a_crossing_of_the_same_cycle_apart():
@@ -127,7 +127,7 @@ def test_side_checks_count_a_crossing_of_the_same_cycle_apart():
 
 def test_closed_form_rows_are_the_closed_forms_with_an_end_reason():
     base = Parameters(theta=1.0, mu=0.08, N=0.5, delta1=0.05, delta2=0.05, R=0.7, gap=-5.8)
-    rows = closed_form_rows(base, "theta", ((-40.0, 15.0), (0.5, 1.5)), 11)
+    rows = _closed_form_rows(base, "theta", ((-40.0, 15.0), (0.5, 1.5)), 11)
     fc = [r for r in rows if r["kind"] == "first_contact"]
     lo = [r for r in rows if r["kind"] == "liftoff"]
     assert len(fc) == 11 and len(lo) == 11

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import impactdamper as idp
-from impactdamper.studies.intervals import Interval, claim_intervals, distance_to, intersect, true_intervals
+from impactdamper.studies.intervals import Interval, _claim_intervals, distance_to, intersect, true_intervals
 from impactdamper.studies.claims.search import check_rows, reference_check, search_parameter
 from impactdamper.studies.replication.claims import compare_cycles
 
@@ -161,7 +161,7 @@ def test_runs_at_the_window_edge_are_open_and_gaps_split_runs():
 
 def test_both_is_the_intersection_and_distance_is_to_the_nearest_point():
     xs = [i / 10 for i in range(11)]
-    r = claim_intervals(xs, lambda x: 0.2 <= x <= 0.6, lambda x: 0.4 <= x <= 0.9, 1e-6, 0.01)
+    r = _claim_intervals(xs, lambda x: 0.2 <= x <= 0.6, lambda x: 0.4 <= x <= 0.9, 1e-6, 0.01)
     (both,) = r["both"]
     assert both.lo == pytest.approx(0.4, abs=1e-6) and both.hi == pytest.approx(0.6, abs=1e-6)
     assert distance_to(r["both"], 0.5) == (0.0, 0.5)

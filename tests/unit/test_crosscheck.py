@@ -11,7 +11,7 @@ from helpers import REF, check_impact_laws, check_no_penetration, gap
 from test_linear import REPEATED
 
 import impactdamper as idp
-from impactdamper.baselines.ivp import METHODS, IvpTrajectory, methods, simulate_ivp
+from impactdamper.baselines.ivp import METHODS, _IvpTrajectory, methods, simulate_ivp
 from impactdamper.core.linear import forced_amplitudes, free_mode
 
 RTOL = 1e-10
@@ -238,7 +238,7 @@ def test_max_events_guards_the_loop():
 
 def test_sample_outside_the_run_is_refused():
     traj = simulate_ivp(REF, 0.5 * REF.T)
-    assert isinstance(traj, IvpTrajectory)
+    assert isinstance(traj, _IvpTrajectory)
     with pytest.raises(ValueError, match="`t`"):
         traj.sample(np.array([0.6 * REF.T]))
     full, modes = traj.sample(np.array([0.0, 0.5 * REF.T]))

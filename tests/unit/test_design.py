@@ -32,9 +32,9 @@ from impactdamper.studies.design.design import (
     design_gaps,
     design_parameters,
     gap_chart,
-    good_band,
+    _good_band,
     response_gaps,
-    runs_where,
+    _runs_where,
 )
 
 NO_CONTACT_GAP = 1.0e3
@@ -118,11 +118,11 @@ def test_damped_optimum_is_a_local_minimum():
 def test_good_band_is_the_contiguous_run_within_the_tolerance():
     gaps = [0, 1, 2, 3, 4, 5, 6]
     values = [5.0, 3.25, 3.1, 3.0, 3.2, 3.4, 3.05]
-    assert good_band(gaps, values, 0.1) == (1.0, 4.0)  # 3.05 at 6 is within, but past 3.4 at 5
-    assert good_band(gaps, values, 0.0) == (3.0, 3.0)
-    assert good_band(gaps, values, 0.2) == (1.0, 6.0)
+    assert _good_band(gaps, values, 0.1) == (1.0, 4.0)  # 3.05 at 6 is within, but past 3.4 at 5
+    assert _good_band(gaps, values, 0.0) == (3.0, 3.0)
+    assert _good_band(gaps, values, 0.2) == (1.0, 6.0)
     with pytest.raises(ValueError, match="^`tolerance` = "):
-        good_band(gaps, values, -0.1)
+        _good_band(gaps, values, -0.1)
 
 
 def test_gap_chart_picks_the_smallest_criterion():
@@ -176,9 +176,9 @@ def test_response_gaps_put_the_best_first_and_each_once():
 
 def test_runs_where_a_flag_holds():
     thetas = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
-    assert runs_where(thetas, [True, True, False, True, False, True]) == [(0.5, 0.6), (0.8, 0.8), (1.0, 1.0)]
-    assert runs_where(thetas, [False] * 6) == []
-    assert runs_where(thetas, np.ones(6, dtype=bool)) == [(0.5, 1.0)]
+    assert _runs_where(thetas, [True, True, False, True, False, True]) == [(0.5, 0.6), (0.8, 0.8), (1.0, 1.0)]
+    assert _runs_where(thetas, [False] * 6) == []
+    assert _runs_where(thetas, np.ones(6, dtype=bool)) == [(0.5, 1.0)]
 
 
 @pytest.mark.parametrize(

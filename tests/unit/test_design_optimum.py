@@ -33,7 +33,7 @@ from impactdamper.studies.design.devices import (
     TmdCriterion,
     Uncertainty,
     impact_parameters,
-    scenario_case,
+    _scenario_case,
 )
 from impactdamper.studies.design.optimum import BUDGET, ROBUST_BUDGET, check_object, design_bounds, design_options
 from impactdamper.studies.design.verdict import TIE, recommendation
@@ -47,7 +47,7 @@ def test_detuning_maps_the_relative_parameters():
     the nominal x_st equals the TMD's |x1| computed directly in the nominal units."""
     mu, N, d1, d2, e = 0.08, 0.9, 0.05, 0.15, 0.07
     p = Parameters(mu=mu, N=N, delta1=d1, delta2=d2, gap=3.0)
-    q, band, scale = scenario_case(p, BAND, Scenario(detuning=e))
+    q, band, scale = _scenario_case(p, BAND, Scenario(detuning=e))
     assert (q.N, q.delta1, q.delta2, q.gap) == pytest.approx((N / 1.07, d1 / 1.07, d2 / 1.07, 3.0 * 1.07**2))
     th = np.linspace(*BAND, 2001)
     f2 = (1 + e) ** 2
@@ -65,9 +65,9 @@ def test_detuning_maps_the_relative_parameters():
 
 def test_force_and_restitution_scenarios():
     p = Parameters(gap=3.0, R=0.9)
-    q, band, scale = scenario_case(p, BAND, Scenario(force=2.0, restitution=0.15))
+    q, band, scale = _scenario_case(p, BAND, Scenario(force=2.0, restitution=0.15))
     assert (q.gap, q.R, band, scale) == (1.5, R_HIGH, BAND, 1.0)  # the clearance halves; R clipped
-    q, _, _ = scenario_case(p.replace(R=0.1), BAND, Scenario(restitution=-0.15))
+    q, _, _ = _scenario_case(p.replace(R=0.1), BAND, Scenario(restitution=-0.15))
     assert q.R == R_LOW
     u = Uncertainty()
     assert len(u.scenarios("peak")) == 1 and len(u.scenarios("detuning")) == 3

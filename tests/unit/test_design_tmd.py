@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 
 from impactdamper.analysis.linear_device import LinearDevice
-from impactdamper.studies.design.devices import Scenario, TmdCriterion, Uncertainty, scenario_case, tmd_row
+from impactdamper.studies.design.devices import Scenario, TmdCriterion, Uncertainty, _scenario_case, tmd_row
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.design.optimum import BUDGET, STROKE_FRACTION, design_bounds
-from impactdamper.studies.design.search import SPREAD_BEST, search, starts_record
+from impactdamper.studies.design.search import SPREAD_BEST, search, _starts_record
 from impactdamper.studies.design.tmd import DELTA2_LOCKED, equal_peaks, refine_tmd
 
 BAND = (0.5, 1.5)
@@ -83,16 +83,16 @@ def test_absorber_uncertainty_on_the_tmd_is_its_spring_and_damper_changed():
     assert crit.value(N, d2) == pytest.approx(direct, rel=1e-12)
     # The impact suppressor's absorber alike: N by sqrt(1 + k), delta2 by (1 + c), nothing else.
     p = Parameters(mu=mu, N=N, delta1=delta1, delta2=d2, gap=3.0, R=0.5)
-    q, band, scale = scenario_case(p, BAND, Scenario(stiffness=0.05, damping=-0.2))
+    q, band, scale = _scenario_case(p, BAND, Scenario(stiffness=0.05, damping=-0.2))
     assert (q.N, q.delta2, q.gap, q.R, *band, scale) == pytest.approx(
         (N * math.sqrt(1.05), d2 * 0.8, 3.0, 0.5, *BAND, 1.0), rel=1e-14
     )
 
 
 def test_starts_that_disagree_are_best_found():
-    agree = starts_record([1.0, 1.0 + 0.5 * SPREAD_BEST, 1.0], 128)
+    agree = _starts_record([1.0, 1.0 + 0.5 * SPREAD_BEST, 1.0], 128)
     assert agree["spread"] == pytest.approx(0.5 * SPREAD_BEST) and not agree["best_found"]
-    apart = starts_record([1.0, 1.0 + 2 * SPREAD_BEST], 64)
+    apart = _starts_record([1.0, 1.0 + 2 * SPREAD_BEST], 64)
     assert apart["best_found"] and apart["samples"] == 64 and apart["starts"] == 2
     # A search reports its starts: two basins, the starts end in both.
     f = lambda X, fid: np.array([min((x[0] - 0.2) ** 2, (x[0] - 0.8) ** 2 + 0.1) for x in X])  # noqa: E731

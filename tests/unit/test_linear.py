@@ -273,11 +273,11 @@ def test_modal_and_expm_paths_agree(name, monkeypatch):
     modal = free_mode(p)
     assert modal.modal
     monkeypatch.setattr(linear, "MODAL_CONDITION_LIMIT", 0.0)  # force the matrix exponential
-    linear.clear_mode_cache()  # (the cached modal one would be returned)
+    linear._clear_mode_cache()  # (the cached modal one would be returned)
     try:
         expm = free_mode(p)
     finally:
-        linear.clear_mode_cache()  # (nor may the expm one outlive the patch)
+        linear._clear_mode_cache()  # (nor may the expm one outlive the patch)
     assert not expm.modal
     tau = np.linspace(0, 3 * p.T, 7)
     Pm, Pe = modal.propagator(tau), expm.propagator(tau)
@@ -313,9 +313,9 @@ def test_the_modal_test_does_not_depend_on_the_rate(scales):
     points inside the native range left the kernels for repeated roots they did not have. In
     the mode's own units the condition is that of the relative problem: the reference case's
     (2.3 free, 1.05 stuck) to 1e-6 relative, at every rate, both modes modal."""
-    from impactdamper.core.linear import clear_mode_cache, scaled_condition
+    from impactdamper.core.linear import _clear_mode_cache, scaled_condition
 
-    clear_mode_cache()
+    _clear_mode_cache()
     for mode in (free_mode, stuck_mode):
         ref, m = mode(REF), mode(REF.replace(**scales))
         ratio = [scaled_condition(*np.linalg.eig(x.M)[::-1]) for x in (ref, m)]

@@ -25,7 +25,7 @@ TIME_TOL = {"exact": 1e-9, "RK45": 1e-5, "DOP853": 1e-5, "Radau": 1e-5, "LSODA":
 
 def test_the_table_holds_every_family_once_in_report_order():
     assert list(mt.METHODS) == ["exact", "alg1", *IVP_METHODS, "RK4", "Moreau-Jean"]
-    assert mt.methods_of_family("solve_ivp") == IVP_METHODS
+    assert mt._methods_of_family("solve_ivp") == IVP_METHODS
     assert wp.FAMILIES == tuple(mt.METHODS)
     assert mt.reported_alone() == ("alg1", "RK4", "Moreau-Jean")
     assert all(m.macro.isalpha() for m in mt.METHODS.values())
@@ -35,7 +35,7 @@ def test_the_table_holds_every_family_once_in_report_order():
 def test_config_schema_enums_are_the_tables_solve_ivp_methods():
     schema = yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
     perf = schema["properties"]["performance"]["properties"]
-    assert perf["ivp_methods"]["items"]["enum"] == list(mt.methods_of_family("solve_ivp"))
+    assert perf["ivp_methods"]["items"]["enum"] == list(mt._methods_of_family("solve_ivp"))
     assert schema["properties"]["verdict"]["properties"]["ivp_method"]["enum"] == list(IVP_METHODS)
     for m in mt.METHODS.values():
         if m.settings_key is not None:

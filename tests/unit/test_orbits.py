@@ -18,9 +18,9 @@ import pytest
 import impactdamper as idp
 from impactdamper.cli import main
 from impactdamper.core.model import Model
-from impactdamper.analysis.orbits import stable_algorithm1_orbit
+from impactdamper.analysis.orbits import _stable_algorithm1_orbit
 from impactdamper.analysis.shooting import Shooting
-from impactdamper.analysis.strobe import stroboscopic_jacobian, stroboscopic_map
+from impactdamper.analysis.strobe import stroboscopic_jacobian, _stroboscopic_map
 
 REF = idp.Parameters()
 # Relative state scale (x_st, x_st, x_st omega, x_st omega).
@@ -74,7 +74,7 @@ def test_periodicity_conditions_hold_to_1e12(which, request):
         )
     # Independently: the event-driven solver, from a state on the cycle, returns to it after k T.
     t, y = section(o)
-    back = stroboscopic_map(o.p, t, y, k)
+    back = _stroboscopic_map(o.p, t, y, k)
     assert np.max(np.abs((back - y) / D)) <= 1e-11
 
 
@@ -192,7 +192,7 @@ def _deviation_growth(o, n: int, size: float) -> np.ndarray:
     y = y0 + size * v / np.max(np.abs(v / D))
     devs = []
     for m in range(n):
-        y = stroboscopic_map(p, t + m * p.T, y, 1)
+        y = _stroboscopic_map(p, t + m * p.T, y, 1)
         devs.append((y - y0) / D)
     return np.array(devs)
 
@@ -343,14 +343,14 @@ def test_attractor_falls_back_when_algorithm1_is_not_admissible(steady10):
 def test_stable_algorithm1_orbit_is_the_attractor_or_none(single):
     # At the reference case Algorithm No. 1's orbit is admissible and stable: the same cycle as
     # the direct solve from it (one Newton-confirmed impact, same phase and multipliers).
-    o = stable_algorithm1_orbit(idp.algorithm1(REF))
+    o = _stable_algorithm1_orbit(idp.algorithm1(REF))
     assert o is not None and o.seed == "alg1"
     assert o.impacts[0].phase == single.impacts[0].phase
     assert np.array_equal(o.multipliers, single.multipliers)
     # At Delta0/x_st = -10 the orbit crosses the stop between impacts (Fig. 2a): no attractor.
     assert not idp.algorithm1(REF.replace(gap=-10.0)).admissible
-    assert stable_algorithm1_orbit(idp.algorithm1(REF.replace(gap=-10.0))) is None
-    assert stable_algorithm1_orbit(None) is None  # Algorithm No. 1 failed: nothing to confirm
+    assert _stable_algorithm1_orbit(idp.algorithm1(REF.replace(gap=-10.0))) is None
+    assert _stable_algorithm1_orbit(None) is None  # Algorithm No. 1 failed: nothing to confirm
 
 
 # --- command line and bad input -----------------------------------------------------------

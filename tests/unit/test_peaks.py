@@ -29,7 +29,7 @@ from impactdamper.analysis.peaks import THETA_TOL, worst_branch, worst_branches
 from impactdamper.analysis.transitions import no_contact_gap
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
-from impactdamper.studies.design.checks import fine_sweeps, ivp_peak
+from impactdamper.studies.design.checks import _fine_sweeps, _ivp_peak
 from impactdamper.studies.design.devices import DESIGN_SETTINGS
 
 BAND = (0.5, 1.5)
@@ -140,7 +140,7 @@ def test_slow_sweeps_never_exceed_the_located_peak(p):
     maximum (a step of 0.002 reaches a smooth maximum to ~(0.001/0.05)^2 ~ 4e-4, a branch end
     to ~slope x 0.002)."""
     w = worst_branch(p, BAND, settings=DESIGN_SETTINGS)
-    fine = fine_sweeps(p, BAND, DESIGN_SETTINGS)
+    fine = _fine_sweeps(p, BAND, DESIGN_SETTINGS)
     swept = max(q.value for q in w.peaks if q.source in ("up", "down"))
     assert fine["largest"] <= w.peak * (1 + 1e-6)
     assert fine["largest"] >= swept * (1 - 2e-3)
@@ -149,7 +149,7 @@ def test_slow_sweeps_never_exceed_the_located_peak(p):
 @pytest.mark.slow
 def test_located_peak_against_solve_ivp():
     w = worst_branch(Parameters(gap=2.0), BAND, settings=DESIGN_SETTINGS)
-    check = ivp_peak(w, DESIGN_SETTINGS)
+    check = _ivp_peak(w, DESIGN_SETTINGS)
     assert check is not None and check["difference"] <= 1e-7, check
     assert check["located"] == pytest.approx(w.peak, rel=1e-9)
 

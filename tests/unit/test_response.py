@@ -22,10 +22,10 @@ import pytest
 
 from impactdamper.analysis.response import (
     HYSTERESIS_TOL,
-    cycle_metrics,
-    energy_balance,
+    _cycle_metrics,
+    _energy_balance,
     frequency_response,
-    theta_grid,
+    _theta_grid,
 )
 from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.point import SweepSettings
@@ -89,7 +89,7 @@ def test_energy_balance_over_any_window_closes_with_the_drift():
     p = Parameters(gap=-2.0)
     solver = EventDrivenSolver(p)
     solver.advance(3.3 * p.T)
-    e = energy_balance(solver.trajectory, 0.1 * p.T, 3.2 * p.T)
+    e = _energy_balance(solver.trajectory, 0.1 * p.T, 3.2 * p.T)
     assert len([x for x in solver.trajectory.events if x.kind == "impact"]) >= 2
     assert abs(e["drift"]) > 1e-3 * p.c1 * p.x_st**2
     assert abs(e["input"] - e["impacts"] - e["dampers"] - e["drift"]) <= BALANCE_TOL * abs(e["input"])
@@ -107,7 +107,7 @@ def test_pulse_is_m2_times_the_suppressors_velocity_jump():
     # The response's pulse equals the steady state's (its own settled run), over m1 x_st omega.
     s = steady_state(p)
     assert s.regime == "single_impact"
-    m = cycle_metrics(solve_point(p))
+    m = _cycle_metrics(solve_point(p))
     expected = s.impacts[0].impulse / (p.m1 * p.x_st * p.omega)
     assert m.impacts_per_period == 1
     assert abs(m.peak_impulse - expected) <= 1e-6 * expected
@@ -163,7 +163,7 @@ def test_deterministic():
 )
 def test_bad_grid_is_one_line_naming_the_argument(args, name):
     with pytest.raises(ValueError) as err:
-        theta_grid(*args)
+        _theta_grid(*args)
     assert str(err.value).startswith(f"`{name}` = ")
     assert "is not allowed" in str(err.value) and "\n" not in str(err.value)
     with pytest.raises(ValueError, match=f"^`{name}` = "):

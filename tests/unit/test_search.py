@@ -23,7 +23,7 @@ from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.analysis.linear_device import den_hartog
 from impactdamper.studies.design.devices import ImpactCriterion, TmdCriterion, Uncertainty
 from impactdamper.studies.design.optimum import BUDGET, design_bounds
-from impactdamper.studies.design.search import CHECK_MOVE, Budget, check_moves, search
+from impactdamper.studies.design.search import CHECK_MOVE, Budget, _check_moves, search
 
 SMALL = Budget(samples=32, starts=2, polls=12, polish=40, checks=6)
 
@@ -45,7 +45,7 @@ def test_a_minimum_on_the_side_is_flagged():
     f = _batch(lambda a, b: (a + 1.0) ** 2 + (b - 0.5) ** 2)
     r = search(f, {"a": (0.0, 1.0), "b": (0.0, 1.0)}, budget=SMALL)
     assert r.x["a"] == pytest.approx(0.0, abs=1e-3) and r.at_bound == ("a",)
-    moves = {(n, side): m for n, side, m in check_moves(r.x, {"a": (0.0, 1.0), "b": (0.0, 1.0)})}
+    moves = {(n, side): m for n, side, m in _check_moves(r.x, {"a": (0.0, 1.0), "b": (0.0, 1.0)})}
     assert moves[("b", "up")]["b"] == pytest.approx(r.x["b"] * (1 + CHECK_MOVE))
 
 

@@ -15,11 +15,11 @@ from impactdamper.core.parameters import state_scale
 from impactdamper.analysis.strobe import (
     STROBE_FD_STEP,
     STROBE_TOL,
-    section_coordinates,
-    section_state,
+    _section_coordinates,
+    _section_state,
     strobe_newton,
     stroboscopic_jacobian,
-    stroboscopic_map,
+    _stroboscopic_map,
     stroboscopic_step,
 )
 
@@ -59,17 +59,17 @@ def test_section_coordinates_round_trip(stuck):
         if stuck
         else np.array([x1, x1 + p.Delta0 - 0.4 * p.x_st, v1, v1 + 0.3 * p.x_st * p.omega])
     )
-    u = section_coordinates(p, full, stuck)
+    u = _section_coordinates(p, full, stuck)
     assert u.shape == ((2,) if stuck else (4,))
     if not stuck:
         assert u[1] == pytest.approx(-0.4, rel=1e-14)  # minus the gap of eq. (20), over x_st
-    back = section_state(p, u, stuck)
+    back = _section_state(p, u, stuck)
     assert np.max(np.abs((back - full) / state_scale(p))) <= 1e-14
 
 
 def test_section_state_never_closes_the_gap():
     u = np.array([0.0, 0.25, 0.0, 0.0])  # a positive coordinate is an overlap of the bodies
-    full = section_state(REF, u, False)
+    full = _section_state(REF, u, False)
     assert REF.Delta0 - (full[1] - full[0]) == 0.0
 
 
@@ -77,7 +77,7 @@ def test_stroboscopic_map_is_the_step_without_its_mode(single):
     y = single.state(0.0)
     state, mode = stroboscopic_step(REF, 0.0, y, 1, TOL)
     assert mode == FREE
-    assert np.array_equal(state, stroboscopic_map(REF, 0.0, y, 1, TOL))
+    assert np.array_equal(state, _stroboscopic_map(REF, 0.0, y, 1, TOL))
 
 
 def test_newton_on_the_stop_finds_the_forced_response(stuck_case):

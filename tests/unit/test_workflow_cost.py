@@ -55,7 +55,7 @@ def test_a_file_that_is_not_a_benchmark_is_named(tmp_path):
     bad = tmp_path / "x.tsv"
     bad.write_text("a\tb\n1\t2\n")
     with pytest.raises(ValueError, match="not a Snakemake benchmark file"):
-        cost.read_benchmark(bad)
+        cost._read_benchmark(bad)
 
 
 def test_the_cost_page_lists_every_rule_costliest_first_with_its_definitions():

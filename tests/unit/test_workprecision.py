@@ -23,7 +23,7 @@ REF = idp.Parameters()
 
 @pytest.fixture(scope="module")
 def refs():
-    return wp.build_references(REF, n_impacts=4, settled_periods=2)
+    return wp._build_references(REF, n_impacts=4, settled_periods=2)
 
 
 # --- the references ---------------------------------------------------------------------------

@@ -29,7 +29,7 @@ import design_report
 from impactdamper.analysis.linear_device import LinearDevice, no_contact_floor
 from impactdamper.analysis.response import UNSETTLED
 from impactdamper.reporting.records import cell_float, read_csv, read_json
-from impactdamper.studies.design.design import CRITERIA, good_band
+from impactdamper.studies.design.design import CRITERIA, _good_band
 from impactdamper.studies.design.devices import impact_parameters
 from impactdamper.studies.design.verdict import device
 
@@ -88,7 +88,7 @@ def test_best_gap_and_good_band_follow_from_the_chart():
         assert best[c]["gap"] == pytest.approx(gaps[i], abs=1e-12)
         assert best[c]["value"] == pytest.approx(values[i], rel=1e-10)
         assert (best[c]["good_from"], best[c]["good_to"]) == pytest.approx(
-            good_band(gaps, values, CONFIG["design"]["tolerance"])
+            _good_band(gaps, values, CONFIG["design"]["tolerance"])
         )
         assert best[c]["peak_impulse"] == pytest.approx(float(rows[i]["peak_impulse"]), rel=1e-10)
         located = read_json(FIGURES / "design_chart.json")["located"][c]

@@ -147,7 +147,7 @@ def test_compile_time_is_read_from_the_setup_record_while_it_is_current(tmp_path
     path = tmp_path / "compile_time.json"
     assert not cr.current_compile_record(path)  # missing
     record = {"compile": {"cold_compile_s": 60.0, "cached_load_s": 1.0}, "measured": cr.MEASURED_AT_SETUP}
-    path.write_text(json.dumps({**record, "sources": cr.sources_fingerprint()}))
+    path.write_text(json.dumps({**record, "sources": cr._sources_fingerprint()}))
     assert cr.current_compile_record(path)
     path.write_text(json.dumps({**record, "sources": "another kernel"}))
     assert not cr.current_compile_record(path)  # stale: measured again in the run

@@ -49,7 +49,7 @@ from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import Parameters, require_parameters
 
 __all__ = [
-    "AdaptiveMap",
+    "_AdaptiveMap",
     "adaptive_regime_map",
     "coarse_indices",
     "refine_lattice",
@@ -76,7 +76,7 @@ def coarse_indices(n: int, step: int) -> list[int]:
 
 
 @dataclass
-class AdaptiveMap:
+class _AdaptiveMap:
     """A regime map of chained rows computed where its labels change
     (:func:`adaptive_regime_map`): every cell's result, computed or filled.
 
@@ -155,7 +155,7 @@ def adaptive_regime_map(
     brute_force: bool = False,
     backend: str = "auto",
     workers: int = 1,
-) -> AdaptiveMap:
+) -> _AdaptiveMap:
     """A regime map: each row sweeps ``fast`` in ``direction``, every cell from its left
     neighbour's settled section (:func:`~impactdamper.analysis.batch.steady_states`, one chain
     per row), settling only the cells where the labels change (the module docstring says how,
@@ -283,7 +283,7 @@ class _RowState:
         self.dirty.clear()
         return sorted((r, q, s) for (r, q), s in todo.items())
 
-    def result(self, fast_sorted, slows, column, coarse_step: int) -> AdaptiveMap:
+    def result(self, fast_sorted, slows, column, coarse_step: int) -> _AdaptiveMap:
         R, n = self.code.shape
         fill = {name: getattr(self, name).copy() for name in ("code", "k", "z")}
         for r in range(R):
@@ -293,7 +293,7 @@ class _RowState:
                     fill[name][r, a + 1 : b] = fill[name][r, a]
         # Back from positions along the sweep to columns of increasing fast values.
         order = np.argsort(column)
-        return AdaptiveMap(
+        return _AdaptiveMap(
             fast_values=fast_sorted,
             slow_values=slows,
             regime_code=fill["code"][:, order],

@@ -35,7 +35,7 @@ from impactdamper.analysis.transitions import no_contact_gap, stuck_liftoff_gap
 from impactdamper.core.parameters import Parameters
 from impactdamper.analysis.solve import steady_state
 
-__all__ = ["BoundarySettings", "Boundaries", "plane_boundaries", "COLUMNS", "CLOSED_FORM_KINDS"]
+__all__ = ["BoundarySettings", "_Boundaries", "plane_boundaries", "COLUMNS", "CLOSED_FORM_KINDS"]
 
 COLUMNS = ["curve", "cycle", "kind", "gap", "value", "stable_side", "end_reason"]
 CLOSED_FORM_KINDS = ("first_contact", "liftoff")
@@ -86,7 +86,7 @@ class BoundarySettings:
 
 
 @dataclass(frozen=True)
-class Boundaries:
+class _Boundaries:
     """The boundaries of one plane: continued curves, closed-form curves, their CSV rows."""
 
     names: tuple
@@ -146,7 +146,7 @@ def _phase_close(a, b, tol: float) -> bool:
     return min(d) < tol
 
 
-def row_special_points(p: Parameters, gap_range, settings: BoundarySettings, gaps=None) -> list:
+def _row_special_points(p: Parameters, gap_range, settings: BoundarySettings, gaps=None) -> list:
     """The special points of the admissible parts of every branch found on the row p (seeded
     at ``gaps``, default ``settings.seed_gaps`` evenly inside the range): a list of
     (k, z, SpecialPoint)."""
@@ -200,7 +200,7 @@ def plane_boundaries(
     slow_range: tuple,
     settings: BoundarySettings | None = None,
     log: logging.Logger | None = None,
-) -> Boundaries:
+) -> _Boundaries:
     """Every boundary of the regime map of the gap against ``slow`` found from a few rows.
 
     Parameters
@@ -230,7 +230,7 @@ def plane_boundaries(
     rows += [(float(v), [float(g)]) for g, v in settings.extra_seeds if lo <= v <= hi]
     for b, seed_gaps in rows:
         p = with_value(base, slow, b)
-        for k, z, s in row_special_points(p, bounds[0], settings, seed_gaps):
+        for k, z, s in _row_special_points(p, bounds[0], settings, seed_gaps):
             seeds += 1
             kind = curve_kind(s.kind)
             if any(
@@ -259,12 +259,12 @@ def plane_boundaries(
                 "%s %s from (%.6f, %.6f): %d points, ends %s", _label(k, z), kind, s.value, b, len(c.points), c.ends
             )
             curves.append(c)
-    rows = curve_rows(curves, slow)
-    rows += closed_form_rows(base, slow, bounds, settings.closed_form_points)
-    return Boundaries(names=names, curves=curves, rows=rows, seeds=seeds, duplicates=duplicates, failures=failures)
+    rows = _curve_rows(curves, slow)
+    rows += _closed_form_rows(base, slow, bounds, settings.closed_form_points)
+    return _Boundaries(names=names, curves=curves, rows=rows, seeds=seeds, duplicates=duplicates, failures=failures)
 
 
-def curve_rows(curves: list, slow: str) -> list:
+def _curve_rows(curves: list, slow: str) -> list:
     """The CSV rows of continued curves: each curve as its two legs from the seed (ids ``NNa``,
     ``NNb``), each ending with its end reason on its last row."""
     rows = []
@@ -288,7 +288,7 @@ def curve_rows(curves: list, slow: str) -> list:
     return rows
 
 
-def closed_form_rows(base: Parameters, slow: str, bounds, points: int) -> list:
+def _closed_form_rows(base: Parameters, slow: str, bounds, points: int) -> list:
     """The first-contact (U1/x_st) and lift-off curves sampled along the second parameter,
     within the gap range (a curve leaving it is cut where it leaves)."""
     rows = []

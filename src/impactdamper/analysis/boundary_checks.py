@@ -36,7 +36,7 @@ from impactdamper.core.events import Segment
 from impactdamper.core.model import Model
 from impactdamper.analysis.solve import simulate, steady_state
 
-__all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisection", "settled_label"]
+__all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisection", "_settled_label"]
 
 # The simulation of a side check: settled to this (relative), within this many periods, k <= 8.
 # (Near a period doubling the new cycle's multiplier is near -1 too: 20000 periods, which the
@@ -125,7 +125,7 @@ def label_changes_near_curves(slow: np.ndarray, gaps: np.ndarray, labels: np.nda
     }
 
 
-def settled_label(p, t0: float, state: np.ndarray) -> str:
+def _settled_label(p, t0: float, state: np.ndarray) -> str:
     """Peterka's label of the motion the simulation settles on from (t0, state)."""
     try:
         s = steady_state(
@@ -212,7 +212,7 @@ def _reproduces(curve: Curve, v: np.ndarray, p, t0: float, y0: np.ndarray) -> bo
     return bool(np.all(d < IMPACT_TIME_TOL * p.T))
 
 
-def followed_run(curve: Curve, u: np.ndarray, q: np.ndarray, start: np.ndarray) -> dict:
+def _followed_run(curve: Curve, u: np.ndarray, q: np.ndarray, start: np.ndarray) -> dict:
     """A brute-force run at the plane's point ``q`` started on the followed cycle (continued to
     ``q`` from ``u`` at the curve's point ``start``, :func:`_on_cycle`, else ``u``'s) plus a
     perturbation of :data:`PERTURBATION` of the state scale.
@@ -319,7 +319,7 @@ def _same_cycle(curve: Curve, u: np.ndarray, other: Curve, v: np.ndarray) -> boo
     return False
 
 
-def crossed_curve(curve: Curve, i: int, a: np.ndarray, b: np.ndarray, others: dict, spans: np.ndarray):
+def _crossed_curve(curve: Curve, i: int, a: np.ndarray, b: np.ndarray, others: dict, spans: np.ndarray):
     """The id of another curve of the same cycle that the side segment a-b (plane units) through
     point ``i`` crosses, or None: there the side runs meet that boundary too (e.g. a period
     doubling 1e-5 of the span from the cycle's fold: on the fold's far side the cycle is lost
@@ -395,7 +395,7 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
 
         def sides(dist: float) -> list:
             return [
-                followed_run(curve, curve.unknowns[i], curve.points[i] + sg * dist * normal * spans, curve.points[i])
+                _followed_run(curve, curve.unknowns[i], curve.points[i] + sg * dist * normal * spans, curve.points[i])
                 for sg in (1, -1)
             ]
 
@@ -403,7 +403,7 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
         out["points"] += 1
         verdict = _verdict(curve, i, runs, normal)
         offset = distance * normal * spans
-        crossed = crossed_curve(curve, i, curve.points[i] - offset, curve.points[i] + offset, others or {}, spans)
+        crossed = _crossed_curve(curve, i, curve.points[i] - offset, curve.points[i] + offset, others or {}, spans)
         if crossed is not None:
             a, b = curve.points[i]
             out["crossing"] += 1
@@ -457,7 +457,7 @@ def period_doubling_bisection(curve: Curve, values, offset: float = 1e-3, xtol: 
         base = with_value(curve.p, curve.names[1], float(v))
 
         def kk(g: float) -> int:
-            lab = settled_label(base.replace(gap=g), t0, y0)
+            lab = _settled_label(base.replace(gap=g), t0, y0)
             return int(lab.split("/")[1]) if "/" in lab and not lab.startswith("c/") else -1
 
         lo, hi = gap - offset, gap + offset

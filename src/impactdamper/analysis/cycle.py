@@ -53,7 +53,7 @@ __all__ = [
     "forced_response",
     "rescale_orbit",
     "flight_scan",
-    "floquet_multipliers",
+    "_floquet_multipliers",
     "least_period",
     "impact_states",
 ]
@@ -323,7 +323,7 @@ def orbit_from_solution(
     times, after, before = _from_longest_flight(model, times, after, Tc)
     velocities = before[:, 3] - before[:, 2]
     reasons, min_gap = _admissibility(model, times, after, velocities, Tc, gap_tol)
-    mult = floquet_multipliers(monodromy_matrix(model, times, before, Tc))
+    mult = _floquet_multipliers(monodromy_matrix(model, times, before, Tc))
     traj = _two_cycles(model, times, after, before, velocities, Tc)
     impacts = tuple(
         CycleImpact(float(t), float((t - times[0]) / T), float((t / T) % 1.0), float(v), float(impact_pulse(p, v)))
@@ -411,7 +411,7 @@ def _two_cycles(model: Model, times, after, before, velocities, Tc: float) -> Tr
     return traj
 
 
-def floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
+def _floquet_multipliers(monodromy: np.ndarray) -> np.ndarray:
     """The eigenvalues of a monodromy matrix, largest modulus first."""
     mult = np.linalg.eigvals(monodromy)
     return mult[np.argsort(-np.abs(mult), kind="stable")]
@@ -445,7 +445,7 @@ def closed_form_orbit(p: Parameters, regime: str, periods: int = 0) -> PeriodicO
             + ("the bodies would overlap" if regime == "no_contact" else "the stop would have to pull")
         )
     )
-    mult = floquet_multipliers(mode.propagator(T))
+    mult = _floquet_multipliers(mode.propagator(T))
     traj = Trajectory(model)
     traj.segments.append((STUCK if regime == "stuck" else FREE, Segment(mode, 0.0, mode.forced(0.0))))
     min_gap = least if regime == "no_contact" else 0.0

@@ -61,8 +61,8 @@ __all__ = [
     "OrbitError",
     "solve_orbit",
     "orbit_from_cycle",
-    "orbit_from_algorithm1",
-    "stable_algorithm1_orbit",
+    "_orbit_from_algorithm1",
+    "_stable_algorithm1_orbit",
     "algorithm1_attractor",
     "SEEDS",
 ]
@@ -270,7 +270,7 @@ def _solve_orbit(p, seed, period_multiple, t0, state, tolerances, options, run) 
     if isinstance(seed, Algorithm1Result):
         if not seed.exists:
             raise OrbitError(f"Algorithm No. 1 has no orbit: {seed.reason}")
-        return orbit_from_algorithm1(seed, period_multiple, tolerances)
+        return _orbit_from_algorithm1(seed, period_multiple, tolerances)
     if isinstance(seed, SteadyState):
         return _from_steady(seed, period_multiple, tolerances)
     raise ValueError(
@@ -287,7 +287,7 @@ def _rescaled_seed(seed, scales: ScaleMap):
     return rescale_steady(seed, scales) if isinstance(seed, SteadyState) else seed
 
 
-def orbit_from_algorithm1(
+def _orbit_from_algorithm1(
     a1: Algorithm1Result, period_multiple: int | None = None, tolerances: Tolerances | None = None
 ) -> PeriodicOrbit:
     """Algorithm No. 1's one-impact orbit (eqs. 7-17) confirmed by the Newton shooting.
@@ -311,7 +311,7 @@ def orbit_from_algorithm1(
     return orbit_from_cycle(a1.p, m, times, after, seed="alg1", tolerances=tolerances)
 
 
-def stable_algorithm1_orbit(
+def _stable_algorithm1_orbit(
     a1: Algorithm1Result | None, period_multiple: int | None = None, tolerances: Tolerances | None = None
 ) -> PeriodicOrbit | None:
     """Algorithm No. 1's orbit if it exists, is admissible, and its Newton-confirmed cycle is
@@ -332,7 +332,7 @@ def stable_algorithm1_orbit(
     if a1 is None or not (a1.exists and a1.admissible):
         return None
     try:
-        orbit = orbit_from_algorithm1(a1, period_multiple, tolerances)
+        orbit = _orbit_from_algorithm1(a1, period_multiple, tolerances)
     except OrbitError:
         return None
     return orbit if (orbit.admissible and orbit.stable) else None
@@ -348,4 +348,4 @@ def algorithm1_attractor(
         a1 = algorithm1(p, gap_tol=check_tolerances(tolerances).gap_tol)
     except (ValueError, SearchLimitError):
         return None
-    return stable_algorithm1_orbit(a1, period_multiple, tolerances)
+    return _stable_algorithm1_orbit(a1, period_multiple, tolerances)

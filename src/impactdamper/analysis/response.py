@@ -49,13 +49,13 @@ from impactdamper.core.validation import finite_argument, integer_argument
 from impactdamper.core.simulate import EventDrivenSolver, Trajectory
 
 __all__ = [
-    "CycleMetrics",
-    "ResponsePoint",
-    "FrequencyResponse",
-    "cycle_metrics",
+    "_CycleMetrics",
+    "_ResponsePoint",
+    "_FrequencyResponse",
+    "_cycle_metrics",
     "frequency_response",
-    "theta_grid",
-    "energy_balance",
+    "_theta_grid",
+    "_energy_balance",
     "HYSTERESIS_TOL",
     "MAX_POINTS",
 ]
@@ -83,7 +83,7 @@ MAX_POINTS = 1_000
 
 
 @dataclass(frozen=True)
-class CycleMetrics:
+class _CycleMetrics:
     """What one settled cycle does, in relative units.
 
     Attributes
@@ -126,7 +126,7 @@ class CycleMetrics:
 
 
 @dataclass(frozen=True)
-class ResponsePoint:
+class _ResponsePoint:
     """One forcing frequency: the motions of the upward and the downward sweep.
 
     Attributes
@@ -141,8 +141,8 @@ class ResponsePoint:
     """
 
     theta: float
-    up: CycleMetrics
-    down: CycleMetrics
+    up: _CycleMetrics
+    down: _CycleMetrics
     hysteresis: bool
     linear_x1: float
     linear_x2: float
@@ -187,7 +187,7 @@ class ResponsePoint:
 
 
 @dataclass(frozen=True)
-class FrequencyResponse:
+class _FrequencyResponse:
     """The frequency response over a theta grid (see :func:`frequency_response`).
 
     Attributes
@@ -298,7 +298,7 @@ class FrequencyResponse:
         return [r for q in self.points for r in q.rows()]
 
 
-def theta_grid(theta_start: object, theta_stop: object, points: object) -> np.ndarray:
+def _theta_grid(theta_start: object, theta_stop: object, points: object) -> np.ndarray:
     """``points`` equally spaced theta values from ``theta_start`` to ``theta_stop``, checked.
 
     Raises
@@ -330,7 +330,7 @@ def _pieces(a: float, b: float, cuts: Sequence[float], longest: float) -> list[t
     return out
 
 
-def energy_balance(traj: Trajectory, a: float, b: float) -> dict:
+def _energy_balance(traj: Trajectory, a: float, b: float) -> dict:
     """Work and dissipation over [a, b] of a trajectory, J (dimensional).
 
     Each piece of one mode between events is integrated by Gauss-Legendre quadrature of
@@ -416,14 +416,14 @@ def _unsettled(sweep: dict) -> tuple:
     )
 
 
-def _nan_metrics(point: SweepPoint) -> CycleMetrics:
+def _nan_metrics(point: SweepPoint) -> _CycleMetrics:
     nan = math.nan
-    return CycleMetrics(
+    return _CycleMetrics(
         point.regime, point.label, point.period_multiple, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan
     )
 
 
-def cycle_metrics(point: SweepPoint) -> CycleMetrics:
+def _cycle_metrics(point: SweepPoint) -> _CycleMetrics:
     """Describe the settled cycle of a sweep point (see the module docstring).
 
     The cycle is simulated afresh from ``point.section`` at t0 = 0 (the section is at forcing
@@ -448,12 +448,12 @@ def cycle_metrics(point: SweepPoint) -> CycleMetrics:
     traj = solver.trajectory
     x1 = _largest(traj, 0.0, end, 0) / p.x_st
     x2 = _largest(traj, 0.0, end, 1) / p.x_st
-    e = energy_balance(traj, 0.0, end)
+    e = _energy_balance(traj, 0.0, end)
     unit_e = p.c1 * p.x_st * p.x_st
     unit_s = p.m1 * p.x_st * p.omega
     pulses = np.array(e["impulses"]) / unit_s
     residual = abs(e["input"] - e["impacts"] - e["dampers"] - e["drift"]) / max(abs(e["input"]), unit_e)
-    return CycleMetrics(
+    return _CycleMetrics(
         regime=point.regime,
         label=point.label,
         period_multiple=point.period_multiple,
@@ -470,7 +470,7 @@ def cycle_metrics(point: SweepPoint) -> CycleMetrics:
     )
 
 
-def _differ(a: CycleMetrics, b: CycleMetrics, tol: float) -> bool:
+def _differ(a: _CycleMetrics, b: _CycleMetrics, tol: float) -> bool:
     if a.label != b.label:
         return True
     if not (math.isfinite(a.max_abs_x1) and math.isfinite(b.max_abs_x1)):
@@ -489,7 +489,7 @@ def frequency_response(
     progress: Callable[[str], None] | None = None,
     on_point: Callable[[], None] | None = None,
     locate: bool = True,
-) -> FrequencyResponse:
+) -> _FrequencyResponse:
     """Settled motion against theta, by an upward and a downward sweep, with its metrics.
 
     Parameters
@@ -526,7 +526,7 @@ def frequency_response(
         point's line, naming its cause.
     """
     p = require_parameters(p)
-    thetas = theta_grid(theta_start, theta_stop, points)
+    thetas = _theta_grid(theta_start, theta_stop, points)
     tol = finite_argument("hysteresis_tol", hysteresis_tol)
     if not tol > 0:
         raise ValueError(f"`hysteresis_tol` = {tol!r} is not allowed: must be > 0")
@@ -550,8 +550,8 @@ def frequency_response(
     out = []
     every = max(len(thetas) // 10, 1)
     for i, (theta, up, down) in enumerate(zip(thetas, sweep["up"], sweep["down"])):
-        mu, md = cycle_metrics(up), cycle_metrics(down)
-        out.append(ResponsePoint(float(theta), mu, md, _differ(mu, md, tol), float(lin1[i]), float(lin2[i])))
+        mu, md = _cycle_metrics(up), _cycle_metrics(down)
+        out.append(_ResponsePoint(float(theta), mu, md, _differ(mu, md, tol), float(lin1[i]), float(lin2[i])))
         if progress is not None and ((i + 1) % every == 0 or i + 1 == len(thetas)):
             progress(
                 f"metrics {i + 1}/{len(thetas)}: theta = {theta:.4g}, {up.label}/{down.label}, "
@@ -567,4 +567,4 @@ def frequency_response(
                 f"worst branch located: {located.settled_peak:.8g} over the settled motions, {located.peak:.8g} with "
                 f"{len(located.unsettled)} unsettled samples counted ({located.branch()})"
             )
-    return FrequencyResponse(p, tuple(out), located, _unsettled(sweep))
+    return _FrequencyResponse(p, tuple(out), located, _unsettled(sweep))

@@ -59,7 +59,7 @@ from impactdamper.core.parameters import state_scale
 __all__ = [
     "Shooting",
     "OrbitError",
-    "saltation_matrix",
+    "_saltation_matrix",
     "monodromy_matrix",
     "ORBIT_TOL",
 ]
@@ -215,7 +215,7 @@ class Shooting:
         raise OrbitError(f"Newton did not converge in {max_iterations} iterations (residual {norm:.3g})")
 
 
-def saltation_matrix(model: Model, t: float, before: np.ndarray) -> np.ndarray:
+def _saltation_matrix(model: Model, t: float, before: np.ndarray) -> np.ndarray:
     """Saltation matrix S = J_R + (f^+ - J_R f^-) n^T / (n^T f^-) of the impact at (t, before),
     shape (4, 4) (see the module docstring)."""
     JR = impact_matrix(model.p)
@@ -260,7 +260,7 @@ def monodromy_matrix(
     M = mode.propagator(t_next[start] - ts)
     for m in range(1, z + 1):
         i = (start + m) % z
-        M = saltation_matrix(model, times[i], before[i]) @ M  # impact i (times mod T_c)
+        M = _saltation_matrix(model, times[i], before[i]) @ M  # impact i (times mod T_c)
         if m == z:
             break
         M = mode.propagator(t_next[i] - times[i]) @ M

@@ -33,11 +33,11 @@ from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 
 __all__ = [
     "stroboscopic_step",
-    "stroboscopic_map",
+    "_stroboscopic_map",
     "stroboscopic_jacobian",
-    "section_coordinates",
-    "section_state",
-    "StrobeSolution",
+    "_section_coordinates",
+    "_section_state",
+    "_StrobeSolution",
     "strobe_newton",
     "CHECK_FD_STEP",
     "STROBE_FD_STEP",
@@ -91,7 +91,7 @@ def stroboscopic_step(
     return solver.state_at(t0 + periods * p.T), solver.mode
 
 
-def stroboscopic_map(
+def _stroboscopic_map(
     p: Parameters, t0: float, state: np.ndarray, periods: int, tolerances: Tolerances | None = None
 ) -> np.ndarray:
     """State at t0 + periods T from ``state`` at t0, by the event-driven solver. Shape (4,)."""
@@ -120,12 +120,12 @@ def stroboscopic_jacobian(
         plus[j] += h
         minus[j] -= h
         J[:, j] = (
-            stroboscopic_map(p, t0, plus, periods, tolerances) - stroboscopic_map(p, t0, minus, periods, tolerances)
+            _stroboscopic_map(p, t0, plus, periods, tolerances) - _stroboscopic_map(p, t0, minus, periods, tolerances)
         ) / (2 * h)
     return J
 
 
-def section_coordinates(p: Parameters, full: np.ndarray, stuck: bool) -> np.ndarray:
+def _section_coordinates(p: Parameters, full: np.ndarray, stuck: bool) -> np.ndarray:
     """Newton's unknowns at a section: (x1, v1) on the stop, else (x1, x2 - x1 - Delta0, x1',
     x2' - x1'), all relative (x_st, x_st omega). Shape (2,) or (4,).
 
@@ -137,7 +137,7 @@ def section_coordinates(p: Parameters, full: np.ndarray, stuck: bool) -> np.ndar
     return np.array([full[0] / xs, (full[1] - full[0] - p.Delta0) / xs, full[2] / vs, (full[3] - full[2]) / vs])
 
 
-def section_state(p: Parameters, u: np.ndarray, stuck: bool) -> np.ndarray:
+def _section_state(p: Parameters, u: np.ndarray, stuck: bool) -> np.ndarray:
     """The state (x1, x2, x1', x2') of section coordinates ``u`` (inverse of
     :func:`section_coordinates`; a free state's gap is clipped to be non-negative). Shape (4,)."""
     xs, vs = p.x_st, p.x_st * p.omega
@@ -149,7 +149,7 @@ def section_state(p: Parameters, u: np.ndarray, stuck: bool) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class StrobeSolution:
+class _StrobeSolution:
     """A fixed point of the k-th stroboscopic map found by :func:`strobe_newton`.
 
     Attributes
@@ -185,7 +185,7 @@ def _map_step(p: Parameters, tol: Tolerances, step):
 
 def strobe_newton(
     p: Parameters, full0: np.ndarray, mode0: str, k: int, tol: Tolerances, jacobian: np.ndarray | None = None, step=None
-) -> StrobeSolution | None:
+) -> _StrobeSolution | None:
     """Newton on y(0) -> y(k T) from ``full0``.
 
     The Jacobian is ``jacobian`` (the neighbour's, if it has the right shape) or finite
@@ -220,7 +220,7 @@ def strobe_newton(
         residual, a singular system or a solver guard).
     """
     stuck = mode0 == STUCK
-    u = section_coordinates(p, full0, stuck)
+    u = _section_coordinates(p, full0, stuck)
     strobe = _SectionMap(p, stuck, k, _map_step(p, tol, step))
     n = len(u)
     fresh = jacobian is None or jacobian.shape != (n, n)
@@ -235,7 +235,7 @@ def strobe_newton(
             J, rho = _stability(strobe, u, Pu, J, fresh)
     except (RuntimeError, ValueError, np.linalg.LinAlgError):
         return None
-    return StrobeSolution(section_state(p, u, stuck), rho, strobe.periods, J)
+    return _StrobeSolution(_section_state(p, u, stuck), rho, strobe.periods, J)
 
 
 class _SectionMap:
@@ -250,7 +250,7 @@ class _SectionMap:
 
     def __call__(self, v: np.ndarray) -> np.ndarray:
         self.periods += self.k
-        return section_coordinates(self.p, self.evaluate(section_state(self.p, v, self.stuck), self.k)[0], self.stuck)
+        return _section_coordinates(self.p, self.evaluate(_section_state(self.p, v, self.stuck), self.k)[0], self.stuck)
 
     def jacobian(self, v: np.ndarray, Pv: np.ndarray) -> np.ndarray:
         """Forward finite-difference Jacobian at ``v`` (``Pv`` the map there), shape (n, n)."""

@@ -33,7 +33,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 
 __all__ = [
-    "Transition",
+    "_Transition",
     "sweep",
     "two_way_sweep",
     "random_initial_state",
@@ -232,7 +232,7 @@ def random_start_states(
 # Transitions
 # ----------------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class Transition:
+class _Transition:
     """A change of label between neighbouring sweep points, located by bisection.
 
     Attributes
@@ -281,7 +281,7 @@ def locate_transition(
     *,
     settings: SweepSettings | None = None,
     xtol: float = 1e-6,
-) -> Transition:
+) -> _Transition:
     """Bisect the label change between ``first`` and ``second`` (neighbours, in sweep order).
 
     Each midpoint starts from ``first``'s motion, as a finer sweep would; the side of the
@@ -305,7 +305,7 @@ def locate_transition(
             b = point
             b_moves += 1
     lo, hi = sorted((a.value, b.value))
-    return Transition(
+    return _Transition(
         direction, 0.5 * (lo + hi), lo, hi, a.label, b.label, n, stopped, one_sided=b_moves <= 1 and n >= 4
     )
 
@@ -318,7 +318,7 @@ def find_transitions(
     settings: SweepSettings | None = None,
     xtol: float = 1e-6,
     workers: int = 1,
-) -> dict[str, list[Transition]]:
+) -> dict[str, list[_Transition]]:
     """Every label change along both directions of a two-way sweep, each bisected on its own
     (:func:`locate_transition`) in ``workers`` processes, each handed to whichever is free: the
     same transitions as one direction after the other, in the same order.

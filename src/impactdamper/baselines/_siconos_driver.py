@@ -30,7 +30,7 @@ import sys
 import time
 
 
-def run_once(cfg):
+def _run_once(cfg):
     import numpy as np
     import siconos.kernel as sk
 
@@ -78,7 +78,7 @@ def main():
     result = None
     for _ in range(max(int(cfg.get("repeats", 1)), 1)):
         start = time.process_time()
-        result = run_once(cfg)
+        result = _run_once(cfg)
         times.append(time.process_time() - start)
     try:
         from importlib.metadata import version

@@ -38,7 +38,7 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["ATOL", "RTOL", "SEPARATION", "physical", "ImpactOscillator", "benettin_ivp"]
+__all__ = ["ATOL", "RTOL", "SEPARATION", "physical", "_ImpactOscillator", "benettin_ivp"]
 
 # solve_ivp's tolerances, on the state in x_st and x_st omega (its atol scaled per component):
 # the motion's own error per period is ~1e-12 x_st, 1e-5 of SEPARATION.
@@ -74,7 +74,7 @@ def physical(theta, mu, N, delta1, delta2, R, gap, omega=10.0, x_st=1.0, m1=1.0)
     }
 
 
-class ImpactOscillator:
+class _ImpactOscillator:
     """The two bodies and the stop of one parameter set (:func:`physical`'s constants)."""
 
     def __init__(self, c: dict):
@@ -150,7 +150,7 @@ def benettin_ivp(
     separation, impacts_per_period, rtol, atol, method."""
     if periods % blocks or blocks < 2:
         raise ValueError(f"`periods` = {periods!r} is not allowed: must be a multiple of `blocks` = {blocks!r} >= 2")
-    osc = ImpactOscillator(physical(theta, mu, N, delta1, delta2, R, gap, omega=omega))
+    osc = _ImpactOscillator(physical(theta, mu, N, delta1, delta2, R, gap, omega=omega))
     c, T = osc.c, osc.T
     y = osc.advance(0.0, np.asarray(start, float) * osc.scale, transient * T)
     direction = np.ones(4) / 2.0

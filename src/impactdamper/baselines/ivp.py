@@ -71,7 +71,7 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances, default_initial_state
 from impactdamper.core.trajectory import Event
 
-__all__ = ["simulate_ivp", "IvpTrajectory", "IvpLeg", "METHODS", "methods"]
+__all__ = ["simulate_ivp", "_IvpTrajectory", "_IvpLeg", "METHODS", "methods"]
 
 METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 """The ``solve_ivp`` methods the cross-check supports (all tested)."""
@@ -86,7 +86,7 @@ MIN_RTOL = 100 * np.finfo(float).eps
 
 
 @dataclass
-class IvpLeg:
+class _IvpLeg:
     """One ``solve_ivp`` call: a mode from (t0, y0) to t1.
 
     Attributes
@@ -181,7 +181,7 @@ def _event(fn, terminal: bool, direction: float):
     return fn
 
 
-class IvpTrajectory:
+class _IvpTrajectory:
     """The motion integrated by ``solve_ivp``: legs of one mode each, and the events.
 
     Attributes
@@ -214,7 +214,7 @@ class IvpTrajectory:
         self.method = method
         self.rtol = rtol
         self.atol = atol
-        self.legs: list[IvpLeg] = []
+        self.legs: list[_IvpLeg] = []
         self.events: list[Event] = []
         self.sample_times = np.empty(0)
         self.samples = np.empty((0, 4))
@@ -227,7 +227,7 @@ class IvpTrajectory:
     def impacts(self, t_from: float = -math.inf, t_to: float = math.inf) -> list[Event]:
         return [e for e in self.events if e.kind == "impact" and t_from <= e.t < t_to]
 
-    def _dense(self, leg: IvpLeg):
+    def _dense(self, leg: _IvpLeg):
         if leg.sol is None:
             if leg.t1 > leg.t0:
                 # Same method and tolerances as the leg: the same steps (the last one clipped
@@ -304,7 +304,7 @@ class _Driver:
         self.method, self.rtol, self.atol = method, rtol, atol
         self.tol = tol
         self.max_events = max_events
-        self.traj = IvpTrajectory(p, self.eq, method, rtol, atol)
+        self.traj = _IvpTrajectory(p, self.eq, method, rtol, atol)
         times = np.empty(0) if sample_times is None else np.asarray(sample_times, dtype=float)
         self.traj.sample_times = times
         self.traj.samples = np.full((times.size, 4), np.nan)
@@ -374,12 +374,12 @@ class _Driver:
             rate = _event(lambda t, y: eq.force_rate(t, y[0], y[1]), False, 1.0)
         return guard, rate
 
-    def run(self, t_end: float) -> IvpTrajectory:
+    def run(self, t_end: float) -> _IvpTrajectory:
         while self.pending is not None:
             mode, t0, y0 = self.pending
             self.pending = None
             if t0 >= t_end:
-                self.traj.legs.append(IvpLeg(mode, t0, y0, t0, 0))
+                self.traj.legs.append(_IvpLeg(mode, t0, y0, t0, 0))
                 break
             guard, rate = self._guards(mode)
             times = self.traj.sample_times
@@ -399,7 +399,7 @@ class _Driver:
             )
             # (the leg ends at its terminal event or at t_end; with t_eval, res.t holds the samples)
             t1 = float(res.t_events[0][0]) if res.status == 1 else t_end
-            leg = IvpLeg(mode, t0, y0, t1, int(res.nfev))
+            leg = _IvpLeg(mode, t0, y0, t1, int(res.nfev))
             self.traj.legs.append(leg)
             t_hit, y_hit = None, None
             if res.status == 1:
@@ -466,7 +466,7 @@ def simulate_ivp(
     tolerances: Tolerances | None = None,
     max_events: int = 1_000_000,
     sample_times: np.ndarray | None = None,
-) -> IvpTrajectory:
+) -> _IvpTrajectory:
     """Integrate the suppressor with ``solve_ivp`` and event location from ``t0`` to ``t_end``.
 
     Parameters

@@ -24,7 +24,7 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import default_initial_state
 from impactdamper.core.trajectory import Event
 
-__all__ = ["simulate_rk4", "Rk4Trajectory"]
+__all__ = ["simulate_rk4", "_Rk4Trajectory"]
 
 # Bisection stops when the bracket is below this many periods (a few ulps of t ~ T).
 BISECT_TOL = 1e-15
@@ -33,7 +33,7 @@ MAX_BISECTIONS = 60
 
 
 @dataclass
-class Rk4Trajectory:
+class _Rk4Trajectory:
     """Result of :func:`simulate_rk4`.
 
     Attributes
@@ -68,7 +68,7 @@ def simulate_rk4(
     steps_per_period: int = 1000,
     bisect_tol: float = BISECT_TOL,
     max_events: int = 100_000,
-) -> Rk4Trajectory:
+) -> _Rk4Trajectory:
     """Integrate the suppressor with fixed-step RK4 and bisection on the gap.
 
     Parameters
@@ -103,7 +103,7 @@ def simulate_rk4(
     def gap(y: tuple) -> float:
         return Delta0 - (y[1] - y[0])
 
-    out = Rk4Trajectory()
+    out = _Rk4Trajectory()
     y = _start(p, state, gap)
     h = p.T / steps_per_period
     t = float(t0)

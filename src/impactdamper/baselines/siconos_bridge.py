@@ -23,7 +23,7 @@ import numpy as np
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import default_initial_state
 
-__all__ = ["SICONOS_PYTHON", "siconos_status", "simulate_siconos", "SiconosResult"]
+__all__ = ["SICONOS_PYTHON", "siconos_status", "simulate_siconos", "_SiconosResult"]
 
 SICONOS_PYTHON = os.environ.get("IMPACTDAMPER_SICONOS_PYTHON", "/usr/bin/python3")
 """The interpreter that has Siconos (Debian's python3; override with IMPACTDAMPER_SICONOS_PYTHON)."""
@@ -35,7 +35,7 @@ SUBPROCESS_TIMEOUT = 3600
 
 
 @dataclass(frozen=True)
-class SiconosResult:
+class _SiconosResult:
     """One Moreau-Jean run.
 
     Attributes
@@ -84,7 +84,7 @@ def simulate_siconos(
     repeats: int = 1,
     theta: float = 0.5,
     python: str = SICONOS_PYTHON,
-) -> SiconosResult:
+) -> _SiconosResult:
     """Integrate the suppressor with Siconos's Moreau-Jean scheme from t0 to t_end.
 
     Parameters
@@ -123,7 +123,7 @@ def simulate_siconos(
         last = (res.stderr.strip().splitlines() or ["no message"])[-1]
         raise RuntimeError(f"Siconos driver failed: {last}")
     out = json.loads(res.stdout)
-    return SiconosResult(
+    return _SiconosResult(
         np.array(out["impacts"], dtype=float),
         np.array(out["final_state"], dtype=float),
         float(out["cpu_seconds"]),

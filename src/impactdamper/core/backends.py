@@ -40,7 +40,7 @@ from impactdamper.core.validation import SettleOptions, Tolerances
 
 __all__ = [
     "Backend",
-    "PythonBackend",
+    "_PythonBackend",
     "PYTHON",
     "REGISTRY",
     "BACKENDS",
@@ -185,7 +185,7 @@ class Backend(ABC):
         """Nothing to compile."""
 
 
-class PythonBackend(Backend):
+class _PythonBackend(Backend):
     """The pure-Python reference as a backend: its two own operations on checked arguments
     (the others are :class:`Backend`'s defaults, the reference's)."""
 
@@ -198,7 +198,7 @@ class PythonBackend(Backend):
         return settle(p, t0, state, tolerances, options)
 
 
-PYTHON = PythonBackend()
+PYTHON = _PythonBackend()
 # The backends by name: where each one's object lives ("module:attribute"), imported on first use.
 REGISTRY = {
     "compiled": "impactdamper.core.compiled.backend:COMPILED",

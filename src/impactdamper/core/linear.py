@@ -297,7 +297,7 @@ class LinearMode:
 MODE_CACHE_SIZE = 256
 
 
-def clear_mode_cache() -> None:
+def _clear_mode_cache() -> None:
     """Forget the built modes (after changing this module's constants, as the tests do)."""
     _free_mode.cache_clear()
     _stuck_mode.cache_clear()

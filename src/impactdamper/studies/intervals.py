@@ -14,7 +14,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
-__all__ = ["Interval", "bisect", "true_runs", "true_intervals", "intersect", "claim_intervals", "distance_to"]
+__all__ = ["Interval", "_bisect", "true_runs", "true_intervals", "intersect", "_claim_intervals", "distance_to"]
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,7 @@ def _resolution(x: float, rel_tol: float, floor: float, abs_tol: float | None = 
     return abs_tol if abs_tol is not None else rel_tol * max(abs(x), floor)
 
 
-def bisect(
+def _bisect(
     pred: Callable[[float], bool], x_in: float, x_out: float, rel_tol: float, floor: float, abs_tol: float | None = None
 ) -> tuple:
     """Shrink [x_in, x_out] (pred True at x_in, False at x_out) until its width is within
@@ -94,7 +94,7 @@ def true_intervals(
         ends = {}
         for side, k_in, k_out in (("lo", i, i - 1), ("hi", j, j + 1)):
             if 0 <= k_out < n:
-                x_in, x_out = bisect(pred, float(xs[k_in]), float(xs[k_out]), rel_tol, floor, abs_tol)
+                x_in, x_out = _bisect(pred, float(xs[k_in]), float(xs[k_out]), rel_tol, floor, abs_tol)
                 ends[side] = (0.5 * (x_in + x_out), False, (x_in, x_out))
             else:
                 ends[side] = (float(xs[k_in]), True, None)
@@ -116,7 +116,7 @@ def intersect(ra: Sequence[Interval], rb: Sequence[Interval]) -> list[Interval]:
     return out
 
 
-def claim_intervals(
+def _claim_intervals(
     xs: Sequence[float],
     claim_a_at: Callable[[float], bool],
     claim_b_at: Callable[[float], bool],

@@ -21,7 +21,7 @@ __all__ = [
     "DIGITS",
     "HighPrecisionError",
     "MPModel",
-    "MPSegment",
+    "_MPSegment",
     "MPImpact",
     "exact_mpf",
     "first_impacts",
@@ -132,8 +132,8 @@ class MPModel:
             x1p, x2p = mp.lu_solve(Z, mp.matrix([self.P0, 0]))
             return x1p, x2p
 
-    def segment(self, t0, y0) -> MPSegment:
-        return MPSegment(self, t0, y0)
+    def segment(self, t0, y0) -> _MPSegment:
+        return _MPSegment(self, t0, y0)
 
     def gap_of(self, y) -> mpmath.mpf:
         return self.Delta0 - (y[1] - y[0])
@@ -147,7 +147,7 @@ class MPModel:
             return after, v, S
 
 
-class MPSegment:
+class _MPSegment:
     """Exact free motion from (t0, y0) in mpmath; the gap and its first derivative."""
 
     def __init__(self, model: MPModel, t0, y0):

@@ -33,7 +33,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.design.devices import IMPACT_NAMES
 
-__all__ = ["FINE_STEP", "SAMPLE_RTOL", "fine_sweeps", "ivp_peak", "floor_check", "located_peak_checks"]
+__all__ = ["FINE_STEP", "SAMPLE_RTOL", "_fine_sweeps", "_ivp_peak", "floor_check", "located_peak_checks"]
 
 # The slow sweeps' step: ten times finer than the worst branch's grid.
 FINE_STEP = 0.002
@@ -45,7 +45,7 @@ SAMPLE_RTOL = 1e-6
 IVP_SAMPLES = 50_000
 
 
-def fine_sweeps(p: Parameters, band: tuple, settings: SweepSettings, step: float = FINE_STEP) -> dict:
+def _fine_sweeps(p: Parameters, band: tuple, settings: SweepSettings, step: float = FINE_STEP) -> dict:
     """Both slow sweeps of ``p`` over ``band`` at ``step``: their largest sample and where."""
     n = int(math.ceil((band[1] - band[0]) / step - 1e-9)) + 1
     th = np.linspace(band[0], band[1], n)
@@ -76,7 +76,7 @@ def _swept_peak(w: WorstBranch) -> float:
     return max((q.value for q in w.peaks if q.source in ("up", "down")), default=math.nan)
 
 
-def ivp_peak(w: WorstBranch, settings: SweepSettings) -> dict | None:
+def _ivp_peak(w: WorstBranch, settings: SweepSettings) -> dict | None:
     """The sweeps' highest located maximum's motion integrated again by solve_ivp (module
     docstring); None where it did not settle."""
     from impactdamper.baselines.ivp import simulate_ivp
@@ -126,8 +126,8 @@ def located_peak_checks(cases: Sequence[tuple[str, Parameters]], band: tuple, se
     ws = worst_branches([p for _, p in cases], [band] * len(cases), theta_tol=THETA_TOL, settings=settings)
     out, excess, shortfall, floors, ivps = {}, [], [], [], []
     for (name, p), w in zip(cases, ws):
-        fine = fine_sweeps(p, band, settings)
-        fl, iv = floor_check(w), ivp_peak(w, settings)
+        fine = _fine_sweeps(p, band, settings)
+        fl, iv = floor_check(w), _ivp_peak(w, settings)
         excess.append(fine["largest"] / w.peak - 1.0)
         shortfall.append(1.0 - fine["largest"] / _swept_peak(w))
         if fl is not None:

@@ -35,12 +35,12 @@ from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, finite_argument, require_parameters
 
 __all__ = [
-    "GapChart",
+    "_GapChart",
     "CHART_COLUMNS",
     "AT_THETA_COLUMN",
     "gap_chart",
     "best_gap",
-    "good_band",
+    "_good_band",
     "design_chart_2d",
     "CRITERIA",
     "GOOD_GAP_TOLERANCE",
@@ -50,8 +50,8 @@ __all__ = [
     "design_band",
     "design_gaps",
     "response_gaps",
-    "runs_where",
-    "pulse_unit",
+    "_runs_where",
+    "_pulse_unit",
     "LinearDevice",
     "linear_maxima",
     "linear_peak",
@@ -128,7 +128,7 @@ def response_gaps(best: float, gaps: Sequence[float]) -> list[float]:
     return out
 
 
-def runs_where(thetas: Sequence[float], flags: Sequence[bool]) -> list[tuple[float, float]]:
+def _runs_where(thetas: Sequence[float], flags: Sequence[bool]) -> list[tuple[float, float]]:
     """The contiguous runs of ``thetas`` (increasing) where ``flags`` holds, as (first theta,
     last theta) of each run; a run of one theta has first == last."""
     runs, start, last = [], None, None
@@ -148,7 +148,7 @@ def runs_where(thetas: Sequence[float], flags: Sequence[bool]) -> list[tuple[flo
 GAP_XTOL = 1e-3
 
 
-def pulse_unit(p: Parameters, thetas: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+def _pulse_unit(p: Parameters, thetas: np.ndarray, velocity: np.ndarray) -> np.ndarray:
     """The pulse of eq. (21) over P0/omega1, from closing velocities v over x_st omega at each
     theta: the model's impact law (:meth:`impactdamper.core.model.Model.impact`, linear in v)
     applied to a unit closing velocity, times v, over m1 x_st omega1 (= P0/omega1)."""
@@ -161,7 +161,7 @@ def pulse_unit(p: Parameters, thetas: np.ndarray, velocity: np.ndarray) -> np.nd
 
 
 @dataclass(frozen=True)
-class GapChart:
+class _GapChart:
     """The worst branch at each gap, and the design criteria it gives.
 
     Attributes
@@ -202,7 +202,7 @@ class GapChart:
         and the most impacts per period (settled motions)."""
         pulse, impacts = [], []
         for w in self.branches:
-            v = np.fmax(pulse_unit(w.p, w.thetas, w.up_velocity), pulse_unit(w.p, w.thetas, w.down_velocity))
+            v = np.fmax(_pulse_unit(w.p, w.thetas, w.up_velocity), _pulse_unit(w.p, w.thetas, w.down_velocity))
             pulse.append(float(np.nanmax(v)))
             impacts.append(float(np.nanmax(np.r_[w.up_impacts, w.down_impacts, 0.0])))
         return np.array(pulse), np.array(impacts)
@@ -212,7 +212,7 @@ class GapChart:
         :func:`good_band`)."""
         values = self.criterion(name)
         i = int(np.nanargmin(values))
-        lo, hi = good_band(self.gaps, values, tolerance)
+        lo, hi = _good_band(self.gaps, values, tolerance)
         pulse, impacts = self.loads()
         return {
             "criterion": name,
@@ -248,7 +248,7 @@ class GapChart:
         return out
 
 
-def good_band(gaps: Sequence[float], values: Sequence[float], tolerance: float = GOOD_GAP_TOLERANCE) -> tuple:
+def _good_band(gaps: Sequence[float], values: Sequence[float], tolerance: float = GOOD_GAP_TOLERANCE) -> tuple:
     """The contiguous run of gaps around the best one whose value is within ``tolerance`` of it
     (value <= (1 + tolerance) best). Returns (first gap, last gap) of the run."""
     tolerance = finite_argument("tolerance", tolerance)
@@ -277,7 +277,7 @@ def gap_chart(
     settings: SweepSettings | None = None,
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
-) -> GapChart:
+) -> _GapChart:
     """The worst branch over ``band`` at each gap (one batch of all gaps,
     :func:`~impactdamper.analysis.peaks.worst_branches`: grid steps of at most ``step``, peaks
     located to ``theta_tol``, no random starts).
@@ -307,11 +307,11 @@ def gap_chart(
     if progress is not None:
         i = int(np.argmin([w.peak for w in ws]))
         progress(f"{len(gaps)} gaps from {gaps[0]:g} to {gaps[-1]:g}: lowest peak {ws[i].peak:.4g} at {gaps[i]:g}")
-    return GapChart(p, gaps, tuple(ws))
+    return _GapChart(p, gaps, tuple(ws))
 
 
 def best_gap(
-    chart: GapChart,
+    chart: _GapChart,
     name: str = "peak",
     *,
     step: float = 0.02,
@@ -379,7 +379,7 @@ def design_chart_2d(
     settings: SweepSettings | None = None,
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
-) -> dict[float, GapChart]:
+) -> dict[float, _GapChart]:
     """:func:`gap_chart` at each value of a second parameter ``name`` (``N`` or ``R``, or any
     field of Parameters but ``gap`` and ``theta``). Returns {value: GapChart}."""
     if name in ("gap", "theta") or name not in Parameters.names():

@@ -52,12 +52,12 @@ __all__ = [
     "ROBUST",
     "Uncertainty",
     "Scenario",
-    "scenario_case",
+    "_scenario_case",
     "impact_parameters",
     "ImpactCriterion",
     "TmdCriterion",
     "impact_rows",
-    "impact_loads",
+    "_impact_loads",
     "tmd_row",
     "IMPACT_NAMES",
     "TMD_NAMES",
@@ -200,7 +200,7 @@ def impact_parameters(mu: float, delta1: float, x: dict) -> Parameters:
     return Parameters(mu=mu, delta1=delta1, **{n: float(x[n]) for n in IMPACT_NAMES})
 
 
-def scenario_case(p: Parameters, band: tuple, s: Scenario) -> tuple[Parameters, tuple, float]:
+def _scenario_case(p: Parameters, band: tuple, s: Scenario) -> tuple[Parameters, tuple, float]:
     """The suppressor ``p`` in scenario ``s`` (module docstring): its relative parameters, the
     band in its theta, and the factor that puts its amplitudes over the nominal x_st per unit
     of the actual force."""
@@ -253,7 +253,7 @@ class ImpactCriterion:
         for x in designs:
             p = impact_parameters(self.mu, self.delta1, x)
             for s in scenarios:
-                q, b, scale = scenario_case(p, self.band, s)
+                q, b, scale = _scenario_case(p, self.band, s)
                 cases.append(q)
                 bands.append(b)
                 scales.append(scale)
@@ -369,7 +369,7 @@ def impact_rows(
     # Each design's loads run its grid's cycles afresh (pure Python, about a second each): one
     # design per process, whichever is free (the same numbers as one after the other).
     all_loads = map_blocks(
-        lambda ws: [impact_loads(w, stop_stiffness=stop_stiffness, natural_frequency=natural_frequency) for w in ws],
+        lambda ws: [_impact_loads(w, stop_stiffness=stop_stiffness, natural_frequency=natural_frequency) for w in ws],
         [mine[Scenario()][0] for mine in mines],
         workers,
         dynamic=True,
@@ -445,7 +445,7 @@ def impact_stroke(w) -> float:
     return max((_cycle(w.p, t, s, k, STOP_STIFFNESS)["stroke"] for t, s, k in _cycles(w)), default=0.0)
 
 
-def impact_loads(w, *, stop_stiffness: float = STOP_STIFFNESS, natural_frequency: float = NATURAL_FREQUENCY) -> dict:
+def _impact_loads(w, *, stop_stiffness: float = STOP_STIFFNESS, natural_frequency: float = NATURAL_FREQUENCY) -> dict:
     """Stroke and loads of an impact suppressor over its band grid, both sweep directions (each
     grid point's settled cycle run afresh from its section; ``w`` a
     :class:`~impactdamper.analysis.peaks.WorstBranch`).

@@ -40,7 +40,7 @@ __all__ = [
     "loads_table",
     "second_table",
     "benchmark_table",
-    "device_name",
+    "_device_name",
 ]
 
 # What the stage's record holds (results/report/design.json).
@@ -85,7 +85,7 @@ NAMES = {
 }
 
 
-def device_name(d: dict) -> str:
+def _device_name(d: dict) -> str:
     """A row's name in the report: a row that never reaches its stop is the TMD limit."""
     name = NAMES[d["device"]]
     if d.get("tmd_limit"):
@@ -95,7 +95,7 @@ def device_name(d: dict) -> str:
     return name
 
 
-def branch_words(branch: str) -> str:
+def _branch_words(branch: str) -> str:
     """A worst branch's description (``up, 1/1, branch end``; ``linear``) in words."""
     if branch == "linear":
         return "the linear response's resonance"
@@ -208,7 +208,7 @@ ROW = (
     Macro("Design{D}WorstAll", "worst.together", fixed(2)),
     Macro("Design{D}WorstAbsorber", "worst.absorber", fixed(2)),
     Macro("Design{D}Stroke", "stroke", fixed(1)),
-    Macro("Design{D}Branch", "peak_branch", Format(branch_words)),
+    Macro("Design{D}Branch", "peak_branch", Format(_branch_words)),
 )
 # An impact row's loads and search record.
 IMPACT_ROW = (
@@ -228,7 +228,7 @@ SEARCH = (
 )
 
 
-def literature_verdict(s: dict) -> str:
+def _literature_verdict(s: dict) -> str:
     """Whether this study's numbers bear out the impact dampers' credited robustness to
     detuning, in one sentence (``s``: the rows by macro part under ``d``)."""
     d = s["d"]
@@ -267,7 +267,7 @@ def _checks_text(searched: list) -> str:
     )
 
 
-def certifies_text(searched: list) -> str:
+def _certifies_text(searched: list) -> str:
     """What the searches certify, in words: a local minimum no 2 % move improves (or not), the
     best over the global samples, and which searches' starts disagree by more than 0.5 % (the
     answer then the best found, with the spread)."""
@@ -281,7 +281,7 @@ def certifies_text(searched: list) -> str:
     )
     if not apart:
         return words + " Every search's starts end within 0.5\\,\\% of each other."
-    listed = "; ".join(f"{device_name(d)} ({_spread_words(d['search']['starts']['spread'])})" for d in apart)
+    listed = "; ".join(f"{_device_name(d)} ({_spread_words(d['search']['starts']['spread'])})" for d in apart)
     return words + f" Where the starts end more than 0.5\\,\\% apart the answer is the best found, not more: {listed}."
 
 
@@ -303,7 +303,7 @@ def _value_table_diff(d: dict) -> float:
 def _at_bound_list(searched: list) -> str:
     """Every searched row with a parameter at a bound of its box, in words (``none`` if none)."""
     parts = [
-        f"{device_name(d)} ({_at_bound_text(d['search']['at_bound'])})" for d in searched if d["search"]["at_bound"]
+        f"{_device_name(d)} ({_at_bound_text(d['search']['at_bound'])})" for d in searched if d["search"]["at_bound"]
     ]
     return "; ".join(parts) or "none"
 
@@ -366,7 +366,7 @@ SUMMARY = (
     Macro("DesignChecksPassed", lambda s: sum(bool(d["search"]["check"]["passed"]) for d in s["searched"]), TEXT),
     Macro("DesignChecksTotal", lambda s: len(s["searched"]), TEXT),
     Macro("DesignChecksText", lambda s: _checks_text(s["searched"])),
-    Macro("DesignCertifiesText", lambda s: certifies_text(s["searched"])),
+    Macro("DesignCertifiesText", lambda s: _certifies_text(s["searched"])),
     Macro("DesignStrokeFractionPct", lambda s: 100 * s["opt"]["max_stroke"] / s["opt"]["tmd_stroke"], fixed(0)),
     Macro("DesignStrokePenalty", lambda s: STROKE_PENALTY, fixed(0)),
     Macro(
@@ -408,7 +408,7 @@ SUMMARY = (
     Macro("DesignNominalDetuneWord", _lower("d.Hit.worst.detuning", "d.TmdOpt.worst.detuning")),
     Macro("DesignRobDetuneWord", _lower("d.RobImp.worst.detuning", "d.RobTmd.worst.detuning")),
     Macro("DesignForceWord", _lower("d.ForceImp.worst.force", "d.TmdOpt.peak")),
-    Macro("DesignLiteratureVerdict", literature_verdict),
+    Macro("DesignLiteratureVerdict", _literature_verdict),
     Macro("DesignSnubberLowPct", lambda s: 100 * (s["opt"]["snubber"][0]["ratio"] - 1), fixed(0)),
     Macro("DesignSnubberHighPct", lambda s: 100 * (s["opt"]["snubber"][-1]["ratio"] - 1), fixed(0)),
     Macro("DesignSnubberLowFraction", lambda s: s["opt"]["snubber"][0]["fraction"], fixed(2)),
@@ -437,7 +437,7 @@ def _rows(opt: dict) -> dict[str, dict]:
     return {key: device(opt, name) for key, name in DEVICE_KEYS.items()}
 
 
-def optimum_macros(opt: dict, bench: dict) -> list:
+def _optimum_macros(opt: dict, bench: dict) -> list:
     """The table's macros: rows' parameters, criteria, strokes, loads, searches; the verdicts."""
     d = _rows(opt)
     out = []
@@ -481,7 +481,7 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, 
     m = MacroFile(["% Written by the design stage's report job; do not edit."])
     m.extend(macro_lines(CHART, source))
     m.extend(macro_lines(CHECKS, source))
-    m.extend(optimum_macros(opt, bench))
+    m.extend(_optimum_macros(opt, bench))
     return m
 
 
@@ -504,7 +504,7 @@ DESIGN_TABLE = Table(
     ),
     comments=TABLE_COMMENTS,
     columns=[
-        Column(lambda d: d, Format(device_name)),
+        Column(lambda d: d, Format(_device_name)),
         *(Column(lambda d, k=k: d["parameters"].get(k), fixed(DIGITS[k], "")) for k in DIGITS),
         *fixed_columns({"peak": 3, "band_average": 3}),
         *fixed_columns({f"worst.{w}": 2 for w in ("detuning", "force", "restitution", "absorber", "together")}),
@@ -535,7 +535,7 @@ LOADS_TABLE = Table(
     header="device & stroke & pulse & impacts/period & impacts/hour & contact force",
     comments=TABLE_COMMENTS,
     columns=[
-        Column(lambda d: d, Format(device_name)),
+        Column(lambda d: d, Format(_device_name)),
         *fixed_columns({"stroke": 1, "pulse": 2, "impacts_per_period": 1}),
         Column("impacts_per_hour", Format(lambda v: f"{v:,.0f}".replace(",", "\\,"))),
         Column("contact_force", fixed(0)),

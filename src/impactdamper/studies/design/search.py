@@ -40,12 +40,12 @@ from impactdamper.analysis.compass import compass
 
 __all__ = [
     "SPREAD_BEST",
-    "starts_record",
+    "_starts_record",
     "Budget",
     "SearchResult",
     "search",
     "at_bound",
-    "check_moves",
+    "_check_moves",
     "CHECK_MOVE",
     "CHECK_RTOL",
     "FIDELITIES",
@@ -161,7 +161,7 @@ def at_bound(x: dict, bounds: dict) -> tuple:
     return tuple(n for n, (a, b) in bounds.items() if min(x[n] - a, b - x[n]) <= BOUND_FRACTION * (b - a))
 
 
-def check_moves(x: dict, bounds: dict, move: float = CHECK_MOVE) -> list[tuple[str, str, dict | None]]:
+def _check_moves(x: dict, bounds: dict, move: float = CHECK_MOVE) -> list[tuple[str, str, dict | None]]:
     """The check's moves of ``x``: (name, "down"/"up", the moved parameters, or None where the
     move leaves the box). A move is ``move`` of the parameter's value, at least a tenth of that
     of the box's side (a value near 0 moves by 0.2 % of the side, not by nothing)."""
@@ -275,7 +275,7 @@ def _distinct_best(points: np.ndarray, values: np.ndarray, count: int, apart: fl
 def _final_check(f: _Counter, x: dict, bounds: dict, names) -> tuple[float, dict, dict | None]:
     """The final value at ``x`` and its 2 % moves, in one batch. Returns (value, check record,
     the lowest move if it lowers the value by more than CHECK_RTOL, else None)."""
-    moves = check_moves(x, bounds)
+    moves = _check_moves(x, bounds)
     inside = [m for _, _, m in moves if m is not None]
     X = np.array([[x[n] for n in names]] + [[m[n] for n in names] for m in inside])
     v = f(X, "final")
@@ -364,10 +364,10 @@ def search(
             source = "incumbent"
     flags = set(at_bound(x, bounds)) | {n for n in names if None in (check[n]["down"], check[n]["up"])}
     flagged = tuple(n for n in names if n in flags)
-    return SearchResult(x, value, dict(f.count), flagged, check, dict(bounds), source, starts_record(ends, len(U)))
+    return SearchResult(x, value, dict(f.count), flagged, check, dict(bounds), source, _starts_record(ends, len(U)))
 
 
-def starts_record(ends: Sequence[float], samples: int) -> dict:
+def _starts_record(ends: Sequence[float], samples: int) -> dict:
     """What a search certifies beside its 2 % check: the global samples it started from, the
     local searches' ends (``search`` fidelity) and their spread (the largest over the lowest,
     minus 1). Starts that end more than SPREAD_BEST apart found different local minima: the

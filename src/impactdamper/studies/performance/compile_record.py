@@ -31,7 +31,7 @@ __all__ = [
     "MEASURED_AT_SETUP",
     "MEASURED_IN_RUN",
     "compile_times",
-    "sources_fingerprint",
+    "_sources_fingerprint",
     "compile_record",
     "write_compile_record",
     "current_compile_record",
@@ -58,7 +58,7 @@ def compile_times() -> dict:
     return out
 
 
-def sources_fingerprint() -> str:
+def _sources_fingerprint() -> str:
     """A digest of the sources the kernels are compiled from (the package's ``core/``) and of
     numba's version: what numba's cache depends on. A compile time measured for others is stale."""
     core = Path(impactdamper.__file__).parent / "core"
@@ -74,7 +74,7 @@ def compile_record(measured: str) -> dict:
     return {
         "compile": compile_times(),
         "measured": measured,
-        "sources": sources_fingerprint(),
+        "sources": _sources_fingerprint(),
         "numba": metadata.version("numba"),
         "machine": {"cpu_count": os.cpu_count(), "platform": platform.platform()},
     }
@@ -94,4 +94,4 @@ def current_compile_record(path) -> bool:
         record = json.loads(Path(path).read_text())
     except (OSError, ValueError):
         return False
-    return isinstance(record, dict) and "compile" in record and record.get("sources") == sources_fingerprint()
+    return isinstance(record, dict) and "compile" in record and record.get("sources") == _sources_fingerprint()

@@ -43,7 +43,7 @@ MAP_THETAS = (0.5, 1.5)
 IVP_MAP_SAMPLE = 6
 
 
-def count_events(p, t_end: float) -> int:
+def _count_events(p, t_end: float) -> int:
     """Events of the compiled run from Algorithm No. 2's step 1 to ``t_end``, unrecorded (the
     solver's pure cost per impact)."""
     pk = pack_parameters(p)
@@ -55,7 +55,7 @@ def count_events(p, t_end: float) -> int:
     return int(n)
 
 
-def run_packing(p, t_end: float, pack=None):
+def _run_packing(p, t_end: float, pack=None):
     """The compiled run's arrays (flag, error, event kinds and values, segment modes and values)
     from step 1 to ``t_end``: the parameters packed in the same kernel call, or ``pack``."""
     full, diag = idp.default_initial_state(p), np.zeros(N_DIAG)
@@ -72,10 +72,10 @@ def phase_error(phase: float, reference: float) -> float:
 
 
 def per_impact(p, long_periods: int, ivp_periods: int, repeats: int, targets: dict) -> dict:
-    n_events = count_events(p, long_periods * p.T)
+    n_events = _count_events(p, long_periods * p.T)
     traj = idp.simulate(p, long_periods * p.T, backend="compiled")
     impacts = len(traj.impacts())
-    compiled = timed(lambda: count_events(p, long_periods * p.T), repeats)
+    compiled = timed(lambda: _count_events(p, long_periods * p.T), repeats)
     # The public call on the same run (a Trajectory whose objects are made when first read).
     public = timed(lambda: idp.simulate(p, long_periods * p.T), repeats)
     short_ref = idp.simulate(p, ivp_periods * p.T, backend="python")
@@ -161,9 +161,9 @@ def steady(p, repeats: int, targets: dict) -> dict:
 def first_impacts(p, repeats: int, targets: dict, count: int = 10) -> dict:
     ref = idp.simulate(p, 40 * p.T, backend="python")
     t_end = ref.impacts()[count - 1].t + 1e-6 * p.T  # just past the count-th impact
-    compiled = timed(lambda: run_packing(p, t_end), repeats)
+    compiled = timed(lambda: _run_packing(p, t_end), repeats)
     pack = pack_parameters(p)
-    solver = timed(lambda: run_packing(p, t_end, pack), repeats)
+    solver = timed(lambda: _run_packing(p, t_end, pack), repeats)
     objects = timed(lambda: idp.simulate(p, t_end, backend="compiled").events, repeats)
     python = timed(lambda: idp.simulate(p, t_end, backend="python"), max(1, repeats // 5))
     dop = timed(lambda: simulate_ivp(p, t_end, method="DOP853", rtol=RTOL, atol=ATOL), 3)
@@ -208,7 +208,7 @@ def _map_rows(args) -> tuple[list, float, float, int]:
     return out, cpu, wall, sum(o["fallback"] for o in out)
 
 
-def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool, map_settings: dict) -> dict:
+def _regime_map_timing(n: int, workers: int, repeats: int, rescue: bool, map_settings: dict) -> dict:
     gaps = np.linspace(*MAP_GAPS, n)
     thetas = np.linspace(*MAP_THETAS, n)
     # Rows dealt round-robin: the costly rows (near resonance, theta ~ 1) are contiguous, and a
@@ -252,7 +252,7 @@ def regime_map_timing(n: int, workers: int, repeats: int, rescue: bool, map_sett
     )
 
 
-def map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray, map_settings: dict) -> dict:
+def _map_baselines(periods: np.ndarray, gaps: np.ndarray, thetas: np.ndarray, map_settings: dict) -> dict:
     """DOP853 on a sample of map points over their simulated periods, and one pure-Python row,
     each extrapolated to the whole map by simulated periods (rows)."""
     rng = np.random.default_rng(0)
@@ -296,10 +296,10 @@ def run_maps(targets: dict, map_settings: dict, *, map_repeats: int = 1, workers
     warm_up("compiled")
     maps = {}
     for n in map_sizes:
-        m, periods, _, _ = regime_map_timing(n, workers, map_repeats, rescue=False, map_settings=map_settings)
+        m, periods, _, _ = _regime_map_timing(n, workers, map_repeats, rescue=False, map_settings=map_settings)
         # The same map with the batch's Newton rescue of the cells not settled within the cap
         # (impactdamper.steady_states' default): how many of them were slow transients.
-        r, _, _, _ = regime_map_timing(n, workers, 1, rescue=True, map_settings=map_settings)
+        r, _, _, _ = _regime_map_timing(n, workers, 1, rescue=True, map_settings=map_settings)
         m["rescue_run"] = {
             "wall_s": r["wall_min_s"],
             "cpu_s": r["cpu_total_min_s"],
@@ -348,7 +348,7 @@ def run(
         periods = np.array(m.pop("periods"))
         if k == 0:
             n = len(periods)
-            m["baselines"] = map_baselines(
+            m["baselines"] = _map_baselines(
                 periods, np.linspace(*MAP_GAPS, n), np.linspace(*MAP_THETAS, n), map_settings
             )
             m["speedup_vs_dop853_estimate"] = m["baselines"]["dop853_map_estimate_s"] / m["cpu_total_min_s"]

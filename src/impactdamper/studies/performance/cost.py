@@ -27,7 +27,7 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["FIRST_RULE", "read_benchmark", "run_jobs", "summarize"]
+__all__ = ["FIRST_RULE", "_read_benchmark", "run_jobs", "summarize"]
 
 # The run's first job: every job that runs compiled code waits for it (workflow/rules/common.smk).
 FIRST_RULE = "compiled_warm_up"
@@ -44,7 +44,7 @@ def _number(text: str) -> float:
         return math.nan
 
 
-def read_benchmark(path, exact_dir=None) -> dict:
+def _read_benchmark(path, exact_dir=None) -> dict:
     """One job's benchmark file: ``rule``, ``wildcards`` (the name's parts after the rule's),
     ``wall_s``, ``cpu_s`` (nan where Snakemake sampled none), ``cpu_source``, ``start``, ``end``
     (epoch s); with ``exact_dir``, the CPU time the job recorded there itself if it ended in this
@@ -73,7 +73,7 @@ def run_jobs(paths: Sequence, exclude: Sequence[str] = (), exact_dir=None) -> li
     ``exact_dir`` where recorded, :func:`read_benchmark`): every job that ended after the start
     of the latest :data:`FIRST_RULE` job (all of them where there is none), but the rules
     ``exclude``."""
-    jobs = [read_benchmark(p, exact_dir) for p in paths]
+    jobs = [_read_benchmark(p, exact_dir) for p in paths]
     first = [j["start"] for j in jobs if j["rule"] == FIRST_RULE]
     since = max(first) if first else -math.inf
     return sorted(

@@ -44,12 +44,12 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances, simulate
 
 __all__ = [
-    "Solution",
+    "_Solution",
     "Method",
     "METHODS",
     "IVP_METHODS",
     "FAMILY_OF",
-    "methods_of_family",
+    "_methods_of_family",
     "selected",
     "reported_alone",
 ]
@@ -63,7 +63,7 @@ SICONOS_SLOW_STEPS = 40_000
 
 
 @dataclass(frozen=True)
-class Solution:
+class _Solution:
     """One run of a method, as the work-precision study reads it.
 
     Attributes
@@ -108,15 +108,17 @@ def _times(traj) -> np.ndarray:
     return np.array([e.t for e in traj.impacts()], dtype=float)
 
 
-def solve_exact(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1) -> Solution:
+def _solve_exact(
+    p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1
+) -> _Solution:
     """Algorithm No. 2 with grazing resolution ``gap_tol = value``."""
     traj = simulate(p, t_end, t0=t0, state=state, tolerances=Tolerances(gap_tol=value))
-    return Solution(_times(traj), lambda t: traj.sample(t)[0])
+    return _Solution(_times(traj), lambda t: traj.sample(t)[0])
 
 
-def solve_alg1(
+def _solve_alg1(
     p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float = math.nan, repeats: int = 1
-) -> Solution | None:
+) -> _Solution | None:
     """Algorithm No. 1's orbit over (t0, t_end) (no transient: the start ``state`` is not
     used); None where it has no admissible orbit."""
     a1 = algorithm1(p)
@@ -125,29 +127,29 @@ def solve_alg1(
     T = p.T
     k0 = math.floor((t0 - a1.t_impact) / T) + 1
     times = [a1.t_impact + k * T for k in range(k0, k0 + math.ceil((t_end - t0) / T) + 2)]
-    return Solution(np.array(times), lambda t: a1.sample((t - a1.t_impact) % T))
+    return _Solution(np.array(times), lambda t: a1.sample((t - a1.t_impact) % T))
 
 
 def _solve_ivp_with(method: str):
-    def solve(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1) -> Solution:
+    def solve(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1) -> _Solution:
         traj = simulate_ivp(
             p, t_end, t0=t0, state=state, method=method, rtol=value, atol=value * p.x_st, max_events=IVP_MAX_EVENTS
         )
-        return Solution(_times(traj), lambda t: traj.sample(t)[0], traj.nfev)
+        return _Solution(_times(traj), lambda t: traj.sample(t)[0], traj.nfev)
 
     solve.__doc__ = f"``solve_ivp``'s {method} with ``rtol = value``, ``atol = value * x_st``."
     return solve
 
 
-def solve_rk4(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1) -> Solution:
+def _solve_rk4(p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1) -> _Solution:
     """Fixed-step RK4 with ``value`` steps per period and bisection on the gap."""
     traj = simulate_rk4(p, t_end, t0=t0, state=state, steps_per_period=int(value), max_events=RK4_MAX_EVENTS)
-    return Solution(_times(traj), _final_only(t_end, traj.state), traj.nfev)
+    return _Solution(_times(traj), _final_only(t_end, traj.state), traj.nfev)
 
 
-def solve_moreau_jean(
+def _solve_moreau_jean(
     p: Parameters, t_end: float, t0: float, state: np.ndarray, value: float, repeats: int = 1
-) -> Solution:
+) -> _Solution:
     """Siconos's Moreau-Jean scheme with ``value`` steps per period, timed in its subprocess:
     the median of half the study's ``repeats`` runs (its runs take seconds), or of one above
     :data:`SICONOS_SLOW_STEPS` steps."""
@@ -160,7 +162,7 @@ def solve_moreau_jean(
         steps_per_period=int(value),
         repeats=max(1, repeats // 2) if steps <= SICONOS_SLOW_STEPS else 1,
     )
-    return Solution(
+    return _Solution(
         np.asarray(res.impacts, dtype=float), _final_only(t_end, res.final_state), cpu_seconds=res.cpu_seconds
     )
 
@@ -251,7 +253,7 @@ METHODS: dict[str, Method] = {
             "exact (Alg. 2)",
             "gap_tol",
             "exact_gap_tols",
-            solve_exact,
+            _solve_exact,
             macro="Exact",
         ),
         Method(
@@ -261,7 +263,7 @@ METHODS: dict[str, Method] = {
             "Alg. 1 (closed form)",
             "-",
             None,
-            solve_alg1,
+            _solve_alg1,
             settled_only=True,
             no_solution="Algorithm No. 1 has no admissible orbit",
             macro="AlgOne",
@@ -274,7 +276,7 @@ METHODS: dict[str, Method] = {
             "RK4 + bisection",
             "steps_per_period",
             "rk4_steps_per_period",
-            solve_rk4,
+            _solve_rk4,
             steps=True,
             catches=(RuntimeError,),
             macro="RkFour",
@@ -286,7 +288,7 @@ METHODS: dict[str, Method] = {
             "Moreau-Jean (Siconos)",
             "steps_per_period",
             "siconos_steps_per_period",
-            solve_moreau_jean,
+            _solve_moreau_jean,
             steps=True,
             status=siconos_status,
             times_itself=True,
@@ -299,7 +301,7 @@ METHODS: dict[str, Method] = {
 FAMILY_OF = {name: m.family for name, m in METHODS.items()}
 
 
-def methods_of_family(family: str) -> tuple[str, ...]:
+def _methods_of_family(family: str) -> tuple[str, ...]:
     """The names of the methods of one family, in table order (e.g. the ``solve_ivp`` ones)."""
     return tuple(name for name, m in METHODS.items() if m.family == family)
 

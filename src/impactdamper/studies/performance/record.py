@@ -287,7 +287,7 @@ def compiled_table(c: dict) -> str:
 
 
 # --- the workflow's own cost (studies/performance/cost.py) ------------------------------------
-def rule_words(name: str) -> str:
+def _rule_words(name: str) -> str:
     """A workflow rule's name as words for the report (``claims_pair_map`` -> claims pair map):
     the text names no code."""
     return name.replace("_", " ")
@@ -318,7 +318,7 @@ COST = (
     Macro("CostLongestJob", lambda s: max((r["longest_s"] for r in s["rules"]), default=None), DURATION),
     Macro(
         "CostLongestRule",
-        lambda s: rule_words(max(s["rules"], key=lambda r: r["longest_s"])["rule"]) if s["rules"] else None,
+        lambda s: _rule_words(max(s["rules"], key=lambda r: r["longest_s"])["rule"]) if s["rules"] else None,
         Format(str, "---"),
     ),
     Macro("CostLoad", lambda s: s["machine"]["load_average"][0], general("{:.1f}")),
@@ -335,7 +335,7 @@ COST_TABLE = Table(
     colspec="lrrr",
     header="Rule & jobs & wall time, s & CPU time, s",
     columns=(
-        Column("rule", Format(rule_words)),
+        Column("rule", Format(_rule_words)),
         Column("jobs", COUNT),
         Column("wall_s", general("{:.0f}")),
         Column("cpu_s", general("{:.0f}")),

@@ -15,7 +15,7 @@ import math
 from impactdamper.reporting.records import json_float
 from impactdamper.studies.performance.methods import IVP_METHODS, reported_alone
 
-__all__ = ["met", "meets", "report_summary", "compiled_speed", "summarize", "COMPILED_MAP_TARGET_SIZE"]
+__all__ = ["met", "meets", "_report_summary", "compiled_speed", "summarize", "COMPILED_MAP_TARGET_SIZE"]
 
 
 def met(value: float, target: float, at_most: bool) -> str:
@@ -31,7 +31,7 @@ def meets(value: float, target: float, at_most: bool) -> bool:
     return met(value, target, at_most) == "met"
 
 
-def report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict:
+def _report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -> dict:
     """The performance stage's numbers for the report: per problem, the exact solver's best
     error and cost, the best ``solve_ivp`` error, each other method's best error and cost,
     and at each target error the speed-up over the best ``solve_ivp`` method (and over RK4)
@@ -185,4 +185,4 @@ def _compile_times(c: dict) -> dict:
 def summarize(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict, cs: dict) -> dict:
     """The stage's summary (:func:`report_summary`) and the compiled solver's benchmark judged
     against its targets (:func:`compiled_speed`)."""
-    return {**report_summary(wp, growth, hard, ref, perf), "compiled_speed": compiled_speed(cs)}
+    return {**_report_summary(wp, growth, hard, ref, perf), "compiled_speed": compiled_speed(cs)}

@@ -50,7 +50,7 @@ __all__ = [
     "Reference",
     "Run",
     "RUN_COLUMNS",
-    "build_references",
+    "_build_references",
     "cpu_time",
     "measure",
     "run_study",
@@ -113,7 +113,7 @@ class Reference:
         }
 
 
-def build_references(
+def _build_references(
     p: Parameters, n_impacts: int = 10, settled_periods: int = 10, dps: int = hp.DIGITS
 ) -> dict[str, Reference]:
     """The two test problems with their mpmath answers.
@@ -303,7 +303,7 @@ def run_study(p: Parameters, cfg: dict, log=print) -> dict:
     exact_gap_tols, ivp_methods, ivp_rtols, rk4_steps_per_period, siconos_steps_per_period,
     repeats, min_time, long_time, max_steps.
     """
-    refs = build_references(p, cfg["n_impacts"], cfg["settled_periods"], cfg["digits"])
+    refs = _build_references(p, cfg["n_impacts"], cfg["settled_periods"], cfg["digits"])
     methods = selected(cfg)
     status = {m.name: m.status() for m in methods}
     repeats, min_time = cfg["repeats"], cfg["min_time"]
