@@ -1,5 +1,5 @@
-"""The hard-case suite (src/impactdamper/studies/performance/hardcases.py): every case passes its checks, and the
-checks themselves catch what they are meant to catch (an overlap, a wrong impact law, a hang).
+"""The hard-case suite (src/impactdamper/studies/performance/hardcases.py and its checks,
+hardcase_checks.py): every case passes its checks, and the checks themselves catch what they are meant to catch (an overlap, a wrong impact law, a hang).
 
 The solver's behaviour in hard cases is tested in test_steady.py; here the subject is the
 suite: its case definitions, its runner and its checks. CPU times are recorded by the runner,
@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import impactdamper as idp
+from impactdamper.studies.performance import hardcase_checks as checks
 from impactdamper.studies.performance import hardcases as hc
 from impactdamper.baselines import highprecision as hp
 from impactdamper.core.events import Segment
@@ -128,7 +129,7 @@ def test_grazing_cases_touch_at_the_closed_form_tangency(results):
     for name in ("grazing_no_contact", "grazing_alg1_onset"):
         r = results[name]
         assert r.touches >= 1
-        assert r.details["touch_time_diff"] < hc.TOUCH_TIME_TOL
+        assert r.details["touch_time_diff"] < checks.TOUCH_TIME_TOL
         assert "mp tangency" in r.details["reference_kind"]
 
 
@@ -148,13 +149,13 @@ def _reference_trajectory():
 
 def test_gap_check_catches_an_overlap():
     traj = _reference_trajectory()
-    assert hc.check_gap_nonnegative(traj, 2 * REF.T)[0]
+    assert checks.check_gap_nonnegative(traj, 2 * REF.T)[0]
     # move the suppressor 1e-6 x_st into the stop during the first flight
     mode, seg = traj.segments[0]
     y0 = seg.y0.copy()
     y0[1] += 1e-6 * REF.x_st
     traj.segments[0] = (mode, Segment(seg.mode, seg.t0, y0))
-    ok, worst = hc.check_gap_nonnegative(traj, 2 * REF.T)
+    ok, worst = checks.check_gap_nonnegative(traj, 2 * REF.T)
     assert not ok and worst < -1e-7
 
 
@@ -166,18 +167,18 @@ def test_gap_check_allows_only_the_time_resolution():
         y0 = seg.y0.copy()
         y0[1] += shift * REF.x_st
         traj.segments[0] = (mode, Segment(seg.mode, seg.t0, y0))
-        assert hc.check_gap_nonnegative(traj, 2 * REF.T)[0] is ok
+        assert checks.check_gap_nonnegative(traj, 2 * REF.T)[0] is ok
 
 
 def test_impact_law_check_catches_a_wrong_restitution_and_momentum():
     traj = _reference_trajectory()
-    assert hc.check_impact_law(traj)[0]
+    assert checks.check_impact_law(traj)[0]
     e = next(e for e in traj.events if e.kind == "impact")
     i = traj.events.index(e)
     bad = e.after.copy()
     bad[3] += 1e-3 * REF.x_st * REF.omega  # the suppressor's velocity off: restitution and momentum
     traj.events[i] = Event(e.t, e.kind, e.velocity, e.impulse, e.before, bad, e.t_accumulation)
-    ok, worst = hc.check_impact_law(traj)
+    ok, worst = checks.check_impact_law(traj)
     assert not ok and worst["restitution"] > 1e-6 and worst["momentum"] > 1e-8
 
 
@@ -188,19 +189,19 @@ def test_impact_law_check_catches_an_impact_off_the_stop():
     before = e.before.copy()
     before[0] += 1e-6 * REF.x_st
     traj.events[i] = Event(e.t, e.kind, e.velocity, e.impulse, before, e.after, e.t_accumulation)
-    ok, worst = hc.check_impact_law(traj)
+    ok, worst = checks.check_impact_law(traj)
     assert not ok and worst["gap"] > 1e-8
 
 
 def test_ivp_comparison_catches_a_different_motion():
-    ok, info = hc.compare_with_ivp(REF, 0.0, None, 1.5 * REF.T)
-    assert ok and info["event_time_diff"] < hc.IVP_TIME_TOL
+    ok, info = checks.compare_with_ivp(REF, 0.0, None, 1.5 * REF.T)
+    assert ok and info["event_time_diff"] < checks.IVP_TIME_TOL
     # a different restitution changes the motion: the comparison of the two must fail
     exact = idp.simulate(REF, 1.5 * REF.T, backend="python")
     other = idp.simulate(REF.replace(R=0.69), 1.5 * REF.T, backend="python")
     assert [e.kind for e in exact.events] != [e.kind for e in other.events] or max(
         abs(a.t - b.t) for a, b in zip(exact.events, other.events)
-    ) / REF.T > hc.IVP_TIME_TOL
+    ) / REF.T > checks.IVP_TIME_TOL
 
 
 def test_a_hang_becomes_a_failed_case(monkeypatch):
@@ -218,4 +219,4 @@ def test_free_segments_only_are_gap_checked():
     traj = idp.simulate(REF.replace(gap=-13.0), 2 * REF.T, backend="python")  # chatter: stuck segments too
     modes = {m for m, _ in traj.segments}
     assert modes == {FREE, "stuck"}
-    assert hc.check_gap_nonnegative(traj, 2 * REF.T)[0]
+    assert checks.check_gap_nonnegative(traj, 2 * REF.T)[0]

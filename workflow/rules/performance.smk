@@ -98,7 +98,9 @@ rule fig_cost_growth:
 rule performance_hardcases:
     input:
         script="workflow/scripts/hardcases.py",
-        library=library(BASELINES, study("config", "performance/hardcases", "vocabulary"), REPORTING),
+        library=library(
+            BASELINES, study("config", "performance/hardcases", "performance/hardcase_checks", "vocabulary"), REPORTING
+        ),
     output:
         csv="figures/hardcases.csv",
         json="results/benchmarks/hardcases.json",

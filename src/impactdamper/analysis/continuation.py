@@ -185,26 +185,21 @@ def continue_orbit(
         orbit, parameter, bounds, direction, step, min_step, max_step, max_points
     )
     tol = check_tolerances(tolerances)
+    steps = (step, min_step, max_step)
     if not orbit.p.native_scales() and parameter not in _SCALES:
         # The same relative problem in the reference case's units, converted back.
         q = orbit.p.canonical()
-        branch = continue_orbit(
-            rescale_orbit(orbit, ScaleMap(orbit.p, q)),
-            parameter,
-            (lo, hi),
-            direction=direction,
-            step=step,
-            min_step=min_step,
-            max_step=max_step,
-            max_points=max_points,
-            stop_at_grazing=stop_at_grazing,
-            tolerances=tol,
-        )
+        canonical = rescale_orbit(orbit, ScaleMap(orbit.p, q))
+        branch = _branch(canonical, parameter, (lo, hi), direction, steps, max_points, stop_at_grazing, tol)
         return rescale_branch(branch, ScaleMap(q, orbit.p))
+    return _branch(orbit, parameter, (lo, hi), direction, steps, max_points, stop_at_grazing, tol)
+
+
+def _branch(orbit, parameter, bounds, direction, steps, max_points, stop_at_grazing, tol) -> Branch:
+    """:func:`continue_orbit` on checked arguments, in ``orbit``'s own scales (``steps``: step,
+    min_step, max_step; ``tol``: the checked tolerances)."""
     cont = _Continuation(orbit.p, parameter, orbit.period_multiple, orbit.impacts_per_cycle, tol.gap_tol)
-    points, special, end_reason, end_value = _follow(
-        cont, orbit, (lo, hi), direction, (step, min_step, max_step), max_points, stop_at_grazing
-    )
+    points, special, end_reason, end_value = _follow(cont, orbit, bounds, direction, steps, max_points, stop_at_grazing)
     return Branch(
         parameter=parameter,
         period_multiple=orbit.period_multiple,

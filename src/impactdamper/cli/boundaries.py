@@ -9,7 +9,7 @@ from impactdamper.analysis.boundaries import BoundarySettings, plane_boundaries
 from impactdamper.analysis.curves import CODIM2_REASONS
 from impactdamper.core.parameters import Parameters
 
-__all__ = ["add_boundaries_parser", "boundaries_answer", "print_boundaries", "PLANES"]
+__all__ = ["add_boundaries_flags", "boundaries_answer", "print_boundaries", "PLANES"]
 
 # The planes: the second parameter and the default ranges (the workflow's regime maps').
 PLANES = {
@@ -20,14 +20,8 @@ PLANES = {
 DEFAULT_SEED_ROWS = 3
 
 
-def add_boundaries_parser(sub, defaults: Parameters, add_parameters) -> None:
-    """The ``boundaries`` command's parser: the parameters' flags (``add_parameters``), the plane."""
-    cmd = sub.add_parser(
-        "boundaries",
-        help="every boundary of a regime map's plane as curves: folds, period doublings, Neimark-Sacker "
-        "points and grazings followed by two-parameter continuation, first contact and lift-off",
-    )
-    add_parameters(cmd, defaults)
+def add_boundaries_flags(cmd: argparse.ArgumentParser) -> None:
+    """The ``boundaries`` command's own flags (the plane) on ``cmd``, which has the parameters'."""
     g = cmd.add_argument_group("plane")
     g.add_argument(
         "--plane", choices=sorted(PLANES), default="theta", help="gap against theta or delta = delta1 = delta2"

@@ -28,6 +28,19 @@ DESCRIPTION = (
 
 # The flags' help, from the parameter table (one line per parameter).
 PARAMETER_HELP = {spec.name: spec.help for spec in PARAMETER_TABLE}
+# The commands that take the parameters' flags (:func:`_parameter_command`), with their --help lines.
+COMMAND_HELP = {
+    "steady": "settled motion by Algorithm No. 2 (event-driven, exact flow)",
+    "alg1": "Algorithm No. 1: closed-form one-impact orbit",
+    "orbit": "periodic cycle solved directly (Newton shooting), admissibility and Floquet multipliers",
+    "response": "frequency response: settled motion against theta by an upward and "
+    "a downward sweep, loads, energies, hysteresis, linear response",
+    "lyapunov": "Lyapunov spectrum of the motion (exact tangent map, saltation matrices): exponents with "
+    "errors and a label over the run's window (chaotic, chaotic transient, quasi-periodic, periodic, "
+    "not settled)",
+    "boundaries": "every boundary of a regime map's plane as curves: folds, period doublings, Neimark-Sacker "
+    "points and grazings followed by two-parameter continuation, first contact and lift-off",
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -84,8 +97,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     defaults = Parameters()
 
-    steady = sub.add_parser("steady", help="settled motion by Algorithm No. 2 (event-driven, exact flow)")
-    _add_parameters(steady, defaults)
+    steady = _parameter_command(sub, "steady", defaults)
     _add_solver_flags(steady.add_argument_group("solver"))
     steady.add_argument(
         "--backend",
@@ -95,16 +107,15 @@ def build_parser() -> argparse.ArgumentParser:
         "imports (default); the JSON says which ran ('backend', 'fallback')",
     )
 
-    alg1 = sub.add_parser("alg1", help="Algorithm No. 1: closed-form one-impact orbit")
-    _add_parameters(alg1, defaults)
+    _parameter_command(sub, "alg1", defaults)
 
     _add_orbit(sub, defaults)
     _add_response(sub, defaults)
     _add_design(sub, defaults)
     _add_lyapunov_command(sub, defaults)
-    from impactdamper.cli.boundaries import add_boundaries_parser  # (it takes this module's flags)
+    from impactdamper.cli.boundaries import add_boundaries_flags  # (imports the boundaries' solver)
 
-    add_boundaries_parser(sub, defaults, _add_parameters)
+    add_boundaries_flags(_parameter_command(sub, "boundaries", defaults))
     _add_check_record(sub)
     return parser
 
@@ -119,6 +130,14 @@ def _add_check_record(sub) -> None:
     check.add_argument("dir", nargs="?", default=".", help="the regenerated record's root (default: .)")
     check.add_argument("--against", default="HEAD", help="the reference: a git revision or a directory (default: HEAD)")
     check.add_argument("--json", action="store_true", help="the verdicts as JSON")
+
+
+def _parameter_command(sub, name: str, defaults: Parameters, **kwargs) -> argparse.ArgumentParser:
+    """Command ``name`` (its help from :data:`COMMAND_HELP`; ``kwargs`` to ``add_parser``) with
+    the parameters' flags (defaults: ``defaults``)."""
+    command = sub.add_parser(name, help=COMMAND_HELP[name], **kwargs)
+    _add_parameters(command, defaults)
+    return command
 
 
 def _add_parameters(p: argparse.ArgumentParser, defaults: Parameters) -> None:
@@ -154,10 +173,7 @@ def _add_solver_flags(s) -> None:
 
 def _add_orbit(sub, defaults: Parameters) -> None:
     """The ``orbit`` command: the parameters' flags, the seed and its period, the solver's."""
-    orbit = sub.add_parser(
-        "orbit", help="periodic cycle solved directly (Newton shooting), admissibility and Floquet multipliers"
-    )
-    _add_parameters(orbit, defaults)
+    orbit = _parameter_command(sub, "orbit", defaults)
     o = orbit.add_argument_group("orbit")
     o.add_argument(
         "--seed",
@@ -178,12 +194,7 @@ def _add_orbit(sub, defaults: Parameters) -> None:
 
 def _add_response(sub, defaults: Parameters) -> None:
     """The ``response`` command: the parameters' flags, the band, the settling's caps."""
-    response = sub.add_parser(
-        "response",
-        help="frequency response: settled motion against theta by an upward and "
-        "a downward sweep, loads, energies, hysteresis, linear response",
-    )
-    _add_parameters(response, defaults)
+    response = _parameter_command(sub, "response", defaults)
     r = response.add_argument_group("frequency response (the band replaces --theta)")
     r.add_argument("--theta-start", type=float, default=0.5, help="lowest theta = omega/omega1 (default 0.5)")
     r.add_argument("--theta-stop", type=float, default=1.5, help="highest theta (default 1.5)")
@@ -324,15 +335,9 @@ def _add_design_limits(design) -> None:
 
 def _add_lyapunov_command(sub, defaults: Parameters) -> None:
     """The ``lyapunov`` command: the parameters' flags, the run's lengths, a start, a backend."""
-    spectrum = sub.add_parser(
-        "lyapunov",
-        help="Lyapunov spectrum of the motion (exact tangent map, saltation matrices): exponents with "
-        "errors and a label over the run's window (chaotic, chaotic transient, quasi-periodic, periodic, "
-        "not settled)",
-        epilog=LYAPUNOV_KEYS,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+    spectrum = _parameter_command(
+        sub, "lyapunov", defaults, epilog=LYAPUNOV_KEYS, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    _add_parameters(spectrum, defaults)
     ly = spectrum.add_argument_group("spectrum")
     for name, default, text in (
         ("periods", lyapunov.DEFAULT_PERIODS, f"forcing periods averaged, a multiple of {lyapunov.DEFAULT_BLOCKS}"),

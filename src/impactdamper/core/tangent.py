@@ -261,6 +261,11 @@ class TangentRun:
     backend: str = "python"
     fallback: str = ""
 
+    def event_counts(self) -> dict[str, int]:
+        """The events of the averaged periods by kind: ``impacts``, ``captures``, ``liftoffs``,
+        ``grazing`` (the counts a :class:`~impactdamper.analysis.lyapunov.LyapunovSpectrum` reports)."""
+        return {"impacts": self.impacts, "captures": self.captures, "liftoffs": self.liftoffs, "grazing": self.grazing}
+
 
 class TangentFrame:
     """The orthonormal frame of perturbations and its growth, in relative units.

@@ -90,15 +90,8 @@ class Tolerances:
             # Relative to x_st: a finite number in (0, 1) (NaN used to pass algorithm1 unchecked,
             # and gap_tol = 10 counted the orbit's whole excursion as grazing), and at least
             # TOLERANCE_FLOOR (below it the answer is decided by the machine's last bits).
-            value = real_argument(name, getattr(self, name))
-            if not (math.isfinite(value) and 0.0 < value < 1.0):
-                raise ValueError(f"`{name}` = {value!r} is not allowed: must be in (0, 1)")
-            if value < TOLERANCE_FLOOR:
-                raise ValueError(
-                    f"`{name}` = {value!r} is not allowed: must be at least {TOLERANCE_FLOOR:g}, the floor above "
-                    "the rounding of the state in double precision (below it a result is decided by the last bits)"
-                )
-            object.__setattr__(self, name, value)
+            floor_why = "the rounding of the state in double precision (below it a result is decided by the last bits)"
+            object.__setattr__(self, name, _fraction_above(name, getattr(self, name), TOLERANCE_FLOOR, floor_why))
 
 
 # Smallest gap_tol, chatter_tol and force_tol (relative to x_st, x_st omega_max^2): the rounding
@@ -259,13 +252,19 @@ SETTLE_TOL_FLOOR = 1e-11
 
 def check_settle_tol(settle_tol: object) -> float:
     """``settle_tol`` as a float in [SETTLE_TOL_FLOOR, 1), else an error naming it and the floor."""
-    value = real_argument("settle_tol", settle_tol)
-    if not (math.isfinite(value) and 0 < value < 1):
-        raise ValueError(f"`settle_tol` = {value!r} is not allowed: must be in (0, 1)")
-    if value < SETTLE_TOL_FLOOR:
+    floor_why = "the rounding noise of the section mismatch (below it the period test cannot pass)"
+    return _fraction_above("settle_tol", settle_tol, SETTLE_TOL_FLOOR, floor_why)
+
+
+def _fraction_above(name: str, value: object, floor: float, floor_why: str) -> float:
+    """Argument ``name`` as a finite float in (0, 1) and at least ``floor``, else an error naming
+    it, the bound it breaks and (for the floor) ``floor_why``, what the floor stands above."""
+    value = real_argument(name, value)
+    if not (math.isfinite(value) and 0.0 < value < 1.0):
+        raise ValueError(f"`{name}` = {value!r} is not allowed: must be in (0, 1)")
+    if value < floor:
         raise ValueError(
-            f"`settle_tol` = {value!r} is not allowed: must be at least {SETTLE_TOL_FLOOR:g}, the floor above "
-            "the rounding noise of the section mismatch (below it the period test cannot pass)"
+            f"`{name}` = {value!r} is not allowed: must be at least {floor:g}, the floor above {floor_why}"
         )
     return value
 

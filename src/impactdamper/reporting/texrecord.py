@@ -40,6 +40,7 @@ __all__ = [
     "TEXT",
     "WORDS",
     "Macro",
+    "macros_named_by_path",
     "macro_lines",
     "Column",
     "fixed_columns",
@@ -167,6 +168,18 @@ class Macro:
     format: Callable[[Any], str] = TEXT
     when: Getter | None = None
     text: Getter | None = None
+
+
+def macros_named_by_path(prefix: str, paths: Iterable[str], format: Callable[[Any], str] = TEXT, root: str = ""):
+    """A :class:`Macro` per path of ``paths``, all in ``format``: its value at ``root`` + the path
+    (:func:`pick`), its name ``prefix`` + the path in CamelCase (``check.next_to_change?`` ->
+    ``CheckNextToChange``), for the runs of macros named after where their values are."""
+    return tuple(Macro(prefix + _camel_case(path), root + path, format) for path in paths)
+
+
+def _camel_case(path: str) -> str:
+    """``check.next_to_change?`` -> ``CheckNextToChange``: a record path as part of a macro name."""
+    return "".join(word.capitalize() for word in path.rstrip("?").replace(".", "_").split("_"))
 
 
 def macro_lines(spec: Iterable[Macro | str], source, prefix: str = "", **parts: str) -> list:

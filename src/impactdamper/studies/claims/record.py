@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import COUNT, YES_NO, Column, Format, Macro, Table, fixed, macro_lines, percent
-from impactdamper.reporting.texrecord import general, sci
+from impactdamper.reporting.texrecord import general, macros_named_by_path, sci
 from impactdamper.studies.claims.nearest import NEAREST_NAMES
 from impactdamper.studies.claims.search import SEARCH_PARAMETERS
 from impactdamper.studies.replication.gapscan import count_end_checks
@@ -108,11 +108,9 @@ MAP = (
 GRID = (
     Macro("Map{M}ComputedCells", "computed", COUNT),
     Macro("Map{M}ComputedShare", lambda g: 100 * g["computed_share"], general(r"{:.1f}\,\%")),
-    Macro("Map{M}CoarseStep", "coarse_step", COUNT),
-    Macro("Map{M}CheckRows", "check.rows", COUNT),
-    Macro("Map{M}CheckFilled", "check.filled", COUNT),
-    Macro("Map{M}CheckDifferences", "check.differences", COUNT),
-    Macro("Map{M}CheckLabelDifferences", "check.label_differences", COUNT),
+    *macros_named_by_path(
+        "Map{M}", ("coarse_step", "check.rows", "check.filled", "check.differences", "check.label_differences"), COUNT
+    ),
 )
 
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 from impactdamper.core.parameters import Parameters
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import COUNT, TEXT, WORDS, YES_NO, Format, Macro, fixed, macro_lines, percent
-from impactdamper.reporting.texrecord import sci
+from impactdamper.reporting.texrecord import macros_named_by_path, sci
 from impactdamper.studies.vocabulary import SPEC, tex
 
 __all__ = ["macros", "claims_macros"]
@@ -60,13 +60,10 @@ SEARCH = (
     Macro("ClaimsNearestFarRelDistance", lambda b: _far_relative_distance(b["near"]), percent(1)),
     Macro("ClaimsNearestEndNote", lambda b: _nearer_end_note(b["nearest_parameter"], b["near"], b["dependent"])),
     Macro("ClaimsNoneFound", lambda b: len(b["none_found"]), COUNT),
-    Macro("ClaimsMapCells", "map_cells", COUNT),
-    Macro("ClaimsMapBothCells", "map_both_cells", COUNT),
+    *macros_named_by_path("Claims", ("map_cells", "map_both_cells"), COUNT),
     Macro("ClaimsReferenceEvery", "reference_check.every", COUNT),
     Macro("ClaimsReferenceChecked", "reference_check.points", COUNT),
-    Macro("ClaimsReferenceAgree", "reference_check.agree", COUNT),
-    Macro("ClaimsReferenceSettling", "reference_check.settling", COUNT),
-    Macro("ClaimsReferenceCycles", "reference_check.cycles", COUNT),
+    *macros_named_by_path("ClaimsReference", ("agree", "settling", "cycles"), COUNT, root="reference_check."),
 )
 
 

@@ -24,6 +24,7 @@ from impactdamper.reporting.latex import MacroFile, camel
 from impactdamper.reporting.records import read_json
 from impactdamper.studies.vocabulary import SPEC, tex
 from impactdamper.reporting.texrecord import COUNT, TEXT, Format, Macro, Table, general, macro_lines, tex_sci
+from impactdamper.reporting.texrecord import macros_named_by_path
 from impactdamper.studies.sweeps.results import (
     MATCH_STEPS,
     MIN_RUN,
@@ -208,12 +209,13 @@ MAP = (
     Macro("Map{M}CheckRowsText", lambda m: row_runs_text(m["computed"]["check"]["rows"])),
     Macro("Map{M}CheckBlocks", lambda m: len(row_runs(m["computed"]["check"]["rows"])), COUNT),
     Macro("Map{M}CheckSplitText", lambda m: check_split_text(m["computed"]["check"])),
-    Macro("Map{M}CheckFilledDifferences", "computed.check.filled_differences?", COUNT),
-    Macro("Map{M}CheckComputedDifferences", "computed.check.computed_differences?", COUNT),
-    Macro("Map{M}CheckNextToChange", "computed.check.next_to_change", COUNT),
-    Macro("Map{M}CheckMaxDistance", "computed.check.max_distance", COUNT),
-    Macro("Map{M}MaxPeriods", "maps.max_periods", COUNT),
-    Macro("Map{M}MaxPeriodsAfterNonperiodic", "maps.max_periods_after_nonperiodic", COUNT),
+    *macros_named_by_path(
+        "Map{M}",
+        ("check.filled_differences?", "check.computed_differences?", "check.next_to_change", "check.max_distance"),
+        COUNT,
+        root="computed.",
+    ),
+    *macros_named_by_path("Map{M}", ("max_periods", "max_periods_after_nonperiodic"), COUNT, root="maps."),
     Macro("Map{M}BistableLabel", "bistable.label", Format(str, "--")),
     Macro("Map{M}BistableLow", "bistable.lo", general("{:.3f}", missing="--")),
     Macro("Map{M}BistableHigh", "bistable.hi", general("{:.3f}", missing="--")),
