@@ -15,7 +15,7 @@ the settled motion's. A settled motion's x1_max is within ``X1_MAX_FACTOR`` sett
 x_st) of the exactly settled one's.
 
 :func:`impactdamper.core.steady.steady_state` runs this test after every period; the compiled
-kernels (:mod:`impactdamper.core.compiled.settle`) repeat it on arrays, with these constants.
+kernels (:mod:`impactdamper.core.compiled.periodicity`) repeat it on arrays, with these constants.
 """
 
 from __future__ import annotations

@@ -40,7 +40,12 @@ The modules, each one idea:
 * :mod:`~impactdamper.core.compiled.march` -- the certified event march and its polish;
 * :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law, the modes, the
   work bound and the recorded run;
-* :mod:`~impactdamper.core.compiled.settle` -- the settled motion, one point or a row of them;
+* :mod:`~impactdamper.core.compiled.settle` -- the settled motion (the period loop and the
+  describing run), one point or a row of them;
+* :mod:`~impactdamper.core.compiled.periodicity` -- the period test on the stroboscopic sections;
+* :mod:`~impactdamper.core.compiled.settled_cycle` -- the settled cycle described (regime, impacts,
+  contact fraction, the section handed on);
+* :mod:`~impactdamper.core.compiled.excursion` -- the cycle's largest excursion x1_max;
 * :mod:`~impactdamper.core.compiled.tangent` -- the Lyapunov tangent walk on the event loop
   (transition and saltation matrices, QR per event and period);
 * :mod:`~impactdamper.core.compiled.backend` -- the backend object (:data:`COMPILED`) that the
