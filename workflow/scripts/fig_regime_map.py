@@ -5,11 +5,13 @@ against the damping ratio delta = delta1 = delta2 (map ``damping``).
 Each row is a one-way sweep of the gap (cell from cell, see ``maps.direction``); colour: the
 regime class of the settled motion, with Peterka's z/k written on the larger regions (np: no
 period k <= 8 settled within the map's cap of periods per cell). Lines (closed form,
-``map_curves``): the lift-off threshold of the persistent contact (dashed cyan), the first
-contact of the free forced response U1/x_st (dashed black) and the ends of the range where
-Algorithm No. 1's orbit is admissible: its gap touching the stop between impacts (left) and its impact grazing (right) (white, outlined).
-Thin lines (``boundaries``): every boundary continued in two parameters, by kind (fold,
-period doubling, Neimark-Sacker: solid; an impact lost or gained: dotted).
+``map_curves``): the lift-off threshold of the persistent contact (dashed cyan) and the first
+contact of the free forced response U1/x_st (dashed black). Thin lines (``boundaries``):
+every other boundary continued in two parameters, by kind (fold, period doubling,
+Neimark-Sacker: solid; an impact lost or gained: dotted). The ends of the range where
+Algorithm No. 1's orbit is admissible are among them (its gap touching the stop: the 1/1
+touch curve; its impact grazing: a zero-velocity curve or the 1/1 fold), so the scan of that
+range that ``map_curves`` once drew in white is not drawn twice.
 Star: the paper's reference point (Delta0/x_st = -5.8, theta = 1, delta = 0.05); diamond:
 the located case of the replication verdict. Legend below the map, so that the figure is the
 report's text width and no text is under 7 pt in print.
@@ -18,12 +20,11 @@ Deviation: the paper shows no map; its introduction describes the sequence along
 """
 
 import numpy as np
-from matplotlib import patheffects
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from impactdamper.studies.sweeps import gapsweep as gs
-from impactdamper.studies.sweeps.results import grazing_curves, read_map
+from impactdamper.studies.sweeps.results import read_map
 from impactdamper.studies.config import located_gap
 from impactdamper.reporting.plotting import REGIME_COLORS, REGIME_NAMES
 from impactdamper.reporting.records import read_csv, run_stage
@@ -84,17 +85,6 @@ def main(name: str, reference: dict, map_csv, curves_csv, located_json, out_pdf,
     label_regions(ax, slow, gaps, labels, gs.regime_of_label)
     curves = read_csv(curves_csv)
     s = np.array([float(r["slow"]) for r in curves])
-    outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
-    for i, (g, y) in enumerate(grazing_curves(curves, float(gaps[1] - gaps[0]))):
-        ax.plot(
-            g,
-            y,
-            color="white",
-            lw=1.2,
-            path_effects=outline,
-            zorder=3,
-            label="ends of Alg. 1 admissible range" if i == 0 else None,
-        )
     ax.plot(
         [float(r["liftoff"]) for r in curves],
         s,

@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from impactdamper.core.algorithm1 import algorithm1
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
@@ -26,7 +24,6 @@ __all__ = [
     "no_contact_gap",
     "algorithm1_existence_gap",
     "algorithm1_grazing_gap",
-    "algorithm1_grazing_gaps",
     "rigid_amplitude",
     "liftoff_resolution_offset",
 ]
@@ -99,29 +96,6 @@ def algorithm1_grazing_gap(p: Parameters, bracket: tuple[float, float], xtol: fl
         else:
             b = m
     return 0.5 * (a + b)
-
-
-def algorithm1_grazing_gaps(p: Parameters, lo: float, hi: float, points: int, xtol: float = 1e-10) -> list[float]:
-    """Every gap in [lo, hi] (Delta0/x_st) where Algorithm No. 1's orbit starts or stops
-    crossing the stop between impacts.
-
-    Algorithm No. 1's admissibility (an orbit of eqs. 6-17 with no negative-gap interval) is
-    scanned at ``points`` evenly spaced gaps from ``lo`` to ``hi``; each change between
-    neighbours is bisected to ``xtol`` (:func:`algorithm1_grazing_gap`). Ranges of one
-    admissibility narrower than the scan's step can be missed.
-
-    Returns
-    -------
-    list of float
-        The grazing gaps, in increasing order of the scan.
-    """
-    scan = np.linspace(lo, hi, points)
-    adm = [bool(algorithm1(p.replace(gap=float(g))).admissible) for g in scan]
-    return [
-        algorithm1_grazing_gap(p, (scan[i], scan[i + 1]), xtol=xtol)
-        for i in range(len(scan) - 1)
-        if adm[i] != adm[i + 1]
-    ]
 
 
 def rigid_amplitude(p: Parameters) -> float:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactdamper.reporting.records import cell_float, read_csv, split_floats
+from impactdamper.reporting.records import cell_float, read_csv
 from impactdamper.studies.sweeps.branches import KIND_SHORT
 from impactdamper.studies.sweeps.gapsweep import runs
 
@@ -35,8 +35,6 @@ __all__ = [
     "overlaps",
     "np_only_labels",
     "bistable_rows",
-    "grazing_curves",
-    "JOIN_CELLS",
 ]
 
 # A run of one label shorter than this many sweep points is not a "main" regime (the chaotic
@@ -50,9 +48,6 @@ MATCH_STEPS = 0.05
 BISTABLE_MIN_CELLS = 3
 # Rows in a row all on the bistable label that end the alternating stretch.
 BISTABLE_STEADY_ROWS = 5
-# Points of one grazing curve in neighbouring rows of a map are joined if closer than this many
-# cells (the grazing gap moves by a few cells per row where the curve is steep).
-JOIN_CELLS = 6
 # Labels that are no periodic motion (no period settled; the solver failed).
 LOOSE = ("np", "err")
 
@@ -279,32 +274,3 @@ def bistable_rows(map_csv, curves_csv) -> dict | None:
         "off": len(stretch) - sum(stretch),
         "first": float(slow[first]),
     }
-
-
-def grazing_curves(curves: list[dict], step: float, join_cells: float = JOIN_CELLS) -> list[tuple[list, list]]:
-    """The Algorithm No. 1 grazing gaps of every row of a map's curves
-    (``figures/map_{map}_curves.csv``) joined into curves: a point continues the curve whose
-    last point (previous row) is nearest, if within ``join_cells`` gap cells of width ``step``.
-
-    Returns a list of (gaps, slow values), one per curve.
-    """
-    lines = []
-    for r in curves:
-        if r.get("alg1_scanned", "1") in ("0", 0):
-            continue  # the grazing scan did not run on this row (maps.grazing_every)
-        y = float(r["slow"])
-        ends = [ln for ln in lines if ln[2]]  # curves that reached the previous row
-        for ln in lines:
-            ln[2] = False
-        for g in split_floats(r["alg1_grazing"]):
-            near = [ln for ln in ends if abs(ln[0][-1] - g) <= join_cells * step]
-            if near:
-                ln = min(near, key=lambda ln: abs(ln[0][-1] - g))
-                ends.remove(ln)
-            else:
-                ln = [[], [], False]
-                lines.append(ln)
-            ln[0].append(g)
-            ln[1].append(y)
-            ln[2] = True
-    return [(ln[0], ln[1]) for ln in lines]
