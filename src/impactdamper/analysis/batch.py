@@ -267,20 +267,41 @@ def steady_states(
     base = require_parameters(base, "base")
     names = checked_names(names)
     values = checked_values(values, names)
+    settings = _checked_settings(chain, settings)
+    P = len(values)
+    chain_length = checked_chain_length(chain_length, chain, P)
+    workers = checked_workers(workers)
+    res = _settle_blocks(base, names, values, states, settings, chain, chain_length, run, workers)
+    res.names, res.backend = names, run.name
+    if why:
+        res.fallback[:] = why
+    res.elapsed = time.perf_counter() - t_begin
+    return res
+
+
+def _checked_settings(chain, settings) -> SweepSettings:
+    """``settings`` (the default where None) once ``chain`` and it are checked."""
     if not isinstance(chain, bool):
         raise ArgumentTypeError(f"`chain` = {chain!r} is not allowed: must be True or False")
     settings = settings or SweepSettings()
     if not isinstance(settings, SweepSettings):
         raise ArgumentTypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings or None")
+    return settings
+
+
+def _settle_blocks(base, names, values, states, settings, chain: bool, chain_length, run, workers: int) -> BatchResult:
+    """The checked points ``values`` settled by ``run``: as rows of relative parameters with
+    their start states (checked here), in independent block units (whole chains, single points
+    without ``chain``); rows outside the native scales in the canonical units (as steady_state
+    settles a single point) and mapped back; on up to ``workers`` processes where there are
+    units enough."""
     P = len(values)
-    chain_length = checked_chain_length(chain_length, chain, P)
-    workers = checked_workers(workers)
     rows = point_values(base, names, values)
     length = (chain_length or max(P, 1)) if chain else 1  # points per independent block unit
     given = checked_start_states(states, chain, length, rows, settings.tolerances.gap_tol)
     units = P // length if P else 0
     outside = ~native_rows(rows)
-    if outside.any():  # settled in the canonical units, as steady_state settles a single point
+    if outside.any():
         rows, given, back = _canonical_rows(rows, given, outside)
     if workers > 1 and units > 1:
         res = _settle_in_workers(values, names, rows, given, settings, chain, length, run, min(workers, units))
@@ -289,10 +310,6 @@ def steady_states(
     if outside.any():
         for i, to_p in back.items():
             res.start_states[i], res.sections[i] = to_p.full(res.start_states[i]), to_p.full(res.sections[i])
-    res.names, res.backend = names, run.name
-    if why:
-        res.fallback[:] = why
-    res.elapsed = time.perf_counter() - t_begin
     return res
 
 

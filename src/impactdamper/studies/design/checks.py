@@ -26,7 +26,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from impactdamper.analysis.batch import steady_states
-from impactdamper.analysis.peaks import NAMES, THETA_TOL, WorstBranch, worst_branches
+from impactdamper.analysis.peak_location import NAMES
+from impactdamper.analysis.peaks import THETA_TOL, WorstBranch, worst_branches
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.transitions import no_contact_gap
 from impactdamper.core.linear import forced_amplitudes

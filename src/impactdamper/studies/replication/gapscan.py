@@ -339,33 +339,9 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
     ranges_b = rep.ranges(g2, [r["claim_b"] for r in rows], alg2_pred, float(verdict["bisect_tol"]))
     both = rep.overlap(ranges_a, ranges_b)
 
-    # The located case. The simulation's range ends sit next to bifurcations, where the settled
-    # motion converges slowly and its classification is fragile (it moves with the solver's
-    # rounding); the directly solved orbit's stability range does not. So each common range
-    # gets its orbit range (seeded at the grid point nearest the range's middle), and the
-    # located case is a grid point where the simulation shows both claims, ``located_margin``
-    # inside the orbit's stable range (inside the common range where there is no orbit range).
+    # The located case, inside the directly solved orbit's stable range (step 4).
     margin = float(verdict["located_margin"])
-    candidates, orbits = [], []
-    for k, iv in enumerate(both):
-        inside = [r["gap"] for r in rows if r["both"] and iv["lo"] <= r["gap"] <= iv["hi"]]
-        if not inside:
-            orbits.append({"found": False, "reason": "no grid point inside"})
-            continue
-        seed = min(inside, key=lambda g: (abs(g - 0.5 * (iv["lo"] + iv["hi"])), g))
-        orbit = orbit_range(parameters(dict(base, gap=seed)), solver, lo, hi)
-        orbits.append(orbit)
-        o_lo, o_hi = (orbit["lo"], orbit["hi"]) if orbit.get("found") else (iv["lo"], iv["hi"])
-        for g in inside:
-            if o_lo + margin <= g <= o_hi - margin:
-                candidates.append((abs(g - stated_gap), -g, g, k))
-    if not candidates:
-        raise ValueError(
-            f"no grid point of `verdict.gap_min`..`verdict.gap_max` = {lo}..{hi} shows both claims "
-            f"at least `verdict.located_margin` = {margin} inside their range: widen the window "
-            f"or refine `verdict.gap_step`"
-        )
-    _, _, g_loc, k_loc = min(candidates)
+    g_loc, k_loc, orbits = _located_case(base, solver, verdict, rows, both)
     iv, orbit = both[k_loc], orbits[k_loc]
     rule = (
         f"the grid point (step {verdict['gap_step']}) closest to the stated Delta0/x_st = {stated_gap:g} "
@@ -397,6 +373,44 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
         "end_checks": checks,
     }
     return rows, result
+
+
+def _located_case(base: dict, solver: dict, verdict: dict, rows: list[dict], both: list[dict]) -> tuple:
+    """The located case among the Algorithm No. 2 grid's ``rows`` (step 4 of the module
+    docstring): (its gap, the index of its common range in ``both``, each common range's orbit
+    range).
+
+    The simulation's range ends sit next to bifurcations, where the settled motion converges
+    slowly and its classification is fragile (it moves with the solver's rounding); the directly
+    solved orbit's stability range does not. So each common range gets its orbit range (seeded at
+    the grid point nearest the range's middle), and the located case is a grid point where the
+    simulation shows both claims, ``located_margin`` inside the orbit's stable range (inside the
+    common range where there is no orbit range), the closest to the stated gap.
+    """
+    lo, hi = float(verdict["gap_min"]), float(verdict["gap_max"])
+    stated_gap = base["gap"]
+    margin = float(verdict["located_margin"])
+    candidates, orbits = [], []
+    for k, iv in enumerate(both):
+        inside = [r["gap"] for r in rows if r["both"] and iv["lo"] <= r["gap"] <= iv["hi"]]
+        if not inside:
+            orbits.append({"found": False, "reason": "no grid point inside"})
+            continue
+        seed = min(inside, key=lambda g: (abs(g - 0.5 * (iv["lo"] + iv["hi"])), g))
+        orbit = orbit_range(parameters(dict(base, gap=seed)), solver, lo, hi)
+        orbits.append(orbit)
+        o_lo, o_hi = (orbit["lo"], orbit["hi"]) if orbit.get("found") else (iv["lo"], iv["hi"])
+        for g in inside:
+            if o_lo + margin <= g <= o_hi - margin:
+                candidates.append((abs(g - stated_gap), -g, g, k))
+    if not candidates:
+        raise ValueError(
+            f"no grid point of `verdict.gap_min`..`verdict.gap_max` = {lo}..{hi} shows both claims "
+            f"at least `verdict.located_margin` = {margin} inside their range: widen the window "
+            f"or refine `verdict.gap_step`"
+        )
+    _, _, g_loc, k_loc = min(candidates)
+    return g_loc, k_loc, orbits
 
 
 def count_end_checks(checks: Sequence[dict]) -> dict:

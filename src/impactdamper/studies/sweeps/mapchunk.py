@@ -89,6 +89,19 @@ def regime_map_chunk(
             len(m.points_per_round),
             timer.wall,
         )
+    check = _brute_force_check(
+        base, settings, maps, name, chunk, (gaps, slow, slow_values), rows_idx, check_idx, m, labels, log
+    )
+    return _cell_rows(m, labels, rows_idx, slow_values), _counts(m, name, chunk, rows_idx, settings, check), timer
+
+
+def _brute_force_check(
+    base, settings, maps: dict, name: str, chunk: int, axes: tuple, rows_idx, check_idx, m, labels, log
+) -> dict:
+    """The chunk's rows ``check_idx`` swept cell by cell (the brute force) and their labels
+    compared with the adaptive map ``m``'s ``labels`` (:func:`~impactdamper.analysis.adaptive.label_differences`),
+    with the check's rows (of the map) and processor time."""
+    gaps, slow, slow_values = axes
     with Timer() as check_timer:
         brute = adaptive_regime_map(
             base,
@@ -115,7 +128,13 @@ def regime_map_chunk(
             check["distances"],
             check_timer.wall,
         )
-    rows = [
+    return check
+
+
+def _cell_rows(m, labels, rows_idx, slow_values) -> list[dict]:
+    """The chunk's record, one row per cell of the adaptive map ``m`` with its ``labels``
+    (:data:`CHUNK_COLUMNS`)."""
+    return [
         {
             "i": int(i),
             "j": j,
@@ -134,7 +153,11 @@ def regime_map_chunk(
         for n, i in enumerate(rows_idx)
         for j, gap in enumerate(m.fast_values)
     ]
-    counts = {
+
+
+def _counts(m, name: str, chunk: int, rows_idx, settings, check: dict) -> dict:
+    """The chunk's counts (:func:`regime_map_chunk`'s ``counts``)."""
+    return {
         "map": name,
         "chunk": chunk,
         "rows": len(rows_idx),
@@ -148,4 +171,3 @@ def regime_map_chunk(
         "check": check,
         "periods_simulated": int(m.periods.sum()),
     }
-    return rows, counts, timer
