@@ -6,7 +6,7 @@ change ends the curve (:func:`codim2_tests`): a codimension-two point (``cusp`` 
 curve's direction in the plane reverses; ``fold_flip``: a fold and a period doubling meet;
 ``resonance_1_1`` / ``resonance_1_2`` / ``resonance_1_3`` on a Neimark-Sacker curve: the
 pair's argument reaches 0, pi or 2 pi/3) or an inadmissible cycle (another impact's velocity or
-another flight's sampled interior gap minimum reaches zero: :func:`admissibility`). A step
+another flight's sampled interior gap minimum reaches zero). A step
 across one of them or across a bound of the plane is cut at the first such end, located by
 Brent's method on the arclength (:func:`end_on_step`). Every end's reason is one of
 :data:`END_REASONS`.
@@ -27,7 +27,7 @@ END_REASONS = CODIM2_REASONS + ("map_edge", "inadmissible", "newton_failure", "c
 CROSSING_TOL = 1e-9
 
 
-def admissibility(sysm: CurveSystem, x: np.ndarray) -> float:
+def _admissibility(sysm: CurveSystem, x: np.ndarray) -> float:
     """Least closing velocity (over x_st omega) and sampled interior gap minimum (over
     x_st) of the impacts and flights other than the tracked one: negative where the
     cycle's impact sequence no longer describes the motion."""
@@ -48,7 +48,7 @@ def admissibility(sysm: CurveSystem, x: np.ndarray) -> float:
 
 def codim2_tests(sysm: CurveSystem, x: np.ndarray, plane_tangent: np.ndarray, t_ref: np.ndarray) -> dict:
     """The functions whose zeros end the curve at a codimension-two point."""
-    tests = {"inadmissible": admissibility(sysm, x)}
+    tests = {"inadmissible": _admissibility(sysm, x)}
     if sysm.kind == "fold":
         tests["fold_flip"] = float(np.linalg.det(sysm.monodromy(x) + np.eye(4)))
         tests["cusp"] = float(plane_tangent @ t_ref)

@@ -5,30 +5,15 @@ A special point located on a branch by :func:`~impactdamper.analysis.continuatio
 cycle of period k T with z impacts, Timofeev et al. 2019 eqs. 18-22) persists, as two fields of
 :class:`Parameters` vary, along a curve of the plane. :func:`follow_curve` follows it.
 
-Augmented system
-----------------
-The unknowns are X = (u, a, b): the 5 z shooting unknowns u of
-:class:`~impactdamper.analysis.shooting.Shooting` and the plane's two parameters. The equations
-are the 5 z shooting equations F(u; a, b) = 0 and one test function of the kind, g = 0
-(:class:`~impactdamper.analysis.curve_system.CurveSystem`):
-
-==================  =====================================================================
-kind                g(u; a, b)
-==================  =====================================================================
-fold                det(M_c - I) (a Floquet multiplier at +1)
-period_doubling     det(M_c + I) (a multiplier at -1)
-neimark_sacker      |lambda|^2 - 1 of the complex pair nearest the unit circle
-grazing_velocity    closing velocity of the tracked impact over x_st omega (it vanishes)
-grazing_touch       interior minimum of the gap over x_st in the tracked flight (it touches)
-==================  =====================================================================
-
-with M_c the monodromy matrix of saltation matrices and exact flows
-(:func:`~impactdamper.analysis.shooting.monodromy_matrix`). The Jacobian is the shooting's exact
-one in u, exact in the gap (an offset of eq. 20), forward differences in the other parameter
-and for the row of g. 5 z + 1 equations in 5 z + 2
-unknowns: a curve, followed by pseudo-arclength continuation (tangent predictor, bordered
-Newton corrector, step grown after fast convergence and halved on failure) in the metric where
-the 5 z unknowns count as one and each parameter is scaled by its ``scales`` (the map's span).
+Curve follower
+--------------
+The curve is the zero set of an augmented system in X = (u, a, b), the cycle's 5 z shooting
+unknowns and the plane's two parameters: the shooting equations and one test function of the
+kind (:class:`~impactdamper.analysis.curve_system.CurveSystem`, whose docstring tabulates them),
+5 z + 1 equations in 5 z + 2 unknowns. It is followed from the seed both ways by
+pseudo-arclength continuation: tangent predictor, bordered Newton corrector, the step grown
+after fast convergence and halved on failure, in the metric where the 5 z unknowns count as
+one and each parameter is scaled by the map's span.
 
 Ends
 ----
