@@ -5,7 +5,7 @@ A mode (free, stuck) is its roots and eigenvectors (V, V^-1), the forced amplitu
 of eq. 20, the contact force, minus it) is c M^k, c M^k b, its derivative-bound factors kappa_k
 and its modal coefficients G, c . V_j. Both are computed with the operations of the reference
 classes (:class:`~impactdamper.core.linear.LinearMode`,
-:class:`~impactdamper.core.linear.LinearFunctional`), so that they round the same way: for a
+:class:`~impactdamper.core.events.LinearFunctional`), so that they round the same way: for a
 stack of sets with numpy (:func:`stacked_modes`, :func:`stacked_functional`) and for one set in
 compiled code (:func:`pack_mode`, :func:`pack_functional`, the eigen-decompositions
 :func:`real_eig` and :func:`stuck_eig`). Which functional is which, and the scalars, are
