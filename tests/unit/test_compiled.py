@@ -145,7 +145,8 @@ def test_random_parameter_events(seed):
 def test_compiled_eig_is_numpys():
     """The packing's dgeev call gives numpy's eig bit for bit: complex pairs (damped), real roots
     (overdamped) and undamped roots, on random free-mode matrices."""
-    from impactdamper.core.compiled.pack import _real_eig, _state_matrices
+    from impactdamper.core.compiled.modal import real_eig
+    from impactdamper.core.compiled.pack import _state_matrices
 
     rng = np.random.default_rng(3)
     kinds = set()
@@ -158,7 +159,7 @@ def test_compiled_eig_is_numpys():
             delta2=rng.uniform(0.0, 3.0) * (i % 5 > 0),
         )
         M = _state_matrices(packing_values(p)[0])[0]
-        ok, lam, V = _real_eig(M)
+        ok, lam, V = real_eig(M)
         lam_np, V_np = np.linalg.eig(M)
         assert ok
         assert np.array_equal(lam, lam_np) and np.array_equal(V, V_np), p

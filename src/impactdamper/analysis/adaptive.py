@@ -203,22 +203,7 @@ def adaptive_regime_map(
         return with_value(with_value(base, fast, fast_sorted[column[q]]), slow, slows[r])
 
     if R and n:
-        # Round 0: every row's coarse cells as one chain each (the first from Algorithm No. 2's step 1).
-        values = np.array([[fast_sorted[column[q]], s] for s in slows for q in coarse])
-        res = steady_states(
-            base,
-            (fast, slow),
-            values,
-            settings=settings,
-            chain_length=len(coarse),
-            backend=backend,
-            workers=workers,
-        )
-        labels = res.label
-        for r in range(R):
-            for k, q in enumerate(coarse):
-                rows.store(r, q, coarse[k - 1] if k else -1, res, r * len(coarse) + k, labels)
-        rows.points_per_round.append(len(values))
+        _settle_coarse(rows, coarse, base, fast, slow, fast_sorted, slows, column, settings, backend, workers)
     for _ in range(MAX_ROUNDS):
         tasks = rows.tasks()
         if not tasks:
@@ -308,6 +293,28 @@ class _RowState:
             points_per_round=list(self.points_per_round),
             coarse_step=coarse_step,
         )
+
+
+def _settle_coarse(
+    rows: _RowState, coarse, base, fast, slow, fast_sorted, slows, column, settings, backend, workers
+) -> None:
+    """Round 0: every row's coarse cells as one chain each (the first from Algorithm No. 2's
+    step 1)."""
+    values = np.array([[fast_sorted[column[q]], s] for s in slows for q in coarse])
+    res = steady_states(
+        base,
+        (fast, slow),
+        values,
+        settings=settings,
+        chain_length=len(coarse),
+        backend=backend,
+        workers=workers,
+    )
+    labels = res.label
+    for r in range(len(slows)):
+        for k, q in enumerate(coarse):
+            rows.store(r, q, coarse[k - 1] if k else -1, res, r * len(coarse) + k, labels)
+    rows.points_per_round.append(len(values))
 
 
 def _settle_tasks(

@@ -404,39 +404,46 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
         verdict = _verdict(curve, i, runs, normal)
         offset = distance * normal * spans
         crossed = _crossed_curve(curve, i, curve.points[i] - offset, curve.points[i] + offset, others or {}, spans)
-        if crossed is not None:
-            a, b = curve.points[i]
-            out["crossing"] += 1
-            out["crossings"].append(
-                {"gap": float(a), curve.names[1]: float(b), "crosses": crossed, "verdict": verdict or "unobserved"}
-            )
-            continue
-        if verdict is None:
-            out["unobserved"] += 1
-            continue
-        out["observed"] += 1
-        out["changed"] += int(verdict != "same")
-        if verdict == "agree":
-            out["agree"] += 1
-            k = curve.period_multiple
-            other = runs[1] if runs[0]["returns"] else runs[0]
-            out["doubled"] += int(curve.kind == "period_doubling" and other["label"].endswith(f"/{2 * k}"))
-        else:
-            closer = sides(0.1 * distance)
-            a, b = curve.points[i]
-            out["disagree"].append(
-                {
-                    "gap": float(a),
-                    curve.names[1]: float(b),
-                    "verdict": verdict,
-                    "sides": [r["label"] for r in runs],
-                    "returns": [r["returns"] for r in runs],
-                    "sides_at_a_tenth": [r["label"] for r in closer],
-                    "agree_at_a_tenth": _verdict(curve, i, closer, normal) == "agree",
-                }
-            )
+        _count_point(out, curve, i, runs, verdict, crossed, lambda: sides(0.1 * distance), normal)
     out["agree_at_a_tenth"] = sum(d["agree_at_a_tenth"] for d in out["disagree"])
     return out
+
+
+def _count_point(out: dict, curve: Curve, i: int, runs: list, verdict, crossed, closer_runs, normal) -> None:
+    """Point ``i``'s side runs and verdict counted into ``out`` (see :func:`side_checks`): apart
+    where its side segment crosses ``crossed`` (another curve's id), else as observed or not, and
+    a disagreement with the runs a tenth as far from the curve (``closer_runs()``)."""
+    if crossed is not None:
+        a, b = curve.points[i]
+        out["crossing"] += 1
+        out["crossings"].append(
+            {"gap": float(a), curve.names[1]: float(b), "crosses": crossed, "verdict": verdict or "unobserved"}
+        )
+        return
+    if verdict is None:
+        out["unobserved"] += 1
+        return
+    out["observed"] += 1
+    out["changed"] += int(verdict != "same")
+    if verdict == "agree":
+        out["agree"] += 1
+        k = curve.period_multiple
+        other = runs[1] if runs[0]["returns"] else runs[0]
+        out["doubled"] += int(curve.kind == "period_doubling" and other["label"].endswith(f"/{2 * k}"))
+    else:
+        closer = closer_runs()
+        a, b = curve.points[i]
+        out["disagree"].append(
+            {
+                "gap": float(a),
+                curve.names[1]: float(b),
+                "verdict": verdict,
+                "sides": [r["label"] for r in runs],
+                "returns": [r["returns"] for r in runs],
+                "sides_at_a_tenth": [r["label"] for r in closer],
+                "agree_at_a_tenth": _verdict(curve, i, closer, normal) == "agree",
+            }
+        )
 
 
 def period_doubling_bisection(curve: Curve, values, offset: float = 1e-3, xtol: float = 1e-5) -> list:

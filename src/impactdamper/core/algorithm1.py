@@ -329,6 +329,13 @@ def rescale_algorithm1(r: Algorithm1Result, scales: ScaleMap) -> Algorithm1Resul
 def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple[list, tuple]:
     """Negative-gap intervals over (t_imp, t_imp + T) (in units of T since the impact) and
     the gap's minimum (time over T, value in m)."""
+    intervals = _negative_gap_intervals(model, seg, t_imp, gap_tol)
+    return [(float(a), float(b)) for a, b in intervals], _gap_minimum(model, seg, t_imp)
+
+
+def _negative_gap_intervals(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> list:
+    """The stretches of (t_imp, t_imp + T) where the gap is negative (beyond the grazing
+    resolution), in units of T since the impact: the gap and minus it marched in turn."""
     p = model.p
     T, tol = p.T, gap_tol * p.x_st
     budget = StepBudget(
@@ -392,8 +399,14 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
         if t_root <= t:  # FIX (continued): the function turns down here; leave by its curvature
             departure = (2, -curvature)
         t = t_root
-    # Smallest interior local minimum of the gap (0 at the impact itself if there is none):
-    # sample, then refine each sampled local minimum on its bracketing samples.
+    return intervals
+
+
+def _gap_minimum(model: Model, seg: Segment, t_imp: float) -> tuple[float, float]:
+    """The smallest interior local minimum of the gap over the period after the impact (time
+    over T, value in m; 0 at the impact itself if there is none): sampled, then each sampled
+    local minimum refined on its bracketing samples."""
+    T = model.p.T
     ts = t_imp + T * np.linspace(0.0, 1.0, MIN_GAP_SAMPLES + 1)
     g = model.gap_of(seg.state(ts))
     g[0] = g[-1] = 0.0  # the impacts (rounding aside)
@@ -409,4 +422,4 @@ def _gap_scan(model: Model, seg: Segment, t_imp: float, gap_tol: float) -> tuple
         )
         minima.append((float(res.fun), float((res.x - t_imp) / T)))
     g_min, t_min = min(minima) if minima else (0.0, math.nan)
-    return [(float(a), float(b)) for a, b in intervals], (t_min, g_min)
+    return t_min, g_min

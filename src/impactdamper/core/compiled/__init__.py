@@ -36,6 +36,8 @@ The modules, each one idea:
 
 * :mod:`~impactdamper.core.compiled.layout` -- the codes and indices the kernels share;
 * :mod:`~impactdamper.core.compiled.pack` -- a parameter set packed into arrays;
+* :mod:`~impactdamper.core.compiled.modal` -- each mode's and functional's arrays in it (one set
+  compiled, a stack with numpy);
 * :mod:`~impactdamper.core.compiled.flow` -- the exact flow between events;
 * :mod:`~impactdamper.core.compiled.march` -- the certified event march and its polish;
 * :mod:`~impactdamper.core.compiled.loop` -- the event loop, the impact law, the modes, the
