@@ -23,7 +23,9 @@ rule design_baselines:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/verdict",
                 "design/tmd",
@@ -95,7 +97,9 @@ rule design_optimum:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/verdict",
                 "design/tmd",
@@ -152,7 +156,9 @@ rule design_benchmark:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/verdict",
                 "design/tmd",
