@@ -212,7 +212,15 @@ rule design_report:
         script="workflow/scripts/design_report.py",
         library=library(
             study(
-                "design/design", "design/devices", "design/record", "design/abstract", "design/verdict", "vocabulary"
+                "design/design",
+                "design/devices",
+                "design/record",
+                "design/record_rows",
+                "design/record_summary",
+                "design/record_tables",
+                "design/abstract",
+                "design/verdict",
+                "vocabulary",
             ),
             REPORTING,
         ),
