@@ -338,14 +338,14 @@ def test_the_absorbers_drifts_are_checked_and_reach_the_design_check(key, value,
     """design.stiffness_drift and design.damping_drift: refused beyond the design command's ranges
     (the schema's bounds are the command's), and the design object's check sees the config's
     values (it once built the uncertainty without them, at their defaults)."""
-    from impactdamper.studies.design import optimum
+    from impactdamper.studies.design import search_setup
     from impactdamper.studies.design.devices import RANGES
 
     assert message in _refused(_set(_shipped(), ("design", key), value))
     bounds = SCHEMA["properties"]["design"]["properties"][key]
     assert (bounds["minimum"], bounds["maximum"]) == RANGES[key]
     seen = []
-    monkeypatch.setattr(optimum, "check_object", lambda band, mu, delta1, unc, *rest: seen.append(unc))
+    monkeypatch.setattr(search_setup, "check_object", lambda band, mu, delta1, unc, *rest: seen.append(unc))
     config = _set(_set(_shipped(), ("design", "stiffness_drift"), 0.12), ("design", "damping_drift"), 0.7)
     assert cc.problem(config, SCHEMA) is None
     assert (seen[-1].stiffness, seen[-1].damping) == (0.12, 0.7)

@@ -35,7 +35,7 @@ from impactdamper.studies.design.devices import (
     impact_parameters,
     _scenario_case,
 )
-from impactdamper.studies.design.optimum import BUDGET, ROBUST_BUDGET, check_object, design_bounds, design_options
+from impactdamper.studies.design.search_setup import BUDGET, ROBUST_BUDGET, check_object, design_bounds, design_options
 from impactdamper.studies.design.verdict import TIE, recommendation
 
 ROOT = Path(__file__).resolve().parents[2]

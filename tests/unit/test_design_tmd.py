@@ -19,7 +19,7 @@ import pytest
 from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.studies.design.devices import Scenario, TmdCriterion, Uncertainty, _scenario_case, tmd_row
 from impactdamper.core.parameters import Parameters
-from impactdamper.studies.design.optimum import BUDGET, STROKE_FRACTION, design_bounds
+from impactdamper.studies.design.search_setup import BUDGET, STROKE_FRACTION, design_bounds
 from impactdamper.studies.design.search import SPREAD_BEST, search, _starts_record
 from impactdamper.studies.design.tmd import DELTA2_LOCKED, equal_peaks, refine_tmd
 

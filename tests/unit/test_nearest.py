@@ -1,4 +1,5 @@
-"""The nearest reproducing set in all seven parameters (impactdamper.studies.claims.nearest).
+"""The nearest reproducing set in all seven parameters (impactdamper.studies.claims.nearest, with
+claims_evaluator, round_changes and answer_check).
 
 The committed answer (figures/claims_nearest.json) must reproduce both of the paper's Fig. 2
 claims when recomputed here by the pure-Python reference, and the stated point must not; the
@@ -16,15 +17,9 @@ import pytest
 import impactdamper as idp
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.studies.replication.claims import claim_a, claim_b
-from impactdamper.studies.claims.nearest import (
-    NEAREST_NAMES,
-    ClaimsEvaluator,
-    ball_offsets,
-    norm,
-    ray_search,
-    round_candidates,
-    tuning_condition,
-)
+from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES, ClaimsEvaluator, ball_offsets, norm
+from impactdamper.studies.claims.nearest import ray_search
+from impactdamper.studies.claims.round_changes import round_candidates, tuning_condition
 
 RECORD = Path(__file__).resolve().parents[2] / "figures" / "claims_nearest.json"
 SETTINGS = SweepSettings(

@@ -22,7 +22,7 @@ import pytest
 from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.analysis.linear_device import den_hartog
 from impactdamper.studies.design.devices import ImpactCriterion, TmdCriterion, Uncertainty
-from impactdamper.studies.design.optimum import BUDGET, design_bounds
+from impactdamper.studies.design.search_setup import BUDGET, design_bounds
 from impactdamper.studies.design.search import CHECK_MOVE, Budget, _check_moves, search
 
 SMALL = Budget(samples=32, starts=2, polls=12, polish=40, checks=6)

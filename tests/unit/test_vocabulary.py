@@ -31,7 +31,7 @@ def test_display_fields_are_usable_and_distinct():
 
 def test_searched_and_designed_sets_derive_from_the_table():
     from impactdamper.studies.claims.search import SEARCH_PARAMETERS
-    from impactdamper.studies.claims.nearest import NEAREST_NAMES
+    from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES
     from impactdamper.studies.design.design import DESIGN_FIELDS
 
     assert NEAREST_NAMES == RELATIVE_PARAMETERS == ("theta", "mu", "N", "delta1", "delta2", "R", "gap")
@@ -64,7 +64,7 @@ def test_the_workflow_runs_one_claims_job_per_searched_parameter():
 def test_the_nearest_search_domain_is_the_parameters_own(name, value):
     """A point of the nearest-set search is valid exactly where Parameters accepts it (the
     domain comes from the table's ranges), at and just beyond each bound."""
-    from impactdamper.studies.claims.nearest import NEAREST_NAMES, ClaimsEvaluator
+    from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES, ClaimsEvaluator
 
     base = Parameters()
     x = np.array([[value if n == name else getattr(base, n) for n in NEAREST_NAMES]])

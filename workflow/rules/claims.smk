@@ -43,7 +43,7 @@ rule claims_by_parameter:
         library=library(
             BASELINES,
             study(
-                "claims/nearest",
+                "claims/claims_evaluator",
                 "claims/record",
                 "claims/search",
                 "config",
@@ -221,7 +221,10 @@ rule claims_nearest:
         library=library(
             BASELINES,
             study(
+                "claims/answer_check",
+                "claims/claims_evaluator",
                 "claims/nearest",
+                "claims/round_changes",
                 "config",
                 "intervals",
                 "replication/cases",
@@ -259,7 +262,7 @@ rule claims_macros:
         library=library(
             BASELINES,
             study(
-                "claims/nearest",
+                "claims/claims_evaluator",
                 "claims/record",
                 "claims/search",
                 "config",

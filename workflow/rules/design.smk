@@ -23,7 +23,9 @@ rule design_baselines:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/verdict",
                 "design/tmd",
@@ -95,7 +97,9 @@ rule design_optimum:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/verdict",
                 "design/tmd",
@@ -152,7 +156,9 @@ rule design_benchmark:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/verdict",
                 "design/tmd",
@@ -206,7 +212,15 @@ rule design_report:
         script="workflow/scripts/design_report.py",
         library=library(
             study(
-                "design/design", "design/devices", "design/record", "design/abstract", "design/verdict", "vocabulary"
+                "design/design",
+                "design/devices",
+                "design/record",
+                "design/record_rows",
+                "design/record_summary",
+                "design/record_tables",
+                "design/abstract",
+                "design/verdict",
+                "vocabulary",
             ),
             REPORTING,
         ),

@@ -65,7 +65,9 @@ rule notebook_choosing_a_suppressor:
             study(
                 "design/design",
                 "design/devices",
+                "design/impact_searches",
                 "design/optimum",
+                "design/search_setup",
                 "design/search",
                 "design/tasks",
                 "design/tmd",

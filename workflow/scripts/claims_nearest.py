@@ -14,7 +14,10 @@ import time
 from impactdamper.studies.replication import cases as rep
 from impactdamper.reporting.records import run_stage, write_json
 from impactdamper.studies.config import parameters, sweep_settings
-from impactdamper.studies.claims.nearest import NEAREST_NAMES, ClaimsEvaluator, nearest_set, round_values, verify_point
+from impactdamper.studies.claims.answer_check import verify_point
+from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES, ClaimsEvaluator
+from impactdamper.studies.claims.nearest import nearest_set
+from impactdamper.studies.claims.round_changes import round_values
 
 
 def main(

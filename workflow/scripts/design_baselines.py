@@ -16,7 +16,8 @@ from impactdamper.analysis.linear_device import LinearDevice, den_hartog
 from impactdamper.reporting.records import run_stage, write_csv, write_json
 from impactdamper.studies.design.design import LINEAR_GRID_POINTS, design_band, design_parameters
 from impactdamper.studies.design.devices import TmdCriterion, Uncertainty
-from impactdamper.studies.design.optimum import BUDGET, design_bounds, optimal_tmd
+from impactdamper.studies.design.optimum import optimal_tmd
+from impactdamper.studies.design.search_setup import BUDGET, design_bounds
 from impactdamper.studies.design.search import search
 
 

@@ -13,7 +13,8 @@ import logging
 from impactdamper.reporting.records import Timer, machine, run_stage, write_csv, write_json
 from impactdamper.studies.design.design import design_band, design_parameters
 from impactdamper.studies.design.devices import IMPACT_NAMES
-from impactdamper.studies.design.optimum import design_optima, design_options
+from impactdamper.studies.design.optimum import design_optima
+from impactdamper.studies.design.search_setup import design_options
 
 
 COLUMNS = [

@@ -13,14 +13,8 @@ from pathlib import Path
 
 from impactdamper.reporting.latex import render_macros
 from impactdamper.reporting.records import read_json, run_stage, write_json
-from impactdamper.studies.design.record import (
-    RECORD_WHAT,
-    benchmark_table,
-    design_macros,
-    design_table,
-    loads_table,
-    second_table,
-)
+from impactdamper.studies.design.record import RECORD_WHAT, design_macros
+from impactdamper.studies.design.record_tables import benchmark_table, design_table, loads_table, second_table
 
 
 def main(

@@ -32,11 +32,11 @@ def design_object_out_of_range(config: dict) -> Problem | None:
     """The design table's object (the reference mu and delta1, the band, the uncertainties: the
     detuning, the force band, the drifts of R and of the absorber's spring and damper) must be
     within the design command's documented ranges (its job would refuse it). The uncertainty is
-    the one the job searches under (:func:`impactdamper.studies.design.optimum.design_options`)."""
+    the one the job searches under (:func:`impactdamper.studies.design.search_setup.design_options`)."""
     d = config.get("design")
     if not d:
         return None
-    from impactdamper.studies.design.optimum import check_object, design_options
+    from impactdamper.studies.design.search_setup import check_object, design_options
 
     r = config["reference"]
     unc = design_options(d)["uncertainty"]

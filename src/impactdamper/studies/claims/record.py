@@ -13,7 +13,7 @@ from __future__ import annotations
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import COUNT, YES_NO, Column, Format, Macro, Table, fixed, macro_lines, percent
 from impactdamper.reporting.texrecord import general, macros_named_by_path, sci
-from impactdamper.studies.claims.nearest import NEAREST_NAMES
+from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES
 from impactdamper.studies.claims.search import SEARCH_PARAMETERS
 from impactdamper.studies.replication.gapscan import count_end_checks
 from impactdamper.studies.vocabulary import SPEC, tex

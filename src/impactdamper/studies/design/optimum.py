@@ -16,28 +16,16 @@ and from the nominal optimum. The TMD's answers are then converged on its exact 
 a search certifies: a local minimum that no 2 % move along an axis improves (where its check
 passed), and the best reached from its global samples; its starts' ends and spread are in its
 record (``best_found`` where they disagree by more than 0.5 %).
-The boxes are derived from the object: with s_T the stroke of its optimal TMD,
-
-* the impact suppressor's gap Delta0/x_st in [-s_T, 1.5 s_T] (a stop preloaded by the TMD's
-  own travel to one beyond it: there the device is a TMD that never reaches its stop, the
-  *TMD limit*), and, *with its stop within reach*, in [-s_T, s_T];
-* N in [N_LOW, N_HIGH] times Den Hartog's 1/(1 + mu); delta2 in [0, DELTA2_HIGH times his
-  sqrt(3 mu/(8 (1 + mu)^3))] (the TMD's delta2 from DELTA2_LOW of that); R in [0.2, 0.95]
-  (a polymer pad to hardened steel);
-* under the stroke limit S (default STROKE_FRACTION of the optimal TMD's stroke) the impact
-  suppressor's gap at most S (its travel towards the stop is the gap); the TMD's delta2 up to a
-  locked absorber (:mod:`~impactdamper.studies.design.tmd`), so that a box bound never decides
-  whether a TMD can keep the limit.
-
-The answer over the whole box is seeded with, and never worse than, the one with the stop
-within reach. Every row of the table is then evaluated alike: located worst branch, band
+The boxes are derived from the object and the budgets are the same for both devices
+(:mod:`impactdamper.studies.design.search_setup`); the impact suppressor's searches are
+:mod:`impactdamper.studies.design.impact_searches`. The answer over the whole box is seeded
+with, and never worse than, the one with the stop within reach. Every row of the table is then evaluated alike: located worst branch, band
 average, worst peaks over each uncertainty and over all together, stroke and loads.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import functools
 import json
 import math
 import os
@@ -45,15 +33,12 @@ import time
 from collections.abc import Callable
 
 import numpy as np
-import scipy.stats
 
-from impactdamper.analysis.linear_device import LinearDevice, check_band, den_hartog
+from impactdamper.analysis.linear_device import LinearDevice, den_hartog
 from impactdamper.analysis.parallel import check_workers
-from impactdamper.core.validation import finite_argument
 from impactdamper.studies.design.devices import (
     ROBUST,
     DESIGN_SETTINGS,
-    IMPACT_NAMES,
     NATURAL_FREQUENCY,
     RANGES,
     STOP_STIFFNESS,
@@ -65,8 +50,16 @@ from impactdamper.studies.design.devices import (
     impact_rows,
     tmd_row,
 )
+from impactdamper.studies.design.impact_searches import ROBUST_SEARCHED, impact_searches
 from impactdamper.studies.design.search import Budget, SearchResult, search
-from impactdamper.studies.design.tasks import Silences, in_parallel, processor_time
+from impactdamper.studies.design.search_setup import (
+    BUDGET,
+    ROBUST_BUDGET,
+    STROKE_FRACTION,
+    check_object,
+    design_bounds,
+)
+from impactdamper.studies.design.tasks import Silences, processor_time
 from impactdamper.studies.design.tmd import equal_peaks, refine_tmd
 from impactdamper.studies.design.verdict import device, headline, recommendation
 
@@ -75,95 +68,18 @@ __all__ = [
     "BUDGET",
     "WORKERS",
     "check_object",
-    "design_bounds",
     "optimal_tmd",
     "design_optima",
     "saved_or_searched",
     "SNUBBER_FRACTIONS",
     "SNUBBER_R",
-    "STROKE_FRACTION",
-    "design_options",
     "ROBUST_BUDGET",
 ]
 
-# The search's budget, the same for both devices and every criterion (what a minute on two
-# cores buys: see the design benchmark).
-BUDGET = Budget(
-    samples=128, starts=2, polls=10, first_step=1 / 8, last_step=1 / 128, coarse_above=1 / 32, polish=30, checks=6
-)
-# The robust and travel-limited searches' budget: the nominal one, their global stage one
-# shared sample of the whole box evaluated under every robust criterion's scenarios.
-ROBUST_BUDGET = BUDGET
-# Designs of the shared sample per batch (a progress line after each).
-SAMPLE_BATCH = 32
-# The nominal criteria, and the robust criteria searched (the others are evaluated for every
-# design: the table's columns).
-CRITERIA_NOMINAL = ("peak", "band_average")
-ROBUST_SEARCHED = ("detuning", "force", "restitution")
-# The box's sides relative to Den Hartog's optimum (module docstring).
-N_LOW, N_HIGH = 0.2, 1.5
-DELTA2_LOW, DELTA2_HIGH = 0.01, 3.0
-R_BOX = (0.2, 0.95)
-GAP_FULL = 1.5
-# The stroke limit of the stroke-limited rows, by default: this fraction of the optimal TMD's.
-STROKE_FRACTION = 0.7
 # The snubber: a stop put within the optimal TMD's own travel, at these fractions of its stroke,
 # with this restitution.
 SNUBBER_FRACTIONS = (0.5, 0.75, 0.9)
 SNUBBER_R = 0.5
-
-
-def _in_range(name: str, value: object, unit: str = "") -> float:
-    lo, hi = RANGES[name]
-    v = finite_argument(name, value)
-    if not lo <= v <= hi:
-        raise ValueError(f"`{name}` = {v!r} is not allowed: must be in [{lo:g}, {hi:g}]{unit}")
-    return v
-
-
-def check_object(band, mu, delta1, uncertainty: Uncertainty, max_stroke, stop_stiffness, natural_frequency) -> tuple:
-    """The command's inputs within :data:`RANGES` (one-line errors naming the input and its
-    range). Returns (band, mu, delta1)."""
-    try:
-        a, b = band
-    except (TypeError, ValueError):
-        raise ValueError(f"`band` = {band!r} is not allowed: must be (theta_start, theta_stop)") from None
-    a, b = _in_range("theta_start", a), _in_range("theta_stop", b)
-    if not RANGES["band_width"][0] <= b - a <= RANGES["band_width"][1]:
-        lo, hi = RANGES["band_width"]
-        raise ValueError(
-            f"`theta_stop` = {b!r} is not allowed: the band theta_stop - theta_start must be in [{lo:g}, {hi:g}] "
-            f"(theta_start = {a!r})"
-        )
-    mu, delta1 = _in_range("mu", mu), _in_range("delta1", delta1)
-    _in_range("detuning", uncertainty.detuning)
-    _in_range("force_low", uncertainty.force[0])
-    _in_range("force_high", uncertainty.force[1])
-    _in_range("restitution_drift", uncertainty.restitution)
-    _in_range("stiffness_drift", uncertainty.stiffness)
-    _in_range("damping_drift", uncertainty.damping)
-    _in_range("stop_stiffness", stop_stiffness, " (times the object's spring c1)")
-    _in_range("natural_frequency", natural_frequency, " Hz")
-    if max_stroke is not None:
-        s = finite_argument("max_stroke", max_stroke)
-        if not s > 0:
-            raise ValueError(f"`max_stroke` = {s!r} is not allowed: must be > 0 (x_st)")
-    return check_band((a, b)), mu, delta1
-
-
-def design_bounds(mu: float, tmd_stroke: float) -> dict:
-    """The boxes of the search (module docstring): ``tmd``, ``impact`` (the whole box) and
-    ``impact_reach`` (the stop within reach), from the object's mass ratio and its optimal TMD's
-    stroke."""
-    dh = den_hartog(mu)
-    n_dh, d_dh = dh["N"], dh["delta2"]
-    N = (N_LOW * n_dh, N_HIGH * n_dh)
-    impact = dict(zip(IMPACT_NAMES, ((-tmd_stroke, GAP_FULL * tmd_stroke), N, (0.0, DELTA2_HIGH * d_dh), R_BOX)))
-    return {
-        "tmd": {"N": N, "delta2": (DELTA2_LOW * d_dh, DELTA2_HIGH * d_dh)},
-        "impact": impact,
-        "impact_reach": {**impact, "gap": (-tmd_stroke, tmd_stroke)},
-    }
 
 
 def _record(kind: str, criterion: str, name: str, row: dict, result: SearchResult | None) -> dict:
@@ -196,121 +112,6 @@ def optimal_tmd(crit: TmdCriterion, budget: Budget = BUDGET, seed: int = 0) -> S
     bounds = design_bounds(crit.mu, 1.0)["tmd"]
     d_dh = den_hartog(crit.mu)["delta2"]
     return refine_tmd(crit, search(crit, bounds, budget=budget, seed=seed), bounds, d_dh, budget)
-
-
-def _impact_searches(mu, delta1, band, unc, bounds, max_stroke, tmd, stroke_tmd, budgets, seed, workers, say, robust):
-    """The impact suppressor's searches (module docstring): one shared global sample over the
-    whole box (one batch on ``workers`` processes); then, ``workers`` searches at a time (each in
-    its own process: a search's answer does not depend on where it runs), the nominal criteria
-    with the stop within reach; the nominal criteria over the whole box from the TMD limit and
-    the best samples outside the first box, never worse than the first; the robust ones from the
-    nominal peak's optimum; the travel-limited one with the gap at most the limit."""
-    names = list(IMPACT_NAMES)
-    lo = np.array([bounds["impact"][n][0] for n in names])
-    hi = np.array([bounds["impact"][n][1] for n in names])
-    budget, robust_budget = budgets
-    X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
-    values = _shared_sample(mu, delta1, band, unc, X, workers, ROBUST_SEARCHED if robust else (), say)
-    say(f"global stage: {len(X)} designs, {len(values)} criteria, best peak {np.min(values['peak']):.5g}")
-    task = functools.partial(_search, mu, delta1, band, seed=seed, workers=1, say=say)
-    reach = bounds["impact_reach"]
-    first = {f"{c}_reach": functools.partial(task, c, unc, reach, budget, (X, values[c])) for c in CRITERIA_NOMINAL}
-    out = in_parallel(first, workers)
-    limit = {"gap": bounds["impact"]["gap"][1], **tmd.x, "R": 0.5}
-    second = {}
-    for c in CRITERIA_NOMINAL:
-        r = out[f"{c}_reach"]
-        # The whole box from its TMD limit, the sub-box's answer where it stops at the sub-box's
-        # gap bound (it may go on beyond it), and the best samples outside the sub-box.
-        seeds = [limit] + ([r.x] if "gap" in r.at_bound else [])
-        second[c] = functools.partial(
-            task,
-            c,
-            unc,
-            bounds["impact"],
-            budget,
-            (X, values[c]),
-            seeds=seeds,
-            incumbents=[(r.x, r.value)],
-            searched=reach,
-        )
-    for c in ROBUST_SEARCHED if robust else ():
-        second[c] = functools.partial(task, c, unc, reach, robust_budget, (X, values[c]), seeds=[out["peak_reach"].x])
-    # The travel limit: the gap at most the limit (an impacting device travels the gap towards
-    # its stop); a local search from the travel-limited TMD with its stop at the limit (it never
-    # reaches it: a feasible start) and from the best sample inside the box (its stroke is read
-    # at the search's finer fidelities only: each evaluation runs the band's cycles again).
-    box = {**reach, "gap": (reach["gap"][0], min(max_stroke, reach["gap"][1]))}
-    inside = np.flatnonzero(X[:, 0] <= box["gap"][1])
-    seeds = [{"gap": box["gap"][1], **stroke_tmd.x, "R": 0.5}]
-    if len(inside):
-        seeds.append(dict(zip(names, X[inside[int(np.argmin(values["peak"][inside]))]])))
-    second["stroke"] = functools.partial(
-        task, "peak", unc, box, budget, (X, values["peak"]), seeds=seeds, max_stroke=max_stroke
-    )
-    return {**out, **in_parallel(second, workers)}
-
-
-def _shared_sample(mu, delta1, band, unc, X: np.ndarray, workers: int, robust, say) -> dict:
-    """The global stage every impact search shares: the designs ``X`` (rows in IMPACT_NAMES'
-    order) at the ``coarse`` fidelity under the nominal scenario and each robust criterion's
-    scenarios, in batches of SAMPLE_BATCH designs (a progress line after each). Returns each
-    criterion's coarse values."""
-    names = list(IMPACT_NAMES)
-    crit = ImpactCriterion(mu, delta1, band, "peak", unc, settings=DESIGN_SETTINGS, workers=workers)
-    scen = list(dict.fromkeys(s for c in ("peak", *robust) for s in unc.scenarios(c)))
-    out = []
-    for k in range(0, len(X), SAMPLE_BATCH):
-        out += crit.branches([dict(zip(names, x)) for x in X[k : k + SAMPLE_BATCH]], scen, "coarse")
-        say(f"global stage: {min(k + SAMPLE_BATCH, len(X))} of {len(X)} designs under {len(scen)} scenarios")
-    m = len(scen)
-    mine = [dict(zip(scen, out[i * m : (i + 1) * m])) for i in range(len(X))]
-    values = {
-        "peak": np.array([d[Scenario()][0].peak for d in mine]),
-        "band_average": np.array([d[Scenario()][0].band_average for d in mine]),
-    }
-    for c in robust:
-        cs = unc.scenarios(c)
-        values[c] = np.array([max(d[s][1] * d[s][0].peak for s in cs) for d in mine])
-    return values
-
-
-def _search(
-    mu,
-    delta1,
-    band,
-    criterion,
-    unc,
-    box,
-    budget,
-    sample,
-    *,
-    seeds=(),
-    incumbents=(),
-    searched=None,
-    max_stroke=None,
-    seed=0,
-    workers=1,
-    say=None,
-):
-    """One search of the impact suppressor (:func:`~impactdamper.studies.design.search.search`)."""
-    crit = ImpactCriterion(
-        mu, delta1, band, criterion, unc, max_stroke=max_stroke, settings=DESIGN_SETTINGS, workers=workers
-    )
-    tag = criterion if max_stroke is None else f"stroke <= {max_stroke:.3g}"
-    r = search(
-        crit,
-        box,
-        budget=budget,
-        sample=sample,
-        seeds=seeds,
-        incumbents=incumbents,
-        searched=searched,
-        seed=seed,
-        progress=lambda m: say(f"impact, {tag}: {m}"),
-    )
-    say(f"impact, {tag}: {', '.join(f'{k} = {v:.4g}' for k, v in r.x.items())}: {r.value:.6g}")
-    return r
 
 
 def _snubber(mu, delta1, band, tmd: dict, tmd_stroke: float, tmd_peak: float, workers: int) -> list[dict]:
@@ -410,52 +211,114 @@ def design_optima(
         ``progress`` message, the call's start and end counting as messages).
     """
     t0, c0 = time.perf_counter(), processor_time()
-    uncertainty = Uncertainty() if uncertainty is None else uncertainty
-    band, mu, delta1 = check_object(band, mu, delta1, uncertainty, max_stroke, stop_stiffness, natural_frequency)
+    unc = Uncertainty() if uncertainty is None else uncertainty
+    obj = check_object(band, mu, delta1, unc, max_stroke, stop_stiffness, natural_frequency)
+    call = _checked_call(*obj, unc, criterion, workers, robust, progress, stop_stiffness, natural_frequency)
+    found = _searches(call, max_stroke, (budget, robust_budget), seed)
+    out = _table(call, found, (budget, robust_budget))
+    out["elapsed"] = time.perf_counter() - t0
+    out["cpu"] = processor_time() - c0
+    out["longest_silence"] = call.say.longest()
+    return out
+
+
+@dataclasses.dataclass(frozen=True)
+class _Call:
+    """One design call's inputs, checked: the object, its uncertainty, the criterion reported,
+    the workers, whether the robust rows are searched, the loads' model, the progress."""
+
+    band: tuple[float, float]
+    mu: float
+    delta1: float
+    uncertainty: Uncertainty
+    criterion: str
+    workers: int
+    robust: bool
+    loads: dict
+    say: Silences
+
+
+def _checked_call(
+    band, mu, delta1, uncertainty, criterion, workers, robust, progress, stop_stiffness, natural_frequency
+) -> _Call:
+    """:func:`design_optima`'s arguments past the object's (checked by
+    :func:`~impactdamper.studies.design.search_setup.check_object`) checked, one-line errors
+    naming the argument; the robust rows by default only for a robust ``criterion``."""
     workers = check_workers(workers)
     choices = ("peak", "band_average", "detuning", "force", "restitution")
     if criterion not in choices:
         raise ValueError(f"`criterion` = {criterion!r} is not allowed: must be one of {', '.join(choices)}")
-    say = Silences(progress or (lambda m: None), shared=workers > 1)
-    robust = criterion in ROBUST_SEARCHED if robust is None else bool(robust)
-    budgets = (budget, robust_budget)
-    tmd = _tmd_searches(mu, delta1, band, uncertainty, budgets, seed, say)
+    return _Call(
+        band,
+        mu,
+        delta1,
+        uncertainty,
+        criterion,
+        workers,
+        robust=criterion in ROBUST_SEARCHED if robust is None else bool(robust),
+        loads=dict(stop_stiffness=stop_stiffness, natural_frequency=natural_frequency),
+        say=Silences(progress or (lambda m: None), shared=workers > 1),
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class _Found:
+    """What the searches found: the TMD's and the impact suppressor's results by key, the optimal
+    TMD's stroke s_T, the stroke limit S and the boxes."""
+
+    tmd: dict
+    impact: dict
+    tmd_stroke: float
+    max_stroke: float
+    bounds: dict
+
+
+def _searches(call: _Call, max_stroke, budgets: tuple, seed: int) -> _Found:
+    """Every search of the table: the TMD's, its stroke setting the boxes and the stroke limit
+    (default STROKE_FRACTION of it), the travel-limited TMD, then the impact suppressor's."""
+    mu, delta1, band, unc, say = call.mu, call.delta1, call.band, call.uncertainty, call.say
+    tmd = _tmd_searches(mu, delta1, band, unc, budgets, seed, say)
     s_T = LinearDevice(mu, tmd["peak"].x["N"], delta1, tmd["peak"].x["delta2"]).stroke_peak(band)[1]
     S = STROKE_FRACTION * s_T if max_stroke is None else float(max_stroke)
     bounds = design_bounds(mu, s_T)
-    tmd["stroke"] = optimal_tmd(TmdCriterion(mu, delta1, band, "peak", uncertainty, max_stroke=S), budget, seed)
+    tmd["stroke"] = optimal_tmd(TmdCriterion(mu, delta1, band, "peak", unc, max_stroke=S), budgets[0], seed)
     say(f"TMD's stroke {s_T:.4g} x_st; the stroke limit {S:.4g}")
-    imp = _impact_searches(
-        mu, delta1, band, uncertainty, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, workers, say, robust
+    imp = impact_searches(
+        mu, delta1, band, unc, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, call.workers, say, call.robust
     )
-    say("the table's impact suppressors under every uncertainty")
-    loads = dict(stop_stiffness=stop_stiffness, natural_frequency=natural_frequency)
-    evaluated = ROBUST if robust else ("detuning",)
-    devices = _devices(mu, delta1, band, uncertainty, {"tmd": tmd, "impact": imp}, S, workers, loads, evaluated)
-    say("the snubber")
-    snubber = _snubber(mu, delta1, band, tmd["peak"].x, s_T, device({"devices": devices}, "tmd_peak")["peak"], workers)
+    return _Found(tmd, imp, s_T, S, bounds)
+
+
+def _table(call: _Call, found: _Found, budgets: tuple) -> dict:
+    """The design table from the searches: every row evaluated alike (:func:`_devices`), the
+    snubber, the headline rows of ``call.criterion`` and the recommendation."""
+    mu, delta1, band, uncertainty = call.mu, call.delta1, call.band, call.uncertainty
+    call.say("the table's impact suppressors under every uncertainty")
+    evaluated = ROBUST if call.robust else ("detuning",)
+    results = {"tmd": found.tmd, "impact": found.impact}
+    devices = _devices(mu, delta1, band, uncertainty, results, found.max_stroke, call.workers, call.loads, evaluated)
+    call.say("the snubber")
+    tmd_peak = device({"devices": devices}, "tmd_peak")["peak"]
+    snubber = _snubber(mu, delta1, band, found.tmd["peak"].x, found.tmd_stroke, tmd_peak, call.workers)
     out = {
         "band": list(band),
         "mu": mu,
         "delta1": delta1,
         "uncertainty": uncertainty.to_dict(),
         "detuning": uncertainty.detuning,
-        "criterion": criterion,
-        **_settings(budget, robust_budget, workers, bounds),
-        "tmd_stroke": s_T,
-        "max_stroke": S,
-        **loads,
+        "criterion": call.criterion,
+        **_settings(*budgets, call.workers, found.bounds),
+        "tmd_stroke": found.tmd_stroke,
+        "max_stroke": found.max_stroke,
+        **call.loads,
         "devices": devices,
         "snubber": snubber,
-        "tmd_equal_peaks": equal_peaks(mu, delta1, tmd["peak"].x, band),
-        "robust": robust,
+        "tmd_equal_peaks": equal_peaks(mu, delta1, found.tmd["peak"].x, band),
+        "robust": call.robust,
         "not_evaluated": [name for name in ROBUST if name not in evaluated],
     }
-    out.update(headline(out, criterion))
+    out.update(headline(out, call.criterion))
     out["recommendation"] = recommendation(out)
-    out["elapsed"] = time.perf_counter() - t0
-    out["cpu"] = processor_time() - c0
-    out["longest_silence"] = say.longest()
     return out
 
 
@@ -527,34 +390,3 @@ def _devices(mu, delta1, band, uncertainty, results: dict, S: float, workers: in
             rec["feasible"] = bool(row["stroke"] <= S * (1.0 + 1e-6))
         devices.append(rec)
     return devices
-
-
-def design_options(design: dict) -> dict:
-    """:func:`design_optima`'s options from the config's ``design`` section: the uncertainties
-    (``detuning``, ``force_band``, ``restitution_drift``) and the budgets (``search_samples``,
-    ``search_starts``, ``search_polls``, ``search_polish``, ``robust_polls``,
-    ``robust_polish``, ``search_checks``; the steps are :data:`BUDGET`'s). With the shipped config they
-    are the command's defaults, so that the design table is what ``design --json`` prints."""
-    budget = dataclasses.replace(
-        BUDGET,
-        samples=int(design["search_samples"]),
-        starts=int(design["search_starts"]),
-        polls=int(design["search_polls"]),
-        polish=int(design["search_polish"]),
-        checks=int(design["search_checks"]),
-    )
-    robust = dataclasses.replace(
-        budget,
-        polls=int(design["robust_polls"]),
-        polish=int(design["robust_polish"]),
-        checks=int(design["search_checks"]),
-    )
-    low, high = (float(x) for x in design["force_band"])
-    unc = Uncertainty(
-        float(design["detuning"]),
-        (low, high),
-        float(design["restitution_drift"]),
-        float(design.get("stiffness_drift", Uncertainty.stiffness)),
-        float(design.get("damping_drift", Uncertainty.damping)),
-    )
-    return {"uncertainty": unc, "budget": budget, "robust_budget": robust}
