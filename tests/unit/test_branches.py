@@ -41,7 +41,7 @@ def test_run_pieces_split_at_state_changes_through_special_points():
     assert list(pieces[1][1]) == [1.5, 2.0, 3.0] and list(pieces[1][2]) == [2.5, 3.0, 4.0]
     rows.append(_row(4, 4.0, 5.0, admissible="0"))
     assert [s for s, _, _ in br.run_pieces(rows, special, "x1_max")] == ["stable", "unstable", "inadmissible"]
-    seq = br.branch_sequence(rows, special, "x1_max")
+    seq = br._branch_sequence(rows, special, "x1_max")
     assert [g for g, _, _ in seq] == [0.0, 1.0, 1.5, 2.0, 3.0, 4.0] and seq[2][2] is None
 
 

@@ -275,7 +275,7 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
     they share a value, and every end of a run must lie within one fine step of a change of the
     refined grid."""
     from impactdamper.analysis.point import SweepSettings
-    from impactdamper.studies.claims.search import batch_rows, refine_grid
+    from impactdamper.studies.claims.search import _batch_rows, refine_grid
     from impactdamper.studies.intervals import true_runs
 
     p = idp.Parameters()
@@ -290,8 +290,8 @@ def test_refinement_finds_every_claim_b_window_of_a_brute_force_fine_grid():
     step, levels = 0.01, 3
     floor = step / 2**levels
     coarse = [round(0.86 + step * i, 12) for i in range(9)]
-    rows, _ = refine_grid(coarse, lambda xs: batch_rows(p, "theta", xs, st), floor)
-    fine = batch_rows(p, "theta", [round(0.86 + floor * i, 12) for i in range(8 * 8 + 1)], st)
+    rows, _ = refine_grid(coarse, lambda xs: _batch_rows(p, "theta", xs, st), floor)
+    fine = _batch_rows(p, "theta", [round(0.86 + floor * i, 12) for i in range(8 * 8 + 1)], st)
     runs = true_runs([r["claim_b"] for r in fine])
     assert runs, "claim (b) holds somewhere on theta 0.86-0.94 (both claims hold near 0.90)"
     refined = {round(r["value"], 12): r for r in rows}
@@ -377,7 +377,7 @@ def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
     brute force; one halving alone (floor 0.005 x 0.01) misses some of them."""
     from impactdamper.analysis.point import SweepSettings
     from impactdamper.studies.claims.maps import claims_cells
-    from impactdamper.studies.claims.maps import map_label, refine_claims_map
+    from impactdamper.studies.claims.maps import _map_label, refine_claims_map
 
     p = idp.Parameters()
     st = SweepSettings(
@@ -391,7 +391,7 @@ def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
 
     def labels(ks):
         return dict(
-            zip(ks, (map_label(r) for r in claims_cells(p, "theta", "N", points(ks), gap_tol=1e-9, settings=st)))
+            zip(ks, (_map_label(r) for r in claims_cells(p, "theta", "N", points(ks), gap_tol=1e-9, settings=st)))
         )
 
     fine = labels([(i, j) for j in range(n) for i in range(n)])
@@ -406,11 +406,11 @@ def test_map_refinement_resolves_every_boundary_of_a_brute_force_fine_grid():
         )
         assert stats["refined_points"] == len(added) == sum(stats["points_per_level"])
         assert {r["level"] for r in added} <= set(range(1, levels + 1))
-        seen = dict(zip(base_keys, (map_label(r) for r in base)))
+        seen = dict(zip(base_keys, (_map_label(r) for r in base)))
         for r in added:
             k = (round((r["x"] - x0) / fx), round((r["y"] - y0) / fy))
             assert k not in seen  # each point evaluated once
-            seen[k] = map_label(r)
+            seen[k] = _map_label(r)
         return seen, stats
 
     seen, stats = refined(2)

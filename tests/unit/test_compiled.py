@@ -33,7 +33,7 @@ from impactdamper.core.compiled.pack import pack_parameters, packing_values
 from impactdamper.core.simulate import Tolerances, default_initial_state, simulate
 from impactdamper.core.steady import steady_state
 from impactdamper.core.validation import SettleOptions
-from impactdamper.studies.performance.hardcases import TOUCH_VELOCITY, hard_cases
+from impactdamper.studies.performance.hardcases import TOUCH_VELOCITY, _hard_cases
 
 # Event times agree to this, in forcing periods, where the motion is well conditioned (the brief).
 TIME_TOL = 1e-12
@@ -106,7 +106,7 @@ def test_gap_at_impacts_from_the_flow(gap):
 
 
 # --- the same events as the reference ----------------------------------------------------------
-HARD = {h.name: h for h in hard_cases()}
+HARD = {h.name: h for h in _hard_cases()}
 
 
 @pytest.mark.parametrize("name", sorted(HARD))
@@ -438,7 +438,7 @@ def test_bad_compiled_arguments(call, name):
 def test_stale_kernel_cache_is_cleared(tmp_path):
     """A changed source (any of the package's, not only the kernel's own file, which is all that
     numba checks) removes the cached kernels; unchanged sources keep them."""
-    from impactdamper.core.compiled.cache import STAMP_NAME, clear_if_stale
+    from impactdamper.core.compiled.cache import STAMP_NAME, _clear_if_stale
 
     src = tmp_path / "compiled"
     src.mkdir()
@@ -446,15 +446,15 @@ def test_stale_kernel_cache_is_cleared(tmp_path):
     (tmp_path / "events.py").write_text("MAX_STEPS = 200000\n")
     sources = [src / "flow.py", tmp_path / "events.py"]
     cache = src / "__pycache__"
-    assert clear_if_stale(cache, sources) is False  # nothing cached yet: stamped
+    assert _clear_if_stale(cache, sources) is False  # nothing cached yet: stamped
     kernels = [cache / "loop.advance-1.py311.nbi", cache / "loop.advance-1.py311.1.nbc"]
     for f in kernels:
         f.write_bytes(b"kernel")
-    assert clear_if_stale(cache, sources) is False and all(f.exists() for f in kernels)
+    assert _clear_if_stale(cache, sources) is False and all(f.exists() for f in kernels)
     (tmp_path / "events.py").write_text("MAX_STEPS = 100000\n")  # a constant the kernels freeze
-    assert clear_if_stale(cache, sources) is True
+    assert _clear_if_stale(cache, sources) is True
     assert not any(f.exists() for f in kernels) and (cache / STAMP_NAME).is_file()
-    assert clear_if_stale(cache, sources) is False
+    assert _clear_if_stale(cache, sources) is False
 
 
 def test_kernel_cache_is_stamped_with_the_sources():
@@ -466,4 +466,4 @@ def test_kernel_cache_is_stamped_with_the_sources():
     here = Path(cache.__file__).resolve().parent
     stamp = here / "__pycache__" / cache.STAMP_NAME
     sources = sorted(here.glob("*.py")) + sorted(here.parent.glob("*.py"))
-    assert stamp.read_text().strip() == cache.sources_digest(sources)
+    assert stamp.read_text().strip() == cache._sources_digest(sources)

@@ -187,7 +187,7 @@ ROOT_RULE = "must be '.' or a relative path under results/ (the git-ignored scra
     ],
 )
 def test_an_output_root_outside_the_scratch_is_refused(root):
-    assert cc.output_root_problem(root) == (("output_root",), f": {root!r} is not allowed: {ROOT_RULE}")
+    assert cc._output_root_problem(root) == (("output_root",), f": {root!r} is not allowed: {ROOT_RULE}")
     assert _refused(_set(_shipped(), ("output_root",), root)).endswith(
         f"['output_root']: {root!r} is not allowed: {ROOT_RULE}"
     )
@@ -195,7 +195,7 @@ def test_an_output_root_outside_the_scratch_is_refused(root):
 
 @pytest.mark.parametrize("root", [".", "./", "results/ci", "./results/ci/", "results/a/b"])
 def test_an_output_root_in_the_scratch_or_the_record_run_passes(root):
-    assert cc.output_root_problem(root) is None
+    assert cc._output_root_problem(root) is None
 
 
 @pytest.mark.parametrize(
@@ -314,9 +314,9 @@ def test_an_output_root_resolved_outside_the_scratch_is_refused(tmp_path, monkey
     (tmp_path / "results" / "away").symlink_to(tmp_path / "elsewhere")
     (tmp_path / "results" / "here").mkdir()
     monkeypatch.chdir(tmp_path)
-    problem = cc.output_root_problem("results/away")
+    problem = cc._output_root_problem("results/away")
     assert problem[0] == ("output_root",) and f"resolves to {tmp_path / 'elsewhere'}" in problem[1]
-    assert cc.output_root_problem("results/here") is None and cc.output_root_problem("results/new/run") is None
+    assert cc._output_root_problem("results/here") is None and cc._output_root_problem("results/new/run") is None
 
 
 def test_elastic_impacts_where_the_grids_hold_preloaded_stops_are_refused():

@@ -21,13 +21,13 @@ from impactdamper.core.model import FREE
 from impactdamper.core.trajectory import Event
 
 REF = idp.Parameters()
-CASES = {c.name: c for c in hc.hard_cases()}
+CASES = {c.name: c for c in hc._hard_cases()}
 
 
 @pytest.fixture(scope="module")
 def results():
     """Every case run once (~10 s in all: the tests that use it are marked slow)."""
-    return {name: hc.run_case(case) for name, case in CASES.items()}
+    return {name: hc._run_case(case) for name, case in CASES.items()}
 
 
 # --- the case definitions ---------------------------------------------------------------------
@@ -52,11 +52,11 @@ def test_the_suite_covers_the_issue():
 
 def test_no_contact_threshold_is_the_forced_relative_amplitude():
     x1p, x2p = forced_amplitudes(REF)
-    assert hc.no_contact_threshold(REF) == pytest.approx(abs(x2p - x1p) / REF.x_st, rel=1e-14)
+    assert hc._no_contact_threshold(REF) == pytest.approx(abs(x2p - x1p) / REF.x_st, rel=1e-14)
 
 
 def test_onset_gap_is_where_algorithm1_touches_the_stop():
-    g = hc.alg1_onset_gap(REF)
+    g = hc._alg1_onset_gap(REF)
     assert -10.0 < g < -5.8
     a = idp.algorithm1(REF.replace(gap=g))
     assert a.exists and abs(a.min_gap) < 1e-10
@@ -194,7 +194,7 @@ def test_impact_law_check_catches_an_impact_off_the_stop():
 
 
 def test_ivp_comparison_catches_a_different_motion():
-    ok, info = checks.compare_with_ivp(REF, 0.0, None, 1.5 * REF.T)
+    ok, info = checks._compare_with_ivp(REF, 0.0, None, 1.5 * REF.T)
     assert ok and info["event_time_diff"] < checks.IVP_TIME_TOL
     # a different restitution changes the motion: the comparison of the two must fail
     exact = idp.simulate(REF, 1.5 * REF.T, backend="python")
@@ -210,7 +210,7 @@ def test_a_hang_becomes_a_failed_case(monkeypatch):
             time.sleep(0.05)
 
     monkeypatch.setattr(hc, "steady_state", never_returns)
-    r = hc.run_case(CASES["elastic"], wall_limit=1)
+    r = hc._run_case(CASES["elastic"], wall_limit=1)
     assert r.regime == "timeout" and not r.passed
     assert all(v is False for v in r.checks.values())
 

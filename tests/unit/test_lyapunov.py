@@ -31,7 +31,7 @@ from impactdamper.analysis.lyapunov import (
     ZERO_BAND,
     LyapunovSpectrum,
     classify_spectrum,
-    settled_end,
+    _settled_end,
 )
 from impactdamper.analysis.lyapunov import lyapunov_spectrum as any_backend_spectrum
 from lyapunov_checks import (
@@ -49,7 +49,7 @@ from lyapunov_checks import (
 from impactdamper.core.impact_law import impact_jump
 from impactdamper.core.tangent import (
     capture_saltation,
-    free_field,
+    _free_field,
     impact_saltation,
     liftoff_saltation,
     saltation,
@@ -135,8 +135,8 @@ def test_capture_closed_form_is_the_general_saltation():
     G = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, p.m1 / M, p.m2 / M]])
     y = np.array([0.4, 0.4 + p.Delta0, -0.7, 0.9])
     t = 0.123
-    f_minus = free_field(m.free.M, m.free.b, p.omega, t, y)
-    f_plus = free_field(m.stuck.M, m.stuck.b, p.omega, t, G @ y)
+    f_minus = _free_field(m.free.M, m.free.b, p.omega, t, y)
+    f_plus = _free_field(m.stuck.M, m.stuck.b, p.omega, t, G @ y)
     S = saltation(G, f_minus, f_plus, np.array([1.0, -1.0, 0.0, 0.0]))
     np.testing.assert_allclose(S, capture_saltation(p.m1, p.m2, p.k1), rtol=1e-13, atol=1e-15)
 
@@ -483,17 +483,17 @@ def test_a_run_settled_by_its_end_is_a_chaotic_transient():
     sections = np.vstack([rng.normal(size=(150, 4)), np.tile(cycle, (8, 1))[:50]])
     sections[150:] += 1e-6 * rng.normal(size=(50, 4))  # converging, within SETTLE_TOL
     s = spectrum([0.3, -0.2, -0.4, -3.0], [0.02] * 4, sections=sections)
-    assert settled_end(sections) == (7, 150)
+    assert _settled_end(sections) == (7, 150)
     assert s.settled == (7, 100 + 50 + 150)
     assert s.label == "chaotic transient"
     d = s.to_dict()
     assert (d["settled_period"], d["settled_since"], d["window"]) == (7, 300, [150, 350])
     # A cycle repeating only to 10 SETTLE_TOL is not settled.
     sections[150:] += 10 * SETTLE_TOL * rng.normal(size=(50, 4))
-    assert settled_end(sections) is None
+    assert _settled_end(sections) is None
     # Fewer repeating sections than SETTLE_SPAN at the end: not settled.
     short = np.vstack([rng.normal(size=(190, 4)), np.tile(cycle, (2, 1))[: SETTLE_SPAN - 10]])
-    assert settled_end(short) is None
+    assert _settled_end(short) is None
 
 
 @pytest.mark.slow

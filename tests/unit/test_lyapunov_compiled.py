@@ -135,9 +135,9 @@ def test_a_walk_error_is_never_a_root():
 def test_where_the_kernels_do_not_apply_the_reference_walks_and_says_so():
     """A double root of eq. (4) has no modal form: the reference walks (the matrix
     exponential), the result says why."""
-    from impactdamper.studies.performance.hardcases import hard_cases
+    from impactdamper.studies.performance.hardcases import _hard_cases
 
-    delta2 = {h.name: h for h in hard_cases()}["repeated_roots"].changes["delta2"]
+    delta2 = {h.name: h for h in _hard_cases()}["repeated_roots"].changes["delta2"]
     p = idp.Parameters(N=0.9, delta2=delta2)
     run = dict(periods=20, transient=20, warmup=10, blocks=2)
     c = compiled(p, **run)

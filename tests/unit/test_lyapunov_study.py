@@ -13,7 +13,7 @@ import impactdamper as idp
 from impactdamper.analysis.lyapunov import LABELS
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.studies.lyapunov.exponent_map import map_rows
-from impactdamper.studies.lyapunov.record import MACROS, TIMING, label_counts, lyapunov_macros
+from impactdamper.studies.lyapunov.record import MACROS, TIMING, _label_counts, lyapunov_macros
 from impactdamper.studies.lyapunov.sweep import COLUMNS, RunLengths, start_state, sweep_exponents
 
 REF = idp.Parameters()
@@ -70,7 +70,7 @@ def test_label_counts():
         {"motion": m, "label": lab}
         for m, lab in [("chaotic", "np"), ("chaotic", "np"), ("", "1/1"), ("periodic", "np")]
     ]
-    c = label_counts(rows, lambda r: r["label"] == "np")
+    c = _label_counts(rows, lambda r: r["label"] == "np")
     assert (c["points"], c["np"], c["unlabelled"]) == (4, 3, 0)
     assert c["chaotic"] == {"count": 2, "share": 2 / 3} and c["quasi-periodic"]["count"] == 0
     assert math.isclose(sum(c[label]["share"] for label in LABELS), 1.0)
@@ -208,15 +208,15 @@ def test_rotation_per_cycle_reads_a_known_turn():
     series). On the 2:1 ellipse the polar angle differs from the phase by at most
     atan(sqrt 2) - atan(1/sqrt 2) = 0.34 rad at either end, so the mean turn is off by at most
     0.68 / 399 (1.7e-3) and 0.68 / 199 (3.4e-3)."""
-    from impactdamper.studies.lyapunov.checks import rotation_per_cycle
+    from impactdamper.studies.lyapunov.checks import _rotation_per_cycle
 
     n = np.arange(400)
     plane = np.linalg.qr(np.random.default_rng(3).normal(size=(4, 3)))[0].T
     z = np.column_stack([2.0 * np.cos(0.7 * n), 1.0 * np.sin(0.7 * n), 1e-3 * np.cos(0.1 * n)]) @ plane
     y = z + np.array([1.0, -5.0, 0.3, 0.2])
-    assert rotation_per_cycle(y, 1) == pytest.approx(0.7, abs=1.7e-3)
-    assert rotation_per_cycle(y, 2) == pytest.approx(1.4, abs=3.4e-3)
-    assert rotation_per_cycle(y, 1) != pytest.approx(0.69, abs=1.7e-3)
+    assert _rotation_per_cycle(y, 1) == pytest.approx(0.7, abs=1.7e-3)
+    assert _rotation_per_cycle(y, 2) == pytest.approx(1.4, abs=3.4e-3)
+    assert _rotation_per_cycle(y, 1) != pytest.approx(0.69, abs=1.7e-3)
 
 
 @pytest.mark.slow

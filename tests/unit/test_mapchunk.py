@@ -9,25 +9,25 @@ import pytest
 from impactdamper.analysis.adaptive import adaptive_regime_map
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.sweeps.gapsweep import map_axes
-from impactdamper.studies.sweeps.mapchunk import CHUNK_COLUMNS, check_rows, chunk_rows, regime_map_chunk
+from impactdamper.studies.sweeps.mapchunk import CHUNK_COLUMNS, check_rows, _chunk_rows, regime_map_chunk
 from tests.helpers import shipped_config
 
 
 @pytest.mark.parametrize(("rows", "chunks"), [(7, 1), (7, 2), (400, 4), (3, 4)])
 def test_the_chunks_deal_every_row_once(rows, chunks):
-    dealt = np.concatenate([chunk_rows(rows, chunks, c) for c in range(chunks)])
+    dealt = np.concatenate([_chunk_rows(rows, chunks, c) for c in range(chunks)])
     assert sorted(dealt.tolist()) == list(range(rows))
 
 
 def test_a_chunk_outside_the_map_is_refused():
     with pytest.raises(ValueError, match="`chunk` = 4 is not allowed: must be in \\[0, 4\\)"):
-        chunk_rows(10, 4, 4)
+        _chunk_rows(10, 4, 4)
 
 
 def test_each_chunk_checks_every_check_every_th_row_from_its_own_first():
     # The record's setting: 400 rows, 4 chunks, check_every 40: rows c, c + 40, ... of chunk c.
     for c in range(4):
-        own = chunk_rows(400, 4, c)
+        own = _chunk_rows(400, 4, c)
         assert own[check_rows(len(own), 40, 4)].tolist() == list(range(c, 400, 40))
     assert check_rows(100, 0, 4) == []
 

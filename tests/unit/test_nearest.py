@@ -18,8 +18,8 @@ import impactdamper as idp
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.studies.replication.claims import claim_a, claim_b
 from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES, ClaimsEvaluator, ball_offsets, norm
-from impactdamper.studies.claims.nearest import ray_search
-from impactdamper.studies.claims.round_changes import round_candidates, tuning_condition
+from impactdamper.studies.claims.nearest import _ray_search
+from impactdamper.studies.claims.round_changes import _round_candidates, _tuning_condition
 
 RECORD = Path(__file__).resolve().parents[2] / "figures" / "claims_nearest.json"
 SETTINGS = SweepSettings(
@@ -44,11 +44,11 @@ def test_norms_and_ball_offsets():
 
 
 def test_round_candidates_are_one_digit_changes():
-    assert round_candidates("theta", 1.0, 0.5, 1.5) == [0.9, 1.1]
-    assert round_candidates("N", 0.5, 0.2, 2.0) == [0.2, 0.3, 0.4, 0.6, 0.7, 0.8, 0.9]
-    assert -9.8 in round_candidates("gap", -5.8, -16.0, 0.0) and -9.6 not in round_candidates("gap", -5.8, -16.0, 0.0)
-    assert round_candidates("mu", 0.08, 0.01, 0.5) == [0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.09]
-    assert tuning_condition({"R": 0.3}) and not tuning_condition({"theta": 0.9})
+    assert _round_candidates("theta", 1.0, 0.5, 1.5) == [0.9, 1.1]
+    assert _round_candidates("N", 0.5, 0.2, 2.0) == [0.2, 0.3, 0.4, 0.6, 0.7, 0.8, 0.9]
+    assert -9.8 in _round_candidates("gap", -5.8, -16.0, 0.0) and -9.6 not in _round_candidates("gap", -5.8, -16.0, 0.0)
+    assert _round_candidates("mu", 0.08, 0.01, 0.5) == [0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.09]
+    assert _tuning_condition({"R": 0.3}) and not _tuning_condition({"theta": 0.9})
 
 
 def test_evaluator_sees_the_known_one_parameter_windows():
@@ -65,7 +65,7 @@ def test_a_ray_along_theta_stops_at_the_window():
     ev = ClaimsEvaluator(idp.Parameters(), 1e-12, SETTINGS)
     d = np.zeros((1, 7))
     d[0, 0] = -1.0
-    (hit,) = ray_search(ev, d, 0.01, 0.12, 1e-4)
+    (hit,) = _ray_search(ev, d, 0.01, 0.12, 1e-4)
     # both claims hold on theta in [0.8958, 0.9038] (the one-parameter search): the ray from
     # theta = 1 downward reaches it at 0.0962 relative
     assert 0.0955 < hit["t"] < 0.0970 and hit["bracket"][1] - hit["bracket"][0] <= 1e-4

@@ -3,7 +3,7 @@
 
 import pytest
 
-from impactdamper.reporting.plotting import typeset_minus
+from impactdamper.reporting.plotting import _typeset_minus
 
 MINUS = "\u2212"
 
@@ -21,7 +21,7 @@ MINUS = "\u2212"
     ],
 )
 def test_negative_numbers_get_a_minus_sign(text, expected):
-    assert typeset_minus(text) == expected
+    assert _typeset_minus(text) == expected
 
 
 def test_finish_figure_typesets_every_text(tmp_path):

@@ -14,7 +14,7 @@ import threading
 
 import pytest
 
-from impactdamper.reporting.progress import progress_bar, shows_progress
+from impactdamper.reporting.progress import progress_bar, _shows_progress
 
 RESPONSE = ["response", "--points", "3", "--json"]
 
@@ -65,7 +65,7 @@ def test_bar_counts_steps_on_a_terminal_only():
             bar.step()
             assert not bar.shown
         assert stream.getvalue() == ""
-    assert shows_progress(stream=_Terminal()) and not shows_progress(stream=io.StringIO())
+    assert _shows_progress(stream=_Terminal()) and not _shows_progress(stream=io.StringIO())
 
 
 @pytest.mark.slow

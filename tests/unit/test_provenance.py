@@ -36,20 +36,20 @@ RULES = pv.rules_from_data(
 
 
 def test_a_file_is_traced_to_the_rule_whose_pattern_matches_with_its_wildcards():
-    rule, wildcards = pv.producer(RULES, "figures/fig2a_located.pdf")
+    rule, wildcards = pv._producer(RULES, "figures/fig2a_located.pdf")
     assert (rule.name, wildcards) == ("fig2a", {"case": "located"})
     # A constraint keeps a longer name out: map_theta_curves.csv is map_curves', not map_gather's.
-    assert pv.producer(RULES, "figures/map_theta_curves.csv")[0].name == "map_curves"
-    assert pv.producer(RULES, "figures/map_theta.csv")[0].name == "map_gather"
-    assert pv.producer(RULES, "figures/fig2a_other.pdf") is None
-    assert pv.producer(RULES, "paper/report.tex") is None
+    assert pv._producer(RULES, "figures/map_theta_curves.csv")[0].name == "map_curves"
+    assert pv._producer(RULES, "figures/map_theta.csv")[0].name == "map_gather"
+    assert pv._producer(RULES, "figures/fig2a_other.pdf") is None
+    assert pv._producer(RULES, "paper/report.tex") is None
 
 
 def test_the_records_are_the_jobs_committed_data_files_once_each():
-    rule, wildcards = pv.producer(RULES, "figures/fig2a_stated.pdf")
-    assert pv.committed_records(rule, wildcards) == ["figures/fig2a_stated.csv", "figures/reference_stated.json"]
-    rule, wildcards = pv.producer(RULES, "paper/generated/verdict_macros.tex")
-    assert pv.committed_records(rule, wildcards) == [
+    rule, wildcards = pv._producer(RULES, "figures/fig2a_stated.pdf")
+    assert pv._committed_records(rule, wildcards) == ["figures/fig2a_stated.csv", "figures/reference_stated.json"]
+    rule, wildcards = pv._producer(RULES, "paper/generated/verdict_macros.tex")
+    assert pv._committed_records(rule, wildcards) == [
         "figures/reference_stated.json",
         "figures/located_case.json",
         "figures/verdict.json",
@@ -147,12 +147,12 @@ def test_the_compact_table_gathers_each_rules_parts_and_flags_uncommitted_timing
         ]
     )
     rows = [
-        pv.Row("Fig.~1", "fig2a", None, ()),
-        pv.Row("Table~2", "performance_report", None, ()),
-        pv.Row("Fig.~3", "fig2a", None, ()),
-        pv.Row(r"\path{paper/generated/performance_macros.tex}", "performance_report", None, ()),
-        pv.Row("Table~4", "claims_by_parameter", None, ()),
-        pv.Row("Fig.~5", None, None, ()),
+        pv._Row("Fig.~1", "fig2a", None, ()),
+        pv._Row("Table~2", "performance_report", None, ()),
+        pv._Row("Fig.~3", "fig2a", None, ()),
+        pv._Row(r"\path{paper/generated/performance_macros.tex}", "performance_report", None, ()),
+        pv._Row("Table~4", "claims_by_parameter", None, ()),
+        pv._Row("Fig.~5", None, None, ()),
     ]
     compact = pv.compact_rows(rules, rows)
     assert [(r.rule, r.parts, r.uncommitted) for r in compact] == [

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from impactdamper.reporting.record_tolerances import DEFAULT, TOLERANCES, tolerance_of
-from impactdamper.reporting.recordcheck import check_record, compare_file, compare_text
+from impactdamper.reporting.recordcheck import check_record, _compare_file, _compare_text
 
 ROOT = Path(__file__).resolve().parents[2]
 SWEEP = "figures/sweep_gap.csv"
@@ -135,23 +135,23 @@ def test_too_many_sensitive_differences_fail(tmp_path):
 def test_printed_numbers_within_their_last_digit():
     tol = tolerance_of("paper/generated/design_macros.tex")
     a = "\\newcommand{\\X}{0.0925}\n"
-    assert compare_text(a, "\\newcommand{\\X}{0.0926}\n", tol).problems == []
-    assert compare_text(a, "\\newcommand{\\X}{0.0928}\n", tol).problems != []
-    assert compare_text(a, "\\newcommand{\\X}{about 0.0925}\n", tol).problems != []
+    assert _compare_text(a, "\\newcommand{\\X}{0.0926}\n", tol).problems == []
+    assert _compare_text(a, "\\newcommand{\\X}{0.0928}\n", tol).problems != []
+    assert _compare_text(a, "\\newcommand{\\X}{about 0.0925}\n", tol).problems != []
 
 
 def test_json_numbers_and_strings():
     ref = json.dumps({"a": 7.25, "b": "chatter", "c": [1, 2]})
     assert (
-        compare_file("figures/x.json", ref, json.dumps({"a": 7.25 * (1 + 1e-12), "b": "chatter", "c": [1, 2]})).status
+        _compare_file("figures/x.json", ref, json.dumps({"a": 7.25 * (1 + 1e-12), "b": "chatter", "c": [1, 2]})).status
         == "pass"
     )
     assert (
-        compare_file("figures/x.json", ref, json.dumps({"a": 7.25 + 1e-6, "b": "chatter", "c": [1, 2]})).status
+        _compare_file("figures/x.json", ref, json.dumps({"a": 7.25 + 1e-6, "b": "chatter", "c": [1, 2]})).status
         == "fail"
     )
-    assert compare_file("figures/x.json", ref, json.dumps({"a": 7.25, "b": "stuck", "c": [1, 2]})).status == "fail"
-    assert compare_file("figures/x.json", ref, json.dumps({"a": 7.25, "b": "chatter", "c": [1]})).status == "fail"
+    assert _compare_file("figures/x.json", ref, json.dumps({"a": 7.25, "b": "stuck", "c": [1, 2]})).status == "fail"
+    assert _compare_file("figures/x.json", ref, json.dumps({"a": 7.25, "b": "chatter", "c": [1]})).status == "fail"
 
 
 def test_the_table_is_stated_once_and_every_tolerance_is_below_the_failure_it_must_catch():
@@ -186,8 +186,8 @@ def test_a_sensitive_mark_may_come_and_go_but_a_word_may_not():
     """An interval end marked as depending on the solver (a dagger) may lose its mark on another
     machine; the same line with another word fails."""
     ref = r"$N$ & $[0.5799, 0.6169]$ \\"
-    assert not compare_text(ref, r"$N$ & $[0.5799, 0.6168^{\dagger}]$ \\", DEFAULT).problems
-    assert compare_text(ref, r"$R$ & $[0.5799, 0.6169]$ \\", DEFAULT).problems
+    assert not _compare_text(ref, r"$N$ & $[0.5799, 0.6168^{\dagger}]$ \\", DEFAULT).problems
+    assert _compare_text(ref, r"$R$ & $[0.5799, 0.6169]$ \\", DEFAULT).problems
 
 
 def test_the_located_range_ends_move_by_a_bisection_step_and_no_more():
@@ -198,7 +198,7 @@ def test_the_located_range_ends_move_by_a_bisection_step_and_no_more():
     one_step = json.dumps({"located": {"range": [-10.076953125, -9.489453125]}, "stated": {"time": 0.66220}})
     ten_steps = json.dumps({"located": {"range": [-10.083984375, -9.489453125]}, "stated": {"time": 0.66220}})
     moved = json.dumps({"located": {"range": [-10.076171875, -9.489453125]}, "stated": {"time": 0.66221}})
-    assert compare_file("figures/verdict.json", ref, one_step).status == "pass"
-    assert compare_file("figures/verdict.json", ref, ten_steps).status == "fail"
-    assert compare_file("figures/verdict.json", ref, moved).status == "fail"
+    assert _compare_file("figures/verdict.json", ref, one_step).status == "pass"
+    assert _compare_file("figures/verdict.json", ref, ten_steps).status == "fail"
+    assert _compare_file("figures/verdict.json", ref, moved).status == "fail"
     assert tol.by_name

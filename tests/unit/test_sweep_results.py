@@ -64,15 +64,15 @@ def test_special_and_mirror_matches():
         {"label": "3/2", "kind": "grazing_interior", "gap": "-4.002"},
         {"label": "1/1", "kind": "fold", "gap": "-4.0"},
     ]
-    assert sr.special_match(t, special, 0.05) == ("grazing of 3/2", -4.002)
-    assert sr.special_match(t, special, 0.001) is None
+    assert sr._special_match(t, special, 0.05) == ("grazing of 3/2", -4.002)
+    assert sr._special_match(t, special, 0.001) is None
     trans = [
         t,
         {"direction": "down", "value": "-4.03", "before": "np", "after": "3/2"},
         {"direction": "down", "value": "-4.001", "before": "3/2", "after": "np"},
     ]
-    assert sr.mirror_match(t, trans, 0.05) is trans[1]
-    assert sr.mirror_match(t, trans, 0.01) is None
+    assert sr._mirror_match(t, trans, 0.05) is trans[1]
+    assert sr._mirror_match(t, trans, 0.01) is None
 
 
 def _write_map(path, slow, gaps, labels):
@@ -196,23 +196,23 @@ def test_algorithm1_grazing_gaps_lie_on_the_continued_curves(name, value):
 
 
 def test_the_checked_rows_are_described_as_drawn():
-    from impactdamper.studies.sweeps.record import row_runs, row_runs_text
+    from impactdamper.studies.sweeps.record import _row_runs, _row_runs_text
 
     rows = [r for b in range(0, 400, 40) for r in range(b, b + 4)]
-    assert len(row_runs(rows)) == 10
-    assert row_runs_text(rows) == r"rows 0--3, 40--43, \dots, 360--363 (4 adjacent rows in every 40)"
-    assert row_runs_text(range(0, 400, 40)) == r"rows 0, 40, \dots, 360 (every 40th row)"
-    assert row_runs_text([1, 5, 6]) == "rows 1, 5--6"
+    assert len(_row_runs(rows)) == 10
+    assert _row_runs_text(rows) == r"rows 0--3, 40--43, \dots, 360--363 (4 adjacent rows in every 40)"
+    assert _row_runs_text(range(0, 400, 40)) == r"rows 0, 40, \dots, 360 (every 40th row)"
+    assert _row_runs_text([1, 5, 6]) == "rows 1, 5--6"
 
 
 def test_the_check_split_is_said_in_words():
-    from impactdamper.studies.sweeps.record import check_split_text
+    from impactdamper.studies.sweeps.record import _check_split_text
 
-    assert check_split_text({"filled_differences": 0, "computed_differences": 31}) == (
+    assert _check_split_text({"filled_differences": 0, "computed_differences": 31}) == (
         "all $31$ are computed cells (the fill changed none)"
     )
-    assert check_split_text({"filled_differences": 2, "computed_differences": 29}) == (
+    assert _check_split_text({"filled_differences": 2, "computed_differences": 29}) == (
         "$2$ are filled cells and $29$ computed ones"
     )
-    assert check_split_text({"filled_differences": 3, "computed_differences": 0}) == "all $3$ are filled cells"
-    assert check_split_text({"differences": 4}) == "not split in this record"
+    assert _check_split_text({"filled_differences": 3, "computed_differences": 0}) == "all $3$ are filled cells"
+    assert _check_split_text({"differences": 4}) == "not split in this record"

@@ -311,7 +311,7 @@ def test_gap_scan_matches_record():
     sample = [r for i, r in enumerate(rows) if i % SCAN_SAMPLE_EVERY == 0 or float(r["gap"]) in wanted]
     assert len(sample) >= 3
     for r in sample:
-        new = gapscan.alg2_row((base, cfg["solver"], float(r["gap"])))
+        new = gapscan._alg2_row((base, cfg["solver"], float(r["gap"])))
         committed = {k: _cell(v) if v not in ("true", "false") else v == "true" for k, v in r.items()}
         fresh = {
             k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v) for k, v in new.items()
@@ -346,7 +346,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
     tolerance. Where the pure-Python solver was run at the same values (the record's reference
     check), the two never settled on different cycles."""
     from impactdamper.analysis.point import SweepSettings
-    from impactdamper.studies.claims.search import batch_rows
+    from impactdamper.studies.claims.search import _batch_rows
     from impactdamper.studies.replication.claims import claim_a
 
     cfg = _config()
@@ -378,7 +378,7 @@ def test_claims_by_parameter_ends_are_where_the_claims_change():
                         got = (
                             claim_a(rep.run_alg1(p, cfg["solver"]))
                             if claim == "a"
-                            else batch_rows(base, name, [x], batch)[0]["claim_b"]
+                            else _batch_rows(base, name, [x], batch)[0]["claim_b"]
                         )
                         assert got == expected, (name, claim, side, x)
                     checked += 1

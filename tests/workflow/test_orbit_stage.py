@@ -31,7 +31,7 @@ FIGURES = ROOT / "figures"
 GENERATED = ROOT / "paper" / "generated"
 import fig_orbit_branches  # noqa: E402
 import orbit_report  # noqa: E402
-from impactdamper.reporting.records import cell_float, csv_cell, read_csv, read_json, split_floats  # noqa: E402
+from impactdamper.reporting.records import cell_float, _csv_cell, read_csv, read_json, split_floats  # noqa: E402
 from impactdamper.studies.sweeps import branches as st  # noqa: E402
 from impactdamper.studies.config import parameters  # noqa: E402
 
@@ -185,7 +185,7 @@ def _same_row(new: dict, old: dict) -> list[str]:
     for col in st.BRANCH_COLUMNS:
         if col == "index":
             continue  # the short run's rows are numbered from its own lower end
-        a, b = csv_cell(new[col], booleans="digits"), old[col]
+        a, b = _csv_cell(new[col], booleans="digits"), old[col]
         if col in ("velocities", "phases"):
             x, y = split_floats(a), split_floats(b)
             if len(x) != len(y) or not np.allclose(x, y, rtol=RTOL, atol=ATOL):

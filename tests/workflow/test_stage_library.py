@@ -211,9 +211,9 @@ def test_numeric_thresholds_match_the_closed_form():
 
     base = Parameters()
     liftoff = stuck_liftoff_gap(base)
-    assert abs(transitions.least_contact_force(with_value(base, "gap", liftoff))) <= 1e-9
-    assert transitions.least_contact_force(with_value(base, "gap", liftoff - 1.0)) > 1e-3  # pressed: F > 0
-    assert abs(transitions.largest_relative_displacement(base) - no_contact_gap(base)) <= 1e-9
+    assert abs(transitions._least_contact_force(with_value(base, "gap", liftoff))) <= 1e-9
+    assert transitions._least_contact_force(with_value(base, "gap", liftoff - 1.0)) > 1e-3  # pressed: F > 0
+    assert abs(transitions._largest_relative_displacement(base) - no_contact_gap(base)) <= 1e-9
 
 
 def test_a_jobs_exact_cpu_time_is_recorded_when_its_script_ends(tmp_path, monkeypatch):
@@ -236,7 +236,7 @@ def test_a_jobs_exact_cpu_time_is_recorded_when_its_script_ends(tmp_path, monkey
     fake = types.SimpleNamespace(log=[str(tmp_path / "y.log")], params=params)
     records.start_stage(fake, "test_job_cost_fake")
     assert len(hooks) == 1 and records.job_name("map_chunk", {"map": "theta", "chunk": "3"}) == "map_chunk-3-theta"
-    before = records.job_cpu_seconds()
+    before = records._job_cpu_seconds()
     subprocess.run([sys.executable, "-c", "sum(range(3_000_000))"], check=True)  # a waited-for child
     ((f, args),) = hooks
     f(*args)

@@ -49,7 +49,6 @@ from impactdamper.core.model import FREE, STUCK
 from impactdamper.core.parameters import Parameters, require_parameters
 
 __all__ = [
-    "_AdaptiveMap",
     "adaptive_regime_map",
     "coarse_indices",
     "refine_lattice",

@@ -300,7 +300,7 @@ def _settle_blocks(base, names, values, states, settings, chain: bool, chain_len
     length = (chain_length or max(P, 1)) if chain else 1  # points per independent block unit
     given = checked_start_states(states, chain, length, rows, settings.tolerances.gap_tol)
     units = P // length if P else 0
-    outside = ~native_rows(rows)
+    outside = ~_native_rows(rows)
     if outside.any():
         rows, given, back = _canonical_rows(rows, given, outside)
     if workers > 1 and units > 1:
@@ -316,7 +316,7 @@ def _settle_blocks(base, names, values, states, settings, chain: bool, chain_len
 FREE_SCALES = tuple(COLUMNS.index(name) for name in NATIVE_SCALES)
 
 
-def native_rows(rows: np.ndarray) -> np.ndarray:
+def _native_rows(rows: np.ndarray) -> np.ndarray:
     """Which points' free scales (x_st, m1, omega) are within the native range."""
     inside = np.ones(len(rows), bool)
     for c, (lo, hi) in zip(FREE_SCALES, NATIVE_SCALES.values()):

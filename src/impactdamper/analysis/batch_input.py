@@ -42,7 +42,7 @@ def _changed_columns(base: Parameters, name: str, value: float) -> tuple:
     return tuple((c, getattr(q, col)) for c, col in enumerate(COLUMNS) if getattr(q, col) != getattr(base, col))
 
 
-def refuse_masked(name: str, value) -> None:
+def _refuse_masked(name: str, value) -> None:
     """A masked array is refused: its mask would be dropped silently (the masked entries read as
     whatever values they hide)."""
     if isinstance(value, np.ma.MaskedArray):
@@ -85,7 +85,7 @@ def checked_values(values, names: tuple) -> np.ndarray:
     per name (a bool, a string or a complex number is refused as Parameters refuses it; nothing
     is reshaped). The message names the point and the name."""
     allowed = f"must be finite real numbers of shape (P, {len(names)}): one row per point, one column per name {names}"
-    refuse_masked("values", values)
+    _refuse_masked("values", values)
     if isinstance(values, np.ndarray) and values.dtype.kind in "iuf":
         arr = values
     else:
@@ -139,7 +139,7 @@ def checked_start_states(states, chain: bool, length: int, rows: np.ndarray, gap
     (point_values)."""
     if states is None:
         return np.zeros((0, 4))
-    refuse_masked("states", states)
+    _refuse_masked("states", states)
     starts = np.arange(0, len(rows), length) if chain else np.arange(len(rows))
     what = "chain" if chain else "point"
     allowed = f"must be finite numbers of shape ({len(starts)}, 4), one start (x1, x2, x1', x2') per {what}"

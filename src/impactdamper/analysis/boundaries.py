@@ -35,7 +35,7 @@ from impactdamper.analysis.transitions import no_contact_gap, stuck_liftoff_gap
 from impactdamper.core.parameters import Parameters
 from impactdamper.analysis.solve import steady_state
 
-__all__ = ["BoundarySettings", "_Boundaries", "plane_boundaries", "COLUMNS", "CLOSED_FORM_KINDS"]
+__all__ = ["BoundarySettings", "plane_boundaries", "COLUMNS", "CLOSED_FORM_KINDS"]
 
 COLUMNS = ["curve", "cycle", "kind", "gap", "value", "stable_side", "end_reason"]
 CLOSED_FORM_KINDS = ("first_contact", "liftoff")

@@ -36,7 +36,11 @@ from impactdamper.core.events import Segment
 from impactdamper.core.model import Model
 from impactdamper.analysis.solve import simulate, steady_state
 
-__all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisection", "_settled_label"]
+__all__ = [
+    "label_changes_near_curves",
+    "side_checks",
+    "period_doubling_bisection",
+]
 
 # The simulation of a side check: settled to this (relative), within this many periods, k <= 8.
 # (Near a period doubling the new cycle's multiplier is near -1 too: 20000 periods, which the

@@ -53,7 +53,6 @@ __all__ = [
     "forced_response",
     "rescale_orbit",
     "flight_scan",
-    "_floquet_multipliers",
     "least_period",
     "impact_states",
 ]

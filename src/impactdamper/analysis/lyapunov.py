@@ -68,7 +68,6 @@ __all__ = [
     "SETTLE_SPAN",
     "SETTLE_TOL",
     "MAX_SETTLED_PERIOD",
-    "settled_end",
     "ZERO_BAND",
     "DEFAULT_PERIODS",
     "DEFAULT_TRANSIENT",
@@ -217,7 +216,7 @@ class LyapunovSpectrum:
     def settled(self) -> tuple[int, int] | None:
         """:func:`settled_end` of the averaged sections: (k, first period of the settled
         stretch counted from the run's start), or None."""
-        found = settled_end(self.sections / state_scale(self.p))
+        found = _settled_end(self.sections / state_scale(self.p))
         if found is None:
             return None
         return found[0], self.transient + self.warmup + found[1]
@@ -260,7 +259,7 @@ class LyapunovSpectrum:
         }
 
 
-def settled_end(sections: np.ndarray) -> tuple[int, int] | None:
+def _settled_end(sections: np.ndarray) -> tuple[int, int] | None:
     """Whether a run's sections (shape (n, 4), in relative units) have settled by their end onto
     a cycle of period k T, k <= :data:`MAX_SETTLED_PERIOD`: the smallest k for which the last
     :data:`SETTLE_SPAN` sections repeat after k periods to :data:`SETTLE_TOL`, and the index of

@@ -61,8 +61,6 @@ __all__ = [
     "OrbitError",
     "solve_orbit",
     "orbit_from_cycle",
-    "_orbit_from_algorithm1",
-    "_stable_algorithm1_orbit",
     "algorithm1_attractor",
     "SEEDS",
 ]

@@ -35,10 +35,7 @@ from impactdamper.core.parameters import Parameters, require_parameters
 from impactdamper.core.validation import finite_argument, integer_argument
 
 __all__ = [
-    "_ResponsePoint",
-    "_FrequencyResponse",
     "frequency_response",
-    "_theta_grid",
     "HYSTERESIS_TOL",
     "MAX_POINTS",
 ]

@@ -59,7 +59,6 @@ from impactdamper.core.parameters import state_scale
 __all__ = [
     "Shooting",
     "OrbitError",
-    "_saltation_matrix",
     "monodromy_matrix",
     "ORBIT_TOL",
 ]

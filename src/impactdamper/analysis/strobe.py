@@ -33,11 +33,7 @@ from impactdamper.core.simulate import EventDrivenSolver, Tolerances
 
 __all__ = [
     "stroboscopic_step",
-    "_stroboscopic_map",
     "stroboscopic_jacobian",
-    "_section_coordinates",
-    "_section_state",
-    "_StrobeSolution",
     "strobe_newton",
     "CHECK_FD_STEP",
     "STROBE_FD_STEP",

@@ -33,7 +33,6 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 
 __all__ = [
-    "_Transition",
     "sweep",
     "two_way_sweep",
     "random_initial_state",

@@ -38,7 +38,7 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["ATOL", "RTOL", "SEPARATION", "physical", "_ImpactOscillator", "benettin_ivp"]
+__all__ = ["ATOL", "RTOL", "SEPARATION", "physical", "benettin_ivp"]
 
 # solve_ivp's tolerances, on the state in x_st and x_st omega (its atol scaled per component):
 # the motion's own error per period is ~1e-12 x_st, 1e-5 of SEPARATION.

@@ -71,7 +71,7 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances, default_initial_state
 from impactdamper.core.trajectory import Event
 
-__all__ = ["simulate_ivp", "_IvpTrajectory", "_IvpLeg", "METHODS", "methods"]
+__all__ = ["simulate_ivp", "METHODS", "methods"]
 
 METHODS = ("RK45", "DOP853", "Radau", "LSODA")
 """The ``solve_ivp`` methods the cross-check supports (all tested)."""

@@ -24,7 +24,9 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import default_initial_state
 from impactdamper.core.trajectory import Event
 
-__all__ = ["simulate_rk4", "_Rk4Trajectory"]
+__all__ = [
+    "simulate_rk4",
+]
 
 # Bisection stops when the bracket is below this many periods (a few ulps of t ~ T).
 BISECT_TOL = 1e-15

@@ -23,7 +23,11 @@ import numpy as np
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import default_initial_state
 
-__all__ = ["SICONOS_PYTHON", "siconos_status", "simulate_siconos", "_SiconosResult"]
+__all__ = [
+    "SICONOS_PYTHON",
+    "siconos_status",
+    "simulate_siconos",
+]
 
 SICONOS_PYTHON = os.environ.get("IMPACTDAMPER_SICONOS_PYTHON", "/usr/bin/python3")
 """The interpreter that has Siconos (Debian's python3; override with IMPACTDAMPER_SICONOS_PYTHON)."""

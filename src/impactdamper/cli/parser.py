@@ -16,7 +16,7 @@ from impactdamper.analysis.solve import BACKENDS
 from impactdamper.core.parameters import PARAMETER_TABLE, Parameters
 from impactdamper.core.validation import Tolerances
 
-__all__ = ["PROG", "PARAMETER_HELP", "DESCRIPTION", "build_parser", "add_quiet_flag", "add_state_flag", "flag"]
+__all__ = ["PROG", "PARAMETER_HELP", "DESCRIPTION", "build_parser", "add_quiet_flag", "flag"]
 
 # The program's name in --help and in error messages: the console script.
 PROG = "impactdamper"
@@ -79,7 +79,7 @@ def add_quiet_flag(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def add_state_flag(parser) -> None:
+def _add_state_flag(parser) -> None:
     """The start ``--state`` (x1, x2, x1', x2'), by default the paper's step 1."""
     parser.add_argument(
         "--state",
@@ -157,7 +157,7 @@ def _add_parameters(p: argparse.ArgumentParser, defaults: Parameters) -> None:
 
 def _add_solver_flags(s) -> None:
     """The event-driven solver's start and tolerances (``steady``, and ``orbit``'s seed)."""
-    add_state_flag(s)
+    _add_state_flag(s)
     s.add_argument("--t0", type=float, default=None, help="start time, s (default 0)")
     s.add_argument("--settle-tol", type=float, default=1e-10, help="relative section mismatch for a settled motion")
     s.add_argument("--max-periods", type=int, default=4000, help="forcing periods before 'nonperiodic'")
@@ -345,7 +345,7 @@ def _add_lyapunov_command(sub, defaults: Parameters) -> None:
         ("warmup", lyapunov.DEFAULT_WARMUP, "periods of the tangent walk discarded next"),
     ):
         ly.add_argument(flag(name), type=int, default=default, metavar="N", help=f"{text} (default {default})")
-    add_state_flag(ly)
+    _add_state_flag(ly)
     ly.add_argument("--t0", type=float, default=0.0, help="start time, s (default 0)")
     ly.add_argument("--backend", choices=BACKENDS, default="auto", help="who walks (default auto: compiled)")
 

@@ -40,7 +40,6 @@ from impactdamper.core.validation import SettleOptions, Tolerances
 
 __all__ = [
     "Backend",
-    "_PythonBackend",
     "PYTHON",
     "REGISTRY",
     "BACKENDS",

@@ -27,7 +27,6 @@ __all__ = [
     "Parameters",
     "REFERENCE",
     "ArgumentTypeError",
-    "ParameterSpec",
     "PARAMETER_TABLE",
     "LINEAR_PARAMETERS",
     "RELATIVE_PARAMETERS",
@@ -63,7 +62,7 @@ _DERIVED = {
 
 
 @dataclass(frozen=True)
-class ParameterSpec:
+class _ParameterSpec:
     """One parameter a user sets (a field of :class:`Parameters`), as the package reads it by
     name: its range, the value a message measures extremes against, its role and its help.
 
@@ -134,27 +133,27 @@ _IN_RANGE = {
 PARAMETER_TABLE = (
     # name, range, typical value, role, help; then its symbol, macro-name part, plain name, axis
     # label (and a longer one, where it differs).
-    ParameterSpec("theta", "> 0", 1.0, "linear", "forcing frequency ratio omega/omega1",
+    _ParameterSpec("theta", "> 0", 1.0, "linear", "forcing frequency ratio omega/omega1",
                   "\\theta", "Theta", "theta", "$\\theta = \\omega/\\omega_1$",
                   "frequency ratio $\\theta = \\omega/\\omega_1$"),
-    ParameterSpec("mu", "> 0", 0.08, "linear", "mass ratio m2/m1",
+    _ParameterSpec("mu", "> 0", 0.08, "linear", "mass ratio m2/m1",
                   "\\mu", "Mu", "mu", "$\\mu = m_2/m_1$"),
-    ParameterSpec("N", "> 0", 0.5, "linear", "frequency ratio omega2/omega1",
+    _ParameterSpec("N", "> 0", 0.5, "linear", "frequency ratio omega2/omega1",
                   "N", "N", "N", "$N = \\omega_2/\\omega_1$"),
-    ParameterSpec("delta1", ">= 0", 0.05, "linear", "relative damping k1/(2 m1 omega1)",
+    _ParameterSpec("delta1", ">= 0", 0.05, "linear", "relative damping k1/(2 m1 omega1)",
                   "\\delta_1", "DeltaOne", "delta1", "$\\delta_1$ (object's damping)"),
-    ParameterSpec("delta2", ">= 0", 0.05, "linear", "relative damping k2/(2 m2 omega1)",
+    _ParameterSpec("delta2", ">= 0", 0.05, "linear", "relative damping k2/(2 m2 omega1)",
                   "\\delta_2", "DeltaTwo", "delta2", "$\\delta_2$ (suppressor's damping)"),
-    ParameterSpec("R", "in [0, 1]", 0.7, "impact", "coefficient of restitution, in [0, 1]",
+    _ParameterSpec("R", "in [0, 1]", 0.7, "impact", "coefficient of restitution, in [0, 1]",
                   "R", "R", "R", "restitution $R$"),
-    ParameterSpec("gap", "", 5.8, "impact", "initial gap Delta0/x_st",
+    _ParameterSpec("gap", "", 5.8, "impact", "initial gap Delta0/x_st",
                   "\\Delta_0/x_{\\mathrm{st}}", "Gap", "Delta0/x_st", "$\\Delta_0/x_{\\mathrm{st}}$",
                   "initial gap $\\Delta_0/x_{\\mathrm{st}}$"),
-    ParameterSpec("omega", "> 0", 10.0, "scale", "forcing frequency, rad/s",
+    _ParameterSpec("omega", "> 0", 10.0, "scale", "forcing frequency, rad/s",
                   "\\omega", "Omega", "omega", "forcing frequency $\\omega$, rad/s"),
-    ParameterSpec("x_st", "> 0", 1.0, "scale", "static deflection P0/c1, m",
+    _ParameterSpec("x_st", "> 0", 1.0, "scale", "static deflection P0/c1, m",
                   "x_{\\mathrm{st}}", "Xst", "x_st", "static deflection $x_{\\mathrm{st}}$, m"),
-    ParameterSpec("m1", "> 0", 1.0, "scale", "object mass, kg (a free scale)",
+    _ParameterSpec("m1", "> 0", 1.0, "scale", "object mass, kg (a free scale)",
                   "m_1", "MOne", "m1", "object mass $m_1$, kg"),
 )
 # fmt: on

@@ -70,14 +70,11 @@ from impactdamper.core.validation import Tolerances
 
 __all__ = [
     "TangentRun",
-    "TangentFrame",
     "tangent_walk",
-    "free_field",
     "saltation",
     "impact_saltation",
     "capture_saltation",
     "liftoff_saltation",
-    "orthonormalise",
     "GRAZING_VELOCITY",
     "GAP_GRADIENT",
 ]
@@ -100,7 +97,7 @@ REBASE_CLEARANCE = 1e3
 # ----------------------------------------------------------------------------------------
 # The tangent map's pieces: small pure functions of arrays (the compiled kernel mirrors them)
 # ----------------------------------------------------------------------------------------
-def free_field(M: np.ndarray, b: np.ndarray, omega: float, t: float, y: np.ndarray) -> np.ndarray:
+def _free_field(M: np.ndarray, b: np.ndarray, omega: float, t: float, y: np.ndarray) -> np.ndarray:
     """The vector field y' = M y + b sin(omega t) of a linear mode (eqs. 2, 9), shape (n,)."""
     return M @ y + b * math.sin(omega * t)
 
@@ -152,10 +149,10 @@ def impact_saltation(
     square-root singularity); it changes neither the state nor a perturbation that misses the
     stop, and the identity is returned.
     """
-    f_minus = free_field(M, b, omega, t, before)
+    f_minus = _free_field(M, b, omega, t, before)
     if float(GAP_GRADIENT @ f_minus) == 0.0:
         return np.eye(4)
-    f_plus = free_field(M, b, omega, t, jump @ before)
+    f_plus = _free_field(M, b, omega, t, jump @ before)
     return saltation(jump, f_minus, f_plus, GAP_GRADIENT)
 
 
@@ -203,12 +200,12 @@ def liftoff_saltation(
     """
     G = np.array([[1.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 1.0]])
     full = np.array([stuck[0], stuck[0] + Delta0, stuck[1], stuck[1]])
-    f_minus = free_field(M_stuck, b_stuck, omega, t, stuck)
-    f_plus = free_field(M_free, b_free, omega, t, full)
+    f_minus = _free_field(M_stuck, b_stuck, omega, t, stuck)
+    f_plus = _free_field(M_free, b_free, omega, t, full)
     return saltation(G, f_minus, f_plus, force_c, force_ds * omega * math.cos(omega * t))
 
 
-def orthonormalise(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _orthonormalise(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """QR (Householder) of the tangent vectors' images A, shape (m, d).
 
     Returns
@@ -267,7 +264,7 @@ class TangentRun:
         return {"impacts": self.impacts, "captures": self.captures, "liftoffs": self.liftoffs, "grazing": self.grazing}
 
 
-class TangentFrame:
+class _TangentFrame:
     """The orthonormal frame of perturbations and its growth, in relative units.
 
     The frame Q has shape (n, d): n = 4 in free motion, 2 in contact; d = 4 until a capture,
@@ -297,7 +294,7 @@ class TangentFrame:
 
     def orthonormalise(self) -> None:
         """Q <- its QR factor, log |R_ii| added to the growth (dimensions past Q's are lost)."""
-        self.Q, log_r = orthonormalise(self.Q)
+        self.Q, log_r = _orthonormalise(self.Q)
         d = len(log_r)
         self.log_growth[:d] += log_r
         self.log_growth[d:] = -math.inf
@@ -389,7 +386,7 @@ class _Counts:
         self.contact = 0.0
 
 
-def _walk_period(frame: TangentFrame, events: list, t: float, t_to: float, counts: _Counts | None, vscale: float):
+def _walk_period(frame: _TangentFrame, events: list, t: float, t_to: float, counts: _Counts | None, vscale: float):
     """Carry the frame over one period's events from t to t_to (``counts``: None in the
     warm-up). An impact followed at the same time by a capture is one event, the capture (its
     saltation matrix reads the state before the impact that ends in contact)."""
@@ -453,7 +450,7 @@ def tangent_walk(
     for _ in range(transient):
         run.period()
     run.skip_events()  # the frame starts now: the start's own events are the transient's
-    frame = TangentFrame(Model(p), run.solver.mode)
+    frame = _TangentFrame(Model(p), run.solver.mode)
     increments = np.empty((periods, 4))
     sections = np.empty((periods, 4))
     counts = _Counts()

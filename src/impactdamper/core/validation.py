@@ -52,7 +52,6 @@ __all__ = [
     "check_start_time",
     "work_limit_message",
     "work_bound_message",
-    "check_settle_tol",
     "check_settle_call",
     "check_run_call",
     "SettleOptions",
@@ -250,7 +249,7 @@ MAX_PERIODS_LIMIT = 100_000
 SETTLE_TOL_FLOOR = 1e-11
 
 
-def check_settle_tol(settle_tol: object) -> float:
+def _check_settle_tol(settle_tol: object) -> float:
     """``settle_tol`` as a float in [SETTLE_TOL_FLOOR, 1), else an error naming it and the floor."""
     floor_why = "the rounding noise of the section mismatch (below it the period test cannot pass)"
     return _fraction_above("settle_tol", settle_tol, SETTLE_TOL_FLOOR, floor_why)
@@ -299,7 +298,7 @@ class SettleOptions:
     describe: str = "backend"
 
     def __post_init__(self) -> None:
-        settle_tol = check_settle_tol(self.settle_tol)
+        settle_tol = _check_settle_tol(self.settle_tol)
         max_periods = integer_argument("max_periods", self.max_periods, 2, MAX_PERIODS_LIMIT)
         max_period_multiple = integer_argument(
             "max_period_multiple", self.max_period_multiple, 1, MAX_PERIODS_LIMIT - 1

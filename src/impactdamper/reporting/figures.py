@@ -16,7 +16,6 @@ __all__ = [
     "plot_motion",
     "label_above",
     "CLAIM_CLASSES",
-    "claim_class",
     "claim_grid",
     "class_image",
     "class_points",
@@ -73,7 +72,7 @@ CLAIM_CLASSES = (
 )
 
 
-def claim_class(row: dict) -> int:
+def _claim_class(row: dict) -> int:
     """A map row's class, the index into :data:`CLAIM_CLASSES`: claim (a) + 2 claim (b) (the
     record's "true"/"false")."""
     return int(row["claim_a"] == "true") + 2 * int(row["claim_b"] == "true")
@@ -87,7 +86,7 @@ def claim_grid(rows: list[dict]):
     ys = sorted({float(r["y"]) for r in rows})
     z = np.zeros((len(ys), len(xs)), dtype=int)
     for r in rows:
-        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = claim_class(r)
+        z[ys.index(float(r["y"])), xs.index(float(r["x"]))] = _claim_class(r)
     return xs, ys, z
 
 
@@ -120,7 +119,7 @@ def class_points(ax, rows: list[dict], size: float) -> None:
         [float(r["x"]) for r in rows],
         [float(r["y"]) for r in rows],
         s=size,
-        c=colours[np.array([claim_class(r) for r in rows], dtype=int)],
+        c=colours[np.array([_claim_class(r) for r in rows], dtype=int)],
         marker="s",
         linewidths=0,
         rasterized=True,

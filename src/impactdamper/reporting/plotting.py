@@ -22,7 +22,6 @@ ANNOTATION_SIZE = "small"
 
 __all__ = [
     "use_style",
-    "save_figure",
     "finish_figure",
     "dots",
     "figure_size",
@@ -86,7 +85,7 @@ def figure_size(height: float) -> tuple[float, float]:
     return (TEXT_WIDTH, float(height))
 
 
-def save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -> list[Path]:
+def _save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -> list[Path]:
     """Save ``fig`` deterministically. ``path`` with a suffix saves that format only;
     without one, saves ``path.pdf`` and ``path.png``. Returns the written paths."""
     path = Path(path)
@@ -113,7 +112,7 @@ def save_figure(fig, path: str | Path, formats: tuple[str, ...] | None = None) -
 _SIGN = re.compile(r"(?<![\w)\]])-(?=\.?\d)")
 
 
-def typeset_minus(text: str) -> str:
+def _typeset_minus(text: str) -> str:
     """``text`` with the sign of every negative number outside ``$...$`` as a minus sign."""
     parts = text.split("$")
     return "$".join(_SIGN.sub("\u2212", part) if i % 2 == 0 else part for i, part in enumerate(parts))
@@ -129,8 +128,8 @@ def finish_figure(fig, *paths: str | Path, log=None) -> list[Path]:
 
     for text in fig.findobj(Text):  # titles, labels, legends, annotations: one rule for the signs
         if text.get_text():
-            text.set_text(typeset_minus(text.get_text()))
-    written = [out for path in paths for out in save_figure(fig, path)]
+            text.set_text(_typeset_minus(text.get_text()))
+    written = [out for path in paths for out in _save_figure(fig, path)]
     plt.close(fig)
     if log is not None:
         log("wrote " + ", ".join(str(p) for p in written))

@@ -16,10 +16,12 @@ from __future__ import annotations
 import sys
 from typing import IO
 
-__all__ = ["ProgressBar", "progress_bar", "shows_progress"]
+__all__ = [
+    "progress_bar",
+]
 
 
-def shows_progress(quiet: bool = False, stream: IO[str] | None = None) -> bool:
+def _shows_progress(quiet: bool = False, stream: IO[str] | None = None) -> bool:
     """Whether a bar is drawn: not ``quiet`` and ``stream`` (default ``sys.stderr``) a terminal."""
     stream = sys.stderr if stream is None else stream
     if quiet:
@@ -30,7 +32,7 @@ def shows_progress(quiet: bool = False, stream: IO[str] | None = None) -> bool:
         return False
 
 
-class ProgressBar:
+class _ProgressBar:
     """A count of done steps out of ``total``, drawn by tqdm on ``stream`` or not at all.
 
     Use as a context manager; :meth:`step` takes and ignores any arguments, so that it can be
@@ -42,7 +44,7 @@ class ProgressBar:
     ) -> None:
         stream = sys.stderr if stream is None else stream
         self._bar = None
-        if shows_progress(quiet, stream):
+        if _shows_progress(quiet, stream):
             from tqdm import tqdm
 
             self._bar = tqdm(total=total, desc=desc, file=stream, unit="pt", leave=False, dynamic_ncols=True)
@@ -62,7 +64,7 @@ class ProgressBar:
             self._bar.close()
             self._bar = None
 
-    def __enter__(self) -> ProgressBar:
+    def __enter__(self) -> _ProgressBar:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -71,7 +73,7 @@ class ProgressBar:
 
 def progress_bar(
     total: int | None, desc: str = "", *, quiet: bool = False, stream: IO[str] | None = None
-) -> ProgressBar:
+) -> _ProgressBar:
     """A :class:`ProgressBar` of ``total`` steps labelled ``desc`` on ``stream`` (default
     stderr), drawn only when the stream is a terminal and ``quiet`` is false."""
-    return ProgressBar(total, desc, quiet=quiet, stream=stream)
+    return _ProgressBar(total, desc, quiet=quiet, stream=stream)

@@ -20,12 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import PurePosixPath
 
 __all__ = [
-    "Rule",
     "Float",
-    "Row",
     "rules_from_data",
-    "producer",
-    "committed_records",
     "floats",
     "macro_homes",
     "inline_sections",
@@ -48,7 +44,7 @@ ARCHIVE = "the archive accompanying this report"
 
 
 @dataclass(frozen=True)
-class Rule:
+class _Rule:
     """A workflow rule as the appendix needs it.
 
     Attributes
@@ -69,10 +65,10 @@ class Rule:
     inputs: tuple[str, ...] = ()
 
 
-def rules_from_data(data: Iterable[Mapping]) -> list[Rule]:
+def rules_from_data(data: Iterable[Mapping]) -> list[_Rule]:
     """The rules from the workflow's plain data (dicts with ``name``, ``script``, ``outputs``,
     ``inputs``), in order."""
-    return [Rule(d["name"], d.get("script"), tuple(d.get("outputs", ())), tuple(d.get("inputs", ()))) for d in data]
+    return [_Rule(d["name"], d.get("script"), tuple(d.get("outputs", ())), tuple(d.get("inputs", ()))) for d in data]
 
 
 _WILDCARD = re.compile(r"\{(\w+)(?:,([^{}]*(?:\{[^{}]*\}[^{}]*)*))?\}")
@@ -92,7 +88,7 @@ def _pattern(pattern: str) -> re.Pattern:
     return re.compile("".join(out) + r"\Z")
 
 
-def producer(rules: Sequence[Rule], path: str) -> tuple[Rule, dict[str, str]] | None:
+def _producer(rules: Sequence[_Rule], path: str) -> tuple[_Rule, dict[str, str]] | None:
     """The rule that writes ``path`` and its wildcards there, or None where no rule does (a
     source file)."""
     for rule in rules:
@@ -111,7 +107,7 @@ def _fill(pattern: str, wildcards: Mapping[str, str]) -> str | None:
         return None
 
 
-def committed_records(rule: Rule, wildcards: Mapping[str, str], exclude: Iterable[str] = ()) -> list[str]:
+def _committed_records(rule: _Rule, wildcards: Mapping[str, str], exclude: Iterable[str] = ()) -> list[str]:
     """The committed records of a rule's job (its data inputs and outputs under figures/),
     without ``exclude`` (the float's own files), in order and once each."""
     paths = [_fill(p, wildcards) for p in (*rule.inputs, *rule.outputs)]
@@ -200,7 +196,7 @@ def macro_homes(generated: Mapping[str, str]) -> dict[str, str]:
 
 
 @dataclass(frozen=True)
-class Row:
+class _Row:
     """A line of the appendix: what (TeX: a float's reference, a file), the rule, its script and
     the committed records."""
 
@@ -220,40 +216,40 @@ def _sources(files: Iterable[str], macros: Iterable[str], homes: Mapping[str, st
 FLOAT_NAMES = {"fig": "Fig.", "tab": "Table"}
 
 
-def float_rows(rules: Sequence[Rule], items: Sequence[Float], homes: Mapping[str, str]) -> list[Row]:
+def float_rows(rules: Sequence[_Rule], items: Sequence[Float], homes: Mapping[str, str]) -> list[_Row]:
     """One row per float and rule that writes what it shows: its figure files or generated
     tables, or the macro files its table body reads; a float drawn in the source (no file) gets
     a row without a rule."""
     rows = []
     for f in items:
         what = rf"{FLOAT_NAMES[f.kind]}~\ref{{{f.label}}}"
-        jobs: dict[str, tuple[Rule, list[str], list[str]]] = {}
+        jobs: dict[str, tuple[_Rule, list[str], list[str]]] = {}
         for path in _sources(f.files, f.macros, homes):
-            found = producer(rules, path)
+            found = _producer(rules, path)
             if found is None:
                 continue
             rule, wildcards = found
             _, shown, records = jobs.setdefault(rule.name, (rule, [], []))
             shown.append(path)
-            records += committed_records(rule, wildcards)
+            records += _committed_records(rule, wildcards)
         if not jobs:
-            rows.append(Row(what, None, None, ()))
+            rows.append(_Row(what, None, None, ()))
         for rule, shown, records in jobs.values():
             kept = [r for r in dict.fromkeys(records) if r not in shown]
-            rows.append(Row(what, rule.name, rule.script, tuple(kept)))
+            rows.append(_Row(what, rule.name, rule.script, tuple(kept)))
     return rows
 
 
-def number_rows(rules: Sequence[Rule], macro_files: Iterable[str]) -> list[Row]:
+def number_rows(rules: Sequence[_Rule], macro_files: Iterable[str]) -> list[_Row]:
     """One row per file of macros the text reads (generated ``\\newcommand`` files): the rule
     that writes it, its script and records."""
     rows = []
     for path in macro_files:
-        found = producer(rules, path)
+        found = _producer(rules, path)
         if found is None:
             continue
         rule, wildcards = found
-        rows.append(Row(_path(path), rule.name, rule.script, tuple(committed_records(rule, wildcards, [path]))))
+        rows.append(_Row(_path(path), rule.name, rule.script, tuple(_committed_records(rule, wildcards, [path]))))
     return rows
 
 
@@ -263,7 +259,7 @@ def _path(path: str) -> str:
 
 
 @dataclass(frozen=True)
-class RuleRow:
+class _RuleRow:
     """A line of the compact appendix: a rule, its script, what of the report it writes (TeX:
     floats' references and files of macros) and whether it reads uncommitted records."""
 
@@ -273,7 +269,7 @@ class RuleRow:
     uncommitted: bool
 
 
-def compact_rows(rules: Sequence[Rule], rows: Iterable[Row]) -> list[RuleRow]:
+def compact_rows(rules: Sequence[_Rule], rows: Iterable[_Row]) -> list[_RuleRow]:
     """The appendix's rows (:func:`float_rows`, :func:`number_rows`) gathered by rule, in order of
     first appearance: each rule once, with every part of the report it writes, flagged where the
     rule reads timing records under ``results/benchmarks/`` (not committed)."""
@@ -283,7 +279,7 @@ def compact_rows(rules: Sequence[Rule], rows: Iterable[Row]) -> list[RuleRow]:
         if row.rule is not None:
             parts.setdefault(row.rule, []).append(row.what)
     return [
-        RuleRow(
+        _RuleRow(
             name,
             by_name[name].script,
             tuple(dict.fromkeys(whats)),
@@ -293,7 +289,7 @@ def compact_rows(rules: Sequence[Rule], rows: Iterable[Row]) -> list[RuleRow]:
     ]
 
 
-def compact_table(rows: Sequence[RuleRow], caption: str, label: str) -> str:
+def compact_table(rows: Sequence[_RuleRow], caption: str, label: str) -> str:
     """A table of ``rows`` in two halves side by side: rule (a dagger where it reads uncommitted
     timing records) -> what of the report it writes (and the rule's script where it is not
     ``workflow/scripts/<rule>.py``)."""
@@ -303,7 +299,7 @@ def compact_table(rows: Sequence[RuleRow], caption: str, label: str) -> str:
     lines = [rf"\begin{{longtable}}{{{spec}}}", rf"\caption{{{caption}}}\label{{{label}}}\\", *head]
     lines += [r"\endfirsthead", r"\caption[]{(continued)}\\", *head, r"\endhead", r"\bottomrule", r"\endfoot"]
 
-    def cells(r: RuleRow | None) -> str:
+    def cells(r: _RuleRow | None) -> str:
         if r is None:
             return "&"
         name = _path(r.rule) + (r"$^\dagger$" if r.uncommitted else "")

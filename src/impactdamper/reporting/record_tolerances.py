@@ -47,7 +47,6 @@ __all__ = [
     "SENSITIVE_MARKS",
     "TIMING_FILES",
     "TOLERANCES",
-    "Tolerance",
     "tolerance_of",
 ]
 
@@ -105,7 +104,7 @@ SENSITIVE_KEYS = ("mismatches",)
 
 
 @dataclass(frozen=True)
-class Tolerance:
+class _Tolerance:
     """How far one record may differ (module docstring)."""
 
     rtol: float = 1e-8  # round-off of a settled number is ~1e-13; 1e-8 leaves five digits' room
@@ -118,15 +117,17 @@ class Tolerance:
     why: str = ""
 
 
-DEFAULT = Tolerance(why="a settled result: numbers to rtol 1e-8, no label may differ")
+DEFAULT = _Tolerance(why="a settled result: numbers to rtol 1e-8, no label may differ")
 
 # Per record, first match wins. The fractions of sensitive points are for the full record
 # (config/config.yaml: 1,001-point sweeps, 400 x 400 maps), above what a machine of another kind
 # gave (issue 49: 15 of 2,002 sweep labels, 304 of 160,400 map cells, 1,423 of 54,571 claims-map
 # cells); a coarse record states its own in its tolerances.json (tests/data/coarse_record/).
-_MAPS = Tolerance(matrix=True, max_sensitive=0.01, why="a regime map: labels flip in chaotic windows and at boundaries")
-_POINTS = Tolerance(max_sensitive=0.02, why="labelled points along a parameter: flips at sensitive points")
-_ADAPTIVE = Tolerance(
+_MAPS = _Tolerance(
+    matrix=True, max_sensitive=0.01, why="a regime map: labels flip in chaotic windows and at boundaries"
+)
+_POINTS = _Tolerance(max_sensitive=0.02, why="labelled points along a parameter: flips at sensitive points")
+_ADAPTIVE = _Tolerance(
     keys=("x", "y"), max_sensitive=0.05, why="a map refined where its cells change: flips move the refinement"
 )
 _RESOLUTION = "interval ends and searched distances: to their search's resolution (claims_search.rel_tol)"
@@ -143,23 +144,23 @@ _LOCATED |= {"beyond_the_gap.gap.*": _ENDS, "beyond_the_gap.map_both_cells": 10,
 _LOCATED_WHY = (
     "the located range and the claims beyond the gap: ends to a bisection step, counts within sensitive points"
 )
-TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
-    ("figures/verdict.json", Tolerance(by_name=_LOCATED, why=_LOCATED_WHY)),
-    ("figures/located_case.json", Tolerance(by_name=_LOCATED, why=_LOCATED_WHY)),
+TOLERANCES: tuple[tuple[str, _Tolerance], ...] = (
+    ("figures/verdict.json", _Tolerance(by_name=_LOCATED, why=_LOCATED_WHY)),
+    ("figures/located_case.json", _Tolerance(by_name=_LOCATED, why=_LOCATED_WHY)),
     (
         "paper/generated/verdict_macros.tex",
-        Tolerance(by_name={"ClaimsMapBothCells": 10, "ClaimsReference*": 3}, why=_LOCATED_WHY),
+        _Tolerance(by_name={"ClaimsMapBothCells": 10, "ClaimsReference*": 3}, why=_LOCATED_WHY),
     ),
     (
         "paper/generated/boundaries_macros.tex",
-        Tolerance(
+        _Tolerance(
             by_name={"BoundCpu": math.inf}, why="the boundary curves: their CPU time is a timing, the rest results"
         ),
     ),
     ("figures/map_*_curves.csv", DEFAULT),
     (
         "figures/map_*_settings.json",
-        Tolerance(
+        _Tolerance(
             rtol=0.01,
             by_name={"check.*": 10},
             why="a map's cells computed (they follow its labels, to 1 %) and its brute-force check's counts",
@@ -167,14 +168,14 @@ TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
     ),
     ("figures/map_*.csv", _MAPS),
     ("figures/claims_map*_refined.csv", _ADAPTIVE),
-    ("figures/claims_map*.csv", Tolerance(keys=("x", "y"), max_sensitive=0.03, why=_ADAPTIVE.why)),
+    ("figures/claims_map*.csv", _Tolerance(keys=("x", "y"), max_sensitive=0.03, why=_ADAPTIVE.why)),
     (
         "figures/claims_by_parameter_grid.csv",
-        Tolerance(keys=("parameter", "value"), max_sensitive=0.03, why=_ADAPTIVE.why),
+        _Tolerance(keys=("parameter", "value"), max_sensitive=0.03, why=_ADAPTIVE.why),
     ),
     (
         "figures/sweep_transitions.csv",
-        Tolerance(
+        _Tolerance(
             keys=("direction", "before", "after", "lower"),
             max_sensitive=0.2,
             why="transitions located between labels: a flip next to one moves it to another bracket",
@@ -186,23 +187,23 @@ TOLERANCES: tuple[tuple[str, Tolerance], ...] = (
     ("figures/design_response.csv", _POINTS),
     (
         "figures/claims_by_parameter.csv",
-        Tolerance(rtol=1e-2, keys=("parameter", "claim"), max_sensitive=0.1, why=_RESOLUTION),
+        _Tolerance(rtol=1e-2, keys=("parameter", "claim"), max_sensitive=0.1, why=_RESOLUTION),
     ),
-    ("paper/generated/claims_*", Tolerance(rtol=1e-2, why=_RESOLUTION)),
+    ("paper/generated/claims_*", _Tolerance(rtol=1e-2, why=_RESOLUTION)),
     (
         "figures/claims_*.json",
-        Tolerance(
+        _Tolerance(
             rtol=1e-2,
             by_name={"*refinement*": 4, "*reference_check.cycles": 3, "*solver_dependent_ends*": 2},
             why=_RESOLUTION + "; the reference check's counts and the ends marked solver-dependent, sensitive",
         ),
     ),
-    ("paper/generated/sweep_*", Tolerance(rtol=1e-2, why=_COUNTS)),
-    ("paper/generated/lyapunov_*", Tolerance(rtol=1e-2, why=_COUNTS)),
-    ("figures/lyapunov_*.json", Tolerance(rtol=1e-2, why=_COUNTS)),
+    ("paper/generated/sweep_*", _Tolerance(rtol=1e-2, why=_COUNTS)),
+    ("paper/generated/lyapunov_*", _Tolerance(rtol=1e-2, why=_COUNTS)),
+    ("figures/lyapunov_*.json", _Tolerance(rtol=1e-2, why=_COUNTS)),
     (
         "figures/readme_summary.md",
-        Tolerance(rtol=1e-2, why="the README's numbers: counts and intervals as their records"),
+        _Tolerance(rtol=1e-2, why="the README's numbers: counts and intervals as their records"),
     ),
 )
 
@@ -259,7 +260,7 @@ def column_of(name: str) -> Column | None:
     return None
 
 
-def tolerance_of(path: str) -> Tolerance:
+def tolerance_of(path: str) -> _Tolerance:
     """The tolerance of record ``path`` (relative to the repository, '/' separated)."""
     for pattern, tolerance in TOLERANCES:
         if fnmatch(path, pattern):

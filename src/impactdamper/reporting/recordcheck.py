@@ -35,19 +35,14 @@ from .record_tolerances import (
 )
 
 __all__ = [
-    "FileVerdict",
-    "Comparison",
     "check_record",
-    "compare_text",
     "emulation_summary",
     "reproducibility_macros",
-    "record_source",
-    "summary_line",
 ]
 
 
 @dataclass
-class Comparison:
+class _Comparison:
     """What one file's comparison found."""
 
     numbers: int = 0  # numbers that differ (equal text is not counted)
@@ -57,7 +52,7 @@ class Comparison:
     sensitive: int = 0  # points whose label differs at a sensitive point (or rows in one record only)
     problems: list[str] = field(default_factory=list)  # each a failure, first shown
 
-    def merge(self, other: Comparison) -> None:
+    def merge(self, other: _Comparison) -> None:
         self.numbers += other.numbers
         self.problems += other.problems
         if other.worst > self.worst:
@@ -75,7 +70,7 @@ class Comparison:
 
 
 @dataclass
-class FileVerdict:
+class _FileVerdict:
     path: str
     status: str  # "pass", "fail", "skip"
     detail: str
@@ -101,7 +96,7 @@ def _number_tol(a: float, b: float, tol, name: str = "") -> float:
     return rtol * max(abs(a), abs(b)) + atol
 
 
-def _cells(a: str, b: str, tol, comparison: Comparison, where: str, name: str = "", chatter=False) -> bool:
+def _cells(a: str, b: str, tol, comparison: _Comparison, where: str, name: str = "", chatter=False) -> bool:
     """Compare two cells (column ``name``; ``chatter``: of a chattering point); True when they
     are labels that differ (or a chatter sequence's count)."""
     if a == b:
@@ -144,7 +139,7 @@ def _compare_rows(ref, new, header, tol, comparison, positions) -> None:
     label) has its numbers left out, and so has a start handed on from such a row."""
     labels_a, labels_b, differ, moved = {}, {}, [], {}
     for pos, ra, rb in zip(positions, ref, new):
-        row = Comparison()
+        row = _Comparison()
         chatter = any(c == "chatter" or c.startswith("c/") for c in ra + rb)
         labels_a[pos] = tuple(c for c, name in zip(ra, header) if name in LABEL_COLUMNS)
         labels_b[pos] = tuple(c for c, name in zip(rb, header) if name in LABEL_COLUMNS)
@@ -179,8 +174,8 @@ def _compare_rows(ref, new, header, tol, comparison, positions) -> None:
             comparison.problems.append(f"{pos}: label {labels_b[pos]} against {labels_a[pos]} at no sensitive point")
 
 
-def compare_csv(ref_text: str, new_text: str, tol) -> Comparison:
-    comparison = Comparison()
+def _compare_csv(ref_text: str, new_text: str, tol) -> _Comparison:
+    comparison = _Comparison()
     ref, new = _read_csv(ref_text), _read_csv(new_text)
     if not ref or not new or ref[0] != new[0] and not tol.matrix:
         comparison.problems.append("header differs" if ref and new else "empty")
@@ -207,7 +202,7 @@ def compare_csv(ref_text: str, new_text: str, tol) -> Comparison:
     return comparison
 
 
-def _compare_matrix(ref, new, tol, comparison) -> Comparison:
+def _compare_matrix(ref, new, tol, comparison) -> _Comparison:
     """A map: the header's coordinates and the rows' first cells as numbers, the cells as labels."""
     rows_a = [r for r in ref if r and r[0] != ref[0][0]]
     rows_b = [r for r in new if r and r[0] != ref[0][0]]
@@ -254,8 +249,8 @@ def _by_name(tol, name: str) -> float | None:
     return None
 
 
-def compare_json(ref_text: str, new_text: str, tol, skip_keys=()) -> Comparison:
-    comparison = Comparison()
+def _compare_json(ref_text: str, new_text: str, tol, skip_keys=()) -> _Comparison:
+    comparison = _Comparison()
     a, b = dict(_leaves(json.loads(ref_text))), dict(_leaves(json.loads(new_text)))
     for path, x in a.items():
         if any(k in path for k in SENSITIVE_KEYS):
@@ -291,11 +286,11 @@ def _printed(token: str) -> tuple[float, float]:
     return float(plain), 10.0 ** (int(exponent or 0) - decimals)
 
 
-def compare_text(ref_text: str, new_text: str, tol) -> Comparison:
+def _compare_text(ref_text: str, new_text: str, tol) -> _Comparison:
     """TeX macros, tables and Markdown: the text with its numbers taken out must be the same; each
     number within the tolerance or one unit of its last printed digit (a macro's ``by_name``
     tolerance added)."""
-    comparison = Comparison()
+    comparison = _Comparison()
     ref_lines, new_lines = ref_text.splitlines(), new_text.splitlines()
     if len(ref_lines) != len(new_lines):
         comparison.problems.append(f"{len(new_lines)} lines against {len(ref_lines)}")
@@ -313,9 +308,9 @@ def compare_text(ref_text: str, new_text: str, tol) -> Comparison:
     return comparison
 
 
-def _compare_line(la: str, lb: str, tol, where: str, name: str = "") -> Comparison:
+def _compare_line(la: str, lb: str, tol, where: str, name: str = "") -> _Comparison:
     """One line of text (or a JSON string): the same words, numbers within their tolerance."""
-    comparison = Comparison()
+    comparison = _Comparison()
     if _NUMBER.sub("#", la) != _NUMBER.sub("#", lb):
         comparison.problems.append(f"{where}: text differs")
         return comparison
@@ -326,7 +321,7 @@ def _compare_line(la: str, lb: str, tol, where: str, name: str = "") -> Comparis
     return comparison
 
 
-class record_source:
+class _record_source:
     """The files of a record: a directory, or a git revision of repository ``repo``."""
 
     def __init__(self, where: str, repo: Path):
@@ -372,19 +367,19 @@ def _timing(repo_texts) -> dict[str, object]:
     return {**out, **dict.fromkeys(TIMING_FILES, "all")}
 
 
-def compare_file(path: str, ref_text: str, new_text: str, timing_columns=(), overrides=None) -> FileVerdict:
+def _compare_file(path: str, ref_text: str, new_text: str, timing_columns=(), overrides=None) -> _FileVerdict:
     """One file's verdict (``overrides``: {record: {field: value}} over the table's tolerance)."""
     tol = tolerance_of(path)
     if overrides and path in overrides:
         tol = replace(tol, **overrides[path])
     if ref_text == new_text:
-        return FileVerdict(path, "pass", "identical")
+        return _FileVerdict(path, "pass", "identical")
     if path.endswith(".csv"):
-        comparison = compare_csv(_drop_columns(ref_text, timing_columns), _drop_columns(new_text, timing_columns), tol)
+        comparison = _compare_csv(_drop_columns(ref_text, timing_columns), _drop_columns(new_text, timing_columns), tol)
     elif path.endswith(".json"):
-        comparison = compare_json(ref_text, new_text, tol, timing_columns)
+        comparison = _compare_json(ref_text, new_text, tol, timing_columns)
     else:
-        comparison = compare_text(ref_text, new_text, tol)
+        comparison = _compare_text(ref_text, new_text, tol)
     allowed = math.floor(tol.max_sensitive * comparison.points)
     if comparison.sensitive > allowed:
         comparison.problems.append(
@@ -401,7 +396,7 @@ def compare_file(path: str, ref_text: str, new_text: str, timing_columns=(), ove
     if comparison.problems:
         more = len(comparison.problems) - 1
         detail = f"{comparison.problems[0]}" + (f" (and {more} more)" if more else "") + "; " + detail
-    return FileVerdict(path, status, detail, comparison.numbers, comparison.points, comparison.sensitive, allowed)
+    return _FileVerdict(path, status, detail, comparison.numbers, comparison.points, comparison.sensitive, allowed)
 
 
 def _drop_columns(text: str, columns) -> str:
@@ -414,35 +409,37 @@ def _drop_columns(text: str, columns) -> str:
     return out.getvalue()
 
 
-def check_record(new: str | Path, reference: str = "HEAD", repo: str | Path = ".", overrides=None) -> list[FileVerdict]:
+def check_record(
+    new: str | Path, reference: str = "HEAD", repo: str | Path = ".", overrides=None
+) -> list[_FileVerdict]:
     """Every file of ``reference``'s record compared with ``new``'s (module docstring). A reference
     directory may hold ``tolerances.json`` ({record: {field: value}}, e.g. a coarse record's
     larger fractions of sensitive points), which overrides the table for it."""
     repo = Path(repo)
     if overrides is None and Path(reference).is_dir() and (Path(reference) / "tolerances.json").is_file():
         overrides = json.loads((Path(reference) / "tolerances.json").read_text())["records"]
-    new_source, ref_source = record_source(str(new), repo), record_source(reference, repo)
+    new_source, ref_source = _record_source(str(new), repo), _record_source(reference, repo)
     if new_source.directory is None:
         raise ValueError(f"DIR: {new} is not a directory")
     timing = _timing(ref_source.text)
     verdicts = []
     for path in ref_source.files():
         if path.endswith(IMAGE_SUFFIXES):
-            verdicts.append(FileVerdict(path, "skip", "image: compared through its data files"))
+            verdicts.append(_FileVerdict(path, "skip", "image: compared through its data files"))
             continue
         if timing.get(path) == "all":
-            verdicts.append(FileVerdict(path, "skip", "timing file (figures/nondeterministic.json)"))
+            verdicts.append(_FileVerdict(path, "skip", "timing file (figures/nondeterministic.json)"))
             continue
         new_text = new_source.text(path)
         if new_text is None:
-            verdicts.append(FileVerdict(path, "fail", f"missing from {new_source.name}"))
+            verdicts.append(_FileVerdict(path, "fail", f"missing from {new_source.name}"))
             continue
         columns = timing.get(path, ())
-        verdicts.append(compare_file(path, ref_source.text(path), new_text, tuple(columns), overrides))
+        verdicts.append(_compare_file(path, ref_source.text(path), new_text, tuple(columns), overrides))
     return verdicts
 
 
-def summary_line(verdicts: list[FileVerdict]) -> str:
+def _summary_line(verdicts: list[_FileVerdict]) -> str:
     counts = {s: sum(v.status == s for v in verdicts) for s in ("pass", "fail", "skip")}
     sensitive = sum(v.sensitive for v in verdicts)
     points = sum(v.points for v in verdicts)
@@ -470,12 +467,12 @@ def check_record_command(new: str, against: str, as_json: bool, prog: str) -> in
         failed = any(v.status == "fail" for v in verdicts)
         print(
             json.dumps(
-                {"reproduces": not failed, "summary": summary_line(verdicts), "files": [asdict(v) for v in verdicts]},
+                {"reproduces": not failed, "summary": _summary_line(verdicts), "files": [asdict(v) for v in verdicts]},
                 indent=1,
             )
         )
     else:
-        print("\n".join([v.line() for v in verdicts] + [summary_line(verdicts)]))
+        print("\n".join([v.line() for v in verdicts] + [_summary_line(verdicts)]))
     return 1 if any(v.status == "fail" for v in verdicts) else 0
 
 
@@ -487,11 +484,11 @@ def _repository(new: str) -> Path:
     return Path(out.stdout.strip()) if out.returncode == 0 else Path(".")
 
 
-def emulation_summary(verdicts: list[FileVerdict]) -> dict:
+def emulation_summary(verdicts: list[_FileVerdict]) -> dict:
     """The counts of one check for a record (tools/coarse_record.py's emulation.json)."""
     return {
         "reproduces": not any(v.status == "fail" for v in verdicts),
-        "summary": summary_line(verdicts),
+        "summary": _summary_line(verdicts),
         "files": len(verdicts),
         "identical": sum(v.detail == "identical" for v in verdicts),
         "failed": sum(v.status == "fail" for v in verdicts),

@@ -26,13 +26,11 @@ __all__ = [
     "write_json",
     "read_json",
     "json_float",
-    "csv_cell",
     "write_csv",
     "read_csv",
     "cell_float",
     "split_floats",
     "joined",
-    "stage_logger",
     "start_stage",
     "run_stage",
     "say",
@@ -42,7 +40,6 @@ __all__ = [
     "write_chunk",
     "JOB_COST_DIR",
     "job_name",
-    "job_cpu_seconds",
 ]
 
 # Significant digits of floats in CSV records: far below any tolerance the record is compared
@@ -89,7 +86,7 @@ def json_float(x) -> float:
 BOOLEAN_CELLS = {"words": ("false", "true"), "digits": ("0", "1"), "python": ("False", "True")}
 
 
-def csv_cell(value, *, booleans: str = "words", float_format: str | None = CSV_FLOAT) -> str:
+def _csv_cell(value, *, booleans: str = "words", float_format: str | None = CSV_FLOAT) -> str:
     """One CSV cell: floats to ``float_format`` (non-finite and None empty; ``None``: Python's
     shortest round-trip form, ``nan`` and ``inf`` included, for the timing records), booleans
     as ``true``/``false`` (``booleans="words"``), ``1``/``0`` (``"digits"``) or
@@ -116,7 +113,7 @@ def write_csv(path, columns, rows, *, booleans: str = "words", float_format: str
         w = csv.writer(f, lineterminator="\n")
         w.writerow(list(columns))
         for row in rows:
-            w.writerow([csv_cell(row.get(c), booleans=booleans, float_format=float_format) for c in columns])
+            w.writerow([_csv_cell(row.get(c), booleans=booleans, float_format=float_format) for c in columns])
 
 
 def read_csv(path) -> list[dict]:
@@ -140,7 +137,7 @@ def joined(values, fmt: str = "{:.4g}") -> str:
     return ";".join(fmt.format(float(v)) for v in values)
 
 
-def stage_logger(log_path, name: str, *, timestamps: bool = False, library: bool = False) -> logging.Logger:
+def _stage_logger(log_path, name: str, *, timestamps: bool = False, library: bool = False) -> logging.Logger:
     """A logger writing progress lines to the rule's log file. ``library=True`` also routes
     the library's own ``impactdamper`` logger there (sweeps report their progress)."""
     Path(log_path).parent.mkdir(parents=True, exist_ok=True)
@@ -171,7 +168,7 @@ def job_name(rule: str, wildcards: dict) -> str:
     return rule + "".join(f"-{wildcards[k]}" for k in sorted(wildcards))
 
 
-def job_cpu_seconds() -> dict:
+def _job_cpu_seconds() -> dict:
     """This process's CPU time and its waited-for children's (pools joined, subprocesses
     finished), user and system, s."""
     import resource
@@ -186,7 +183,7 @@ def _record_job_cost(rule: str, wildcards: dict, pid: int) -> None:
         return
     path = Path(JOB_COST_DIR) / f"{job_name(rule, wildcards)}.json"
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps({**job_cpu_seconds(), "end": time.time()}) + "\n")
+    path.write_text(json.dumps({**_job_cpu_seconds(), "end": time.time()}) + "\n")
 
 
 def start_stage(sm, name: str | None = None, *, timestamps: bool = False, library: bool = False):
@@ -221,7 +218,7 @@ def start_stage(sm, name: str | None = None, *, timestamps: bool = False, librar
 
         sys.stderr = open(sm.log[0], "w")  # noqa: SIM115 (open for the job's life)
     else:
-        log = stage_logger(sm.log[0], name, timestamps=timestamps, library=library)
+        log = _stage_logger(sm.log[0], name, timestamps=timestamps, library=library)
     params = {}
     for key, value in sm.params.items():
         if isinstance(value, str) and value.startswith("{"):

@@ -52,7 +52,6 @@ __all__ = [
     "file_problem",
     "problem",
     "check",
-    "output_root_problem",
     "grid_sizes",
     "CONFIG_ORDER",
 ]
@@ -154,7 +153,7 @@ def _map_against_itself(config: dict) -> Problem | None:
     return None
 
 
-def output_root_problem(root) -> Problem | None:
+def _output_root_problem(root) -> Problem | None:
     """Whether ``root`` (config ``output_root``) may hold a run's outputs: ``"."`` (the
     repository itself, the committed record) or a relative path under ``results/`` (the
     git-ignored scratch), such as ``results/ci``. Refused: ``/`` and every absolute path, a path
@@ -243,7 +242,7 @@ def problem(config: dict, schema: dict) -> Problem | None:
         lambda c: _schema_error(c, schema),
         _disordered,
         _map_against_itself,
-        lambda c: output_root_problem(c["output_root"]) if "output_root" in c else None,
+        lambda c: _output_root_problem(c["output_root"]) if "output_root" in c else None,
     ):
         found = check_one(config)
         if found is not None:

@@ -14,7 +14,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
-__all__ = ["Interval", "_bisect", "true_runs", "true_intervals", "intersect", "_claim_intervals", "distance_to"]
+__all__ = ["Interval", "true_runs", "true_intervals", "intersect", "distance_to"]
 
 
 @dataclass(frozen=True)

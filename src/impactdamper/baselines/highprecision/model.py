@@ -21,7 +21,6 @@ __all__ = [
     "DIGITS",
     "HighPrecisionError",
     "MPModel",
-    "_MPSegment",
     "MPImpact",
     "exact_mpf",
     "first_impacts",

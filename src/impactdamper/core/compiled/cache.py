@@ -22,7 +22,7 @@ from pathlib import Path
 STAMP_NAME = "sources.sha256"
 
 
-def sources_digest(sources: list[Path]) -> str:
+def _sources_digest(sources: list[Path]) -> str:
     """sha256 over the files' names (with their folder's, not where the checkout lies) and
     contents, in that order."""
     h = hashlib.sha256()
@@ -33,11 +33,11 @@ def sources_digest(sources: list[Path]) -> str:
     return h.hexdigest()
 
 
-def clear_if_stale(cache_dir: Path, sources: list[Path]) -> bool:
+def _clear_if_stale(cache_dir: Path, sources: list[Path]) -> bool:
     """Remove numba's cached kernels (``*.nbi``, ``*.nbc``) from ``cache_dir`` unless its stamp
     matches the sources' digest, then stamp it. Returns whether it removed any. A directory it
     cannot write is left as it is (numba then caches elsewhere)."""
-    digest = sources_digest(sources)
+    digest = _sources_digest(sources)
     stamp = cache_dir / STAMP_NAME
     try:
         if stamp.is_file() and stamp.read_text().strip() == digest:
@@ -62,4 +62,4 @@ def keep_in_step() -> bool:
         return False
     here = Path(__file__).resolve().parent
     sources = sorted(here.glob("*.py")) + sorted(here.parent.glob("*.py"))
-    return clear_if_stale(here / "__pycache__", sources)
+    return _clear_if_stale(here / "__pycache__", sources)

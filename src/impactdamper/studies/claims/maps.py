@@ -243,7 +243,7 @@ def _check_filled(cells, rows: dict, filled, nx: int, ny: int, check_every: int)
         check.update(rows=len(check_rows), cells=len(check_rows) * nx, filled=len(todo))
         for ij, r in zip(todo, fresh):
             check["differences"] += _cell_key(r) != _cell_key(rows[ij])
-            check["label_differences"] += map_label(r) != map_label(rows[ij])
+            check["label_differences"] += _map_label(r) != _map_label(rows[ij])
         check["share"] = check["differences"] / check["cells"] if check["cells"] else 0.0
     return check
 
@@ -264,7 +264,7 @@ def _true(v) -> bool:
     return v is True or str(v).lower() == "true"
 
 
-def map_label(row: dict) -> str:
+def _map_label(row: dict) -> str:
     """A map point's label: ``np`` when Algorithm No. 2 did not settle (regime nonperiodic),
     otherwise ``both``, ``a``, ``b`` or ``neither`` (which of the paper's claims hold).
     Accepts rows of :func:`claims_map` or of its CSV record."""
@@ -306,7 +306,7 @@ def _lattice_labels(base: Sequence[dict], x_axis: tuple, y_axis: tuple, s: int) 
         off = max(abs(float(r["x"]) - (x0 + i * dx)) / dx, abs(float(r["y"]) - (y0 + j * dy)) / dy)
         if not (0 <= i < nx and 0 <= j < ny) or off > 1e-6:
             raise ValueError(f"`base` point ({r['x']}, {r['y']}) is not allowed: not on the {nx} x {ny} grid")
-        label[(i * s, j * s)] = map_label(r)
+        label[(i * s, j * s)] = _map_label(r)
     if len(label) != nx * ny:
         raise ValueError(f"`base` has {len(label)} distinct grid points: must have all {nx} x {ny}")
     return label
@@ -400,7 +400,7 @@ def _refine_levels(cells, label: dict, blocks: list, levels: int) -> tuple[list[
         level = len(per_level) + 1
         per_level.append(len(points))
         added.extend(dict(r, level=level) for r in rows)
-        return [map_label(r) for r in rows]
+        return [_map_label(r) for r in rows]
 
     _, _, rounds = refine_lattice(
         label, blocks, evaluate, lambda labels: len(set(labels)) > 1 or "np" in labels, max_rounds=levels

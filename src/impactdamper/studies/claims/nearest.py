@@ -52,7 +52,7 @@ from impactdamper.studies.claims.claims_evaluator import (
     robust,
 )
 
-__all__ = ["ray_search", "robust_start", "compass_search", "margin_check", "nearest_set"]
+__all__ = ["nearest_set"]
 
 
 def _key(u: np.ndarray, which: str) -> tuple:
@@ -61,7 +61,7 @@ def _key(u: np.ndarray, which: str) -> tuple:
     return (round(float(norm(u, which)), 12), round(float(norm(u, other)), 12))
 
 
-def ray_directions(rays: int, seed: int) -> np.ndarray:
+def _ray_directions(rays: int, seed: int) -> np.ndarray:
     """The rays' directions: the 14 axes +-e_i (one parameter alone), the 84 diagonals
     (+-e_i +-e_j)/sqrt 2 (two parameters alike), then ``rays`` random directions (seeded,
     uniform on the sphere), each of unit Euclidean length."""
@@ -80,7 +80,7 @@ def ray_directions(rays: int, seed: int) -> np.ndarray:
     return np.array(out)
 
 
-def ray_search(ev: ClaimsEvaluator, directions: np.ndarray, step: float, t_max: float, tol: float) -> list[dict]:
+def _ray_search(ev: ClaimsEvaluator, directions: np.ndarray, step: float, t_max: float, tol: float) -> list[dict]:
     """First point along each ray u = t d (d unit Euclidean) where both claims hold: all rays
     stepped together by ``step`` up to ``t_max``, the first hit bisected to ``tol``.
 
@@ -113,7 +113,7 @@ def ray_search(ev: ClaimsEvaluator, directions: np.ndarray, step: float, t_max: 
     ]
 
 
-def robust_start(ev: ClaimsEvaluator, u_hit: np.ndarray, margin: float, tries: int = 24) -> np.ndarray | None:
+def _robust_start(ev: ClaimsEvaluator, u_hit: np.ndarray, margin: float, tries: int = 24) -> np.ndarray | None:
     """A robust point just beyond a ray's first hit: u_hit (1 + j margin / (2 |u_hit|)),
     j = 1..``tries``, the first robust one (None: none)."""
     u_hit = np.asarray(u_hit, float)
@@ -123,7 +123,7 @@ def robust_start(ev: ClaimsEvaluator, u_hit: np.ndarray, margin: float, tries: i
     return cands[int(np.argmax(ok))] if ok.any() else None
 
 
-def compass_search(
+def _compass_search(
     ev: ClaimsEvaluator, u0: np.ndarray, which: str, margin: float, step: float, floor: float, max_iterations: int = 200
 ) -> tuple[np.ndarray, int]:
     """Lower the ``which`` norm of a robust point while it stays robust (:func:`robust`), by the
@@ -170,7 +170,7 @@ def compass_search(
     return u[0], it
 
 
-def margin_check(ev: ClaimsEvaluator, u: np.ndarray, margin: float, which: str, random_points: int, seed: int) -> dict:
+def _margin_check(ev: ClaimsEvaluator, u: np.ndarray, margin: float, which: str, random_points: int, seed: int) -> dict:
     """Both claims at ``u``'s centre, its 14 axis points and ``random_points`` random points on
     the ball (cube for the max-norm) of radius ``margin``: how many hold."""
     off = ball_offsets(margin, which, random_points, seed)
@@ -216,8 +216,8 @@ def nearest_set(
         ``iterations``, ``margin_check`` (:func:`margin_check`); ``points`` evaluated.
     """
     say = log or (lambda msg: None)
-    D = ray_directions(rays, seed)
-    hits = ray_search(ev, D, ray_step, ray_max, ray_tol)
+    D = _ray_directions(rays, seed)
+    hits = _ray_search(ev, D, ray_step, ray_max, ray_tol)
     say(f"rays: {len(hits)} of {rays} reach both claims within {ray_max:g}; {ev.points} points")
     out = {
         "rays": {
@@ -242,11 +242,11 @@ def nearest_set(
         }
         best, best_it = None, 0
         for h in ranked[: int(starts)]:
-            u0 = robust_start(ev, np.array(h["u"]), margin)
+            u0 = _robust_start(ev, np.array(h["u"]), margin)
             if u0 is None:
                 say(f"{which}: ray {h['ray']} has no robust point just beyond its hit")
                 continue
-            u, it = compass_search(ev, u0, which, margin, compass_step, compass_floor)
+            u, it = _compass_search(ev, u0, which, margin, compass_step, compass_floor)
             say(
                 f"{which}: ray {h['ray']} hit at {norm(np.array(h['u']), which):.4f}, refined to "
                 f"{norm(u, which):.4f} in {it} iterations; {ev.points} points"
@@ -262,7 +262,7 @@ def nearest_set(
             "values": dict(zip(NEAREST_NAMES, map(float, ev.values(best)[0]))),
             "distance": {"max": float(norm(best, "max")), "euclidean": float(norm(best, "euclidean"))},
             "iterations": int(best_it),
-            "margin_check": margin_check(check or ev, best, margin, "euclidean", ball_points, seed),
+            "margin_check": _margin_check(check or ev, best, margin, "euclidean", ball_points, seed),
         }
     out["points"] = ev.points
     out["batch_points"] = ev.batch_points

@@ -56,7 +56,7 @@ ANSWER = (
 )
 
 
-def round_text(rows: list[dict], tex: bool) -> str:
+def _round_text(rows: list[dict], tex: bool) -> str:
     """The reproducing round values, nearest first: "theta = 0.9 (10.0 %), ..." with a note
     where the margin ball fails."""
     parts = []
@@ -75,12 +75,12 @@ def round_text(rows: list[dict], tex: bool) -> str:
 ROUND = (
     Macro("RoundCandidates", "candidates", COUNT),
     Macro("RoundReproducing", lambda rv: len(rv["rows"]), COUNT),
-    Macro("RoundList", lambda rv: round_text(rv["rows"], True), text=lambda rv: round_text(rv["rows"], False)),
+    Macro("RoundList", lambda rv: _round_text(rv["rows"], True), text=lambda rv: _round_text(rv["rows"], False)),
     Macro(
-        "RoundTuningList", lambda rv: round_text(rv["tuning"], True), text=lambda rv: round_text(rv["tuning"], False)
+        "RoundTuningList", lambda rv: _round_text(rv["tuning"], True), text=lambda rv: _round_text(rv["tuning"], False)
     ),
     Macro("RoundAgreeCount", lambda rv: sum(r["verification"]["agree"] for r in rv["rows"]), COUNT),
-    Macro("RoundOffList", lambda rv: round_text(rv["off"], True) if rv["off"] else "none"),
+    Macro("RoundOffList", lambda rv: _round_text(rv["off"], True) if rv["off"] else "none"),
     # compared with a tolerance: three digits, so that a value just above it never prints as it
     Macro("RoundOffVelocityDiff", "off.0?.verification.claim_b.max_velocity_difference_rel", sci(2)),
 )
@@ -115,7 +115,7 @@ GRID = (
 
 
 # The filled points of every map's check rows (computed in full as well), in words.
-def filled_check_text(grids: dict) -> str:
+def _filled_check_text(grids: dict) -> str:
     """How many filled points of the maps' check rows differ from their computed values, in
     words (``none of the 495 ...`` rather than a row of zeros)."""
     filled = sum(g["check"]["filled"] for g in grids.values())
@@ -134,7 +134,7 @@ END_CHECKS = (
 )
 
 
-def map_tag(name: str) -> str:
+def _map_tag(name: str) -> str:
     """A pair map's part of the macro names: its parameters' (``theta_gap`` -> ``ThetaGap``)."""
     parts = name.split("_")
     return "".join(SPEC[p].macro for p in parts) if all(p in SPEC for p in parts) else name.replace("_", "")
@@ -185,11 +185,11 @@ def macros(nearest: dict, search: dict, maps: dict, located: dict, grids: dict |
     dep = [(n, x) for n in SEARCH_PARAMETERS for x in search["parameters"][n]["solver_dependent_ends"]]
     m.extend(macro_lines(REFINEMENT, {"refine_levels": search["refine_levels"], "per": per, "dep": dep}))
     for name, map_rows in maps.items():
-        m.extend(macro_lines(MAP, map_rows, M=map_tag(name)))
+        m.extend(macro_lines(MAP, map_rows, M=_map_tag(name)))
         if grids and name in grids:
-            m.extend(macro_lines(GRID, grids[name], M=map_tag(name)))
+            m.extend(macro_lines(GRID, grids[name], M=_map_tag(name)))
     if grids:
-        m.add("MapsFilledCheckText", filled_check_text(grids))
+        m.add("MapsFilledCheckText", _filled_check_text(grids))
     m.extend(macro_lines(END_CHECKS, count_end_checks(located["end_checks"])))
     return m
 

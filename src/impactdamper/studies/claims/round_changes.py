@@ -18,11 +18,13 @@ import numpy as np
 
 from impactdamper.studies.claims.claims_evaluator import NEAREST_NAMES, ClaimsEvaluator, norm, robust
 
-__all__ = ["round_candidates", "round_values", "tuning_condition"]
+__all__ = [
+    "round_values",
+]
 
 
 # --- round values -------------------------------------------------------------------------
-def round_candidates(name: str, stated: float, lo: float, hi: float) -> list[float]:
+def _round_candidates(name: str, stated: float, lo: float, hi: float) -> list[float]:
     """Values of ``name`` that differ from ``stated`` (as the paper writes it, e.g. 0.08, -5.8)
     in one significant digit, within [lo, hi]: one digit replaced by another (a leading digit
     by a non-zero one), or one unit of the last stated digit up or down (a lone 1 read as 1.0:
@@ -64,7 +66,7 @@ def round_values(ev: ClaimsEvaluator, ranges: dict, margin: float) -> dict:
     singles = []
     for j, n in enumerate(NEAREST_NAMES):
         lo, hi = ranges[n]
-        for v in round_candidates(n, stated[j], lo, hi):
+        for v in _round_candidates(n, stated[j], lo, hi):
             u = np.zeros(len(NEAREST_NAMES))
             u[j] = v / stated[j] - 1.0
             singles.append(({n: v}, u))
@@ -88,7 +90,7 @@ def round_values(ev: ClaimsEvaluator, ranges: dict, margin: float) -> dict:
             "u": dict(zip(NEAREST_NAMES, map(float, u))),
             "distance": {"max": float(norm(u, "max")), "euclidean": float(norm(u, "euclidean"))},
             "robust": bool(r),
-            "keeps_tuning_condition": tuning_condition(c),
+            "keeps_tuning_condition": _tuning_condition(c),
         }
         for (c, u), r in zip(rep, rob)
     ]
@@ -96,7 +98,7 @@ def round_values(ev: ClaimsEvaluator, ranges: dict, margin: float) -> dict:
     return {"candidates": len(sets), "changed": changed if rows else None, "reproducing": rows}
 
 
-def tuning_condition(changes: dict) -> bool:
+def _tuning_condition(changes: dict) -> bool:
     """Whether a change keeps the paper's tuning 2 sqrt(c2/m2) = sqrt(c1/m1) = omega, i.e.
     N = omega2/omega1 = 1/2 and theta = omega/omega1 = 1 (the paper's choice of the reference
     case): true when neither theta nor N is changed."""

@@ -22,7 +22,6 @@ from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PER
 __all__ = [
     "SEARCH_PARAMETERS",
     "refine_grid",
-    "batch_rows",
     "search_parameter",
     "reference_check",
     "check_rows",
@@ -83,7 +82,7 @@ def refine_grid(
     return rows, rounds
 
 
-def batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None, workers: int = 1) -> list[dict]:
+def _batch_rows(p, name: str, xs: list, settings, longer_periods: int | None = None, workers: int = 1) -> list[dict]:
     """Algorithm No. 2 from the paper's step 1 at each value of ``name`` (the others as in
     ``p``), on the compiled batch (:func:`impactdamper.steady_states`, each point
     alone, ``settings``: its ``rescue`` tries the Newton rescue on a point that did not
@@ -281,14 +280,14 @@ def _search_refined(
     bisected: dict[float, dict] = {}
 
     def pred_b(x: float) -> bool:
-        row = batch_rows(p, name, [float(x)], settings, longer_periods)[0]
+        row = _batch_rows(p, name, [float(x)], settings, longer_periods)[0]
         bisected[float(x)] = dict(row, level=-1)
         return row["claim_b"]
 
     flags_a = map_blocks(lambda xs: [pred_a(x) for x in xs], list(alg1_values), workers, MIN_BLOCK)
     say(f"{name}: claim (a) on {len(alg1_values)} values, holds at {sum(flags_a)}")
     grid_b, rounds = refine_grid(
-        values, lambda xs: batch_rows(p, name, xs, settings, longer_periods, workers), refine_floor
+        values, lambda xs: _batch_rows(p, name, xs, settings, longer_periods, workers), refine_floor
     )
     xs = [r["value"] for r in grid_b]
     flags_b = [r["claim_b"] for r in grid_b]

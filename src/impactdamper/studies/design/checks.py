@@ -34,7 +34,7 @@ from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
 from impactdamper.studies.design.devices import IMPACT_NAMES
 
-__all__ = ["FINE_STEP", "SAMPLE_RTOL", "_fine_sweeps", "_ivp_peak", "floor_check", "located_peak_checks"]
+__all__ = ["FINE_STEP", "SAMPLE_RTOL", "located_peak_checks"]
 
 # The slow sweeps' step: ten times finer than the worst branch's grid.
 FINE_STEP = 0.002
@@ -57,7 +57,7 @@ def _fine_sweeps(p: Parameters, band: tuple, settings: SweepSettings, step: floa
     return {"largest": float(y[i]), "theta": float(res.values[i, 0]), "points": int(2 * n)}
 
 
-def floor_check(w: WorstBranch) -> dict | None:
+def _floor_check(w: WorstBranch) -> dict | None:
     """The floor's first contact against eq. 10 solved as a matrix (module docstring); None
     where the floor's largest value is not at a first contact."""
     f = w.floor
@@ -128,7 +128,7 @@ def located_peak_checks(cases: Sequence[tuple[str, Parameters]], band: tuple, se
     out, excess, shortfall, floors, ivps = {}, [], [], [], []
     for (name, p), w in zip(cases, ws):
         fine = _fine_sweeps(p, band, settings)
-        fl, iv = floor_check(w), _ivp_peak(w, settings)
+        fl, iv = _floor_check(w), _ivp_peak(w, settings)
         excess.append(fine["largest"] / w.peak - 1.0)
         shortfall.append(1.0 - fine["largest"] / _swept_peak(w))
         if fl is not None:

@@ -35,12 +35,10 @@ from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.parameters import RELATIVE_PARAMETERS, Parameters, finite_argument, require_parameters
 
 __all__ = [
-    "_GapChart",
     "CHART_COLUMNS",
     "AT_THETA_COLUMN",
     "gap_chart",
     "best_gap",
-    "_good_band",
     "design_chart_2d",
     "CRITERIA",
     "GOOD_GAP_TOLERANCE",
@@ -50,8 +48,6 @@ __all__ = [
     "design_band",
     "design_gaps",
     "response_gaps",
-    "_runs_where",
-    "_pulse_unit",
     "LinearDevice",
     "linear_maxima",
     "linear_peak",

@@ -52,12 +52,10 @@ __all__ = [
     "ROBUST",
     "Uncertainty",
     "Scenario",
-    "_scenario_case",
     "impact_parameters",
     "ImpactCriterion",
     "TmdCriterion",
     "impact_rows",
-    "_impact_loads",
     "tmd_row",
     "IMPACT_NAMES",
     "TMD_NAMES",
@@ -272,7 +270,7 @@ class ImpactCriterion:
             else:
                 v = max(scale * w.peak for w, scale in mine)
             if self.max_stroke is not None and fidelity != "coarse":
-                stroke = impact_stroke(mine[0][0])
+                stroke = _impact_stroke(mine[0][0])
                 v *= 1.0 + STROKE_PENALTY * max(0.0, stroke / self.max_stroke - 1.0)
             values.append(v)
         return np.array(values)
@@ -440,7 +438,7 @@ def _cycles(w):
                 yield float(t), s, int(k)
 
 
-def impact_stroke(w) -> float:
+def _impact_stroke(w) -> float:
     """max|x2 - x1|/x_st over the grid's settled cycles of a worst branch (:func:`_cycles`)."""
     return max((_cycle(w.p, t, s, k, STOP_STIFFNESS)["stroke"] for t, s, k in _cycles(w)), default=0.0)
 

@@ -40,12 +40,10 @@ from impactdamper.analysis.compass import compass
 
 __all__ = [
     "SPREAD_BEST",
-    "_starts_record",
     "Budget",
     "SearchResult",
     "search",
     "at_bound",
-    "_check_moves",
     "CHECK_MOVE",
     "CHECK_RTOL",
     "FIDELITIES",

@@ -214,7 +214,7 @@ def window_check(p: Parameters, runs) -> list[dict]:
     return out
 
 
-def rotation_per_cycle(sections: np.ndarray, k: int) -> float:
+def _rotation_per_cycle(sections: np.ndarray, k: int) -> float:
     """The mean angle (rad, >= 0) by which a motion's sections (relative units, one per forcing
     period) turn per k periods about their centre, in the plane of their two main directions:
     on a torus born at a Neimark-Sacker point of a k T cycle, near the angle of the complex pair
@@ -243,7 +243,7 @@ def torus_check(orbit_gap: float, gaps, transient: int, base: Parameters) -> dic
     for gap in gaps:
         p = base.replace(gap=float(gap))
         s = lyapunov_spectrum(p, backend="compiled", transient=int(transient))
-        turn = rotation_per_cycle(s.sections / state_scale(p), int(o.period_multiple))
+        turn = _rotation_per_cycle(s.sections / state_scale(p), int(o.period_multiple))
         rows.append({"gap": p.gap, "label": s.label, "rotation": turn, "difference": abs(turn - angle)})
     return {"orbit_gap": float(orbit_gap), "k": int(o.period_multiple), "angle": angle, "modulus": float(np.max(np.abs(complex_pair))), "motions": rows}  # fmt: skip
 

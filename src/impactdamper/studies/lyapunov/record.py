@@ -41,7 +41,7 @@ from impactdamper.reporting.texrecord import (
     time,
 )
 
-__all__ = ["RECORD_WHAT", "label_counts", "lyapunov_macros", "benettin_table", "timing"]
+__all__ = ["RECORD_WHAT", "lyapunov_macros", "benettin_table", "timing"]
 
 # What the stage's record holds (results/report/lyapunov.json).
 RECORD_WHAT = "Macros of the report's section 'Lyapunov exponents' (Lyapunov stage)"
@@ -55,7 +55,7 @@ LABEL_PARTS = {
 }
 
 
-def label_counts(rows: list[dict], former_np) -> dict:
+def _label_counts(rows: list[dict], former_np) -> dict:
     """Of the rows ``former_np`` selects (a predicate of a row): their number, and per label of
     :data:`~impactdamper.analysis.lyapunov.LABELS` the count and the share ("" labels: none)."""
     chosen = [r for r in rows if former_np(r)]
@@ -89,7 +89,7 @@ def upper(digits: int = 1) -> Format:
     return Format(lambda x: rf"\ensuremath{{{b.render(x)}}}", rf"\ensuremath{{{b.missing}}}")
 
 
-def quasi_points(sweep_rows: list[dict], special_rows: list[dict]) -> dict:
+def _quasi_points(sweep_rows: list[dict], special_rows: list[dict]) -> dict:
     """The gap sweep's points labelled quasi-periodic, each with its second exponent and its
     distance to the nearest Neimark-Sacker point of an admissible branch
     (figures/orbit_special_points.csv), and those points."""
@@ -116,7 +116,7 @@ def quasi_points(sweep_rows: list[dict], special_rows: list[dict]) -> dict:
     return {"ns_gaps": ns, "points": points}
 
 
-def settled_max(sweep_rows: list[dict], sweep_table: list[dict]) -> dict:
+def _settled_max(sweep_rows: list[dict], sweep_table: list[dict]) -> dict:
     """The point the sweep settled (not np) whose rerun has the largest exponent, with the
     sweep table's row for it (its label, how it was found, its largest multiplier): a rerun on
     a chaotic transient beside a stable cycle where the exponent is positive."""
@@ -154,7 +154,7 @@ def _far_rates(q: dict) -> str:
     return shown[0] if len(shown) == 1 else ", ".join(shown[:-1]) + " and " + shown[-1] if shown else "none"
 
 
-def up_fixed(digits: int) -> Format:
+def _up_fixed(digits: int) -> Format:
     """Fixed decimals rounded up (an "at most" distance)."""
     return Format(lambda x: latex.fixed(math.ceil(x * 10**digits) / 10**digits, digits))
 
@@ -244,7 +244,7 @@ MACROS = (
     Macro("LyapBackendsRegularGap", "checks.backends.0.gap", fixed(1)),
     Macro("LyapBackendsRegular", "checks.backends.0.difference", upper(1)),
     Macro("LyapBackendsChaoticGap", "checks.backends.1.gap", fixed(1)),
-    Macro("LyapBackendsChaoticSigma", "checks.backends.1.largest_in_errors", up_fixed(1)),
+    Macro("LyapBackendsChaoticSigma", "checks.backends.1.largest_in_errors", _up_fixed(1)),
     "% The independent check (figures/lyapunov_independent.json): Benettin on solve_ivp",
     *_family(
         "LyapIndep",
@@ -274,7 +274,7 @@ MACROS = (
     Macro("LyapTorusModulus", "checks.torus.modulus", fixed(3)),
     Macro("LyapTorusGaps", lambda s: _gaps([m["gap"] for m in s["checks"]["torus"]["motions"]])),
     Macro("LyapTorusTurns", lambda s: _numbers([m["rotation"] for m in s["checks"]["torus"]["motions"]], 4)),
-    Macro("LyapTorusDiffMax", lambda s: max(m["difference"] for m in s["checks"]["torus"]["motions"]), up_fixed(3)),
+    Macro("LyapTorusDiffMax", lambda s: max(m["difference"] for m in s["checks"]["torus"]["motions"]), _up_fixed(3)),
     "% The settled sweep point whose rerun has the largest exponent (figures/sweep_gap.csv)",
     *_family(
         "LyapSettledMax",
@@ -292,7 +292,7 @@ MACROS = (
     Macro(
         "LyapQuasiNearMax",
         lambda s: max((p["ns_distance"] for p in s["quasi"]["points"] if _near(p)), default=None),
-        up_fixed(3),
+        _up_fixed(3),
     ),
     Macro(
         "LyapQuasiNearSecond",
@@ -349,25 +349,25 @@ def lyapunov_macros(
         "defaults": {"blocks": DEFAULT_BLOCKS, "transient": DEFAULT_TRANSIENT, "warmup": DEFAULT_WARMUP},
         "run": section,
         "map_grid": section["map"],
-        "sweep": label_counts(sweep_rows, lambda r: r["label"] == "np"),
+        "sweep": _label_counts(sweep_rows, lambda r: r["label"] == "np"),
         "sweep_max": {"exponent": float(top["exponent"]), "value": float(top["value"])},
         "sweep_failed": len(sweep_rows) - len(exponents),
-        "map": label_counts(map_rows, lambda r: r["regime"] == "nonperiodic"),
+        "map": _label_counts(map_rows, lambda r: r["regime"] == "nonperiodic"),
         "map_positive": sum(float(r["exponent"]) > 0.0 for r in cells) / len(cells),
         "checks": checks,
         "independent": independent,
-        "quasi": quasi_points(sweep_rows, special_rows),
-        "settled_max": settled_max(sweep_rows, sweep_table),
+        "quasi": _quasi_points(sweep_rows, special_rows),
+        "settled_max": _settled_max(sweep_rows, sweep_table),
     }
     return MacroFile(macro_lines(MACROS, source))
 
 
-def math_fixed(digits: int) -> Format:
+def _math_fixed(digits: int) -> Format:
     """Fixed decimals in math mode (a table's cell: ``$-16.000$``)."""
     return Format(lambda x: f"${latex.fixed(x, digits)}$", f"${latex.MISSING}$")
 
 
-def math_bound(digits: int) -> Format:
+def _math_bound(digits: int) -> Format:
     """An upper bound in math mode (a table's cell: ``$3.3\\times10^{-6}$``): :func:`bound`."""
     b = bound(digits)
     return Format(lambda x: f"${b.render(x)}$", f"${latex.MISSING}$")
@@ -380,13 +380,13 @@ BENETTIN_TABLE = Table(
         r"$|\mathrm{difference}|$ & same motion"
     ),
     columns=(
-        Column("gap", math_fixed(3)),
-        Column("exponent", math_fixed(4)),
-        Column("error", math_fixed(4)),
-        Column("benettin", math_fixed(4)),
-        Column("benettin_error", math_fixed(4)),
-        Column("difference", math_fixed(4)),
-        Column("same_motion_difference", math_bound(2)),
+        Column("gap", _math_fixed(3)),
+        Column("exponent", _math_fixed(4)),
+        Column("error", _math_fixed(4)),
+        Column("benettin", _math_fixed(4)),
+        Column("benettin_error", _math_fixed(4)),
+        Column("difference", _math_fixed(4)),
+        Column("same_motion_difference", _math_bound(2)),
     ),
     comments=("Benettin's two-trajectory estimate against the largest exponent (lyapunov stage)",),
 )

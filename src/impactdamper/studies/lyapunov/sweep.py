@@ -22,7 +22,7 @@ from impactdamper.core.events import SearchLimitError
 from impactdamper.core.parameters import Parameters
 from impactdamper.core.validation import Tolerances
 
-__all__ = ["RunLengths", "COLUMNS", "NP", "start_state", "spectrum_row", "sweep_exponents"]
+__all__ = ["RunLengths", "COLUMNS", "NP", "start_state", "sweep_exponents"]
 
 # The sweep table's label of a point that did not settle within the cap.
 NP = "np"
@@ -80,7 +80,7 @@ def start_state(p: Parameters, row: dict) -> np.ndarray:
     return y
 
 
-def spectrum_row(row: dict, s: LyapunovSpectrum, label: bool) -> dict:
+def _spectrum_row(row: dict, s: LyapunovSpectrum, label: bool) -> dict:
     """One row of the exponents' table from a sweep row and its spectrum (``label``: its motion
     is labelled, else ""): with the largest exponent over each half of the window (and the
     halves' pooled error), and the cycle k T the motion settled onto by the window's end and the
@@ -137,7 +137,7 @@ def sweep_exponents(
             out.append({**dict.fromkeys(COLUMNS, ""), **{k: row[k] for k in ("direction", "index", "value", "label")}})
             out[-1].update(exponent=np.nan, error=np.nan, exponent2=np.nan, error2=np.nan, fallback="work bound")
             continue
-        out.append(spectrum_row(row, s, label))
+        out.append(_spectrum_row(row, s, label))
         if say and (n + 1) % 200 == 0:
             say(f"{n + 1} of {len(rows)} sweep points")
     return out

@@ -31,7 +31,6 @@ __all__ = [
     "MEASURED_AT_SETUP",
     "MEASURED_IN_RUN",
     "compile_times",
-    "_sources_fingerprint",
     "compile_record",
     "write_compile_record",
     "current_compile_record",

@@ -27,7 +27,7 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["FIRST_RULE", "_read_benchmark", "run_jobs", "summarize"]
+__all__ = ["FIRST_RULE", "run_jobs", "summarize"]
 
 # The run's first job: every job that runs compiled code waits for it (workflow/rules/common.smk).
 FIRST_RULE = "compiled_warm_up"

@@ -44,7 +44,6 @@ __all__ = [
     "check_gap_nonnegative",
     "check_impact_law",
     "check_reference",
-    "compare_with_ivp",
     "steady_end_time",
 ]
 
@@ -178,7 +177,7 @@ def _state_scale(states: np.ndarray, p: Parameters) -> np.ndarray:
     return np.array([pos, pos, vel, vel])
 
 
-def compare_with_ivp(p: Parameters, t0: float, state, t_end: float) -> tuple[bool, dict]:
+def _compare_with_ivp(p: Parameters, t0: float, state, t_end: float) -> tuple[bool, dict]:
     """Exact solver against the solve_ivp cross-check over [t0, t_end]: event kinds and times,
     and states on a grid (away from events, where velocities jump)."""
     exact = simulate(p, t_end, t0=t0, state=state)
@@ -247,7 +246,7 @@ def check_reference(case, p: Parameters, t0: float, state, s, traj) -> tuple[boo
         ok &= d <= MP_AMPLITUDE_TOL
     kinds.append("solve_ivp window")
     if window_end > t0:
-        ivp_ok, ivp_info = compare_with_ivp(p, t0, state, window_end)
+        ivp_ok, ivp_info = _compare_with_ivp(p, t0, state, window_end)
         info.update({f"ivp_{k}": v for k, v in ivp_info.items()})
         ok &= ivp_ok
     info["reference_kind"] = " + ".join(kinds)

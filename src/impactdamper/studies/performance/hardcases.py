@@ -42,13 +42,7 @@ from impactdamper.studies.performance.hardcase_checks import (
 from impactdamper.studies.vocabulary import SPEC
 
 __all__ = [
-    "HardCase",
-    "CaseResult",
-    "hard_cases",
-    "run_case",
     "run_suite",
-    "no_contact_threshold",
-    "alg1_onset_gap",
     "CHECKS",
     "ROW_COLUMNS",
 ]
@@ -67,7 +61,7 @@ CASE_WALL_LIMIT = 600
 
 
 @dataclass(frozen=True)
-class HardCase:
+class _HardCase:
     """One hard case.
 
     Attributes
@@ -112,13 +106,13 @@ class HardCase:
         raise ValueError(f"`start` = {self.start!r} is not allowed: must be default, forced_orbit or alg1_orbit")
 
 
-def no_contact_threshold(p: Parameters = REFERENCE) -> float:
+def _no_contact_threshold(p: Parameters = REFERENCE) -> float:
     """Delta0/x_st at which the no-contact forced response just touches the stop: its
     relative amplitude |x2p - x1p|/x_st (eq. 10), computed in mpmath."""
     return hp.forced_amplitudes_mp(p)["free_relative"]
 
 
-def alg1_onset_gap(p: Parameters = REFERENCE, start: float | None = None, step: float = 0.5) -> float:
+def _alg1_onset_gap(p: Parameters = REFERENCE, start: float | None = None, step: float = 0.5) -> float:
     """Delta0/x_st where Algorithm No. 1's orbit starts to cross the stop between impacts
     (its interior gap minimum reaches zero), searched downward from ``start`` (default the
     base gap) and bisected (brentq) to 1e-14."""
@@ -143,72 +137,74 @@ def alg1_onset_gap(p: Parameters = REFERENCE, start: float | None = None, step: 
     raise ValueError("Algorithm No. 1's orbit never crosses the stop below the start gap")
 
 
-def hard_cases(base: Parameters = REFERENCE) -> list[HardCase]:
+def _hard_cases(base: Parameters = REFERENCE) -> list[_HardCase]:
     """The suite (thresholds computed for ``base``)."""
-    g_touch = no_contact_threshold(base)
-    g_onset = alg1_onset_gap(base)
+    g_touch = _no_contact_threshold(base)
+    g_onset = _alg1_onset_gap(base)
     repeated_delta2 = 0.8829865207640838  # eq. (4) has a double root at N = 0.9 (solved in mpmath)
     gap, theta, mu = SPEC["gap"].symbol, SPEC["theta"].symbol, SPEC["mu"].symbol  # the labels' symbols
     d1, d2 = SPEC["delta1"].symbol, SPEC["delta2"].symbol
     undamped = {"delta1": 0.0, "delta2": 0.0}  # (and the conservative case: elastic besides)
     return [
-        HardCase(
+        _HardCase(
             "grazing_no_contact",
             f"${gap} = {g_touch:.6f}$ (no-contact threshold), start on the forced response",
             "zero-velocity grazing: the no-contact orbit touches the stop tangentially",
             {"gap": g_touch},
             start="forced_orbit",
         ),
-        HardCase(
+        _HardCase(
             "grazing_alg1_onset",
             f"${gap} = {g_onset:.6f}$ (onset of crossing), start on Alg.~1's orbit",
             "grazing inside the period: Algorithm No. 1's orbit touches the stop between impacts",
             {"gap": g_onset},
             start="alg1_orbit",
         ),
-        HardCase(
+        _HardCase(
             "chatter", f"${gap} = -13$", "impacts accumulating into persistent contact, and lift-off", {"gap": -13.0}
         ),
-        HardCase("plastic", r"$R = 0$", "plastic impacts: capture or separation at every impact", {"R": 0.0}),
-        HardCase(
+        _HardCase("plastic", r"$R = 0$", "plastic impacts: capture or separation at every impact", {"R": 0.0}),
+        _HardCase(
             "elastic", r"$R = 1$", "elastic impacts: no accumulation possible, energy kept at impacts", {"R": 1.0}
         ),
-        HardCase(
+        _HardCase(
             "zero_damping",
             f"${d1} = {d2} = 0$",
             "purely imaginary roots (no decay of the free motion)",
             undamped,
         ),
-        HardCase(
+        _HardCase(
             "conservative",
             f"${d1} = {d2} = 0$, $R = 1$",
             "no dissipation at all: the run can only end at its period limit",
             {**undamped, "R": 1.0},
         ),
-        HardCase(
+        _HardCase(
             "repeated_roots",
             f"$N = 0.9$, ${d2} = {repeated_delta2:.6f}$",
             "a double root of the paper's eq. (4): the modal form breaks, the matrix exponential takes over",
             {"N": 0.9, "delta2": repeated_delta2},
         ),
-        HardCase(
+        _HardCase(
             "light_damping",
             f"${d1} = {d2} = 10^{{-3}}$",
             "very light damping: long transients",
             {"delta1": 1e-3, "delta2": 1e-3},
         ),
-        HardCase("tiny_mass", f"${mu} = 10^{{-4}}$", "a suppressor $10^4$ times lighter than the object", {"mu": 1e-4}),
-        HardCase("stiff_suppressor", r"$N = 50$", "a suppressor frequency 50 times the object's (stiff)", {"N": 50.0}),
-        HardCase("slow_forcing", f"${theta} = 0.1$", "forcing far below resonance", {"theta": 0.1}),
-        HardCase("fast_forcing", f"${theta} = 10$", "forcing far above resonance", {"theta": 10.0}),
-        HardCase("zero_gap", r"$\Delta_0 = 0$", "the stop exactly at the static position", {"gap": 0.0}),
-        HardCase("large_positive_gap", f"${gap} = 10^3$", "a gap never closed again", {"gap": 1e3}),
-        HardCase("large_negative_gap", f"${gap} = -10^3$", "a huge preload: the bodies never separate", {"gap": -1e3}),
+        _HardCase(
+            "tiny_mass", f"${mu} = 10^{{-4}}$", "a suppressor $10^4$ times lighter than the object", {"mu": 1e-4}
+        ),
+        _HardCase("stiff_suppressor", r"$N = 50$", "a suppressor frequency 50 times the object's (stiff)", {"N": 50.0}),
+        _HardCase("slow_forcing", f"${theta} = 0.1$", "forcing far below resonance", {"theta": 0.1}),
+        _HardCase("fast_forcing", f"${theta} = 10$", "forcing far above resonance", {"theta": 10.0}),
+        _HardCase("zero_gap", r"$\Delta_0 = 0$", "the stop exactly at the static position", {"gap": 0.0}),
+        _HardCase("large_positive_gap", f"${gap} = 10^3$", "a gap never closed again", {"gap": 1e3}),
+        _HardCase("large_negative_gap", f"${gap} = -10^3$", "a huge preload: the bodies never separate", {"gap": -1e3}),
     ]
 
 
 @dataclass
-class CaseResult:
+class _CaseResult:
     """Outcome of one hard case."""
 
     name: str
@@ -292,7 +288,7 @@ def _did(s, run, touches: int) -> str:
     return text
 
 
-def run_case(case: HardCase, base: Parameters = REFERENCE, wall_limit: int = CASE_WALL_LIMIT) -> CaseResult:
+def _run_case(case: _HardCase, base: Parameters = REFERENCE, wall_limit: int = CASE_WALL_LIMIT) -> _CaseResult:
     """Run one hard case and all its checks."""
     p = case.parameters(base)
     t0, state = case.initial(p)
@@ -307,7 +303,7 @@ def run_case(case: HardCase, base: Parameters = REFERENCE, wall_limit: int = CAS
     except TimeoutError:
         cpu = time.process_time() - start
         checks = {c: False for c in CHECKS}
-        return CaseResult(
+        return _CaseResult(
             case.name,
             case.label,
             case.stresses,
@@ -339,7 +335,7 @@ def run_case(case: HardCase, base: Parameters = REFERENCE, wall_limit: int = CAS
     details.update(info)
     vscale = p.x_st * p.omega
     touches = sum(1 for e in traj.events if e.kind == "impact" and e.velocity < TOUCH_VELOCITY * vscale)
-    return CaseResult(
+    return _CaseResult(
         case.name,
         case.label,
         case.stresses,
@@ -356,9 +352,9 @@ def run_case(case: HardCase, base: Parameters = REFERENCE, wall_limit: int = CAS
     )
 
 
-def run_suite(base: Parameters = REFERENCE, names=None, log=print) -> list[CaseResult]:
+def run_suite(base: Parameters = REFERENCE, names=None, log=print) -> list[_CaseResult]:
     """Run every hard case (or those named)."""
-    cases = hard_cases(base)
+    cases = _hard_cases(base)
     if names is not None:
         unknown = set(names) - {c.name for c in cases}
         if unknown:
@@ -366,7 +362,7 @@ def run_suite(base: Parameters = REFERENCE, names=None, log=print) -> list[CaseR
         cases = [c for c in cases if c.name in names]
     out = []
     for case in cases:
-        r = run_case(case, base)
+        r = _run_case(case, base)
         log(
             f"[hard case] {case.name}: {r.did}; {r.cpu_seconds:.3f} s; "
             + ", ".join(f"{c}={'ok' if r.checks.get(c) else 'FAIL'}" for c in CHECKS)

@@ -44,12 +44,10 @@ from impactdamper.core.parameters import Parameters
 from impactdamper.core.simulate import Tolerances, simulate
 
 __all__ = [
-    "_Solution",
     "Method",
     "METHODS",
     "IVP_METHODS",
     "FAMILY_OF",
-    "_methods_of_family",
     "selected",
     "reported_alone",
 ]

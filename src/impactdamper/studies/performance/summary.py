@@ -15,7 +15,7 @@ import math
 from impactdamper.reporting.records import json_float
 from impactdamper.studies.performance.methods import IVP_METHODS, reported_alone
 
-__all__ = ["met", "meets", "_report_summary", "compiled_speed", "summarize", "COMPILED_MAP_TARGET_SIZE"]
+__all__ = ["met", "compiled_speed", "summarize", "COMPILED_MAP_TARGET_SIZE"]
 
 
 def met(value: float, target: float, at_most: bool) -> str:
@@ -26,7 +26,7 @@ def met(value: float, target: float, at_most: bool) -> str:
     return "met" if (value <= target if at_most else value >= target) else "not met"
 
 
-def meets(value: float, target: float, at_most: bool) -> bool:
+def _meets(value: float, target: float, at_most: bool) -> bool:
     """Whether ``value`` meets ``target`` (:func:`met`); never where either is missing."""
     return met(value, target, at_most) == "met"
 
@@ -57,7 +57,9 @@ def _report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -
         c = {
             "exact_best_error": json_float(exact["best_error"]),
             "exact_cost": json_float(exact["min_cost"]),
-            "exact_phase_target_met": meets(json_float(exact["best_error"]), float(perf["phase_target"]), at_most=True),
+            "exact_phase_target_met": _meets(
+                json_float(exact["best_error"]), float(perf["phase_target"]), at_most=True
+            ),
             "best_ivp_error": ivp_best.get(best_ivp_method, math.inf) if best_ivp_method else math.inf,
             "best_ivp_error_method": best_ivp_method,
             "levels": {},
@@ -76,7 +78,7 @@ def _report_summary(wp: dict, growth: dict, hard: dict, ref: dict, perf: dict) -
                 "best_ivp_method": sp["best_ivp_method"],
                 "best_ivp_cost": json_float(sp["best_ivp_cost"]),
                 "exact_cost": exact_t,
-                "speedup_met": meets(speedup, float(perf["speedup_target"]), at_most=False),
+                "speedup_met": _meets(speedup, float(perf["speedup_target"]), at_most=False),
                 "speedup_vs_rk4": rk4 / exact_t if math.isfinite(rk4) and math.isfinite(exact_t) else math.inf,
             }
         out["cases"][case] = c

@@ -50,7 +50,6 @@ __all__ = [
     "Reference",
     "Run",
     "RUN_COLUMNS",
-    "_build_references",
     "cpu_time",
     "measure",
     "run_study",

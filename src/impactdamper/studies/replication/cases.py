@@ -35,7 +35,6 @@ __all__ = [
     "claim_b",
     "parameters",
     "solver_options",
-    "next_cycle_impact",
     "alg1_summary",
     "steady_summary",
     "grid",
@@ -56,7 +55,7 @@ solver_options = steady_options
 
 
 # --- cases ----------------------------------------------------------------------------------
-def next_cycle_impact(s):
+def _next_cycle_impact(s):
     """The first impact of the next repetition of the settled cycle (the paper's t4), or None."""
     T = s.p.T
     t_next = s.cycle_start + s.cycle_duration - 1e-9 * T
@@ -89,7 +88,7 @@ def steady_summary(s) -> dict:
         }
         for i, imp in enumerate(s.impacts)
     ]
-    nxt = next_cycle_impact(s)
+    nxt = _next_cycle_impact(s)
     if nxt is not None and s.settled and s.impacts:
         rows.append(
             {

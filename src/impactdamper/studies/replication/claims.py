@@ -27,7 +27,6 @@ __all__ = [
     "CLAIM_B_IMPACTS",
     "claim_a",
     "claim_b",
-    "CycleComparison",
     "compare_cycles",
 ]
 
@@ -54,7 +53,7 @@ def claim_b(steady) -> bool:
 
 # --- the aligned cross-check of two settled cycles ------------------------------------------
 @dataclass(frozen=True)
-class CycleComparison:
+class _CycleComparison:
     """Two settled cycles compared impact by impact, aligned by forcing phase.
 
     Attributes
@@ -102,7 +101,7 @@ def _circular(d: float, k: int) -> float:
 
 def compare_cycles(
     a: Sequence, k_a: int, b: Sequence, k_b: int, T: float, velocity_scale: float, time_tol: float, velocity_tol: float
-) -> CycleComparison:
+) -> _CycleComparison:
     """Compare settled cycle ``a`` (impacts with ``.t`` in s and ``.velocity`` in m/s, or
     ``(t, velocity)`` pairs) with cycle ``b``.
 
@@ -131,15 +130,15 @@ def compare_cycles(
     ta, tb = _time_velocity(a), _time_velocity(b)
     counts, ks = (len(ta), len(tb)), (int(k_a), int(k_b))
 
-    def fail(reason: str) -> CycleComparison:
-        return CycleComparison(ks, counts, 0, 0, math.inf, math.inf, time_tol, velocity_tol, False, reason)
+    def fail(reason: str) -> _CycleComparison:
+        return _CycleComparison(ks, counts, 0, 0, math.inf, math.inf, time_tol, velocity_tol, False, reason)
 
     if k_a < 1 or k_b < 1:
         return fail("a motion did not settle (k = 0)")
     if k_a != k_b:
         return fail(f"different period multiples: k = {k_a} and {k_b}")
     if not ta and not tb:
-        return CycleComparison(ks, counts, 0, 0, 0.0, 0.0, time_tol, velocity_tol, True, "", [])
+        return _CycleComparison(ks, counts, 0, 0, 0.0, 0.0, time_tol, velocity_tol, True, "", [])
     k = k_a
     ua = [((t / T) % k, v) for t, v in ta]
     ub = [((t / T) % k, v) for t, v in tb]
@@ -154,7 +153,7 @@ def compare_cycles(
     worst_v = max(p[1] for p in pairs)
     ok = worst_t <= time_tol and worst_v <= velocity_tol
     reason = "" if ok else _disagreement(worst_t, worst_v, time_tol, velocity_tol)
-    return CycleComparison(
+    return _CycleComparison(
         ks, counts, len(pairs), j, worst_t, worst_v, time_tol, velocity_tol, ok, reason, [list(p) for p in pairs]
     )
 

@@ -25,7 +25,6 @@ from impactdamper.studies.replication.claims import CLAIM_B_IMPACTS, CLAIM_B_PER
 __all__ = [
     "IVP_GAP_SAMPLES",
     "free_rhs",
-    "GapScan",
     "gap_sign_scan",
     "alg1_ivp",
     "alg2_ivp",
@@ -52,7 +51,7 @@ def free_rhs(p: Parameters):
 
 
 @dataclass(frozen=True)
-class GapScan:
+class _GapScan:
     """The gap's sign over one period, from a sampled and refined scan (:func:`gap_sign_scan`).
 
     Attributes
@@ -77,7 +76,7 @@ class GapScan:
         return [float(g[i]) for i in np.flatnonzero((g[1:-1] <= g[:-2]) & (g[1:-1] <= g[2:])) + 1]
 
 
-def gap_sign_scan(gap_of, samples: int, xtol: float = GAP_ROOT_XTOL) -> GapScan:
+def gap_sign_scan(gap_of, samples: int, xtol: float = GAP_ROOT_XTOL) -> _GapScan:
     """Scan ``gap_of(s)`` (the gap at s periods after an impact, s in (0, 1)) at ``samples``
     intervals strictly inside the period; refine every sign change by Brent's method to
     ``xtol``. The sign of the gap Delta = Delta0 - (x2 - x1) is the paper's Fig. 2a test."""
@@ -88,7 +87,7 @@ def gap_sign_scan(gap_of, samples: int, xtol: float = GAP_ROOT_XTOL) -> GapScan:
         for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1]))
     )
     edges = ([0.0] if g[0] < 0 else []) + list(crossings) + ([1.0] if g[-1] < 0 else [])
-    return GapScan(
+    return _GapScan(
         samples=g, crossings=crossings, negative_intervals=tuple((lo, hi) for lo, hi in zip(edges[0::2], edges[1::2]))
     )
 

@@ -48,10 +48,8 @@ __all__ = [
     "ORBIT_CHECK_OFFSET",
     "ORBIT_STEP",
     "ORBIT_BISECT_TOL",
-    "alg2_row",
     "orbit_range",
     "end_checks",
-    "end_check",
     "locate",
     "count_end_checks",
 ]
@@ -68,7 +66,7 @@ ORBIT_STEP = 0.01
 ORBIT_BISECT_TOL = 1e-6
 
 
-def alg2_row(args) -> dict:
+def _alg2_row(args) -> dict:
     """Both claims at one gap (for the process pool)."""
     base, solver, g = args
     p = parameters(dict(base, gap=float(g)))
@@ -225,7 +223,7 @@ def end_checks(
             points.append(("beyond the orbit's stability boundary", orbit[side] - sign * ORBIT_CHECK_OFFSET))
         for role, g in points:
             jobs.append((base, solver, verdict, "b", side, role, g))
-    checks = map_tasks(end_check, jobs, workers)
+    checks = map_tasks(_end_check, jobs, workers)
     for c in checks:
         same = c["exact"] == c["independent"]
         if c["claim"] == "a":
@@ -237,7 +235,7 @@ def end_checks(
     return checks
 
 
-def end_check(args) -> dict:
+def _end_check(args) -> dict:
     """One check of :func:`end_checks` (for the process pool): (base, solver, verdict, claim
     ``a`` or ``b``, side, role, gap)."""
     base, solver, verdict, claim, side, role, g = args
@@ -335,7 +333,7 @@ def locate(reference: dict, solver: dict, verdict: dict, workers: int = 1) -> tu
     # (b) and the table: the coarse grid, in parallel (every point is independent).
     g2 = rep.grid(lo, hi, float(verdict["gap_step"]))
     jobs = [(base, solver, float(g)) for g in g2]
-    rows = map_tasks(alg2_row, jobs, workers)
+    rows = map_tasks(_alg2_row, jobs, workers)
     ranges_b = rep.ranges(g2, [r["claim_b"] for r in rows], alg2_pred, float(verdict["bisect_tol"]))
     both = rep.overlap(ranges_a, ranges_b)
 

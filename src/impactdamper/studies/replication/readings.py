@@ -51,11 +51,9 @@ __all__ = [
     "RANDOM_X",
     "RANDOM_GAP",
     "RANDOM_V",
-    "alg1_eq13_as_printed",
     "readings",
     "evaluate",
     "random_states",
-    "r_ranges",
     "evaluate_readings",
 ]
 
@@ -68,7 +66,7 @@ _READING_COLUMNS = ("gap", "R", "delta1", "delta2", "mu")
 RANDOM_X, RANDOM_GAP, RANDOM_V = 10.0, 10.0, 15.0
 
 
-def alg1_eq13_as_printed(p):
+def _alg1_eq13_as_printed(p):
     """Algorithm No. 1 with eq. (13)'s x21s' = x1s' - x2s' (as printed): eqs. (15)-(17) with
     that sign. Returns an object like Algorithm1Result's (exists, S, t_impact, state_after,
     negative_gap_intervals, min_gap, p) and the impact-law ratio S / (D v) of the orbit's
@@ -163,7 +161,7 @@ def readings(base: dict) -> list[dict]:
 def evaluate(base: dict, solver: dict, verdict: dict, r: dict) -> tuple[dict, dict]:
     p = parameters(dict(base, **r["changes"]))
     if r.get("eq13_printed"):
-        a = alg1_eq13_as_printed(p)
+        a = _alg1_eq13_as_printed(p)
     else:
         a = rep.run_alg1(p, solver)
     state = np.array(r["state"]) if "state" in r else None
@@ -239,7 +237,7 @@ def random_states(base: dict, solver: dict, verdict: dict) -> dict:
     }
 
 
-def r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
+def _r_ranges(base: dict, solver: dict, verdict: dict) -> dict:
     """Where each claim holds as R varies over [0, 1] at the stated gap (ends bisected)."""
     Rs = rep.grid(0.0, 1.0, float(verdict["R_step"]))
 
@@ -291,6 +289,6 @@ def evaluate_readings(reference: dict, solver: dict, verdict: dict) -> tuple[lis
         "readings": rows,
         "details": details,
         "random_states": rnd,
-        "R_ranges": r_ranges(base, solver, verdict),
+        "R_ranges": _r_ranges(base, solver, verdict),
     }
     return rows, result

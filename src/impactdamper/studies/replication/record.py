@@ -209,7 +209,7 @@ RANGES = (
 NUMBER_WORDS = ("none", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine")
 
 
-def count_clause(n: int, one: str, many: str) -> str:
+def _count_clause(n: int, one: str, many: str) -> str:
     """A count and its verb as words: "none gives a different verdict", "one gives ...", "12 give
     ..." (``one``: the clause after a count of one or none, ``many``: after a larger count)."""
     word = NUMBER_WORDS[n] if n < len(NUMBER_WORDS) else str(n)
@@ -223,7 +223,7 @@ END_CHECKS = (
     # The end checks where the two methods give different verdicts on the claim, in words.
     Macro(
         "EndChecksDifferentText",
-        lambda checks: count_clause(
+        lambda checks: _count_clause(
             sum(c["exact"] != c["independent"] for c in checks), "gives a different verdict", "give different verdicts"
         ),
     ),

@@ -118,7 +118,7 @@ def label(k: int, z: int) -> str:
 
 
 # --- following a branch ---------------------------------------------------------------------
-def seed_orbit(reference: Parameters, spec: dict, solver: dict):
+def _seed_orbit(reference: Parameters, spec: dict, solver: dict):
     """The branch's starting orbit, checked against the config's expected k and z."""
     p = reference.replace(**{PARAMETER: float(spec["gap"])})
     if spec["seed"] == "alg1":
@@ -181,7 +181,7 @@ def follow(reference: Parameters, spec: dict, cont: dict, solver: dict, log=None
         raise ValueError(
             f"`orbits.branches` entry {spec['name']!r}: need gap_min <= gap <= gap_max, got {lo} <= {g0} <= {hi}"
         )
-    o = seed_orbit(reference, spec, solver)
+    o = _seed_orbit(reference, spec, solver)
     # Each leg ends at the seed's gap if it comes back there past a fold: the other leg covers
     # the far side. Beyond a vanishing impact the continuation goes on (only to be cut), so
     # this bound also keeps a leg from following a mirror branch of wrong-way impacts across
@@ -321,7 +321,7 @@ def _state(r: dict) -> str:
     return "stable" if r["stable"] == "1" else "unstable"
 
 
-def branch_sequence(rows: list[dict], special: list[dict], key: str) -> list[tuple]:
+def _branch_sequence(rows: list[dict], special: list[dict], key: str) -> list[tuple]:
     """The branch as (gap, y, state or None) in order along it, special points inserted at
     their places (state None); y is ``key`` (nan where a special point has no value).
 
@@ -351,7 +351,7 @@ def run_pieces(rows: list[dict], special: list[dict], key: str) -> list[tuple[st
     drawing: (state, gaps, ``key`` values). The special points are vertices; a segment takes
     the state of its regular end (:func:`branch_sequence`). Where :func:`stretches` gives a run's
     extent, this gives its drawn line."""
-    seq = branch_sequence(rows, special, key)
+    seq = _branch_sequence(rows, special, key)
     out = []
     for (g0, y0, s0), (g1, y1, s1) in zip(seq[:-1], seq[1:]):
         state = s0 or s1 or "unstable"

@@ -24,13 +24,13 @@ from impactdamper.reporting.records import Timer
 from impactdamper.studies.config import parameters, sweep_settings
 from impactdamper.studies.sweeps.gapsweep import SETTLED_COLUMNS, map_axes, regime_of_label
 
-__all__ = ["CHUNK_COLUMNS", "check_rows", "chunk_rows", "regime_map_chunk"]
+__all__ = ["CHUNK_COLUMNS", "check_rows", "regime_map_chunk"]
 
 # A chunk's record, one row per cell (``computed`` false where the cell was filled).
 CHUNK_COLUMNS = ["i", "j", "slow", "gap", *SETTLED_COLUMNS, "fallback", "computed"]
 
 
-def chunk_rows(rows: int, chunks: int, chunk: int) -> np.ndarray:
+def _chunk_rows(rows: int, chunks: int, chunk: int) -> np.ndarray:
     """The rows of chunk ``chunk``: ``chunk``, ``chunk + chunks``, ... (dealt in turn)."""
     if not (0 <= chunk < chunks):
         raise ValueError(f"`chunk` = {chunk!r} is not allowed: must be in [0, {chunks})")
@@ -63,7 +63,7 @@ def regime_map_chunk(
     base = parameters(reference)
     settings = sweep_settings(maps, solver, continuation=False, rescue=bool(maps["rescue"]))
     slow, slow_values, gaps = map_axes(maps, name)
-    rows_idx = chunk_rows(len(slow_values), int(maps["chunks"]), chunk)
+    rows_idx = _chunk_rows(len(slow_values), int(maps["chunks"]), chunk)
     check_idx = check_rows(len(rows_idx), int(maps["check_every"]), int(maps["chunks"]))
     with Timer() as timer:
         m = adaptive_regime_map(

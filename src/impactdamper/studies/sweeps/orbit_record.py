@@ -70,7 +70,7 @@ def _suffixes(n: int) -> list[str]:
     return list(SUFFIXES[:n])
 
 
-def special_macros(special: list[dict]) -> list[tuple[str, str]]:
+def _special_macros(special: list[dict]) -> list[tuple[str, str]]:
     """(name, gap) of each special point's macro: ``Orbit`` + kind + branch (+ a suffix where a kind
     occurs more than once on a branch, in order of the gap)."""
     out = []
@@ -88,7 +88,7 @@ def macros(special: list[dict], summary: dict) -> MacroFile:
     """The orbits stage's macros: the special points' gaps, each branch's label, seed and stable
     and admissible stretches, each case's gap, label, stability, admissibility, max|x1| and
     multiplier moduli (figures/orbit_special_points.csv, figures/orbit_summary.json)."""
-    lines = MacroFile(COMMENTS + special_macros(special))
+    lines = MacroFile(COMMENTS + _special_macros(special))
     for branch in summary["order"]:
         b, B = summary["branches"][branch], camel(branch)
         lines.extend(macro_lines(BRANCH, b, B=B))

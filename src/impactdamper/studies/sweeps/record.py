@@ -35,7 +35,12 @@ from impactdamper.studies.sweeps.results import (
     overlaps,
 )
 
-__all__ = ["macros", "table", "timing", "sequence", "overlap_text"]
+__all__ = [
+    "macros",
+    "table",
+    "timing",
+    "sequence",
+]
 
 CHECK_NAMES = {"liftoff": "LiftOff", "first_contact": "FirstContact", "alg1_grazing": "AlgOneGrazing"}
 CHECK_TEXT = {"liftoff": "(a) lift-off", "first_contact": "(b) first contact", "alg1_grazing": "(c) Alg.~1 grazing"}
@@ -60,7 +65,7 @@ def _and(items: list[str]) -> str:
     return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
 
 
-def overlap_text(ovs: list[dict]) -> str:
+def _overlap_text(ovs: list[dict]) -> str:
     """The overlaps of the two directions (:func:`~impactdamper.studies.sweeps.results.overlaps`) as prose."""
     parts = [
         f"{_and(o['down'])} (downward) with {_and(o['up'])} (upward) on $({o['lo']:.3f}, {o['hi']:.3f})$" for o in ovs
@@ -116,7 +121,7 @@ CHECK = (
 # The two directions' overlaps and the labels met only where the other direction did not settle.
 DIRECTIONS = (
     Macro("SweepOverlapCount", lambda s: len(overlaps(s["rows"], s["trans"])), COUNT),
-    Macro("SweepOverlaps", lambda s: overlap_text(overlaps(s["rows"], s["trans"]))),
+    Macro("SweepOverlaps", lambda s: _overlap_text(overlaps(s["rows"], s["trans"]))),
     Macro("SweepNpOnlyLabels", lambda s: _and(np_only_labels(s["rows"])) if np_only_labels(s["rows"]) else "none"),
     Macro("SweepMatchSteps", lambda s: 1 / MATCH_STEPS, general("{:g}")),
 )
@@ -125,14 +130,14 @@ DIRECTIONS = (
 # Each regime map ({M}: Theta, Damping; maps: its settings' section; bistable: its bistable
 # rows, None where none; computed: how it was computed, the settings' counts of
 # impactdamper.analysis.adaptive, with check: its rows computed by the brute force as well).
-def cap_text(cap: int, after_nonperiodic: int) -> str:
+def _cap_text(cap: int, after_nonperiodic: int) -> str:
     """A map's period cap per cell as a phrase: the cap after a nonperiodic neighbour named only
     where it differs."""
     text = f"a cap of ${cap}$ periods per cell"
     return text if after_nonperiodic == cap else text + f" (${after_nonperiodic}$ after a nonperiodic neighbour)"
 
 
-def row_runs(rows) -> list[list[int]]:
+def _row_runs(rows) -> list[list[int]]:
     """The rows a map's check swept, as runs of adjacent rows."""
     runs: list[list[int]] = []
     for r in sorted(int(r) for r in rows):
@@ -143,10 +148,10 @@ def row_runs(rows) -> list[list[int]]:
     return runs
 
 
-def row_runs_text(rows) -> str:
+def _row_runs_text(rows) -> str:
     """The rows a map's check swept, as drawn: "rows 0--3, 40--43, \\dots, 360--363 (4 adjacent
     rows in every 40)" where they come in equal runs at a constant spacing, else listed."""
-    runs = row_runs(rows)
+    runs = _row_runs(rows)
     spans = [f"{u[0]}--{u[-1]}" if len(u) > 1 else f"{u[0]}" for u in runs]
     spacing = {b[0] - a[0] for a, b in zip(runs, runs[1:])}
     if len(runs) > 3 and len({len(u) for u in runs}) == 1 and len(spacing) == 1:
@@ -156,7 +161,7 @@ def row_runs_text(rows) -> str:
     return "rows " + ", ".join(spans)
 
 
-def check_split_text(check: dict) -> str:
+def _check_split_text(check: dict) -> str:
     """A map check's differences split into filled and computed cells, as words: "all $31$ are
     computed cells (the fill changed none)", "$2$ are filled cells and $29$ computed ones"."""
     filled, computed = check.get("filled_differences"), check.get("computed_differences")
@@ -171,7 +176,7 @@ def check_split_text(check: dict) -> str:
     return rf"${filled}$ are filled cells and ${computed}$ computed ones"
 
 
-def bistable_text(b: dict | None, symbol: str = SPEC["theta"].symbol) -> str:
+def _bistable_text(b: dict | None, symbol: str = SPEC["theta"].symbol) -> str:
     """Which rows beyond first contact reach the impacting motion (:func:`bistable_rows`), as a
     sentence: the alternating stretch where there is one, else the row from which all do."""
     if not b:
@@ -188,7 +193,7 @@ def bistable_text(b: dict | None, symbol: str = SPEC["theta"].symbol) -> str:
     )
 
 
-def bistable_caption(b: dict | None, symbol: str = SPEC["theta"].symbol) -> str:
+def _bistable_caption(b: dict | None, symbol: str = SPEC["theta"].symbol) -> str:
     """The map caption's clause on the rows that land on either motion (text: :func:`bistable_text`)."""
     if not b or b["lo"] is None:
         return "which one, row by row, is in the text"
@@ -196,7 +201,7 @@ def bistable_caption(b: dict | None, symbol: str = SPEC["theta"].symbol) -> str:
 
 
 MAP = (
-    Macro("Map{M}CapText", lambda m: cap_text(m["maps"]["max_periods"], m["maps"]["max_periods_after_nonperiodic"])),
+    Macro("Map{M}CapText", lambda m: _cap_text(m["maps"]["max_periods"], m["maps"]["max_periods_after_nonperiodic"])),
     Macro("Map{M}CoarseStep", "maps.coarse_step", COUNT),
     Macro("Map{M}ComputedCells", "computed.computed", COUNT),
     Macro("Map{M}ComputedShare", lambda m: 100 * m["computed"]["computed_share"], general(r"{:.1f}\,\%")),
@@ -206,9 +211,9 @@ MAP = (
     Macro("Map{M}CheckCells", "computed.check.cells", COUNT),
     Macro("Map{M}CheckDifferences", "computed.check.differences", COUNT),
     Macro("Map{M}CheckShare", lambda m: 100 * m["computed"]["check"]["share"], general(r"{:.2f}\,\%")),
-    Macro("Map{M}CheckRowsText", lambda m: row_runs_text(m["computed"]["check"]["rows"])),
-    Macro("Map{M}CheckBlocks", lambda m: len(row_runs(m["computed"]["check"]["rows"])), COUNT),
-    Macro("Map{M}CheckSplitText", lambda m: check_split_text(m["computed"]["check"])),
+    Macro("Map{M}CheckRowsText", lambda m: _row_runs_text(m["computed"]["check"]["rows"])),
+    Macro("Map{M}CheckBlocks", lambda m: len(_row_runs(m["computed"]["check"]["rows"])), COUNT),
+    Macro("Map{M}CheckSplitText", lambda m: _check_split_text(m["computed"]["check"])),
     *macros_named_by_path(
         "Map{M}",
         ("check.filled_differences?", "check.computed_differences?", "check.next_to_change", "check.max_distance"),
@@ -221,8 +226,8 @@ MAP = (
     Macro("Map{M}BistableHigh", "bistable.hi", general("{:.3f}", missing="--")),
     Macro("Map{M}BistableRowsOn", lambda m: m["bistable"]["on"] if m["bistable"] else 0, COUNT),
     Macro("Map{M}BistableRowsOff", lambda m: m["bistable"]["off"] if m["bistable"] else 0, COUNT),
-    Macro("Map{M}BistableText", lambda m: bistable_text(m["bistable"])),
-    Macro("Map{M}BistableCaption", lambda m: bistable_caption(m["bistable"])),
+    Macro("Map{M}BistableText", lambda m: _bistable_text(m["bistable"])),
+    Macro("Map{M}BistableCaption", lambda m: _bistable_caption(m["bistable"])),
 )
 
 

@@ -27,11 +27,8 @@ __all__ = [
     "BISTABLE_STEADY_ROWS",
     "read_map",
     "main_runs",
-    "special_match",
-    "mirror_match",
     "CHECK_MATCH",
     "main_transitions",
-    "run_intervals",
     "overlaps",
     "np_only_labels",
     "bistable_rows",
@@ -76,7 +73,7 @@ def main_runs(rows: list[dict], direction: str, min_run: int = MIN_RUN) -> list[
     return [r for r in runs([float(r["value"]) for r in rs], [r["label"] for r in rs]) if r[3] >= min_run]
 
 
-def special_match(t: dict, special: list[dict], tol: float) -> tuple[str, float] | None:
+def _special_match(t: dict, special: list[dict], tol: float) -> tuple[str, float] | None:
     """The special point of a continued branch labelled like either side of transition ``t``,
     nearest to it and within ``tol``: (its short name "PD of 3/2", its gap), or None."""
     value = float(t["value"])
@@ -87,7 +84,7 @@ def special_match(t: dict, special: list[dict], tol: float) -> tuple[str, float]
     return f"{KIND_SHORT.get(s['kind'], s['kind'])} of {s['label']}", cell_float(s["gap"])
 
 
-def mirror_match(t: dict, trans: list[dict], tol: float) -> dict | None:
+def _mirror_match(t: dict, trans: list[dict], tol: float) -> dict | None:
     """The same change located by the other sweep direction (labels swapped) within ``tol``."""
     value = float(t["value"])
     other = "down" if t["direction"] == "up" else "up"
@@ -163,9 +160,9 @@ def main_transitions(rows: list[dict], trans: list[dict], checks_doc: dict, spec
             loose = "np" in (t["before"], t["after"])
             if (check := _check_match(t, a[0], checks)) is not None:
                 found["check"] = check
-            elif (sp := special_match(t, special, tol)) is not None:
+            elif (sp := _special_match(t, special, tol)) is not None:
                 found["special"] = sp
-            elif loose and (u := mirror_match(t, trans, tol)) is not None:
+            elif loose and (u := _mirror_match(t, trans, tol)) is not None:
                 found["mirror"] = u
             elif loose:
                 found["budget"] = True
@@ -173,7 +170,7 @@ def main_transitions(rows: list[dict], trans: list[dict], checks_doc: dict, spec
     return out
 
 
-def run_intervals(rows: list[dict], trans: list[dict], direction: str) -> list[tuple]:
+def _run_intervals(rows: list[dict], trans: list[dict], direction: str) -> list[tuple]:
     """Runs of the direction's labels, each (label, lo, hi, first, last): lo and hi are the
     bisected transitions at its ends (the midpoint to the neighbour where none was bisected)."""
     rs = sorted((r for r in rows if r["direction"] == direction), key=lambda r: float(r["value"]))
@@ -195,7 +192,7 @@ def run_intervals(rows: list[dict], trans: list[dict], direction: str) -> list[t
 def overlaps(rows: list[dict], trans: list[dict]) -> list[dict]:
     """Where the two directions settle on different periodic motions (np and err left out):
     list of {"down": labels, "up": labels, "lo", "hi"}, adjacent pieces sharing a label merged."""
-    up, down = run_intervals(rows, trans, "up"), run_intervals(rows, trans, "down")
+    up, down = _run_intervals(rows, trans, "up"), _run_intervals(rows, trans, "down")
     pieces = []
     for lu, ulo, uhi, ua, ub in up:
         for ld, dlo, dhi, da, db in down:

@@ -48,11 +48,7 @@ __all__ = [
     "EXTREMUM_SAMPLES",
     "SIMULATION_OFFSET",
     "FINITE_STEP_NOTE",
-    "least_contact_force",
-    "largest_relative_displacement",
-    "liftoff_check",
     "first_contact_check",
-    "alg1_grazing_check",
     "checks",
 ]
 
@@ -74,14 +70,14 @@ def _extremum(f, T: float, sign: float) -> float:
     return sign * max(vals[i], -float(res.fun))
 
 
-def least_contact_force(p) -> float:
+def _least_contact_force(p) -> float:
     """min over a period of the contact force of the joined bodies' forced response, relative."""
     model = Model(p)
     mode, fn = model.stuck, model.contact_force
     return _extremum(lambda t: float(fn.of_state(t, mode.forced(t))), p.T, -1.0) / model.force_scale
 
 
-def largest_relative_displacement(p) -> float:
+def _largest_relative_displacement(p) -> float:
     """max over a period of x2p - x1p of the free mode's forced response, over x_st."""
     mode = free_mode(p)
     return _extremum(lambda t: float(mode.forced(t)[1] - mode.forced(t)[0]), p.T, 1.0) / p.x_st
@@ -159,12 +155,12 @@ def _run_end(base, parameter: str, points, label: str, direction: str, settings,
     return tr.value, _bracket(tr)
 
 
-def liftoff_check(base, parameter: str, up, settings, xtol: float) -> dict:
+def _liftoff_check(base, parameter: str, up, settings, xtol: float) -> dict:
     """(a) Lift-off of the persistent contact (the upward sweep leaves "stuck"): the closed form,
     the root of the joined bodies' least contact force, and the sweep's simulation bisection."""
     analytic = stuck_liftoff_gap(base)
     numeric = scipy.optimize.brentq(
-        lambda g: least_contact_force(with_value(base, "gap", g)),
+        lambda g: _least_contact_force(with_value(base, "gap", g)),
         analytic - 1.0,
         analytic + 1.0,
         xtol=1e-14,
@@ -177,12 +173,12 @@ def first_contact_check(base, parameter: str, down, settings, xtol: float) -> di
     """(b) First contact (the downward sweep leaves "0/1"): U1 of eq. (12), the free forced
     response's largest relative displacement, and the sweep's simulation bisection."""
     analytic = no_contact_gap(base)
-    numeric = largest_relative_displacement(base)
+    numeric = _largest_relative_displacement(base)
     located = _run_end(base, parameter, down[::-1], "0/1", "down", settings, xtol)
     return _check("first_contact", analytic, numeric, *located)
 
 
-def alg1_grazing_check(base, parameter: str, down, settings, xtol: float) -> dict:
+def _alg1_grazing_check(base, parameter: str, down, settings, xtol: float) -> dict:
     """(c) Algorithm No. 1's orbit starts to cross the stop between impacts, bracketed from the
     stated gap downward: the closed form, the root of the orbit's least gap, the orbit
     continuation's grazing, the sweep's bisection, and simulations started on the orbit on
@@ -244,7 +240,7 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     :func:`first_contact_check` by simulation alone, :func:`alg1_grazing_check` by the sweep's
     own bisection."""
     sim = replace(settings, continuation=False)
-    out = [liftoff_check(base, parameter, up, sim, xtol)]
+    out = [_liftoff_check(base, parameter, up, sim, xtol)]
     if log is not None:
         c = out[-1]
         log.info("(a) analytic %.12g numeric %.12g located %s", c["analytic"], c["numeric"], c["located"])
@@ -252,7 +248,7 @@ def checks(base, parameter: str, up, down, settings, xtol: float, log=None) -> l
     if log is not None:
         c = out[-1]
         log.info("(b) analytic %.12g numeric %.12g located %s", c["analytic"], c["numeric"], c["located"])
-    out.append(alg1_grazing_check(base, parameter, down, settings, xtol))
+    out.append(_alg1_grazing_check(base, parameter, down, settings, xtol))
     if log is not None:
         c = out[-1]
         log.info(
