@@ -211,7 +211,7 @@ def test_dotted_names_the_project_names_resolve():
 
 
 # The sizes the page states: a thin script, a module that owns one idea.
-SCRIPT_LINES, MODULE_LINES = 150, 600
+SCRIPT_LINES, MODULE_LINES, FUNCTION_LINES, INTERNAL_PUBLIC = 150, 600, 80, 30
 
 
 def test_scripts_are_thin_and_modules_small():
@@ -221,6 +221,70 @@ def test_scripts_are_thin_and_modules_small():
     assert len(scripts) > 50 and len(modules) > 100  # (the globs found the trees)
     assert {n: k for n, k in scripts.items() if k > SCRIPT_LINES} == {}
     assert {n: k for n, k in modules.items() if k > MODULE_LINES} == {}
+
+
+def _top_level_and_nested_functions(tree):
+    """(qualified name, physical lines from the def to its last line) of every function."""
+    out = []
+
+    def visit(node, prefix):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                name = prefix + child.name
+                if not isinstance(child, ast.ClassDef):
+                    out.append((name, child.end_lineno - child.lineno + 1))
+                visit(child, name + ".")
+
+    visit(tree, "")
+    return out
+
+
+def test_functions_are_at_most_eighty_lines():
+    """A function holds one step (its docstring included): the long ones are split along their
+    steps, not trimmed to the line."""
+    assert f"function at most {FUNCTION_LINES}" in DOC
+    sizes = {
+        f"{p.relative_to(SRC)}:{name}": lines
+        for p in SRC.rglob("*.py")
+        for name, lines in _top_level_and_nested_functions(ast.parse(p.read_text()))
+    }
+    assert len(sizes) > 1000 and max(sizes.values()) > 40  # (the walk found the functions)
+    assert {n: k for n, k in sizes.items() if k > FUNCTION_LINES} == {}
+
+
+def _references(path: Path) -> set:
+    """Every name a module uses: a Name, an Attribute or an imported alias (not a string)."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Name):
+            found.add(node.id)
+        elif isinstance(node, ast.Attribute):
+            found.add(node.attr)
+        elif isinstance(node, ast.alias):
+            found.add(node.name.split(".")[-1])
+    return found
+
+
+def test_a_public_name_is_used_beyond_its_module():
+    """A top-level function or class without a leading underscore is used by another module of
+    the package, a workflow script or rule, a notebook or a tool; at most INTERNAL_PUBLIC are not
+    (the library's types a reader meets through their dotted path in the project's text)."""
+    modules = [p for p in SRC.rglob("*.py") if "__pycache__" not in p.parts]
+    used = {p: _references(p) for p in modules}
+    outside = set()
+    for folder in ("workflow", "notebooks", "tools"):
+        for p in (ROOT / folder).rglob("*.py"):
+            outside |= _references(p)
+    for p in (ROOT / "workflow" / "rules").glob("*.smk"):
+        outside |= set(re.findall(r"[A-Za-z_]\w*", re.sub(r"#.*", "", p.read_text())))
+    internal = []
+    for p in modules:
+        for node in ast.parse(p.read_text()).body:
+            if isinstance(node, (ast.FunctionDef, ast.ClassDef)) and not node.name.startswith("_"):
+                if node.name not in outside and not any(node.name in used[q] for q in modules if q != p):
+                    internal.append(f"{p.relative_to(SRC)}:{node.name}")
+    assert len(modules) > 100 and len(internal) >= 1  # (the scan reads the package)
+    assert len(internal) <= INTERNAL_PUBLIC, internal
 
 
 # --- one vocabulary: the parameter table (core/parameters.py) is the only place that spells the
