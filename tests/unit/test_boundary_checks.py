@@ -4,6 +4,7 @@
 import dataclasses
 
 import numpy as np
+import pytest
 
 from impactdamper.analysis import boundary_checks as bc
 from impactdamper.analysis.boundaries import _closed_form_rows
@@ -107,7 +108,8 @@ def test_a_side_segment_crosses_another_curve_only_of_the_same_cycle():
     a, b = np.array([-0.05, 1.0]), np.array([0.05, 1.0])  # the side segment through point 1
     # The same cycle (its impacts a period later: the same orbit) 0.01 away: crossed.
     same = _line_curve(0.01, [1.31, 0.2], k=2)
-    assert bc._crossed_curve(mine, 1, a, b, {"mine": mine, "same": same}, spans) == "same"
+    cid, distance = bc._crossed_curve(mine, 1, a, b, {"mine": mine, "same": same}, spans)
+    assert cid == "same" and distance == pytest.approx(0.01 / 55.0, rel=1e-12)  # in the span
     # Beyond the segment, or another cycle (other z/k, other phases) on it: not crossed.
     far = _line_curve(0.2, [0.3, 1.2], k=2)
     other_k = _line_curve(0.01, [0.3, 1.2], k=3)
@@ -123,6 +125,23 @@ def test_side_checks_count_a_crossing_of_the_same_cycle_apart():
     r = bc.side_checks(c, bounds, points=2, others={"twin": twin})
     assert r["crossing"] == r["points"] == 2 and r["observed"] == 0, r
     assert {x["crosses"] for x in r["crossings"]} == {"twin"}
+
+
+def test_a_crossing_point_is_checked_again_at_half_the_distance_to_the_crossing():
+    c, bounds = _one_impact_curve("period_doubling")
+    span = bounds[0][1] - bounds[0][0]
+    # The curve's own copy a third of the side distance away in the gap: at half the distance to
+    # it along the normal the side segment crosses nothing, and the period doubling is seen.
+    twin = dataclasses.replace(c, points=c.points + np.array([1e-3 / 3 * span, 0.0]))
+    r = bc.side_checks(c, bounds, points=2, others={"twin": twin})
+    for x in r["crossings"]:
+        assert 0 < x["crossing_distance"] <= 1e-3 / 3 * (1 + 1e-9)
+        assert x["reduced_distance"] == pytest.approx(0.5 * x["crossing_distance"], rel=1e-12)
+    assert r["smallest_reduced_distance"] == min(x["reduced_distance"] for x in r["crossings"])
+    assert r["reduced_observed"] == r["reduced_agree"] == r["crossing"] == 2, r
+    # A copy beyond the side segment is not crossed: no reduced run.
+    far = dataclasses.replace(c, points=c.points + np.array([3e-3 * span, 0.0]))
+    assert bc.side_checks(c, bounds, points=2, others={"far": far})["crossing"] == 0
 
 
 def test_closed_form_rows_are_the_closed_forms_with_an_end_reason():

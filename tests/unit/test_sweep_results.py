@@ -161,8 +161,10 @@ def _distance_to_curves(point, rows, slow: str, span) -> float:
 # span of a curve (a twenty-fifth of a cell) and all within 5.1e-4. The six others: two on the
 # 1/1 fold below theta = 0.55 (its sampled points, 0.016 of the span apart, cut the bend), four
 # at theta 1.05-1.08 where the admissible range ends at Algorithm No. 1's existence limit (eq. 16,
-# the 1/1 fold) on a stretch the fold's continuation does not reach (it stops at theta = 0.896
-# where the 1/1 cycle is inadmissible); other curves run within 5.1e-4 of the span there.
+# the 1/1 fold) on a stretch the fold's continuation from theta = 0.5 does not reach (it stops at
+# theta = 0.896 where the 1/1 cycle is inadmissible): within 5.0e-4 of other curves, and within
+# 2.2e-5 of the fold's stretch (theta 1.036-1.100) followed from the extra seed at theta 1.0514
+# (config boundaries.extra_seeds; measured at rows 1.05, 1.06, 1.07, 1.08).
 CURVE_DISTANCE = 5e-4
 # The maps' second parameter, as the boundaries' CSV names it and as it sets Parameters.
 SLOW = {"theta": ("theta", ("theta",)), "damping": ("delta", ("delta1", "delta2"))}
@@ -174,6 +176,7 @@ SLOW = {"theta": ("theta", ("theta",)), "damping": ("delta", ("delta1", "delta2"
         ("theta", 0.6),
         ("theta", 0.85),
         ("theta", 1.0),
+        ("theta", 1.06),  # on the 1/1 fold's stretch from the extra seed
         ("theta", 1.25),
         ("theta", 1.45),
         ("damping", 0.03),

@@ -4,7 +4,8 @@ paper, which shows no map): every boundary of a regime map as a curve.
 The special points of the branches of periodic cycles found on ``boundaries.seed_rows`` rows of
 the map (Algorithm No. 1's orbit and the settled cycles at ``boundaries.seed_gaps`` gaps per
 row, followed in the gap, and the settled cycles at the seeds of the one-parameter branches
-of ``orbits.branches`` on the reference row) seed two-parameter continuations of folds, period doublings,
+of ``orbits.branches`` on the reference row, and at ``boundaries.extra_seeds`` of the map: a
+boundary no row reaches) seed two-parameter continuations of folds, period doublings,
 Neimark-Sacker points and both kinds of grazing across the plane
 (:func:`impactdamper.analysis.boundaries.plane_boundaries`); the first-contact and lift-off
 closed forms are sampled along the second parameter.
@@ -38,7 +39,8 @@ def main(
         seed_rows=int(boundaries["seed_rows"]),
         seed_gaps=int(boundaries["seed_gaps"]),
         closed_form_points=int(boundaries["closed_form_points"]),
-        extra_seeds=tuple((float(b["gap"]), value) for b in orbits["branches"]),
+        extra_seeds=tuple((float(b["gap"]), value) for b in orbits["branches"])
+        + tuple((float(g), float(v)) for g, v in boundaries.get("extra_seeds", {}).get(name, [])),
     )
     b = plane_boundaries(base, slow, (gaps[0], gaps[-1]), (slow_values[0], slow_values[-1]), settings, log)
     write_csv(out_csv, [slow if c == "value" else c for c in COLUMNS], b.rows)

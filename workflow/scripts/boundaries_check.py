@@ -58,11 +58,15 @@ def plane_check(name: str, b, rows: list, map_csv, timing: dict, settings: dict)
         cid: bc.side_checks(c, bounds, int(settings["side_points"]), float(settings["side_distance"]), continued)
         for cid, c in continued.items()
     }
-    total = {
-        k: sum(v[k] for v in sides.values())
-        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved", "crossing")
-    }
+    total = {k: sum(v[k] for v in sides.values()) for k in bc.SIDE_COUNTS}
     total["share_agree_of_observed"] = total["agree"] / total["observed"] if total["observed"] else None
+    # Every point, at side_distance or, where another boundary of its cycle lies closer, at half that.
+    total["smallest_reduced_distance"] = min(
+        (v["smallest_reduced_distance"] for v in sides.values() if v["smallest_reduced_distance"] is not None),
+        default=None,
+    )
+    every = total["observed"] + total["reduced_observed"]
+    total["share_agree_with_reduced"] = (total["agree"] + total["reduced_agree"]) / every if every else None
     summary = [
         {
             "curve": f"{n:02d}",

@@ -12,7 +12,9 @@ Three readings (``figures/boundaries_check.json``):
   started on the curve's cycle (re-solved there by Newton where it converges) slightly perturbed.
   A point whose side offset crosses another boundary of the same cycle (:func:`crossed_curve`)
   tests that boundary as well as its own: it is run and reported, but counted apart
-  (``crossing``), not among the observed points.
+  (``crossing``), not among the observed points; it is run again at half the distance to the
+  nearest such crossing, where the side segment crosses none, and that verdict is counted apart
+  too (``reduced_observed``, ``reduced_agree``).
   Fold, period doubling, Neimark-Sacker: the check agrees when the cycle comes back on one side
   only (the stable side the curve states, where it states one) and is lost on the other. Grazing
   with zero velocity or touch: when one cycle of the simulation has the cycle's impacts (as many,
@@ -36,11 +38,21 @@ from impactdamper.core.events import Segment
 from impactdamper.core.model import Model
 from impactdamper.analysis.solve import simulate, steady_state
 
-__all__ = [
-    "label_changes_near_curves",
-    "side_checks",
-    "period_doubling_bisection",
-]
+__all__ = ["label_changes_near_curves", "side_checks", "period_doubling_bisection", "SIDE_COUNTS"]
+
+# The counts of side_checks' result, summed over curves and planes in the record.
+SIDE_COUNTS = (
+    "points",
+    "observed",
+    "changed",
+    "agree",
+    "doubled",
+    "agree_at_a_tenth",
+    "unobserved",
+    "crossing",
+    "reduced_observed",
+    "reduced_agree",
+)
 
 # The simulation of a side check: settled to this (relative), within this many periods, k <= 8.
 # (Near a period doubling the new cycle's multiplier is near -1 too: 20000 periods, which the
@@ -62,6 +74,9 @@ PATH_NEWTON_ITERATIONS = 10
 # this of the followed cycle's: distinct cycles of one z/k differ by far more, the same cycle
 # 1e-3 of the span away by about that.
 SAME_CYCLE_PHASE_TOL = 0.05
+# A point whose side segment crosses another boundary of its cycle is checked again at half the
+# distance to that crossing; the halving is repeated at most this many times (_reduced_distance).
+REDUCE_TRIES = 4
 _DIRECTION = np.array([0.5, -0.5, 0.5, -0.5])
 
 
@@ -323,9 +338,20 @@ def _same_cycle(curve: Curve, u: np.ndarray, other: Curve, v: np.ndarray) -> boo
     return False
 
 
+def _crossing_distance(p: np.ndarray, normal: np.ndarray, Q: np.ndarray, j: int) -> float:
+    """The distance from ``p`` along the line through it with direction ``normal`` (unit, both
+    2-D, in the plane's spans) to the polyline's piece Q[j]-Q[j+1] that crosses that line."""
+    c, e = Q[j], Q[j + 1] - Q[j]
+    den = normal[0] * e[1] - normal[1] * e[0]
+    if den == 0.0:  # the piece lies along the side segment: its nearer end
+        return float(min(abs(np.dot(c - p, normal)), abs(np.dot(Q[j + 1] - p, normal))))
+    return float(abs(((c - p)[0] * e[1] - (c - p)[1] * e[0]) / den))
+
+
 def _crossed_curve(curve: Curve, i: int, a: np.ndarray, b: np.ndarray, others: dict, spans: np.ndarray):
-    """The id of another curve of the same cycle that the side segment a-b (plane units) through
-    point ``i`` crosses, or None: there the side runs meet that boundary too (e.g. a period
+    """(id, distance) of the nearest crossing, along the side segment a-b (plane units) through
+    point ``i`` from its middle (in the plane's spans), of another curve of the same cycle, or
+    None where none crosses: there the side runs meet that boundary too (e.g. a period
     doubling 1e-5 of the span from the cycle's fold: on the fold's far side the cycle is lost
     whatever the period doubling says). A grazing curve of the other grazing kind that passes
     within a tenth of the half segment of the point is the same tangency, not another boundary:
@@ -333,6 +359,8 @@ def _crossed_curve(curve: Curve, i: int, a: np.ndarray, b: np.ndarray, others: d
     found so coincide with the zero-velocity ones to ~1e-6 of the span)."""
     grazings = ("grazing_velocity", "grazing_touch")
     mid, half = 0.5 * (a + b) / spans, 0.5 * float(np.hypot(*((b - a) / spans)))
+    direction = (b - a) / spans / (2.0 * half) if half > 0 else np.zeros(2)
+    nearest = None
     for cid, other in others.items():
         if other is curve:
             continue
@@ -347,8 +375,26 @@ def _crossed_curve(curve: Curve, i: int, a: np.ndarray, b: np.ndarray, others: d
             if _same_cycle(curve, curve.unknowns[i], other, other.unknowns[j]) or _same_cycle(
                 curve, curve.unknowns[i], other, other.unknowns[j + 1]
             ):
-                return cid
-    return None
+                d = _crossing_distance(mid, direction, other.points / spans, j)
+                if nearest is None or d < nearest[1]:
+                    nearest = (cid, d)
+    return nearest
+
+
+def _reduced_distance(curve: Curve, i: int, normal: np.ndarray, spans: np.ndarray, nearest: float, others: dict):
+    """The side distance (of the span) for a point whose side segment crosses another boundary of
+    its cycle ``nearest`` (of the span) from it: half that, so that the shorter segment crosses
+    none (halved again, at most REDUCE_TRIES times, should a closer one appear: a grazing of the
+    other kind is told apart by its distance relative to the segment). Returns (distance, the
+    nearest crossing left or None)."""
+    reduced = 0.5 * nearest
+    for _ in range(REDUCE_TRIES):
+        offset = reduced * normal * spans
+        left = _crossed_curve(curve, i, curve.points[i] - offset, curve.points[i] + offset, others, spans)
+        if left is None or reduced <= 0:
+            return reduced, left
+        reduced = 0.5 * left[1]
+    return reduced, left
 
 
 def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, others: dict | None = None) -> dict:
@@ -362,7 +408,8 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
     says where it is stated), and, for a grazing, the other side's settled motion has another
     number of impacts per period. A point whose side segment crosses another curve of ``others``
     (id -> :class:`Curve`, the plane's) of the same cycle (:func:`crossed_curve`) is run and
-    reported but counted apart.
+    reported but counted apart, and run again at half the distance to the nearest such crossing
+    (:func:`_reduced_distance`), where its side segment crosses none: its genuine verdict.
 
     Returns
     -------
@@ -373,7 +420,10 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
         does not agree: (gap, value), both sides' labels and returns, and the same a tenth as far
         from the curve), ``agree_at_a_tenth`` (of the disagreements), ``crossing`` (points whose
         side segment crosses another curve of the same cycle, not counted above) and ``crossings``
-        (each: (gap, value), the other curve's id, the verdict).
+        (each: (gap, value), the other curve's id, the crossing's distance, the verdict at
+        ``distance``, the reduced distance and the verdict there); ``reduced_observed`` and
+        ``reduced_agree`` (of the crossing points, at the reduced distance) and
+        ``smallest_reduced_distance``.
     """
     spans = np.array([bounds[0][1] - bounds[0][0], bounds[1][1] - bounds[1][0]])
     n = len(curve.points)
@@ -386,6 +436,8 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
         "doubled": 0,
         "unobserved": 0,
         "crossing": 0,
+        "reduced_observed": 0,
+        "reduced_agree": 0,
         "disagree": [],
         "crossings": [],
     }
@@ -408,22 +460,42 @@ def side_checks(curve: Curve, bounds, points: int = 20, distance: float = 1e-3, 
         verdict = _verdict(curve, i, runs, normal)
         offset = distance * normal * spans
         crossed = _crossed_curve(curve, i, curve.points[i] - offset, curve.points[i] + offset, others or {}, spans)
-        _count_point(out, curve, i, runs, verdict, crossed, lambda: sides(0.1 * distance), normal)
+        if crossed is not None:
+            _count_crossing(out, curve, i, crossed, verdict, sides, normal, spans, others)
+            continue
+        _count_point(out, curve, i, runs, verdict, lambda: sides(0.1 * distance), normal)
     out["agree_at_a_tenth"] = sum(d["agree_at_a_tenth"] for d in out["disagree"])
+    out["smallest_reduced_distance"] = min((c["reduced_distance"] for c in out["crossings"]), default=None)
     return out
 
 
-def _count_point(out: dict, curve: Curve, i: int, runs: list, verdict, crossed, closer_runs, normal) -> None:
-    """Point ``i``'s side runs and verdict counted into ``out`` (see :func:`side_checks`): apart
-    where its side segment crosses ``crossed`` (another curve's id), else as observed or not, and
-    a disagreement with the runs a tenth as far from the curve (``closer_runs()``)."""
-    if crossed is not None:
-        a, b = curve.points[i]
-        out["crossing"] += 1
-        out["crossings"].append(
-            {"gap": float(a), curve.names[1]: float(b), "crosses": crossed, "verdict": verdict or "unobserved"}
-        )
-        return
+def _count_crossing(out: dict, curve: Curve, i: int, crossed, verdict, sides, normal, spans, others) -> None:
+    """Point ``i``, whose side segment crosses ``crossed`` = (another curve's id, the distance of
+    the crossing), counted apart in ``out`` (see :func:`side_checks`), with its verdict run again
+    at half the distance to the closest crossing (``sides(distance)``: the two side runs)."""
+    a, b = curve.points[i]
+    out["crossing"] += 1
+    reduced, _ = _reduced_distance(curve, i, normal, spans, crossed[1], others)
+    verdict_near = _verdict(curve, i, sides(reduced), normal) if reduced > 0 else None
+    out["crossings"].append(
+        {
+            "gap": float(a),
+            curve.names[1]: float(b),
+            "crosses": crossed[0],
+            "crossing_distance": crossed[1],
+            "verdict": verdict or "unobserved",
+            "reduced_distance": reduced,
+            "reduced_verdict": verdict_near or "unobserved",
+        }
+    )
+    out["reduced_observed"] += int(verdict_near is not None)
+    out["reduced_agree"] += int(verdict_near == "agree")
+
+
+def _count_point(out: dict, curve: Curve, i: int, runs: list, verdict, closer_runs, normal) -> None:
+    """Point ``i``'s side runs and verdict counted into ``out`` (see :func:`side_checks`) as
+    observed or not, and a disagreement with the runs a tenth as far from the curve
+    (``closer_runs()``)."""
     if verdict is None:
         out["unobserved"] += 1
         return

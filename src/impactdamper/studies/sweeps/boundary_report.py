@@ -54,10 +54,15 @@ def codim2_points(loaded: dict) -> list:
 def write_report(record: dict, out_macros, out_table) -> None:
     """The macros and the table of codimension-two points of the check record."""
     th, dm = record["planes"]["theta"], record["planes"]["damping"]
-    side = {
-        k: th["side_checks"]["total"][k] + dm["side_checks"]["total"][k]
-        for k in ("points", "observed", "changed", "agree", "doubled", "agree_at_a_tenth", "unobserved", "crossing")
-    }
+    # The side checks' counts (analysis.boundary_checks.SIDE_COUNTS: the integers) of both planes.
+    totals = (th["side_checks"]["total"], dm["side_checks"]["total"])
+    side = {k: totals[0][k] + totals[1][k] for k, v in totals[0].items() if isinstance(v, int)}
+    smallest = [
+        p["side_checks"]["total"].get("smallest_reduced_distance")
+        for p in (th, dm)
+        if p["side_checks"]["total"].get("smallest_reduced_distance") is not None
+    ]
+    every = side["observed"] + side["reduced_observed"]
     pd = record["period_doubling_bisection"]
     m = MacroFile(["% Boundary curves of the regime maps (workflow/scripts/boundaries_check.py)."])
     m.extend(
@@ -80,6 +85,14 @@ def write_report(record: dict, out_macros, out_table) -> None:
             ("BoundSideAgreeTenth", side["agree_at_a_tenth"]),
             ("BoundSideCrossing", side["crossing"]),
             ("BoundSideShare", percent(side["agree"] / side["observed"] if side["observed"] else None)),
+            # The crossing points checked again at half the distance to the nearest crossing.
+            ("BoundSideReducedObserved", side["reduced_observed"]),
+            ("BoundSideReducedAgree", side["reduced_agree"]),
+            ("BoundSideReducedUnobserved", side["crossing"] - side["reduced_observed"]),
+            ("BoundSideReducedSmallest", sci(min(smallest, default=None))),
+            ("BoundSideEveryObserved", every),
+            ("BoundSideEveryAgree", side["agree"] + side["reduced_agree"]),
+            ("BoundSideShareEvery", percent((side["agree"] + side["reduced_agree"]) / every if every else None)),
             (
                 "BoundFirstContactError",
                 sci(
@@ -106,16 +119,21 @@ def write_report(record: dict, out_macros, out_table) -> None:
         lo, hi = c["theta"] if c else (None, None)
         m.extend([(f"BoundThreeTwo{name}Low", fixed(lo, 3)), (f"BoundThreeTwo{name}High", fixed(hi, 3))])
     Path(out_macros).write_text(render_macros(m.record("")))
+    Path(out_table).write_text(_codim2_table(record["codim2"]))
+
+
+def _codim2_table(points: list) -> str:
+    """The table of codimension-two points (booktabs): map, cycle, point, its curves, gap, value."""
     lines = [
         "\\begin{tabular}{llllrr}",
         "\\toprule",
         f"map & cycle & point & on curves & {tex('gap')} & value \\\\",
         "\\midrule",
     ]
-    for r in record["codim2"]:
+    for r in points:
         v = r.get("theta", r.get("delta"))
         on = ", ".join(KIND_TEXT[k] for k in sorted(set(r["on"])))
         lines.append(
             f"{PLANE_TEXT[r['plane']]} & {r['cycle']} & {REASON_TEXT.get(r['reason'], r['reason'])} & {on} & ${fixed(r['gap'], 4)}$ & ${fixed(v, 4)}$ \\\\"
         )
-    Path(out_table).write_text("\n".join(lines + ["\\bottomrule", "\\end{tabular}"]) + "\n")
+    return "\n".join(lines + ["\\bottomrule", "\\end{tabular}"]) + "\n"
