@@ -20,12 +20,10 @@ from impactdamper.reporting import provenance as pv
 from impactdamper.reporting.records import run_stage
 
 CAPTION = (
-    r"Which workflow rule writes each figure, table and file of numbers of this report (files of "
-    r"numbers: macros under \texttt{paper/generated/}). A rule's script is "
-    r"\texttt{workflow/scripts/\emph{rule}.py} unless named; its inputs, the committed records it reads "
-    r"and writes (under \texttt{figures/}) and its log are declared in the rules files "
-    r"\texttt{workflow/rules/*.smk}. $^\dagger$: the rule also reads timing records under "
-    r"\texttt{results/benchmarks/}, which are not committed (timings change from run to run)."
+    r"Which workflow rule writes each figure, table and file of numbers (macros under "
+    r"\texttt{paper/generated/}); a rule's script is \texttt{workflow/scripts/\emph{rule}.py} unless "
+    r"named. $^\dagger$: the rule also reads timing records under \texttt{results/benchmarks/}, "
+    r"which are not committed."
 )
 
 
