@@ -212,7 +212,6 @@ rule design_report:
         script="workflow/scripts/design_report.py",
         library=library(
             study(
-                "design/design",
                 "design/devices",
                 "design/record",
                 "design/record_rows",
@@ -251,7 +250,7 @@ rule design_report:
 rule fig_design_response:
     input:
         script="workflow/scripts/fig_design_response.py",
-        library=library(study("design/design", "vocabulary"), REPORTING),
+        library=library(study("vocabulary"), REPORTING),
         style=STYLE,
         response="figures/design_response.csv",
         summary="figures/design_response.json",
