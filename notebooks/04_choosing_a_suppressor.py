@@ -106,7 +106,7 @@ print(result["recommendation"])
 
 # %%
 p = idp.Parameters(mu=mu, N=N, delta1=delta1, delta2=delta2, R=R, gap=gap)
-mine = response.frequency_response(p, *band, 41)  # (the located peak does not depend on the grid)
+mine = response.frequency_response(p, *band, 41)  # (the located peak: on the grid of steps <= 0.02, to 1e-6 in theta)
 best = response.frequency_response(p.replace(**imp["parameters"]), *band, 41)
 tmd = design.LinearDevice(mu, result["tmd"]["parameters"]["N"], delta1, result["tmd"]["parameters"]["delta2"])
 th = np.linspace(*band, 801)

@@ -11,7 +11,8 @@
   branch end no grid sample brackets: its worst branch is at least the floor (3.866, the sweeps'
   samples reach only 3.804).
 * The result of a case does not depend on the other cases of the call, nor on the workers; a
-  band keeps its own grid (and band average) beside a wider band.
+  band keeps its own grid (and band average) beside a wider band; a caller's thetas join the
+  grid, and sweeps already run are located on, not run again.
 * Slow: slow sweeps ten times finer in both directions never exceed the located peak, and fall
   short of the sweeps' located maximum by no more than their step allows; solve_ivp on the
   located peak's motion agrees to 1e-7; ``response --json`` reports the located peak.
@@ -24,8 +25,9 @@ import sys
 import numpy as np
 import pytest
 
+from impactdamper.analysis.band_sweeps import band_points, band_sweeps
 from impactdamper.analysis.linear_device import LinearDevice, linear_maxima, no_contact_floor
-from impactdamper.analysis.peaks import THETA_TOL, worst_branch, worst_branches
+from impactdamper.analysis.peaks import STEP, THETA_TOL, worst_branch, worst_branches
 from impactdamper.analysis.transitions import no_contact_gap
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
@@ -95,6 +97,22 @@ def test_a_branch_end_no_sample_brackets_is_found_by_the_floor():
     assert w.peak == w.floor.value == pytest.approx(3.86569, abs=1e-5)
     assert w.grid_peak < 0.99 * w.peak  # the grid alone misses it by more than 1 %
     assert w.branch() == "no contact, 0/1, first contact"
+
+
+def test_further_thetas_join_the_grid_and_sweeps_are_not_run_again():
+    """``thetas`` join the sweeps' grid (the steps kept); sweeps passed in are located on as they
+    are (the same answer as sweeping), and sweeps of another case are refused."""
+    p, band, extra = Parameters(gap=2.0), (0.8, 1.0), [0.8125, 0.875, 0.9375]
+    steps = np.linspace(*band, band_points([band], STEP))
+    w = worst_branch(p, band, thetas=extra, settings=DESIGN_SETTINGS)
+    assert np.array_equal(w.thetas, np.unique(np.concatenate([steps, extra])))
+    s = band_sweeps([p], [band], step=STEP, thetas=[extra], settings=DESIGN_SETTINGS)
+    again = worst_branch(p, band, settings=DESIGN_SETTINGS, sweeps=s)
+    assert json.dumps(again.to_dict()) == json.dumps(w.to_dict())
+    with pytest.raises(ValueError, match="^`sweeps` is not allowed"):
+        worst_branch(p.replace(gap=2.5), band, settings=DESIGN_SETTINGS, sweeps=s)
+    # Without thetas the grid is the steps alone, as before.
+    assert np.array_equal(worst_branch(p, band, settings=DESIGN_SETTINGS).thetas, steps)
 
 
 @pytest.mark.slow

@@ -8,8 +8,8 @@ cycles against closed forms.
 * Energy balance of settled impacting cycles: input = impacts + dampers (+ drift), each term
   computed on its own.
 * Pulse per impact: m2 times the jump of the suppressor's velocity, and the steady state's own.
-* Hysteresis: a band where the upward sweep stays without contact while the downward one keeps
-  impacting (gap 3, theta 1.2-1.3) is flagged, a gap without contact is not.
+* Hysteresis: a band where the upward sweep keeps impacting while the downward one stays without
+  contact (gap 3, theta 1.2-1.45) is flagged, a gap without contact is not.
 * Bad input: one-line errors naming the argument, from the API and the command line (exit 2).
 """
 
@@ -18,8 +18,10 @@ import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
+from impactdamper.analysis.band_sweeps import GRID_RTOL, band_grid, band_points, band_sweeps
 from impactdamper.analysis.cycle_metrics import _energy_balance, cycle_metrics
 from impactdamper.analysis.response import (
     HYSTERESIS_TOL,
@@ -27,6 +29,8 @@ from impactdamper.analysis.response import (
     _theta_grid,
 )
 from impactdamper.analysis.ladder import solve_point
+from impactdamper.analysis.peak_location import ZOOM_POINTS
+from impactdamper.analysis.peaks import STEP
 from impactdamper.analysis.point import SweepSettings
 from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.linear import forced_amplitudes
@@ -115,13 +119,15 @@ def test_pulse_is_m2_times_the_suppressors_velocity_jump():
 
 
 def test_hysteresis_where_the_two_sweeps_settle_on_different_motions():
-    r = frequency_response(Parameters(gap=3.0), 0.8, 1.3, 11, locate=False)
+    r = frequency_response(Parameters(gap=3.0), 1.1, 1.8, 15, locate=False)
     flagged = [q for q in r.points if q.hysteresis]
     assert flagged, [(q.theta, q.up.label, q.down.label) for q in r.points]
     for q in flagged:
         assert q.up.label != q.down.label or abs(q.up.max_abs_x1 - q.down.max_abs_x1) > HYSTERESIS_TOL * q.worst_x1
-    # The upward sweep leaves the impacts late, the downward one keeps them: one of each.
-    assert any(q.up.regime == "no_contact" and q.down.impacts_per_period > 0 for q in flagged)
+    # The upward sweep keeps the impacts (1/2) to theta 1.45, the downward one stays without
+    # contact from 1.8 down to 1.2 (the sweeps of step <= 0.02 that the worst branch is located on).
+    assert any(q.up.impacts_per_period > 0 and q.down.regime == "no_contact" for q in flagged)
+    assert not r.points[0].hysteresis and not r.points[-1].hysteresis
     for q in r.points:
         if not q.hysteresis:
             assert q.up.label == q.down.label
@@ -139,6 +145,77 @@ def test_compiled_loop_gives_the_reference_motions():
             assert ma.label == mb.label, (qa.theta, ma.label, mb.label)
             if ma.regime != "nonperiodic":
                 assert abs(ma.max_abs_x1 - mb.max_abs_x1) <= 1e-9 * max(1.0, mb.max_abs_x1)
+
+
+def _batch_calls(monkeypatch) -> list:
+    """Record every batch call (its values and chain length) of the library from here on."""
+    import impactdamper.analysis.batch as batch
+
+    calls, real = [], batch.steady_states
+
+    def counted(base, names, values, **kw):
+        calls.append((np.array(values, float), kw.get("chain_length"), kw.get("chain", True)))
+        return real(base, names, values, **kw)
+
+    monkeypatch.setattr(batch, "steady_states", counted)
+    return calls
+
+
+def test_the_response_sweeps_each_direction_once(monkeypatch):
+    """One batch call sweeps the band both ways (its chains of the whole grid, each response theta
+    in it once per direction); the worst branch is located on those sweeps (its other calls are
+    the brackets' short continuations and the random starts), the ladder is not run."""
+    import impactdamper.analysis.sweeps as sweeps
+
+    monkeypatch.setattr(sweeps, "solve_point", None)  # (the ladder's two_way_sweep would call it)
+    calls = _batch_calls(monkeypatch)
+    thetas = np.linspace(0.9, 1.1, 9)
+    r = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 9)
+    grid = r.located.thetas
+    whole = [(v, n) for v, n, chain in calls if chain and n == len(grid)]
+    assert len(whole) == 1 and len(whole[0][0]) == 2 * len(grid), [(len(v), n, c) for v, n, c in calls]
+    for t in thetas:
+        assert np.sum(whole[0][0][:, 0] == t) == 2, t
+    others = [n for v, n, chain in calls if not (chain and n == len(grid))]
+    assert others and set(others) <= {None, ZOOM_POINTS}  # (the location's: brackets, random starts)
+
+
+def test_the_table_is_the_located_sweeps_rows():
+    """Each row is the cycle of the located search's own sweep point at that theta: the grid holds
+    the response's thetas (and the locator's steps), the rows equal the batch rows' metrics, and
+    the table does not depend on ``locate``."""
+    p, thetas = Parameters(gap=0.85), np.linspace(0.9, 1.1, 9)
+    r = frequency_response(p, 0.9, 1.1, 9)
+    grid = r.located.thetas
+    assert set(thetas.tolist()) <= set(grid.tolist())
+    assert np.all(
+        np.min(np.abs(np.linspace(0.9, 1.1, band_points([(0.9, 1.1)], STEP))[:, None] - grid), axis=1) <= GRID_RTOL
+    )
+    s = band_sweeps([p], [(0.9, 1.1)], step=STEP, thetas=[thetas], settings=SweepSettings())
+    points = s.points(0, thetas)
+    for i, q in enumerate(r.points):
+        j = int(np.flatnonzero(grid == q.theta)[0])
+        assert q.up == cycle_metrics(points["up"][i]) and q.down == cycle_metrics(points["down"][i])
+        assert (points["up"][i].x1_max, points["down"][i].x1_max) == (r.located.up[j], r.located.down[j])
+    assert frequency_response(p, 0.9, 1.1, 9, locate=False).rows() == r.rows()
+
+
+def test_on_point_is_called_once_per_row():
+    ticks = []
+    r = frequency_response(Parameters(gap=0.85), 0.9, 1.1, 5, on_point=lambda: ticks.append(1), locate=False)
+    assert len(ticks) == 2 * len(r.points) == 10
+
+
+def test_band_grid_holds_the_thetas_given():
+    band = (0.5, 1.5)
+    given = np.linspace(0.5, 1.5, 61)
+    grid = band_grid(band, 0.02, given)
+    assert set(given.tolist()) <= set(grid.tolist()) and np.all(np.diff(grid) > 0)
+    # 51 steps and 61 thetas, 11 in common (0.5, 0.6, ..., 1.5: one ulp apart, the given kept)
+    assert len(grid) == 101
+    assert np.array_equal(band_grid(band, 0.02), np.linspace(0.5, 1.5, 51))
+    with pytest.raises(ValueError, match="^`thetas` = "):
+        band_grid(band, 0.02, [1.6])
 
 
 def test_deterministic():

@@ -150,6 +150,11 @@ class BatchResult(RowArrays):
             dtype=object,
         )
 
+    def sweep_point(self, i: int, p: Parameters) -> SweepPoint:
+        """Point ``i`` as a :class:`~impactdamper.analysis.point.SweepPoint` of parameters ``p``
+        (its own, the point's value set): regime, k, z, x1_max, impacts, its section."""
+        return _sweep_point(self, i, p)
+
     @property
     def fallbacks(self) -> dict:
         """Points settled by the reference, by reason ({} when the backend did them all)."""

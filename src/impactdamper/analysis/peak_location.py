@@ -113,13 +113,15 @@ def band_row(p: Parameters, theta: float) -> list[float]:
 
 def settle_rows(base: Parameters, rows: list, settings, chain_length: int, states=None, workers: int = 1, chain=True):
     """One :func:`impactdamper.steady_states` call on ``rows`` (NAMES columns), on up to
-    ``workers`` processes when there are chains enough to share."""
+    ``workers`` processes when there are chains enough to share, by ``settings.backend``."""
     from impactdamper.analysis.batch import steady_states
 
     chains = len(rows) // chain_length if chain else len(rows)
     w = max(1, min(int(workers), chains // MIN_CHAINS_PER_WORKER))
     kw = dict(chain_length=chain_length) if chain else dict(chain=False)
-    return steady_states(base, NAMES, np.array(rows, float), settings=settings, states=states, workers=w, **kw)
+    backend = getattr(settings, "backend", "auto")
+    values = np.array(rows, float)
+    return steady_states(base, NAMES, values, settings=settings, states=states, workers=w, backend=backend, **kw)
 
 
 def labels_of(res, sl: slice) -> list[str]:

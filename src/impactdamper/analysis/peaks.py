@@ -9,8 +9,11 @@ disturbance can put it on. :func:`worst_branches` finds it, for many suppressors
 of eqs. 21-22 settles every motion, through :func:`impactdamper.steady_states`):
 
 1. **Sweeps.** Each suppressor's band is swept upward and downward on a grid of steps of at
-   most ``step``, each point from its neighbour's settled motion (one batch call for all
-   suppressors: independent chains, on ``workers`` processes, the serial result bit for bit).
+   most ``step`` (and the thetas a caller adds, a frequency response's), each point from its
+   neighbour's settled motion (one batch call for all suppressors,
+   :func:`impactdamper.analysis.band_sweeps.band_sweeps`: independent chains, on ``workers``
+   processes, the serial result bit for bit; sweeps a caller already ran are located on as
+   they are).
 2. **Candidates.** Along each sweep's path every local maximum of the samples and every change
    of motion is bracketed (:mod:`impactdamper.analysis.peak_location`).
 3. **Location.** The largest brackets are shrunk by continuation to ``theta_tol`` wide (same
@@ -42,6 +45,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from impactdamper.analysis.band_sweeps import BandSweeps, band_points, band_sweeps
 from impactdamper.analysis.linear_device import NoContactFloor, check_band, no_contact_floor
 from impactdamper.analysis.peak_location import (
     CANDIDATES,
@@ -212,14 +216,6 @@ def _linear_amplitude(p: Parameters, thetas: np.ndarray) -> np.ndarray:
     return LinearDevice.of(p).amplitude(thetas)
 
 
-def band_points(bands: Sequence[tuple[float, float]], step: float) -> int:
-    """Grid points of the widest of ``bands``: steps of at most ``step``, ceil(width/step) + 1
-    (at least 3). :func:`worst_branches` gives each band its own (``band_points([band], step)``),
-    so that a band's result does not depend on which other bands share the call."""
-    width = max(b - a for a, b in bands)
-    return max(int(math.ceil(width / step - 1e-9)) + 1, 3)
-
-
 def _unsettled(res, rows, source: str) -> list[dict]:
     """The points ``rows`` (indices) of a batch result that did not settle (nonperiodic)."""
     return [
@@ -286,6 +282,8 @@ def worst_branches(
     settings: SweepSettings | None = None,
     workers: int = 1,
     seed: int = 0,
+    thetas: Sequence[Sequence[float]] | None = None,
+    sweeps: BandSweeps | None = None,
 ) -> list[WorstBranch]:
     """The worst branch of each suppressor over its band, located (module docstring).
 
@@ -310,28 +308,30 @@ def worst_branches(
         Processes of the batch calls (the result is the same for any number).
     seed : int
         Of the random starts.
+    thetas : sequence of sequences of float, optional
+        Per case, further thetas of its sweeps' grid (a frequency response's:
+        :func:`~impactdamper.analysis.band_sweeps.band_grid`).
+    sweeps : BandSweeps, optional
+        The sweeps of these cases and bands already run
+        (:func:`~impactdamper.analysis.band_sweeps.band_sweeps` with this ``step``, ``thetas``
+        and ``settings``): located on, not swept again.
 
     Returns
     -------
     list of WorstBranch
         One per case, in order.
     """
-    cases = [require_parameters(p, "cases") for p in cases]
-    bands = [check_band(b) for b in bands]
-    if len(bands) != len(cases):
-        raise ValueError(f"`bands` is not allowed: {len(bands)} bands for {len(cases)} cases (one each)")
-    step, theta_tol = finite_argument("step", step), finite_argument("theta_tol", theta_tol)
-    if not step > 0 or not theta_tol > 0:
-        raise ValueError(f"`step` = {step!r}, `theta_tol` = {theta_tol!r} are not allowed: both must be > 0")
+    cases, bands, step, theta_tol = _checked(cases, bands, step, theta_tol)
     candidates = integer_argument("candidates", candidates, 1, 100)
     random_count = integer_argument("random_count", random_count, 0, 100)
     settings = settings or SweepSettings()
     if not cases:
         return []
-    base = cases[0]
-    grids = [np.linspace(a, b, band_points([(a, b)], step)) for a, b in bands]
-    res, paths = _sweeps(base, cases, grids, settings, workers)
-    n = max(len(g) for g in grids)
+    if sweeps is None:
+        sweeps = band_sweeps(cases, bands, step=step, thetas=thetas, settings=settings, workers=workers)
+    elif sweeps.cases != tuple(cases) or sweeps.bands != tuple(bands) or sweeps.settings != settings:
+        raise ValueError("`sweeps` is not allowed: must be the sweeps of these cases and bands, with these settings")
+    base, res, paths = cases[0], sweeps.result, sweeps.paths
     floors = [no_contact_floor(p, band) for p, band in zip(cases, bands)]
     located = locate_peaks(base, cases, paths, [f.value for f in floors], candidates, settings, theta_tol, workers)
     tops = [_distinct_thetas(peaks, RANDOM_THETAS) if random_count else [] for peaks in located]
@@ -347,30 +347,20 @@ def worst_branches(
             peaks.append(randoms[c])
         if not any(np.isfinite(q.value) for q in peaks):
             raise ValueError(f"`cases` item {c} is not allowed: no motion settled over its band {band}")
-        out.append(_worst(p, band, res, paths[2 * c], paths[2 * c + 1], c, n, tuple(peaks), fl, lost[c]))
+        out.append(_worst(p, band, res, paths[2 * c], paths[2 * c + 1], c, sweeps.n, tuple(peaks), fl, lost[c]))
     return out
 
 
-def _sweeps(base, cases, grids, settings, workers) -> tuple:
-    """Both sweeps of every case on its own grid, in one batch call of chains of the longest
-    grid's n points (module docstring, 1): a shorter sweep is continued at its last theta and
-    those points dropped (a point depends on its chain's earlier points only). Returns (the
-    result, the paths: case by case, up then down, sweep (c, d) from point (2 c + d) n)."""
-    n = max(len(th) for th in grids)
-    rows = []
-    for p, th in zip(cases, grids):
-        for t in (th, th[::-1]):
-            rows += [band_row(p, x) for x in t] + [band_row(p, t[-1])] * (n - len(t))
-    res = settle_rows(base, rows, settings, n, workers=workers)
-    paths = []
-    for c, th in enumerate(grids):
-        for d, direction in enumerate(("up", "down")):
-            sl = slice((2 * c + d) * n, (2 * c + d) * n + len(th))
-            t = th if d == 0 else th[::-1]
-            paths.append(
-                SweepPath(c, direction, t, np.asarray(res.x1_max[sl], float), labels_of(res, sl), res.sections[sl])
-            )
-    return res, paths
+def _checked(cases, bands, step, theta_tol) -> tuple:
+    """(cases, bands, step, theta_tol) of :func:`worst_branches` checked (one-line errors)."""
+    cases = [require_parameters(p, "cases") for p in cases]
+    bands = [check_band(b) for b in bands]
+    if len(bands) != len(cases):
+        raise ValueError(f"`bands` is not allowed: {len(bands)} bands for {len(cases)} cases (one each)")
+    step, theta_tol = finite_argument("step", step), finite_argument("theta_tol", theta_tol)
+    if not step > 0 or not theta_tol > 0:
+        raise ValueError(f"`step` = {step!r}, `theta_tol` = {theta_tol!r} are not allowed: both must be > 0")
+    return cases, bands, step, theta_tol
 
 
 def _distinct_thetas(peaks: list, count: int) -> list[float]:
@@ -414,6 +404,9 @@ def _worst(
     )
 
 
-def worst_branch(p: Parameters, band: tuple[float, float] = (0.5, 1.5), **options) -> WorstBranch:
-    """The worst branch of one suppressor over ``band`` (:func:`worst_branches`' options)."""
-    return worst_branches([p], [band], **options)[0]
+def worst_branch(
+    p: Parameters, band: tuple[float, float] = (0.5, 1.5), *, thetas: Sequence[float] | None = None, **options
+) -> WorstBranch:
+    """The worst branch of one suppressor over ``band`` (:func:`worst_branches`' options;
+    ``thetas``: this one's further grid thetas, ``sweeps``: of ``[p]`` and ``[band]``)."""
+    return worst_branches([p], [band], thetas=None if thetas is None else [thetas], **options)[0]

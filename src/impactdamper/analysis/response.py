@@ -2,8 +2,10 @@
 
 The paper's motivation (Timofeev et al. 2019, DOI 10.18698/0236-3941-2019-1-90-100,
 introduction) is an object whose forcing frequency varies; its figures fix theta = 1. This
-module sweeps theta upward and downward (each point started from its neighbour's settled
-motion, :func:`impactdamper.analysis.sweeps.two_way_sweep`), and describes every settled cycle
+module sweeps theta upward and downward once (each point started from its neighbour's settled
+motion, in one batch call: :func:`impactdamper.analysis.band_sweeps.band_sweeps`, on the worst
+branch locator's grid with the response's thetas added; the worst branch is located on the same
+sweeps), and describes every settled cycle at the response's thetas
 by what a designer needs (:mod:`~impactdamper.analysis.cycle_metrics`: the largest |x1| and |x2|,
 impacts and pulses per period, the energy put in, lost at the impacts and dissipated, and their
 balance), and whether the upward and downward sweeps settle on different motions (hysteresis).
@@ -26,10 +28,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from impactdamper.analysis.band_sweeps import BandSweeps, band_sweeps
 from impactdamper.analysis.cycle_metrics import CycleMetrics, cycle_metrics
+from impactdamper.analysis.ladder import solve_point
 from impactdamper.analysis.linear_device import LinearDevice
+from impactdamper.analysis.peaks import STEP, worst_branch
 from impactdamper.analysis.point import FAILED, SweepSettings
-from impactdamper.analysis.sweeps import two_way_sweep, with_value
+from impactdamper.analysis.sweeps import with_value
 from impactdamper.core.events import SearchLimitError
 from impactdamper.core.parameters import Parameters, require_parameters
 from impactdamper.core.validation import finite_argument, integer_argument
@@ -47,9 +52,10 @@ UNSETTLED = ("nonperiodic", FAILED)
 # than this, relative: the settled cycles agree to the settle tolerance (1e-9), and 1e-4 is well
 # above that and the refinement of the maximum, yet far below a jump to another branch (>1e-2).
 HYSTERESIS_TOL = 1e-4
-# Bound on the number of theta values of one response (each is two settled motions, ~40 ms
-# together at the reference case on one core: 1000 points take ~40 s, the documented 10000 ran
-# 6 minutes without a sign of life).
+# Bound on the number of theta values of one response (each is two settled motions and their
+# cycles described: at the reference case on one core 1000 points take ~9 s with the location,
+# 19 s when the response and the locator swept apart; the documented 10000 ran 6 minutes
+# without a sign of life).
 MAX_POINTS = 1_000
 
 
@@ -128,7 +134,8 @@ class _FrequencyResponse:
         The worst branch over the band, located (None for a band of one theta).
     unsettled : tuple of dict
         The grid samples that did not settle (``theta``, ``source`` the direction, ``periods``
-        run, ``max_abs_x1`` of the transient), left out of the peak.
+        run, ``max_abs_x1`` of the transient), left out of the peak. (The located search's own,
+        :attr:`located`'s, are on the same sweeps: :meth:`unsettled_all` counts each sample once.)
     """
 
     p: Parameters = field(repr=False)
@@ -179,8 +186,11 @@ class _FrequencyResponse:
         return float(np.nanmax(both))
 
     def unsettled_all(self) -> list[dict]:
-        """Every sample left out of the peak: the grid's and the located search's."""
-        return list(self.unsettled) + ([] if self.located is None else list(self.located.unsettled))
+        """Every sample left out of the peak: the grid's and the located search's, each once
+        (the search's sweeps are the grid's: a sample at a grid theta is the grid's)."""
+        seen = {(u["theta"], u["source"]) for u in self.unsettled}
+        more = [] if self.located is None else self.located.unsettled
+        return list(self.unsettled) + [u for u in more if (u["theta"], u["source"]) not in seen]
 
     def band_average(self) -> float:
         """Trapezoidal mean over theta of the worst settled max|x1|/x_st (the unsettled sample
@@ -298,11 +308,17 @@ def frequency_response(
     progress : callable(str), optional
         Called with a one-line message after each direction and every ~10 % of the points.
     on_point : callable(), optional
-        Called after each settled point of the two sweeps (``2 points`` calls in all), for a
-        progress bar (:mod:`impactdamper.reporting.progress`).
+        Called after each settled motion of the two sweeps is described (``2 points`` calls in
+        all), for a progress bar (:mod:`impactdamper.reporting.progress`); the sweeps themselves
+        run in one batch call before.
     locate : bool
         Locate the worst branch over the band (:func:`impactdamper.analysis.peaks.worst_branch`,
-        with the same settings); False: the grid's largest sample is the peak.
+        with the same settings) on the same sweeps; False: the grid's largest sample is the peak.
+
+    The two sweeps run once, in one batch call (:func:`impactdamper.analysis.band_sweeps.band_sweeps`):
+    on the locator's grid (steps of at most :data:`~impactdamper.analysis.peaks.STEP`) with the
+    response's thetas added, with or without ``locate`` (the table does not depend on it); the
+    table's rows are the sweeps' points at the response's thetas.
 
     Returns
     -------
@@ -324,32 +340,46 @@ def frequency_response(
     if settings is not None and not isinstance(settings, SweepSettings):
         raise TypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings")
     with_value(p, "theta", thetas[0])  # an invalid combination fails here, named, before the sweep
-    sweep = two_way_sweep(p, "theta", thetas, settings=settings, on_point=on_point)
-    failed = [q for q in sweep["up"] + sweep["down"] if q.regime == FAILED]
-    if len(failed) == 2 * len(thetas):
-        first = min(failed, key=lambda q: q.value)
-        raise SearchLimitError(
-            f"every point of the response failed (the first at theta = {first.value:.6g}): {first.error}"
-        )
+    settings = settings or SweepSettings()
+    band = (float(thetas[0]), float(thetas[-1]))
+    sweeps = band_sweeps([p], [band], step=STEP, thetas=[thetas], settings=settings)
+    sweep = sweeps.points(0, thetas)
+    _all_failed(p, thetas, sweep, settings)
     if progress is not None:
         progress(
-            f"theta sweeps done ({len(thetas)} points each): up {sweep['cpu']['up']:.2f} s, "
-            f"down {sweep['cpu']['down']:.2f} s processor time"
+            f"theta sweeps done ({len(sweeps.grids[0])} points each, {len(thetas)} of them the response's): "
+            f"{sweeps.result.elapsed:.2f} s"
         )
     linear = LinearDevice.of(p)
     lin1, lin2 = linear.amplitude(thetas), linear.absorber(thetas)
-    out = _response_points(thetas, sweep, tol, (lin1, lin2), progress)
-    located = _located(p, thetas, settings, progress) if locate and len(thetas) > 1 else None
+    out = _response_points(thetas, sweep, tol, (lin1, lin2), progress, on_point)
+    located = _located(p, sweeps, thetas, settings, progress) if locate and len(thetas) > 1 else None
     return _FrequencyResponse(p, tuple(out), located, _unsettled(sweep))
 
 
-def _response_points(thetas, sweep: dict, tol: float, linear, progress) -> list[_ResponsePoint]:
-    """Each theta's two settled cycles described, their hysteresis and the linear response."""
+def _all_failed(p: Parameters, thetas, sweep: dict, settings: SweepSettings) -> None:
+    """Raise SearchLimitError if every point of both sweeps failed, with the first point's line
+    (the upward sweep's first, from Algorithm No. 2's step 1, settled again alone for its line:
+    the batch keeps a failed point's cause in its log only)."""
+    if not all(q.regime == FAILED for q in sweep["up"] + sweep["down"]):
+        return
+    first = solve_point(with_value(p, "theta", thetas[0]), float(thetas[0]), None, settings=settings)
+    raise SearchLimitError(f"every point of the response failed (the first at theta = {thetas[0]:.6g}): {first.error}")
+
+
+def _response_points(thetas, sweep: dict, tol: float, linear, progress, on_point) -> list[_ResponsePoint]:
+    """Each theta's two settled cycles described, their hysteresis and the linear response
+    (``on_point`` called after each cycle)."""
     lin1, lin2 = linear
     out = []
     every = max(len(thetas) // 10, 1)
     for i, (theta, up, down) in enumerate(zip(thetas, sweep["up"], sweep["down"])):
-        mu, md = cycle_metrics(up), cycle_metrics(down)
+        mu = cycle_metrics(up)
+        if on_point is not None:
+            on_point()
+        md = cycle_metrics(down)
+        if on_point is not None:
+            on_point()
         out.append(_ResponsePoint(float(theta), mu, md, _differ(mu, md, tol), float(lin1[i]), float(lin2[i])))
         if progress is not None and ((i + 1) % every == 0 or i + 1 == len(thetas)):
             progress(
@@ -359,11 +389,10 @@ def _response_points(thetas, sweep: dict, tol: float, linear, progress) -> list[
     return out
 
 
-def _located(p: Parameters, thetas, settings, progress):
-    """The worst branch over the band (:func:`impactdamper.analysis.peaks.worst_branch`)."""
-    from impactdamper.analysis.peaks import worst_branch
-
-    located = worst_branch(p, (float(thetas[0]), float(thetas[-1])), settings=settings)
+def _located(p: Parameters, sweeps: BandSweeps, thetas, settings, progress):
+    """The worst branch over the band (:func:`impactdamper.analysis.peaks.worst_branch`),
+    located on the response's own sweeps."""
+    located = worst_branch(p, sweeps.bands[0], thetas=thetas, settings=settings, sweeps=sweeps)
     if progress is not None:
         progress(
             f"worst branch located: {located.settled_peak:.8g} over the settled motions, {located.peak:.8g} with "
