@@ -339,7 +339,8 @@ def frequency_response(
         raise ValueError(f"`hysteresis_tol` = {tol!r} is not allowed: must be > 0")
     if settings is not None and not isinstance(settings, SweepSettings):
         raise TypeError(f"`settings` = {settings!r} is not allowed: must be a SweepSettings")
-    with_value(p, "theta", thetas[0])  # an invalid combination fails here, named, before the sweep
+    for end in (thetas[0], thetas[-1]):  # an invalid combination fails here, named, before the sweep
+        with_value(p, "theta", end)
     settings = settings or SweepSettings()
     band = (float(thetas[0]), float(thetas[-1]))
     sweeps = band_sweeps([p], [band], step=STEP, thetas=[thetas], settings=settings)
