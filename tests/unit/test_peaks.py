@@ -19,6 +19,7 @@
 """
 
 import json
+from dataclasses import replace
 import subprocess
 import sys
 
@@ -27,7 +28,8 @@ import pytest
 
 from impactdamper.analysis.band_sweeps import band_points, band_sweeps
 from impactdamper.analysis.linear_device import LinearDevice, linear_maxima, no_contact_floor
-from impactdamper.analysis.peaks import STEP, THETA_TOL, worst_branch, worst_branches
+from impactdamper.analysis.peak_location import BranchPeak
+from impactdamper.analysis.peaks import STEP, THETA_TOL, TIE_RTOL, worst_branch, worst_branches
 from impactdamper.analysis.transitions import no_contact_gap
 from impactdamper.core.linear import forced_amplitudes
 from impactdamper.core.parameters import Parameters
@@ -136,6 +138,24 @@ def test_a_band_has_its_own_grid_whatever_bands_share_the_call():
     assert batch[1].band_average == alone.band_average and batch[1].peak == alone.peak
     assert np.array_equal(batch[1].up, alone.up) and np.array_equal(batch[1].down, alone.down)
     assert batch[0].thetas[-1] == wide[1] and np.all(np.isfinite(batch[0].down))
+
+
+def test_a_peak_reached_along_several_paths_is_named_by_a_fixed_rule():
+    """The same maximum found by a random start and by a sweep (values 1e-15 apart, in either
+    order) is the sweep's; the peak is still the largest value; a lower peak beyond TIE_RTOL is
+    never chosen."""
+    p = Parameters(gap=2.0)
+    located = worst_branch(p, (0.8, 1.0), random_count=0)
+    top = located.peaks[0]
+    for shift in (1e-15, -1e-15):
+        value = top.value * (1 + shift)
+        rand = BranchPeak(top.theta - 1e-7, value, "random", top.label, "sample")
+        for order in ((rand, *located.peaks), (*located.peaks, rand)):
+            q = replace(located, peaks=tuple(sorted(order, key=lambda q: -q.value)))
+            assert q.top.source in ("up", "down") and q.peak == max(top.value, value, located.grid_peak)
+    far = BranchPeak(top.theta, top.value * (1 + 10 * TIE_RTOL), "random", top.label, "sample")
+    q = replace(located, peaks=(far, *located.peaks))
+    assert q.top is far and q.branch().startswith("random")
 
 
 def test_bad_input_is_one_line_naming_the_argument():

@@ -88,6 +88,14 @@ SEARCH_THETA_TOL = 1e-3
 # Random starts per located peak's theta, at the RANDOM_THETAS highest located peaks.
 RANDOM_COUNT = 3
 RANDOM_THETAS = 2
+# Peaks whose values differ by less than this (relative) are one peak reached along several
+# paths (a sweep's located maximum and a random start's sample at its theta agree to ~1e-15):
+# which of them names the worst branch must not rest on the last bits, so among them the
+# sweeps come first, then the motion without contact, then a random start (SOURCE_ORDER), and
+# the smaller theta. The located peaks' own accuracy (THETA_TOL 1e-6 at a smooth maximum: ~1e-12
+# in the value) is far below 1e-9, and two different maxima 1e-9 apart are a tie to any reader.
+TIE_RTOL = 1e-9
+SOURCE_ORDER = ("up", "down", "no contact", "random")
 NONPERIODIC_CODE = REGIMES.index("nonperiodic")
 
 
@@ -155,12 +163,19 @@ class WorstBranch:
 
     @property
     def top(self) -> BranchPeak:
-        return self.peaks[0]
+        """The worst branch's peak: the largest of :attr:`peaks`; among those within
+        :data:`TIE_RTOL` of it, the first source in :data:`SOURCE_ORDER`, then the smallest theta."""
+        best = self.peaks[0]
+        if not np.isfinite(best.value):
+            return best
+        tied = [q for q in self.peaks if q.value >= best.value - TIE_RTOL * abs(best.value)]
+        rank = {name: i for i, name in enumerate(SOURCE_ORDER)}
+        return min(tied, key=lambda q: (rank.get(q.source, len(rank)), q.theta))
 
     @property
     def peak(self) -> float:
         """The worst branch's max|x1|/x_st (never below the largest grid sample)."""
-        return max(self.top.value, self.grid_peak)
+        return max(self.peaks[0].value, self.grid_peak)
 
     @property
     def peak_theta(self) -> float:
