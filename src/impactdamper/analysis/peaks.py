@@ -88,14 +88,16 @@ SEARCH_THETA_TOL = 1e-3
 # Random starts per located peak's theta, at the RANDOM_THETAS highest located peaks.
 RANDOM_COUNT = 3
 RANDOM_THETAS = 2
-# Peaks whose values differ by less than this (relative) are one peak reached along several
-# paths (a sweep's located maximum and a random start's sample at its theta agree to ~1e-15):
-# which of them names the worst branch must not rest on the last bits, so among them the
-# sweeps come first, then the motion without contact, then a random start (SOURCE_ORDER), and
-# the smaller theta. The located peaks' own accuracy (THETA_TOL 1e-6 at a smooth maximum: ~1e-12
-# in the value) is far below 1e-9, and two different maxima 1e-9 apart are a tie to any reader.
+# Peaks whose values differ by less than this (relative) tie: the same maximum reached along
+# several paths (a sweep's located maximum, the closed form without contact, a random start at
+# its theta agree to ~1e-15), or two equal maxima (a TMD's equal peaks, 2e-10 apart). Which of
+# them names the worst branch must not rest on the last bits: the tie at the smallest theta
+# (peaks within DISTINCT_THETA of it are one), and there the first source in SOURCE_ORDER (the
+# closed form's theta is exact, a located one within THETA_TOL). The located values' own
+# accuracy (~1e-12 at a smooth maximum located to THETA_TOL) is far below TIE_RTOL.
 TIE_RTOL = 1e-9
-SOURCE_ORDER = ("up", "down", "no contact", "random")
+DISTINCT_THETA = 1e-3
+SOURCE_ORDER = ("no contact", "up", "down", "random")
 NONPERIODIC_CODE = REGIMES.index("nonperiodic")
 
 
@@ -163,14 +165,19 @@ class WorstBranch:
 
     @property
     def top(self) -> BranchPeak:
-        """The worst branch's peak: the largest of :attr:`peaks`; among those within
-        :data:`TIE_RTOL` of it, the first source in :data:`SOURCE_ORDER`, then the smallest theta."""
+        """The worst branch's peak: the largest of :attr:`peaks`, or among those within
+        :data:`TIE_RTOL` of it the one at the smallest theta (:data:`DISTINCT_THETA`), from the
+        first source in :data:`SOURCE_ORDER` there."""
         best = self.peaks[0]
         if not np.isfinite(best.value):
             return best
         tied = [q for q in self.peaks if q.value >= best.value - TIE_RTOL * abs(best.value)]
+        lowest = min(q.theta for q in tied)
         rank = {name: i for i, name in enumerate(SOURCE_ORDER)}
-        return min(tied, key=lambda q: (rank.get(q.source, len(rank)), q.theta))
+        return min(
+            (q for q in tied if q.theta <= lowest + DISTINCT_THETA),
+            key=lambda q: (rank.get(q.source, len(rank)), q.theta),
+        )
 
     @property
     def peak(self) -> float:
@@ -379,10 +386,10 @@ def _checked(cases, bands, step, theta_tol) -> tuple:
 
 
 def _distinct_thetas(peaks: list, count: int) -> list[float]:
-    """The thetas of the ``count`` highest of ``peaks``, each more than 1e-3 from the others."""
+    """The thetas of the ``count`` highest of ``peaks``, each more than DISTINCT_THETA from the others."""
     out = []
     for q in sorted(peaks, key=lambda q: -q.value):
-        if all(abs(q.theta - t) > 1e-3 for t in out):
+        if all(abs(q.theta - t) > DISTINCT_THETA for t in out):
             out.append(q.theta)
     return out[:count]
 
