@@ -13,7 +13,8 @@
 # Their priorities pass any two one-core jobs' together (Snakemake picks the jobs of the largest
 # total priority that fit), so that they run right after the compiled solver's benchmark, when
 # both cores are free: otherwise a two-core job waits until no one-core job is left. The charts
-# run on one core (their values do not depend on the workers).
+# run on one core (their values do not depend on the workers). The design table's sub-region check
+# (every row's box halves searched again) runs the same two workers, after the benchmark.
 
 
 rule design_baselines:
@@ -149,6 +150,38 @@ rule design_checks:
         "../scripts/design_checks.py"
 
 
+rule design_subregions:
+    input:
+        script="workflow/scripts/design_subregions.py",
+        library=library(
+            study(
+                "design/devices",
+                "design/impact_searches",
+                "design/optimum",
+                "design/search_setup",
+                "design/search",
+                "design/subregions",
+                "design/verdict",
+                "design/tmd",
+                "design/tasks",
+            ),
+            REPORTING,
+        ),
+        optimum="figures/design_optimum.json",
+    output:
+        json="figures/design_subregions.json",
+    log:
+        "logs/design/subregions.log",
+    benchmark:
+        benchmark_file("design_subregions")
+    priority: 700
+    conda:
+        ENV
+    threads: 2
+    script:
+        "../scripts/design_subregions.py"
+
+
 rule design_benchmark:
     input:
         script="workflow/scripts/design_benchmark.py",
@@ -229,6 +262,7 @@ rule design_report:
         response="figures/design_response.json",
         optimum="figures/design_optimum.json",
         checks="figures/design_checks.json",
+        subregions="figures/design_subregions.json",
         benchmark="figures/design_benchmark.json",
     output:
         record="results/report/design.json",
@@ -324,6 +358,7 @@ DESIGN_TARGETS = [
     "figures/design_optimum.json",
     "figures/design_optimum.csv",
     "figures/design_checks.json",
+    "figures/design_subregions.json",
     "figures/design_benchmark.json",
     "figures/design_response.pdf",
     "figures/design_response.png",
