@@ -109,6 +109,31 @@ def test_a_half_holding_a_deeper_well_is_found(answer_in_deep_well):
     assert rec["smallest_margin"] == min(h["margin"] for h in rec["halves"])
 
 
+def test_a_row_adopts_a_lower_halfs_answer_and_is_checked_again():
+    """The design search's sub-region step (studies.design.subregions.vouched) on the TMD's peak:
+    an answer far from the optimum (N 0.5) fails its check, adopts the lowest half's answer (a
+    local search from it, never worse), and the answer so found passes its check again, at the
+    equal-peak optimum's value (the design table's TMD row, 3.5853) to 1e-3."""
+    from dataclasses import replace
+
+    from impactdamper.studies.design.search import SearchResult
+    from impactdamper.studies.design.subregions import SUBREGION_BUDGET, vouched
+
+    mu, delta1, band = 0.08, 0.05, (0.5, 1.5)
+    box = design_bounds(mu, 1.0)["tmd"]
+    far = SearchResult({"N": 0.5, "delta2": 0.1}, 0.0, {}, (), {}, box)
+    far = replace(
+        far, value=float(TmdCriterion(mu, delta1, band, "peak", Uncertainty())(np.array([[0.5, 0.1]]), "final")[0])
+    )
+    context = dict(mu=mu, delta1=delta1, band=band, uncertainty=Uncertainty(), max_stroke=None)
+    got, rec = vouched("tmd_peak", "tmd", "peak", far, box, context, (SUBREGION_BUDGET, BUDGET))
+    assert not rec["passed"] and rec["lower"] and len(rec["adopted"]) == len(rec["rechecks"]) == 1
+    a = rec["adopted"][0]
+    assert a["searched"] <= a["value"] < far.value and got.value == a["searched"] and got.source == "subregion"
+    assert rec["final"]["passed"] and rec["final"]["value"] == got.value
+    assert got.value == pytest.approx(3.5853, abs=1e-3)
+
+
 def test_tmd_against_a_brute_force_grid_on_a_small_box():
     bounds = {"N": (0.85, 0.97), "delta2": (0.08, 0.25)}
     band = (0.6, 1.4)

@@ -232,7 +232,7 @@ def test_a_jobs_worker_processes_are_its_threads(forced_dry_run):
     """No script starts more worker processes than its job's threads (Snakemake counts a job's
     cores by them): scripts take their workers from the job (``workers=threads``), never from
     the library's default, and the design table and the design command's benchmark, which run
-    the design command's two workers, and the design table's sub-region check, hold two cores (declared as one, each ran a third process
+    the design command's two workers, hold two cores (declared as one, each ran a third process
     beside another job and measured its time on a shared core)."""
     from impactdamper.studies.design.optimum import WORKERS
 
@@ -250,7 +250,6 @@ def test_a_jobs_worker_processes_are_its_threads(forced_dry_run):
         "performance_compiled_map",
         "design_optimum",
         "design_benchmark",
-        "design_subregions",
     }
 
 

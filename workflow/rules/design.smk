@@ -13,8 +13,8 @@
 # Their priorities pass any two one-core jobs' together (Snakemake picks the jobs of the largest
 # total priority that fit), so that they run right after the compiled solver's benchmark, when
 # both cores are free: otherwise a two-core job waits until no one-core job is left. The charts
-# run on one core (their values do not depend on the workers). The design table's sub-region check
-# (every row's box halves searched again) runs the same two workers, after the benchmark.
+# run on one core (their values do not depend on the workers). The design table's job also checks
+# every row's answer against its box's halves (and adopts a lower half's): its own record.
 
 
 rule design_baselines:
@@ -28,6 +28,7 @@ rule design_baselines:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/verdict",
                 "design/tmd",
                 "design/tasks",
@@ -102,6 +103,7 @@ rule design_optimum:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/verdict",
                 "design/tmd",
                 "design/tasks",
@@ -111,6 +113,7 @@ rule design_optimum:
     output:
         json="figures/design_optimum.json",
         csv="figures/design_optimum.csv",
+        subregions="figures/design_subregions.json",
     log:
         "logs/design/optimum.log",
     benchmark:
@@ -150,38 +153,6 @@ rule design_checks:
         "../scripts/design_checks.py"
 
 
-rule design_subregions:
-    input:
-        script="workflow/scripts/design_subregions.py",
-        library=library(
-            study(
-                "design/devices",
-                "design/impact_searches",
-                "design/optimum",
-                "design/search_setup",
-                "design/search",
-                "design/subregions",
-                "design/verdict",
-                "design/tmd",
-                "design/tasks",
-            ),
-            REPORTING,
-        ),
-        optimum="figures/design_optimum.json",
-    output:
-        json="figures/design_subregions.json",
-    log:
-        "logs/design/subregions.log",
-    benchmark:
-        benchmark_file("design_subregions")
-    priority: 700
-    conda:
-        ENV
-    threads: 2
-    script:
-        "../scripts/design_subregions.py"
-
-
 rule design_benchmark:
     input:
         script="workflow/scripts/design_benchmark.py",
@@ -193,6 +164,7 @@ rule design_benchmark:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/verdict",
                 "design/tmd",
                 "design/tasks",

@@ -107,36 +107,36 @@ def _half_words(parameter: str, half: str) -> str:
 
 
 def _lower_text(sub: dict) -> str:
-    """The halves lower than their row's optimum by more than the tolerance, in words (every
-    one: row, half, both values, the half's answer and the margin), or that there is none."""
+    """The halves lower than their row's search answer by more than the tolerance, in words
+    (every one: row, half, both values, the half's answer and the margin; what the row adopted),
+    or that there is none."""
     if not sub["lower"]:
         return f"No half is lower than its row's optimum by more than ${tex_sci(1)(sub['rtol'])}$ (relative)."
+    adopted = {r["device"]: r["adopted"] for r in sub["rows"]}
     parts = []
     for h in sub["lower"]:
         name, (parameter, half) = NAMES[h["device"]], h["half"].split()
         x = ", ".join(f"${SYMBOLS[n]} = {fixed(3)(h['parameters'][n])}$" for n in SYMBOLS if n in h["parameters"])
+        took = [a for a in adopted[h["device"]] if a["half"] == h["half"]]
+        then = f"; adopted, the local search from it reaching {fixed(3)(took[0]['searched'])}" if took else ""
         parts.append(
-            f"{name}: {_half_words(parameter, half)} holds {fixed(3)(h['value'])} against the optimum's "
-            f"{fixed(3)(h['optimum'])} (${fixed(1)(100 * h['margin'])}$\\,\\%), at {x}"
+            f"{name}: {_half_words(parameter, half)} holds {fixed(3)(h['value'])} against its search's "
+            f"{fixed(3)(h['optimum'])} (${fixed(1)(100 * h['margin'])}$\\,\\%), at {x}{then}"
         )
-    return f"Lower than its row's optimum: {'; '.join(parts)}."
-
-
-def _passing_margin(sub: dict) -> float:
-    """The smallest margin of the halves of the rows that pass."""
-    return min(h["margin"] for r in sub["rows"] if r["passed"] for h in r["halves"])
+    return f"Lower than its row's search answer: {'; '.join(parts)}."
 
 
 # The sub-region checks (figures/design_subregions.json): every row's box halves searched.
 SUBREGIONS = (
     Macro("DesignSubRows", "sub.rows_count", TEXT),
     Macro("DesignSubHalves", "sub.halves_count", TEXT),
-    Macro("DesignSubPassedRows", lambda s: sum(bool(r["passed"]) for r in s["sub"]["rows"]), TEXT),
+    Macro("DesignSubHalvesSearched", "sub.halves_searched", TEXT),
+    Macro("DesignSubPassedRows", lambda s: sum(bool(r["final"]["passed"]) for r in s["sub"]["rows"]), TEXT),
     Macro("DesignSubLowerCount", lambda s: len(s["sub"]["lower"]), TEXT),
-    Macro("DesignSubSmallestMarginPct", "sub.smallest_margin", percent(1)),
+    Macro("DesignSubAdoptedCount", lambda s: len(s["sub"]["adopted"]), TEXT),
+    Macro("DesignSubSmallestMarginPct", "sub.smallest_margin", percent(2)),
     Macro("DesignSubSmallestRow", lambda s: NAMES[s["sub"]["smallest_row"]]),
     Macro("DesignSubSmallestHalf", lambda s: _half_words(*s["sub"]["smallest_half"].split())),
-    Macro("DesignSubPassingMarginPct", lambda s: _passing_margin(s["sub"]), percent(2)),
     Macro("DesignSubSamples", "sub.budget.samples", TEXT),
     Macro("DesignSubHalfSamples", lambda s: s["sub"]["budget"]["samples"] // 2, TEXT),
     Macro("DesignSubStarts", "sub.budget.starts", TEXT),
@@ -166,7 +166,7 @@ def design_macros(
     base, chart, chart2, resp, opt, checks, sub, bench : dict
         The records of the baselines, the 1-D and 2-D design charts, the responses, the design
         table (:func:`~impactdamper.studies.design.optimum.design_optima`), the located-peak
-        checks, the sub-region checks (:func:`~impactdamper.studies.design.subregions.design_subregions`)
+        checks, the sub-region checks (:func:`~impactdamper.studies.design.subregions.summary`)
         and the benchmark (figures/design_*.json).
     """
     paper = next(r for r in resp["responses"] if r["role"] == "paper")

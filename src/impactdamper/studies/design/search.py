@@ -21,7 +21,8 @@ uncertainty) is minimised over a box of the device's parameters by :func:`search
    last check passed). The answer is the best final value seen, also over ``incumbents``
    (answers of sub-boxes, with their final values), so that an optimum over a box is never
    worse than one over a box inside it.
-4. **Sub-regions** (:func:`subregions`, a check of an answer, not part of the search). A passed
+4. **Sub-regions** (:func:`subregions`, a check of an answer after :func:`search`; the design
+   table adopts a lower half's answer: :mod:`impactdamper.studies.design.subregions`). A passed
    2 % check certifies a local minimum only. The box is split at its midpoint along each
    parameter, and every half that does not hold the answer (d halves for d parameters) is
    searched by :func:`search` with a stated budget, from one scrambled Sobol sample of the whole
@@ -472,6 +473,7 @@ def subregions(
     f = _Counter(evaluate, names)
     X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
     values = f(X, "coarse")
+    say(f"sample of the box: {len(X)} designs, best {np.min(values):.6g}")
     counts = dict(f.count)
     out = []
     for n, side, box in halves(bounds, x):
