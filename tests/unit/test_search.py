@@ -6,6 +6,9 @@ answer.
 * The answer over a box is never worse than the answer over a box inside it (by construction:
   the sub-box's answer is an incumbent), on a function with its better minimum outside the
   sub-box and on one with it inside.
+* Sub-regions: the halves of the box that do not hold an answer are one per parameter, and
+  their searches find a deeper well that the answer's half does not hold (the answer fails), and
+  none where the answer is the deepest (it passes, no half lower).
 * Against brute force: the TMD's peak over a small box is at most the best of a 41 x 41 grid,
   and within 2e-4 of the best of a 41 x 41 grid within 2 % of it; slow: the impact suppressor's over a small box is at most the best of
   a 4^4 grid of the same criterion.
@@ -23,7 +26,7 @@ from impactdamper.analysis.linear_device import LinearDevice
 from impactdamper.analysis.linear_device import den_hartog
 from impactdamper.studies.design.devices import ImpactCriterion, TmdCriterion, Uncertainty
 from impactdamper.studies.design.search_setup import BUDGET, design_bounds
-from impactdamper.studies.design.search import CHECK_MOVE, Budget, _check_moves, search
+from impactdamper.studies.design.search import CHECK_MOVE, CHECK_RTOL, Budget, _check_moves, halves, search, subregions
 
 SMALL = Budget(samples=32, starts=2, polls=12, polish=40, checks=6)
 
@@ -64,6 +67,71 @@ def test_a_box_is_never_worse_than_a_box_inside_it(better_outside):
     whole = search(_batch(f), box, budget=budget, incumbents=[(inner.x, inner.value)], searched=sub)
     assert whole.value <= inner.value
     assert (whole.value < inner.value - 0.2) == better_outside
+
+
+def test_the_halves_searched_are_those_without_the_answer():
+    box = {"a": (0.0, 1.0), "b": (-2.0, 2.0), "c": (1.0, 3.0)}
+    got = halves(box, {"a": 0.7, "b": 0.0, "c": 1.0})  # (the midpoint b = 0 belongs to the lower half)
+    assert [(n, side) for n, side, _ in got] == [("a", "lower"), ("b", "upper"), ("c", "upper")]
+    assert [h["a"] for _, _, h in got] == [(0.0, 0.5), (0.0, 1.0), (0.0, 1.0)]
+    assert got[1][2]["b"] == (0.0, 2.0) and got[2][2]["c"] == (2.0, 3.0)
+    assert [s for n, s, _ in halves(box, {"a": 1.5, "b": 1.0, "c": 2.0}) if n == "a"] == ["lower", "upper"]
+
+
+@pytest.mark.parametrize("answer_in_deep_well", [False, True])
+def test_a_half_holding_a_deeper_well_is_found(answer_in_deep_well):
+    """Two wells, the deeper (1.0) at a > 0.5, b < 0.5, the shallow one (1.3) at a < 0.5,
+    b > 0.5: an answer in the shallow well fails its sub-region check, both halves without it
+    found lower with the deep well's value and place; an answer in the deep well passes, no half
+    lower."""
+
+    def f(a, b):
+        return min(1.0 + 20 * ((a - 0.85) ** 2 + (b - 0.3) ** 2), 1.3 + 20 * ((a - 0.25) ** 2 + (b - 0.7) ** 2))
+
+    x = {"a": 0.85, "b": 0.3} if answer_in_deep_well else {"a": 0.25, "b": 0.7}
+    budget = Budget(samples=16, starts=1, polls=12, polish=0, checks=2)
+    rec = subregions(_batch(f), {"a": (0.0, 1.0), "b": (0.0, 1.0)}, x, f(**x), budget=budget)
+    assert [(h["parameter"], h["half"]) for h in rec["halves"]] == (
+        [("a", "lower"), ("b", "upper")] if answer_in_deep_well else [("a", "upper"), ("b", "lower")]
+    )
+    assert rec["budget"] == budget.to_dict() and rec["rtol"] == CHECK_RTOL
+    assert rec["passed"] == answer_in_deep_well
+    if answer_in_deep_well:
+        assert rec["smallest_margin"] >= -CHECK_RTOL and rec["lower"] == []
+        return
+    # Both halves without the answer (a > 0.5, b < 0.5) hold the deep well: each finds it.
+    assert rec["lower"] == ["a upper", "b lower"]
+    for deep in rec["halves"]:
+        assert deep["value"] == pytest.approx(1.0, abs=1e-3)
+        assert deep["parameters"]["a"] == pytest.approx(0.85, abs=0.01)
+        assert deep["parameters"]["b"] == pytest.approx(0.3, abs=0.01)
+        assert deep["margin"] == pytest.approx(1.0 / 1.3 - 1.0, abs=1e-3)
+    assert rec["smallest_margin"] == min(h["margin"] for h in rec["halves"])
+
+
+def test_a_row_adopts_a_lower_halfs_answer_and_is_checked_again():
+    """The design search's sub-region step (studies.design.subregions.vouched) on the TMD's peak:
+    an answer far from the optimum (N 0.5) fails its check, adopts the lowest half's answer (a
+    local search from it, never worse), and the answer so found passes its check again, at the
+    equal-peak optimum's value (the design table's TMD row, 3.5853) to 1e-3."""
+    from dataclasses import replace
+
+    from impactdamper.studies.design.search import SearchResult
+    from impactdamper.studies.design.subregions import SUBREGION_BUDGET, vouched
+
+    mu, delta1, band = 0.08, 0.05, (0.5, 1.5)
+    box = design_bounds(mu, 1.0)["tmd"]
+    far = SearchResult({"N": 0.5, "delta2": 0.1}, 0.0, {}, (), {}, box)
+    far = replace(
+        far, value=float(TmdCriterion(mu, delta1, band, "peak", Uncertainty())(np.array([[0.5, 0.1]]), "final")[0])
+    )
+    context = dict(mu=mu, delta1=delta1, band=band, uncertainty=Uncertainty(), max_stroke=None)
+    got, rec = vouched("tmd_peak", "tmd", "peak", far, box, context, (SUBREGION_BUDGET, BUDGET))
+    assert not rec["passed"] and rec["lower"] and len(rec["adopted"]) == len(rec["rechecks"]) == 1
+    a = rec["adopted"][0]
+    assert a["searched"] <= a["value"] < far.value and got.value == a["searched"] and got.source == "subregion"
+    assert rec["final"]["passed"] and rec["final"]["value"] == got.value
+    assert got.value == pytest.approx(3.5853, abs=1e-3)
 
 
 def test_tmd_against_a_brute_force_grid_on_a_small_box():

@@ -55,6 +55,7 @@ RECORDS = [
     "design_optimum.json",
     "design_optimum.csv",
     "design_checks.json",
+    "design_subregions.json",
     "design_benchmark.json",
 ]
 GENERATED_FILES = [
@@ -162,7 +163,7 @@ def test_macros_quote_the_records(tmp_path):
     one = read_json(FIGURES / "design_chart.json")["at_reference_theta"]
     assert abs(one["gap"] - located["gap"]) > 0.1
     # And the report step regenerates them exactly from the records.
-    names = ("baselines", "chart", "chart_2d", "response", "optimum", "checks", "benchmark")
+    names = ("baselines", "chart", "chart_2d", "response", "optimum", "checks", "subregions", "benchmark")
     design_report.main(
         *(FIGURES / f"design_{n}.json" for n in names),
         *(tmp_path / n for n in ("r.json", "m.tex", "t.tex", "d.tex", "l.tex", "b.tex")),
@@ -272,6 +273,70 @@ def test_design_table_answers_vouch_for_themselves():
         assert d["worst"]["together"] >= max(d["worst"][k] for k in ("detuning", "force", "restitution", "absorber"))
     headline = rec["impact"]
     assert headline["device"] == "impact_peak_reach" and headline["search"]["check"]["passed"]
+
+
+# Halves the sub-region check found lower than their row's search answer (row, half): findings of
+# the record, each adopted by the design search (the table's answer) and checked again.
+KNOWN_LOWER = {("impact_restitution", "N upper")}
+
+
+def _halves_searched(check: dict) -> set:
+    """One sub-region check of figures/design_subregions.json: every half of its box without its
+    answer searched (one per design variable) within its half, its margin its value against the
+    answer's; the halves lower than the answer by more than the tolerance."""
+    from impactdamper.studies.design.search import halves
+
+    expected = {(n, side): half for n, side, half in halves(check["bounds"], check["parameters"])}
+    assert len(expected) == len(check["bounds"]) == len(check["halves"])
+    assert abs(check["reproduced"]) <= 1e-9 and check["budget"]["samples"] > 0
+    lower = set()
+    for h in check["halves"]:
+        n, side = h["parameter"], h["half"]
+        assert h["bounds"] == {k: list(v) for k, v in expected.pop((n, side)).items()}
+        assert all(a <= h["parameters"][k] <= b for k, (a, b) in h["bounds"].items())
+        assert h["margin"] == pytest.approx(h["value"] / check["value"] - 1.0, rel=1e-9, abs=1e-15)
+        if h["margin"] < -check["rtol"]:
+            lower.add(f"{n} {side}")
+    assert check["passed"] == (not lower)
+    return lower
+
+
+def test_every_design_optimum_vouches_for_itself_against_its_boxs_halves():
+    """figures/design_subregions.json: every row of the design table (both devices) has every
+    half of its box without its search's answer searched (one per design variable), with the
+    stated budget, by its own criterion (the answer's value reproduced); a half found lower is
+    named (KNOWN_LOWER) and adopted: the table's answer is the local search from it, checked
+    again; and no half is lower than the table's answer by more than the search's tolerance."""
+    from impactdamper.studies.design.optimum import ROWS
+    from impactdamper.studies.design.search import CHECK_RTOL
+    from impactdamper.studies.design.subregions import SUBREGION_BUDGET
+
+    sub, opt = read_json(FIGURES / "design_subregions.json"), read_json(FIGURES / "design_optimum.json")
+    assert [r["device"] for r in sub["rows"]] == [key for key, *_ in ROWS]
+    assert sub["budget"] == SUBREGION_BUDGET.to_dict() and sub["rtol"] == CHECK_RTOL
+    found = set()
+    for r in sub["rows"]:
+        d = device(opt, r["device"])
+        box = opt["bounds"]["tmd"] if r["device"].startswith("tmd") else d["search"]["bounds"]
+        checks = [r, *r["rechecks"]]
+        assert len(checks) == len(r["adopted"]) + 1, r["device"]
+        for c in checks:
+            assert c["budget"] == sub["budget"] and c["bounds"] == {n: box[n] for n in c["bounds"]}
+        found |= {(r["device"], h) for h in _halves_searched(r)}
+        for c, a, after in zip(checks, r["adopted"], checks[1:]):  # each adoption: no worse than its half
+            assert a["searched"] <= a["value"] < c["value"] * (1 - CHECK_RTOL) and after["value"] == a["searched"]
+            _halves_searched(after)
+        # The table's answer is the last one checked, and it passed.
+        last = checks[-1]
+        assert r["final"]["value"] == last["value"] == d["search"]["value"], r["device"]
+        assert last["parameters"] == {n: d["search"]["parameters"][n] for n in last["bounds"]}
+        assert r["final"]["passed"] and last["passed"], r["device"]
+        assert (d["search"]["source"] == "subregion") == bool(r["adopted"]), r["device"]
+        assert min(h["margin"] for h in last["halves"]) >= -CHECK_RTOL
+    assert found == KNOWN_LOWER == {(h["device"], h["half"]) for h in sub["lower"]}
+    assert sub["adopted"] == [r["device"] for r in sub["rows"] if r["adopted"]]
+    assert sub["halves_count"] == sum(len(r["halves"]) for r in sub["rows"]) == 40
+    assert sub["passed"] and sub["smallest_margin"] >= -CHECK_RTOL
 
 
 def test_located_peak_checks_hold():

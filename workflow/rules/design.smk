@@ -13,7 +13,8 @@
 # Their priorities pass any two one-core jobs' together (Snakemake picks the jobs of the largest
 # total priority that fit), so that they run right after the compiled solver's benchmark, when
 # both cores are free: otherwise a two-core job waits until no one-core job is left. The charts
-# run on one core (their values do not depend on the workers).
+# run on one core (their values do not depend on the workers). The design table's job also checks
+# every row's answer against its box's halves (and adopts a lower half's): its own record.
 
 
 rule design_baselines:
@@ -27,6 +28,7 @@ rule design_baselines:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/verdict",
                 "design/tmd",
                 "design/tasks",
@@ -101,6 +103,7 @@ rule design_optimum:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/verdict",
                 "design/tmd",
                 "design/tasks",
@@ -110,6 +113,7 @@ rule design_optimum:
     output:
         json="figures/design_optimum.json",
         csv="figures/design_optimum.csv",
+        subregions="figures/design_subregions.json",
     log:
         "logs/design/optimum.log",
     benchmark:
@@ -160,6 +164,7 @@ rule design_benchmark:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/verdict",
                 "design/tmd",
                 "design/tasks",
@@ -229,6 +234,7 @@ rule design_report:
         response="figures/design_response.json",
         optimum="figures/design_optimum.json",
         checks="figures/design_checks.json",
+        subregions="figures/design_subregions.json",
         benchmark="figures/design_benchmark.json",
     output:
         record="results/report/design.json",
@@ -324,6 +330,7 @@ DESIGN_TARGETS = [
     "figures/design_optimum.json",
     "figures/design_optimum.csv",
     "figures/design_checks.json",
+    "figures/design_subregions.json",
     "figures/design_benchmark.json",
     "figures/design_response.pdf",
     "figures/design_response.png",

@@ -69,6 +69,7 @@ rule notebook_choosing_a_suppressor:
                 "design/optimum",
                 "design/search_setup",
                 "design/search",
+                "design/subregions",
                 "design/tasks",
                 "design/tmd",
                 "design/verdict",

@@ -24,6 +24,7 @@ def main(
     response_json,
     optimum_json,
     checks_json,
+    subregions_json,
     benchmark_json,
     out_record,
     out_macros,
@@ -34,11 +35,11 @@ def main(
 ) -> None:
     """Write the stage's record (``out_record``, JSON), from it the macros (``out_macros``), and
     the tables."""
-    base, chart, chart2, resp, opt, checks, bench = (
-        read_json(x)
-        for x in (baselines_json, chart_json, chart2d_json, response_json, optimum_json, checks_json, benchmark_json)
+    stage = (baselines_json, chart_json, chart2d_json, response_json, optimum_json, checks_json)
+    base, chart, chart2, resp, opt, checks, sub, bench = (
+        read_json(x) for x in (*stage, subregions_json, benchmark_json)
     )
-    m = design_macros(base, chart, chart2, resp, opt, checks, bench)
+    m = design_macros(base, chart, chart2, resp, opt, checks, sub, bench)
     write_json(out_record, m.record(RECORD_WHAT), sort_keys=False)
     Path(out_macros).parent.mkdir(parents=True, exist_ok=True)
     Path(out_macros).write_text(render_macros(read_json(out_record)))
@@ -49,8 +50,9 @@ def main(
 
 
 JOB = (
-    "input.baselines input.chart input.chart2d input.response input.optimum input.checks input.benchmark "
-    "output.record output.macros output.table output.design_table output.loads_table output.benchmark_table"
+    "input.baselines input.chart input.chart2d input.response input.optimum input.checks input.subregions "
+    "input.benchmark output.record output.macros output.table output.design_table output.loads_table "
+    "output.benchmark_table"
 )
 
 if __name__ == "__main__":

@@ -15,7 +15,10 @@ and from the nominal optimum. The TMD's answers are then converged on its exact 
 (:func:`impactdamper.studies.design.tmd.refine_tmd`: the equal-peak optimum for the peak). What
 a search certifies: a local minimum that no 2 % move along an axis improves (where its check
 passed), and the best reached from its global samples; its starts' ends and spread are in its
-record (``best_found`` where they disagree by more than 0.5 %).
+record (``best_found`` where they disagree by more than 0.5 %). With ``subregion_budget`` (the
+workflow's design table) every row's answer is also checked against the halves of its box
+without it, and a lower half's answer adopted and checked again
+(:mod:`impactdamper.studies.design.subregions`).
 The boxes are derived from the object and the budgets are the same for both devices
 (:mod:`impactdamper.studies.design.search_setup`); the impact suppressor's searches are
 :mod:`impactdamper.studies.design.impact_searches`. The answer over the whole box is seeded
@@ -26,6 +29,7 @@ average, worst peaks over each uncertainty and over all together, stroke and loa
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 import os
@@ -59,7 +63,8 @@ from impactdamper.studies.design.search_setup import (
     check_object,
     design_bounds,
 )
-from impactdamper.studies.design.tasks import Silences, processor_time
+from impactdamper.studies.design.subregions import summary, vouched
+from impactdamper.studies.design.tasks import Silences, in_parallel, processor_time
 from impactdamper.studies.design.tmd import equal_peaks, refine_tmd
 from impactdamper.studies.design.verdict import device, headline, recommendation
 
@@ -160,6 +165,7 @@ def design_optima(
     seed: int = 0,
     progress: Callable[[str], None] | None = None,
     robust: bool | None = None,
+    subregion_budget: Budget | None = None,
 ) -> dict:
     """The design table of one object (module docstring): what ``python -m impactdamper
     design --json`` prints and the report's design table shows.
@@ -196,6 +202,9 @@ def design_optima(
         ``criterion`` is one of them. Without them the nominal answer (peak, band average, travel
         limit, the TMD's detuned optimum) comes in about a minute on two cores; the rows' worst
         peaks then cover the detuning only (the others NaN, named in ``not_evaluated``).
+    subregion_budget : Budget, optional
+        Every row's answer checked against its box's halves, a lower half's adopted, with this
+        budget (:func:`_vouch`; record ``subregions``); none without it (the command's default).
 
     Returns
     -------
@@ -215,10 +224,9 @@ def design_optima(
     obj = check_object(band, mu, delta1, unc, max_stroke, stop_stiffness, natural_frequency)
     call = _checked_call(*obj, unc, criterion, workers, robust, progress, stop_stiffness, natural_frequency)
     found = _searches(call, max_stroke, (budget, robust_budget), seed)
-    out = _table(call, found, (budget, robust_budget))
-    out["elapsed"] = time.perf_counter() - t0
-    out["cpu"] = processor_time() - c0
-    out["longest_silence"] = call.say.longest()
+    found, sub = _vouch(call, found, (budget, robust_budget), subregion_budget, seed)
+    out = {**_table(call, found, (budget, robust_budget)), **({"subregions": sub} if sub else {})}
+    out.update(elapsed=time.perf_counter() - t0, cpu=processor_time() - c0, longest_silence=call.say.longest())
     return out
 
 
@@ -287,6 +295,36 @@ def _searches(call: _Call, max_stroke, budgets: tuple, seed: int) -> _Found:
         mu, delta1, band, unc, bounds, S, tmd["peak"], tmd["stroke"], budgets, seed, call.workers, say, call.robust
     )
     return _Found(tmd, imp, s_T, S, bounds)
+
+
+def _vouch(call: _Call, found: _Found, budgets: tuple, sub_budget: Budget | None, seed: int) -> tuple:
+    """Every row's answer checked against its box's halves and a lower half's adopted
+    (:func:`~impactdamper.studies.design.subregions.vouched`, ``call.workers`` rows at a time):
+    the searches' results so vouched for, and the check's record (with its times); with no
+    ``sub_budget``, ``found`` as it is and None."""
+    if sub_budget is None:
+        return found, None
+    t0, c0 = time.perf_counter(), processor_time()
+    call.say("the answers against their boxes' halves")
+    results = {"tmd": dict(found.tmd), "impact": dict(found.impact)}
+    context = dict(mu=call.mu, delta1=call.delta1, band=call.band, uncertainty=call.uncertainty)
+    context["max_stroke"] = found.max_stroke
+    tasks = {}
+    for key, kind, crit, k in ROWS:
+        if k in results[kind]:
+            r = results[kind][k]
+            box = found.bounds["tmd"] if kind == "tmd" else r.bounds
+            local = budgets[1] if crit in ROBUST_SEARCHED else budgets[0]
+            tasks[key] = functools.partial(
+                vouched, key, kind, crit, r, box, context, (sub_budget, local), seed, call.say
+            )
+    done = in_parallel(tasks, call.workers)
+    for key, kind, _, k in ROWS:
+        if key in done:
+            results[kind][k] = done[key][0]
+    record = summary([v[1] for v in done.values()], sub_budget, seed)
+    record.update(elapsed=time.perf_counter() - t0, cpu=processor_time() - c0)
+    return dataclasses.replace(found, tmd=results["tmd"], impact=results["impact"]), record
 
 
 def _table(call: _Call, found: _Found, budgets: tuple) -> dict:

@@ -1,6 +1,6 @@
 """The design stage's record for the report's section "Choosing a suppressor", declared for
 :mod:`impactdamper.reporting.texrecord`: its macros, those of the baselines, the design charts,
-the responses and the located-peak checks here, those of the design table's rows
+the responses, the located-peak checks and the sub-region checks here, those of the design table's rows
 (:mod:`~impactdamper.studies.design.record_rows`) and of its comparisons and verdicts
 (:mod:`~impactdamper.studies.design.record_summary`) gathered here; its tables are
 :mod:`~impactdamper.studies.design.record_tables`.
@@ -15,7 +15,7 @@ from __future__ import annotations
 from impactdamper.reporting.latex import MacroFile
 from impactdamper.reporting.texrecord import TEXT, Macro, bound, fixed, macro_lines, percent, tex_sci
 from impactdamper.analysis.linear_device import LinearDevice
-from impactdamper.studies.design.record_rows import row_macros, rows
+from impactdamper.studies.design.record_rows import NAMES, SYMBOLS, row_macros, rows
 from impactdamper.studies.design.record_summary import SUMMARY
 from impactdamper.studies.vocabulary import SPEC
 
@@ -101,6 +101,54 @@ CHECKS = (
 )
 
 
+def _half_words(parameter: str, half: str) -> str:
+    """A half of a row's box in words (``the upper half in $N$``)."""
+    return f"the {half} half in ${SYMBOLS[parameter]}$"
+
+
+def _lower_text(sub: dict) -> str:
+    """The halves lower than their row's search answer by more than the tolerance, in words
+    (every one: row, half, both values, the half's answer and the margin; what the row adopted),
+    or that there is none."""
+    if not sub["lower"]:
+        return f"No half is lower than its row's optimum by more than ${tex_sci(1)(sub['rtol'])}$ (relative)."
+    adopted = {r["device"]: r["adopted"] for r in sub["rows"]}
+    parts = []
+    for h in sub["lower"]:
+        name, (parameter, half) = NAMES[h["device"]], h["half"].split()
+        x = ", ".join(f"${SYMBOLS[n]} = {fixed(3)(h['parameters'][n])}$" for n in SYMBOLS if n in h["parameters"])
+        took = [a for a in adopted[h["device"]] if a["half"] == h["half"]]
+        then = f"; adopted, the local search from it reaching {fixed(3)(took[0]['searched'])}" if took else ""
+        parts.append(
+            f"{name}: {_half_words(parameter, half)} holds {fixed(3)(h['value'])} against its search's "
+            f"{fixed(3)(h['optimum'])} (${fixed(1)(100 * h['margin'])}$\\,\\%), at {x}{then}"
+        )
+    return f"Lower than its row's search answer: {'; '.join(parts)}."
+
+
+# The sub-region checks (figures/design_subregions.json): every row's box halves searched.
+SUBREGIONS = (
+    Macro("DesignSubRows", "sub.rows_count", TEXT),
+    Macro("DesignSubHalves", "sub.halves_count", TEXT),
+    Macro("DesignSubHalvesSearched", "sub.halves_searched", TEXT),
+    Macro("DesignSubPassedRows", lambda s: sum(bool(r["final"]["passed"]) for r in s["sub"]["rows"]), TEXT),
+    Macro("DesignSubLowerCount", lambda s: len(s["sub"]["lower"]), TEXT),
+    Macro("DesignSubAdoptedCount", lambda s: len(s["sub"]["adopted"]), TEXT),
+    Macro("DesignSubSmallestMarginPct", "sub.smallest_margin", percent(2)),
+    Macro("DesignSubSmallestRow", lambda s: NAMES[s["sub"]["smallest_row"]]),
+    Macro("DesignSubSmallestHalf", lambda s: _half_words(*s["sub"]["smallest_half"].split())),
+    Macro("DesignSubSamples", "sub.budget.samples", TEXT),
+    Macro("DesignSubHalfSamples", lambda s: s["sub"]["budget"]["samples"] // 2, TEXT),
+    Macro("DesignSubStarts", "sub.budget.starts", TEXT),
+    Macro("DesignSubPolls", "sub.budget.polls", TEXT),
+    Macro("DesignSubPolish", "sub.budget.polish", TEXT),
+    Macro("DesignSubChecks", "sub.budget.checks", TEXT),
+    Macro("DesignSubRtol", "sub.rtol", tex_sci(1)),
+    Macro("DesignSubReproduced", "sub.largest_reproduced", bound(1)),
+    Macro("DesignSubLowerText", lambda s: _lower_text(s["sub"])),
+)
+
+
 def _optimum_macros(opt: dict, bench: dict) -> list:
     """The table's macros: rows' parameters, criteria, strokes, loads, searches; the verdicts."""
     d = rows(opt)
@@ -108,15 +156,18 @@ def _optimum_macros(opt: dict, bench: dict) -> list:
     return row_macros(d) + macro_lines(SUMMARY, {"d": d, "opt": opt, "searched": searched, "bench": bench})
 
 
-def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, checks: dict, bench: dict) -> MacroFile:
+def design_macros(
+    base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, checks: dict, sub: dict, bench: dict
+) -> MacroFile:
     """The design stage's macros (the record of ``paper/generated/design_macros.tex``).
 
     Parameters
     ----------
-    base, chart, chart2, resp, opt, checks, bench : dict
+    base, chart, chart2, resp, opt, checks, sub, bench : dict
         The records of the baselines, the 1-D and 2-D design charts, the responses, the design
         table (:func:`~impactdamper.studies.design.optimum.design_optima`), the located-peak
-        checks and the benchmark (figures/design_*.json).
+        checks, the sub-region checks (:func:`~impactdamper.studies.design.subregions.summary`)
+        and the benchmark (figures/design_*.json).
     """
     paper = next(r for r in resp["responses"] if r["role"] == "paper")
     source = {
@@ -131,9 +182,11 @@ def design_macros(base: dict, chart: dict, chart2: dict, resp: dict, opt: dict, 
         "paper": paper,
         "dh": base["den_hartog_check"],
         "checks": checks,
+        "sub": sub,
     }
     m = MacroFile(["% Written by the design stage's report job; do not edit."])
     m.extend(macro_lines(CHART, source))
     m.extend(macro_lines(CHECKS, source))
+    m.extend(macro_lines(SUBREGIONS, source))
     m.extend(_optimum_macros(opt, bench))
     return m

@@ -21,6 +21,14 @@ uncertainty) is minimised over a box of the device's parameters by :func:`search
    last check passed). The answer is the best final value seen, also over ``incumbents``
    (answers of sub-boxes, with their final values), so that an optimum over a box is never
    worse than one over a box inside it.
+4. **Sub-regions** (:func:`subregions`, a check of an answer after :func:`search`; the design
+   table adopts a lower half's answer: :mod:`impactdamper.studies.design.subregions`). A passed
+   2 % check certifies a local minimum only. The box is split at its midpoint along each
+   parameter, and every half that does not hold the answer (d halves for d parameters) is
+   searched by :func:`search` with a stated budget, from one scrambled Sobol sample of the whole
+   box (``budget.samples`` points, a power of 2: each half holds exactly half of them), each
+   half's answer at the ``final`` fidelity. The answer passes when no half's is lower by more
+   than CHECK_RTOL (relative).
 
 ``evaluate(X, fidelity)`` takes the designs as rows of X (shape (k, d), the box's order) and
 returns k values; every evaluation is counted per fidelity (the budget's record).
@@ -47,6 +55,8 @@ __all__ = [
     "CHECK_MOVE",
     "CHECK_RTOL",
     "FIDELITIES",
+    "halves",
+    "subregions",
 ]
 
 # The check's move along each axis: 2 % of the parameter's value.
@@ -416,3 +426,84 @@ def _extend(f: _Counter, x: dict, lowered: dict, bounds: dict, names: list) -> d
         if not tv < value * (1.0 - CHECK_RTOL):
             return best
         best, value = trial, tv
+
+
+def halves(bounds: dict, x: dict) -> list[tuple[str, str, dict]]:
+    """The halves of the box ``bounds`` (split at the midpoint along each parameter) that do not
+    hold ``x``: (parameter, ``lower`` or ``upper``, the half's bounds), one per parameter (the
+    midpoint itself belongs to the lower half; both halves where ``x`` lies outside the box)."""
+    out = []
+    for n, (a, b) in bounds.items():
+        a, b = float(a), float(b)
+        m = 0.5 * (a + b)
+        for side, box, holds in (("lower", (a, m), a <= x[n] <= m), ("upper", (m, b), m < x[n] <= b)):
+            if not holds:
+                out.append((n, side, {**{k: tuple(map(float, v)) for k, v in bounds.items()}, n: box}))
+    return out
+
+
+def subregions(
+    evaluate: Callable[[np.ndarray, str], np.ndarray],
+    bounds: dict,
+    x: dict,
+    value: float,
+    *,
+    budget: Budget,
+    seed: int = 0,
+    progress: Callable[[str], None] | None = None,
+) -> dict:
+    """The sub-region check of the answer ``x`` (final value ``value``) over the box ``bounds``
+    (module docstring, 4): every half of :func:`halves` searched by :func:`search` with
+    ``budget``, from one Sobol sample of the whole box shared by the halves.
+
+    Returns
+    -------
+    dict
+        ``bounds``, ``parameters``, ``value``, ``budget``, ``rtol`` (CHECK_RTOL); ``halves``
+        (per half: ``parameter``, ``half``, ``bounds``, ``value`` (its answer's final value),
+        ``parameters``, ``margin`` (its value over ``value``, minus 1: negative where the half
+        is lower), ``check_passed``, ``at_bound``, ``evaluations``); ``smallest_margin``,
+        ``lower`` (the halves lower by more than CHECK_RTOL), ``passed`` (none is),
+        ``evaluations`` (per fidelity, the sample's included).
+    """
+    say = progress or (lambda m: None)
+    names, lo, hi = _box(bounds)
+    if budget.samples < 2 or budget.samples & (budget.samples - 1):
+        raise ValueError(f"`budget.samples` = {budget.samples!r} is not allowed: must be a power of 2, >= 2")
+    f = _Counter(evaluate, names)
+    X = lo + scipy.stats.qmc.Sobol(len(names), scramble=True, seed=seed).random(int(budget.samples)) * (hi - lo)
+    values = f(X, "coarse")
+    say(f"sample of the box: {len(X)} designs, best {np.min(values):.6g}")
+    counts = dict(f.count)
+    out = []
+    for n, side, box in halves(bounds, x):
+        r = search(evaluate, box, budget=budget, sample=(X, values), seed=seed)
+        margin = (r.value - value) / abs(value) if value else r.value - value
+        say(f"{n} {side} half: {r.value:.8g} ({margin:+.3e} against {value:.8g})")
+        counts = {k: counts.get(k, 0) + r.evaluations.get(k, 0) for k in set(counts) | set(r.evaluations)}
+        out.append(
+            {
+                "parameter": n,
+                "half": side,
+                "bounds": {k: list(v) for k, v in box.items()},
+                "value": r.value,
+                "parameters": dict(r.x),
+                "margin": margin,
+                "check_passed": bool(r.check["passed"]),
+                "at_bound": list(r.at_bound),
+                "evaluations": dict(r.evaluations),
+            }
+        )
+    lower = [h for h in out if h["margin"] < -CHECK_RTOL]
+    return {
+        "bounds": {k: [float(a), float(b)] for k, (a, b) in bounds.items()},
+        "parameters": dict(x),
+        "value": value,
+        "budget": budget.to_dict(),
+        "rtol": CHECK_RTOL,
+        "halves": out,
+        "smallest_margin": min((h["margin"] for h in out), default=math.inf),
+        "lower": [f"{h['parameter']} {h['half']}" for h in lower],
+        "passed": not lower,
+        "evaluations": {k: counts[k] for k in sorted(counts)},
+    }
