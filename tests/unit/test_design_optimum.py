@@ -437,3 +437,30 @@ def test_a_travel_limit_only_one_device_keeps_decides_by_the_limit():
         in text
     )
     assert "the TMD is lower (19.88 against 18.94)" not in text
+
+
+@pytest.mark.parametrize("flag", [True, False])
+def test_design_command_checks_sub_regions_only_when_asked(flag, monkeypatch, capsys):
+    """``design --subregions`` hands the sub-region budget to the search and prints the check's
+    summary (here the design table's own record); without it the answer says it is unchecked."""
+    from impactdamper.cli import main
+    from impactdamper.studies.design import optimum
+    from impactdamper.studies.design.subregions import SUBREGION_BUDGET
+
+    record = json.loads((ROOT / "figures" / "design_optimum.json").read_text())
+    sub = json.loads((ROOT / "figures" / "design_subregions.json").read_text())
+    seen = {}
+
+    def fake(*args, subregion_budget=None, **kwargs):
+        seen["budget"] = subregion_budget
+        return {**record, **({"subregions": sub} if subregion_budget is not None else {})}
+
+    monkeypatch.setattr(optimum, "design_optima", fake)
+    assert main(["design", "--quiet", *(["--subregions"] if flag else [])]) == 0
+    out = capsys.readouterr().out
+    assert seen["budget"] == (SUBREGION_BUDGET if flag else None)
+    if flag:
+        assert f"sub-regions: {sub['halves_searched']} halves searched, {len(sub['lower'])} lower" in out, out
+        assert f"{100 * sub['smallest_margin']:+.2f} %" in out
+    else:
+        assert "sub-regions: not checked" in out

@@ -177,6 +177,7 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
 
     from impactdamper.studies.design.devices import Uncertainty
     from impactdamper.studies.design.optimum import check_object, design_optima
+    from impactdamper.studies.design.subregions import SUBREGION_BUDGET
 
     start = time.perf_counter()
 
@@ -213,6 +214,7 @@ def _design(args: argparse.Namespace, sub: argparse.ArgumentParser) -> int:
                 progress=progress,
                 workers=args.workers,
                 robust=True if args.robust else None,
+                subregion_budget=SUBREGION_BUDGET if args.subregions else None,
             )
     except (ValueError, RuntimeError, ArithmeticError) as err:
         _fail(sub, err)

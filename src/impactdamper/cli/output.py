@@ -177,6 +177,16 @@ def _print_design(r: dict) -> None:
             f"snubber: a stop at {s['fraction']:g} of the TMD's stroke raises its peak to {s['peak']:.4f} "
             f"({100 * (s['ratio'] - 1):.0f} % more)"
         )
+    sub = r.get("subregions")
+    if sub is None:
+        print("sub-regions: not checked (--subregions checks every answer against its box's halves)")
+    else:
+        print(
+            f"sub-regions: {sub['halves_searched']} halves searched, {len(sub['lower'])} lower than their row's "
+            f"search answer (adopted: {', '.join(sub['adopted']) or 'none'}); every answer now passes: "
+            f"{'yes' if sub['passed'] else 'no'}, the closest half {100 * sub['smallest_margin']:+.2f} % "
+            f"({sub['smallest_row']}, {sub['smallest_half']})"
+        )
     print(r["recommendation"] + f" ({r['elapsed']:.1f} s)")
 
 

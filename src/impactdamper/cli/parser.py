@@ -331,6 +331,13 @@ def _add_design_limits(design) -> None:
         "--criterion implies it): slower than the nominal answer (its time: docs/BENCHMARKS.md, the design "
         "table's run)",
     )
+    o.add_argument(
+        "--subregions",
+        action="store_true",
+        help="check every answer against its box's halves (each half without the answer searched again; a "
+        "lower half is adopted and checked again): about twice the time, beyond the minute; the workflow's "
+        "design table runs it (key subregions)",
+    )
 
 
 def _add_lyapunov_command(sub, defaults: Parameters) -> None:
@@ -374,7 +381,7 @@ DESIGN_DESCRIPTION = """Choose a suppressor for an object of mass ratio mu and d
 forcing frequencies: the impact suppressor optimised in gap, N, delta2 and R and the linear
 tuned-mass damper (TMD) in N and delta2, by one global search with one budget for both (a
 Sobol sample, compass searches, a Nelder-Mead polish, a check that no 2 % move along any axis
-lowers the answer), for the nominal peak, the band average, the worst case with the object
+lowers the answer; with --subregions, that no half of the box does better), for the nominal peak, the band average, the worst case with the object
 detuned, with the force amplitude off its design value, with the restitution drifting, and
 under a travel limit. Peaks are the worst branch over the band, located. At most a minute on
 two cores within the ranges below; progress lines go to stderr (none with --quiet)."""
@@ -382,7 +389,8 @@ two cores within the ranges below; progress lines go to stderr (none with --quie
 DESIGN_KEYS = """JSON keys (--json): band, mu, delta1, uncertainty {detuning, force, restitution, stiffness,
 damping}, detuning, criterion, budget, robust_budget, bounds, tmd_stroke, max_stroke, stop_stiffness,
 natural_frequency, settings, elapsed (s), longest_silence (s between two progress lines),
-recommendation; devices: every row of the design table,
+recommendation, subregions (with --subregions: budget, rows_count, halves_searched, lower,
+adopted, smallest_margin, passed, rows); devices: every row of the design table,
 each with
   device          bare object, tmd_peak, impact_peak_reach (its stop within reach),
                   impact_peak (the whole box), tmd_band_average, impact_band_average_reach,

@@ -123,7 +123,8 @@ def _lower_text(sub: dict) -> str:
             f"{name}: {_half_words(parameter, half)} holds {fixed(3)(h['value'])} against its search's "
             f"{fixed(3)(h['optimum'])} (${fixed(1)(100 * h['margin'])}$\\,\\%), at {x}{then}"
         )
-    return f"Lower than its row's search answer: {'; '.join(parts)}."
+    lead = "A half lower than its row's answer" if len(parts) == 1 else "Halves lower than their rows' answers"
+    return f"{lead}: {'; '.join(parts)}."
 
 
 # The sub-region checks (figures/design_subregions.json): every row's box halves searched.

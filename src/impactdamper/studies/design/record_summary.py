@@ -151,6 +151,7 @@ SUMMARY = (
     Macro("DesignMaxPeriods", "opt.settings.max_periods", TEXT),
     Macro("DesignElapsed", "opt.elapsed", fixed(0)),
     Macro("DesignOptStopText", "d.Opt", Format(_stop_text)),
+    Macro("DesignRestImpStopText", "d.RestImp", Format(_stop_text)),
     Macro(
         "DesignStrokeImpStopText",
         lambda s: (

@@ -35,7 +35,7 @@ from impactdamper.studies.design.devices import (
 )
 from impactdamper.studies.design.search import CHECK_RTOL, Budget, SearchResult, search, subregions
 
-__all__ = ["SUBREGION_BUDGET", "ADOPTIONS", "criterion_of", "vouched", "summary"]
+__all__ = ["SUBREGION_BUDGET", "ADOPTIONS", "vouched", "summary"]
 
 # The halves' budget: the design table's (search_setup.BUDGET) with a smaller global stage (64
 # designs of the whole box, 32 in each half, against 128 for the row's own search), one local
@@ -49,7 +49,7 @@ SUBREGION_BUDGET = Budget(
 ADOPTIONS = 2
 
 
-def criterion_of(kind: str, criterion: str, mu, delta1, band, uncertainty: Uncertainty, max_stroke, workers=1):
+def _criterion_of(kind: str, criterion: str, mu, delta1, band, uncertainty: Uncertainty, max_stroke, workers=1):
     """A row's criterion as its search evaluated it: (evaluate, the parameters' names); the
     travel-limited rows (``stroke``) are the peak with the limit's penalty."""
     limit = max_stroke if criterion == "stroke" else None
@@ -86,7 +86,7 @@ def vouched(key, kind, criterion, result, box, context: dict, budgets: tuple, se
         check's ``value``, ``parameters``, ``smallest_margin``, ``passed``).
     """
     say = say or (lambda m: None)
-    evaluate, names = criterion_of(kind, criterion, **context)
+    evaluate, names = _criterion_of(kind, criterion, **context)
     tell = lambda m: say(f"{key}, {m}")  # noqa: E731
     checks = [_check(evaluate, names, box, result, budgets[0], seed, tell)]
     adopted = []
