@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from impactdamper.reporting.texrecord import TEXT, Format, Macro, bound, fixed, percent, pick, tex_sci
 from impactdamper.studies.design.abstract import abstract_answer, abstract_short
-from impactdamper.studies.design.devices import STROKE_PENALTY
+from impactdamper.studies.design.devices import RANGES, STROKE_PENALTY
 from impactdamper.studies.design.record_rows import SYMBOLS, at_bound_text, device_name
 from impactdamper.studies.design.verdict import recommendation
 
@@ -122,6 +122,9 @@ def _stop_text(d: dict) -> str:
     return f"its stop is reached, up to {fixed(1)(d['impacts_per_period'])} impacts per period"
 
 
+# A number as Python's general format writes it (0.005, 2, 1e+06): the ranges as documented.
+_GENERAL = Format(lambda v: f"{v:g}")
+
 # The record's comparisons and settings.
 SUMMARY = (
     Macro("DesignDetuneLargePct", "opt.uncertainty.detuning", percent(0)),
@@ -152,6 +155,15 @@ SUMMARY = (
     Macro("DesignElapsed", "opt.elapsed", fixed(0)),
     Macro("DesignOptStopText", "d.Opt", Format(_stop_text)),
     Macro("DesignRestImpStopText", "d.RestImp", Format(_stop_text)),
+    # The command's documented ranges (devices.RANGES: what `impactdamper design` accepts).
+    Macro("DesignRangeMuLow", lambda s: RANGES["mu"][0], _GENERAL),
+    Macro("DesignRangeMuHigh", lambda s: RANGES["mu"][1], _GENERAL),
+    Macro("DesignRangeDeltaOneLow", lambda s: RANGES["delta1"][0], _GENERAL),
+    Macro("DesignRangeDeltaOneHigh", lambda s: RANGES["delta1"][1], _GENERAL),
+    Macro("DesignRangeWidthLow", lambda s: RANGES["band_width"][0], _GENERAL),
+    Macro("DesignRangeWidthHigh", lambda s: RANGES["band_width"][1], _GENERAL),
+    Macro("DesignRangeThetaLow", lambda s: RANGES["theta_start"][0], _GENERAL),
+    Macro("DesignRangeThetaHigh", lambda s: RANGES["theta_stop"][1], _GENERAL),
     Macro(
         "DesignStrokeImpStopText",
         lambda s: (
