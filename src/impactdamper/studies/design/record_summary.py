@@ -81,13 +81,11 @@ def _certifies_text(searched: list) -> str:
     )
     if not apart:
         return words + " Every search's starts end within 0.5\\,\\% of each other."
-    listed = "; ".join(f"{device_name(d)} ({_spread_words(d['search']['starts']['spread'])})" for d in apart)
-    return words + f" Where the starts end more than 0.5\\,\\% apart the answer is the best found, not more: {listed}."
-
-
-def _spread_words(spread: float) -> str:
-    """A spread of the starts' ends in words (over 100 %: a start ended over a travel limit)."""
-    return "over 100\\,\\%" if spread > 1 else f"{fixed(1)(100 * spread)}\\,\\%"
+    return words + (
+        f" In {len(apart)} of the {len(searched)} searches the starts end more than 0.5\\,\\% apart (each "
+        f"search's starts, their ends and spread are in the record, \\texttt{{search.starts}}): there the answer "
+        f"is the best found, not more."
+    )
 
 
 def _value_table_diff(d: dict) -> float:
