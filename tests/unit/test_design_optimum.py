@@ -35,6 +35,7 @@ from impactdamper.studies.design.devices import (
     impact_parameters,
     _scenario_case,
 )
+from impactdamper.studies.design.subregions import SUBREGION_BUDGET, subregion_budget
 from impactdamper.studies.design.search_setup import BUDGET, ROBUST_BUDGET, check_object, design_bounds, design_options
 from impactdamper.studies.design.verdict import TIE, recommendation
 
@@ -230,6 +231,9 @@ def test_shipped_config_budget_is_the_commands():
     options = design_options(design)
     assert options["budget"] == BUDGET and options["robust_budget"] == ROBUST_BUDGET
     assert options["uncertainty"] == Uncertainty()
+    assert subregion_budget(design) == SUBREGION_BUDGET  # the workflow's check is the command's --subregions
+    coarse = yaml.safe_load((ROOT / "config" / "ci.yaml").read_text())["design"]
+    assert subregion_budget(coarse).samples < SUBREGION_BUDGET.samples  # the coarse run's is smaller
 
 
 def _run(*args, **kwargs):

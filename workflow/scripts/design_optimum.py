@@ -17,7 +17,7 @@ from impactdamper.studies.design.design import design_band, design_parameters
 from impactdamper.studies.design.devices import IMPACT_NAMES
 from impactdamper.studies.design.optimum import design_optima
 from impactdamper.studies.design.search_setup import design_options
-from impactdamper.studies.design.subregions import SUBREGION_BUDGET
+from impactdamper.studies.design.subregions import subregion_budget
 
 
 COLUMNS = [
@@ -74,7 +74,7 @@ def main(reference: dict, design: dict, out_json, out_csv, out_subregions, log=N
             workers=workers,
             progress=log.info,
             robust=True,
-            subregion_budget=SUBREGION_BUDGET,
+            subregion_budget=subregion_budget(design),
         )
     sub = record.pop("subregions")
     write_json(out_json, record)

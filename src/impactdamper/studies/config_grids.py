@@ -180,7 +180,8 @@ def _design_grids(d: dict) -> list[tuple[tuple, str, float, int, str]]:
     counts = (len(d["second_values"]), d["second_gap_points"], n)
     names = "second_values x second_gap_points x band points"
     grids.append(_product(("design",), names, counts, MAX_SETTLED_POINTS, "chart points"))
-    for key in ("search_samples", "search_polls", "search_polish", "robust_polls", "robust_polish", "search_checks"):
+    keys = ("search_samples", "search_polls", "search_polish", "robust_polls", "robust_polish", "search_checks")
+    for key in (*keys, *(k for k in ("subregion_samples", "subregion_polls") if k in d)):
         grids.append(_key(d, ("design", key), MAX_LINE_POINTS, "evaluations"))
     grids.append(_key(d, ("design", "search_starts"), MAX_REPEATS, "searches"))
     grids.append(_key(d, ("design", "benchmark_objects"), MAX_REPEATS, "timed objects", len(d["benchmark_objects"])))

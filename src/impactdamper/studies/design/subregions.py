@@ -35,7 +35,7 @@ from impactdamper.studies.design.devices import (
 )
 from impactdamper.studies.design.search import CHECK_RTOL, Budget, SearchResult, search, subregions
 
-__all__ = ["SUBREGION_BUDGET", "ADOPTIONS", "vouched", "summary"]
+__all__ = ["SUBREGION_BUDGET", "ADOPTIONS", "subregion_budget", "vouched", "summary"]
 
 # The halves' budget: the design table's (search_setup.BUDGET) with a smaller global stage (64
 # designs of the whole box, 32 in each half, against 128 for the row's own search), one local
@@ -45,6 +45,20 @@ __all__ = ["SUBREGION_BUDGET", "ADOPTIONS", "vouched", "summary"]
 SUBREGION_BUDGET = Budget(
     samples=64, starts=1, polls=8, first_step=1 / 8, last_step=1 / 128, coarse_above=1 / 32, polish=0, checks=1
 )
+
+
+def subregion_budget(design: dict) -> Budget:
+    """The sub-region check's budget from the config's ``design`` section: ``subregion_samples``
+    (the Sobol sample over the whole box, a power of 2; each half holds about half of it) and
+    ``subregion_polls`` (the one start's compass polls); the rest, and any key left out, as
+    :data:`SUBREGION_BUDGET` (the shipped config's values are its own)."""
+    return dataclasses.replace(
+        SUBREGION_BUDGET,
+        samples=int(design.get("subregion_samples", SUBREGION_BUDGET.samples)),
+        polls=int(design.get("subregion_polls", SUBREGION_BUDGET.polls)),
+    )
+
+
 # A row whose half is lower adopts it at most this many times (each adoption checked again).
 ADOPTIONS = 2
 
