@@ -86,7 +86,10 @@ def test_ci_config_holds_only_what_differs():
 
     assert ci["output_root"] == "results/ci"
     assert list(same(ci, base)) == []
-    assert len((ROOT / "config" / "ci.yaml").read_text().splitlines()) < 100  # was a 195-line copy
+    # Well below the full file's length (config.yaml; the overlay was once a 195-line copy of it):
+    # the overlay grows only by the keys that differ.
+    lines = len((ROOT / "config" / "ci.yaml").read_text().splitlines())
+    assert lines < len((ROOT / "config" / "config.yaml").read_text().splitlines()) / 2, lines
 
 
 @pytest.mark.slow
